@@ -1,0 +1,25 @@
+#include "compiler.h"
+
+#include "sema/elaborate.h"
+
+#include <cstdlib>
+
+#ifndef PLANT_STDLIB_DIR
+#define PLANT_STDLIB_DIR "stdlib"
+#endif
+
+namespace plant {
+
+void compile_file(const std::string& path, const CompileOptions& options, Compilation& out) {
+    out.program = sema::load_program(path, options.stdlib_dir, out.sources, out.sink);
+    // Name resolution needs every module; a syntax error anywhere stops here.
+    if (out.sink.has_errors()) return;
+    out.graph = sema::elaborate(out.program, out.sources, out.sink);
+}
+
+std::string default_stdlib_dir() {
+    if (const char* env = std::getenv("PLANT_STDLIB"); env && *env) return env;
+    return PLANT_STDLIB_DIR;
+}
+
+}  // namespace plant

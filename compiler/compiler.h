@@ -1,0 +1,31 @@
+// The compiler's front door: a plant file in, a checked flat graph and diagnostics out.
+#pragma once
+
+#include "ast/ast.h"
+#include "diag/diagnostic.h"
+#include "graph/graph.h"
+#include "sema/modules.h"
+
+#include <string>
+
+namespace plant {
+
+struct CompileOptions {
+    std::string stdlib_dir;  // where `import std.x` looks
+};
+
+struct Compilation {
+    SourceMap sources;
+    Sink sink;
+    sema::Program program;  // the parsed modules (for --emit=ast)
+    graph::Graph graph;
+    bool ok() const { return !sink.has_errors(); }
+};
+
+// Parses, checks and lowers `path`; never throws on bad input.
+void compile_file(const std::string& path, const CompileOptions& options, Compilation& out);
+
+// The standard library folder: $PLANT_STDLIB, else the one this build was made from.
+std::string default_stdlib_dir();
+
+}  // namespace plant

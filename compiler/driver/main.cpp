@@ -1,0 +1,226 @@
+// The `plant` command: check, build, graph (and run, when the runtime is built in).
+// Diagnostics go to stderr, results to stdout or -o.
+#include "ast/print.h"
+#include "compiler.h"
+#if __has_include("dot/dot.h")
+#include "dot/dot.h"
+#define PLANT_HAS_DOT 1
+#endif
+#include "graph/text.h"
+
+#ifdef PLANT_HAS_RUNTIME
+#include "engine/run.h"
+#endif
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+constexpr const char* kUsage = R"(plant - compile and run automation plants
+
+usage: plant <command> [options] FILE...
+
+commands:
+  check FILE...         check plant files; exit code 0 when there is no error
+  build FILE -o OUT     compile FILE and write the graph's text form to OUT (- for stdout)
+  graph FILE            print the data-flow network and Petri nets as Graphviz DOT
+  run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
+
+common options:
+  --stdlib DIR          where `import std.x` looks (default: $PLANT_STDLIB or the bundled stdlib)
+  --diagnostics=FORMAT  text (default) or json
+  --emit=ast|graph      with check: print the AST or the graph text to stdout
+  --color=never         diagnostics are plain text (always, for now)
+  -h, --help            this help
+)";
+
+constexpr const char* kCheckHelp = R"(usage: plant check [--emit=ast|graph] [--diagnostics=text|json] [--stdlib DIR] FILE...
+
+Parses and checks each FILE: names, slot types and directions, units, values and Petri
+nets. Prints every diagnostic as file:line:col with the source line and a caret.
+Exit code: 0 no errors (warnings allowed), 1 errors, 2 bad usage.
+)";
+
+constexpr const char* kBuildHelp = R"(usage: plant build FILE -o OUT [--diagnostics=text|json] [--stdlib DIR]
+
+Compiles FILE into the flat graph and writes its text form (stable, diffable, loadable
+by `plant run OUT`) to OUT, or to stdout with `-o -`.
+)";
+
+constexpr const char* kGraphHelp = R"(usage: plant graph FILE [-o OUT] [--stdlib DIR]
+
+Writes the compiled plant as Graphviz DOT: one cluster per object, components as nodes,
+flows as edges, each Petri net as a cluster of places and transitions.
+Render with: plant graph FILE | dot -Tsvg -o plant.svg
+)";
+
+struct Options {
+    std::string command;
+    std::vector<std::string> files;
+    std::string out;
+    std::string emit;
+    bool json = false;
+    std::string stdlib;
+    std::vector<std::string> rest;  // passed to `run`
+    bool help = false;
+};
+
+int usage_error(const std::string& msg) {
+    std::cerr << "plant: error: " << msg << "\n(see `plant --help`)\n";
+    return 2;
+}
+
+bool write_output(const std::string& path, const std::string& text) {
+    if (path.empty() || path == "-") {
+        std::cout << text;
+        return static_cast<bool>(std::cout);
+    }
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    return static_cast<bool>(f);
+}
+
+void print_diagnostics(const plant::Compilation& c, bool json) {
+    auto sorted = c.sink.sorted();
+    if (json) std::cerr << plant::render_json(sorted, c.sources);
+    else if (!sorted.empty()) std::cerr << plant::render_all_text(sorted, c.sources);
+}
+
+bool compile(const std::string& file, const Options& o, plant::Compilation& c) {
+    plant::CompileOptions opts;
+    opts.stdlib_dir = o.stdlib.empty() ? plant::default_stdlib_dir() : o.stdlib;
+    plant::compile_file(file, opts, c);
+    print_diagnostics(c, o.json);
+    return c.ok();
+}
+
+int cmd_check(const Options& o) {
+    if (o.files.empty()) return usage_error("check needs at least one FILE");
+    bool ok = true;
+    for (const auto& f : o.files) {
+        plant::Compilation c;
+        ok = compile(f, o, c) && ok;
+        if (o.emit == "ast") {
+            for (const auto& m : c.program.modules) plant::ast::print(m.ast, c.sources, std::cout);
+        } else if (o.emit == "graph" && c.ok()) {
+            plant::graph::write_text(c.graph, std::cout);
+        }
+    }
+    return ok ? 0 : 1;
+}
+
+int cmd_build(const Options& o) {
+    if (o.files.size() != 1) return usage_error("build takes one FILE");
+    if (o.out.empty()) return usage_error("build needs -o OUT (use -o - for stdout)");
+    plant::Compilation c;
+    if (!compile(o.files[0], o, c)) return 1;
+    if (!write_output(o.out, plant::graph::to_text(c.graph))) {
+        std::cerr << "plant: error: cannot write '" << o.out << "'\n";
+        return 1;
+    }
+    return 0;
+}
+
+int cmd_graph(const Options& o) {
+    if (o.files.size() != 1) return usage_error("graph takes one FILE");
+    plant::Compilation c;
+    if (!compile(o.files[0], o, c)) return 1;
+    std::ostringstream dot;
+#ifdef PLANT_HAS_DOT
+    plant::dot::write_dot(c.graph, dot);
+#endif
+    if (!write_output(o.out, dot.str())) {
+        std::cerr << "plant: error: cannot write '" << o.out << "'\n";
+        return 1;
+    }
+    return 0;
+}
+
+#ifdef PLANT_HAS_RUNTIME
+int cmd_run(const Options& o) {
+    if (o.files.size() != 1) return usage_error("run takes one FILE (.plant or .graph)");
+    const std::string& f = o.files[0];
+    plant::graph::Graph g;
+    if (f.size() > 6 && f.substr(f.size() - 6) == ".graph") {
+        std::string err;
+        if (!plant::graph::load_text_file(f, g, err)) {
+            std::cerr << "plant: error: " << err << "\n";
+            return 1;
+        }
+    } else {
+        plant::Compilation c;
+        if (!compile(f, o, c)) return 1;
+        g = std::move(c.graph);
+    }
+    return plant::rt::run_main(g, o.rest, std::cout, std::cerr);
+}
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    Options o;
+    if (args.empty()) {
+        std::cerr << kUsage;
+        return 2;
+    }
+    if (args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
+        std::cout << kUsage;
+        return 0;
+    }
+    o.command = args[0];
+    for (size_t i = 1; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&](const std::string& flag) -> std::string {
+            if (a.size() > flag.size() && a.compare(0, flag.size() + 1, flag + "=") == 0) return a.substr(flag.size() + 1);
+            if (i + 1 < args.size()) return args[++i];
+            return "";
+        };
+        if (a == "-h" || a == "--help") o.help = true;
+        else if (a == "-o" || a.rfind("--output", 0) == 0) o.out = value(a == "-o" ? "-o" : "--output");
+        else if (a.rfind("--emit", 0) == 0) o.emit = value("--emit");
+        else if (a.rfind("--stdlib", 0) == 0) o.stdlib = value("--stdlib");
+        else if (a.rfind("--diagnostics", 0) == 0) {
+            std::string v = value("--diagnostics");
+            if (v != "json" && v != "text") return usage_error("--diagnostics takes text or json");
+            o.json = v == "json";
+        } else if (a.rfind("--color", 0) == 0) (void)value("--color");
+        else if (o.command == "run" && a.size() > 1 && a[0] == '-') {
+            o.rest.push_back(a);
+            // Flags of `run` that take a value.
+            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed"};
+            for (const char* w : kWithValue)
+                if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
+        } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");
+        else o.files.push_back(a);
+    }
+    if (o.emit != "" && o.emit != "ast" && o.emit != "graph") return usage_error("--emit takes ast or graph");
+    if (o.command == "check") {
+        if (o.help) return std::cout << kCheckHelp, 0;
+        return cmd_check(o);
+    }
+    if (o.command == "build") {
+        if (o.help) return std::cout << kBuildHelp, 0;
+        return cmd_build(o);
+    }
+    if (o.command == "graph") {
+        if (o.help) return std::cout << kGraphHelp, 0;
+        return cmd_graph(o);
+    }
+    if (o.command == "run") {
+#ifdef PLANT_HAS_RUNTIME
+        if (o.help) o.rest.push_back("--help");
+        return cmd_run(o);
+#else
+        return usage_error("this build has no runtime");
+#endif
+    }
+    return usage_error("unknown command '" + o.command + "'");
+}

@@ -1,0 +1,540 @@
+// ANTLR parse tree -> our AST, one function per grammar rule. Compiled as C++17
+// because the generated code and the ANTLR headers do not build as C++20.
+#include "parse/parser.h"
+
+#include "PlantLexer.h"
+#include "PlantParser.h"
+#include "antlr4-runtime.h"
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+namespace plant::parse {
+namespace {
+
+using P = plant_antlr::PlantParser;
+
+// Maps ANTLR's code-point indices to byte offsets (they differ only for non-ASCII text).
+class Offsets {
+public:
+    explicit Offsets(const std::string& text) {
+        bool ascii = std::all_of(text.begin(), text.end(),
+                                 [](char c) { return static_cast<unsigned char>(c) < 0x80; });
+        if (ascii) return;
+        for (uint32_t i = 0; i < text.size(); ++i)
+            if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) starts_.push_back(i);
+        starts_.push_back(static_cast<uint32_t>(text.size()));
+    }
+    uint32_t byte(size_t cp) const {
+        if (starts_.empty()) return static_cast<uint32_t>(cp);
+        return starts_[std::min(cp, starts_.size() - 1)];
+    }
+
+private:
+    std::vector<uint32_t> starts_;
+};
+
+// Words for tokens in "expected ..." messages.
+std::string token_words(const antlr4::dfa::Vocabulary& voc, size_t type) {
+    if (type == antlr4::Token::EOF) return "end of file";
+    std::string sym = voc.getSymbolicName(type);
+    if (sym == "ID") return "a name";
+    if (sym == "NUMBER") return "a number";
+    if (sym == "STRING") return "a string";
+    std::string lit = voc.getLiteralName(type);
+    if (!lit.empty()) return lit;  // already quoted: 'flow'
+    return sym;
+}
+
+std::string token_text(antlr4::Token* t) {
+    if (!t || t->getType() == antlr4::Token::EOF) return "end of file";
+    return "'" + t->getText() + "'";
+}
+
+class ErrorListener : public antlr4::BaseErrorListener {
+public:
+    ErrorListener(Sink& sink, int32_t file, const Offsets& off) : sink_(sink), file_(file), off_(off) {}
+
+    void syntaxError(antlr4::Recognizer* rec, antlr4::Token* bad, size_t, size_t,
+                     const std::string& msg, std::exception_ptr) override {
+        Span span{file_, 0, 0};
+        if (bad) {
+            span.begin = off_.byte(bad->getStartIndex());
+            span.end = bad->getType() == antlr4::Token::EOF ? span.begin
+                                                              : off_.byte(bad->getStopIndex() + 1);
+        }
+        auto* parser = dynamic_cast<antlr4::Parser*>(rec);
+        if (!parser) {  // a lexer error: ANTLR's message names the character
+            sink_.report(DiagId::Syntax, span, "unexpected character: " + msg);
+            return;
+        }
+        if (bad && bad->getType() == P::BAD_CHAR) {
+            sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad));
+            return;
+        }
+        std::string expected;
+        try {
+            auto set = parser->getExpectedTokens();
+            std::set<std::string> words;
+            for (auto t : set.toList()) words.insert(token_words(parser->getVocabulary(), t));
+            size_t i = 0;
+            for (const auto& w : words) {
+                if (i) expected += (i + 1 == words.size()) ? " or " : ", ";
+                expected += w;
+                ++i;
+            }
+        } catch (...) {
+            expected.clear();
+        }
+        std::string text = "unexpected " + token_text(bad);
+        if (!expected.empty() && expected.size() < 300) text += "; expected " + expected;
+        sink_.report(DiagId::Syntax, span, text);
+    }
+
+private:
+    Sink& sink_;
+    int32_t file_;
+    const Offsets& off_;
+};
+
+class Builder {
+public:
+    Builder(int32_t file, const Offsets& off) : file_(file), off_(off) {}
+
+    Span span(antlr4::ParserRuleContext* c) const {
+        if (!c || !c->start) return Span{file_, 0, 0};
+        auto* stop = c->stop ? c->stop : c->start;
+        uint32_t b = off_.byte(c->start->getStartIndex());
+        uint32_t e = stop->getType() == antlr4::Token::EOF ? b : off_.byte(stop->getStopIndex() + 1);
+        return Span{file_, b, std::max(b, e)};
+    }
+    Span span(antlr4::Token* t) const {
+        if (!t) return Span{file_, 0, 0};
+        uint32_t b = off_.byte(t->getStartIndex());
+        return Span{file_, b, off_.byte(t->getStopIndex() + 1)};
+    }
+    Span span(antlr4::tree::TerminalNode* n) const { return span(n ? n->getSymbol() : nullptr); }
+
+    ast::Ident ident(antlr4::tree::TerminalNode* n) const {
+        if (!n) return {};
+        return ast::Ident{n->getText(), span(n)};
+    }
+    ast::Ident ident(antlr4::Token* t) const {
+        if (!t) return {};
+        return ast::Ident{t->getText(), span(t)};
+    }
+
+    ast::Module module(P::ModuleContext* c) {
+        ast::Module m;
+        m.file = file_;
+        for (auto* item : c->item()) {
+            if (auto* imp = item->importDecl()) {
+                for (auto* d : imp->dotted()) {
+                    std::string name;
+                    for (auto* id : d->ID()) name += (name.empty() ? "" : ".") + id->getText();
+                    m.imports.push_back(ast::Import{name, span(d)});
+                }
+            } else if (auto* o = item->objectDecl()) {
+                m.objects.push_back(object(o));
+            } else if (auto* p = item->plantDecl()) {
+                ast::ObjectDecl d;
+                d.is_plant = true;
+                d.name = ident(p->ID());
+                d.span = span(p);
+                for (auto* mem : p->member()) member(mem, d.members);
+                m.objects.push_back(std::move(d));
+            }
+        }
+        return m;
+    }
+
+    ast::ObjectDecl object(P::ObjectDeclContext* c) {
+        ast::ObjectDecl d;
+        d.name = ident(c->ID());
+        d.span = span(c);
+        if (auto* pl = c->paramList()) {
+            for (auto* p : pl->param()) {
+                ast::Param param;
+                auto ids = p->ID();
+                if (ids.size() >= 2) {
+                    param.name = ident(ids[0]);
+                    param.type = ident(ids[1]);
+                }
+                if (p->expr()) param.default_value = expr(p->expr());
+                param.span = span(p);
+                d.params.push_back(std::move(param));
+            }
+        }
+        for (auto* mem : c->member()) member(mem, d.members);
+        return d;
+    }
+
+    void member(P::MemberContext* c, std::vector<ast::Member>& out) {
+        if (auto* x = c->portDecl()) {
+            ast::PortDecl d;
+            d.is_input = x->dir && x->dir->getText() == "in";
+            auto ids = x->ID();
+            if (ids.size() >= 2) {
+                d.name = ident(ids[0]);
+                d.type = ident(ids[1]);
+            }
+            for (auto* p : x->path()) d.targets.push_back(path(p));
+            d.span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->letDecl()) {
+            out.emplace_back(ast::LetDecl{ident(x->ID()), expr(x->expr()), span(x)});
+        } else if (auto* x = c->flowDecl()) {
+            ast::FlowDecl d;
+            if (x->ID()) d.name = ident(x->ID());
+            auto paths = x->path();
+            if (paths.size() >= 2) {
+                d.from = path(paths[0]);
+                d.to = path(paths[1]);
+            }
+            for (auto* opt : x->flowOption()) {
+                if (opt->ID()) d.condition = ident(opt->ID());
+                else d.once = true;
+            }
+            d.span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->logicDecl()) {
+            ast::LogicDecl d;
+            d.name = ident(x->ID());
+            for (auto* t : x->logicTerm())
+                d.terms.push_back(ast::LogicTerm{t->neg != nullptr, path(t->path()), span(t)});
+            for (auto* op : x->op) d.ops.push_back(ident(op));
+            d.span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->forDecl()) {
+            auto d = std::make_unique<ast::ForDecl>();
+            d->var = ident(x->ID());
+            auto es = x->expr();
+            if (es.size() >= 2) {
+                d->from = expr(es[0]);
+                d->to = expr(es[1]);
+            }
+            for (auto* m : x->member()) member(m, d->body);
+            d->span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->ifDecl()) {
+            auto d = std::make_unique<ast::IfDecl>();
+            d->cond = expr(x->expr());
+            for (auto* m : x->thenBody) member(m, d->then_body);
+            for (auto* m : x->elseBody) member(m, d->else_body);
+            d->span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->recordDecl()) {
+            ast::RecordDecl d;
+            d.path = path(x->path());
+            if (x->STRING()) d.column = unquote(x->STRING()->getText());
+            d.span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->settingDecl()) {
+            out.emplace_back(ast::SettingDecl{ident(x->ID()), expr(x->expr()), span(x)});
+        } else if (auto* x = c->instanceDecl()) {
+            ast::InstanceDecl d;
+            auto ids = x->ID();
+            if (ids.size() >= 2) {
+                d.name = ident(ids[0]);
+                d.type = ident(ids[1]);
+            }
+            if (x->expr()) d.index = expr(x->expr());
+            if (x->args()) {
+                d.args = args(x->args());
+                d.args_span = span(x->args());
+            }
+            if (x->placement()) d.placement = placement(x->placement());
+            d.span = span(x);
+            out.emplace_back(std::move(d));
+        } else if (auto* x = c->componentDecl()) {
+            out.emplace_back(component(x));
+        }
+    }
+
+    ast::ComponentDecl component(P::ComponentDeclContext* c) {
+        ast::ComponentDecl d;
+        d.kind = ident(c->kindName);
+        d.name = ident(c->compName);
+        if (c->modeName) d.mode = ident(c->modeName);
+        if (c->path()) d.on = path(c->path());
+        if (c->placement()) d.placement = placement(c->placement());
+        d.span = span(c);
+        for (auto* item : c->compItem()) {
+            if (auto* x = item->property()) {
+                d.properties.push_back(property(x));
+            } else if (auto* x = item->shapeDecl()) {
+                ast::ShapeDecl s;
+                s.kind = ident(x->ID());
+                if (x->args()) s.args = args(x->args());
+                if (x->placement()) s.placement = placement(x->placement());
+                s.span = span(x);
+                d.shapes.push_back(std::move(s));
+            } else if (auto* x = item->animationDecl()) {
+                d.animations.push_back(animation(x));
+            } else if (auto* x = item->variantDecl()) {
+                d.variants.push_back(ast::VariantDecl{ident(x->ID()), expr(x->expr()), span(x)});
+            } else if (auto* x = item->placeDecl()) {
+                for (auto* pi : x->placeInit()) {
+                    ast::PlaceDecl p{ident(pi->ID()), nullptr, span(pi)};
+                    if (pi->expr()) p.initial = expr(pi->expr());
+                    d.places.push_back(std::move(p));
+                }
+            } else if (auto* x = item->transitionDecl()) {
+                d.transitions.push_back(transition(x));
+            } else if (auto* x = item->routeDecl()) {
+                ast::RouteDecl r;
+                if (x->STRING()) {
+                    r.pattern = unquote(x->STRING()->getText());
+                    r.pattern_span = span(x->STRING());
+                } else {
+                    r.pattern = "*";
+                    r.pattern_span = span(x->start);
+                }
+                r.output = ident(x->ID());
+                r.span = span(x);
+                d.routes.push_back(std::move(r));
+            } else if (auto* x = item->componentDecl()) {
+                d.children.push_back(component(x));
+            }
+        }
+        return d;
+    }
+
+    ast::Property property(P::PropertyContext* c) {
+        return ast::Property{ident(c->ID()), expr(c->expr()), span(c)};
+    }
+
+    ast::AnimationDecl animation(P::AnimationDeclContext* c) {
+        ast::AnimationDecl a;
+        a.name = ident(c->ID());
+        a.span = span(c);
+        for (auto* item : c->animItem()) {
+            if (item->property()) {
+                a.properties.push_back(property(item->property()));
+            } else if (item->rotation()) {
+                a.rotations.push_back(rotation(item->rotation()));
+            } else if (item->placement()) {
+                ast::KeyDecl k;
+                k.time = expr(item->expr());
+                k.placement = placement(item->placement());
+                k.span = span(item);
+                a.keys.push_back(std::move(k));
+            } else if (item->expr()) {
+                a.moves.push_back(expr(item->expr()));
+            }
+        }
+        return a;
+    }
+
+    ast::TransitionDecl transition(P::TransitionDeclContext* c) {
+        ast::TransitionDecl t;
+        t.name = ident(c->ID());
+        t.span = span(c);
+        // `->` splits the arc lists; an omitted side is an empty list.
+        auto lists = c->arcList();
+        antlr4::tree::TerminalNode* arrow = nullptr;
+        for (auto* ch : c->children)
+            if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(ch))
+                if (term->getText() == "->") arrow = term;
+        for (auto* list : lists) {
+            bool before = arrow && list->start->getTokenIndex() < arrow->getSymbol()->getTokenIndex();
+            auto& side = before ? t.inputs : t.outputs;
+            for (auto* a : list->arc()) {
+                ast::ArcDecl arc;
+                arc.place = ident(a->ID());
+                if (a->NUMBER()) {
+                    arc.weight_written = true;
+                    arc.weight = std::stod(a->NUMBER()->getText());
+                    arc.weight_span = span(a->NUMBER());
+                }
+                arc.span = span(a);
+                side.push_back(std::move(arc));
+            }
+        }
+        return t;
+    }
+
+    ast::Placement placement(P::PlacementContext* c) {
+        ast::Placement p;
+        if (c->expr()) p.at = expr(c->expr());
+        for (auto* r : c->rotation()) p.rotations.push_back(rotation(r));
+        p.span = span(c);
+        return p;
+    }
+
+    ast::Rotation rotation(P::RotationContext* c) {
+        ast::Rotation r;
+        auto* ax = c->axis();
+        if (ax && ax->ID()) {
+            r.axis_name = ident(ax->ID());
+        } else if (ax) {
+            auto v = std::make_unique<ast::Expr>();
+            v->kind = ast::ExprKind::Tuple;
+            v->span = span(ax);
+            for (auto* e : ax->expr()) v->kids.push_back(expr(e));
+            r.axis_vec = std::move(v);
+        }
+        r.angle = expr(c->expr());
+        r.span = span(c);
+        return r;
+    }
+
+    std::vector<ast::Arg> args(P::ArgsContext* c) {
+        std::vector<ast::Arg> out;
+        for (auto* a : c->arg()) {
+            ast::Arg arg;
+            if (a->ID()) arg.name = ident(a->ID());
+            arg.value = expr(a->expr());
+            arg.span = span(a);
+            out.push_back(std::move(arg));
+        }
+        return out;
+    }
+
+    ast::Path path(P::PathContext* c) {
+        ast::Path p;
+        if (!c) return p;
+        p.span = span(c);
+        if (auto* cast = dynamic_cast<P::CastPathContext*>(c)) {
+            p.cast_base = std::make_unique<ast::Path>(path(cast->path()));
+            p.cast_type = ident(cast->ID());
+            for (auto* s : cast->pathSeg()) p.segs.push_back(seg(s));
+        } else if (auto* plain = dynamic_cast<P::PlainPathContext*>(c)) {
+            for (auto* s : plain->pathSeg()) p.segs.push_back(seg(s));
+        }
+        return p;
+    }
+
+    ast::PathSeg seg(P::PathSegContext* c) {
+        ast::PathSeg s;
+        s.name = ident(c->ID());
+        if (c->expr()) s.index = expr(c->expr());
+        return s;
+    }
+
+    ast::ExprPtr make(ast::ExprKind k, antlr4::ParserRuleContext* c) {
+        auto e = std::make_unique<ast::Expr>();
+        e->kind = k;
+        e->span = span(c);
+        return e;
+    }
+
+    ast::ExprPtr expr(P::ExprContext* c) {
+        if (!c) return make(ast::ExprKind::Number, nullptr);
+        if (auto* x = dynamic_cast<P::PrimaryExprContext*>(c)) return primary(x->primary());
+        if (auto* x = dynamic_cast<P::UnaryExprContext*>(c)) {
+            auto e = make(ast::ExprKind::Unary, c);
+            e->text = x->op ? x->op->getText() : "-";
+            e->kids.push_back(expr(x->expr()));
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::BinaryExprContext*>(c)) {
+            auto e = make(ast::ExprKind::Binary, c);
+            e->text = x->op ? x->op->getText() : "+";
+            for (auto* k : x->expr()) e->kids.push_back(expr(k));
+            while (e->kids.size() < 2) e->kids.push_back(make(ast::ExprKind::Number, nullptr));
+            return e;
+        }
+        return make(ast::ExprKind::Number, c);
+    }
+
+    ast::ExprPtr primary(P::PrimaryContext* c) {
+        if (auto* x = dynamic_cast<P::NumberLitContext*>(c)) {
+            auto e = make(ast::ExprKind::Number, c);
+            e->number = x->NUMBER() ? std::stod(x->NUMBER()->getText()) : 0.0;
+            if (auto* u = x->unit()) {
+                e->text = u->getText();
+                e->unit_span = span(u);
+            }
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::StringLitContext*>(c)) {
+            auto e = make(ast::ExprKind::String, c);
+            e->text = unquote(x->STRING()->getText());
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::BoolLitContext*>(c)) {
+            auto e = make(ast::ExprKind::Bool, c);
+            e->boolean = x->value && x->value->getText() == "true";
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::ParenExprContext*>(c)) {
+            auto inner = expr(x->expr());
+            inner->span = span(c);
+            return inner;
+        }
+        if (auto* x = dynamic_cast<P::TupleExprContext*>(c)) {
+            auto e = make(ast::ExprKind::Tuple, c);
+            for (auto* k : x->expr()) e->kids.push_back(expr(k));
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::ListExprContext*>(c)) {
+            auto e = make(ast::ExprKind::List, c);
+            for (auto* k : x->expr()) e->kids.push_back(expr(k));
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::CallExprContext*>(c)) {
+            auto e = make(ast::ExprKind::Call, c);
+            e->text = x->ID()->getText();
+            e->args = args(x->args());
+            return e;
+        }
+        if (auto* x = dynamic_cast<P::NameExprContext*>(c)) {
+            auto e = make(ast::ExprKind::Name, c);
+            auto ids = x->ID();
+            if (!ids.empty()) e->text = ids[0]->getText();
+            for (size_t i = 1; i < ids.size(); ++i) e->members.push_back(ident(ids[i]));
+            if (x->expr()) e->index = expr(x->expr());
+            return e;
+        }
+        return make(ast::ExprKind::Number, c);
+    }
+
+    static std::string unquote(const std::string& s) {
+        std::string out;
+        for (size_t i = 1; i + 1 < s.size(); ++i) {
+            char ch = s[i];
+            if (ch == '\\' && i + 2 < s.size()) {
+                char n = s[++i];
+                out += n == 'n' ? '\n' : n == 't' ? '\t' : n;
+            } else {
+                out += ch;
+            }
+        }
+        return out;
+    }
+
+private:
+    int32_t file_;
+    const Offsets& off_;
+};
+
+}  // namespace
+
+ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
+    const std::string& text = sources.text(file);
+    Offsets offsets(text);
+    antlr4::ANTLRInputStream input(text);
+    plant_antlr::PlantLexer lexer(&input);
+    antlr4::CommonTokenStream tokens(&lexer);
+    plant_antlr::PlantParser parser(&tokens);
+    ErrorListener listener(sink, file, offsets);
+    lexer.removeErrorListeners();
+    lexer.addErrorListener(&listener);
+    parser.removeErrorListeners();
+    parser.addErrorListener(&listener);
+
+    const int before = sink.count(Severity::Error);
+    auto* tree = parser.module();
+    if (sink.count(Severity::Error) > before) {
+        // The tree after recovery may be partial; only syntax errors are reported for this file.
+        ast::Module empty;
+        empty.file = file;
+        return empty;
+    }
+    Builder builder(file, offsets);
+    return builder.module(tree);
+}
+
+}  // namespace plant::parse

@@ -1,0 +1,13 @@
+// Text -> AST. The only door to ANTLR: nothing outside compiler/parse includes it.
+#pragma once
+
+#include "ast/ast.h"
+#include "diag/diagnostic.h"
+
+namespace plant::parse {
+
+// Parses one file already added to `sources`. Syntax errors go to `sink` (E0001) with
+// the expected tokens in words; the module returned then holds what could be built.
+ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink);
+
+}  // namespace plant::parse

@@ -1,0 +1,184 @@
+// Whole-plant checks once every flow is known: Petri-net analysis, inputs nothing
+// drives and outputs that drive nothing, connector cycles. Warnings are reported per
+// declaration, so a type used many times warns once.
+#include "sema/elaborator.h"
+
+#include "graph/kinds.h"
+#include "petri/analysis.h"
+
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+using graph::CompKind;
+
+namespace {
+
+std::vector<bool> driven_inputs(const graph::Graph& g) {
+    std::vector<bool> driven(g.slots.size(), false);
+    for (const auto& f : g.flows) {
+        if (f.to_access >= 0) {
+            const auto& a = g.accesses[static_cast<size_t>(f.to_access)];
+            for (int32_t i = 0; i < a.target_num; ++i)
+                driven[static_cast<size_t>(g.access_targets[static_cast<size_t>(a.target_adr + i)].v)] = true;
+        } else {
+            driven[static_cast<size_t>(f.to)] = true;
+        }
+    }
+    return driven;
+}
+
+std::vector<bool> used_outputs(const graph::Graph& g) {
+    std::vector<bool> used(g.slots.size(), false);
+    for (const auto& f : g.flows) {
+        if (f.from_access >= 0) {
+            const auto& a = g.accesses[static_cast<size_t>(f.from_access)];
+            for (int32_t i = 0; i < a.target_num; ++i)
+                used[static_cast<size_t>(g.access_targets[static_cast<size_t>(a.target_adr + i)].v)] = true;
+        } else {
+            used[static_cast<size_t>(f.from)] = true;
+        }
+    }
+    for (const auto& r : g.records) used[static_cast<size_t>(r.slot)] = true;
+    return used;
+}
+
+}  // namespace
+
+void Elaborator::check_petri_nets() {
+    const auto driven = driven_inputs(g_);
+    std::vector<std::vector<int32_t>> places_of(g_.comps.size()), transitions_of(g_.comps.size());
+    for (size_t p = 0; p < g_.places.size(); ++p) places_of[static_cast<size_t>(g_.places[p].comp)].push_back(static_cast<int32_t>(p));
+    for (size_t t = 0; t < g_.transitions.size(); ++t)
+        transitions_of[static_cast<size_t>(g_.transitions[t].comp)].push_back(static_cast<int32_t>(t));
+    std::set<std::pair<uint32_t, std::string>> reported;  // one analysis per declaration and marking
+    for (size_t c = 0; c < g_.comps.size(); ++c) {
+        if (g_.comps[c].kind != CompKind::State || places_of[c].empty()) continue;
+        petri::Net net;
+        std::map<int32_t, int> local;
+        for (int32_t p : places_of[c]) {
+            local[p] = static_cast<int>(net.initial.size());
+            net.initial.push_back(g_.places[static_cast<size_t>(p)].initial);
+            net.fed.push_back(driven[static_cast<size_t>(g_.places[static_cast<size_t>(p)].put_slot)]);
+        }
+        for (int32_t t : transitions_of[c]) {
+            const auto& tr = g_.transitions[static_cast<size_t>(t)];
+            petri::Transition pt;
+            for (int32_t i = 0; i < tr.in_num; ++i) {
+                const auto& a = g_.arcs[static_cast<size_t>(tr.in_adr + i)];
+                pt.in.push_back({local[a.place], a.weight});
+            }
+            for (int32_t i = 0; i < tr.out_num; ++i) {
+                const auto& a = g_.arcs[static_cast<size_t>(tr.out_adr + i)];
+                pt.out.push_back({local[a.place], a.weight});
+            }
+            net.transitions.push_back(std::move(pt));
+        }
+        // Instances of one type with the same marking and feeding give the same answer.
+        std::string sig;
+        for (size_t i = 0; i < net.initial.size(); ++i) sig += fmt::format("{}{},", net.initial[i], net.fed[i] ? "f" : "");
+        if (!reported.insert({comp_spans_[static_cast<int32_t>(c)].begin + (static_cast<uint32_t>(comp_spans_[static_cast<int32_t>(c)].file) << 24), sig}).second)
+            continue;
+        petri::Report rep = petri::analyse(net);
+        const std::string net_name(g_.str(g_.comps[c].name));
+        for (size_t i = 0; i < rep.unbounded.size(); ++i) {
+            const auto& pl = g_.places[static_cast<size_t>(places_of[c][static_cast<size_t>(rep.unbounded[i])])];
+            auto& d = sink_.report(DiagId::UnboundedPlace, place_spans_[places_of[c][static_cast<size_t>(rep.unbounded[i])]],
+                                   fmt::format("place '{}' of net '{}' can accumulate tokens without bound", g_.str(pl.name), net_name));
+            if (i < rep.unbounded_why.size()) d.notes.push_back({{}, rep.unbounded_why[i]});
+            d.notes.push_back({{}, "add a transition that drains surplus tokens, e.g. `transition drain: Held + Request -> Held`"});
+        }
+        for (int idx : rep.dead) {
+            const auto& tr = g_.transitions[static_cast<size_t>(transitions_of[c][static_cast<size_t>(idx)])];
+            sink_.report(DiagId::DeadTransition, transition_spans_[transitions_of[c][static_cast<size_t>(idx)]],
+                         fmt::format("transition '{}' of net '{}' can never fire", g_.str(tr.name), net_name));
+        }
+    }
+}
+
+void Elaborator::check_unused() {
+    const auto driven = driven_inputs(g_);
+    const auto used = used_outputs(g_);
+    for (size_t c = 0; c < g_.comps.size(); ++c) {
+        const auto& comp = g_.comps[c];
+        const Span span = comp_spans_[static_cast<int32_t>(c)];
+        const std::string cname(g_.str(comp.name));
+        auto slot = [&](int idx) { return static_cast<size_t>(comp.slot_adr + idx); };
+        switch (comp.kind) {
+        case CompKind::Logic:
+            if (!used[slot(graph::logicslot::out)])
+                sink_.report(DiagId::OutputDrivesNothing, span, fmt::format("connector '{}' drives nothing", cname));
+            break;
+        case CompKind::Router:
+            for (int32_t i = 1; i < comp.slot_num; ++i)
+                if (!used[slot(i)])
+                    sink_.report(DiagId::OutputDrivesNothing, span,
+                                 fmt::format("route '{}' of router '{}' drives nothing", g_.str(g_.slots[slot(i)].name), cname));
+            if (!driven[slot(graph::routerslot::query)])
+                sink_.report(DiagId::InputNotDriven, span, fmt::format("router '{}' is never queried: nothing drives its 'query'", cname));
+            break;
+        case CompKind::Timer:
+            if (!g_.timers[static_cast<size_t>(comp.detail)].autostart && !driven[slot(graph::timerslot::start)])
+                sink_.report(DiagId::InputNotDriven, span,
+                             fmt::format("timer '{}' never runs: nothing drives its 'start' and it does not autostart", cname));
+            break;
+        case CompKind::Source:
+            if (g_.sources[static_cast<size_t>(comp.detail)].rate <= 0 && !driven[slot(graph::sourceslot::issue)])
+                sink_.report(DiagId::InputNotDriven, span,
+                             fmt::format("source '{}' never issues: its rate is 0 and nothing drives 'issue'", cname));
+            break;
+        case CompKind::Gripper:
+            if (!driven[slot(graph::gripperslot::grip)])
+                sink_.report(DiagId::InputNotDriven, span, fmt::format("gripper '{}' never grips: nothing drives 'grip'", cname));
+            break;
+        default: break;
+        }
+    }
+}
+
+// Connector -> flow -> connector chains that close on themselves.
+void Elaborator::check_logic_cycles() {
+    const size_t n = g_.logics.size();
+    if (n == 0) return;
+    std::map<int32_t, int32_t> logic_of_input, logic_of_output;
+    for (size_t l = 0; l < n; ++l) {
+        const auto& lg = g_.logics[l];
+        logic_of_output[lg.out_slot] = static_cast<int32_t>(l);
+        for (int32_t i = 0; i < lg.in_num; ++i)
+            logic_of_input[g_.logic_inputs[static_cast<size_t>(lg.in_adr + i)].slot] = static_cast<int32_t>(l);
+    }
+    std::vector<std::vector<int32_t>> next(n);
+    for (const auto& f : g_.flows) {
+        if (f.from_access >= 0 || f.to_access >= 0) continue;
+        auto a = logic_of_output.find(f.from);
+        auto b = logic_of_input.find(f.to);
+        if (a != logic_of_output.end() && b != logic_of_input.end()) next[static_cast<size_t>(a->second)].push_back(b->second);
+    }
+    std::vector<int> state(n, 0);  // 0 new, 1 on stack, 2 done
+    for (size_t start = 0; start < n; ++start) {
+        if (state[start]) continue;
+        std::vector<std::pair<int32_t, size_t>> stack{{static_cast<int32_t>(start), 0}};
+        state[start] = 1;
+        while (!stack.empty()) {
+            auto& [v, i] = stack.back();
+            if (i < next[static_cast<size_t>(v)].size()) {
+                int32_t w = next[static_cast<size_t>(v)][i++];
+                if (state[static_cast<size_t>(w)] == 1) {
+                    int32_t comp = g_.logics[static_cast<size_t>(w)].comp;
+                    sink_.report(DiagId::LogicCycle, comp_spans_[comp],
+                                 fmt::format("connector '{}' feeds itself through other connectors; the loop is "
+                                             "evaluated with a one-step delay",
+                                             g_.str(g_.comps[static_cast<size_t>(comp)].name)));
+                } else if (state[static_cast<size_t>(w)] == 0) {
+                    state[static_cast<size_t>(w)] = 1;
+                    stack.push_back({w, 0});
+                }
+            } else {
+                state[static_cast<size_t>(v)] = 2;
+                stack.pop_back();
+            }
+        }
+    }
+}
+
+}  // namespace plant::sema

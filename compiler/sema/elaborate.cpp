@@ -1,0 +1,449 @@
+// Instantiation: the plant object, then every instance inside it, depth first.
+#include "sema/elaborator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+namespace {
+constexpr long long kMaxExpanded = 2'000'000;  // members produced by loops in one compile
+constexpr int kMaxDepth = 64;                  // nesting of loops/conditions
+}  // namespace
+
+Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
+    : prog_(prog), sm_(sm), sink_(sink), ev_(sink, *this) {
+    graph_file_of_.assign(static_cast<size_t>(sm.size()), -1);
+    // Object types are one namespace; a duplicate is an error even across modules.
+    for (size_t m = 0; m < prog.modules.size(); ++m)
+        for (const auto& o : prog.modules[m].ast.objects) {
+            if (o.is_plant) continue;
+            auto [it, fresh] = types_.try_emplace(o.name.text, static_cast<int>(m), &o);
+            if (!fresh) {
+                auto& d = sink_.report(DiagId::DuplicateName, o.name.span,
+                                       fmt::format("object type '{}' is declared twice", o.name.text));
+                d.notes.push_back({it->second.second->name.span, "first declared here"});
+            }
+        }
+}
+
+bool Elaborator::is_object_type(const std::string& name) const { return types_.count(name) > 0; }
+
+graph::Src Elaborator::src(Span s) {
+    if (!s.valid()) return {};
+    auto& idx = graph_file_of_[static_cast<size_t>(s.file)];
+    if (idx < 0) {
+        idx = static_cast<int32_t>(g_.files.size());
+        g_.files.push_back(sm_.name(s.file));
+    }
+    auto lc = sm_.line_col(s.file, s.begin);
+    return {idx, static_cast<int32_t>(lc.line), static_cast<int32_t>(lc.col)};
+}
+
+graph::Graph Elaborator::run() {
+    if (prog_.root < 0) return std::move(g_);
+    const auto& root = prog_.modules[static_cast<size_t>(prog_.root)].ast;
+    const ast::ObjectDecl* plant = nullptr;
+    for (const auto& o : root.objects) {
+        if (!o.is_plant) continue;
+        if (plant) {
+            auto& d = sink_.report(DiagId::MultiplePlants, o.name.span,
+                                   fmt::format("a file holds one plant, but '{}' is a second one", o.name.text));
+            d.notes.push_back({plant->name.span, "first plant declared here"});
+            continue;
+        }
+        plant = &o;
+    }
+    // Plants in imported modules are ignored: a module can be both a plant and a library.
+    if (!plant) {
+        if (!sink_.has_errors())
+            sink_.report(DiagId::NoPlant, Span{root.file, 0, 0},
+                         "no plant declared in this file; add `plant NAME { ... }`");
+        return std::move(g_);
+    }
+    g_.plant = name(plant->name.text);
+    int32_t root_do = new_do("", -1, -1, Frame{}, plant->name.span);
+    elaborate_do(root_do, *plant, prog_.root, std::make_shared<Env>());
+    finish_accesses();
+    check_petri_nets();
+    check_unused();
+    check_logic_cycles();
+    return std::move(g_);
+}
+
+int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
+    graph::Do d;
+    d.path = name(path);
+    d.parent = parent;
+    d.type = type;
+    d.ordinal = type >= 0 ? g_.do_types[static_cast<size_t>(type)].instance_num++ : 0;
+    d.pool = -1;
+    d.pose = f.pose();
+    d.src = src(s);
+    g_.dos.push_back(d);
+    Scope sc;
+    sc.do_id = static_cast<int32_t>(g_.dos.size()) - 1;
+    sc.frame = f;
+    scopes_.push_back(std::move(sc));
+    return static_cast<int32_t>(g_.dos.size()) - 1;
+}
+
+int32_t Elaborator::do_type(const std::string& type_name, Span s) {
+    if (auto it = do_types_.find(type_name); it != do_types_.end()) return it->second;
+    graph::DoType t;
+    t.name = name(type_name);
+    t.src = src(s);
+    g_.do_types.push_back(t);
+    int32_t id = static_cast<int32_t>(g_.do_types.size()) - 1;
+    do_types_[type_name] = id;
+    return id;
+}
+
+const ast::ObjectDecl* Elaborator::find_type(const std::string& type_name, int module, Span use, int* type_module) {
+    auto it = types_.find(type_name);
+    // Visible: types of this module and of the modules it imports directly.
+    bool visible = false;
+    if (it != types_.end()) {
+        int m = it->second.first;
+        visible = m == module;
+        for (int imp : prog_.modules[static_cast<size_t>(module)].imports) visible = visible || imp == m;
+    }
+    if (it == types_.end() || !visible) {
+        std::vector<std::string> candidates;
+        for (const auto& [n, t] : types_) candidates.push_back(n);
+        auto& d = sink_.report(DiagId::UnknownType, use, fmt::format("unknown object type '{}'", type_name));
+        if (it != types_.end())
+            d.notes.push_back({it->second.second->name.span,
+                               "declared in a module this file does not import; add an import"});
+        else if (auto hint = closest_name(type_name, candidates); !hint.empty())
+            d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        return nullptr;
+    }
+    if (type_module) *type_module = it->second.first;
+    return it->second.second;
+}
+
+bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
+    auto [it, fresh] = s.declared.try_emplace(n, span);
+    if (fresh) return true;
+    auto& d = sink_.report(DiagId::DuplicateName, span, fmt::format("'{}' is declared twice", n));
+    d.notes.push_back({it->second, "first declared here"});
+    return false;
+}
+
+void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
+                        std::vector<Item>& out, int depth) {
+    if (depth > kMaxDepth) return;
+    for (const auto& m : members) {
+        if (++expanded_ > kMaxExpanded) {
+            if (expanded_ == kMaxExpanded + 1)
+                sink_.report(DiagId::LoopTooLarge, {}, fmt::format("the plant expands to more than {} members", kMaxExpanded));
+            return;
+        }
+        if (auto* let = std::get_if<ast::LetDecl>(&m)) {
+            Value v = ev_.eval(*let->value, *env);
+            auto next = std::make_shared<Env>(env);
+            next->set(let->name.text, v);
+            env = next;
+        } else if (auto* fp = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) {
+            const ast::ForDecl& f = **fp;
+            Value from = ev_.eval(*f.from, *env);
+            Value to = ev_.eval(*f.to, *env);
+            if (!ev_.expect_int(from, "loop start") || !ev_.expect_int(to, "loop end")) continue;
+            if (to.num - from.num > static_cast<double>(kMaxExpanded)) {
+                sink_.report(DiagId::LoopTooLarge, f.span,
+                             fmt::format("loop of {} iterations; the limit is {}", to.num - from.num, kMaxExpanded));
+                continue;
+            }
+            for (long long i = static_cast<long long>(from.num); i < static_cast<long long>(to.num); ++i) {
+                auto inner = std::make_shared<Env>(env);
+                Value iv = Value::number(static_cast<double>(i), {}, f.var.span);
+                iv.integer = true;
+                inner->set(f.var.text, iv);
+                expand(f.body, inner, out, depth + 1);
+            }
+        } else if (auto* ip = std::get_if<std::unique_ptr<ast::IfDecl>>(&m)) {
+            const ast::IfDecl& c = **ip;
+            Value cond = ev_.eval(*c.cond, *env);
+            if (!ev_.expect_bool(cond, "condition")) continue;
+            expand(cond.boolean ? c.then_body : c.else_body, env, out, depth + 1);
+        } else {
+            out.push_back(Item{&m, env});
+        }
+    }
+}
+
+Frame Elaborator::placement(const ast::Placement* p, const Env& env) {
+    Frame f;
+    if (!p) return f;
+    if (p->at) {
+        Value at = ev_.eval(*p->at, env);
+        if (ev_.expect_vec3(at, units::dims::length, "position"))
+            f.p = Eigen::Vector3d(at.items[0].num, at.items[1].num, at.items[2].num);
+    }
+    // Rotations are intrinsic: each turns about the axes left by the previous ones.
+    for (const auto& r : p->rotations) {
+        Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+        if (r.axis_name) {
+            const auto& a = r.axis_name->text;
+            if (a == "x") axis = Eigen::Vector3d::UnitX();
+            else if (a == "y") axis = Eigen::Vector3d::UnitY();
+            else if (a == "z") axis = Eigen::Vector3d::UnitZ();
+            else {
+                sink_.report(DiagId::UnknownName, r.axis_name->span,
+                             fmt::format("unknown axis '{}'; write x, y, z or a vector (x, y, z)", a));
+                continue;
+            }
+        } else if (r.axis_vec) {
+            Value v = ev_.eval(*r.axis_vec, env);
+            if (!ev_.expect_vec3(v, {}, "rotation axis")) continue;
+            axis = Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
+            if (axis.norm() < 1e-12) {
+                sink_.report(DiagId::ZeroVector, r.axis_vec->span, "rotation axis is the zero vector");
+                continue;
+            }
+            axis.normalize();
+        }
+        Value angle = ev_.eval(*r.angle, env);
+        if (!ev_.expect_number(angle, units::dims::angle, "rotation angle")) continue;
+        f.q = (f.q * Eigen::Quaterniond(Eigen::AngleAxisd(angle.num, axis))).normalized();
+    }
+    return f;
+}
+
+std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, const std::vector<ast::Arg>& args,
+                                                 Span call_span, const Env& caller_env, int module) {
+    auto env = std::make_shared<Env>();
+    std::vector<const ast::Arg*> given(decl.params.size(), nullptr);
+    size_t positional = 0;
+    for (const auto& a : args) {
+        size_t idx = decl.params.size();
+        if (a.name) {
+            for (size_t i = 0; i < decl.params.size(); ++i)
+                if (decl.params[i].name.text == a.name->text) idx = i;
+            if (idx == decl.params.size()) {
+                std::vector<std::string> names;
+                for (const auto& p : decl.params) names.push_back(p.name.text);
+                auto& d = sink_.report(DiagId::UnknownArgument, a.name->span,
+                                       fmt::format("'{}' has no parameter '{}'", decl.name.text, a.name->text));
+                if (auto hint = closest_name(a.name->text, names); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                d.notes.push_back({decl.name.span, fmt::format("'{}' declared here", decl.name.text)});
+                continue;
+            }
+        } else {
+            idx = positional++;
+            if (idx >= decl.params.size()) {
+                auto& d = sink_.report(DiagId::ExtraArgument, a.span,
+                                       fmt::format("'{}' takes {} parameter{}; this argument is extra", decl.name.text,
+                                                   decl.params.size(), decl.params.size() == 1 ? "" : "s"));
+                d.notes.push_back({decl.name.span, fmt::format("'{}' declared here", decl.name.text)});
+                continue;
+            }
+        }
+        if (given[idx]) {
+            sink_.report(DiagId::DuplicateProperty, a.span,
+                         fmt::format("parameter '{}' is given twice", decl.params[idx].name.text));
+            continue;
+        }
+        given[idx] = &a;
+    }
+    for (size_t i = 0; i < decl.params.size(); ++i) {
+        const auto& p = decl.params[i];
+        Value v;
+        if (given[i]) {
+            v = ev_.eval(*given[i]->value, caller_env);
+        } else if (p.default_value) {
+            v = ev_.eval(*p.default_value, *env);  // defaults may use earlier parameters
+        } else {
+            auto& d = sink_.report(DiagId::MissingArgument, call_span,
+                                   fmt::format("missing argument '{}: {}' of '{}'", p.name.text, p.type.text,
+                                               decl.name.text));
+            d.notes.push_back({p.span, "parameter declared here without a default"});
+            continue;
+        }
+        // Check the value against the parameter's type.
+        const std::string& t = p.type.text;
+        std::string what = fmt::format("argument '{}'", p.name.text);
+        bool ok = true;
+        if (auto dim = units::dim_of_type(t)) ok = ev_.expect_number(v, *dim, what);
+        else if (t == "int") ok = ev_.expect_int(v, what);
+        else if (t == "bool") ok = ev_.expect_bool(v, what);
+        else if (t == "string") ok = ev_.expect_string(v, what);
+        else if (t == "position") ok = ev_.expect_vec3(v, units::dims::length, what);
+        else if (t == "vector") ok = ev_.expect_vec3(v, {}, what);
+        else if (t == "object") {
+            ok = v.kind == Value::Kind::Type;
+            if (!ok && v.kind != Value::Kind::None)
+                sink_.report(DiagId::ValueTypeMismatch, v.span,
+                             fmt::format("{} must be an object type such as Bottle(...), not a {}", what, describe(v)));
+        } else if (t == "list") {
+            ok = v.kind == Value::Kind::List;
+            if (!ok && v.kind != Value::Kind::None)
+                sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a list [...]", what));
+        } else {
+            std::vector<std::string> known = units::dimension_type_names();
+            for (const char* k : {"int", "bool", "string", "position", "vector", "object", "list"}) known.push_back(k);
+            auto& d = sink_.report(DiagId::UnknownType, p.type.span, fmt::format("unknown parameter type '{}'", t));
+            if (auto hint = closest_name(t, known); !hint.empty())
+                d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+            ok = false;
+        }
+        if (ok && v.kind == Value::Kind::Num && units::dim_of_type(t)) v.any_dim = false, v.dim = *units::dim_of_type(t);
+        if (ok) env->set(p.name.text, v);
+        else env->set(p.name.text, Value{});
+    }
+    (void)module;
+    return env;
+}
+
+void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
+    scopes_[static_cast<size_t>(do_id)].decl = &decl;
+    scopes_[static_cast<size_t>(do_id)].module = module;
+    for (const auto& p : decl.params) declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+
+    std::vector<Item> items;
+    expand(decl.members, env, items, 0);
+
+    // Components first, so that one DO's components (and their slots) are contiguous.
+    g_.dos[static_cast<size_t>(do_id)].comp_adr = static_cast<int32_t>(g_.comps.size());
+    std::vector<std::pair<int32_t, const Item*>> made;
+    for (const auto& it : items) {
+        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
+            int32_t comp = make_component(s, *c, *it.env, -1, "");
+            if (comp >= 0) made.emplace_back(comp, &it);
+        } else if (auto* l = std::get_if<ast::LogicDecl>(it.member)) {
+            make_logic(s, *l);
+        } else if (auto* p = std::get_if<ast::PortDecl>(it.member)) {
+            declare(s, p->name.text, p->name.span);
+        } else if (auto* st = std::get_if<ast::SettingDecl>(it.member)) {
+            if (!decl.is_plant) {
+                sink_.report(DiagId::UnknownProperty, st->name.span,
+                             fmt::format("'{}' = ... is a plant setting; only a plant can set it", st->name.text));
+                continue;
+            }
+            Value v = ev_.eval(*st->value, *it.env);
+            if (st->name.text == "rate") {
+                if (ev_.expect_number(v, units::dims::frequency, "rate")) {
+                    if (v.num <= 0) sink_.report(DiagId::NonPositive, v.span, "the step rate must be positive");
+                    else g_.settings.rate = v.num;
+                }
+            } else if (st->name.text == "gravity") {
+                if (ev_.expect_vec3(v, units::dims::acceleration, "gravity"))
+                    g_.settings.gravity = {v.items[0].num, v.items[1].num, v.items[2].num};
+            } else {
+                auto& d = sink_.report(DiagId::UnknownProperty, st->name.span,
+                                       fmt::format("unknown plant setting '{}'", st->name.text));
+                if (auto hint = closest_name(st->name.text, {"rate", "gravity"}); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+            }
+        }
+    }
+    g_.dos[static_cast<size_t>(do_id)].comp_num =
+        static_cast<int32_t>(g_.comps.size()) - g_.dos[static_cast<size_t>(do_id)].comp_adr;
+    for (auto [comp, it] : made)
+        link_component(scopes_[static_cast<size_t>(do_id)], comp, std::get<ast::ComponentDecl>(*it->member), *it->env);
+
+    // Child instances, then pooled objects of this DO's sources.
+    for (const auto& it : items) {
+        auto* inst = std::get_if<ast::InstanceDecl>(it.member);
+        if (!inst) continue;
+        std::string iname = inst->name.text;
+        if (inst->index) {
+            Value idx = ev_.eval(*inst->index, *it.env);
+            if (!ev_.expect_int(idx, "instance index")) continue;
+            iname += fmt::format("[{}]", static_cast<long long>(idx.num));
+        }
+        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) continue;
+        int type_module = -1;
+        const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
+        if (!type) continue;
+        if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
+            auto& d = sink_.report(DiagId::RecursiveObject, inst->type.span,
+                                   fmt::format("'{}' contains itself", type->name.text));
+            d.notes.push_back({type->name.span, "declared here"});
+            continue;
+        }
+        auto child_env = bind_args(*type, inst->args, inst->args.empty() ? inst->type.span : inst->args_span,
+                                   *it.env, module);
+        Frame f = scopes_[static_cast<size_t>(do_id)].frame *
+                  placement(inst->placement ? &*inst->placement : nullptr, *it.env);
+        const std::string& parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
+        std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
+        int32_t child = new_do(path, do_id, do_type(type->name.text, type->name.span), f, inst->span);
+        scopes_[static_cast<size_t>(do_id)].children[iname] = child;
+        type_stack_.push_back(type->name.text);
+        elaborate_do(child, *type, type_module, child_env);
+        type_stack_.pop_back();
+    }
+    make_pools(do_id, items);
+
+    // Connections: ports, connector inputs, flows, records.
+    for (const auto& it : items) {
+        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        if (auto* p = std::get_if<ast::PortDecl>(it.member)) bind_port(s, *p, *it.env);
+    }
+    for (const auto& it : items) {
+        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        if (auto* l = std::get_if<ast::LogicDecl>(it.member)) connect_logic(s, *l, *it.env);
+        else if (auto* f = std::get_if<ast::FlowDecl>(it.member)) add_flow(*f, *it.env, do_id);
+        else if (auto* r = std::get_if<ast::RecordDecl>(it.member)) add_record(s, *r, *it.env);
+    }
+}
+
+// Pooled objects of a source: built now, contiguous DO ids, outside the world until issued.
+void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
+    for (const auto& it : items) {
+        auto* c = std::get_if<ast::ComponentDecl>(it.member);
+        if (!c || c->kind.text != "source") continue;
+        auto found = scopes_[static_cast<size_t>(do_id)].comps.find(c->name.text);
+        if (found == scopes_[static_cast<size_t>(do_id)].comps.end()) continue;
+        const int32_t comp = found->second;
+        auto& src_rec = g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)];
+        const ast::Property* obj = nullptr;
+        for (const auto& p : c->properties)
+            if (p.name.text == "object") obj = &p;
+        if (!obj || src_rec.do_type < 0 || src_rec.pool_num <= 0) continue;
+        Value v = ev_.eval(*obj->value, *it.env);
+        if (v.kind != Value::Kind::Type) continue;
+        int type_module = -1;
+        const ast::ObjectDecl* type = find_type(v.str, scopes_[static_cast<size_t>(do_id)].module, v.span, &type_module);
+        if (!type) continue;
+        if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
+            sink_.report(DiagId::RecursiveObject, v.span, fmt::format("'{}' issues itself", type->name.text));
+            continue;
+        }
+        static const std::vector<ast::Arg> no_args;
+        const auto& args = v.call && v.call->kind == ast::ExprKind::Call ? v.call->args : no_args;
+        auto env = bind_args(*type, args, v.span, *it.env, type_module);
+        Frame at;
+        const auto& sp = src_rec.pose;
+        at.p = Eigen::Vector3d(sp.p[0], sp.p[1], sp.p[2]);
+        at.q = Eigen::Quaterniond(sp.q[3], sp.q[0], sp.q[1], sp.q[2]);
+        const int32_t n = src_rec.pool_num;
+        const int32_t tid = src_rec.do_type;
+        const std::string parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
+        std::vector<int32_t> made;
+        for (int32_t i = 0; i < n; ++i) {
+            std::string iname = fmt::format("{}[{}]", c->name.text, i);
+            std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
+            int32_t d = new_do(path, do_id, tid, at, c->name.span);
+            g_.dos[static_cast<size_t>(d)].pool = comp;
+            scopes_[static_cast<size_t>(do_id)].children[iname] = d;
+            made.push_back(d);
+        }
+        g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)].pool_adr = made.front();
+        type_stack_.push_back(type->name.text);
+        for (int32_t d : made) elaborate_do(d, *type, type_module, env);
+        type_stack_.pop_back();
+    }
+}
+
+graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink) {
+    Elaborator e(prog, sources, sink);
+    return e.run();
+}
+
+}  // namespace plant::sema

@@ -1,0 +1,144 @@
+// Internal to compiler/sema: the state shared by the elaboration files. Elaboration
+// instantiates the plant object by object (parameters substituted, loops unrolled),
+// checks names, types, directions, units and values, and writes the flat graph as it
+// goes: DOs, components and slots get their ids in a fixed depth-first order.
+#pragma once
+
+#include "graph/graph.h"
+#include "sema/elaborate.h"
+#include "sema/modules.h"
+#include "sema/schema.h"
+#include "sema/value.h"
+
+#include <Eigen/Geometry>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace plant::sema {
+
+struct Frame {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    Frame operator*(const Frame& local) const { return {p + q * local.p, (q * local.q).normalized()}; }
+    Frame inverse() const {
+        Eigen::Quaterniond qi = q.conjugate();
+        return {qi * -p, qi};
+    }
+    graph::Pose pose() const {
+        return {{p.x(), p.y(), p.z()}, {q.x(), q.y(), q.z(), q.w()}};
+    }
+};
+
+struct PortInfo {
+    bool input = false;
+    graph::SlotType type = graph::SlotType::Void;
+    std::vector<int32_t> slots;  // inputs: every forwarded input; outputs: the one output
+    Span span;
+};
+
+struct Scope {
+    int32_t do_id = -1;
+    const ast::ObjectDecl* decl = nullptr;
+    int module = -1;
+    Frame frame;
+    std::map<std::string, int32_t> comps;     // component name -> comp id
+    std::map<std::string, int32_t> children;  // instance name ("b" or "b[3]") -> DO id
+    std::map<std::string, PortInfo> ports;
+    std::map<std::string, Span> declared;     // every member name, for duplicates
+};
+
+// A member of an object after loops and conditions were expanded, with its scope chain.
+struct Item {
+    const ast::Member* member;
+    std::shared_ptr<const Env> env;
+};
+
+// A resolved end of a flow.
+struct Endpoint {
+    bool ok = false;
+    std::vector<int32_t> slots;    // static slots (one, or several for an input port)
+    graph::SlotType type = graph::SlotType::Void;
+    graph::Dir dir = graph::Dir::Out;
+    // Dynamic access: the ref slot, the object type, the member path below it.
+    int32_t ref_slot = -1;
+    int32_t do_type = -1;
+    const ast::Path* access_path = nullptr;
+    int32_t access_scope = -1;
+    std::shared_ptr<const Env> env;
+    std::string text;
+    Span span;
+};
+
+struct PendingAccessFlow {
+    const ast::FlowDecl* decl;
+    Endpoint from, to;
+    graph::Cond cond;
+};
+
+class Elaborator : public TypeLookup {
+public:
+    Elaborator(const Program& prog, const SourceMap& sm, Sink& sink);
+    graph::Graph run();
+
+    bool is_object_type(const std::string& name) const override;
+
+    // elaborate.cpp
+    void elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module,
+                      std::shared_ptr<const Env> env);
+    int32_t new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span src);
+    int32_t do_type(const std::string& name, Span src);
+    std::shared_ptr<const Env> bind_args(const ast::ObjectDecl& decl, const std::vector<ast::Arg>& args,
+                                         Span call_span, const Env& caller_env, int module);
+    const ast::ObjectDecl* find_type(const std::string& name, int module, Span use, int* type_module);
+    void expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
+                std::vector<Item>& out, int depth);
+    bool declare(Scope& s, const std::string& name, Span span);
+    Frame placement(const ast::Placement* p, const Env& env);
+    graph::Src src(Span s);
+    graph::Name name(std::string_view s) { return g_.intern(s); }
+
+    // components.cpp
+    int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
+                           const std::string& prefix);
+    int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
+    void link_component(Scope& s, int32_t comp, const ast::ComponentDecl& c, const Env& env);
+    void make_logic(Scope& s, const ast::LogicDecl& l);
+    void make_pools(int32_t do_id, const std::vector<Item>& items);
+
+    // resolve.cpp
+    Endpoint resolve(int32_t scope_do, const ast::Path& path, const Env& env);
+    void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
+    void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);
+    void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
+    void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
+    void emit_flow(const Endpoint& from, const Endpoint& to, graph::Cond cond, bool once, Span span);
+    void finish_accesses();
+    int32_t find_comp_slot(int32_t comp, std::string_view slot_name) const;
+
+    // checks.cpp
+    void check_petri_nets();
+    void check_unused();
+    void check_logic_cycles();
+
+    const Program& prog_;
+    const SourceMap& sm_;
+    Sink& sink_;
+    Evaluator ev_;
+    graph::Graph g_;
+    std::vector<Scope> scopes_;  // by DO id
+    std::map<std::string, std::pair<int, const ast::ObjectDecl*>> types_;  // object types by name
+    std::map<std::string, int32_t> do_types_;
+    std::vector<std::string> type_stack_;  // objects being instantiated, for recursion
+    std::unordered_map<int32_t, int32_t> ref_types_;  // ref slot -> DoType it holds
+    std::vector<PendingAccessFlow> pending_;
+    std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
+    std::map<int32_t, Span> comp_spans_;
+    std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
+    long long expanded_ = 0;  // members produced by loops, against runaway loops
+};
+
+}  // namespace plant::sema

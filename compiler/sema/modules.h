@@ -1,0 +1,28 @@
+// Loads the root file and, transitively, every module it imports.
+// `import std.belts` names stdlib/belts.plant; `import parts.rail` names parts/rail.plant
+// next to the importing file. Each file is parsed once.
+#pragma once
+
+#include "ast/ast.h"
+#include "diag/diagnostic.h"
+
+#include <string>
+#include <vector>
+
+namespace plant::sema {
+
+struct LoadedModule {
+    std::string key;          // canonical path on disk, for identity
+    ast::Module ast;
+    std::vector<int> imports; // indices of directly imported modules
+};
+
+struct Program {
+    std::vector<LoadedModule> modules;  // dependencies before dependents
+    int root = -1;
+};
+
+Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
+                     Sink& sink);
+
+}  // namespace plant::sema

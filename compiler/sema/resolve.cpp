@@ -1,0 +1,376 @@
+// Paths to slots, and the connections between them: ports, flows, connectors, records.
+#include "sema/elaborator.h"
+
+#include "graph/kinds.h"
+
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+using graph::Dir;
+using graph::SlotType;
+
+namespace {
+
+std::string path_text(const ast::Path& p) {
+    std::string s;
+    if (p.cast_base) s = "(" + path_text(*p.cast_base) + " as " + p.cast_type.text + ")";
+    for (const auto& seg : p.segs) {
+        if (!s.empty()) s += ".";
+        s += seg.name.text;
+        if (seg.index) s += "[..]";
+    }
+    return s;
+}
+
+std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
+
+}  // namespace
+
+int32_t Elaborator::find_comp_slot(int32_t comp, std::string_view slot_name) const {
+    const auto& c = g_.comps[static_cast<size_t>(comp)];
+    for (int32_t i = 0; i < c.slot_num; ++i)
+        if (g_.str(g_.slots[static_cast<size_t>(c.slot_adr + i)].name) == slot_name) return c.slot_adr + i;
+    return -1;
+}
+
+Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env& env) {
+    Endpoint ep;
+    ep.span = path.span;
+    ep.text = path_text(path);
+    if (path.cast_base) {
+        Endpoint base = resolve(scope_do, *path.cast_base, env);
+        if (!base.ok) return ep;
+        if (base.slots.size() != 1 || base.type != SlotType::Ref || base.ref_slot >= 0) {
+            sink_.report(DiagId::NotARef, path.cast_base->span,
+                         fmt::format("'{}' is a {} slot; only an object reference (ref) can be cast with 'as'",
+                                     base.text, graph::word(base.type)));
+            return ep;
+        }
+        int type_module = -1;
+        if (!find_type(path.cast_type.text, scopes_[static_cast<size_t>(scope_do)].module, path.cast_type.span, &type_module))
+            return ep;
+        int32_t tid = do_type(path.cast_type.text, path.cast_type.span);
+        if (auto it = ref_types_.find(base.slots[0]); it != ref_types_.end() && it->second != tid) {
+            sink_.report(DiagId::RefTypeMismatch, path.cast_type.span,
+                         fmt::format("'{}' holds a '{}', which is not a '{}'", base.text,
+                                     g_.str(g_.do_types[static_cast<size_t>(it->second)].name), path.cast_type.text));
+            return ep;
+        }
+        ep.ok = true;
+        ep.ref_slot = base.slots[0];
+        ep.do_type = tid;
+        ep.access_path = &path;
+        return ep;  // the member is resolved against every object of the type, later
+    }
+
+    int32_t cur = scope_do;
+    const auto& segs = path.segs;
+    for (size_t i = 0; i < segs.size(); ++i) {
+        const Scope& s = scopes_[static_cast<size_t>(cur)];
+        std::string key = segs[i].name.text;
+        if (segs[i].index) {
+            Value idx = ev_.eval(*segs[i].index, env);
+            if (!ev_.expect_int(idx, "index")) return ep;
+            key += fmt::format("[{}]", static_cast<long long>(idx.num));
+        }
+        if (auto it = s.children.find(key); it != s.children.end()) {
+            cur = it->second;
+            if (i + 1 == segs.size()) {
+                sink_.report(DiagId::NotAnObject, path.span,
+                             fmt::format("'{}' is an object; name one of its slots, e.g. '{}.<slot>'", ep.text, ep.text));
+                return ep;
+            }
+            continue;
+        }
+        // A port of this object (own ports are used from inside, child ports from outside).
+        if (auto it = s.ports.find(key); it != s.ports.end() && i + 1 == segs.size()) {
+            ep.ok = !it->second.slots.empty();
+            ep.slots = it->second.slots;
+            ep.type = it->second.type;
+            ep.dir = it->second.input ? Dir::In : Dir::Out;
+            return ep;
+        }
+        // A component: the longest run of segments that names one (child graphics are "a.b").
+        std::string comp_name;
+        int32_t comp = -1;
+        size_t after = i;
+        for (size_t j = i; j < segs.size(); ++j) {
+            comp_name += (j == i ? "" : ".") + segs[j].name.text;
+            if (auto it = s.comps.find(comp_name); it != s.comps.end()) {
+                comp = it->second;
+                after = j + 1;
+            }
+        }
+        if (comp >= 0) {
+            std::string slot_name;
+            for (size_t j = after; j < segs.size(); ++j) slot_name += (j == after ? "" : ".") + segs[j].name.text;
+            const auto& c = g_.comps[static_cast<size_t>(comp)];
+            if (slot_name.empty() && c.kind == graph::CompKind::Logic) slot_name = "out";
+            int32_t slot = slot_name.empty() ? -1 : find_comp_slot(comp, slot_name);
+            if (slot < 0) {
+                std::vector<std::string> names;
+                for (int32_t k = 0; k < c.slot_num; ++k)
+                    names.emplace_back(g_.str(g_.slots[static_cast<size_t>(c.slot_adr + k)].name));
+                auto& d = sink_.report(DiagId::UnknownSlot, slot_name.empty() ? path.span : segs[after].name.span,
+                                       slot_name.empty()
+                                           ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, graph::word(c.kind))
+                                           : fmt::format("{} component '{}' has no slot '{}'", graph::word(c.kind),
+                                                         g_.str(c.name), slot_name));
+                if (auto hint = closest_name(slot_name, names); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                else if (!names.empty() && names.size() <= 16)
+                    d.notes.push_back({{}, fmt::format("its slots: {}", fmt::join(names, ", "))});
+                return ep;
+            }
+            const auto& sl = g_.slots[static_cast<size_t>(slot)];
+            ep.ok = true;
+            ep.slots = {slot};
+            ep.type = sl.type;
+            ep.dir = sl.dir;
+            return ep;
+        }
+        std::vector<std::string> names;
+        for (const auto& [k, v] : s.children) names.push_back(k);
+        for (const auto& [k, v] : s.comps) names.push_back(k);
+        for (const auto& [k, v] : s.ports) names.push_back(k);
+        auto& d = sink_.report(DiagId::UnknownName, segs[i].name.span,
+                               cur == scope_do ? fmt::format("unknown name '{}'", key)
+                                               : fmt::format("'{}' has no member '{}'", g_.str(g_.dos[static_cast<size_t>(cur)].path), key));
+        if (auto hint = closest_name(key, names); !hint.empty())
+            d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        return ep;
+    }
+    return ep;
+}
+
+void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
+    PortInfo info;
+    info.input = p.is_input;
+    info.span = p.name.span;
+    static const std::vector<std::pair<std::string_view, SlotType>> kTypes = {
+        {"void", SlotType::Void}, {"bool", SlotType::Bool}, {"int", SlotType::Int},
+        {"real", SlotType::Real}, {"vec3", SlotType::Vec3}, {"quat", SlotType::Quat},
+        {"pose", SlotType::Pose}, {"string", SlotType::String}, {"ref", SlotType::Ref}};
+    bool known = false;
+    for (auto [w, t] : kTypes)
+        if (p.type.text == w) info.type = t, known = true;
+    if (!known) {
+        std::vector<std::string> words;
+        for (auto [w, t] : kTypes) words.emplace_back(w);
+        auto& d = sink_.report(DiagId::UnknownType, p.type.span, fmt::format("unknown slot type '{}'", p.type.text));
+        if (auto hint = closest_name(p.type.text, words); !hint.empty())
+            d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        return;
+    }
+    if (p.targets.empty()) {
+        sink_.report(DiagId::PortUnbound, p.name.span,
+                     fmt::format("port '{}' forwards to nothing; write `{} {}: {} => component.slot`", p.name.text,
+                                 p.is_input ? "in" : "out", p.name.text, p.type.text));
+        return;
+    }
+    if (!p.is_input && p.targets.size() > 1) {
+        sink_.report(DiagId::PortUnbound, p.targets[1].span, "an output port forwards exactly one inner output");
+        return;
+    }
+    for (const auto& t : p.targets) {
+        Endpoint e = resolve(s.do_id, t, env);
+        if (!e.ok) continue;
+        if (e.ref_slot >= 0) {
+            sink_.report(DiagId::NotARef, t.span, "a port cannot forward to a slot of an object known only at run time");
+            continue;
+        }
+        if (e.dir != (p.is_input ? Dir::In : Dir::Out)) {
+            sink_.report(DiagId::DirectionMismatch, t.span,
+                         fmt::format("{} port '{}' must forward to an {}, but '{}' is an {}", p.is_input ? "input" : "output",
+                                     p.name.text, p.is_input ? "input" : "output", e.text, dir_word(e.dir)));
+            continue;
+        }
+        if (e.type != info.type) {
+            sink_.report(DiagId::SlotTypeMismatch, t.span,
+                         fmt::format("port '{}' is declared '{}', but '{}' is '{}'", p.name.text, p.type.text, e.text,
+                                     graph::word(e.type)));
+            continue;
+        }
+        info.slots.insert(info.slots.end(), e.slots.begin(), e.slots.end());
+    }
+    scopes_[static_cast<size_t>(s.do_id)].ports[p.name.text] = std::move(info);
+}
+
+void Elaborator::emit_flow(const Endpoint& from, const Endpoint& to, graph::Cond cond, bool once, Span span) {
+    // Static ends only; dynamic ones are emitted by finish_accesses.
+    for (int32_t f : from.slots)
+        for (int32_t t : to.slots) {
+            graph::Flow fl;
+            fl.from = f;
+            fl.to = t;
+            fl.from_access = -1;
+            fl.to_access = -1;
+            fl.cond = cond;
+            fl.once = once;
+            fl.src = src(span);
+            g_.flows.push_back(fl);
+        }
+}
+
+void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do) {
+    graph::Cond cond = graph::Cond::Source;
+    if (f.condition && !graph::parse_word(f.condition->text, cond)) {
+        auto& d = sink_.report(DiagId::BadCondition, f.condition->span,
+                               fmt::format("unknown flow condition '{}'", f.condition->text));
+        d.notes.push_back({{}, "a flow runs `when source` (default), `when target`, `when both` or `when either`"});
+        if (auto hint = closest_name(f.condition->text, {"source", "target", "both", "either"}); !hint.empty())
+            d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+    }
+    if (f.name) declare(scopes_[static_cast<size_t>(scope_do)], f.name->text, f.name->span);
+    Endpoint from = resolve(scope_do, f.from, env);
+    Endpoint to = resolve(scope_do, f.to, env);
+    if (!from.ok || !to.ok) return;
+    if (from.ref_slot >= 0 || to.ref_slot >= 0) {
+        from.env = to.env = std::shared_ptr<const Env>();  // resolved in the type's own objects
+        from.access_scope = to.access_scope = scope_do;
+        pending_.push_back({&f, std::move(from), std::move(to), cond});
+        return;
+    }
+    if (from.dir != Dir::Out) {
+        auto& d = sink_.report(DiagId::DirectionMismatch, f.from.span,
+                               fmt::format("a flow starts at an output, but '{}' is an input", from.text));
+        if (to.dir == Dir::Out) d.notes.push_back({f.to.span, "and its target is an output: swap the two ends?"});
+        return;
+    }
+    if (to.dir != Dir::In) {
+        sink_.report(DiagId::DirectionMismatch, f.to.span,
+                     fmt::format("a flow ends at an input, but '{}' is an output", to.text));
+        return;
+    }
+    if (from.type != to.type) {
+        sink_.report(DiagId::SlotTypeMismatch, f.to.span,
+                     fmt::format("slot types differ: '{}' output '{}' cannot drive '{}' input '{}'", graph::word(from.type),
+                                 from.text, graph::word(to.type), to.text));
+        return;
+    }
+    emit_flow(from, to, cond, f.once, f.span);
+}
+
+void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
+    auto it = s.comps.find(l.name.text);
+    if (it == s.comps.end()) return;
+    const auto& lg = g_.logics[static_cast<size_t>(g_.comps[static_cast<size_t>(it->second)].detail)];
+    for (size_t i = 0; i < l.terms.size(); ++i) {
+        Endpoint e = resolve(s.do_id, l.terms[i].path, env);
+        if (!e.ok) continue;
+        if (e.ref_slot >= 0 || e.dir != Dir::Out || e.type != SlotType::Void) {
+            sink_.report(DiagId::LogicInputNotVoid, l.terms[i].path.span,
+                         fmt::format("a connector combines void outputs (events), but '{}' is a {} {}", e.text,
+                                     graph::word(e.type), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
+            continue;
+        }
+        Endpoint in;
+        in.slots = {g_.logic_inputs[static_cast<size_t>(lg.in_adr) + i].slot};
+        emit_flow(e, in, graph::Cond::Source, false, l.terms[i].span);
+    }
+}
+
+void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) {
+    Endpoint e = resolve(s.do_id, r.path, env);
+    if (!e.ok) return;
+    if (e.ref_slot >= 0 || e.slots.size() != 1) {
+        sink_.report(DiagId::NotAnObject, r.path.span, "record names one slot of a fixed object");
+        return;
+    }
+    std::string prefix(g_.str(g_.dos[static_cast<size_t>(s.do_id)].path));
+    std::string column = r.column ? *r.column : (prefix.empty() ? e.text : prefix + "." + e.text);
+    g_.records.push_back({e.slots[0], name(column)});
+}
+
+// Every flow through `(ref as Type).member`: the member is resolved in each object of
+// that type, in ordinal order, and must be the same kind of slot in all of them.
+void Elaborator::finish_accesses() {
+    for (auto& pf : pending_) {
+        Endpoint* ends[2] = {&pf.from, &pf.to};
+        int32_t access_ids[2] = {-1, -1};
+        SlotType types[2] = {pf.from.type, pf.to.type};
+        Dir dirs[2] = {pf.from.dir, pf.to.dir};
+        bool ok = true;
+        for (int k = 0; k < 2 && ok; ++k) {
+            Endpoint& e = *ends[k];
+            if (e.ref_slot < 0) continue;
+            graph::Access acc;
+            acc.ref_slot = e.ref_slot;
+            acc.do_type = e.do_type;
+            acc.target_adr = static_cast<int32_t>(g_.access_targets.size());
+            std::string member;
+            for (const auto& seg : e.access_path->segs) member += (member.empty() ? "" : ".") + seg.name.text;
+            acc.member = name(member);
+            acc.src = src(e.span);
+            ast::Path sub;
+            sub.span = e.span;
+            for (const auto& seg : e.access_path->segs) {
+                ast::PathSeg cp;
+                cp.name = seg.name;
+                sub.segs.push_back(std::move(cp));
+            }
+            bool first = true;
+            int32_t count = 0;
+            for (size_t d = 0; d < g_.dos.size() && ok; ++d) {
+                if (g_.dos[d].type != e.do_type) continue;
+                Endpoint m = resolve(static_cast<int32_t>(d), sub, Env{});
+                if (!m.ok || m.slots.size() != 1) {
+                    if (m.ok) sink_.report(DiagId::NotAnObject, e.span, "a dynamic slot must name one slot");
+                    ok = false;
+                    break;
+                }
+                const auto& sl = g_.slots[static_cast<size_t>(m.slots[0])];
+                if (first) {
+                    types[k] = sl.type;
+                    dirs[k] = sl.dir;
+                    first = false;
+                }
+                g_.access_targets.push_back({m.slots[0]});
+                ++count;
+            }
+            if (ok && count == 0) {
+                sink_.report(DiagId::NotAnObject, e.span,
+                             fmt::format("no object of type '{}' exists in this plant, so '{}' can never be reached",
+                                         g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name), e.text));
+                ok = false;
+            }
+            acc.target_num = count;
+            if (ok) {
+                g_.accesses.push_back(acc);
+                access_ids[k] = static_cast<int32_t>(g_.accesses.size()) - 1;
+            }
+        }
+        if (!ok) continue;
+        if (dirs[0] != Dir::Out) {
+            sink_.report(DiagId::DirectionMismatch, pf.from.span,
+                         fmt::format("a flow starts at an output, but '{}' is an input", pf.from.text));
+            continue;
+        }
+        if (dirs[1] != Dir::In) {
+            sink_.report(DiagId::DirectionMismatch, pf.to.span,
+                         fmt::format("a flow ends at an input, but '{}' is an output", pf.to.text));
+            continue;
+        }
+        if (types[0] != types[1]) {
+            sink_.report(DiagId::SlotTypeMismatch, pf.to.span,
+                         fmt::format("slot types differ: '{}' output '{}' cannot drive '{}' input '{}'", graph::word(types[0]),
+                                     pf.from.text, graph::word(types[1]), pf.to.text));
+            continue;
+        }
+        for (int32_t f : pf.from.ref_slot >= 0 ? std::vector<int32_t>{pf.from.ref_slot} : pf.from.slots)
+            for (int32_t t : pf.to.ref_slot >= 0 ? std::vector<int32_t>{pf.to.ref_slot} : pf.to.slots) {
+                graph::Flow fl;
+                fl.from = f;
+                fl.to = t;
+                fl.from_access = access_ids[0];
+                fl.to_access = access_ids[1];
+                fl.cond = pf.cond;
+                fl.once = pf.decl->once;
+                fl.src = src(pf.decl->span);
+                g_.flows.push_back(fl);
+            }
+    }
+}
+
+}  // namespace plant::sema

@@ -1,0 +1,119 @@
+#include "sema/schema.h"
+
+namespace plant::sema {
+namespace {
+
+namespace d = units::dims;
+using graph::CompKind;
+using T = PropType;
+
+std::vector<KindSpec> make_kinds() {
+    std::vector<KindSpec> k;
+    KindSpec graphics{"graphics", CompKind::Graphics, {}, {
+        {"model", T::String, {}, false, "model reference the viewer interprets (never loaded by the runtime)"},
+        {"variant", T::String, {}, false, "initial variant"},
+    }};
+    graphics.animations = graphics.variants = graphics.children = graphics.on = true;
+    k.push_back(graphics);
+
+    KindSpec body{"physics", CompKind::Body, {"dynamic", "static", "kinematic"}, {
+        {"mass", T::Number, d::mass, false, "required for dynamic bodies"},
+        {"inertia", T::Vec3, d::inertia, false, "principal moments; computed from the shapes when absent"},
+        {"friction", T::Number, {}, false, "default 0.5"},
+        {"restitution", T::Number, {}, false, "default 0"},
+        {"linear_damping", T::Number, {}, false, "default 0"},
+        {"angular_damping", T::Number, {}, false, "default 0"},
+        {"collision", T::Bool, {}, false, "default true"},
+        {"dynamics", T::Bool, {}, false, "default true"},
+    }};
+    body.shapes = true;
+    k.push_back(body);
+
+    KindSpec field{"field", CompKind::Field, {}, {
+        {"extent", T::Vec3, d::length, true, "full extents of the box volume"},
+        {"direction", T::Vec3, {}, false, "unit direction in the field's frame, default (1, 0, 0)"},
+        {"speed", T::Number, d::velocity, false, "target speed, default 0"},
+        {"gain", T::Number, d::gain, true, "k in kg/s (N per m/s)"},
+        {"enabled", T::Bool, {}, false, "default true"},
+    }};
+    field.on = true;
+    k.push_back(field);
+
+    k.push_back(KindSpec{"constraint", CompKind::Constraint, {"fixed", "hinge", "slider"}, {
+        {"a", T::CompRef, {}, true, "first body"},
+        {"b", T::CompRef, {}, true, "second body"},
+        {"axis", T::Vec3, {}, false, "hinge/slider axis in the object's frame, default (0, 0, 1)"},
+        {"lower", T::Number, {}, false, "lower limit (angle or length)"},
+        {"upper", T::Number, {}, false, "upper limit (angle or length)"},
+        {"enabled", T::Bool, {}, false, "default true"},
+    }});
+
+    KindSpec state{"state", CompKind::State, {}, {}};
+    state.places = true;
+    k.push_back(state);
+
+    KindSpec trigger{"trigger", CompKind::Trigger, {}, {
+        {"extent", T::Vec3, d::length, true, "full extents of the box volume"},
+        {"filter", T::Type, {}, false, "object type it reacts to; any object when absent"},
+    }};
+    trigger.on = true;
+    k.push_back(trigger);
+
+    k.push_back(KindSpec{"timer", CompKind::Timer, {"periodic", "once"}, {
+        {"period", T::Number, d::time, true, "period, or delay of a one-shot timer"},
+        {"autostart", T::Bool, {}, false, "runs from the start, default false"},
+    }});
+
+    KindSpec gripper{"gripper", CompKind::Gripper, {}, {
+        {"trigger", T::CompRef, {}, true, "trigger volume that catches objects"},
+    }};
+    gripper.on = true;
+    k.push_back(gripper);
+
+    k.push_back(KindSpec{"source", CompKind::Source, {}, {
+        {"object", T::Type, {}, true, "object type issued, e.g. Bottle(mass = 40 g)"},
+        {"pool", T::Int, {}, true, "objects pre-built at compile time"},
+        {"rate", T::Number, d::frequency, false, "issues per second; 0 (default): only on 'issue'"},
+        {"ids", T::StringList, {}, false, "bar codes handed out in turn; default NAME-1 ... NAME-pool"},
+    }});
+
+    k.push_back(KindSpec{"exit", CompKind::Exit, {}, {
+        {"trigger", T::CompRef, {}, true, "trigger volume whose objects are taken out"},
+    }});
+
+    KindSpec router{"router", CompKind::Router, {}, {}};
+    router.routes = true;
+    k.push_back(router);
+
+    k.push_back(KindSpec{"label", CompKind::Label, {}, {
+        {"value", T::String, {}, false, "the text, default empty"},
+    }});
+    return k;
+}
+
+const std::vector<KindSpec>& kinds() {
+    static const std::vector<KindSpec> k = make_kinds();
+    return k;
+}
+
+}  // namespace
+
+const KindSpec* find_kind(std::string_view word) {
+    for (const auto& k : kinds())
+        if (k.word == word) return &k;
+    return nullptr;
+}
+
+std::vector<std::string> kind_words() {
+    std::vector<std::string> out;
+    for (const auto& k : kinds()) out.emplace_back(k.word);
+    return out;
+}
+
+const PropSpec* find_prop(const KindSpec& k, std::string_view name) {
+    for (const auto& p : k.props)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+}  // namespace plant::sema

@@ -1,0 +1,40 @@
+// The component registry on the compiler side: which kind words exist, which modes and
+// properties each accepts, with their value type and dimension. The slot tables live in
+// runtime/graph/kinds.h, shared with the runtime.
+#pragma once
+
+#include "graph/graph.h"
+#include "units/units.h"
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace plant::sema {
+
+enum class PropType { Number, Vec3, Int, Bool, String, StringList, Type, CompRef };
+
+struct PropSpec {
+    std::string_view name;
+    PropType type;
+    units::Dim dim;   // Number and Vec3
+    bool required;
+    std::string_view doc;
+};
+
+struct KindSpec {
+    std::string_view word;  // as written in plant files
+    graph::CompKind kind;
+    std::vector<std::string_view> modes;  // first is the default; empty: no mode
+    std::vector<PropSpec> props;
+    bool shapes = false, animations = false, variants = false, places = false, routes = false,
+         children = false, on = false;
+};
+
+const KindSpec* find_kind(std::string_view word);
+std::vector<std::string> kind_words();
+const PropSpec* find_prop(const KindSpec& k, std::string_view name);
+
+}  // namespace plant::sema

@@ -1,0 +1,467 @@
+#include "sema/value.h"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+using units::Dim;
+using units::dim_name;
+
+std::string describe(const Value& v) {
+    switch (v.kind) {
+    case Value::Kind::None: return "nothing";
+    case Value::Kind::Num:
+        if (v.dim.none()) return v.integer ? "int" : "real";
+        return dim_name(v.dim);
+    case Value::Kind::Bool: return "bool";
+    case Value::Kind::Str: return "string";
+    case Value::Kind::Vec: {
+        Dim d = v.items.empty() ? Dim{} : v.items[0].dim;
+        return fmt::format("vec{} of {}", v.items.size(), d.none() ? "real" : dim_name(d));
+    }
+    case Value::Kind::List: return "list";
+    case Value::Kind::Type: return "object type '" + v.str + "'";
+    case Value::Kind::Name: return "name '" + v.str + "'";
+    }
+    return "?";
+}
+
+const Value* Env::find(const std::string& name) const {
+    for (const Env* e = this; e; e = e->parent_.get()) {
+        auto it = e->vars_.find(name);
+        if (it != e->vars_.end()) return &it->second;
+    }
+    return nullptr;
+}
+
+std::vector<std::string> Env::names() const {
+    std::vector<std::string> out;
+    for (const Env* e = this; e; e = e->parent_.get())
+        for (const auto& [k, v] : e->vars_) out.push_back(k);
+    return out;
+}
+
+namespace {
+
+bool dims_fit(const Value& a, const Value& b) { return a.dim == b.dim || a.any_dim || b.any_dim; }
+
+Dim pick_dim(const Value& a, const Value& b) { return a.any_dim ? b.dim : a.dim; }
+
+}  // namespace
+
+Value Evaluator::eval(const ast::Expr& e, const Env& env) {
+    using K = ast::ExprKind;
+    switch (e.kind) {
+    case K::Number: {
+        Value v = Value::number(e.number, {}, e.span);
+        if (e.text.empty()) {
+            v.integer = std::floor(e.number) == e.number && std::abs(e.number) < 9e15;
+            v.any_dim = e.number == 0;
+            return v;
+        }
+        std::string bad;
+        auto unit = units::parse_unit(e.text, &bad);
+        if (!unit) {
+            auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
+            std::string hint = closest_name(bad, units::unit_atoms());
+            if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+            d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
+            return {};
+        }
+        v.num = e.number * unit->scale;
+        v.dim = unit->dim;
+        return v;
+    }
+    case K::String: {
+        Value v;
+        v.kind = Value::Kind::Str;
+        v.str = e.text;
+        v.span = e.span;
+        return v;
+    }
+    case K::Bool: {
+        Value v;
+        v.kind = Value::Kind::Bool;
+        v.boolean = e.boolean;
+        v.span = e.span;
+        return v;
+    }
+    case K::Name: {
+        if (const Value* found = env.find(e.text); found && e.members.empty() && !e.index) {
+            Value v = *found;
+            v.span = e.span;
+            return v;
+        }
+        if (types_.is_object_type(e.text) && e.members.empty()) {
+            Value v;
+            v.kind = Value::Kind::Type;
+            v.str = e.text;
+            v.call = &e;
+            v.span = e.span;
+            return v;
+        }
+        // Otherwise a reference to a component, resolved by whoever asked for it.
+        Value v;
+        v.kind = Value::Kind::Name;
+        v.str = e.text;
+        for (const auto& m : e.members) v.str += "." + m.text;
+        v.span = e.span;
+        return v;
+    }
+    case K::Unary: {
+        Value a = eval(*e.kids[0], env);
+        if (a.kind == Value::Kind::None) return a;
+        if (e.text == "not") {
+            if (!expect_bool(a, "operand of 'not'")) return {};
+            a.boolean = !a.boolean;
+            a.span = e.span;
+            return a;
+        }
+        if (a.kind == Value::Kind::Num) {
+            a.num = -a.num;
+        } else if (a.kind == Value::Kind::Vec) {
+            for (auto& it : a.items) it.num = -it.num;
+        } else {
+            sink_.report(DiagId::ValueTypeMismatch, e.span, fmt::format("cannot negate a {}", describe(a)));
+            return {};
+        }
+        a.span = e.span;
+        return a;
+    }
+    case K::Binary: {
+        Value a = eval(*e.kids[0], env);
+        Value b = eval(*e.kids[1], env);
+        if (a.kind == Value::Kind::None || b.kind == Value::Kind::None) return {};
+        Value r = binary(e, a, b);
+        r.span = e.span;
+        return r;
+    }
+    case K::Tuple: {
+        Value v;
+        v.kind = Value::Kind::Vec;
+        v.span = e.span;
+        for (const auto& k : e.kids) {
+            Value x = eval(*k, env);
+            if (x.kind == Value::Kind::None) return {};
+            if (x.kind != Value::Kind::Num) {
+                sink_.report(DiagId::ValueTypeMismatch, k->span,
+                             fmt::format("a vector holds numbers, not a {}", describe(x)));
+                return {};
+            }
+            v.items.push_back(x);
+        }
+        // All components share one dimension; a bare 0 takes the others' dimension.
+        Dim d{};
+        bool have = false;
+        for (const auto& x : v.items)
+            if (!x.any_dim) {
+                if (have && !(x.dim == d)) {
+                    sink_.report(DiagId::DimensionMismatch, x.span,
+                                 fmt::format("vector components differ: {} and {}", dim_name(d), dim_name(x.dim)));
+                    return {};
+                }
+                d = x.dim;
+                have = true;
+            }
+        for (auto& x : v.items) {
+            if (x.any_dim) x.dim = d;
+            x.any_dim = !have;
+        }
+        return v;
+    }
+    case K::List: {
+        Value v;
+        v.kind = Value::Kind::List;
+        v.span = e.span;
+        for (const auto& k : e.kids) {
+            Value x = eval(*k, env);
+            if (x.kind == Value::Kind::None) return {};
+            v.items.push_back(x);
+        }
+        return v;
+    }
+    case K::Call: return call(e, env);
+    }
+    return {};
+}
+
+Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
+    const std::string& op = e.text;
+    using VK = Value::Kind;
+    auto mismatch = [&](const Value& x, const Value& y) {
+        sink_.report(DiagId::DimensionMismatch, e.span,
+                     fmt::format("'{}' needs equal dimensions, but the left side is a {} and the right side a {}",
+                                 op, describe(x), describe(y)));
+        return Value{};
+    };
+    if (op == "and" || op == "or") {
+        if (!expect_bool(a, "left side of '" + op + "'") || !expect_bool(b, "right side of '" + op + "'")) return {};
+        Value r = a;
+        r.boolean = op == "and" ? (a.boolean && b.boolean) : (a.boolean || b.boolean);
+        return r;
+    }
+    if (op == "==" || op == "!=") {
+        Value r;
+        r.kind = VK::Bool;
+        if (a.kind == VK::Str && b.kind == VK::Str) r.boolean = a.str == b.str;
+        else if (a.kind == VK::Bool && b.kind == VK::Bool) r.boolean = a.boolean == b.boolean;
+        else if (a.kind == VK::Num && b.kind == VK::Num) {
+            if (!dims_fit(a, b)) return mismatch(a, b);
+            r.boolean = a.num == b.num;
+        } else {
+            sink_.report(DiagId::ValueTypeMismatch, e.span,
+                         fmt::format("cannot compare a {} with a {}", describe(a), describe(b)));
+            return {};
+        }
+        if (op == "!=") r.boolean = !r.boolean;
+        return r;
+    }
+    if (a.kind == VK::Str && b.kind == VK::Str && op == "+") {
+        Value r = a;
+        r.str = a.str + b.str;
+        return r;
+    }
+    if (a.kind == VK::Str && b.kind == VK::Num && op == "+") {  // "belt" + 3
+        Value r = a;
+        r.str = a.str + (b.integer ? std::to_string(static_cast<long long>(b.num)) : fmt::format("{}", b.num));
+        return r;
+    }
+    if (a.kind == VK::Num && b.kind == VK::Num) {
+        Value r = Value::number(0, {}, e.span);
+        if (op == "+" || op == "-" || op == "%" || op == "<" || op == "<=" || op == ">" || op == ">=") {
+            if (!dims_fit(a, b)) return mismatch(a, b);
+            r.dim = pick_dim(a, b);
+            r.integer = a.integer && b.integer;
+            if (op == "+") r.num = a.num + b.num;
+            else if (op == "-") r.num = a.num - b.num;
+            else if (op == "%") {
+                if (b.num == 0) {
+                    sink_.report(DiagId::ArithmeticError, e.span, "remainder of a division by zero");
+                    return {};
+                }
+                r.num = std::fmod(a.num, b.num);
+            } else {
+                r.kind = VK::Bool;
+                r.boolean = op == "<" ? a.num < b.num : op == "<=" ? a.num <= b.num
+                          : op == ">" ? a.num > b.num : a.num >= b.num;
+            }
+            return r;
+        }
+        if (op == "*") {
+            r.num = a.num * b.num;
+            r.dim = a.dim * b.dim;
+            r.integer = a.integer && b.integer;
+            return r;
+        }
+        if (op == "/") {
+            if (b.num == 0) {
+                sink_.report(DiagId::ArithmeticError, e.span, "division by zero");
+                return {};
+            }
+            r.num = a.num / b.num;
+            r.dim = a.dim / b.dim;
+            r.integer = a.integer && b.integer && std::fmod(a.num, b.num) == 0;
+            return r;
+        }
+    }
+    // Vector arithmetic: v + v, v - v, s * v, v * s, v / s.
+    if (a.kind == VK::Vec && b.kind == VK::Vec && (op == "+" || op == "-") && a.items.size() == b.items.size()) {
+        Value r = a;
+        for (size_t i = 0; i < a.items.size(); ++i) {
+            Value x = binary(e, a.items[i], b.items[i]);
+            if (x.kind == VK::None) return {};
+            r.items[i] = x;
+        }
+        return r;
+    }
+    if ((op == "*" || op == "/") && a.kind == VK::Vec && b.kind == VK::Num) {
+        Value r = a;
+        for (auto& it : r.items) {
+            Value x = binary(e, it, b);
+            if (x.kind == VK::None) return {};
+            it = x;
+        }
+        return r;
+    }
+    if (op == "*" && a.kind == VK::Num && b.kind == VK::Vec) return binary(e, b, a);
+    sink_.report(DiagId::ValueTypeMismatch, e.span,
+                 fmt::format("'{}' is not defined for a {} and a {}", op, describe(a), describe(b)));
+    return {};
+}
+
+Value Evaluator::call(const ast::Expr& e, const Env& env) {
+    const std::string& f = e.text;
+    if (types_.is_object_type(f)) {
+        Value v;
+        v.kind = Value::Kind::Type;
+        v.str = f;
+        v.call = &e;
+        v.span = e.span;
+        return v;
+    }
+    std::vector<Value> a;
+    for (const auto& arg : e.args) {
+        if (arg.name) {
+            sink_.report(DiagId::UnknownArgument, arg.name->span,
+                         fmt::format("function '{}' takes no named arguments", f));
+            return {};
+        }
+        a.push_back(eval(*arg.value, env));
+        if (a.back().kind == Value::Kind::None) return {};
+    }
+    auto arity = [&](size_t n) {
+        if (a.size() == n) return true;
+        sink_.report(a.size() < n ? DiagId::MissingArgument : DiagId::ExtraArgument, e.span,
+                     fmt::format("'{}' takes {} argument{}, {} given", f, n, n == 1 ? "" : "s", a.size()));
+        return false;
+    };
+    auto num = [&](size_t i) { return a[i].kind == Value::Kind::Num; };
+    auto need_nums = [&]() {
+        for (size_t i = 0; i < a.size(); ++i)
+            if (!num(i)) {
+                sink_.report(DiagId::ValueTypeMismatch, a[i].span,
+                             fmt::format("'{}' takes numbers, not a {}", f, describe(a[i])));
+                return false;
+            }
+        return true;
+    };
+    using units::dims::angle;
+    using units::dims::inertia;
+    using units::dims::length;
+    using units::dims::mass;
+    if (f == "sqrt") {
+        if (!arity(1) || !need_nums()) return {};
+        Dim d = a[0].dim;
+        if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2 || a[0].num < 0) {
+            sink_.report(DiagId::ArithmeticError, e.span, fmt::format("cannot take the square root of a {}", describe(a[0])));
+            return {};
+        }
+        return Value::number(std::sqrt(a[0].num), Dim{int8_t(d.L / 2), int8_t(d.M / 2), int8_t(d.T / 2), int8_t(d.A / 2)}, e.span);
+    }
+    if (f == "abs") {
+        if (!arity(1) || !need_nums()) return {};
+        Value r = a[0];
+        r.num = std::abs(r.num);
+        return r;
+    }
+    if (f == "min" || f == "max") {
+        if (a.size() < 2) return arity(2), Value{};
+        if (!need_nums()) return {};
+        Value r = a[0];
+        for (size_t i = 1; i < a.size(); ++i) {
+            if (!dims_fit(r, a[i])) {
+                sink_.report(DiagId::DimensionMismatch, a[i].span,
+                             fmt::format("'{}' needs equal dimensions: {} and {}", f, describe(r), describe(a[i])));
+                return {};
+            }
+            if ((f == "min") == (a[i].num < r.num)) r = a[i];
+        }
+        r.span = e.span;
+        return r;
+    }
+    if (f == "sin" || f == "cos" || f == "tan") {
+        if (!arity(1) || !need_nums() || !expect_number(a[0], angle, "argument of " + f)) return {};
+        double x = a[0].num;
+        return Value::number(f == "sin" ? std::sin(x) : f == "cos" ? std::cos(x) : std::tan(x), {}, e.span);
+    }
+    // Inertia of homogeneous solids, principal moments about the centre (z is the axis).
+    auto inertia_vec = [&](double ixx, double iyy, double izz) {
+        Value v;
+        v.kind = Value::Kind::Vec;
+        v.span = e.span;
+        for (double x : {ixx, iyy, izz}) v.items.push_back(Value::number(x, inertia, e.span));
+        return v;
+    };
+    if (f == "solid_cylinder") {
+        if (!arity(3) || !need_nums() || !expect_number(a[0], mass, "mass") ||
+            !expect_number(a[1], length, "radius") || !expect_number(a[2], length, "height"))
+            return {};
+        double m = a[0].num, r = a[1].num, h = a[2].num;
+        double side = m * (3 * r * r + h * h) / 12.0;
+        return inertia_vec(side, side, m * r * r / 2.0);
+    }
+    if (f == "solid_box") {
+        if (!arity(4) || !need_nums() || !expect_number(a[0], mass, "mass")) return {};
+        for (int i = 1; i < 4; ++i)
+            if (!expect_number(a[i], length, "extent")) return {};
+        double m = a[0].num, x = a[1].num, y = a[2].num, z = a[3].num;
+        return inertia_vec(m * (y * y + z * z) / 12, m * (x * x + z * z) / 12, m * (x * x + y * y) / 12);
+    }
+    if (f == "solid_sphere") {
+        if (!arity(2) || !need_nums() || !expect_number(a[0], mass, "mass") || !expect_number(a[1], length, "radius"))
+            return {};
+        double i = 0.4 * a[0].num * a[1].num * a[1].num;
+        return inertia_vec(i, i, i);
+    }
+    auto& d = sink_.report(DiagId::UnknownName, e.span, fmt::format("unknown function or object type '{}'", f));
+    std::vector<std::string> known = {"sqrt", "abs", "min", "max", "sin", "cos", "tan",
+                                      "solid_cylinder", "solid_box", "solid_sphere"};
+    std::string hint = closest_name(f, known);
+    if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+    return {};
+}
+
+bool Evaluator::expect_number(const Value& v, Dim dim, std::string_view what) {
+    if (v.kind == Value::Kind::None) return false;
+    if (v.kind != Value::Kind::Num) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span,
+                     fmt::format("{} must be a {}, not a {}", what, dim.none() ? "number" : dim_name(dim), describe(v)));
+        return false;
+    }
+    if (!(v.dim == dim) && !v.any_dim) {
+        sink_.report(DiagId::DimensionMismatch, v.span,
+                     fmt::format("{} must be a {} (in {}), but this is a {}", what, dim_name(dim),
+                                 units::si_unit(dim), dim_name(v.dim)));
+        return false;
+    }
+    return true;
+}
+
+bool Evaluator::expect_vec3(const Value& v, Dim dim, std::string_view what) {
+    if (v.kind == Value::Kind::None) return false;
+    if (v.kind != Value::Kind::Vec || v.items.size() != 3) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span,
+                     fmt::format("{} must be a vector (x, y, z) of {}, not a {}", what,
+                                 dim.none() ? "numbers" : dim_name(dim), describe(v)));
+        return false;
+    }
+    for (const auto& it : v.items)
+        if (!(it.dim == dim) && !it.any_dim) {
+            sink_.report(DiagId::DimensionMismatch, v.span,
+                         fmt::format("{} must be a vector of {}, but its components are a {}", what,
+                                     dim_name(dim), dim_name(it.dim)));
+            return false;
+        }
+    return true;
+}
+
+bool Evaluator::expect_int(const Value& v, std::string_view what) {
+    if (v.kind == Value::Kind::None) return false;
+    if (v.kind != Value::Kind::Num || !v.dim.none() || std::floor(v.num) != v.num) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a whole number, not a {}", what,
+                                                                    v.kind == Value::Kind::Num && v.dim.none() ? "fraction" : describe(v)));
+        return false;
+    }
+    return true;
+}
+
+bool Evaluator::expect_bool(const Value& v, std::string_view what) {
+    if (v.kind == Value::Kind::None) return false;
+    if (v.kind != Value::Kind::Bool) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be true or false, not a {}", what, describe(v)));
+        return false;
+    }
+    return true;
+}
+
+bool Evaluator::expect_string(const Value& v, std::string_view what) {
+    if (v.kind == Value::Kind::None) return false;
+    if (v.kind != Value::Kind::Str) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a string, not a {}", what, describe(v)));
+        return false;
+    }
+    return true;
+}
+
+}  // namespace plant::sema

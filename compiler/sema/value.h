@@ -1,0 +1,81 @@
+// Compile-time values: what parameters, lets, loop variables and properties evaluate to.
+#pragma once
+
+#include "ast/ast.h"
+#include "diag/diagnostic.h"
+#include "units/units.h"
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plant::sema {
+
+struct Value {
+    enum class Kind { None, Num, Bool, Str, Vec, List, Type, Name };
+    Kind kind = Kind::None;
+    double num = 0;
+    units::Dim dim;
+    bool integer = false;   // written without a fraction and no unit
+    bool any_dim = false;   // the literal 0: fits every dimension
+    bool boolean = false;
+    std::string str;        // Str; Type: type name; Name: dotted name (a reference)
+    std::vector<Value> items;      // Vec (numbers) and List
+    const ast::Expr* call = nullptr;  // Type: the call `Bottle(mass = 20 g)`, or a bare name
+    Span span;
+
+    static Value number(double v, units::Dim d, Span s) {
+        Value x;
+        x.kind = Kind::Num;
+        x.num = v;
+        x.dim = d;
+        x.span = s;
+        return x;
+    }
+};
+
+std::string describe(const Value& v);  // "length", "bool", "string", "vec3 of length" ...
+
+// Lexical scope chain: parameters, lets and loop variables.
+class Env {
+public:
+    explicit Env(std::shared_ptr<const Env> parent = nullptr) : parent_(std::move(parent)) {}
+    void set(const std::string& name, Value v) { vars_[name] = std::move(v); }
+    const Value* find(const std::string& name) const;
+    std::vector<std::string> names() const;
+
+private:
+    std::shared_ptr<const Env> parent_;
+    std::map<std::string, Value> vars_;
+};
+
+class TypeLookup {
+public:
+    virtual ~TypeLookup() = default;
+    virtual bool is_object_type(const std::string& name) const = 0;
+};
+
+class Evaluator {
+public:
+    Evaluator(Sink& sink, const TypeLookup& types) : sink_(sink), types_(types) {}
+    // Evaluates; on error reports and returns a None value (no cascade of errors).
+    Value eval(const ast::Expr& e, const Env& env);
+
+    // Checks helpers: report E0203/E0204 and return false on mismatch.
+    bool expect_number(const Value& v, units::Dim dim, std::string_view what);
+    bool expect_vec3(const Value& v, units::Dim dim, std::string_view what);
+    bool expect_int(const Value& v, std::string_view what);
+    bool expect_bool(const Value& v, std::string_view what);
+    bool expect_string(const Value& v, std::string_view what);
+    Sink& sink() { return sink_; }
+
+private:
+    Value binary(const ast::Expr& e, const Value& a, const Value& b);
+    Value call(const ast::Expr& e, const Env& env);
+    Sink& sink_;
+    const TypeLookup& types_;
+};
+
+}  // namespace plant::sema

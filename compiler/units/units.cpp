@@ -1,0 +1,158 @@
+#include "units/units.h"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+namespace plant::units {
+namespace {
+
+struct Atom {
+    std::string_view name;
+    double scale;
+    Dim dim;
+};
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+constexpr std::array kAtoms = {
+    Atom{"m", 1, dims::length},       Atom{"cm", 1e-2, dims::length},
+    Atom{"mm", 1e-3, dims::length},   Atom{"km", 1e3, dims::length},
+    Atom{"um", 1e-6, dims::length},   Atom{"kg", 1, dims::mass},
+    Atom{"g", 1e-3, dims::mass},      Atom{"mg", 1e-6, dims::mass},
+    Atom{"t", 1e3, dims::mass},       Atom{"s", 1, dims::time},
+    Atom{"ms", 1e-3, dims::time},     Atom{"us", 1e-6, dims::time},
+    Atom{"min", 60, dims::time},      Atom{"h", 3600, dims::time},
+    Atom{"deg", kDeg, dims::angle},   Atom{"rad", 1, dims::angle},
+    Atom{"Hz", 1, dims::frequency},   Atom{"kHz", 1e3, dims::frequency},
+    Atom{"rpm", 2 * std::numbers::pi / 60.0, dims::angular_velocity},
+    Atom{"N", 1, dims::force},        Atom{"kN", 1e3, dims::force},
+    Atom{"mN", 1e-3, dims::force},
+};
+
+struct Named {
+    std::string_view name;
+    Dim dim;
+};
+
+// Order matters for dim_name: the first name of a dimension is the one printed.
+constexpr std::array kNamed = {
+    Named{"real", dims::none},
+    Named{"length", dims::length},
+    Named{"mass", dims::mass},
+    Named{"time", dims::time},
+    Named{"angle", dims::angle},
+    Named{"velocity", dims::velocity},
+    Named{"acceleration", dims::acceleration},
+    Named{"frequency", dims::frequency},
+    Named{"force", dims::force},
+    Named{"angular_velocity", dims::angular_velocity},
+    Named{"gain", dims::gain},
+    Named{"area", dims::area},
+    Named{"volume", dims::volume},
+    Named{"inertia", dims::inertia},
+};
+
+const Atom* find_atom(std::string_view name) {
+    for (const auto& a : kAtoms)
+        if (a.name == name) return &a;
+    return nullptr;
+}
+
+void append_factor(std::string& out, std::string_view base, int exp) {
+    if (exp == 0) return;
+    if (!out.empty()) out += '*';
+    out += base;
+    if (exp != 1) out += "^" + std::to_string(exp);
+}
+
+}  // namespace
+
+std::string dim_name(Dim d) {
+    if (d.none()) return "dimensionless";
+    for (const auto& n : kNamed)
+        if (n.dim == d) return std::string(n.name);
+    std::string num, den;
+    const std::array<std::pair<std::string_view, int>, 4> parts = {
+        {{"length", d.L}, {"mass", d.M}, {"time", d.T}, {"angle", d.A}}};
+    for (auto [name, e] : parts) {
+        if (e > 0) append_factor(num, name, e);
+        if (e < 0) append_factor(den, name, -e);
+    }
+    if (num.empty()) num = "1";
+    return den.empty() ? num : num + "/" + den;
+}
+
+std::string si_unit(Dim d) {
+    if (d == dims::force) return "N";
+    if (d == dims::frequency) return "Hz";
+    std::string num, den;
+    const std::array<std::pair<std::string_view, int>, 4> parts = {
+        {{"m", d.L}, {"kg", d.M}, {"s", d.T}, {"rad", d.A}}};
+    for (auto [name, e] : parts) {
+        if (e > 0) append_factor(num, name, e);
+        if (e < 0) append_factor(den, name, -e);
+    }
+    if (num.empty()) num = "1";
+    return den.empty() ? num : num + "/" + den;
+}
+
+std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
+    Unit result{1.0, dims::none};
+    int sign = 1;  // +1 before the first '/', -1 after it
+    size_t i = 0;
+    while (i < text.size()) {
+        size_t j = i;
+        while (j < text.size() && text[j] != '*' && text[j] != '/' && text[j] != '^') ++j;
+        std::string_view atom_text = text.substr(i, j - i);
+        int exp = 1;
+        if (j < text.size() && text[j] == '^') {
+            size_t k = j + 1;
+            bool neg = k < text.size() && text[k] == '-';
+            if (neg) ++k;
+            int e = 0;
+            size_t digits = k;
+            while (k < text.size() && text[k] >= '0' && text[k] <= '9') e = e * 10 + (text[k++] - '0');
+            if (k == digits) {
+                if (bad_atom) *bad_atom = std::string(text);
+                return std::nullopt;
+            }
+            exp = neg ? -e : e;
+            j = k;
+        }
+        const Atom* atom = find_atom(atom_text);
+        if (!atom) {
+            if (bad_atom) *bad_atom = std::string(atom_text);
+            return std::nullopt;
+        }
+        int e = sign * exp;
+        result.scale *= std::pow(atom->scale, e);
+        result.dim = result.dim * atom->dim.pow(e);
+        if (j < text.size()) {
+            if (text[j] == '/') sign = -1;
+            ++j;
+        }
+        i = j;
+    }
+    return result;
+}
+
+std::vector<std::string> unit_atoms() {
+    std::vector<std::string> out;
+    for (const auto& a : kAtoms) out.emplace_back(a.name);
+    return out;
+}
+
+std::optional<Dim> dim_of_type(std::string_view type_name) {
+    for (const auto& n : kNamed)
+        if (n.name == type_name) return n.dim;
+    return std::nullopt;
+}
+
+std::vector<std::string> dimension_type_names() {
+    std::vector<std::string> out;
+    for (const auto& n : kNamed) out.emplace_back(n.name);
+    return out;
+}
+
+}  // namespace plant::units

@@ -1,0 +1,381 @@
+// The compiled plant graph: the one contract between compiler/ and runtime/.
+//
+// A constant, flat model in the spirit of MuJoCo's mjModel: one table per kind of
+// element, each a std::vector of small records indexed by a 32-bit id, references as
+// ids with -1 for none, child lists as an (adr, num) pair into another table, every
+// name interned once in `names`. All quantities are SI (m, kg, s, rad, N).
+//
+// The field list of every record is an X-macro (PLANT_GRAPH_TABLES below). It drives
+// the struct definitions, the text writer, the loader and the comparison, so a field
+// added here is saved, loaded and compared without further code.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace plant::graph {
+
+using Vec3 = std::array<double, 3>;
+using Quat = std::array<double, 4>;  // x, y, z, w (Bullet's order)
+
+struct Pose {
+    Vec3 p{0, 0, 0};
+    Quat q{0, 0, 0, 1};
+    friend bool operator==(const Pose&, const Pose&) = default;
+};
+
+// An interned string: index into Graph::names. -1 is "no name".
+struct Name {
+    int32_t id = -1;
+    friend bool operator==(const Name&, const Name&) = default;
+};
+
+// A source position: file index into Graph::files, 1-based line and column.
+struct Src {
+    int32_t file = -1;
+    int32_t line = 0;
+    int32_t col = 0;
+    friend bool operator==(const Src&, const Src&) = default;
+};
+
+// ---- enumerations (each has a stable lower-case word in the text form) ----
+
+enum class SlotType : uint8_t { Void, Bool, Int, Real, Vec3, Quat, Pose, String, Ref };
+enum class Dir : uint8_t { In, Out };
+enum class CompKind : uint8_t {
+    Graphics, Body, Field, Constraint, State, Trigger, Timer, Gripper, Source, Exit, Router,
+    Logic, Label
+};
+enum class BodyMode : uint8_t { Dynamic, Static, Kinematic };
+enum class ShapeKind : uint8_t { Box, Sphere, Cylinder, Capsule, Hull };
+enum class JointKind : uint8_t { Fixed, Hinge, Slider };
+// When a flow runs, judged on the activity of its two ends in the current step.
+enum class Cond : uint8_t { Source, Target, Both, Either };
+enum class LogicOp : uint8_t { And, Or };
+
+// Number of doubles a slot of this type occupies in the value table.
+constexpr int slot_width(SlotType t) {
+    switch (t) {
+    case SlotType::Void: return 0;
+    case SlotType::Vec3: return 3;
+    case SlotType::Quat: return 4;
+    case SlotType::Pose: return 7;
+    default: return 1;  // bool, int, real, string (a name id), ref (a DO id, -1 none)
+    }
+}
+
+// ---- the tables ----
+// X(table, Record, element-word) and per record F(type, field).
+
+#define PLANT_FIELDS_DOTYPE(F) \
+    F(Name, name)              \
+    F(int32_t, instance_num)   \
+    F(Src, src)
+
+#define PLANT_FIELDS_DO(F)                                                            \
+    F(Name, path)          /* dotted path from the plant root, e.g. "s1.blade" */     \
+    F(int32_t, parent)     /* DO id, -1 for the root */                               \
+    F(int32_t, type)       /* DoType id, -1 for the plant itself */                   \
+    F(int32_t, ordinal)    /* index among the DOs of the same type */                 \
+    F(int32_t, comp_adr)                                                              \
+    F(int32_t, comp_num)                                                              \
+    F(int32_t, pool)       /* Source component that owns this DO, -1 if not pooled */ \
+    F(Pose, pose)          /* world pose at start */                                  \
+    F(Src, src)
+
+#define PLANT_FIELDS_COMP(F)                                                  \
+    F(Name, name)       /* local name inside its DO */                        \
+    F(CompKind, kind)                                                         \
+    F(int32_t, owner)   /* DO id */                                           \
+    F(int32_t, slot_adr)                                                      \
+    F(int32_t, slot_num)                                                      \
+    F(int32_t, detail)  /* index into the table of its kind, -1 for none */   \
+    F(Src, src)
+
+#define PLANT_FIELDS_SLOT(F)                                                        \
+    F(Name, name)       /* local name inside its component, e.g. "swing_out.play" */ \
+    F(SlotType, type)                                                               \
+    F(Dir, dir)                                                                     \
+    F(int32_t, comp)                                                                \
+    F(int32_t, value_adr) /* first double in Graph::values, -1 for void */          \
+    F(Src, src)
+
+#define PLANT_FIELDS_FLOW(F)                                                              \
+    F(int32_t, from)        /* output slot, or the ref slot when from_access >= 0 */      \
+    F(int32_t, to)          /* input slot */                                              \
+    F(int32_t, from_access) /* Access id for a dynamically addressed source, -1 none */   \
+    F(int32_t, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
+    F(Cond, cond)                                                                         \
+    F(bool, once)           /* singular: runs once, re-armed by the source going idle */  \
+    F(Src, src)
+
+// A slot of an object known only at run time: the object held in `ref_slot`
+// (a DO id), which the compiler proved is of type `do_type`; the slot to use is
+// targets[target_adr + ordinal of that DO among its type].
+#define PLANT_FIELDS_ACCESS(F) \
+    F(int32_t, ref_slot)       \
+    F(int32_t, do_type)        \
+    F(int32_t, target_adr)     \
+    F(int32_t, target_num)     \
+    F(Name, member)            \
+    F(Src, src)
+
+#define PLANT_FIELDS_LOGIC(F)                                     \
+    F(int32_t, comp)                                              \
+    F(LogicOp, op)                                                \
+    F(int32_t, in_adr) /* into logic_inputs */                    \
+    F(int32_t, in_num)                                            \
+    F(int32_t, out_slot)
+
+#define PLANT_FIELDS_LOGICIN(F) \
+    F(int32_t, slot)  /* the connector's own void input slot */ \
+    F(bool, negated)
+
+#define PLANT_FIELDS_BODY(F)                                                             \
+    F(int32_t, comp)                                                                     \
+    F(BodyMode, mode)                                                                    \
+    F(double, mass)                                                                      \
+    F(Vec3, inertia)        /* principal moments; used when inertia_set */               \
+    F(bool, inertia_set)                                                                 \
+    F(double, friction)                                                                  \
+    F(double, restitution)                                                               \
+    F(double, linear_damping)                                                            \
+    F(double, angular_damping)                                                           \
+    F(bool, collision)      /* initial collision on/off */                               \
+    F(bool, dynamics)       /* initial dynamics on/off */                                \
+    F(int32_t, shape_adr)                                                                \
+    F(int32_t, shape_num)                                                                \
+    F(Pose, pose)           /* world pose of the body frame at start */                  \
+    F(Pose, com)            /* centre of mass relative to the body frame */
+
+#define PLANT_FIELDS_SHAPE(F)                                                        \
+    F(ShapeKind, kind)                                                              \
+    F(Vec3, size)        /* box: full extents; sphere: r,-,-; cylinder/capsule: r,h,- (axis z) */ \
+    F(int32_t, point_adr) /* hull: into points */                                   \
+    F(int32_t, point_num)                                                           \
+    F(Pose, local)       /* relative to the body frame */
+
+#define PLANT_FIELDS_FIELD(F)                                                       \
+    F(int32_t, comp)                                                                \
+    F(int32_t, body)     /* Body id the field is attached to, -1 for none */        \
+    F(Vec3, extent)      /* full extents of the box volume */                       \
+    F(Pose, pose)        /* world pose of the box centre */                         \
+    F(Vec3, dir)         /* unit direction, in the field's local frame */           \
+    F(double, speed)     /* target speed along dir, m/s */                          \
+    F(double, gain)      /* k, kg/s (N per m/s of speed error) */                   \
+    F(bool, enabled)
+
+#define PLANT_FIELDS_JOINT(F)                                                    \
+    F(int32_t, comp)                                                             \
+    F(JointKind, kind)                                                           \
+    F(int32_t, body_a)                                                           \
+    F(int32_t, body_b)                                                           \
+    F(Pose, frame_a)     /* joint frame relative to body a */                    \
+    F(Pose, frame_b)     /* joint frame relative to body b */                    \
+    F(double, lower)     /* hinge: rad, slider: m; lower > upper means free */   \
+    F(double, upper)                                                             \
+    F(bool, enabled)
+
+#define PLANT_FIELDS_PLACE(F)  \
+    F(int32_t, comp)           \
+    F(Name, name)              \
+    F(int32_t, initial)        \
+    F(int32_t, put_slot)       /* void in: adds one token */ \
+    F(int32_t, entered_slot)   /* void out: active in a step a token was put */ \
+    F(int32_t, tokens_slot)    /* int out: the marking */ \
+    F(Src, src)
+
+#define PLANT_FIELDS_TRANSITION(F) \
+    F(int32_t, comp)               \
+    F(Name, name)                  \
+    F(int32_t, in_adr)  /* into arcs: consumed */ \
+    F(int32_t, in_num)             \
+    F(int32_t, out_adr) /* into arcs: produced */ \
+    F(int32_t, out_num)            \
+    F(int32_t, fired_slot) /* void out */ \
+    F(Src, src)
+
+#define PLANT_FIELDS_ARC(F) \
+    F(int32_t, place)       \
+    F(int32_t, weight)
+
+#define PLANT_FIELDS_TRIGGER(F)                                                \
+    F(int32_t, comp)                                                           \
+    F(int32_t, body)       /* Body the volume moves with, -1 for fixed */      \
+    F(Vec3, extent)                                                            \
+    F(Pose, pose)          /* world pose of the box centre at start */         \
+    F(int32_t, filter)     /* DoType whose bodies it reacts to, -1 for any */
+
+#define PLANT_FIELDS_TIMER(F)    \
+    F(int32_t, comp)             \
+    F(double, period)            \
+    F(bool, periodic)            \
+    F(bool, autostart)
+
+#define PLANT_FIELDS_GRIPPER(F)                                  \
+    F(int32_t, comp)                                             \
+    F(int32_t, trigger)  /* Trigger that catches objects */     \
+    F(int32_t, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
+    F(int32_t, graphics) /* Graphics whose pose it follows when body is -1 */
+
+#define PLANT_FIELDS_SOURCE(F)                                                   \
+    F(int32_t, do_type)                                                          \
+    F(int32_t, comp)                                                             \
+    F(int32_t, pool_adr)  /* first pooled DO id (pooled DOs are contiguous) */    \
+    F(int32_t, pool_num)                                                         \
+    F(double, rate)       /* issues per second, 0: only on the issue input */    \
+    F(Pose, pose)         /* world pose where objects are issued */              \
+    F(int32_t, id_adr)    /* into ids: bar codes handed out in turn */           \
+    F(int32_t, id_num)
+
+#define PLANT_FIELDS_EXIT(F) \
+    F(int32_t, comp)         \
+    F(int32_t, trigger)
+
+#define PLANT_FIELDS_ROUTE(F)                                         \
+    F(int32_t, comp)                                                  \
+    F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \
+    F(int32_t, out_slot)
+
+#define PLANT_FIELDS_GRAPHICS(F)                           \
+    F(int32_t, comp)                                       \
+    F(int32_t, parent)    /* parent Graphics, -1 */        \
+    F(Name, model)                                         \
+    F(Pose, pose)         /* world pose at start */        \
+    F(int32_t, body)      /* Body it is attached to, -1 */ \
+    F(int32_t, anim_adr)                                   \
+    F(int32_t, anim_num)                                   \
+    F(int32_t, variant_adr)                                \
+    F(int32_t, variant_num)                                \
+    F(int32_t, variant)   /* initial variant, -1: model */
+
+#define PLANT_FIELDS_ANIMATION(F)                            \
+    F(int32_t, graphics)                                     \
+    F(Name, name)                                            \
+    F(double, duration)                                      \
+    F(int32_t, key_adr)                                      \
+    F(int32_t, key_num)                                      \
+    F(int32_t, play_slot)                                    \
+    F(int32_t, finished_slot)
+
+#define PLANT_FIELDS_KEY(F) \
+    F(double, t)            \
+    F(Pose, pose)           /* relative to the graphics' start pose */
+
+#define PLANT_FIELDS_VARIANT(F) \
+    F(int32_t, graphics)        \
+    F(Name, name)               \
+    F(Name, model)              \
+    F(int32_t, select_slot)
+
+#define PLANT_FIELDS_LABEL(F) \
+    F(int32_t, comp)          \
+    F(Name, value)
+
+#define PLANT_FIELDS_RECORD(F)                                  \
+    F(int32_t, slot)     /* slot whose value/activity is traced */ \
+    F(Name, column)
+
+#define PLANT_FIELDS_POINT(F) F(Vec3, p)
+#define PLANT_FIELDS_VALUE(F) F(double, v)
+#define PLANT_FIELDS_INT(F) F(int32_t, v)
+#define PLANT_FIELDS_NAMEREF(F) F(Name, v)
+
+// X(member, Record, word, FIELDS)
+#define PLANT_GRAPH_TABLES(X)                                         \
+    X(do_types, DoType, dotype, PLANT_FIELDS_DOTYPE)                  \
+    X(dos, Do, do, PLANT_FIELDS_DO)                                   \
+    X(comps, Comp, comp, PLANT_FIELDS_COMP)                           \
+    X(slots, Slot, slot, PLANT_FIELDS_SLOT)                           \
+    X(values, Value, value, PLANT_FIELDS_VALUE)                       \
+    X(flows, Flow, flow, PLANT_FIELDS_FLOW)                           \
+    X(accesses, Access, access, PLANT_FIELDS_ACCESS)                  \
+    X(access_targets, AccessTarget, access_target, PLANT_FIELDS_INT)  \
+    X(logics, Logic, logic, PLANT_FIELDS_LOGIC)                       \
+    X(logic_inputs, LogicIn, logic_input, PLANT_FIELDS_LOGICIN)       \
+    X(bodies, Body, body, PLANT_FIELDS_BODY)                          \
+    X(shapes, Shape, shape, PLANT_FIELDS_SHAPE)                       \
+    X(points, Point, point, PLANT_FIELDS_POINT)                       \
+    X(fields, Field, field, PLANT_FIELDS_FIELD)                       \
+    X(joints, Joint, joint, PLANT_FIELDS_JOINT)                       \
+    X(places, Place, place, PLANT_FIELDS_PLACE)                       \
+    X(transitions, Transition, transition, PLANT_FIELDS_TRANSITION)   \
+    X(arcs, Arc, arc, PLANT_FIELDS_ARC)                               \
+    X(triggers, Trigger, trigger, PLANT_FIELDS_TRIGGER)               \
+    X(timers, Timer, timer, PLANT_FIELDS_TIMER)                       \
+    X(grippers, Gripper, gripper, PLANT_FIELDS_GRIPPER)               \
+    X(sources, Source, source, PLANT_FIELDS_SOURCE)                   \
+    X(ids, IdEntry, id, PLANT_FIELDS_NAMEREF)                         \
+    X(exits, Exit, exit, PLANT_FIELDS_EXIT)                           \
+    X(routes, Route, route, PLANT_FIELDS_ROUTE)                       \
+    X(graphics, Graphics, graphics, PLANT_FIELDS_GRAPHICS)            \
+    X(animations, Animation, animation, PLANT_FIELDS_ANIMATION)       \
+    X(keys, Key, key, PLANT_FIELDS_KEY)                               \
+    X(variants, Variant, variant, PLANT_FIELDS_VARIANT)               \
+    X(labels, Label, label, PLANT_FIELDS_LABEL)                       \
+    X(records, Record, record, PLANT_FIELDS_RECORD)
+
+#define PLANT_DECLARE_FIELD(type, field) type field{};
+#define PLANT_DECLARE_RECORD(member, Record, word, FIELDS) \
+    struct Record {                                        \
+        FIELDS(PLANT_DECLARE_FIELD)                        \
+        friend bool operator==(const Record&, const Record&) = default; \
+    };
+PLANT_GRAPH_TABLES(PLANT_DECLARE_RECORD)
+#undef PLANT_DECLARE_RECORD
+
+struct Settings {
+    double rate = 150.0;      // physics steps per second
+    Vec3 gravity{0, 0, -9.81};
+    friend bool operator==(const Settings&, const Settings&) = default;
+};
+
+struct Graph {
+    Name plant;                      // the plant's name
+    Settings settings;
+    std::vector<std::string> files;  // source files, relative, in first-use order
+    std::vector<std::string> names;  // interned strings
+
+#define PLANT_DECLARE_TABLE(member, Record, word, FIELDS) std::vector<Record> member;
+    PLANT_GRAPH_TABLES(PLANT_DECLARE_TABLE)
+#undef PLANT_DECLARE_TABLE
+
+    // Interning: returns the existing id for an equal string.
+    Name intern(std::string_view s);
+    std::string_view str(Name n) const { return n.id < 0 ? std::string_view{} : names[n.id]; }
+
+    // The dotted path of a slot: "<do path>.<comp>.<slot>".
+    std::string slot_path(int32_t slot) const;
+    std::string comp_path(int32_t comp) const;
+    std::string src_text(Src s) const;  // "file:line:col" or "-"
+
+    // Compares every table field by field (names by text, not by id).
+    bool same_as(const Graph& other) const;
+
+private:
+    std::unordered_map<std::string, int32_t> index_;  // rebuilt when names grew elsewhere
+};
+
+// Word of an enum value in the text form, and the reverse (false if unknown).
+std::string_view word(SlotType);
+std::string_view word(Dir);
+std::string_view word(CompKind);
+std::string_view word(BodyMode);
+std::string_view word(ShapeKind);
+std::string_view word(JointKind);
+std::string_view word(Cond);
+std::string_view word(LogicOp);
+bool parse_word(std::string_view, SlotType&);
+bool parse_word(std::string_view, Dir&);
+bool parse_word(std::string_view, CompKind&);
+bool parse_word(std::string_view, BodyMode&);
+bool parse_word(std::string_view, ShapeKind&);
+bool parse_word(std::string_view, JointKind&);
+bool parse_word(std::string_view, Cond&);
+bool parse_word(std::string_view, LogicOp&);
+
+}  // namespace plant::graph

@@ -1,0 +1,392 @@
+#include "text.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <istream>
+#include <iterator>
+#include <ostream>
+#include <type_traits>
+
+namespace plant::graph {
+namespace {
+
+constexpr std::string_view kMagic = "plant-graph";
+constexpr std::string_view kVersion = "1";
+
+// ---- writing ----
+
+class Writer {
+public:
+    Writer(const Graph& g, std::string& out) : g_(g), o_(out) {}
+
+    template <class T>
+    void field(std::string_view key, const T& v) {
+        o_ += ' ';
+        o_ += key;
+        o_ += '=';
+        put(v);
+    }
+
+    void put(int32_t v) { fmt::format_to(out(), "{}", v); }
+    void put(double v) { fmt::format_to(out(), "{}", v); }  // shortest round-trip form
+    void put(bool v) { o_ += v ? "true" : "false"; }
+    template <class E>
+        requires std::is_enum_v<E>
+    void put(E e) { o_ += word(e); }
+    template <size_t N>
+    void put(const std::array<double, N>& v) {
+        o_ += '(';
+        numbers(v);
+        o_ += ')';
+    }
+    void put(const Pose& p) {
+        o_ += '(';
+        numbers(p.p);
+        o_ += '|';
+        numbers(p.q);
+        o_ += ')';
+    }
+    void put(Name n) {
+        if (n.id == -1) o_ += '-';
+        else if (n.id < 0 || static_cast<size_t>(n.id) >= g_.names.size())
+            fmt::format_to(out(), "#{}", n.id);  // a broken id: visible, and rejected by the loader
+        else put(g_.names[n.id]);
+    }
+    // Src{} is "-"; anything else is written in full so that nothing is lost.
+    void put(Src s) {
+        if (s == Src{}) o_ += '-';
+        else fmt::format_to(out(), "{}:{}:{}", s.file, s.line, s.col);
+    }
+    // Escapes keep every record on one line.
+    void put(std::string_view s) {
+        o_ += '"';
+        for (char c : s) {
+            switch (c) {
+            case '"': o_ += "\\\""; break;
+            case '\\': o_ += "\\\\"; break;
+            case '\n': o_ += "\\n"; break;
+            case '\r': o_ += "\\r"; break;
+            case '\t': o_ += "\\t"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+                    fmt::format_to(out(), "\\x{:02x}", static_cast<unsigned char>(c));
+                else
+                    o_ += c;
+            }
+        }
+        o_ += '"';
+    }
+
+    template <class R, class F>
+    void table(std::string_view member, std::string_view elem, const std::vector<R>& rows,
+               F&& fields) {
+        fmt::format_to(out(), "count {} {}\n", member, rows.size());
+        for (size_t i = 0; i < rows.size(); ++i) {
+            fmt::format_to(out(), "{} {}", elem, i);
+            fields(rows[i]);
+            o_ += '\n';
+        }
+    }
+
+private:
+    std::back_insert_iterator<std::string> out() { return std::back_inserter(o_); }
+    template <size_t N>
+    void numbers(const std::array<double, N>& v) {
+        for (size_t i = 0; i < N; ++i) {
+            if (i) o_ += ' ';
+            put(v[i]);
+        }
+    }
+
+    const Graph& g_;
+    std::string& o_;
+};
+
+// ---- reading ----
+
+// What a value was expected to be, for messages.
+constexpr std::string_view what(int32_t) { return "integer"; }
+constexpr std::string_view what(double) { return "number"; }
+constexpr std::string_view what(bool) { return "bool"; }
+template <class E>
+    requires std::is_enum_v<E>
+constexpr std::string_view what(E) { return "word"; }
+template <size_t N>
+constexpr std::string_view what(const std::array<double, N>&) { return N == 3 ? "vec3" : "quat"; }
+constexpr std::string_view what(const Pose&) { return "pose"; }
+constexpr std::string_view what(Name) { return "name"; }
+constexpr std::string_view what(Src) { return "src"; }
+inline std::string_view what(const std::string&) { return "string"; }
+
+// A short piece of text at `s` for messages: a parenthesised value or a word.
+std::string_view snippet(std::string_view s) {
+    size_t end = s.starts_with('(') ? s.find(')') : s.find(' ');
+    if (end != std::string_view::npos && s.starts_with('(')) ++end;
+    return s.substr(0, std::min<size_t>(end, 40));
+}
+
+// Parses the grammar described in text.h; every step either advances or fails
+// with the first error, so any input ends after one pass over it.
+class Reader {
+public:
+    Reader(std::istream& in, Graph& g) : in_(in), g_(g) {}
+    const std::string& error() const { return error_; }
+
+    bool read() {
+        Graph& g = g_;
+        if (!line(kMagic)) return false;
+        if (!lit(" ") || rest_ != kVersion)
+            return fail(fmt::format("unsupported version '{}' (expected {})", snippet(rest_), kVersion));
+        if (!line("plant") || !arg("plant", g.plant) || !end_of_line()) return false;
+        if (!line("settings") || !field("rate", g.settings.rate) ||
+            !field("gravity", g.settings.gravity) || !end_of_line())
+            return false;
+        if (!table("files", "file", g.files, [&](std::string& f) { return arg("file", f); }))
+            return false;
+#define PLANT_READ_FIELD(T_, f_) &&field(#f_, r.f_)
+#define PLANT_READ_TABLE(member, Record, elem, FIELDS) \
+    if (!table(#member, #elem, g.member, [&](Record& r) { return true FIELDS(PLANT_READ_FIELD); })) \
+        return false;
+        PLANT_GRAPH_TABLES(PLANT_READ_TABLE)
+#undef PLANT_READ_TABLE
+#undef PLANT_READ_FIELD
+        if (!line("end") || !end_of_line()) return false;
+        if (advance()) return fail("unexpected content after 'end'");
+        return true;
+    }
+
+private:
+    bool fail(std::string_view msg) {
+        if (error_.empty()) error_ = fmt::format("line {}: {}", line_no_, msg);
+        return false;
+    }
+
+    // Moves to the next line that is not blank or a comment; false at the end.
+    bool advance() {
+        while (std::getline(in_, line_)) {
+            ++line_no_;
+            if (!line_.empty() && line_.back() == '\r') line_.pop_back();
+            if (line_.empty() || line_[0] == '#') continue;
+            rest_ = line_;
+            return true;
+        }
+        ++line_no_;  // report the end as the line after the last one
+        rest_ = {};
+        return false;
+    }
+    bool next_line() { return advance() || fail("unexpected end of file"); }
+
+    // The next line, which must start with `keyword` as a whole word.
+    bool line(std::string_view keyword) {
+        if (!next_line()) return false;
+        std::string_view at = rest_;
+        if (lit(keyword) && at_delim()) return true;
+        return fail(fmt::format("expected '{}', got '{}'", keyword, snippet(at)));
+    }
+
+    bool lit(std::string_view s) {
+        if (!rest_.starts_with(s)) return false;
+        rest_.remove_prefix(s.size());
+        return true;
+    }
+    bool at_delim() const { return rest_.empty() || rest_[0] == ' '; }
+
+    bool end_of_line() {
+        if (rest_.empty()) return true;
+        return fail(fmt::format("unexpected '{}' at the end of the line", snippet(rest_.substr(1))));
+    }
+
+    // " key=value"
+    template <class T>
+    bool field(std::string_view key, T& v) {
+        if (rest_.empty()) return fail(fmt::format("missing field '{}'", key));
+        std::string_view at = rest_;
+        if (lit(" ") && lit(key) && lit("=")) return value(key, v);
+        if (at.starts_with(' ')) at.remove_prefix(1);
+        return fail(fmt::format("expected field '{}', got '{}'", key, at.substr(0, at.find_first_of("= "))));
+    }
+    // " value"
+    template <class T>
+    bool arg(std::string_view key, T& v) {
+        if (!lit(" ")) return fail(fmt::format("missing {}", what(v)));
+        return value(key, v);
+    }
+    // A value must end the line or be followed by a space.
+    template <class T>
+    bool value(std::string_view key, T& v) {
+        std::string_view at = rest_;
+        if (get(v) && at_delim()) return true;
+        return fail(fmt::format("bad {} '{}' for '{}'", what(v), snippet(at), key));
+    }
+
+    template <class N>
+    bool number(N& v) {
+        const char* b = rest_.data();
+        auto [p, ec] = std::from_chars(b, b + rest_.size(), v);
+        if (ec != std::errc{}) return false;
+        rest_.remove_prefix(static_cast<size_t>(p - b));
+        return true;
+    }
+    template <size_t N>
+    bool numbers(std::array<double, N>& v) {
+        for (size_t i = 0; i < N; ++i)
+            if ((i && !lit(" ")) || !number(v[i])) return false;
+        return true;
+    }
+
+    bool get(int32_t& v) { return number(v); }
+    bool get(double& v) { return number(v); }
+    bool get(bool& v) {
+        if (lit("true")) v = true;
+        else if (lit("false")) v = false;
+        else return false;
+        return true;
+    }
+    template <class E>
+        requires std::is_enum_v<E>
+    bool get(E& e) {
+        size_t n = std::min(rest_.find(' '), rest_.size());
+        if (!parse_word(rest_.substr(0, n), e)) return false;
+        rest_.remove_prefix(n);
+        return true;
+    }
+    template <size_t N>
+    bool get(std::array<double, N>& v) { return lit("(") && numbers(v) && lit(")"); }
+    bool get(Pose& p) { return lit("(") && numbers(p.p) && lit("|") && numbers(p.q) && lit(")"); }
+    bool get(Name& n) {
+        if (lit("-")) {
+            n = Name{};
+            return true;
+        }
+        std::string s;
+        if (!get(s)) return false;
+        n = g_.intern(s);
+        return true;
+    }
+    bool get(Src& s) {
+        if (rest_.starts_with('-') && (rest_.size() == 1 || rest_[1] == ' ')) {
+            rest_.remove_prefix(1);
+            s = Src{};
+            return true;
+        }
+        return number(s.file) && lit(":") && number(s.line) && lit(":") && number(s.col);
+    }
+    bool get(std::string& s) {
+        if (!lit("\"")) return false;
+        while (!rest_.empty()) {
+            char c = rest_[0];
+            rest_.remove_prefix(1);
+            if (c == '"') return true;
+            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return false;  // must be escaped
+            if (c != '\\') {
+                s += c;
+                continue;
+            }
+            if (rest_.empty()) return false;
+            char e = rest_[0];
+            rest_.remove_prefix(1);
+            switch (e) {
+            case 'n': s += '\n'; break;
+            case 'r': s += '\r'; break;
+            case 't': s += '\t'; break;
+            case '"':
+            case '\\': s += e; break;
+            case 'x': {
+                unsigned byte = 0;
+                if (rest_.size() < 2) return false;
+                auto [p, ec] = std::from_chars(rest_.data(), rest_.data() + 2, byte, 16);
+                if (ec != std::errc{} || p != rest_.data() + 2) return false;
+                s += static_cast<char>(byte);
+                rest_.remove_prefix(2);
+                break;
+            }
+            default: return false;
+            }
+        }
+        return false;  // unterminated
+    }
+
+    // "count <member> N" and then N lines "<elem> <id> ...", ids 0..N-1 in order.
+    template <class R, class F>
+    bool table(std::string_view member, std::string_view elem, std::vector<R>& rows, F&& fields) {
+        if (!next_line()) return false;
+        std::string_view at = rest_;
+        int32_t n = -1;
+        if (!(lit("count ") && lit(member) && lit(" ") && number(n) && rest_.empty() && n >= 0))
+            return fail(fmt::format("expected 'count {} N', got '{}'", member, at.substr(0, 40)));
+        for (int32_t i = 0; i < n; ++i) {
+            if (!next_line()) return false;
+            at = rest_;
+            int32_t id = -1;
+            if (!(lit(elem) && lit(" ") && number(id) && at_delim()))
+                return fail(fmt::format("expected '{} {}', got '{}'", elem, i, at.substr(0, 40)));
+            if (id != i) return fail(fmt::format("expected {} id {}, got {}", elem, i, id));
+            R r{};
+            if (!fields(r) || !end_of_line()) return false;
+            rows.push_back(std::move(r));
+        }
+        return true;
+    }
+
+    std::istream& in_;
+    Graph& g_;
+    std::string line_;
+    std::string_view rest_;  // the unread part of line_
+    int line_no_ = 0;
+    std::string error_;
+};
+
+}  // namespace
+
+std::string to_text(const Graph& g) {
+    std::string o;
+    Writer w(g, o);
+    o += fmt::format("{} {}\nplant ", kMagic, kVersion);
+    w.put(g.plant);
+    o += "\nsettings";
+    w.field("rate", g.settings.rate);
+    w.field("gravity", g.settings.gravity);
+    o += '\n';
+    w.table("files", "file", g.files, [&](const std::string& f) {
+        o += ' ';
+        w.put(std::string_view(f));
+    });
+#define PLANT_WRITE_FIELD(T_, f_) w.field(#f_, r.f_);
+#define PLANT_WRITE_TABLE(member, Record, elem, FIELDS) \
+    w.table(#member, #elem, g.member, [&](const Record& r) { FIELDS(PLANT_WRITE_FIELD) });
+    PLANT_GRAPH_TABLES(PLANT_WRITE_TABLE)
+#undef PLANT_WRITE_TABLE
+#undef PLANT_WRITE_FIELD
+    o += "end\n";
+    return o;
+}
+
+void write_text(const Graph& g, std::ostream& out) { out << to_text(g); }
+
+bool read_text(std::istream& in, Graph& g, std::string& error) {
+    Graph loaded;
+    Reader reader(in, loaded);
+    if (!reader.read()) {
+        error = reader.error();
+        return false;
+    }
+    g = std::move(loaded);
+    error.clear();
+    return true;
+}
+
+bool load_text_file(const std::string& path, Graph& g, std::string& error) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        error = path + ": cannot open";
+        return false;
+    }
+    if (read_text(in, g, error)) return true;
+    error = path + ": " + error;
+    return false;
+}
+
+}  // namespace plant::graph

@@ -1,0 +1,45 @@
+// The text form of a Graph: line based, stable and diffable, for golden tests and
+// for reading what the compiler produced. Driven by the X-macros of graph.h only,
+// so a new field or table appears here without code changes.
+//
+//   plant-graph 1
+//   plant "Bottling"
+//   settings rate=150 gravity=(0 0 -9.81)
+//   count files 1
+//   file 0 "examples/belt.plant"
+//   count do_types 1
+//   dotype 0 name="Belt" instance_num=1 src=0:3:1
+//   count dos 2
+//   do 0 path="" parent=-1 ... pose=(0 0 0|0 0 0 1) src=-
+//   ...
+//   end
+//
+// Every table, in PLANT_GRAPH_TABLES order, is a `count <table> N` line followed by
+// N records `<element> <id> field=value ...` in field order. Names are written
+// inline as quoted strings (`-` for none) and interned again when loading, so the
+// names table is not written and its order may change; Graph::same_as compares
+// names by text. Doubles use the shortest form that reads back exactly.
+// The loader skips blank lines and lines starting with '#', for hand-edited files.
+//
+// Guarantee: to_text(load(to_text(g))) == to_text(g), byte for byte.
+#pragma once
+
+#include "graph.h"
+
+#include <iosfwd>
+#include <string>
+
+namespace plant::graph {
+
+std::string to_text(const Graph&);
+void write_text(const Graph&, std::ostream&);
+
+// Replaces `g` only on success. On failure returns false with `error` as
+// "line N: message"; any input, however broken, fails cleanly. Only the form is
+// checked: ids referring to other tables are not validated here.
+bool read_text(std::istream&, Graph& g, std::string& error);
+
+// As read_text; `error` is then "<path>: line N: message" or "<path>: cannot open".
+bool load_text_file(const std::string& path, Graph& g, std::string& error);
+
+}  // namespace plant::graph
