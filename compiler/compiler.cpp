@@ -14,7 +14,7 @@ void compile_file(const std::string& path, const CompileOptions& options, Compil
     out.program = sema::load_program(path, options.stdlib_dir, out.sources, out.sink);
     // Name resolution needs every module; a syntax error anywhere stops here.
     if (out.sink.has_errors()) return;
-    out.graph = sema::elaborate(out.program, out.sources, out.sink);
+    out.graph = sema::elaborate(out.program, out.sources, out.sink, options.require_plant);
 }
 
 std::string default_stdlib_dir() {

@@ -11,7 +11,8 @@
 namespace plant {
 
 struct CompileOptions {
-    std::string stdlib_dir;  // where `import std.x` looks
+    std::string stdlib_dir;     // where `import std.x` looks
+    bool require_plant = true;  // false: a library file is checked type by type
 };
 
 struct Compilation {

@@ -92,8 +92,9 @@ void print_diagnostics(const plant::Compilation& c, bool json) {
     else if (!sorted.empty()) std::cerr << plant::render_all_text(sorted, c.sources);
 }
 
-bool compile(const std::string& file, const Options& o, plant::Compilation& c) {
+bool compile(const std::string& file, const Options& o, plant::Compilation& c, bool require_plant = true) {
     plant::CompileOptions opts;
+    opts.require_plant = require_plant;
     opts.stdlib_dir = o.stdlib.empty() ? plant::default_stdlib_dir() : o.stdlib;
     plant::compile_file(file, opts, c);
     print_diagnostics(c, o.json);
@@ -105,7 +106,7 @@ int cmd_check(const Options& o) {
     bool ok = true;
     for (const auto& f : o.files) {
         plant::Compilation c;
-        ok = compile(f, o, c) && ok;
+        ok = compile(f, o, c, false) && ok;
         if (o.emit == "ast") {
             for (const auto& m : c.program.modules) plant::ast::print(m.ast, c.sources, std::cout);
         } else if (o.emit == "graph" && c.ok()) {

@@ -4,6 +4,8 @@
 #include <climits>
 #include <cstdint>
 #include <unordered_map>
+#include <initializer_list>
+#include <string_view>
 #include <utility>
 
 namespace plant::petri {
@@ -14,7 +16,8 @@ using Marking = std::vector<Count>;
 constexpr Count kOmega = -1;          // "any number of tokens" once a place is accelerated
 constexpr Count kRunaway = 1 << 24;   // stop before counts overflow in a net that never repeats
 constexpr int kAllSubsetsUpTo = 6;    // 2^6 environments per marking is still cheap
-constexpr size_t kMaxCombos = 4096;   // concretisations of omega places per step
+constexpr size_t kMaxCombos = 256;    // concretisations of omega places per step
+constexpr int64_t kStepsPerMarking = 256;  // work budget, so omega branching stays bounded
 
 // The net with arcs merged per (transition, place) and bad places dropped, so that
 // enabling and consumption agree even when a place is listed twice.
@@ -135,7 +138,8 @@ struct Node {
 class Explorer {
 public:
     Explorer(const Net& net, int limit)
-        : net_(net), n_(normalise(net)), envs_(environments(net, n_.places)), limit_(limit) {}
+        : net_(net), n_(normalise(net)), envs_(environments(net, n_.places)), limit_(limit),
+          steps_left_(kStepsPerMarking * std::max(limit, 1)) {}
 
     Report run();
 
@@ -155,6 +159,7 @@ private:
     Norm n_;
     std::vector<std::vector<int>> envs_;
     int limit_;
+    int64_t steps_left_;
     std::vector<Node> nodes_;
     std::vector<char> ever_enabled_;
     std::vector<std::string> why_;  // per place, non-empty once proved unbounded
@@ -180,6 +185,8 @@ bool Explorer::successors(const Marking& m, const std::vector<int>& puts,
         reps.push_back(std::move(r));
         if (combos > kMaxCombos) return false;
     }
+    steps_left_ -= static_cast<int64_t>(combos);
+    if (steps_left_ < 0) return false;
     for (size_t c = 0; c < combos; ++c) {
         Marking conc = m1;
         for (int p = 0; p < n_.places; ++p)
@@ -295,26 +302,33 @@ Report Explorer::run() {
     return rep;
 }
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
-
-std::string join(const std::vector<std::string>& items) {
+// Appending piecewise sidesteps a GCC 12 -Wrestrict false positive on "x" + s at -O3.
+std::string cat(std::initializer_list<std::string_view> parts) {
     std::string r;
-    for (size_t i = 0; i < items.size(); ++i)
-        r += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+    for (std::string_view p : parts) r += p;
     return r;
 }
 
-std::string Explorer::pname(int p) const {
-    if (p < static_cast<int>(net_.place_names.size()) && !net_.place_names[p].empty())
-        return quoted(net_.place_names[p]);
-    return quoted("p" + std::to_string(p));
+std::string quoted(std::string_view s) { return cat({"'", s, "'"}); }
+
+std::string join(const std::vector<std::string>& items) {
+    std::string r;
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (i > 0) r += i + 1 == items.size() ? " and " : ", ";
+        r += items[i];
+    }
+    return r;
 }
 
-std::string Explorer::tname(int t) const {
-    if (t < static_cast<int>(net_.transition_names.size()) && !net_.transition_names[t].empty())
-        return quoted(net_.transition_names[t]);
-    return quoted("t" + std::to_string(t));
+std::string name_or(const std::vector<std::string>& names, int i, char prefix) {
+    if (i < static_cast<int>(names.size()) && !names[i].empty()) return quoted(names[i]);
+    std::string fallback(1, prefix);
+    fallback += std::to_string(i);
+    return quoted(fallback);
 }
+
+std::string Explorer::pname(int p) const { return name_or(net_.place_names, p, 'p'); }
+std::string Explorer::tname(int t) const { return name_or(net_.transition_names, t, 't'); }
 
 // "<where the tokens come from>; when <the marking it repeats in> <why nothing drains it>"
 std::string Explorer::why(int place, const std::vector<std::pair<Marking, int>>& cycle,
@@ -340,7 +354,7 @@ std::string Explorer::why(int place, const std::vector<std::pair<Marking, int>>&
     if (put) from.push_back("fed by a flow");
     std::vector<std::string> tn;
     for (size_t i = 0; i < producers.size() && i < 2; ++i) tn.push_back(tname(producers[i]));
-    if (!tn.empty()) from.push_back("produced by " + join(tn));
+    if (!tn.empty()) from.push_back(cat({"produced by ", join(tn)}));
     std::string s = join(from);
 
     std::vector<std::string> marked;
@@ -352,10 +366,10 @@ std::string Explorer::why(int place, const std::vector<std::pair<Marking, int>>&
         marked.push_back("others");
     }
     if (marked.empty()) s += "; while no other place is marked";
-    else s += "; when " + join(marked) + (marked.size() == 1 ? " is" : " are") + " marked";
+    else s += cat({"; when ", join(marked), marked.size() == 1 ? " is" : " are", " marked"});
 
     if (!fired_consumers.empty()) {
-        s += " " + tname(fired_consumers.front()) + " consumes fewer tokens than it receives";
+        s += cat({" ", tname(fired_consumers.front()), " consumes fewer tokens than it receives"});
         return s;
     }
     s += " no transition consumes it";
@@ -365,7 +379,7 @@ std::string Explorer::why(int place, const std::vector<std::pair<Marking, int>>&
     std::vector<std::string> missing;
     for (auto [p, w] : n_.in[t])
         if (p != place && m1[p] < w) missing.push_back(pname(p));
-    if (!missing.empty()) s += " (" + tname(t) + " also needs " + join(missing) + ")";
+    if (!missing.empty()) s += cat({" (", tname(t), " also needs ", join(missing), ")"});
     return s;
 }
 

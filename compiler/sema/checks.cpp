@@ -46,7 +46,12 @@ std::vector<bool> used_outputs(const graph::Graph& g) {
 }  // namespace
 
 void Elaborator::check_petri_nets() {
-    const auto driven = driven_inputs(g_);
+    auto driven = driven_inputs(g_);
+    // A library object checked alone: whatever its input ports forward to is fed from outside.
+    if (library_mode_ && !scopes_.empty())
+        for (const auto& [n, port] : scopes_[0].ports)
+            if (port.input)
+                for (int32_t s : port.slots) driven[static_cast<size_t>(s)] = true;
     std::vector<std::vector<int32_t>> places_of(g_.comps.size()), transitions_of(g_.comps.size());
     for (size_t p = 0; p < g_.places.size(); ++p) places_of[static_cast<size_t>(g_.places[p].comp)].push_back(static_cast<int32_t>(p));
     for (size_t t = 0; t < g_.transitions.size(); ++t)
@@ -60,6 +65,7 @@ void Elaborator::check_petri_nets() {
             local[p] = static_cast<int>(net.initial.size());
             net.initial.push_back(g_.places[static_cast<size_t>(p)].initial);
             net.fed.push_back(driven[static_cast<size_t>(g_.places[static_cast<size_t>(p)].put_slot)]);
+            net.place_names.emplace_back(g_.str(g_.places[static_cast<size_t>(p)].name));
         }
         for (int32_t t : transitions_of[c]) {
             const auto& tr = g_.transitions[static_cast<size_t>(t)];
@@ -73,6 +79,7 @@ void Elaborator::check_petri_nets() {
                 pt.out.push_back({local[a.place], a.weight});
             }
             net.transitions.push_back(std::move(pt));
+            net.transition_names.emplace_back(g_.str(tr.name));
         }
         // Instances of one type with the same marking and feeding give the same answer.
         std::string sig;

@@ -427,7 +427,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         t.comp = comp;
         t.period = num("period", 0);
         positive("period");
-        t.periodic = mode != "once";
+        t.periodic = mode != "oneshot";
         t.autostart = boolean("autostart", false);
         g_.timers.push_back(t);
         set_detail(g_.timers.size());
@@ -594,7 +594,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             g_.variants.push_back({gid, name(v.name.text), name(m.str), sel});
         }
         gr.variant_num = static_cast<int32_t>(g_.variants.size()) - gr.variant_adr;
-        if (const Value* v = props.get("variant")) {
+        if (const Value* v = props.get("show")) {
             for (int32_t i = 0; i < gr.variant_num; ++i)
                 if (g_.str(g_.variants[static_cast<size_t>(gr.variant_adr + i)].name) == v->str) gr.variant = i;
             if (gr.variant < 0)

@@ -41,7 +41,18 @@ graph::Src Elaborator::src(Span s) {
     return {idx, static_cast<int32_t>(lc.line), static_cast<int32_t>(lc.col)};
 }
 
-graph::Graph Elaborator::run() {
+void Elaborator::check_object(const ast::ObjectDecl& o) {
+    g_.plant = name(o.name.text);
+    library_mode_ = true;
+    int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
+    type_stack_.push_back(o.name.text);
+    elaborate_do(root_do, o, prog_.root, std::make_shared<Env>());
+    finish_accesses();
+    check_petri_nets();
+    check_logic_cycles();
+}
+
+graph::Graph Elaborator::run(bool require_plant) {
     if (prog_.root < 0) return std::move(g_);
     const auto& root = prog_.modules[static_cast<size_t>(prog_.root)].ast;
     const ast::ObjectDecl* plant = nullptr;
@@ -57,9 +68,20 @@ graph::Graph Elaborator::run() {
     }
     // Plants in imported modules are ignored: a module can be both a plant and a library.
     if (!plant) {
-        if (!sink_.has_errors())
-            sink_.report(DiagId::NoPlant, Span{root.file, 0, 0},
-                         "no plant declared in this file; add `plant NAME { ... }`");
+        if (require_plant || root.objects.empty()) {
+            if (!sink_.has_errors())
+                sink_.report(DiagId::NoPlant, Span{root.file, 0, 0},
+                             root.objects.empty() ? "this file declares nothing; add `plant NAME { ... }`"
+                                                  : "no plant declared in this file; add `plant NAME { ... }`");
+            return std::move(g_);
+        }
+        // A library: check every object type that can be built from its defaults alone.
+        for (const auto& o : root.objects) {
+            bool defaults = std::all_of(o.params.begin(), o.params.end(), [](const ast::Param& p) { return p.default_value != nullptr; });
+            if (!defaults) continue;
+            Elaborator one(prog_, sm_, sink_);
+            one.check_object(o);
+        }
         return std::move(g_);
     }
     g_.plant = name(plant->name.text);
@@ -441,9 +463,9 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
     }
 }
 
-graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink) {
+graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink, bool require_plant) {
     Elaborator e(prog, sources, sink);
-    return e.run();
+    return e.run(require_plant);
 }
 
 }  // namespace plant::sema

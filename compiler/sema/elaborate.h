@@ -7,6 +7,8 @@
 
 namespace plant::sema {
 
-graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink);
+// Without a plant in the root file and with require_plant false (plant check on a
+// library), every object type whose parameters all have defaults is instantiated alone.
+graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink, bool require_plant = true);
 
 }  // namespace plant::sema

@@ -82,7 +82,8 @@ struct PendingAccessFlow {
 class Elaborator : public TypeLookup {
 public:
     Elaborator(const Program& prog, const SourceMap& sm, Sink& sink);
-    graph::Graph run();
+    graph::Graph run(bool require_plant);
+    void check_object(const ast::ObjectDecl& o);
 
     bool is_object_type(const std::string& name) const override;
 
@@ -138,7 +139,8 @@ public:
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
-    long long expanded_ = 0;  // members produced by loops, against runaway loops
+    long long expanded_ = 0;
+    bool library_mode_ = false;  // checking one object type of a library  // members produced by loops, against runaway loops
 };
 
 }  // namespace plant::sema

@@ -11,7 +11,7 @@ std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
     KindSpec graphics{"graphics", CompKind::Graphics, {}, {
         {"model", T::String, {}, false, "model reference the viewer interprets (never loaded by the runtime)"},
-        {"variant", T::String, {}, false, "initial variant"},
+        {"show", T::String, {}, false, "the variant shown at start; the model itself when absent"},
     }};
     graphics.animations = graphics.variants = graphics.children = graphics.on = true;
     k.push_back(graphics);
@@ -59,7 +59,7 @@ std::vector<KindSpec> make_kinds() {
     trigger.on = true;
     k.push_back(trigger);
 
-    k.push_back(KindSpec{"timer", CompKind::Timer, {"periodic", "once"}, {
+    k.push_back(KindSpec{"timer", CompKind::Timer, {"periodic", "oneshot"}, {
         {"period", T::Number, d::time, true, "period, or delay of a one-shot timer"},
         {"autostart", T::Bool, {}, false, "runs from the start, default false"},
     }});

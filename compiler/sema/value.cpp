@@ -69,7 +69,7 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
             d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
             return {};
         }
-        v.num = e.number * unit->scale;
+        v.num = unit->si(e.number);
         v.dim = unit->dim;
         return v;
     }

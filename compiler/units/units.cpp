@@ -9,16 +9,18 @@ namespace {
 
 struct Atom {
     std::string_view name;
-    double scale;
+    double scale;  // below 1 stored as 1 / (1 / scale), see Unit
     Dim dim;
+    double div() const { return scale < 1 ? std::round(1.0 / scale) == 1.0 / scale ? 1.0 / scale : 1.0 : 1.0; }
+    double mul() const { return scale < 1 && div() != 1.0 ? 1.0 : scale; }
 };
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 constexpr std::array kAtoms = {
-    Atom{"m", 1, dims::length},       Atom{"cm", 1e-2, dims::length},
-    Atom{"mm", 1e-3, dims::length},   Atom{"km", 1e3, dims::length},
-    Atom{"um", 1e-6, dims::length},   Atom{"kg", 1, dims::mass},
+    Atom{"m", 1, dims::length},       Atom{"cm", 0.01, dims::length},
+    Atom{"mm", 0.001, dims::length},  Atom{"km", 1e3, dims::length},
+    Atom{"um", 0.000001, dims::length},   Atom{"kg", 1, dims::mass},
     Atom{"g", 1e-3, dims::mass},      Atom{"mg", 1e-6, dims::mass},
     Atom{"t", 1e3, dims::mass},       Atom{"s", 1, dims::time},
     Atom{"ms", 1e-3, dims::time},     Atom{"us", 1e-6, dims::time},
@@ -98,7 +100,7 @@ std::string si_unit(Dim d) {
 }
 
 std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
-    Unit result{1.0, dims::none};
+    Unit result{1.0, 1.0, dims::none};
     int sign = 1;  // +1 before the first '/', -1 after it
     size_t i = 0;
     while (i < text.size()) {
@@ -126,7 +128,16 @@ std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
             return std::nullopt;
         }
         int e = sign * exp;
-        result.scale *= std::pow(atom->scale, e);
+        // Degrees are pi/180: keep pi in mul and 180 in div.
+        double am = atom->name == "deg" ? std::numbers::pi : atom->mul();
+        double ad = atom->name == "deg" ? 180.0 : atom->div();
+        if (e > 0) {
+            result.mul *= std::pow(am, e);
+            result.div *= std::pow(ad, e);
+        } else {
+            result.mul *= std::pow(ad, -e);
+            result.div *= std::pow(am, -e);
+        }
         result.dim = result.dim * atom->dim.pow(e);
         if (j < text.size()) {
             if (text[j] == '/') sign = -1;

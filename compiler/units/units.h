@@ -47,8 +47,10 @@ std::string dim_name(Dim d);
 std::string si_unit(Dim d);
 
 struct Unit {
-    double scale;  // SI value of 1 unit
+    double mul;  // SI value of 1 unit is mul / div: kept apart so that 4.1 cm is 4.1 / 100,
+    double div;  // the double nearest 0.041, not 4.1 * 0.01
     Dim dim;
+    double si(double x) const { return x * mul / div; }
 };
 
 // Parses a unit written after a number: "cm", "cm/s", "m/s^2", "N*s/m", "deg/s".

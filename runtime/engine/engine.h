@@ -1,0 +1,85 @@
+// The runtime: executes a compiled plant graph (graph/graph.h) on Bullet physics.
+//
+//   plant::engine::Engine e(graph);
+//   for (int i = 0; i < 1500; ++i) e.step();   // 10 s at 150 Hz
+//
+// The graph is the constant model; the engine owns the mutable state, sized once from
+// the graph's counts, and the Bullet world. step() runs the five phases described in
+// docs/runtime.md and does no heap allocation. Same graph, same options, same inputs:
+// bit-identical results.
+#pragma once
+
+#include "graph/graph.h"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+
+namespace plant::engine {
+
+// Bullet's broadphase: the AABB tree suits sparse plants, sweep-and-prune dense ones
+// (see PLATFORM.md); choose by measurement.
+enum class Broadphase : uint8_t { Dbvt, Sap };
+
+struct Options {
+    double dt = 0;  // fixed physics step in s; 0: 1 / graph.settings.rate
+    Broadphase broadphase = Broadphase::Dbvt;
+};
+
+// Runtime warnings: counted, never fatal (the summary of a run prints them).
+struct Warnings {
+    int64_t left_world = 0;    // bodies that fell below z = -10 m or went beyond 1 km
+    int64_t nan_state = 0;     // bodies whose position or velocity became NaN
+    int64_t access_null = 0;   // a dynamic flow ran while its reference held no object
+    int64_t access_type = 0;   // ... held an object of another type (or out of its range)
+    int64_t pool_empty = 0;    // a source was asked to issue with an empty pool
+    int64_t total() const { return left_world + nan_state + access_null + access_type + pool_empty; }
+};
+
+struct Runtime;  // the internals (engine/runtime.h)
+
+class Engine {
+public:
+    explicit Engine(const graph::Graph& g, Options opt = {});
+    ~Engine();
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    void step();
+
+    double time() const;    // simulated seconds at the end of the last step
+    int64_t steps() const;
+    double dt() const;
+    const graph::Graph& graph() const;
+
+    // An external input (a timed event): the value (slot_width doubles, none for
+    // void) is written now, the slot becomes active in the logic phase of the next step.
+    void input(int32_t slot, std::span<const double> value = {});
+    // Strings for string slots: the graph's names, then any interned here.
+    int32_t intern(std::string_view s);
+    std::string_view str(int32_t name) const;
+
+    // Refresh a slot's value every step even though no flow reads it (traces, tests).
+    void watch(int32_t slot);
+    std::span<const double> value(int32_t slot) const;
+    // Outputs: active in the logic phase of the last step. Inputs: activated by it.
+    bool active(int32_t slot) const;
+
+    graph::Pose body_pose(int32_t body) const;  // the body frame, in the world
+    graph::Vec3 body_com(int32_t body) const;   // centre of mass, in the world
+    graph::Vec3 body_velocity(int32_t body) const;
+    graph::Vec3 body_angular_velocity(int32_t body) const;
+    bool body_in_world(int32_t body) const;
+    int32_t tokens(int32_t place) const;
+    graph::Pose graphics_pose(int32_t graphics) const;
+    int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far
+    const Warnings& warnings() const;
+
+    Runtime& internals() { return *rt_; }
+
+private:
+    std::unique_ptr<Runtime> rt_;
+};
+
+}  // namespace plant::engine

@@ -1,0 +1,13 @@
+# Golden-file tests (see tests/golden_runner.cpp). Update with scripts/update-goldens.sh.
+add_executable(plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden_runner.cpp)
+target_compile_options(plant_golden PRIVATE ${PLANT_WARNINGS})
+target_link_libraries(plant_golden PRIVATE plant_compiler)
+add_test(NAME golden COMMAND plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden)
+set_tests_properties(golden PROPERTIES ENVIRONMENT "PLANT_STDLIB=${PLANT_STDLIB_DIR}")
+
+# Every example compiles without errors, and its graph renders with dot when available.
+file(GLOB PLANT_EXAMPLES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/examples/*.plant)
+foreach(example ${PLANT_EXAMPLES})
+  get_filename_component(name ${example} NAME_WE)
+  add_test(NAME example_check_${name} COMMAND plant check ${example})
+endforeach()

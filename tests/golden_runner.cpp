@@ -1,0 +1,162 @@
+// Golden-file tests: every tests/golden/**/NAME.plant is compiled and its outputs are
+// compared with the files beside it:
+//   NAME.graph  the compiled graph's text form (when it compiles)
+//   NAME.err    the rendered diagnostics (present exactly when there are any)
+// A file named fail_*.plant must produce errors, any other must not. Every graph must
+// round-trip (write -> load -> write is identical), and every registered diagnostic code
+// must appear in at least one .err file.
+//
+//   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
+//   plant_golden --update DIR   rewrite the expected files; review with `git diff`
+#include "compiler.h"
+#include "graph/text.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+bool write(const fs::path& p, const std::string& text) {
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+    return static_cast<bool>(out);
+}
+
+// First differing line, for a readable failure.
+std::string first_difference(const std::string& want, const std::string& got) {
+    std::istringstream a(want), b(got);
+    std::string la, lb;
+    for (int line = 1;; ++line) {
+        bool ea = !std::getline(a, la), eb = !std::getline(b, lb);
+        if (ea && eb) return "(files differ only in line endings)";
+        if (ea || eb || la != lb)
+            return "line " + std::to_string(line) + ":\n    expected: " + (ea ? "<end of file>" : la) +
+                   "\n    actual:   " + (eb ? "<end of file>" : lb);
+    }
+}
+
+struct Result {
+    int cases = 0, failed = 0, updated = 0;
+    std::set<std::string> codes_seen;
+};
+
+void expect_file(const fs::path& path, const std::string& actual, bool update, Result& r, bool& ok,
+                 const std::string& what) {
+    bool exists = fs::exists(path);
+    if (update) {
+        if (actual.empty()) {
+            if (exists) fs::remove(path), ++r.updated;
+        } else if (!exists || read(path) != actual) {
+            write(path, actual);
+            ++r.updated;
+        }
+        return;
+    }
+    if (actual.empty() && !exists) return;
+    if (actual.empty()) {
+        std::cout << "  " << path.generic_string() << ": expected " << what << " but there was none\n";
+        ok = false;
+        return;
+    }
+    if (!exists) {
+        std::cout << "  " << path.generic_string() << ": missing (" << what << " produced)\n";
+        ok = false;
+        return;
+    }
+    std::string want = read(path);
+    if (want != actual) {
+        std::cout << "  " << path.generic_string() << ": " << what << " differs at " << first_difference(want, actual) << "\n";
+        ok = false;
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool update = false;
+    std::string dir;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--update") update = true;
+        else dir = a;
+    }
+    if (dir.empty()) {
+        std::cerr << "usage: plant_golden [--update] DIR\n";
+        return 2;
+    }
+    // Paths in diagnostics are relative to the golden folder: stable across machines.
+    fs::current_path(dir);
+    std::vector<fs::path> files;
+    for (const auto& e : fs::recursive_directory_iterator("."))
+        if (e.is_regular_file() && e.path().extension() == ".plant") files.push_back(e.path().lexically_normal());
+    std::sort(files.begin(), files.end());
+
+    Result r;
+    plant::CompileOptions opts;
+    opts.stdlib_dir = plant::default_stdlib_dir();
+    for (const auto& f : files) {
+        // Files under a folder named `lib` are imported by other cases, not cases themselves.
+        if (f.generic_string().find("/lib/") != std::string::npos || f.generic_string().rfind("lib/", 0) == 0) continue;
+        ++r.cases;
+        bool ok = true;
+        plant::Compilation c;
+        plant::compile_file(f.generic_string(), opts, c);
+        auto sorted = c.sink.sorted();
+        for (const auto& d : sorted) r.codes_seen.insert(std::string(plant::info(d.id).code));
+        std::string err = sorted.empty() ? "" : plant::render_all_text(sorted, c.sources);
+        std::string graph = c.ok() ? plant::graph::to_text(c.graph) : "";
+        const bool must_fail = f.filename().string().rfind("fail_", 0) == 0;
+        if (must_fail != !c.ok()) {
+            std::cout << "  " << f.generic_string() << ": " << (must_fail ? "expected errors, compiled cleanly"
+                                                                          : "unexpected errors:\n" + err) << "\n";
+            ok = false;
+        }
+        if (!graph.empty()) {
+            plant::graph::Graph loaded;
+            std::istringstream in(graph);
+            std::string load_error;
+            if (!plant::graph::read_text(in, loaded, load_error)) {
+                std::cout << "  " << f.generic_string() << ": graph text does not load: " << load_error << "\n";
+                ok = false;
+            } else if (plant::graph::to_text(loaded) != graph || !loaded.same_as(c.graph)) {
+                std::cout << "  " << f.generic_string() << ": graph text does not round-trip\n";
+                ok = false;
+            }
+        }
+        fs::path base = f;
+        base.replace_extension();
+        expect_file(base.string() + ".graph", graph, update, r, ok, "graph");
+        expect_file(base.string() + ".err", err, update, r, ok, "diagnostics");
+        if (!ok) {
+            ++r.failed;
+            std::cout << "FAIL " << f.generic_string() << "\n";
+        }
+    }
+
+    // Every registered code is exercised by at least one case.
+    int uncovered = 0;
+    for (const auto& info : plant::all_diagnostics())
+        if (!r.codes_seen.count(std::string(info.code))) {
+            std::cout << "  diagnostic " << info.code << " (" << info.summary << ") has no golden case\n";
+            ++uncovered;
+        }
+    if (update) std::cout << "updated " << r.updated << " file(s); review with `git diff tests/golden`\n";
+    std::cout << "golden: " << r.cases - r.failed << " passed, " << r.failed << " failed"
+              << (uncovered ? ", " + std::to_string(uncovered) + " diagnostic code(s) without a case" : "") << "\n";
+    return (r.failed || uncovered) && !update ? 1 : 0;
+}
