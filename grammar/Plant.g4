@@ -70,7 +70,7 @@ compItem
     | componentDecl
     ;
 
-property       : ID '=' expr ;
+property       : ident '=' expr ;
 shapeDecl      : 'shape' ID args placement? ;
 animationDecl  : 'animation' ID '{' animItem* '}' ;
 animItem
@@ -99,7 +99,9 @@ path
     : '(' path 'as' ID ')' ('.' pathSeg)+   # castPath
     | pathSeg ('.' pathSeg)*                # plainPath
     ;
-pathSeg : ID ('[' expr ']')? ;
+pathSeg : ident ('[' expr ']')? ;
+// `object` is a keyword but also the name of a slot and a property.
+ident   : ID | 'object' ;
 
 expr
     : primary                                               # primaryExpr

@@ -30,6 +30,7 @@ commands:
   check FILE...         check plant files; exit code 0 when there is no error
   build FILE -o OUT     compile FILE and write the graph's text form to OUT (- for stdout)
   graph FILE            print the data-flow network and Petri nets as Graphviz DOT
+  info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
 
 common options:
@@ -143,6 +144,25 @@ int cmd_graph(const Options& o) {
     return 0;
 }
 
+int cmd_info(const Options& o) {
+    if (o.files.empty()) return usage_error("info needs at least one FILE");
+    bool ok = true;
+    for (const auto& f : o.files) {
+        plant::Compilation c;
+        if (!compile(f, o, c)) {
+            ok = false;
+            continue;
+        }
+        const auto& g = c.graph;
+        std::cout << f << ": plant " << g.str(g.plant) << " - " << g.dos.size() << " objects, " << g.comps.size()
+                  << " components, " << g.slots.size() << " slots, " << g.flows.size() << " flows, " << g.logics.size()
+                  << " connectors, " << g.places.size() << " places, " << g.transitions.size() << " transitions, "
+                  << g.bodies.size() << " bodies, " << g.fields.size() << " force fields, " << g.triggers.size()
+                  << " triggers; " << c.sink.count(plant::Severity::Warning) << " warnings\n";
+    }
+    return ok ? 0 : 1;
+}
+
 #ifdef PLANT_HAS_RUNTIME
 int cmd_run(const Options& o) {
     if (o.files.size() != 1) return usage_error("run takes one FILE (.plant or .graph)");
@@ -215,6 +235,7 @@ int main(int argc, char** argv) {
         if (o.help) return std::cout << kGraphHelp, 0;
         return cmd_graph(o);
     }
+    if (o.command == "info") return cmd_info(o);
     if (o.command == "run") {
 #ifdef PLANT_HAS_RUNTIME
         if (o.help) o.rest.push_back("--help");

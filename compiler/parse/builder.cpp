@@ -301,8 +301,13 @@ public:
         return d;
     }
 
+    ast::Ident ident(P::IdentContext* c) const {
+        if (!c) return {};
+        return ast::Ident{c->getText(), span(c)};
+    }
+
     ast::Property property(P::PropertyContext* c) {
-        return ast::Property{ident(c->ID()), expr(c->expr()), span(c)};
+        return ast::Property{ident(c->ident()), expr(c->expr()), span(c)};
     }
 
     ast::AnimationDecl animation(P::AnimationDeclContext* c) {
@@ -408,7 +413,7 @@ public:
 
     ast::PathSeg seg(P::PathSegContext* c) {
         ast::PathSeg s;
-        s.name = ident(c->ID());
+        s.name = ident(c->ident());
         if (c->expr()) s.index = expr(c->expr());
         return s;
     }

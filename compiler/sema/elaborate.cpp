@@ -46,7 +46,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     library_mode_ = true;
     int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
     type_stack_.push_back(o.name.text);
-    elaborate_do(root_do, o, prog_.root, std::make_shared<Env>());
+    elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}, prog_.root));
     finish_accesses();
     check_petri_nets();
     check_logic_cycles();

@@ -1,0 +1,232 @@
+#include "engine/physics.h"
+
+#include "engine/pose.h"
+
+#include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletDynamics/ConstraintSolver/btFixedConstraint.h>
+#include <BulletDynamics/ConstraintSolver/btHingeConstraint.h>
+#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
+#include <BulletDynamics/ConstraintSolver/btSliderConstraint.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include <algorithm>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+// Statics and kinematics never need pairs among themselves (no response possible).
+constexpr int kAll = btBroadphaseProxy::AllFilter;
+constexpr int kStatic = btBroadphaseProxy::StaticFilter;
+constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
+
+bool pooled(const Graph& g, const Tables& t, int32_t d) {
+    for (size_t guard = 0; d >= 0 && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
+        if (t.do_source[d] >= 0) return true;
+    return false;
+}
+
+}  // namespace
+
+Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
+    config_ = std::make_unique<btDefaultCollisionConfiguration>();
+    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
+    if (bp == Broadphase::Sap) {
+        // 32-bit handles: a 2 km world quantised in 16 bits would be 3 cm coarse.
+        unsigned handles = unsigned(std::max<size_t>(1024, 2 * g.bodies.size() + 16));
+        broadphase_ = std::make_unique<bt32BitAxisSweep3>(btVector3(-1000, -1000, -1000),
+                                                          btVector3(1000, 1000, 1000), handles);
+    } else {
+        broadphase_ = std::make_unique<btDbvtBroadphase>();
+    }
+    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
+    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(),
+                                                       solver_.get(), config_.get());
+    world_->setGravity(to_bt(g.settings.gravity));
+    world_->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
+
+    const size_t nb = g.bodies.size();
+    local_.resize(nb);
+    local_inv_.resize(nb);
+    inertia_.resize(nb);
+    mass_.resize(nb);
+    in_world_.assign(nb, 0);
+    dyn_on_.assign(nb, 1);
+    coll_on_.assign(nb, 1);
+    for (size_t b = 0; b < nb; ++b) {
+        const Body& body = g.bodies[b];
+        BodyShape bs = shapes_.build(g, body);
+        local_[b] = bs.local;
+        local_inv_[b] = bs.local.inverse();
+        inertia_[b] = bs.inertia;
+        mass_[b] = bs.mass;
+        btRigidBody::btRigidBodyConstructionInfo ci(btScalar(bs.mass), nullptr, bs.shape, bs.inertia);
+        ci.m_startWorldTransform = to_bt(body.pose) * bs.local;
+        ci.m_friction = btScalar(body.friction);
+        ci.m_restitution = btScalar(body.restitution);
+        ci.m_linearDamping = btScalar(body.linear_damping);
+        ci.m_angularDamping = btScalar(body.angular_damping);
+        auto rb = std::make_unique<btRigidBody>(ci);
+        rb->setUserIndex(int(b));
+        if (body.mode == BodyMode::Static) {
+            rb->setActivationState(ISLAND_SLEEPING);
+        } else {
+            if (body.mode == BodyMode::Kinematic)
+                rb->setCollisionFlags((rb->getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
+                                      btCollisionObject::CF_KINEMATIC_OBJECT);
+            // Belts push with forces that do not wake sleepers; kinematics must stay active.
+            rb->forceActivationState(DISABLE_DEACTIVATION);
+        }
+        bodies_.push_back(std::move(rb));
+        if (!body.collision) set_collision(int32_t(b), false);
+        if (!body.dynamics) set_dynamics(int32_t(b), false);
+    }
+
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    joint_in_.assign(g.joints.size(), 0);
+    joint_on_.assign(g.joints.size(), 0);
+    for (size_t j = 0; j < g.joints.size(); ++j) {
+        const Joint& jt = g.joints[j];
+        btRigidBody& a = *bodies_[jt.body_a];
+        btTransform fa = local_inv_[jt.body_a] * to_bt(jt.frame_a);
+        btRigidBody& b = jt.body_b >= 0 ? *bodies_[jt.body_b] : btTypedConstraint::getFixedBody();
+        btTransform fb = jt.body_b >= 0 ? local_inv_[jt.body_b] * to_bt(jt.frame_b) : to_bt(jt.frame_b);
+        const bool limited = jt.lower <= jt.upper;
+        std::unique_ptr<btTypedConstraint> c;
+        switch (jt.kind) {
+        case JointKind::Fixed: c = std::make_unique<btFixedConstraint>(a, b, fa, fb); break;
+        case JointKind::Hinge: {  // about the joint frame's z axis
+            auto h = std::make_unique<btHingeConstraint>(a, b, fa, fb, false);
+            if (limited) h->setLimit(btScalar(jt.lower), btScalar(jt.upper));
+            c = std::move(h);
+            break;
+        }
+        case JointKind::Slider: {  // along the joint frame's x axis; Bullet: lower > upper is free
+            auto s = std::make_unique<btSliderConstraint>(a, b, fa, fb, true);
+            s->setLowerLinLimit(limited ? btScalar(jt.lower) : 1);
+            s->setUpperLinLimit(limited ? btScalar(jt.upper) : -1);
+            c = std::move(s);
+            break;
+        }
+        }
+        c->setUserConstraintId(int(j));
+        c->setEnabled(jt.enabled);
+        joint_on_[j] = jt.enabled;
+        joints_.push_back(std::move(c));
+        pairs.emplace_back(jt.body_a, int32_t(j));
+        if (jt.body_b >= 0 && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, int32_t(j));
+    }
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](auto& x, auto& y) { return x.first < y.first; });
+    body_joints_.adr.assign(nb, 0);
+    body_joints_.num.assign(nb, 0);
+    for (auto& [b, j] : pairs) {
+        if (body_joints_.num[b]++ == 0) body_joints_.adr[b] = int32_t(body_joints_.list.size());
+        body_joints_.list.push_back(j);
+    }
+
+    for (size_t b = 0; b < nb; ++b)
+        if (!pooled(g, t, t.body_do[b])) insert(int32_t(b));
+}
+
+Physics::~Physics() {
+    for (size_t j = joints_.size(); j-- > 0;)
+        if (joint_in_[j]) world_->removeConstraint(joints_[j].get());
+    for (size_t b = bodies_.size(); b-- > 0;)
+        if (in_world_[b]) world_->removeRigidBody(bodies_[b].get());
+    joints_.clear();
+    bodies_.clear();
+}
+
+void Physics::step(double dt) { world_->stepSimulation(btScalar(dt), 0, btScalar(dt)); }
+
+void Physics::add_to_world(int32_t b) {
+    switch (g_.bodies[b].mode) {
+    case BodyMode::Dynamic: world_->addRigidBody(bodies_[b].get(), btBroadphaseProxy::DefaultFilter, kAll); break;
+    case BodyMode::Static: world_->addRigidBody(bodies_[b].get(), kStatic, kAll ^ kStatic); break;
+    case BodyMode::Kinematic:
+        world_->addRigidBody(bodies_[b].get(), kKinematic, kAll ^ kStatic ^ kKinematic);
+        break;
+    }
+}
+
+void Physics::sync_joints(int32_t b) {
+    if (body_joints_.num.empty()) return;
+    for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
+        const Joint& jt = g_.joints[*j];
+        bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
+        if (want == bool(joint_in_[*j])) continue;
+        if (want) world_->addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
+        else world_->removeConstraint(joints_[*j].get());
+        joint_in_[*j] = want;
+    }
+}
+
+void Physics::insert(int32_t b) {
+    if (in_world_[b]) return;
+    add_to_world(b);
+    in_world_[b] = 1;
+    sync_joints(b);
+}
+
+void Physics::take_out(int32_t b) {
+    if (!in_world_[b]) return;
+    in_world_[b] = 0;
+    sync_joints(b);
+    world_->removeRigidBody(bodies_[b].get());
+}
+
+void Physics::set_dynamics(int32_t b, bool on) {
+    if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
+    btRigidBody& r = *bodies_[b];
+    // Re-adding refreshes Bullet's lists of non-static bodies and the solver's view.
+    if (in_world_[b]) world_->removeRigidBody(&r);
+    if (on) {
+        r.setCollisionFlags(r.getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
+        r.setMassProps(btScalar(mass_[b]), inertia_[b]);
+        r.updateInertiaTensor();
+    } else {
+        r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: undone below
+        r.setCollisionFlags((r.getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
+                            btCollisionObject::CF_KINEMATIC_OBJECT);
+        r.setInterpolationWorldTransform(r.getWorldTransform());
+    }
+    r.setLinearVelocity(btVector3(0, 0, 0));
+    r.setAngularVelocity(btVector3(0, 0, 0));
+    r.clearForces();
+    dyn_on_[b] = on;
+    if (in_world_[b]) add_to_world(b);
+}
+
+void Physics::set_collision(int32_t b, bool on) {
+    btRigidBody& r = *bodies_[b];
+    int f = r.getCollisionFlags();
+    r.setCollisionFlags(on ? f & ~btCollisionObject::CF_NO_CONTACT_RESPONSE
+                           : f | btCollisionObject::CF_NO_CONTACT_RESPONSE);
+    coll_on_[b] = on;
+}
+
+void Physics::set_joint(int32_t j, bool on) {
+    joints_[j]->setEnabled(on);
+    joint_on_[j] = on;
+}
+
+btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
+Pose Physics::pose(int32_t b) const { return from_bt(frame(b)); }
+
+void Physics::place(int32_t b, const btTransform& f) {
+    btRigidBody& r = *bodies_[b];
+    btTransform t = f * local_[b];
+    r.setWorldTransform(t);
+    r.setInterpolationWorldTransform(t);
+    if (in_world_[b]) world_->updateSingleAabb(&r);
+}
+
+void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
+
+}  // namespace plant::engine

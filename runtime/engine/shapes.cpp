@@ -1,0 +1,171 @@
+#include "engine/shapes.h"
+
+#include "engine/pose.h"
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btCapsuleShape.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btCylinderShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+std::vector<double> primitive_key(const Graph& g, const Shape& s) {
+    std::vector<double> k{double(s.kind), s.size[0], s.size[1], s.size[2]};
+    if (s.kind == ShapeKind::Hull)
+        for (int32_t i = 0; i < s.point_num; ++i)
+            for (double c : g.points[s.point_adr + i].p) k.push_back(c);
+    return k;
+}
+
+// Volume, to share a compound's mass among its children.
+double volume(const Shape& s) {
+    const double pi = std::numbers::pi, r = s.size[0], h = s.size[1];
+    switch (s.kind) {
+    case ShapeKind::Box: return s.size[0] * s.size[1] * s.size[2];
+    case ShapeKind::Sphere: return 4.0 / 3.0 * pi * r * r * r;
+    case ShapeKind::Cylinder: return pi * r * r * h;
+    case ShapeKind::Capsule: return pi * r * r * std::max(h - 2 * r, 0.0) + 4.0 / 3.0 * pi * r * r * r;
+    case ShapeKind::Hull: return 0;  // measured from the built shape's bounding box
+    }
+    return 0;
+}
+
+Eigen::Matrix3d rotation(const Quat& q) {
+    return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).toRotationMatrix();
+}
+
+}  // namespace
+
+ShapeCache::~ShapeCache() {
+    while (!owned_.empty()) owned_.pop_back();  // compounds (created last) before children
+}
+
+btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
+    std::vector<double> key = primitive_key(g, s);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    const btScalar r = btScalar(s.size[0]), h = btScalar(s.size[1]);
+    std::unique_ptr<btCollisionShape> shape;
+    switch (s.kind) {
+    case ShapeKind::Box: shape = std::make_unique<btBoxShape>(to_bt(s.size) * btScalar(0.5)); break;
+    case ShapeKind::Sphere: shape = std::make_unique<btSphereShape>(r); break;
+    case ShapeKind::Cylinder: shape = std::make_unique<btCylinderShapeZ>(btVector3(r, r, h / 2)); break;
+    // The graph gives a capsule's total height; Bullet wants the distance between its caps.
+    case ShapeKind::Capsule: shape = std::make_unique<btCapsuleShapeZ>(r, std::max<btScalar>(h - 2 * r, 0)); break;
+    case ShapeKind::Hull: {
+        auto hull = std::make_unique<btConvexHullShape>();
+        for (int32_t i = 0; i < s.point_num; ++i) hull->addPoint(to_bt(g.points[s.point_adr + i].p), false);
+        hull->optimizeConvexHull();
+        hull->setMargin(btScalar(kHullMargin));  // before the AABB: see PLATFORM.md
+        hull->recalcLocalAabb();
+        shape = std::move(hull);
+        break;
+    }
+    }
+    btCollisionShape* raw = shape.get();
+    owned_.push_back(std::move(shape));
+    cache_.emplace(std::move(key), raw);
+    return raw;
+}
+
+btCollisionShape* ShapeCache::compound(const std::vector<double>& key,
+                                       const std::vector<std::pair<btCollisionShape*, btTransform>>& kids) {
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    // A dynamic AABB tree only pays off for many children.
+    auto c = std::make_unique<btCompoundShape>(kids.size() > 8, int(kids.size()));
+    for (auto& [shape, local] : kids) c->addChildShape(local, shape);
+    btCollisionShape* raw = c.get();
+    owned_.push_back(std::move(c));
+    cache_.emplace(key, raw);
+    return raw;
+}
+
+BodyShape ShapeCache::build(const Graph& g, const Body& b) {
+    struct Kid {
+        btCollisionShape* shape;
+        Pose in_com;  // relative to the centre-of-mass frame `b.com`
+        const Shape* src;
+    };
+    std::vector<Kid> kids;
+    for (int32_t i = 0; i < b.shape_num; ++i) {
+        const Shape& s = g.shapes[b.shape_adr + i];
+        kids.push_back({primitive(g, s), pmul(pinv(b.com), s.local), &s});
+    }
+
+    BodyShape out;
+    Eigen::Matrix3d principal = Eigen::Matrix3d::Identity();  // principal axes in the com frame
+    const bool dynamic = b.mode == BodyMode::Dynamic && b.mass > 0;
+    if (dynamic) {
+        out.mass = b.mass;
+        if (b.inertia_set) {
+            out.inertia = to_bt(b.inertia);
+        } else if (kids.size() == 1 && is_identity(kids[0].in_com)) {
+            kids[0].shape->calculateLocalInertia(btScalar(b.mass), out.inertia);
+        } else {
+            // Mass shared by volume, each child's tensor rotated and moved to the com.
+            std::vector<double> vol;
+            double total = 0;
+            for (const Kid& k : kids) {
+                double v = volume(*k.src);
+                if (v <= 0) {
+                    btVector3 lo, hi;
+                    k.shape->getAabb(btTransform::getIdentity(), lo, hi);
+                    v = double((hi - lo).x() * (hi - lo).y() * (hi - lo).z());
+                }
+                vol.push_back(v);
+                total += v;
+            }
+            Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+            for (size_t i = 0; i < kids.size(); ++i) {
+                double m = total > 0 ? b.mass * vol[i] / total : b.mass / double(kids.size());
+                btVector3 li;
+                kids[i].shape->calculateLocalInertia(btScalar(m), li);
+                Eigen::Matrix3d r = rotation(kids[i].in_com.q);
+                Eigen::Vector3d d(kids[i].in_com.p[0], kids[i].in_com.p[1], kids[i].in_com.p[2]);
+                tensor += r * Eigen::Vector3d(li.x(), li.y(), li.z()).asDiagonal() * r.transpose();
+                tensor += m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+            }
+            double off = std::abs(tensor(0, 1)) + std::abs(tensor(0, 2)) + std::abs(tensor(1, 2));
+            Eigen::Vector3d moments = tensor.diagonal();
+            if (off > 1e-9 * tensor.trace()) {
+                Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(tensor);
+                moments = eig.eigenvalues();
+                principal = eig.eigenvectors();
+                if (principal.determinant() < 0) principal.col(2) *= -1;
+            }
+            out.inertia = btVector3(btScalar(moments.x()), btScalar(moments.y()), btScalar(moments.z()));
+        }
+    }
+
+    Eigen::Quaterniond pq(principal);
+    const Pose rot{{0, 0, 0}, {pq.x(), pq.y(), pq.z(), pq.w()}};
+    out.local = to_bt(pmul(b.com, rot));
+
+    if (kids.size() == 1 && is_identity(pmul(pinv(rot), kids[0].in_com), 1e-9)) {
+        out.shape = kids[0].shape;
+        return out;
+    }
+    std::vector<double> key{-1.0, double(kids.size())};
+    std::vector<std::pair<btCollisionShape*, btTransform>> parts;
+    for (const Kid& k : kids) {
+        Pose local = pmul(pinv(rot), k.in_com);
+        for (double v : primitive_key(g, *k.src)) key.push_back(v);
+        key.insert(key.end(), local.p.begin(), local.p.end());
+        key.insert(key.end(), local.q.begin(), local.q.end());
+        parts.emplace_back(k.shape, to_bt(local));
+    }
+    out.shape = compound(key, parts);
+    return out;
+}
+
+}  // namespace plant::engine

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Regenerates every golden file (compiled graphs, diagnostics, runtime traces) from the
+# current build. Review the result with `git diff tests/golden` before committing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/build.sh ci >/dev/null
+build/ci/tests/plant_golden --update tests/golden
+git --no-pager diff --stat -- tests/golden || true
