@@ -1,0 +1,44 @@
+// The logic phase as a precomputed program: every flow, connector, router and label
+// once, in dependency order, so one step is a single pass without lookups.
+//
+// Order: a node that makes a slot active runs before the nodes that read that
+// activity (flows into a connector input before the connector, the connector before
+// flows from its output). A flow whose condition reads its target's activity runs
+// after the flows into that target whose condition does not. Ties go by node id.
+// A cycle is broken at its lowest-numbered flow, which becomes "delayed": it is
+// evaluated after all others and its effect lands in the next step (one step delay).
+#pragma once
+
+#include "engine/tables.h"
+#include "graph/graph.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace plant::engine {
+
+struct FlowOp {
+    int32_t from = -1, to = -1;          // slots (from: the ref slot of a dynamic source)
+    int32_t from_val = -1, to_val = -1;  // value_adr, -1 for void or dynamic ends
+    int32_t from_access = -1, to_access = -1;
+    int32_t width = 0;                   // doubles copied
+    graph::Cond cond = graph::Cond::Source;
+    bool once = false;
+};
+
+enum class OpKind : uint8_t { Flow, Logic, Router, Label };
+
+struct Op {
+    OpKind kind;
+    int32_t index;  // flow id, logic id, router comp id, label id
+};
+
+struct Schedule {
+    std::vector<FlowOp> flows;     // by flow id
+    std::vector<Op> ops;           // the logic phase, in order
+    std::vector<int32_t> delayed;  // flows cut out of cycles
+};
+
+Schedule build_schedule(const graph::Graph& g, const Tables& t);
+
+}  // namespace plant::engine
