@@ -171,12 +171,14 @@ void Physics::insert(int32_t b) {
     if (in_world_[b]) return;
     add_to_world(b);
     in_world_[b] = 1;
+    ++version_;
     sync_joints(b);
 }
 
 void Physics::take_out(int32_t b) {
     if (!in_world_[b]) return;
     in_world_[b] = 0;
+    ++version_;
     sync_joints(b);
     world_->removeRigidBody(bodies_[b].get());
 }
@@ -200,6 +202,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
     r.setAngularVelocity(btVector3(0, 0, 0));
     r.clearForces();
     dyn_on_[b] = on;
+    ++version_;
     if (in_world_[b]) add_to_world(b);
 }
 
@@ -214,6 +217,7 @@ void Physics::set_collision(int32_t b, bool on) {
 void Physics::set_joint(int32_t j, bool on) {
     joints_[j]->setEnabled(on);
     joint_on_[j] = on;
+    ++version_;
 }
 
 btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }

@@ -49,6 +49,8 @@ public:
     void set_collision(int32_t b, bool on);
     void set_joint(int32_t j, bool on);
     bool joint_on(int32_t j) const { return joint_on_[j]; }
+    // Changes whenever membership, a dynamics mode or a joint changes (caches compare it).
+    uint64_t version() const { return version_; }
 
     // The body frame (graph::Body::pose), not Bullet's centre-of-mass frame.
     graph::Pose pose(int32_t b) const;
@@ -76,6 +78,7 @@ private:
     std::vector<double> mass_;
     std::vector<uint8_t> in_world_, dyn_on_, coll_on_, joint_in_, joint_on_;
     Csr body_joints_;
+    uint64_t version_ = 0;
 };
 
 }  // namespace plant::engine

@@ -9,11 +9,11 @@ Spatial::Spatial(const Tables& t, size_t bodies) : t_(t), com_(bodies), lo_(bodi
 }
 
 void Spatial::refresh(const Physics& ph, bool aabbs) {
-    if (dirty_) {
+    if (version_ != ph.version()) {
         order_.clear();
         for (int32_t b : t_.dyn_bodies)
             if (ph.in_world(b)) order_.push_back({0, b});
-        dirty_ = false;
+        version_ = ph.version();
     }
     btScalar reach = 0;
     for (Entry& e : order_) {

@@ -16,7 +16,6 @@ class Spatial {
 public:
     Spatial(const Tables& t, size_t bodies);
 
-    void invalidate() { dirty_ = true; }  // a body entered or left the world, or jumped
     // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and re-sorts.
     void refresh(const Physics& ph, bool aabbs);
     // [first, last) positions in the sorted order whose centre lies in [lo, hi].
@@ -38,7 +37,7 @@ private:
     std::vector<Entry> order_;
     std::vector<btVector3> com_, lo_, hi_;
     btScalar reach_ = 0;
-    bool dirty_ = true;
+    uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership
 };
 
 }  // namespace plant::engine

@@ -1,0 +1,151 @@
+#include "engine/engine.h"
+
+#include "engine/runtime.h"
+#include "graph/kinds.h"
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+double step_of(const Graph& g, const Options& opt) {
+    if (opt.dt > 0) return opt.dt;
+    return 1.0 / (g.settings.rate > 0 ? g.settings.rate : 150.0);
+}
+
+}  // namespace
+
+Runtime::Runtime(const Graph& graph, const Options& opt)
+    : g(graph),
+      dt(step_of(graph, opt)),
+      tab(graph),
+      sched(build_schedule(graph, tab)),
+      phys(graph, tab, opt.broadphase),
+      index(tab, graph.bodies.size()) {
+    init_state(st, g, tab);
+    // Outputs that flows (or traces) read are refreshed every step; others only on demand.
+    for (const Flow& f : g.flows) {
+        if (f.from_access < 0) {
+            st.watched[f.from] = 1;
+            continue;
+        }
+        const Access& a = g.accesses[f.from_access];
+        st.watched[a.ref_slot] = 1;
+        for (int32_t i = 0; i < a.target_num; ++i) st.watched[g.access_targets[a.target_adr + i].v] = 1;
+    }
+    for (const Record& rec : g.records) st.watched[rec.slot] = 1;
+    refresh_observers();
+
+    // References start empty.
+    for (const Trigger& t : g.triggers) *val(comp_slot(t.comp, triggerslot::object)) = -1;
+    for (const Gripper& gr : g.grippers) *val(comp_slot(gr.comp, gripperslot::object)) = -1;
+    for (const Source& s : g.sources) *val(comp_slot(s.comp, sourceslot::object)) = -1;
+    for (const Exit& e : g.exits) *val(comp_slot(e.comp, exitslot::object)) = -1;
+
+    // Initial publication: state outputs are active in the first logic phase, so flows
+    // conditioned on their source see the start values once.
+    for (const Label& l : g.labels) emit(comp_slot(l.comp, labelslot::value), l.value.id);
+    for (size_t f = 0; f < g.fields.size(); ++f) emit(comp_slot(g.fields[f].comp, fieldslot::speed), g.fields[f].speed);
+    for (const Joint& j : g.joints) emit(comp_slot(j.comp, jointslot::enabled), j.enabled ? 1 : 0);
+    for (size_t i = 0; i < g.timers.size(); ++i)
+        emit(comp_slot(g.timers[i].comp, timerslot::running), st.timers[i].running ? 1 : 0);
+    for (size_t p = 0; p < g.places.size(); ++p)
+        if (g.places[p].tokens_slot >= 0) emit(g.places[p].tokens_slot, st.tokens[p]);
+    for (size_t i = 0; i < g.graphics.size(); ++i) {
+        int32_t v = st.variant[i];
+        emit(comp_slot(g.graphics[i].comp, graphicsslot::variant),
+             v >= 0 ? g.variants[v].name.id : g.graphics[i].model.id);
+    }
+}
+
+std::string_view Runtime::str(int32_t name) const {
+    if (name < 0) return {};
+    if (size_t(name) < g.names.size()) return g.names[name];
+    size_t extra = size_t(name) - g.names.size();
+    return extra < extra_names.size() ? std::string_view(extra_names[extra]) : std::string_view{};
+}
+
+void Runtime::emit_pose(int32_t slot, const Pose& p) {
+    double* v = val(slot);
+    for (int i = 0; i < 3; ++i) v[i] = p.p[i];
+    for (int i = 0; i < 4; ++i) v[3 + i] = p.q[i];
+    activate(slot);
+}
+
+void Runtime::refresh_observers() {
+    st.observed_bodies.clear();
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        uint8_t bits = 0;
+        for (int i = 0; i < 5; ++i)
+            if (st.watched[comp_slot(g.bodies[b].comp, bodyslot::pose + i)]) bits |= uint8_t(1u << i);
+        st.body_outputs[b] = bits;
+        if (bits) st.observed_bodies.push_back(int32_t(b));
+    }
+}
+
+// ---- Engine ----
+
+Engine::Engine(const Graph& g, Options opt) : rt_(std::make_unique<Runtime>(g, opt)) {}
+Engine::~Engine() = default;
+
+void Engine::step() {
+    Runtime& r = *rt_;
+    phase_physics(r);
+    phase_sensors(r);
+    phase_logic(r);
+    phase_petri(r);
+    phase_actuators(r);
+}
+
+double Engine::time() const { return rt_->st.time; }
+int64_t Engine::steps() const { return rt_->st.step; }
+double Engine::dt() const { return rt_->dt; }
+const Graph& Engine::graph() const { return rt_->g; }
+
+void Engine::input(int32_t slot, std::span<const double> value) {
+    Runtime& r = *rt_;
+    const Slot& s = r.g.slots[slot];
+    int w = slot_width(s.type);
+    for (int i = 0; i < w && size_t(i) < value.size(); ++i) r.val(slot)[i] = value[size_t(i)];
+    r.st.pending.push_back(slot);
+}
+
+int32_t Engine::intern(std::string_view s) {
+    Runtime& r = *rt_;
+    for (size_t i = 0; i < r.g.names.size(); ++i)
+        if (r.g.names[i] == s) return int32_t(i);
+    for (size_t i = 0; i < r.extra_names.size(); ++i)
+        if (r.extra_names[i] == s) return int32_t(r.g.names.size() + i);
+    r.extra_names.emplace_back(s);
+    return int32_t(r.g.names.size() + r.extra_names.size() - 1);
+}
+
+std::string_view Engine::str(int32_t name) const { return rt_->str(name); }
+
+void Engine::watch(int32_t slot) {
+    rt_->st.watched[slot] = 1;
+    rt_->refresh_observers();
+}
+
+std::span<const double> Engine::value(int32_t slot) const {
+    const Slot& s = rt_->g.slots[slot];
+    if (s.value_adr < 0) return {};
+    return {rt_->val(slot), size_t(slot_width(s.type))};
+}
+
+bool Engine::active(int32_t slot) const {
+    return rt_->tab.slot_out[slot] ? rt_->st.seen[slot] : rt_->st.act[slot];
+}
+
+Pose Engine::body_pose(int32_t b) const { return rt_->phys.pose(b); }
+Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.rb(b).getWorldTransform().getOrigin()); }
+Vec3 Engine::body_velocity(int32_t b) const { return from_bt(rt_->phys.rb(b).getLinearVelocity()); }
+Vec3 Engine::body_angular_velocity(int32_t b) const { return from_bt(rt_->phys.rb(b).getAngularVelocity()); }
+bool Engine::body_in_world(int32_t b) const { return rt_->phys.in_world(b); }
+int32_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
+Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }
+int64_t Engine::trigger_enters(int32_t t) const { return rt_->st.triggers[t].enters; }
+const Warnings& Engine::warnings() const { return rt_->st.warn; }
+
+}  // namespace plant::engine

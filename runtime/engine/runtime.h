@@ -1,0 +1,72 @@
+// The engine's internals, shared by the phase files: the constant model (graph,
+// derived tables, logic schedule), the mutable state, the Bullet world, and the
+// phase functions that Engine::step calls in order. Not part of the public API.
+#pragma once
+
+#include "engine/engine.h"
+#include "engine/physics.h"
+#include "engine/schedule.h"
+#include "engine/spatial.h"
+#include "engine/state.h"
+#include "engine/tables.h"
+
+#include <string>
+#include <vector>
+
+namespace plant::engine {
+
+struct Runtime {
+    const graph::Graph& g;
+    double dt;
+    Tables tab;
+    Schedule sched;
+    State st;
+    Physics phys;
+    Spatial index;
+    std::vector<std::string> extra_names;  // strings interned at run time (events)
+
+    Runtime(const graph::Graph& graph, const Options& opt);
+
+    std::string_view str(int32_t name) const;
+    double* val(int32_t slot) { return st.values.data() + g.slots[slot].value_adr; }
+    const double* val(int32_t slot) const { return st.values.data() + g.slots[slot].value_adr; }
+
+    // Marks a slot active for this step; each slot enters its list at most once.
+    void activate(int32_t slot) {
+        if (st.act[slot]) return;
+        st.act[slot] = 1;
+        (tab.slot_out[slot] ? st.out_list : st.in_list).push_back(slot);
+    }
+    // Writes an output's value and makes it active.
+    void emit(int32_t slot, double v) {
+        *val(slot) = v;
+        activate(slot);
+    }
+    void emit_pose(int32_t slot, const Pose& p);
+    int32_t comp_slot(int32_t comp, int index) const { return g.comps[comp].slot_adr + index; }
+
+    void refresh_observers();  // after watch(): which body outputs to refresh per step
+};
+
+// The five phases of a step (docs/runtime.md), in this order.
+void phase_physics(Runtime& r);    // 1: kinematic moves, conveyor forces, Bullet step
+void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, timers, grippers, exits
+void phase_logic(Runtime& r);      // 3: external inputs, flows, connectors, routers, labels
+void phase_petri(Runtime& r);      // 4: clear outputs, puts, all enabled transitions fire
+void phase_actuators(Runtime& r);  // 5: components act on their active inputs
+
+// Pieces the phases share.
+void apply_fields(Runtime& r);
+void sense_triggers(Runtime& r);
+void advance_graphics(Runtime& r);
+void play_animation(Runtime& r, int32_t anim);
+void select_variant(Runtime& r, int32_t variant);
+void follow_grippers(Runtime& r);
+void grip(Runtime& r, int32_t gripper);
+void release(Runtime& r, int32_t gripper);
+void issue(Runtime& r, int32_t source);
+void run_exits(Runtime& r);
+void take_body_out(Runtime& r, int32_t body);
+bool glob_match(std::string_view pattern, std::string_view text);
+
+}  // namespace plant::engine

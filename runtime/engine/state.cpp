@@ -1,0 +1,88 @@
+#include "engine/state.h"
+
+#include <algorithm>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+void init_state(State& s, const Graph& g, const Tables& t) {
+    const size_t ns = g.slots.size(), nb = g.bodies.size();
+    s.values.resize(g.values.size());
+    for (size_t i = 0; i < g.values.size(); ++i) s.values[i] = g.values[i].v;
+    s.act.assign(ns, 0);
+    s.seen.assign(ns, 0);
+    // Each slot is in a list at most once per step: the slot count bounds them.
+    s.out_list.reserve(ns);
+    s.seen_list.reserve(ns);
+    s.in_list.reserve(ns);
+    s.pending.reserve(ns + 64);
+    s.armed.assign(g.flows.size(), 1);
+    s.watched.assign(ns, 0);
+    s.body_outputs.assign(nb, 0);
+    s.observed_bodies.reserve(nb);
+    s.comp_list.reserve(g.comps.size());
+    s.comp_mark.assign(g.comps.size(), 0);
+
+    s.cmd_lin.assign(nb, Vec3{0, 0, 0});
+    s.cmd_ang.assign(nb, Vec3{0, 0, 0});
+    s.held_by.assign(nb, -1);
+    s.grip_rel.assign(nb, btTransform::getIdentity());
+    s.gone.assign(nb, 0);
+
+    s.field_speed.resize(g.fields.size());
+    s.field_on.resize(g.fields.size());
+    for (size_t f = 0; f < g.fields.size(); ++f) {
+        s.field_speed[f] = g.fields[f].speed;
+        s.field_on[f] = g.fields[f].enabled;
+    }
+    s.force.assign(nb, btVector3(0, 0, 0));
+    s.body_k.assign(nb, 0);
+    s.group_k.assign(nb, 0);
+    s.group_mass.assign(nb, 0);
+    s.group_of.resize(nb);
+    for (size_t b = 0; b < nb; ++b) s.group_of[b] = int32_t(b);
+    s.touched.reserve(nb);
+
+    const size_t np = g.places.size();
+    s.tokens.resize(np);
+    for (size_t p = 0; p < np; ++p) s.tokens[p] = g.places[p].initial;
+    s.consume.assign(np, 0);
+    s.produce.assign(np, 0);
+    s.place_mark.assign(np, 0);
+    s.places_touched.reserve(np);
+    s.fired.reserve(g.transitions.size());
+    s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
+
+    s.triggers.resize(g.triggers.size());
+    // Trigger/object pairs have no small bound; this covers every object being in a
+    // few triggers at once. Beyond it the lists grow (amortised, once).
+    size_t pairs = std::max<size_t>(256, 4 * (t.dyn_bodies.size() + g.triggers.size()));
+    s.inside.reserve(pairs);
+    s.inside_prev.reserve(pairs);
+
+    s.timers.resize(g.timers.size());
+    for (size_t i = 0; i < g.timers.size(); ++i)
+        if (g.timers[i].autostart) s.timers[i] = {true, 0, g.timers[i].period};
+
+    s.gripper_held.assign(g.grippers.size(), -1);
+
+    s.graphics.resize(g.graphics.size());
+    s.variant.resize(g.graphics.size());
+    for (size_t i = 0; i < g.graphics.size(); ++i) {
+        s.graphics[i].base = s.graphics[i].pose = s.graphics[i].prev = g.graphics[i].pose;
+        s.variant[i] = g.graphics[i].variant;
+    }
+
+    s.sources.resize(g.sources.size());
+    for (size_t i = 0; i < g.sources.size(); ++i) {
+        const Source& src = g.sources[i];
+        SourceState& ss = s.sources[i];
+        ss.ring_adr = int32_t(s.pool_ring.size());
+        ss.free = src.pool_num;
+        for (int32_t k = 0; k < src.pool_num; ++k) s.pool_ring.push_back(src.pool_adr + k);
+    }
+    s.exit_count.assign(g.exits.size(), 0);
+}
+
+}  // namespace plant::engine

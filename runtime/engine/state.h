@@ -1,0 +1,95 @@
+// Everything that changes while a plant runs, apart from Bullet's own objects: flat
+// arrays indexed by graph ids, sized once from the graph's counts. A step only
+// writes into them (the lists are reserved to their bound, so push_back never grows).
+#pragma once
+
+#include "engine/engine.h"
+#include "engine/pose.h"
+#include "engine/tables.h"
+
+#include <LinearMath/btVector3.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace plant::engine {
+
+struct TriggerState {
+    btTransform pose = btTransform::getIdentity();  // the box centre in the world
+    int32_t adr = 0, num = 0;            // objects inside now: State::inside[adr, adr + num)
+    int32_t prev_adr = 0, prev_num = 0;  // ... in the previous step (State::inside_prev)
+    int64_t enters = 0;
+};
+
+struct TimerState {
+    bool running = false;
+    int64_t n = 0;        // steps since start
+    double deadline = 0;  // next tick, seconds since start
+};
+
+struct GraphicsState {
+    Pose base;            // tracked pose (body, parent, or its own / set_pose)
+    Pose offset;          // animation offset, identity when none ever played
+    Pose pose, prev;      // base * offset, now and one step ago
+    int32_t anim = -1;    // playing animation
+    double t = 0;         // its time
+};
+
+struct SourceState {
+    int32_t head = 0, free = 0;  // ring of free pooled DOs: pool_ring[adr + (head + i) % num]
+    int32_t ring_adr = 0;
+    int64_t issued = 0;
+    double next_issue = 0;       // for sources with a rate
+};
+
+struct State {
+    double time = 0;
+    int64_t step = 0;
+
+    // Slots: values (a copy of graph.values), activity, and the lists of active slots
+    // (so clearing costs what was activated, not the number of slots).
+    std::vector<double> values;
+    std::vector<uint8_t> act, seen;
+    std::vector<int32_t> out_list, seen_list, in_list;
+    std::vector<int32_t> pending;       // activated at the start of the next logic phase
+    std::vector<uint8_t> armed;         // per flow: a singular flow may run
+    std::vector<uint8_t> watched;       // per slot: refreshed although no flow reads it
+    std::vector<uint8_t> body_outputs;  // per body: bit i = output i (from bodyslot::pose) used
+    std::vector<int32_t> observed_bodies;
+    std::vector<int32_t> comp_list;     // phase 5: components with an active input
+    std::vector<uint8_t> comp_mark;
+
+    // Bodies.
+    std::vector<Vec3> cmd_lin, cmd_ang;  // velocity of a kinematic body, moved by us
+    std::vector<int32_t> held_by;        // gripper holding the body, -1
+    std::vector<btTransform> grip_rel;   // body frame relative to the gripper's
+    std::vector<uint8_t> gone;           // left the world or NaN: warned once, taken out
+
+    // Fields: scratch for the conveyor law, and rigid groups (fixed joints).
+    std::vector<double> field_speed;
+    std::vector<uint8_t> field_on;
+    std::vector<btVector3> force;
+    std::vector<double> body_k, group_k, group_mass;
+    std::vector<int32_t> group_of, touched;
+    uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
+
+    // Petri nets.
+    std::vector<int32_t> tokens, consume, produce, places_touched, fired;
+    std::vector<uint8_t> place_mark, net_live;
+
+    std::vector<TriggerState> triggers;
+    std::vector<int32_t> inside, inside_prev;  // DO ids, sorted per trigger
+    std::vector<TimerState> timers;
+    std::vector<int32_t> gripper_held;         // DO held, -1
+    std::vector<GraphicsState> graphics;
+    std::vector<int32_t> variant;              // per graphics: selected variant, -1
+    std::vector<SourceState> sources;
+    std::vector<int32_t> pool_ring;
+    std::vector<int64_t> exit_count;
+
+    Warnings warn;
+};
+
+void init_state(State& s, const graph::Graph& g, const Tables& t);
+
+}  // namespace plant::engine
