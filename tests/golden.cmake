@@ -11,3 +11,12 @@ foreach(example ${PLANT_EXAMPLES})
   get_filename_component(name ${example} NAME_WE)
   add_test(NAME example_check_${name} COMMAND plant check ${example})
 endforeach()
+
+find_program(DOT_TOOL dot)
+if(DOT_TOOL)
+  foreach(example ${PLANT_EXAMPLES})
+    get_filename_component(name ${example} NAME_WE)
+    add_test(NAME example_dot_${name}
+             COMMAND sh -c "\"$<TARGET_FILE:plant>\" graph \"${example}\" | \"${DOT_TOOL}\" -Tsvg -o /dev/null")
+  endforeach()
+endif()

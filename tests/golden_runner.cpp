@@ -99,6 +99,11 @@ int main(int argc, char** argv) {
         std::cerr << "usage: plant_golden [--update] DIR\n";
         return 2;
     }
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        std::cerr << "plant_golden: '" << dir << "' is not a folder\n";
+        return 2;
+    }
     // Paths in diagnostics are relative to the golden folder: stable across machines.
     fs::current_path(dir);
     std::vector<fs::path> files;

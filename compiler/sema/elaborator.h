@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 #include <map>
+#include <optional>
 #include <memory>
 #include <set>
 #include <string>
@@ -118,6 +119,8 @@ public:
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
     void emit_flow(const Endpoint& from, const Endpoint& to, graph::Cond cond, bool once, Span span);
     void finish_accesses();
+    std::optional<std::pair<graph::SlotType, graph::Dir>> probe_member(const std::string& type_name, const ast::Path& member,
+                                                                        bool& reported);
     int32_t find_comp_slot(int32_t comp, std::string_view slot_name) const;
 
     // checks.cpp

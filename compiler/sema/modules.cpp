@@ -37,12 +37,17 @@ public:
             auto& d = sink_.report(DiagId::ImportCycle, import_span,
                                    fmt::format("import cycle: '{}' imports itself", display));
             for (size_t j = i; j < stack_.size(); ++j)
-                d.notes.push_back({stack_[j].span, fmt::format("'{}' is imported here", stack_[j].display)});
+                if (stack_[j].span.valid())  // the file being compiled is imported by nothing
+                    d.notes.push_back({stack_[j].span, fmt::format("'{}' is imported here", stack_[j].display)});
             return -1;
         }
         std::string text;
         if (!read_file(disk, text) || fs::is_directory(disk, ec)) {
-            if (import_span.valid())
+            if (import_span.valid() && fs::exists(disk, ec))  // there, but a folder or unreadable
+                sink_.report(DiagId::FileUnreadable, import_span,
+                             fmt::format("cannot read module file '{}'{}", display,
+                                         fs::is_directory(disk, ec) ? ": it is a directory" : ""));
+            else if (import_span.valid())
                 sink_.report(DiagId::ImportNotFound, import_span,
                              fmt::format("cannot find module file '{}'", display));
             else

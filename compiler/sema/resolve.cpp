@@ -285,6 +285,32 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
 
 // Every flow through `(ref as Type).member`: the member is resolved in each object of
 // that type, in ordinal order, and must be the same kind of slot in all of them.
+std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::string& type_name, const ast::Path& member,
+                                                                bool& reported) {
+    reported = false;
+    auto it = types_.find(type_name);
+    if (it == types_.end()) return std::nullopt;
+    const ast::ObjectDecl& decl = *it->second.second;
+    for (const auto& p : decl.params)
+        if (!p.default_value) return std::nullopt;
+    // The prototype reports into the real sink: problems of the type itself are the same
+    // diagnostics its other uses give (the sink drops exact duplicates), and an unknown
+    // member is reported at the member's position in the flow.
+    Elaborator proto(prog_, sm_, sink_);
+    proto.library_mode_ = true;
+    int32_t root = proto.new_do("", -1, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
+    proto.type_stack_.push_back(type_name);
+    proto.elaborate_do(root, decl, it->second.first, proto.bind_args(decl, {}, decl.name.span, Env{}, it->second.first));
+    const int before = sink_.count(Severity::Error);
+    Endpoint m = proto.resolve(root, member, Env{});
+    if (!m.ok || m.slots.size() != 1) {
+        reported = sink_.count(Severity::Error) > before;
+        return std::nullopt;
+    }
+    const auto& sl = proto.g_.slots[static_cast<size_t>(m.slots[0])];
+    return std::pair<SlotType, Dir>{sl.type, sl.dir};
+}
+
 void Elaborator::finish_accesses() {
     for (auto& pf : pending_) {
         Endpoint* ends[2] = {&pf.from, &pf.to};
@@ -330,10 +356,22 @@ void Elaborator::finish_accesses() {
                 ++count;
             }
             if (ok && count == 0) {
-                sink_.report(DiagId::NotAnObject, e.span,
-                             fmt::format("no object of type '{}' exists in this plant, so '{}' can never be reached",
-                                         g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name), e.text));
-                ok = false;
+                // No object of the type exists (a library checked alone, or a plant that
+                // never builds one): check the member on a prototype built from defaults.
+                bool reported = false;
+                auto probe = probe_member(std::string(g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name)), sub, reported);
+                if (probe) {
+                    types[k] = probe->first;
+                    dirs[k] = probe->second;
+                } else if (reported) {
+                    ok = false;
+                } else {
+                    sink_.report(DiagId::NotAnObject, e.span,
+                                 fmt::format("no object of type '{}' exists here to check '{}' against, and none can be "
+                                             "built from its defaults; the member may not exist",
+                                             g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name), e.text));
+                    ok = false;
+                }
             }
             acc.target_num = count;
             if (ok) {

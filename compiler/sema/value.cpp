@@ -300,6 +300,18 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
         v.span = e.span;
         return v;
     }
+    if (f == "choose") {  // choose(condition, value if true, value if false)
+        if (e.args.size() != 3) {
+            sink_.report(e.args.size() < 3 ? DiagId::MissingArgument : DiagId::ExtraArgument, e.span,
+                         fmt::format("'choose' takes 3 arguments, {} given", e.args.size()));
+            return {};
+        }
+        Value c = eval(*e.args[0].value, env);
+        if (!expect_bool(c, "first argument of 'choose'")) return {};
+        Value r = eval(*e.args[c.boolean ? 1 : 2].value, env);
+        r.span = e.span;
+        return r;
+    }
     std::vector<Value> a;
     for (const auto& arg : e.args) {
         if (arg.name) {
@@ -395,7 +407,7 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
         return inertia_vec(i, i, i);
     }
     auto& d = sink_.report(DiagId::UnknownName, e.span, fmt::format("unknown function or object type '{}'", f));
-    std::vector<std::string> known = {"sqrt", "abs", "min", "max", "sin", "cos", "tan",
+    std::vector<std::string> known = {"sqrt", "abs", "min", "max", "sin", "cos", "tan", "choose",
                                       "solid_cylinder", "solid_box", "solid_sphere"};
     std::string hint = closest_name(f, known);
     if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});

@@ -4,13 +4,12 @@
 
 #include "graph/graph.h"
 
+#include <BulletCollision/CollisionShapes/btCollisionShape.h>
 #include <LinearMath/btTransform.h>
 
 #include <map>
 #include <memory>
 #include <vector>
-
-class btCollisionShape;
 
 namespace plant::engine {
 

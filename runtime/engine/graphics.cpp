@@ -1,0 +1,73 @@
+// Graphics are tracked headless: the runtime keeps every pose a viewer would draw.
+// A graphics' pose is its base (the attached body, its parent graphics, or its own
+// start pose / set_pose) times an animation offset. An animation's keys are poses
+// relative to that base at times t (s from the animation's start), interpolated
+// linearly (slerp for orientation); the last key holds after the animation ends.
+#include "engine/runtime.h"
+
+#include "graph/kinds.h"
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+Pose sample(const Graph& g, const Animation& a, double t) {
+    if (a.key_num <= 0) return Pose{};
+    const Key* k = &g.keys[a.key_adr];
+    if (t <= k[0].t) return k[0].pose;
+    for (int32_t i = 0; i + 1 < a.key_num; ++i) {
+        if (t > k[i + 1].t) continue;
+        double span = k[i + 1].t - k[i].t;
+        return span > 0 ? pinterp(k[i].pose, k[i + 1].pose, (t - k[i].t) / span) : k[i + 1].pose;
+    }
+    return k[a.key_num - 1].pose;
+}
+
+bool same(const Pose& a, const Pose& b) { return a.p == b.p && a.q == b.q; }
+
+}  // namespace
+
+void advance_graphics(Runtime& r) {
+    State& s = r.st;
+    const Graph& g = r.g;
+    for (int32_t i : r.tab.graphics_order) {
+        const Graphics& gr = g.graphics[i];
+        GraphicsState& gs = s.graphics[i];
+        if (gr.body >= 0) {
+            if (r.phys.in_world(gr.body)) gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
+        } else if (gr.parent >= 0) {
+            gs.base = pmul(s.graphics[gr.parent].pose, r.tab.graphics_local[i]);
+        }
+        if (gs.anim >= 0) {
+            const Animation& a = g.animations[gs.anim];
+            gs.t += r.dt;
+            gs.offset = sample(g, a, gs.t);
+            if (gs.t + 1e-9 >= a.duration) {
+                r.activate(a.finished_slot);
+                gs.anim = -1;
+            }
+        }
+        gs.prev = gs.pose;
+        Pose pose = pmul(gs.base, gs.offset);
+        if (same(pose, gs.pose)) continue;
+        gs.pose = pose;
+        const int32_t out = r.comp_slot(gr.comp, graphicsslot::pose);
+        if (s.watched[out]) r.emit_pose(out, pose);
+    }
+}
+
+void play_animation(Runtime& r, int32_t anim) {
+    GraphicsState& gs = r.st.graphics[r.g.animations[anim].graphics];
+    gs.anim = anim;  // replaces one playing: a graphics plays one animation at a time
+    gs.t = 0;
+}
+
+void select_variant(Runtime& r, int32_t v) {
+    const Variant& var = r.g.variants[v];
+    r.st.variant[var.graphics] = v;
+    r.emit(r.comp_slot(r.g.graphics[var.graphics].comp, graphicsslot::variant), var.name.id);
+}
+
+}  // namespace plant::engine

@@ -1,0 +1,139 @@
+// Phase 3: the logic program (schedule.h) over this step's activity. External inputs
+// and the effects of delayed flows are applied first; the inputs the components
+// acted on in the previous step are cleared before that.
+#include "engine/runtime.h"
+
+#include "graph/kinds.h"
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+bool holds(Cond c, bool source, bool target) {
+    switch (c) {
+    case Cond::Source: return source;
+    case Cond::Target: return target;
+    case Cond::Both: return source && target;
+    case Cond::Either: return source || target;
+    }
+    return false;
+}
+
+// The slot a dynamic end names now: the access target for the ordinal, among its
+// type, of the object held in the reference slot; -1 (and a warning) if none.
+int32_t resolve(Runtime& r, int32_t access, bool warn) {
+    const Access& a = r.g.accesses[access];
+    const int32_t d = int32_t(*r.val(a.ref_slot));
+    if (d < 0) {
+        if (warn) r.st.warn.access_null++;
+        return -1;
+    }
+    if (size_t(d) >= r.g.dos.size() || r.g.dos[d].type != a.do_type || r.g.dos[d].ordinal < 0 ||
+        r.g.dos[d].ordinal >= a.target_num) {
+        if (warn) r.st.warn.access_type++;
+        return -1;
+    }
+    return r.g.access_targets[a.target_adr + r.g.dos[d].ordinal].v;
+}
+
+void copy(Runtime& r, int32_t from_val, int32_t to_val, int32_t width) {
+    if (width <= 0 || from_val < 0 || to_val < 0) return;
+    double* v = r.st.values.data();
+    for (int32_t i = 0; i < width; ++i) v[to_val + i] = v[from_val + i];
+}
+
+// A singular flow runs once when its condition holds, and is re-armed by a step in
+// which its condition does not hold.
+bool gate(Runtime& r, int32_t f, bool once, bool ok) {
+    if (!once) return ok;
+    uint8_t& armed = r.st.armed[f];
+    if (!ok) {
+        armed = 1;
+        return false;
+    }
+    if (!armed) return false;
+    armed = 0;
+    return true;
+}
+
+void run_flow(Runtime& r, int32_t f, bool delayed) {
+    const FlowOp& op = r.sched.flows[f];
+    const uint8_t* act = r.st.act.data();
+    int32_t to = op.to;
+    if (op.from_access < 0 && op.to_access < 0) {  // the common, static case
+        if (!gate(r, f, op.once, holds(op.cond, act[op.from], act[to]))) return;
+        copy(r, op.from_val, op.to_val, op.width);
+    } else {
+        // A dynamic source is active when the reference was (re)published this step
+        // or the referenced slot is active: "the object the trigger just saw".
+        int32_t from = op.from;
+        bool source = act[from];
+        if (op.from_access >= 0) {
+            from = resolve(r, op.from_access, false);
+            source = source || (from >= 0 && act[from]);
+        }
+        if (op.to_access >= 0) to = resolve(r, op.to_access, false);
+        const bool target = to >= 0 && act[to];
+        if (!gate(r, f, op.once, holds(op.cond, source, target))) return;
+        if (from < 0 || to < 0) {  // would run, but an object is missing: warn, skip
+            if (op.from_access >= 0 && from < 0) resolve(r, op.from_access, true);
+            if (op.to_access >= 0 && to < 0) resolve(r, op.to_access, true);
+            if (op.once) r.st.armed[f] = 1;
+            return;
+        }
+        copy(r, r.g.slots[from].value_adr, r.g.slots[to].value_adr, op.width);
+    }
+    if (delayed) r.st.pending.push_back(to);
+    else r.activate(to);
+}
+
+void run_connector(Runtime& r, int32_t i) {
+    const Logic& l = r.g.logics[i];
+    const bool all = l.op == LogicOp::And;
+    bool v = all;
+    for (int32_t k = 0; k < l.in_num; ++k) {
+        const LogicIn& in = r.g.logic_inputs[l.in_adr + k];
+        const bool a = bool(r.st.act[in.slot]) != in.negated;
+        v = all ? (v && a) : (v || a);
+    }
+    if (v) r.activate(l.out_slot);
+}
+
+void run_router(Runtime& r, int32_t comp) {
+    const int32_t q = r.comp_slot(comp, routerslot::query);
+    if (!r.st.act[q]) return;
+    const std::string_view id = r.str(int32_t(*r.val(q)));
+    for (const int32_t* k = r.tab.comp_routes.begin(comp); k != r.tab.comp_routes.end(comp); ++k)
+        if (glob_match(r.str(r.g.routes[*k].pattern.id), id)) {
+            r.activate(r.g.routes[*k].out_slot);
+            return;
+        }
+}
+
+void run_label(Runtime& r, int32_t i) {
+    const int32_t set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
+    if (r.st.act[set]) r.emit(r.comp_slot(r.g.labels[i].comp, labelslot::value), *r.val(set));
+}
+
+}  // namespace
+
+void phase_logic(Runtime& r) {
+    State& s = r.st;
+    for (int32_t x : s.in_list) s.act[x] = 0;
+    s.in_list.clear();
+    for (int32_t x : s.pending) r.activate(x);
+    s.pending.clear();
+    for (const Op& op : r.sched.ops) {
+        switch (op.kind) {
+        case OpKind::Flow: run_flow(r, op.index, false); break;
+        case OpKind::Logic: run_connector(r, op.index); break;
+        case OpKind::Router: run_router(r, op.index); break;
+        case OpKind::Label: run_label(r, op.index); break;
+        }
+    }
+    for (int32_t f : r.sched.delayed) run_flow(r, f, true);
+}
+
+}  // namespace plant::engine

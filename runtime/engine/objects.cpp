@@ -1,0 +1,169 @@
+// Objects that come and go: grippers (carry an object kinematically, hand it back
+// with the gripper's velocity), sources (issue pooled objects with bar codes) and
+// exits (take objects out of the world, back into their source's pool).
+#include "engine/runtime.h"
+
+#include "graph/kinds.h"
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+btTransform gripper_frame(const Runtime& r, const Gripper& gr) {
+    if (gr.body >= 0) return r.phys.frame(gr.body);
+    if (gr.graphics >= 0) return to_bt(r.st.graphics[gr.graphics].pose);
+    return btTransform::getIdentity();
+}
+
+// The bar code of an object: its label's text, else its path.
+double id_of(Runtime& r, int32_t d) {
+    int32_t l = r.tab.do_label[d];
+    if (l >= 0) return *r.val(r.comp_slot(r.g.labels[l].comp, labelslot::value));
+    return r.g.dos[d].path.id;
+}
+
+void take(Runtime& r, int32_t exit, int32_t obj) {
+    int32_t root = obj;
+    for (int32_t d = obj; d >= 0; d = r.g.dos[d].parent)
+        if (r.tab.do_source[d] >= 0) {
+            root = d;
+            break;
+        }
+    bool any = false;
+    for (const int32_t* b = r.tab.do_bodies.begin(root); b != r.tab.do_bodies.end(root); ++b)
+        if (r.phys.in_world(*b)) {
+            take_body_out(r, *b);
+            any = true;
+        }
+    if (!any) return;
+    if (int32_t src = r.tab.do_source[root]; src >= 0) {
+        SourceState& ss = r.st.sources[src];
+        const int32_t num = r.g.sources[src].pool_num;
+        r.st.pool_ring[ss.ring_adr + (ss.head + ss.free) % num] = root;
+        ss.free++;
+    }
+    const int32_t s0 = r.g.comps[r.g.exits[exit].comp].slot_adr;
+    r.activate(s0 + exitslot::taken);
+    r.emit(s0 + exitslot::object, root);
+    r.emit(s0 + exitslot::id, id_of(r, root));
+    r.emit(s0 + exitslot::taken_count, double(++r.st.exit_count[exit]));
+}
+
+}  // namespace
+
+void follow_grippers(Runtime& r) {
+    for (size_t i = 0; i < r.g.grippers.size(); ++i) {
+        const int32_t obj = r.st.gripper_held[i];
+        if (obj < 0) continue;
+        const btTransform gp = gripper_frame(r, r.g.grippers[i]);
+        for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b)
+            if (r.st.held_by[*b] == int32_t(i)) r.phys.move(*b, gp * r.st.grip_rel[*b]);
+    }
+}
+
+void grip(Runtime& r, int32_t i) {
+    const Gripper& gr = r.g.grippers[i];
+    if (r.st.gripper_held[i] >= 0 || gr.trigger < 0) return;
+    const TriggerState& ts = r.st.triggers[gr.trigger];
+    if (ts.num == 0) return;
+    // The object the trigger reports, if still inside; else the lowest id inside.
+    int32_t obj = r.st.inside[ts.adr];
+    const int32_t seen = int32_t(*r.val(r.comp_slot(r.g.triggers[gr.trigger].comp, triggerslot::object)));
+    for (int32_t k = 0; k < ts.num; ++k)
+        if (r.st.inside[ts.adr + k] == seen) obj = seen;
+    const btTransform inv = gripper_frame(r, gr).inverse();
+    bool any = false;
+    for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b) {
+        if (!r.phys.in_world(*b) || !r.phys.declared_dynamic(*b) || r.st.held_by[*b] >= 0) continue;
+        r.st.held_by[*b] = i;
+        r.st.grip_rel[*b] = inv * r.phys.frame(*b);
+        r.phys.set_dynamics(*b, false);
+        any = true;
+    }
+    if (!any) return;
+    r.st.gripper_held[i] = obj;
+    const int32_t s0 = r.g.comps[gr.comp].slot_adr;
+    r.activate(s0 + gripperslot::gripped);
+    r.emit(s0 + gripperslot::object, obj);
+}
+
+void release(Runtime& r, int32_t i) {
+    const int32_t obj = r.st.gripper_held[i];
+    if (obj < 0) return;
+    const Gripper& gr = r.g.grippers[i];
+    // The gripper's motion: its body's (Bullet derives it for kinematic bodies), or
+    // the followed graphics' change over the last step.
+    btVector3 v(0, 0, 0), w(0, 0, 0), p(0, 0, 0);
+    if (gr.body >= 0) {
+        const btRigidBody& rb = r.phys.rb(gr.body);
+        v = rb.getLinearVelocity();
+        w = rb.getAngularVelocity();
+        p = rb.getWorldTransform().getOrigin();
+    } else if (gr.graphics >= 0) {
+        const GraphicsState& gs = r.st.graphics[gr.graphics];
+        v = to_bt(scale(sub(gs.pose.p, gs.prev.p), 1.0 / r.dt));
+        w = to_bt(angular_velocity(gs.prev.q, gs.pose.q, r.dt));
+        p = to_bt(gs.pose.p);
+    }
+    for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b) {
+        if (r.st.held_by[*b] != i) continue;
+        r.st.held_by[*b] = -1;
+        r.phys.set_dynamics(*b, true);
+        btRigidBody& rb = r.phys.rb(*b);
+        rb.setLinearVelocity(v + w.cross(rb.getWorldTransform().getOrigin() - p));
+        rb.setAngularVelocity(w);
+    }
+    r.st.gripper_held[i] = -1;
+    const int32_t s0 = r.g.comps[gr.comp].slot_adr;
+    r.activate(s0 + gripperslot::released);
+    r.emit(s0 + gripperslot::object, -1);
+}
+
+void issue(Runtime& r, int32_t src) {
+    SourceState& ss = r.st.sources[src];
+    const Source& S = r.g.sources[src];
+    if (ss.free == 0) {
+        r.st.warn.pool_empty++;
+        return;
+    }
+    const int32_t d = r.st.pool_ring[ss.ring_adr + ss.head];
+    ss.head = (ss.head + 1) % S.pool_num;
+    ss.free--;
+    // Pooled objects keep their shape: every part moves as the DO moves to the source.
+    const Pose to = pmul(S.pose, pinv(r.g.dos[d].pose));
+    for (const int32_t* b = r.tab.do_bodies.begin(d); b != r.tab.do_bodies.end(d); ++b) {
+        const Body& body = r.g.bodies[*b];
+        r.phys.set_dynamics(*b, body.dynamics);
+        r.phys.set_collision(*b, body.collision);
+        r.phys.place(*b, to_bt(pmul(to, body.pose)));
+        btRigidBody& rb = r.phys.rb(*b);
+        rb.setLinearVelocity(btVector3(0, 0, 0));
+        rb.setAngularVelocity(btVector3(0, 0, 0));
+        rb.clearForces();
+        r.st.gone[*b] = 0;
+        r.phys.insert(*b);
+    }
+    for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i)
+        r.st.graphics[*i].base = pmul(to, r.g.graphics[*i].pose);
+    const double code = S.id_num > 0 ? r.g.ids[S.id_adr + ss.issued % S.id_num].v.id : r.g.dos[d].path.id;
+    if (int32_t l = r.tab.do_label[d]; l >= 0) r.emit(r.comp_slot(r.g.labels[l].comp, labelslot::value), code);
+    ss.issued++;
+    const int32_t s0 = r.g.comps[S.comp].slot_adr;
+    r.activate(s0 + sourceslot::issued);
+    r.emit(s0 + sourceslot::object, d);
+    r.emit(s0 + sourceslot::id, code);
+    r.emit(s0 + sourceslot::issued_count, double(ss.issued));
+}
+
+void run_exits(Runtime& r) {
+    for (size_t e = 0; e < r.g.exits.size(); ++e) {
+        const int32_t t = r.g.exits[e].trigger;
+        if (t < 0) continue;
+        const TriggerState& ts = r.st.triggers[t];
+        for (int32_t k = 0; k < ts.num; ++k) take(r, int32_t(e), r.st.inside[ts.adr + k]);
+    }
+}
+
+}  // namespace plant::engine

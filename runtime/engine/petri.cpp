@@ -1,0 +1,100 @@
+// Phase 4: outputs of this step have been seen by the logic phase and are cleared
+// (remembered as `seen` for observers); then the Petri nets step:
+//   1. every place whose put input is active gets one token (once per step, however
+//      many flows activated it);
+//   2. every transition enabled in that marking (M[p] >= w for each input arc) fires,
+//      all together, even when they compete for tokens (forward conflict);
+//   3. M'[p] = max(0, M[p] − consumed[p]) + produced[p].
+// Places that received a token (put or produced) activate `entered`; a changed
+// marking activates `tokens`; a fired transition activates `fired`. These outputs
+// are active in the next step's logic phase.
+#include "engine/runtime.h"
+
+#include <algorithm>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+void clear_outputs(State& s) {
+    for (int32_t x : s.seen_list) s.seen[x] = 0;
+    s.seen_list.swap(s.out_list);
+    s.out_list.clear();
+    for (int32_t x : s.seen_list) {
+        s.seen[x] = 1;
+        s.act[x] = 0;
+    }
+}
+
+void touch(State& s, int32_t p) {
+    if (s.place_mark[p]) return;
+    s.place_mark[p] = 1;
+    s.places_touched.push_back(p);
+}
+
+}  // namespace
+
+void phase_petri(Runtime& r) {
+    State& s = r.st;
+    const Graph& g = r.g;
+    clear_outputs(s);
+    if (g.places.empty()) return;
+
+    for (int32_t x : s.in_list) {
+        const int32_t p = r.tab.slot_aux[x];
+        if (p < 0 || g.places[p].put_slot != x) continue;
+        s.tokens[p] += 1;
+        touch(s, p);
+        s.net_live[r.tab.place_net[p]] = 1;
+    }
+    // Places touched by puts so far all received a token.
+    const size_t puts = s.places_touched.size();
+
+    s.fired.clear();
+    for (size_t n = 0; n < r.tab.nets.size(); ++n) {
+        if (!s.net_live[n] && !r.tab.net_always_live[n]) continue;
+        const size_t before = s.fired.size();
+        const int32_t net = int32_t(n);
+        for (const int32_t* t = r.tab.net_transitions.begin(net); t != r.tab.net_transitions.end(net); ++t) {
+            const Transition& tr = g.transitions[*t];
+            bool enabled = true;
+            for (int32_t k = 0; k < tr.in_num && enabled; ++k) {
+                const Arc& a = g.arcs[tr.in_adr + k];
+                enabled = s.tokens[a.place] >= a.weight;
+            }
+            if (enabled) s.fired.push_back(*t);
+        }
+        // A net that fired is examined again next step; a quiet one waits for a put.
+        s.net_live[n] = s.fired.size() > before;
+    }
+    for (int32_t t : s.fired) {
+        const Transition& tr = g.transitions[t];
+        for (int32_t k = 0; k < tr.in_num; ++k) {
+            const Arc& a = g.arcs[tr.in_adr + k];
+            s.consume[a.place] += a.weight;
+            touch(s, a.place);
+        }
+        for (int32_t k = 0; k < tr.out_num; ++k) {
+            const Arc& a = g.arcs[tr.out_adr + k];
+            s.produce[a.place] += a.weight;
+            touch(s, a.place);
+        }
+        if (tr.fired_slot >= 0) r.activate(tr.fired_slot);
+    }
+    for (size_t i = 0; i < s.places_touched.size(); ++i) {
+        const int32_t p = s.places_touched[i];
+        const Place& pl = g.places[p];
+        const int32_t before = s.tokens[p] - (i < puts ? 1 : 0);
+        const int32_t after = std::max(0, s.tokens[p] - s.consume[p]) + s.produce[p];
+        if ((i < puts || s.produce[p] > 0) && pl.entered_slot >= 0) r.activate(pl.entered_slot);
+        if (after != before && pl.tokens_slot >= 0) r.emit(pl.tokens_slot, after);
+        s.tokens[p] = after;
+        s.consume[p] = s.produce[p] = 0;
+        s.place_mark[p] = 0;
+    }
+    s.places_touched.clear();
+}
+
+}  // namespace plant::engine

@@ -1,0 +1,183 @@
+#include "engine/run.h"
+
+#include "engine/engine.h"
+#include "engine/run_args.h"
+#include "engine/trace.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <ostream>
+#include <thread>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+struct RunOptions {
+    double duration = 10, rate = 0, trace_rate = 0;
+    std::string trace;
+    TraceSelect select;
+    bool realtime = false, quiet = false;
+    Broadphase broadphase = Broadphase::Dbvt;
+    std::vector<Event> events;
+};
+
+bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions& o, std::string& error) {
+    SlotIndex slots;
+    auto value = [&](size_t& i, std::string& v) {
+        if (i + 1 >= args.size()) {
+            error = fmt::format("{} needs a value", args[i]);
+            return false;
+        }
+        v = args[++i];
+        return true;
+    };
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        std::string v;
+        if (a == "--for") {
+            if (!value(i, v) || !parse_duration(v, o.duration, error)) return false;
+        } else if (a == "--rate") {
+            if (!value(i, v) || !parse_frequency(v, o.rate, error)) return false;
+        } else if (a == "--trace-rate") {
+            if (!value(i, v) || !parse_frequency(v, o.trace_rate, error)) return false;
+        } else if (a == "--trace") {
+            if (!value(i, o.trace)) return false;
+        } else if (a == "--trace-bodies") {
+            o.select.bodies = true;
+        } else if (a == "--trace-places") {
+            o.select.places = true;
+        } else if (a == "--trace-slots") {
+            o.select.slots = true;
+        } else if (a == "--realtime") {
+            o.realtime = true;
+        } else if (a == "--quiet") {
+            o.quiet = true;
+        } else if (a == "--broadphase") {
+            if (!value(i, v)) return false;
+            if (v == "dbvt") o.broadphase = Broadphase::Dbvt;
+            else if (v == "sap") o.broadphase = Broadphase::Sap;
+            else {
+                error = fmt::format("--broadphase: '{}' is neither dbvt nor sap", v);
+                return false;
+            }
+        } else if (a == "--event" || a == "--events") {
+            if (!value(i, v)) return false;
+            if (slots.empty()) slots = slot_index(g);
+            if (a == "--events") {
+                if (!load_events(g, slots, v, o.events, error)) return false;
+            } else {
+                Event ev;
+                if (!parse_event(g, slots, v, ev, error)) return false;
+                o.events.push_back(std::move(ev));
+            }
+        } else {
+            error = fmt::format("unknown flag '{}'", a);
+            return false;
+        }
+    }
+    // Events at equal times keep their command-line order.
+    std::stable_sort(o.events.begin(), o.events.end(),
+                     [](const Event& x, const Event& y) { return x.time < y.time; });
+    return true;
+}
+
+void summary(const Engine& e, double wall, std::ostream& out) {
+    const Graph& g = e.graph();
+    const Warnings& w = e.warnings();
+    std::vector<std::string> silent;
+    for (size_t t = 0; t < g.triggers.size(); ++t)
+        if (e.trigger_enters(int32_t(t)) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
+    fmt::print(out, "simulated time:   {:g} s\n", e.time());
+    fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
+    fmt::print(out, "wall time:        {:.3f} s\n", wall);
+    fmt::print(out, "real-time factor: {:.1f}\n", wall > 0 ? e.time() / wall : 0.0);
+    fmt::print(out, "warnings:         {}\n", w.total() + int64_t(silent.size()));
+    auto line = [&](const char* what, int64_t n) {
+        if (n) fmt::print(out, "  {}: {}\n", what, n);
+    };
+    line("bodies that left the world", w.left_world);
+    line("NaN states", w.nan_state);
+    line("dynamic flows without an object", w.access_null);
+    line("dynamic flows with an object of another type", w.access_type);
+    line("issues from an empty pool", w.pool_empty);
+    if (!silent.empty()) {
+        std::string names;
+        for (size_t i = 0; i < silent.size() && i < 5; ++i) names += (i ? ", " : "") + silent[i];
+        if (silent.size() > 5) names += ", ...";
+        fmt::print(out, "  triggers that never fired: {} ({})\n", silent.size(), names);
+    }
+}
+
+}  // namespace
+
+int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    RunOptions o;
+    std::string error;
+    if (!parse_args(g, args, o, error)) {
+        fmt::print(err, "plant run: error: {}\n", error);
+        return 2;
+    }
+    std::ofstream trace_file;
+    if (!o.trace.empty()) {
+        trace_file.open(o.trace, std::ios::binary);
+        if (!trace_file) {
+            fmt::print(err, "plant run: error: --trace: cannot write '{}'\n", o.trace);
+            return 2;
+        }
+    }
+
+    Options eo;
+    eo.dt = o.rate > 0 ? 1.0 / o.rate : 0;
+    eo.broadphase = o.broadphase;
+    Engine e(g, eo);
+    for (Event& ev : o.events)
+        if (g.slots[ev.slot].type == SlotType::String) ev.value = {double(e.intern(ev.text))};
+
+    std::unique_ptr<TraceWriter> trace;
+    if (trace_file.is_open()) {
+        trace = std::make_unique<TraceWriter>(e, trace_columns(g, o.select), trace_file);
+        trace->header();
+        trace->row();
+    }
+    const int64_t every = o.trace_rate > 0 ? std::max<int64_t>(1, std::llround(1.0 / (o.trace_rate * e.dt()))) : 1;
+    const int64_t steps = int64_t(std::ceil(o.duration / e.dt() - 1e-9));
+
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    double next_progress = 2.0;  // only runs longer than ~2 s of wall time report progress
+    bool progressed = false;
+    size_t next_event = 0;
+    for (int64_t i = 0; i < steps; ++i) {
+        const double t_next = double(e.steps() + 1) * e.dt();
+        for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event)
+            e.input(o.events[next_event].slot, o.events[next_event].value);
+        e.step();
+        if (trace && (e.steps() % every == 0 || i + 1 == steps)) trace->row();
+        if ((i & 63) != 63 && !o.realtime) continue;
+        const double w = wall();
+        if (o.realtime && e.time() > w) std::this_thread::sleep_for(std::chrono::duration<double>(e.time() - w));
+        if (!o.quiet && w >= next_progress) {
+            fmt::print(err, "\rplant: {:.1f} s of {:g} s simulated, {:.1f}x real time   ", e.time(), o.duration,
+                       e.time() / w);
+            err.flush();
+            next_progress = w + 1.0;
+            progressed = true;
+        }
+    }
+    if (progressed) fmt::print(err, "\n");
+    if (trace) trace->flush();
+    summary(e, wall(), out);
+    return 0;
+}
+
+}  // namespace plant::engine

@@ -1,0 +1,162 @@
+#include "engine/run_args.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    return s;
+}
+
+// A number followed by an optional unit (spaces allowed between them).
+bool number_unit(std::string_view text, double& v, std::string_view& unit) {
+    text = trim(text);
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || !std::isfinite(v)) return false;
+    unit = trim(text.substr(size_t(end - text.data())));
+    return true;
+}
+
+bool numbers(std::string_view text, std::vector<double>& out, size_t n) {
+    std::string s(trim(text));
+    for (char& c : s)
+        if (c == ',' || c == '(' || c == ')' || c == '|') c = ' ';
+    std::string_view rest = s;
+    out.clear();
+    while (!(rest = trim(rest)).empty()) {
+        double v;
+        auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), v);
+        if (ec != std::errc()) return false;
+        out.push_back(v);
+        rest.remove_prefix(size_t(end - rest.data()));
+    }
+    return out.size() == n;
+}
+
+}  // namespace
+
+bool parse_duration(std::string_view text, double& seconds, std::string& error) {
+    double v;
+    std::string_view unit;
+    if (!number_unit(text, v, unit) || v < 0) {
+        error = fmt::format("'{}' is not a duration (e.g. 10s, 500ms, 2min)", text);
+        return false;
+    }
+    if (unit == "s") seconds = v;
+    else if (unit == "ms") seconds = v / 1000;
+    else if (unit == "min") seconds = v * 60;
+    else {
+        error = fmt::format("'{}': a duration needs a unit: s, ms or min", text);
+        return false;
+    }
+    return true;
+}
+
+bool parse_frequency(std::string_view text, double& hz, std::string& error) {
+    double v;
+    std::string_view unit;
+    if (!number_unit(text, v, unit) || v <= 0 || (unit != "Hz" && unit != "kHz")) {
+        error = fmt::format("'{}' is not a frequency (e.g. 150Hz)", text);
+        return false;
+    }
+    hz = unit == "kHz" ? v * 1000 : v;
+    return true;
+}
+
+SlotIndex slot_index(const Graph& g) {
+    SlotIndex idx;
+    for (size_t s = 0; s < g.slots.size(); ++s) idx.emplace(g.slot_path(int32_t(s)), int32_t(s));
+    return idx;
+}
+
+bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
+                 std::string& error) {
+    line = trim(line);
+    size_t sp = line.find_first_of(" \t");
+    if (sp == std::string_view::npos) {
+        error = fmt::format("'{}': expected '<time> <DO.comp.slot> [value]'", line);
+        return false;
+    }
+    if (!parse_duration(line.substr(0, sp), ev.time, error)) return false;
+    std::string_view rest = trim(line.substr(sp));
+    size_t sp2 = rest.find_first_of(" \t");
+    std::string path(rest.substr(0, sp2));
+    std::string_view value = sp2 == std::string_view::npos ? std::string_view{} : trim(rest.substr(sp2));
+    auto it = slots.find(path);
+    if (it == slots.end()) {
+        error = fmt::format("no slot '{}'", path);
+        return false;
+    }
+    ev.slot = it->second;
+    const SlotType type = g.slots[ev.slot].type;
+    ev.value.clear();
+    ev.text.clear();
+    bool ok = true;
+    switch (type) {
+    case SlotType::Void: ok = value.empty(); break;
+    case SlotType::Bool:
+        ok = value == "true" || value == "false" || value == "1" || value == "0";
+        ev.value = {value == "true" || value == "1" ? 1.0 : 0.0};
+        break;
+    case SlotType::Int:
+    case SlotType::Real: ok = numbers(value, ev.value, 1); break;
+    case SlotType::Vec3: ok = numbers(value, ev.value, 3); break;
+    case SlotType::Quat: ok = numbers(value, ev.value, 4); break;
+    case SlotType::Pose: ok = numbers(value, ev.value, 7); break;
+    case SlotType::String:
+        ev.text = std::string(value.size() >= 2 && value.front() == '"' && value.back() == '"'
+                                  ? value.substr(1, value.size() - 2) : value);
+        break;
+    case SlotType::Ref: {
+        ok = false;
+        for (size_t d = 0; d < g.dos.size() && !ok; ++d)
+            if (g.str(g.dos[d].path) == value) {
+                ev.value = {double(d)};
+                ok = true;
+            }
+        if (!ok) ok = numbers(value, ev.value, 1);
+        break;
+    }
+    }
+    if (!ok) {
+        error = value.empty() && type != SlotType::Void
+                    ? fmt::format("'{}' ({}) needs a value", path, word(type))
+                    : fmt::format("'{}' is not a {} value for '{}'", value, word(type), path);
+        return false;
+    }
+    return true;
+}
+
+bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,
+                 std::vector<Event>& out, std::string& error) {
+    std::ifstream in(path);
+    if (!in) {
+        error = fmt::format("{}: cannot open", path);
+        return false;
+    }
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        std::string_view l = trim(line);
+        if (l.empty() || l.front() == '#') continue;
+        Event ev;
+        if (!parse_event(g, slots, l, ev, error)) {
+            error = fmt::format("{}:{}: {}", path, n, error);
+            return false;
+        }
+        out.push_back(std::move(ev));
+    }
+    return true;
+}
+
+}  // namespace plant::engine

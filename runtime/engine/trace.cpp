@@ -1,0 +1,120 @@
+#include "engine/trace.h"
+
+#include "graph/kinds.h"
+
+#include <cmath>
+#include <ostream>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+using Kind = TraceColumn::Kind;
+
+void add_slot(const Graph& g, int32_t slot, const std::string& name, std::vector<TraceColumn>& out) {
+    static const char* const kPose[] = {".x", ".y", ".z", ".qx", ".qy", ".qz", ".qw"};
+    static const char* const kQuat[] = {".qx", ".qy", ".qz", ".qw"};
+    const SlotType t = g.slots[slot].type;
+    const int w = slot_width(t);
+    if (t == SlotType::Void) out.push_back({Kind::Activity, slot, 0, name});
+    else if (t == SlotType::String) out.push_back({Kind::Text, slot, 0, name});
+    else if (w == 1) out.push_back({Kind::Value, slot, 0, name});
+    else
+        for (int i = 0; i < w; ++i)
+            out.push_back({Kind::Value, slot, i, name + (t == SlotType::Quat ? kQuat[i] : kPose[i])});
+}
+
+// CSV needs quotes around text with separators or quotes in it.
+void put_text(fmt::memory_buffer& b, std::string_view s) {
+    if (s.find_first_of(",\"\n") == std::string_view::npos) {
+        b.append(s);
+        return;
+    }
+    b.push_back('"');
+    for (char c : s) {
+        if (c == '"') b.push_back('"');
+        b.push_back(c);
+    }
+    b.push_back('"');
+}
+
+}  // namespace
+
+std::vector<TraceColumn> trace_columns(const Graph& g, TraceSelect sel) {
+    std::vector<TraceColumn> out;
+    if (!sel.any() && !g.records.empty()) {
+        for (const Record& r : g.records) {
+            std::string name(g.str(r.column));
+            add_slot(g, r.slot, name.empty() ? g.slot_path(r.slot) : name, out);
+        }
+        return out;
+    }
+    if (!sel.any()) sel = {true, true, true};
+    if (sel.bodies)
+        for (size_t b = 0; b < g.bodies.size(); ++b) {
+            if (g.bodies[b].mode != BodyMode::Dynamic) continue;
+            std::string base = g.comp_path(g.bodies[b].comp);
+            static const char* const kAxis[] = {".x", ".y", ".z"};
+            for (int i = 0; i < 3; ++i) out.push_back({Kind::BodyAxis, int32_t(b), i, base + kAxis[i]});
+            out.push_back({Kind::BodySpeed, int32_t(b), 0, base + ".speed"});
+        }
+    if (sel.places)
+        for (size_t p = 0; p < g.places.size(); ++p) {
+            const Place& pl = g.places[p];
+            std::string name = pl.tokens_slot >= 0 ? g.slot_path(pl.tokens_slot)
+                                                   : g.comp_path(pl.comp) + "." + std::string(g.str(pl.name));
+            out.push_back({Kind::Tokens, int32_t(p), 0, name});
+        }
+    if (sel.slots)
+        for (size_t s = 0; s < g.slots.size(); ++s)
+            if (g.slots[s].type == SlotType::Void && g.slots[s].dir == Dir::Out)
+                out.push_back({Kind::Activity, int32_t(s), 0, g.slot_path(int32_t(s))});
+    return out;
+}
+
+TraceWriter::TraceWriter(Engine& e, std::vector<TraceColumn> columns, std::ostream& out)
+    : e_(e), cols_(std::move(columns)), out_(out) {
+    for (const TraceColumn& c : cols_)
+        if (c.kind == Kind::Value || c.kind == Kind::Text) e_.watch(c.id);
+}
+
+void TraceWriter::header() {
+    buf_.append(std::string_view("time"));
+    for (const TraceColumn& c : cols_) {
+        buf_.push_back(',');
+        put_text(buf_, c.name);
+    }
+    buf_.push_back('\n');
+    flush();
+}
+
+void TraceWriter::row() {
+    // Shortest round-trip formatting: a trace compares bit for bit across runs.
+    fmt::format_to(std::back_inserter(buf_), "{}", e_.time());
+    for (const TraceColumn& c : cols_) {
+        buf_.push_back(',');
+        switch (c.kind) {
+        case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.id)[size_t(c.index)]); break;
+        case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.id)[0]))); break;
+        case Kind::Activity: buf_.push_back(e_.active(c.id) ? '1' : '0'); break;
+        case Kind::BodyAxis: fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.id)[size_t(c.index)]); break;
+        case Kind::BodySpeed: {
+            Vec3 v = e_.body_velocity(c.id);
+            fmt::format_to(std::back_inserter(buf_), "{}", std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+            break;
+        }
+        case Kind::Tokens: fmt::format_to(std::back_inserter(buf_), "{}", e_.tokens(c.id)); break;
+        }
+    }
+    buf_.push_back('\n');
+    if (buf_.size() > (1 << 16)) flush();
+}
+
+void TraceWriter::flush() {
+    out_.write(buf_.data(), std::streamsize(buf_.size()));
+    buf_.clear();
+}
+
+}  // namespace plant::engine
