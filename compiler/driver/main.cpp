@@ -2,10 +2,7 @@
 // Diagnostics go to stderr, results to stdout or -o.
 #include "ast/print.h"
 #include "compiler.h"
-#if __has_include("dot/dot.h")
 #include "dot/dot.h"
-#define PLANT_HAS_DOT 1
-#endif
 #include "graph/text.h"
 
 #ifdef PLANT_HAS_RUNTIME
@@ -134,9 +131,7 @@ int cmd_graph(const Options& o) {
     plant::Compilation c;
     if (!compile(o.files[0], o, c)) return 1;
     std::ostringstream dot;
-#ifdef PLANT_HAS_DOT
     plant::dot::write_dot(c.graph, dot);
-#endif
     if (!write_output(o.out, dot.str())) {
         std::cerr << "plant: error: cannot write '" << o.out << "'\n";
         return 1;

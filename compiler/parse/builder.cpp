@@ -7,6 +7,9 @@
 #include "antlr4-runtime.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
 #include <set>
 #include <string>
 
@@ -56,7 +59,7 @@ class ErrorListener : public antlr4::BaseErrorListener {
 public:
     ErrorListener(Sink& sink, int32_t file, const Offsets& off) : sink_(sink), file_(file), off_(off) {}
 
-    void syntaxError(antlr4::Recognizer* rec, antlr4::Token* bad, size_t, size_t,
+    void syntaxError(antlr4::Recognizer* rec, antlr4::Token* bad, size_t line, size_t,
                      const std::string& msg, std::exception_ptr) override {
         Span span{file_, 0, 0};
         if (bad) {
@@ -64,18 +67,29 @@ public:
             span.end = bad->getType() == antlr4::Token::EOF ? span.begin
                                                               : off_.byte(bad->getStopIndex() + 1);
         }
+        // While ANTLR recovers from an error it often reports again further on the same
+        // line; the first report is the one that explains it, so one error per line.
+        if (line == last_line_) return;
+        last_line_ = line;
         auto* parser = dynamic_cast<antlr4::Parser*>(rec);
         if (!parser) {  // a lexer error: ANTLR's message names the character
             sink_.report(DiagId::Syntax, span, "unexpected character: " + msg);
             return;
         }
         if (bad && bad->getType() == P::BAD_CHAR) {
-            sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad));
+            if (bad->getText() == "\"")  // STRING did not match: no closing quote on this line
+                sink_.report(DiagId::Syntax, span, "unterminated string: close it with '\"' on the same line");
+            else
+                sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad));
             return;
         }
         std::string expected;
+        bool only_name = false;  // nothing but a name fits here
         try {
             auto set = parser->getExpectedTokens();
+            only_name = set.contains(static_cast<size_t>(P::ID));
+            for (auto t : set.toList())
+                only_name = only_name && (t == static_cast<size_t>(P::ID) || parser->getVocabulary().getLiteralName(t) == "'object'");
             std::set<std::string> words;
             for (auto t : set.toList()) words.insert(token_words(parser->getVocabulary(), t));
             size_t i = 0;
@@ -89,13 +103,25 @@ public:
         }
         std::string text = "unexpected " + token_text(bad);
         if (!expected.empty() && expected.size() < 300) text += "; expected " + expected;
-        sink_.report(DiagId::Syntax, span, text);
+        auto& d = sink_.report(DiagId::Syntax, span, text);
+        // A keyword where a name was meant: `animation out { ... }`, `flow: Belt`.
+        auto keyword = [](antlr4::Token* t) {
+            std::string w = t ? t->getText() : "";
+            return t && t->getType() != P::ID && !w.empty() &&
+                   std::all_of(w.begin(), w.end(), [](char ch) { return std::isalpha(static_cast<unsigned char>(ch)) != 0; });
+        };
+        antlr4::Token* prev = bad && bad->getText() == ":" ? parser->getTokenStream()->LT(-1) : nullptr;
+        if (only_name && keyword(bad))
+            d.notes.push_back({{}, "'" + bad->getText() + "' is a keyword and cannot be used as a name"});
+        else if (keyword(prev))
+            d.notes.push_back({{}, "'" + prev->getText() + "' is a keyword and cannot be used as a name"});
     }
 
 private:
     Sink& sink_;
     int32_t file_;
     const Offsets& off_;
+    size_t last_line_ = 0;  // lines count from 1
 };
 
 class Builder {
@@ -350,7 +376,7 @@ public:
                 arc.place = ident(a->ID());
                 if (a->NUMBER()) {
                     arc.weight_written = true;
-                    arc.weight = std::stod(a->NUMBER()->getText());
+                    arc.weight = number(a->NUMBER()->getText());
                     arc.weight_span = span(a->NUMBER());
                 }
                 arc.span = span(a);
@@ -447,7 +473,7 @@ public:
     ast::ExprPtr primary(P::PrimaryContext* c) {
         if (auto* x = dynamic_cast<P::NumberLitContext*>(c)) {
             auto e = make(ast::ExprKind::Number, c);
-            e->number = x->NUMBER() ? std::stod(x->NUMBER()->getText()) : 0.0;
+            e->number = x->NUMBER() ? number(x->NUMBER()->getText()) : 0.0;
             if (auto* u = x->unit()) {
                 e->text = u->getText();
                 e->unit_span = span(u);
@@ -495,6 +521,9 @@ public:
         }
         return make(ast::ExprKind::Number, c);
     }
+
+    // Never throws: a literal too large for a double is +inf, reported by the checks.
+    static double number(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 
     static std::string unquote(const std::string& s) {
         std::string out;

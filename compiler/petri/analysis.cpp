@@ -281,11 +281,12 @@ Report Explorer::run() {
                 if (seen.count(r)) continue;
                 if (!has_omega(r)) accelerate_exact(static_cast<int>(i), static_cast<int>(e), r);
                 else accelerate_inexact(static_cast<int>(i), r);
-                if (!seen.emplace(r, static_cast<int>(nodes_.size())).second) continue;
+                if (seen.count(r)) continue;
                 if (static_cast<int>(nodes_.size()) >= limit_) {
                     complete_ = false;
                     break;
                 }
+                seen.emplace(r, static_cast<int>(nodes_.size()));
                 nodes_.push_back({std::move(r), static_cast<int>(i), static_cast<int>(e)});
             }
         }

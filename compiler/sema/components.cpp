@@ -79,6 +79,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     // Properties: known, set once, of the right type and dimension.
     Props props;
+    std::set<std::string> suggested;  // a misspelt property is not also reported missing
     for (const auto& p : c.properties) {
         const PropSpec* ps = find_prop(*spec, p.name.text);
         if (!ps) {
@@ -86,8 +87,12 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             for (const auto& q : spec->props) names.emplace_back(q.name);
             auto& d = sink_.report(DiagId::UnknownProperty, p.name.span,
                                    fmt::format("{} has no property '{}'", spec->word, p.name.text));
-            if (auto hint = closest_name(p.name.text, names); !hint.empty())
+            if (auto hint = closest_name(p.name.text, names); !hint.empty()) {
                 d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                suggested.insert(hint);
+            } else if (!names.empty()) {
+                d.notes.push_back({{}, fmt::format("its properties: {}", fmt::join(names, ", "))});
+            }
             continue;
         }
         if (props.has(p.name.text)) {
@@ -117,16 +122,25 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             for (const auto& it : v.items) ok = ok && ev_.expect_string(it, "an entry of " + what);
             break;
         case PropType::Type:
-            if (ok && v.kind != Value::Kind::Type) {
+            if (ok && v.kind == Value::Kind::Name && v.str.find('.') == std::string::npos) {
+                std::vector<std::string> known;
+                for (const auto& [n, t] : types_) known.push_back(n);
+                auto& d = sink_.report(DiagId::UnknownType, v.span, fmt::format("unknown object type '{}'", v.str));
+                if (auto hint = closest_name(v.str, known); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                ok = false;
+            } else if (ok && v.kind == Value::Kind::Type) {
+                ok = find_type(v.str, sc.module, v.span, nullptr) != nullptr;  // declared in a module this one sees
+            } else if (ok && v.kind != Value::Kind::Type) {
                 sink_.report(DiagId::ValueTypeMismatch, v.span,
-                             fmt::format("{} must name an object type, not a {}", what, describe(v)));
+                             fmt::format("{} must name an object type, not {}", what, with_article(describe(v))));
                 ok = false;
             }
             break;
         case PropType::CompRef:
             if (ok && v.kind != Value::Kind::Name) {
                 sink_.report(DiagId::ValueTypeMismatch, v.span,
-                             fmt::format("{} must name a component of this object, not a {}", what, describe(v)));
+                             fmt::format("{} must name a component of this object, not {}", what, with_article(describe(v))));
                 ok = false;
             }
             break;
@@ -134,7 +148,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         props.values[p.name.text] = {&p, ok ? v : Value{}};
     }
     for (const auto& ps : spec->props)
-        if (ps.required && !props.has(std::string(ps.name)))
+        if (ps.required && !props.has(std::string(ps.name)) && !suggested.count(std::string(ps.name)))
             sink_.report(DiagId::MissingProperty, c.name.span,
                          fmt::format("{} '{}' needs the property '{}' ({})", spec->word, c.name.text, ps.name, ps.doc));
 
@@ -254,6 +268,8 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 auto& d = sink_.report(DiagId::BadShape, sd.kind.span, fmt::format("unknown shape '{}'", k));
                 if (auto hint = closest_name(k, {"box", "sphere", "cylinder", "capsule", "hull"}); !hint.empty())
                     d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                else
+                    d.notes.push_back({{}, "shapes: box, sphere, cylinder, capsule, hull"});
                 ok = false;
             }
             if (ok) g_.shapes.push_back(sh);
@@ -351,7 +367,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 else if (v.kind != Value::Kind::None)
                     sink_.report(DiagId::NegativeTokens, v.span,
                                  fmt::format("initial tokens of '{}' must be a whole number >= 0, not {}", p.name.text,
-                                             v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : describe(v)));
+                                             v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : "a " + describe(v)));
             }
             pl.put_slot = add_slot(comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
             pl.entered_slot = add_slot(comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span);
@@ -597,8 +613,16 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         if (const Value* v = props.get("show")) {
             for (int32_t i = 0; i < gr.variant_num; ++i)
                 if (g_.str(g_.variants[static_cast<size_t>(gr.variant_adr + i)].name) == v->str) gr.variant = i;
-            if (gr.variant < 0)
-                sink_.report(DiagId::UnknownName, v->span, fmt::format("no variant named '{}' in '{}'", v->str, c.name.text));
+            if (gr.variant < 0) {
+                std::vector<std::string> names;
+                for (const auto& var : c.variants) names.push_back(var.name.text);
+                auto& d = sink_.report(DiagId::UnknownName, v->span, fmt::format("no variant named '{}' in '{}'", v->str, c.name.text));
+                if (auto hint = closest_name(v->str, names); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                else
+                    d.notes.push_back({{}, names.empty() ? std::string("it declares no variant; add `variant NAME = \"model.glb\"`")
+                                                         : fmt::format("its variants: {}", fmt::join(names, ", "))});
+            }
         }
         g_.graphics.push_back(gr);
         set_detail(g_.graphics.size());
@@ -610,7 +634,8 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     // Child graphics: their own components, named parent.child, posed relative to it.
     for (const auto& child : c.children) {
-        if (child.kind.text != "graphics" || spec->kind != CompKind::Graphics) {
+        if (spec->kind != CompKind::Graphics) break;  // reported above: this kind holds no children
+        if (child.kind.text != "graphics") {
             sink_.report(DiagId::WrongComponentKind, child.kind.span, "only graphics can hold child graphics");
             continue;
         }
@@ -637,9 +662,11 @@ void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDec
         }
         const auto& target = g_.comps[static_cast<size_t>(it->second)];
         if (target.kind != want) {
+            // The words of the language: a Body is written `physics`.
+            auto word = [](CompKind k) { return k == CompKind::Body ? std::string_view("physics") : graph::word(k); };
             sink_.report(DiagId::WrongComponentKind, span,
-                         fmt::format("'{}' is a {} component, but {} must be a {}", n, graph::word(target.kind), what,
-                                     graph::word(want)));
+                         fmt::format("'{}' is a {} component, but {} must be a {} component", n, word(target.kind), what,
+                                     word(want)));
             return -1;
         }
         return target.detail;

@@ -10,6 +10,9 @@ namespace plant::sema {
 namespace {
 constexpr long long kMaxExpanded = 2'000'000;  // members produced by loops in one compile
 constexpr int kMaxDepth = 64;                  // nesting of loops/conditions
+
+template <class T> Span span_of(const T& member) { return member.span; }
+template <class T> Span span_of(const std::unique_ptr<T>& member) { return member->span; }
 }  // namespace
 
 Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
@@ -48,7 +51,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     type_stack_.push_back(o.name.text);
     elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}, prog_.root));
     finish_accesses();
-    check_petri_nets();
+    if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
 }
 
@@ -88,8 +91,12 @@ graph::Graph Elaborator::run(bool require_plant) {
     int32_t root_do = new_do("", -1, -1, Frame{}, plant->name.span);
     elaborate_do(root_do, *plant, prog_.root, std::make_shared<Env>());
     finish_accesses();
-    check_petri_nets();
-    check_unused();
+    // The whole-plant warnings assume every flow was made: after an error, a failed flow
+    // would show up as an input nothing drives or a place nothing feeds.
+    if (!sink_.has_errors()) {
+        check_petri_nets();
+        check_unused();
+    }
     check_logic_cycles();
     return std::move(g_);
 }
@@ -115,6 +122,8 @@ int32_t Elaborator::do_type(const std::string& type_name, Span s) {
     if (auto it = do_types_.find(type_name); it != do_types_.end()) return it->second;
     graph::DoType t;
     t.name = name(type_name);
+    // The type's declaration, wherever the first use (a filter, a cast, a source) is.
+    if (auto it = types_.find(type_name); it != types_.end()) s = it->second.second->name.span;
     t.src = src(s);
     g_.do_types.push_back(t);
     int32_t id = static_cast<int32_t>(g_.do_types.size()) - 1;
@@ -156,12 +165,18 @@ bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
 
 void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                         std::vector<Item>& out, int depth) {
-    if (depth > kMaxDepth) return;
     for (const auto& m : members) {
         if (++expanded_ > kMaxExpanded) {
             if (expanded_ == kMaxExpanded + 1)
-                sink_.report(DiagId::LoopTooLarge, {}, fmt::format("the plant expands to more than {} members", kMaxExpanded));
+                sink_.report(DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
+                             fmt::format("the plant expands to more than {} members", kMaxExpanded));
             return;
+        }
+        if (depth >= kMaxDepth && (std::holds_alternative<std::unique_ptr<ast::ForDecl>>(m) ||
+                                   std::holds_alternative<std::unique_ptr<ast::IfDecl>>(m))) {
+            sink_.report(DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
+                         fmt::format("loops and conditions nest more than {} deep", kMaxDepth));
+            continue;
         }
         if (auto* let = std::get_if<ast::LetDecl>(&m)) {
             Value v = ev_.eval(*let->value, *env);
@@ -299,7 +314,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             ok = v.kind == Value::Kind::Type;
             if (!ok && v.kind != Value::Kind::None)
                 sink_.report(DiagId::ValueTypeMismatch, v.span,
-                             fmt::format("{} must be an object type such as Bottle(...), not a {}", what, describe(v)));
+                             fmt::format("{} must be an object type such as Bottle(...), not {}", what, with_article(describe(v))));
         } else if (t == "list") {
             ok = v.kind == Value::Kind::List;
             if (!ok && v.kind != Value::Kind::None)

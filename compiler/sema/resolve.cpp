@@ -25,6 +25,9 @@ std::string path_text(const ast::Path& p) {
 
 std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
 
+// The kind as written in plant files: a Body is declared with `physics`.
+std::string_view kind_word(graph::CompKind k) { return k == graph::CompKind::Body ? "physics" : graph::word(k); }
+
 }  // namespace
 
 int32_t Elaborator::find_comp_slot(int32_t comp, std::string_view slot_name) const {
@@ -43,8 +46,8 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         if (!base.ok) return ep;
         if (base.slots.size() != 1 || base.type != SlotType::Ref || base.ref_slot >= 0) {
             sink_.report(DiagId::NotARef, path.cast_base->span,
-                         fmt::format("'{}' is a {} slot; only an object reference (ref) can be cast with 'as'",
-                                     base.text, graph::word(base.type)));
+                         fmt::format("'{}' is {} slot; only an object reference (ref) can be cast with 'as'",
+                                     base.text, with_article(graph::word(base.type))));
             return ep;
         }
         int type_module = -1;
@@ -77,8 +80,11 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         if (auto it = s.children.find(key); it != s.children.end()) {
             cur = it->second;
             if (i + 1 == segs.size()) {
-                sink_.report(DiagId::NotAnObject, path.span,
-                             fmt::format("'{}' is an object; name one of its slots, e.g. '{}.<slot>'", ep.text, ep.text));
+                auto& d = sink_.report(DiagId::NotAnObject, path.span,
+                                       fmt::format("'{}' is an object; name one of its slots, e.g. '{}.<slot>'", ep.text, ep.text));
+                std::vector<std::string> ports;
+                for (const auto& [n, port] : scopes_[static_cast<size_t>(cur)].ports) ports.push_back(n);
+                if (!ports.empty()) d.notes.push_back({{}, fmt::format("its ports: {}", fmt::join(ports, ", "))});
                 return ep;
             }
             continue;
@@ -114,8 +120,8 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
                     names.emplace_back(g_.str(g_.slots[static_cast<size_t>(c.slot_adr + k)].name));
                 auto& d = sink_.report(DiagId::UnknownSlot, slot_name.empty() ? path.span : segs[after].name.span,
                                        slot_name.empty()
-                                           ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, graph::word(c.kind))
-                                           : fmt::format("{} component '{}' has no slot '{}'", graph::word(c.kind),
+                                           ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, kind_word(c.kind))
+                                           : fmt::format("{} component '{}' has no slot '{}'", kind_word(c.kind),
                                                          g_.str(c.name), slot_name));
                 if (auto hint = closest_name(slot_name, names); !hint.empty())
                     d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
@@ -161,6 +167,8 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
         auto& d = sink_.report(DiagId::UnknownType, p.type.span, fmt::format("unknown slot type '{}'", p.type.text));
         if (auto hint = closest_name(p.type.text, words); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        else
+            d.notes.push_back({{}, fmt::format("slot types: {} (an event is 'void')", fmt::join(words, ", "))});
         return;
     }
     if (p.targets.empty()) {
@@ -261,8 +269,8 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
         if (!e.ok) continue;
         if (e.ref_slot >= 0 || e.dir != Dir::Out || e.type != SlotType::Void) {
             sink_.report(DiagId::LogicInputNotVoid, l.terms[i].path.span,
-                         fmt::format("a connector combines void outputs (events), but '{}' is a {} {}", e.text,
-                                     graph::word(e.type), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
+                         fmt::format("a connector combines void outputs (events), but '{}' is {} {}", e.text,
+                                     with_article(graph::word(e.type)), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
             continue;
         }
         Endpoint in;

@@ -27,6 +27,11 @@ std::string describe(const Value& v) {
     return "?";
 }
 
+std::string with_article(std::string_view noun) {
+    bool vowel = !noun.empty() && std::string_view("aeiou").find(noun.front()) != std::string_view::npos;
+    return fmt::format("{} {}", vowel ? "an" : "a", noun);
+}
+
 const Value* Env::find(const std::string& name) const {
     for (const Env* e = this; e; e = e->parent_.get()) {
         auto it = e->vars_.find(name);
@@ -48,12 +53,36 @@ bool dims_fit(const Value& a, const Value& b) { return a.dim == b.dim || a.any_d
 
 Dim pick_dim(const Value& a, const Value& b) { return a.any_dim ? b.dim : a.dim; }
 
+// A name that is no parameter, let or loop variable where a value is needed: a misspelt
+// parameter, a unit written apart from its number (`50 cm / s`), or a slot, whose value
+// exists only at run time. Reports it; false for every other value.
+bool report_name(Sink& sink, const Value& v, std::string_view what) {
+    if (v.kind != Value::Kind::Name) return false;
+    if (v.str.find('.') != std::string::npos) {
+        auto& d = sink.report(DiagId::NotAConstant, v.span,
+                              fmt::format("'{}' is not known at compile time; {} needs a constant value", v.str, what));
+        d.notes.push_back({{}, "a slot has a value only at run time; to pass it on, connect it with a flow"});
+        return true;
+    }
+    auto& d = sink.report(DiagId::UnknownName, v.span,
+                          fmt::format("unknown name '{}' (not a parameter, let or loop variable)", v.str));
+    if (units::parse_unit(v.str))
+        d.notes.push_back({{}, fmt::format("'{}' is a unit: write it right after its number, e.g. 50 cm/s, not 50 cm / s", v.str)});
+    else if (!v.hint.empty())
+        d.notes.push_back({{}, fmt::format("did you mean '{}'?", v.hint)});
+    return true;
+}
+
 }  // namespace
 
 Value Evaluator::eval(const ast::Expr& e, const Env& env) {
     using K = ast::ExprKind;
     switch (e.kind) {
     case K::Number: {
+        if (!std::isfinite(e.number)) {
+            sink_.report(DiagId::OutOfRange, e.span, "this number is too large");
+            return {};
+        }
         Value v = Value::number(e.number, {}, e.span);
         if (e.text.empty()) {
             v.integer = std::floor(e.number) == e.number && std::abs(e.number) < 9e15;
@@ -66,7 +95,9 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
             auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
             std::string hint = closest_name(bad, units::unit_atoms());
             if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
-            d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
+            else d.notes.push_back({{}, fmt::format("units: {}", fmt::join(units::unit_atoms(), " "))});
+            if (e.text.find_first_of("*/") != std::string::npos)
+                d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
             return {};
         }
         v.num = unit->si(e.number);
@@ -105,6 +136,7 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
         Value v;
         v.kind = Value::Kind::Name;
         v.str = e.text;
+        if (e.members.empty()) v.hint = closest_name(e.text, env.names());
         for (const auto& m : e.members) v.str += "." + m.text;
         v.span = e.span;
         return v;
@@ -112,6 +144,7 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
     case K::Unary: {
         Value a = eval(*e.kids[0], env);
         if (a.kind == Value::Kind::None) return a;
+        if (report_name(sink_, a, "the operand")) return {};
         if (e.text == "not") {
             if (!expect_bool(a, "operand of 'not'")) return {};
             a.boolean = !a.boolean;
@@ -123,7 +156,7 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
         } else if (a.kind == Value::Kind::Vec) {
             for (auto& it : a.items) it.num = -it.num;
         } else {
-            sink_.report(DiagId::ValueTypeMismatch, e.span, fmt::format("cannot negate a {}", describe(a)));
+            sink_.report(DiagId::ValueTypeMismatch, e.span, fmt::format("cannot negate {}", with_article(describe(a))));
             return {};
         }
         a.span = e.span;
@@ -144,9 +177,10 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
         for (const auto& k : e.kids) {
             Value x = eval(*k, env);
             if (x.kind == Value::Kind::None) return {};
+            if (report_name(sink_, x, "a vector component")) return {};
             if (x.kind != Value::Kind::Num) {
                 sink_.report(DiagId::ValueTypeMismatch, k->span,
-                             fmt::format("a vector holds numbers, not a {}", describe(x)));
+                             fmt::format("a vector holds numbers, not {}", with_article(describe(x))));
                 return {};
             }
             v.items.push_back(x);
@@ -191,10 +225,11 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
     using VK = Value::Kind;
     auto mismatch = [&](const Value& x, const Value& y) {
         sink_.report(DiagId::DimensionMismatch, e.span,
-                     fmt::format("'{}' needs equal dimensions, but the left side is a {} and the right side a {}",
-                                 op, describe(x), describe(y)));
+                     fmt::format("'{}' needs equal dimensions, but the left side is {} and the right side {}",
+                                 op, with_article(describe(x)), with_article(describe(y))));
         return Value{};
     };
+    if (report_name(sink_, a, fmt::format("'{}'", op)) || report_name(sink_, b, fmt::format("'{}'", op))) return {};
     if (op == "and" || op == "or") {
         if (!expect_bool(a, "left side of '" + op + "'") || !expect_bool(b, "right side of '" + op + "'")) return {};
         Value r = a;
@@ -211,7 +246,7 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
             r.boolean = a.num == b.num;
         } else {
             sink_.report(DiagId::ValueTypeMismatch, e.span,
-                         fmt::format("cannot compare a {} with a {}", describe(a), describe(b)));
+                         fmt::format("cannot compare {} with {}", with_article(describe(a)), with_article(describe(b))));
             return {};
         }
         if (op == "!=") r.boolean = !r.boolean;
@@ -286,7 +321,7 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
     }
     if (op == "*" && a.kind == VK::Num && b.kind == VK::Vec) return binary(e, b, a);
     sink_.report(DiagId::ValueTypeMismatch, e.span,
-                 fmt::format("'{}' is not defined for a {} and a {}", op, describe(a), describe(b)));
+                 fmt::format("'{}' is not defined for {} and {}", op, with_article(describe(a)), with_article(describe(b))));
     return {};
 }
 
@@ -331,9 +366,11 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
     auto num = [&](size_t i) { return a[i].kind == Value::Kind::Num; };
     auto need_nums = [&]() {
         for (size_t i = 0; i < a.size(); ++i)
-            if (!num(i)) {
+            if (report_name(sink_, a[i], fmt::format("'{}'", f))) {
+                return false;
+            } else if (!num(i)) {
                 sink_.report(DiagId::ValueTypeMismatch, a[i].span,
-                             fmt::format("'{}' takes numbers, not a {}", f, describe(a[i])));
+                             fmt::format("'{}' takes numbers, not {}", f, with_article(describe(a[i]))));
                 return false;
             }
         return true;
@@ -346,7 +383,7 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
         if (!arity(1) || !need_nums()) return {};
         Dim d = a[0].dim;
         if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2 || a[0].num < 0) {
-            sink_.report(DiagId::ArithmeticError, e.span, fmt::format("cannot take the square root of a {}", describe(a[0])));
+            sink_.report(DiagId::ArithmeticError, e.span, fmt::format("cannot take the square root of {}", with_article(describe(a[0]))));
             return {};
         }
         return Value::number(std::sqrt(a[0].num), Dim{int8_t(d.L / 2), int8_t(d.M / 2), int8_t(d.T / 2), int8_t(d.A / 2)}, e.span);
@@ -415,62 +452,66 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
 }
 
 bool Evaluator::expect_number(const Value& v, Dim dim, std::string_view what) {
-    if (v.kind == Value::Kind::None) return false;
+    if (v.kind == Value::Kind::None || report_name(sink_, v, what)) return false;
     if (v.kind != Value::Kind::Num) {
         sink_.report(DiagId::ValueTypeMismatch, v.span,
-                     fmt::format("{} must be a {}, not a {}", what, dim.none() ? "number" : dim_name(dim), describe(v)));
+                     fmt::format("{} must be {}, not {}", what, dim.none() ? "a number" : with_article(dim_name(dim)),
+                                 with_article(describe(v))));
         return false;
     }
     if (!(v.dim == dim) && !v.any_dim) {
-        sink_.report(DiagId::DimensionMismatch, v.span,
-                     fmt::format("{} must be a {} (in {}), but this is a {}", what, dim_name(dim),
-                                 units::si_unit(dim), dim_name(v.dim)));
+        auto& d = sink_.report(DiagId::DimensionMismatch, v.span,
+                               fmt::format("{} must be {} (in {}), but this is {}", what, with_article(dim_name(dim)),
+                                           units::si_unit(dim), v.dim.none() ? "a plain number" : with_article(dim_name(v.dim))));
+        if (v.dim.none())
+            d.notes.push_back({{}, fmt::format("a number without a unit has no dimension; write its unit, e.g. {} {}", v.num,
+                                               dim == units::dims::angle ? "deg" : units::si_unit(dim))});
         return false;
     }
     return true;
 }
 
 bool Evaluator::expect_vec3(const Value& v, Dim dim, std::string_view what) {
-    if (v.kind == Value::Kind::None) return false;
+    if (v.kind == Value::Kind::None || report_name(sink_, v, what)) return false;
     if (v.kind != Value::Kind::Vec || v.items.size() != 3) {
         sink_.report(DiagId::ValueTypeMismatch, v.span,
-                     fmt::format("{} must be a vector (x, y, z) of {}, not a {}", what,
-                                 dim.none() ? "numbers" : dim_name(dim), describe(v)));
+                     fmt::format("{} must be a vector (x, y, z) of {}, not {}", what,
+                                 dim.none() ? "numbers" : dim_name(dim), with_article(describe(v))));
         return false;
     }
     for (const auto& it : v.items)
         if (!(it.dim == dim) && !it.any_dim) {
             sink_.report(DiagId::DimensionMismatch, v.span,
-                         fmt::format("{} must be a vector of {}, but its components are a {}", what,
-                                     dim_name(dim), dim_name(it.dim)));
+                         fmt::format("{} must be a vector of {}, but its components are {}", what,
+                                     dim_name(dim), it.dim.none() ? "plain numbers" : with_article(dim_name(it.dim))));
             return false;
         }
     return true;
 }
 
 bool Evaluator::expect_int(const Value& v, std::string_view what) {
-    if (v.kind == Value::Kind::None) return false;
+    if (v.kind == Value::Kind::None || report_name(sink_, v, what)) return false;
     if (v.kind != Value::Kind::Num || !v.dim.none() || std::floor(v.num) != v.num) {
-        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a whole number, not a {}", what,
-                                                                    v.kind == Value::Kind::Num && v.dim.none() ? "fraction" : describe(v)));
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a whole number, not {}", what,
+                                                                    with_article(v.kind == Value::Kind::Num && v.dim.none() ? "fraction" : describe(v))));
         return false;
     }
     return true;
 }
 
 bool Evaluator::expect_bool(const Value& v, std::string_view what) {
-    if (v.kind == Value::Kind::None) return false;
+    if (v.kind == Value::Kind::None || report_name(sink_, v, what)) return false;
     if (v.kind != Value::Kind::Bool) {
-        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be true or false, not a {}", what, describe(v)));
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be true or false, not {}", what, with_article(describe(v))));
         return false;
     }
     return true;
 }
 
 bool Evaluator::expect_string(const Value& v, std::string_view what) {
-    if (v.kind == Value::Kind::None) return false;
+    if (v.kind == Value::Kind::None || report_name(sink_, v, what)) return false;
     if (v.kind != Value::Kind::Str) {
-        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a string, not a {}", what, describe(v)));
+        sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a string, not {}", what, with_article(describe(v))));
         return false;
     }
     return true;

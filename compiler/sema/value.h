@@ -24,6 +24,7 @@ struct Value {
     std::string str;        // Str; Type: type name; Name: dotted name (a reference)
     std::vector<Value> items;      // Vec (numbers) and List
     const ast::Expr* call = nullptr;  // Type: the call `Bottle(mass = 20 g)`, or a bare name
+    std::string hint;       // Name: the closest parameter, let or loop variable, for "did you mean"
     Span span;
 
     static Value number(double v, units::Dim d, Span s) {
@@ -37,6 +38,7 @@ struct Value {
 };
 
 std::string describe(const Value& v);  // "length", "bool", "string", "vec3 of length" ...
+std::string with_article(std::string_view noun);  // "an int", "a length"
 
 // Lexical scope chain: parameters, lets and loop variables.
 class Env {
