@@ -26,7 +26,7 @@ objectDecl : 'object' ID paramList? '{' member* '}' ;
 plantDecl  : 'plant' ID '{' member* '}' ;
 
 paramList : '(' (param (',' param)* ','?)? ')' ;
-param     : ID ':' ID ('=' expr)? ;
+param     : ID ':' ident ('=' expr)? ;
 
 member
     : portDecl ';'?
@@ -52,7 +52,7 @@ logicDecl    : 'logic' ID '=' logicTerm (op+=('and' | 'or') logicTerm)* ;
 logicTerm    : neg='not'? path ;
 forDecl      : 'for' ID 'in' expr '..' expr '{' member* '}' ;
 ifDecl       : 'if' expr '{' thenBody+=member* '}' ('else' '{' elseBody+=member* '}')? ;
-recordDecl   : 'record' path ('as' STRING)? ;
+recordDecl   : 'record' path ('as' expr)? ;
 settingDecl  : ID '=' expr ;
 // b1: Belt(length = 2 m) at (0 m, 0 m, 0 m) rotate z by 90 deg
 instanceDecl : ID ('[' expr ']')? ':' ID args? placement? ;
@@ -101,7 +101,7 @@ path
     ;
 pathSeg : ident ('[' expr ']')? ;
 // `object` is a keyword but also the name of a slot and a property.
-ident   : ID | 'object' ;
+ident   : ID | 'object' | 'in' | 'out' ;
 
 expr
     : primary                                               # primaryExpr
@@ -127,8 +127,8 @@ primary
 
 // 50 cm/s, 9.81 m/s^2, 16 N*s/m: a unit directly follows its number.
 // Compound units are written without spaces (`cm/s`), so `10 cm * width` multiplies.
-unit     : unitAtom ({adjacent()}? unitOp=('*' | '/') unitAtom)* ;
-unitAtom : ID ({adjacent()}? '^' '-'? NUMBER)? ;
+unit     : unitAtom ({adjacent()}? unitOp=('*' | '/') {adjacent()}? unitAtom)* ;
+unitAtom : ID ({adjacent()}? '^' {adjacent()}? '-'? NUMBER)? ;
 
 NUMBER  : [0-9]+ ('.' [0-9]+)? ([eE] [+-]? [0-9]+)? ;
 STRING  : '"' (~["\\\r\n] | '\\' .)* '"' ;

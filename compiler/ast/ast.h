@@ -184,7 +184,7 @@ struct LogicDecl {
 
 struct RecordDecl {
     Path path;
-    std::optional<std::string> column;
+    ExprPtr column;  // a string expression, may be null
     Span span;
 };
 

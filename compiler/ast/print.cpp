@@ -114,7 +114,7 @@ public:
                     s += (i ? " " + x->ops[i - 1].text + " " : "") + (x->terms[i].negated ? "not " : "") + path(x->terms[i].path);
                 line(d, fmt::format("logic {} = {}", x->name.text, s), x->span);
             } else if (auto* x = std::get_if<RecordDecl>(&m)) {
-                line(d, fmt::format("record {}{}", path(x->path), x->column ? " as \"" + *x->column + "\"" : ""), x->span);
+                line(d, fmt::format("record {}{}", path(x->path), x->column ? " as " + expr(x->column.get()) : ""), x->span);
             } else if (auto* x = std::get_if<SettingDecl>(&m)) {
                 line(d, fmt::format("setting {} = {}", x->name.text, expr(x->value.get())), x->span);
             } else if (auto* x = std::get_if<InstanceDecl>(&m)) {

@@ -174,7 +174,7 @@ int cmd_run(const Options& o) {
         if (!compile(f, o, c)) return 1;
         g = std::move(c.graph);
     }
-    return plant::rt::run_main(g, o.rest, std::cout, std::cerr);
+    return plant::engine::run_main(g, o.rest, std::cout, std::cerr);
 }
 #endif
 
@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
         else if (o.command == "run" && a.size() > 1 && a[0] == '-') {
             o.rest.push_back(a);
             // Flags of `run` that take a value.
-            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed"};
+            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed", "--trace-rate", "--broadphase"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");

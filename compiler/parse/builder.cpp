@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdint>
 #include <cstdlib>
 #include <set>
 #include <string>
@@ -74,6 +73,11 @@ public:
         auto* parser = dynamic_cast<antlr4::Parser*>(rec);
         if (!parser) {  // a lexer error: ANTLR's message names the character
             sink_.report(DiagId::Syntax, span, "unexpected character: " + msg);
+            return;
+        }
+        if (msg.find("failed predicate") != std::string::npos) {  // {adjacent()}? inside a unit
+            sink_.report(DiagId::Syntax, span,
+                         "a compound unit is written without spaces, e.g. 50 cm/s or 9.81 m/s^2");
             return;
         }
         if (bad && bad->getType() == P::BAD_CHAR) {
@@ -182,11 +186,8 @@ public:
         if (auto* pl = c->paramList()) {
             for (auto* p : pl->param()) {
                 ast::Param param;
-                auto ids = p->ID();
-                if (ids.size() >= 2) {
-                    param.name = ident(ids[0]);
-                    param.type = ident(ids[1]);
-                }
+                param.name = ident(p->ID());
+                param.type = ident(p->ident());
                 if (p->expr()) param.default_value = expr(p->expr());
                 param.span = span(p);
                 d.params.push_back(std::move(param));
@@ -253,7 +254,7 @@ public:
         } else if (auto* x = c->recordDecl()) {
             ast::RecordDecl d;
             d.path = path(x->path());
-            if (x->STRING()) d.column = unquote(x->STRING()->getText());
+            if (x->expr()) d.column = expr(x->expr());
             d.span = span(x);
             out.emplace_back(std::move(d));
         } else if (auto* x = c->settingDecl()) {

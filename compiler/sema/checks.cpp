@@ -173,9 +173,9 @@ void Elaborator::check_logic_cycles() {
                 if (state[static_cast<size_t>(w)] == 1) {
                     int32_t comp = g_.logics[static_cast<size_t>(w)].comp;
                     sink_.report(DiagId::LogicCycle, comp_spans_[comp],
-                                 fmt::format("connector '{}' feeds itself through other connectors; the loop is "
-                                             "evaluated with a one-step delay",
-                                             g_.str(g_.comps[static_cast<size_t>(comp)].name)));
+                                 fmt::format("connector '{}' feeds itself{}; the loop is evaluated with a one-step delay",
+                                             g_.str(g_.comps[static_cast<size_t>(comp)].name),
+                                             w == v ? "" : " through other connectors"));
                 } else if (state[static_cast<size_t>(w)] == 0) {
                     state[static_cast<size_t>(w)] = 1;
                     stack.push_back({w, 0});

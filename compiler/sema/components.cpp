@@ -228,6 +228,10 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             std::vector<Value> a;
             bool ok = true;
             for (const auto& arg : sd.args) {
+                if (arg.name && ok)  // once per shape
+                    sink_.report(DiagId::UnknownArgument, arg.name->span,
+                                 fmt::format("shape arguments are given in order, without names: {}(...)", sd.kind.text));
+                ok = ok && !arg.name;
                 a.push_back(ev_.eval(*arg.value, env));
                 ok = ok && a.back().kind != Value::Kind::None;
             }
@@ -322,13 +326,24 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         j.lower = 1;
         j.upper = -1;  // free unless limited
         units::Dim want = j.kind == graph::JointKind::Slider ? units::dims::length : units::dims::angle;
+        int limits = 0, written = 0;  // valid ones; written ones (a wrong one is reported once)
+        for (const char* n : {"lower", "upper"})
+            if (props.has(n)) ++written;
         for (const char* n : {"lower", "upper"})
             if (const Value* v = props.get(n)) {
                 if (j.kind == graph::JointKind::Fixed)
                     sink_.report(DiagId::UnknownProperty, v->span, fmt::format("a fixed constraint has no '{}' limit", n));
                 else if (ev_.expect_number(*v, want, fmt::format("'{}'", n)))
-                    (std::string(n) == "lower" ? j.lower : j.upper) = v->num;
+                    (std::string(n) == "lower" ? j.lower : j.upper) = v->num, ++limits;
             }
+        if (written == 1 && j.kind != graph::JointKind::Fixed)
+            sink_.report(DiagId::LimitsIncomplete, c.name.span,
+                         fmt::format("constraint '{}' has one limit; give both 'lower' and 'upper', or neither for a free joint",
+                                     c.name.text));
+        else if (limits == 2 && j.lower > j.upper)
+            sink_.report(DiagId::LimitsIncomplete, props.get("lower")->span,
+                         fmt::format("'lower' ({} {}) is above 'upper' ({} {})", j.lower, units::si_unit(want), j.upper,
+                                     units::si_unit(want)));
         // The joint frame: its z axis is the hinge axis, its x axis the slider axis.
         Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
         if (const Value* av = props.get("axis")) {
@@ -543,6 +558,11 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                     if (v.num <= 0) sink_.report(DiagId::NonPositive, v.span, "'duration' must be positive");
                     duration = v.num;
                 }
+            }
+            if (!a.keys.empty() && (!a.moves.empty() || !a.rotations.empty())) {
+                sink_.report(DiagId::AnimationMixed, a.name.span,
+                             fmt::format("animation '{}' has keys and also move/rotate; use keys alone, or "
+                                         "move/rotate with a duration", a.name.text));
             }
             if (!a.keys.empty()) {
                 double last = -1;

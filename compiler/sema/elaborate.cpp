@@ -298,6 +298,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
                                    fmt::format("missing argument '{}: {}' of '{}'", p.name.text, p.type.text,
                                                decl.name.text));
             d.notes.push_back({p.span, "parameter declared here without a default"});
+            env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
             continue;
         }
         // Check the value against the parameter's type.

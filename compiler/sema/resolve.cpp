@@ -143,7 +143,16 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         auto& d = sink_.report(DiagId::UnknownName, segs[i].name.span,
                                cur == scope_do ? fmt::format("unknown name '{}'", key)
                                                : fmt::format("'{}' has no member '{}'", g_.str(g_.dos[static_cast<size_t>(cur)].path), key));
-        if (auto hint = closest_name(key, names); !hint.empty())
+        // `s` or `s[9]` where the loop made s[0] ... s[2]: list them rather than guess.
+        const std::string base = segs[i].name.text + "[";
+        std::vector<std::string> family;
+        for (auto f = s.children.lower_bound(base); f != s.children.end() && f->first.rfind(base, 0) == 0; ++f)
+            family.push_back(f->first);
+        if (!family.empty())
+            d.notes.push_back({{}, fmt::format("'{}' names indexed instances: {}{}", segs[i].name.text,
+                                               fmt::join(family.begin(), family.begin() + std::min<size_t>(family.size(), 4), ", "),
+                                               family.size() > 4 ? ", ..." : "")});
+        else if (auto hint = closest_name(key, names); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
         return ep;
     }
@@ -262,7 +271,10 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
 
 void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
     auto it = s.comps.find(l.name.text);
-    if (it == s.comps.end()) return;
+    // Only the connector this declaration made: a duplicate name was reported and made none.
+    if (it == s.comps.end() || g_.comps[static_cast<size_t>(it->second)].kind != graph::CompKind::Logic ||
+        comp_spans_[it->second].begin != l.name.span.begin || comp_spans_[it->second].file != l.name.span.file)
+        return;
     const auto& lg = g_.logics[static_cast<size_t>(g_.comps[static_cast<size_t>(it->second)].detail)];
     for (size_t i = 0; i < l.terms.size(); ++i) {
         Endpoint e = resolve(s.do_id, l.terms[i].path, env);
@@ -283,11 +295,30 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
     Endpoint e = resolve(s.do_id, r.path, env);
     if (!e.ok) return;
     if (e.ref_slot >= 0 || e.slots.size() != 1) {
-        sink_.report(DiagId::NotAnObject, r.path.span, "record names one slot of a fixed object");
+        sink_.report(DiagId::NotAnObject, r.path.span,
+                     e.ref_slot >= 0 ? fmt::format("record names one slot of a fixed object; '{}' belongs to whichever "
+                                                   "object the reference holds at run time", e.text)
+                                     : fmt::format("record names one slot, but port '{}' forwards to {} inputs; record "
+                                                   "one of them", e.text, e.slots.size()));
         return;
     }
     std::string prefix(g_.str(g_.dos[static_cast<size_t>(s.do_id)].path));
-    std::string column = r.column ? *r.column : (prefix.empty() ? e.text : prefix + "." + e.text);
+    std::string column = prefix.empty() ? e.text : prefix + "." + e.text;
+    if (r.column) {
+        Value v = ev_.eval(*r.column, env);
+        if (!ev_.expect_string(v, "a record's column name")) return;
+        column = v.str;
+    } else if (column.find("[..]") != std::string::npos) {
+        // Indexed paths name their evaluated indices: d[2].body.position.
+        column = prefix;
+        for (const auto& seg : r.path.segs) {
+            column += (column.empty() ? "" : ".") + seg.name.text;
+            if (seg.index) {
+                Value i = ev_.eval(*seg.index, env);
+                column += i.kind == Value::Kind::Num ? fmt::format("[{}]", static_cast<long long>(i.num)) : "[?]";
+            }
+        }
+    }
     g_.records.push_back({e.slots[0], name(column)});
 }
 
@@ -359,6 +390,15 @@ void Elaborator::finish_accesses() {
                     types[k] = sl.type;
                     dirs[k] = sl.dir;
                     first = false;
+                } else if (sl.type != types[k] || sl.dir != dirs[k]) {
+                    // Parameters or conditions made the objects of one type differ.
+                    sink_.report(DiagId::SlotTypeMismatch, e.span,
+                                 fmt::format("'{}' is not the same kind of slot in every '{}': {} {} in one, {} {} in '{}'",
+                                             e.text, g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name),
+                                             graph::word(types[k]), dir_word(dirs[k]), graph::word(sl.type), dir_word(sl.dir),
+                                             g_.str(g_.dos[d].path)));
+                    ok = false;
+                    break;
                 }
                 g_.access_targets.push_back({m.slots[0]});
                 ++count;

@@ -66,7 +66,7 @@ bool report_name(Sink& sink, const Value& v, std::string_view what) {
     }
     auto& d = sink.report(DiagId::UnknownName, v.span,
                           fmt::format("unknown name '{}' (not a parameter, let or loop variable)", v.str));
-    if (units::parse_unit(v.str))
+    if ((what == "'/'" || what == "'*'") && units::parse_unit(v.str))
         d.notes.push_back({{}, fmt::format("'{}' is a unit: write it right after its number, e.g. 50 cm/s, not 50 cm / s", v.str)});
     else if (!v.hint.empty())
         d.notes.push_back({{}, fmt::format("did you mean '{}'?", v.hint)});

@@ -47,8 +47,8 @@ std::string dim_name(Dim d);
 std::string si_unit(Dim d);
 
 struct Unit {
-    double mul;  // SI value of 1 unit is mul / div: kept apart so that 4.1 cm is 4.1 / 100,
-    double div;  // the double nearest 0.041, not 4.1 * 0.01
+    double mul;  // SI value of 1 unit is mul / div: kept apart so that 50 cm is 50 / 100,
+    double div;  // one correctly rounded division instead of a product with 0.01
     Dim dim;
     double si(double x) const { return x * mul / div; }
 };

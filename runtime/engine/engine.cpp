@@ -54,7 +54,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
         if (g.places[p].tokens_slot >= 0) emit(g.places[p].tokens_slot, st.tokens[p]);
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         int32_t v = st.variant[i];
-        emit(comp_slot(g.graphics[i].comp, graphicsslot::variant),
+        emit(comp_slot(g.graphics[i].comp, graphicsslot::shown),
              v >= 0 ? g.variants[v].name.id : g.graphics[i].model.id);
     }
 }

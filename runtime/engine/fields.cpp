@@ -1,14 +1,16 @@
 // Phase 1: kinematic motion, the conveyor law, the Bullet step.
 //
-// The law F = k·diag(d)·(v_tar − v), taken in the field's local frame (d there;
-// diag of |d| so a field pointing along −x drives towards −x instead of pushing
-// away), is linear in v. Applied explicitly with k = 16 kg/s it diverges for a 20 g
-// bottle at 150 Hz (k·dt/m = 5.3 > 2). Over one step its exact solution, with v_tar
-// constant, is e' = e·exp(−k·dt/m): we apply the law's forces scaled by
-// s = (1 − exp(−a))/a, a = K·dt/M, which gives exactly that velocity change.
-// K and M are summed over a rigid group (bodies joined by enabled fixed joints), so
-// a bottle's light bottom body still pulls in proportion to k, not to its mass, and
-// tips the bottle; only the group's common speed is made exact and stable.
+// The law F = k·diag(d)·(v_tar − v) is taken in the field's local frame, with diag
+// of |d| so that a field pointing along −x drives towards −x. It is linear in v, and
+// stiff: explicit with k = 16 kg/s it diverges for a 20 g bottle at 150 Hz
+// (k·dt/m = 5.3 > 2). Its exact one-step solution for a free body is
+// e' = e·exp(−k·dt/m), and that is what we apply (see integrate_group).
+//
+// Bodies joined by enabled fixed joints form a rigid group and are integrated
+// together, translation and rotation (6 dof): the light foot of a bottle pulls as
+// hard as its main body (the force depends on velocity, not mass) and so tips the
+// bottle, but the torque this creates is integrated implicitly too, so the
+// bottle's rotation stays stable however light it is.
 #include "engine/runtime.h"
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -27,25 +29,38 @@ int32_t root(std::vector<int32_t>& parent, int32_t x) {
     return x;
 }
 
-// Rigid groups, rebuilt only when a joint, a dynamics mode or membership changed.
+// Rigid groups and their member lists, rebuilt only when a joint, a dynamics mode or
+// membership changed. All arrays are sized by the body count: no allocation.
 void rebuild_groups(Runtime& r) {
     State& s = r.st;
-    const size_t nb = r.g.bodies.size();
-    for (size_t b = 0; b < nb; ++b) {
-        s.group_of[b] = int32_t(b);
-        s.group_mass[b] = 0;
-    }
+    const int32_t nb = int32_t(r.g.bodies.size());
+    for (int32_t b = 0; b < nb; ++b) s.group_of[b] = b;
     for (size_t j = 0; j < r.g.joints.size(); ++j) {
         const Joint& jt = r.g.joints[j];
         if (jt.kind != JointKind::Fixed || !r.phys.joint_on(int32_t(j)) || jt.body_b < 0) continue;
         if (!r.phys.dynamic_now(jt.body_a) || !r.phys.dynamic_now(jt.body_b)) continue;
         s.group_of[root(s.group_of, jt.body_a)] = root(s.group_of, jt.body_b);
     }
-    for (size_t b = 0; b < nb; ++b) {
-        int32_t g = root(s.group_of, int32_t(b));
-        s.group_of[b] = g;
-        if (r.phys.dynamic_now(int32_t(b))) s.group_mass[g] += r.phys.mass(int32_t(b));
+    for (int32_t b = 0; b < nb; ++b) {
+        s.group_of[b] = root(s.group_of, b);
+        s.group_mass[b] = 0;
+        s.group_num[b] = 0;
     }
+    for (int32_t b = 0; b < nb; ++b)
+        if (r.phys.dynamic_now(b)) {
+            s.group_mass[s.group_of[b]] += r.phys.mass(b);
+            s.group_num[s.group_of[b]]++;
+        }
+    for (int32_t b = 0, adr = 0; b < nb; ++b) {
+        s.group_adr[b] = adr;
+        adr += s.group_num[b];
+        s.group_num[b] = 0;
+    }
+    for (int32_t b = 0; b < nb; ++b)
+        if (r.phys.dynamic_now(b)) {
+            const int32_t g = s.group_of[b];
+            s.group_list[s.group_adr[g] + s.group_num[g]++] = b;
+        }
     s.groups_version = r.phys.version();
 }
 
@@ -87,6 +102,7 @@ void apply_fields(Runtime& r) {
         const btVector3 target = d * btScalar(s.field_speed[f]);
         const btTransform pose = field_pose(r, f);
         const btMatrix3x3& R = pose.getBasis();
+        const btMatrix3x3 K = R.scaled(gain) * R.transpose();  // R·diag(gain)·R^T
         const btVector3& c = pose.getOrigin();
         const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
         const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
@@ -101,20 +117,25 @@ void apply_fields(Runtime& r) {
             if (s.body_k[b] == 0) s.touched.push_back(b);
             s.body_k[b] += kmax;
             s.force[b] += R * (gain * (target - v));
+            s.gain[b] += K;
         }
     }
-    for (int32_t b : s.touched) s.group_k[s.group_of[b]] += s.body_k[b];
     for (int32_t b : s.touched) {
         const int32_t grp = s.group_of[b];
-        const double a = s.group_k[grp] * r.dt / s.group_mass[grp];
-        const double scale = a > 1e-12 ? -std::expm1(-a) / a : 1.0;
-        btRigidBody& rb = r.phys.rb(b);
-        rb.applyCentralForce(s.force[b] * btScalar(scale));
-        rb.activate();
+        if (s.group_num[grp] <= 1) {
+            integrate_single(r, b);
+            r.phys.rb(b).activate();
+        } else if (!s.group_mark[grp]) {
+            s.group_mark[grp] = 1;
+            integrate_group(r, grp);
+        }
+    }
+    for (int32_t b : s.touched) {
+        s.group_mark[s.group_of[b]] = 0;
         s.force[b].setZero();
+        s.gain[b].setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
         s.body_k[b] = 0;
     }
-    for (int32_t b : s.touched) s.group_k[s.group_of[b]] = 0;
 }
 
 void phase_physics(Runtime& r) {

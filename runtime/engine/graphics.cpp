@@ -67,7 +67,7 @@ void play_animation(Runtime& r, int32_t anim) {
 void select_variant(Runtime& r, int32_t v) {
     const Variant& var = r.g.variants[v];
     r.st.variant[var.graphics] = v;
-    r.emit(r.comp_slot(r.g.graphics[var.graphics].comp, graphicsslot::variant), var.name.id);
+    r.emit(r.comp_slot(r.g.graphics[var.graphics].comp, graphicsslot::shown), var.name.id);
 }
 
 }  // namespace plant::engine

@@ -20,11 +20,6 @@ using namespace plant::graph;
 
 namespace {
 
-// Statics and kinematics never need pairs among themselves (no response possible).
-constexpr int kAll = btBroadphaseProxy::AllFilter;
-constexpr int kStatic = btBroadphaseProxy::StaticFilter;
-constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
-
 bool pooled(const Graph& g, const Tables& t, int32_t d) {
     for (size_t guard = 0; d >= 0 && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
         if (t.do_source[d] >= 0) return true;
@@ -56,6 +51,8 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
     inertia_.resize(nb);
     mass_.resize(nb);
     in_world_.assign(nb, 0);
+    group_.assign(nb, 0);
+    mask_.assign(nb, 0);
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
     for (size_t b = 0; b < nb; ++b) {
@@ -130,107 +127,27 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         body_joints_.list.push_back(j);
     }
 
+    // Every body joins Bullet's world once, in id order; pooled ones are parked.
+    for (size_t b = 0; b < nb; ++b) {
+        add_to_world(int32_t(b));
+        in_world_[b] = 1;
+    }
+    for (size_t j = 0; j < g.joints.size(); ++j) {
+        world_->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
+        joint_in_[j] = 1;
+    }
     for (size_t b = 0; b < nb; ++b)
-        if (!pooled(g, t, t.body_do[b])) insert(int32_t(b));
+        if (pooled(g, t, t.body_do[b])) take_out(int32_t(b));
 }
 
 Physics::~Physics() {
     for (size_t j = joints_.size(); j-- > 0;)
         if (joint_in_[j]) world_->removeConstraint(joints_[j].get());
-    for (size_t b = bodies_.size(); b-- > 0;)
-        if (in_world_[b]) world_->removeRigidBody(bodies_[b].get());
+    for (size_t b = bodies_.size(); b-- > 0;) world_->removeRigidBody(bodies_[b].get());
     joints_.clear();
     bodies_.clear();
 }
 
 void Physics::step(double dt) { world_->stepSimulation(btScalar(dt), 0, btScalar(dt)); }
-
-void Physics::add_to_world(int32_t b) {
-    switch (g_.bodies[b].mode) {
-    case BodyMode::Dynamic: world_->addRigidBody(bodies_[b].get(), btBroadphaseProxy::DefaultFilter, kAll); break;
-    case BodyMode::Static: world_->addRigidBody(bodies_[b].get(), kStatic, kAll ^ kStatic); break;
-    case BodyMode::Kinematic:
-        world_->addRigidBody(bodies_[b].get(), kKinematic, kAll ^ kStatic ^ kKinematic);
-        break;
-    }
-}
-
-void Physics::sync_joints(int32_t b) {
-    if (body_joints_.num.empty()) return;
-    for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
-        const Joint& jt = g_.joints[*j];
-        bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
-        if (want == bool(joint_in_[*j])) continue;
-        if (want) world_->addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
-        else world_->removeConstraint(joints_[*j].get());
-        joint_in_[*j] = want;
-    }
-}
-
-void Physics::insert(int32_t b) {
-    if (in_world_[b]) return;
-    add_to_world(b);
-    in_world_[b] = 1;
-    ++version_;
-    sync_joints(b);
-}
-
-void Physics::take_out(int32_t b) {
-    if (!in_world_[b]) return;
-    in_world_[b] = 0;
-    ++version_;
-    sync_joints(b);
-    world_->removeRigidBody(bodies_[b].get());
-}
-
-void Physics::set_dynamics(int32_t b, bool on) {
-    if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
-    btRigidBody& r = *bodies_[b];
-    // Re-adding refreshes Bullet's lists of non-static bodies and the solver's view.
-    if (in_world_[b]) world_->removeRigidBody(&r);
-    if (on) {
-        r.setCollisionFlags(r.getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
-        r.setMassProps(btScalar(mass_[b]), inertia_[b]);
-        r.updateInertiaTensor();
-    } else {
-        r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: undone below
-        r.setCollisionFlags((r.getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
-                            btCollisionObject::CF_KINEMATIC_OBJECT);
-        r.setInterpolationWorldTransform(r.getWorldTransform());
-    }
-    r.setLinearVelocity(btVector3(0, 0, 0));
-    r.setAngularVelocity(btVector3(0, 0, 0));
-    r.clearForces();
-    dyn_on_[b] = on;
-    ++version_;
-    if (in_world_[b]) add_to_world(b);
-}
-
-void Physics::set_collision(int32_t b, bool on) {
-    btRigidBody& r = *bodies_[b];
-    int f = r.getCollisionFlags();
-    r.setCollisionFlags(on ? f & ~btCollisionObject::CF_NO_CONTACT_RESPONSE
-                           : f | btCollisionObject::CF_NO_CONTACT_RESPONSE);
-    coll_on_[b] = on;
-}
-
-void Physics::set_joint(int32_t j, bool on) {
-    joints_[j]->setEnabled(on);
-    joint_on_[j] = on;
-    ++version_;
-}
-
-btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
-Pose Physics::pose(int32_t b) const { return from_bt(frame(b)); }
-
-void Physics::place(int32_t b, const btTransform& f) {
-    btRigidBody& r = *bodies_[b];
-    btTransform t = f * local_[b];
-    r.setWorldTransform(t);
-    r.setInterpolationWorldTransform(t);
-    if (in_world_[b]) world_->updateSingleAabb(&r);
-}
-
-void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
 
 }  // namespace plant::engine

@@ -42,7 +42,8 @@ public:
     double mass(int32_t b) const { return mass_[b]; }
 
     // Membership: a body out of the world (a pooled object, one taken by an exit) is
-    // not simulated; constraints are in the world exactly when all their bodies are.
+    // not simulated and touches nothing; constraints are in the world exactly when all
+    // their bodies are.
     void insert(int32_t b);
     void take_out(int32_t b);
     void set_dynamics(int32_t b, bool on);  // off: kinematic, moved by us
@@ -77,6 +78,7 @@ private:
     std::vector<btVector3> inertia_;
     std::vector<double> mass_;
     std::vector<uint8_t> in_world_, dyn_on_, coll_on_, joint_in_, joint_on_;
+    std::vector<int> group_, mask_;  // broadphase filter while in the world
     Csr body_joints_;
     uint64_t version_ = 0;
 };

@@ -57,6 +57,8 @@ void phase_actuators(Runtime& r);  // 5: components act on their active inputs
 
 // Pieces the phases share.
 void apply_fields(Runtime& r);
+void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
+void integrate_group(Runtime& r, int32_t group);
 void sense_triggers(Runtime& r);
 void advance_graphics(Runtime& r);
 void play_animation(Runtime& r, int32_t anim);

@@ -37,6 +37,11 @@ void init_state(State& s, const Graph& g, const Tables& t) {
         s.field_on[f] = g.fields[f].enabled;
     }
     s.force.assign(nb, btVector3(0, 0, 0));
+    s.gain.assign(nb, btMatrix3x3(0, 0, 0, 0, 0, 0, 0, 0, 0));
+    s.group_adr.assign(nb, 0);
+    s.group_num.assign(nb, 0);
+    s.group_list.assign(nb, 0);
+    s.group_mark.assign(nb, 0);
     s.body_k.assign(nb, 0);
     s.group_k.assign(nb, 0);
     s.group_mass.assign(nb, 0);

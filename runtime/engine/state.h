@@ -7,6 +7,7 @@
 #include "engine/pose.h"
 #include "engine/tables.h"
 
+#include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 
 #include <cstdint>
@@ -68,9 +69,11 @@ struct State {
     // Fields: scratch for the conveyor law, and rigid groups (fixed joints).
     std::vector<double> field_speed;
     std::vector<uint8_t> field_on;
-    std::vector<btVector3> force;
+    std::vector<btVector3> force;      // the law at the body's velocity, summed over fields
+    std::vector<btMatrix3x3> gain;     // its gain matrices k·R·diag|d|·R^T, summed
     std::vector<double> body_k, group_k, group_mass;
-    std::vector<int32_t> group_of, touched;
+    std::vector<int32_t> group_of, group_adr, group_num, group_list, touched;
+    std::vector<uint8_t> group_mark;
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
 
     // Petri nets.

@@ -110,7 +110,7 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, from_access) /* Access id for a dynamically addressed source, -1 none */   \
     F(int32_t, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
     F(Cond, cond)                                                                         \
-    F(bool, once)           /* singular: runs once, re-armed by the source going idle */  \
+    F(bool, once)           /* singular: runs once, re-armed by a step where its condition fails */  \
     F(Src, src)
 
 // A slot of an object known only at run time: the object held in `ref_slot`

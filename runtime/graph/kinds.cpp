@@ -12,7 +12,7 @@ constexpr Dir O = Dir::Out;
 constexpr std::array kGraphics = {
     SlotSpec{"set_pose", T::Pose, I, "moves the graphics (and its children) to a pose"},
     SlotSpec{"pose", T::Pose, O, "the current world pose"},
-    SlotSpec{"variant", T::String, O, "name of the model variant shown"},
+    SlotSpec{"shown", T::String, O, "name of the model variant shown (the model itself when none)"},
 };
 constexpr std::array kBody = {
     SlotSpec{"set_pose", T::Pose, I, "teleports the body"},

@@ -30,7 +30,7 @@ enum : int { set_pose, set_position, set_orientation, set_velocity, set_angular_
              pose, position, orientation, velocity, angular_velocity, count };
 }
 namespace graphicsslot {
-enum : int { set_pose, pose, variant, count };
+enum : int { set_pose, pose, shown, count };
 }
 namespace fieldslot {
 enum : int { set_speed, enable, disable, speed, count };

@@ -50,7 +50,7 @@ TEST_CASE("bodyslot") {
 TEST_CASE("graphicsslot") {
     CHECK_SLOT(graphicsslot, Graphics, set_pose);
     CHECK_SLOT(graphicsslot, Graphics, pose);
-    CHECK_SLOT(graphicsslot, Graphics, variant);
+    CHECK_SLOT(graphicsslot, Graphics, shown);
     CHECK_COUNT(graphicsslot, Graphics);
 }
 

@@ -12,27 +12,27 @@ using plant::engine::Engine;
 
 namespace {
 
-// Three fields with no bodies: their `speed` outputs are real-valued sources we can
-// activate with external inputs; `set_speed` inputs are observable targets.
+// Two triggers far from anything: their `count` outputs are sources we activate
+// with external inputs; a field's `set_speed` input is the observable target.
 struct CondScene {
     SceneBuilder b;
-    int32_t f1, f2, f3;
+    int32_t t1, t3, f2;
     explicit CondScene(Cond cond) {
-        f1 = b.g.fields[b.field(0, "f1", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1)].comp;
+        t1 = b.g.triggers[b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50))].comp;
+        t3 = b.g.triggers[b.trigger(0, "t3", {1, 1, 1}, at(0, 0, 50))].comp;
         f2 = b.g.fields[b.field(0, "f2", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1)].comp;
-        f3 = b.g.fields[b.field(0, "f3", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1)].comp;
-        b.flow(b.S(f1, "speed"), b.S(f2, "set_speed"), cond);  // under test (flow 0)
-        b.flow(b.S(f3, "speed"), b.S(f2, "set_speed"));        // activates the target (flow 1)
+        b.g.values[size_t(b.g.slots[size_t(b.S(t1, "count"))].value_adr)].v = 1;  // what each copies,
+        b.g.values[size_t(b.g.slots[size_t(b.S(t3, "count"))].value_adr)].v = 3;  // active or not
+        b.flow(b.S(t1, "count"), b.S(f2, "set_speed"), cond);  // under test (flow 0)
+        b.flow(b.S(t3, "count"), b.S(f2, "set_speed"));        // activates the target (flow 1)
     }
 };
 
 double run_cond(Cond cond, bool source, bool target) {
     CondScene s(cond);
     Engine e(s.b.g);
-    e.step();  // the initial publication of `speed` outputs is spent
-    const std::array<double, 1> one{1}, three{3};
-    if (source) e.input(s.b.S(s.f1, "speed"), one);
-    if (target) e.input(s.b.S(s.f3, "speed"), three);
+    if (source) e.input(s.b.S(s.t1, "count"));
+    if (target) e.input(s.b.S(s.t3, "count"));
     e.step();
     return e.value(s.b.S(s.f2, "set_speed"))[0];
 }
@@ -40,11 +40,13 @@ double run_cond(Cond cond, bool source, bool target) {
 }  // namespace
 
 TEST_CASE("runtime: execution conditions over source and target activity") {
-    // 1: the flow under test ran (it runs after the flow that activates the target);
-    // 3: only the other flow ran; 0: neither.
+    // 1: the flow under test ran last; 3: the other flow ran last; 0: neither ran.
+    // A flow reading its target's activity is scheduled after the source-only flows
+    // into that target; two source-only flows keep their id order (the later wins).
     CHECK(run_cond(Cond::Source, true, false) == 1);
     CHECK(run_cond(Cond::Source, false, true) == 3);
-    CHECK(run_cond(Cond::Source, true, true) == 1);
+    CHECK(run_cond(Cond::Source, true, true) == 3);
+    CHECK(run_cond(Cond::Source, false, false) == 0);
     CHECK(run_cond(Cond::Target, true, false) == 0);
     CHECK(run_cond(Cond::Target, false, true) == 1);
     CHECK(run_cond(Cond::Both, true, false) == 0);
@@ -195,7 +197,8 @@ TEST_CASE("runtime: dynamic access flows address the slot of the object held in 
     e.input(obj, refx);
     e.input(b.S(text, "value"));
     e.step();
-    CHECK(e.warnings().access_type == 1);  // only the text flow: a silent source is no warning
+    // Both flows would run (the reference was published this step): two warnings.
+    CHECK(e.warnings().access_type == 2);
 }
 
 TEST_CASE("runtime: external inputs on outputs and inputs arrive in the next logic phase") {

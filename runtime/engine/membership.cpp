@@ -1,0 +1,128 @@
+// Membership and modes of bodies and constraints: the only way the phases change
+// what Bullet simulates. See physics.h.
+#include "engine/physics.h"
+
+#include "engine/pose.h"
+
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+// Statics and kinematics never need pairs among themselves (no response possible).
+constexpr int kAll = btBroadphaseProxy::AllFilter;
+constexpr int kStatic = btBroadphaseProxy::StaticFilter;
+constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
+}  // namespace
+
+void Physics::add_to_world(int32_t b) {
+    switch (g_.bodies[b].mode) {
+    case BodyMode::Dynamic: group_[b] = btBroadphaseProxy::DefaultFilter, mask_[b] = kAll; break;
+    case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
+    case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
+    }
+    world_->addRigidBody(bodies_[b].get(), group_[b], mask_[b]);
+}
+
+void Physics::sync_joints(int32_t b) {
+    if (body_joints_.num.empty()) return;
+    for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
+        const Joint& jt = g_.joints[*j];
+        bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
+        if (want == bool(joint_in_[*j])) continue;
+        if (want) world_->addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
+        else world_->removeConstraint(joints_[*j].get());
+        joint_in_[*j] = want;
+    }
+}
+
+// A body out of the world stays in Bullet's world, parked: not simulated, in no
+// broadphase pair. Removing and re-adding would allocate a broadphase proxy each time
+// an object is issued or taken; parking costs nothing per step.
+void Physics::insert(int32_t b) {
+    if (in_world_[b]) return;
+    btRigidBody& r = *bodies_[b];
+    btBroadphaseProxy* proxy = r.getBroadphaseHandle();
+    proxy->m_collisionFilterGroup = group_[b];
+    proxy->m_collisionFilterMask = mask_[b];
+    r.forceActivationState(g_.bodies[b].mode == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
+    // Through a far box and back, so the broadphase looks for new pairs even if the
+    // body is issued where it was parked.
+    const btVector3 far(999, 999, 999);
+    broadphase_->setAabb(proxy, far, far, dispatcher_.get());
+    world_->updateSingleAabb(&r);
+    in_world_[b] = 1;
+    ++version_;
+    sync_joints(b);
+}
+
+void Physics::take_out(int32_t b) {
+    if (!in_world_[b]) return;
+    in_world_[b] = 0;
+    ++version_;
+    sync_joints(b);
+    btRigidBody& r = *bodies_[b];
+    r.setLinearVelocity(btVector3(0, 0, 0));
+    r.setAngularVelocity(btVector3(0, 0, 0));
+    r.clearForces();
+    r.forceActivationState(DISABLE_SIMULATION);
+    btBroadphaseProxy* proxy = r.getBroadphaseHandle();
+    proxy->m_collisionFilterGroup = 0;
+    proxy->m_collisionFilterMask = 0;
+    broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(proxy, dispatcher_.get());
+}
+
+// Dynamic and kinematic bodies share Bullet's list of non-static bodies and our
+// broadphase group: switching needs flags and mass only, no re-adding.
+void Physics::set_dynamics(int32_t b, bool on) {
+    if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
+    btRigidBody& r = *bodies_[b];
+    if (on) {
+        r.setCollisionFlags(r.getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
+        r.setMassProps(btScalar(mass_[b]), inertia_[b]);
+        r.updateInertiaTensor();
+        r.setGravity(world_->getGravity());
+    } else {
+        r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: undone below
+        r.setCollisionFlags((r.getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
+                            btCollisionObject::CF_KINEMATIC_OBJECT);
+        r.setInterpolationWorldTransform(r.getWorldTransform());
+    }
+    r.setLinearVelocity(btVector3(0, 0, 0));
+    r.setAngularVelocity(btVector3(0, 0, 0));
+    r.clearForces();
+    dyn_on_[b] = on;
+    ++version_;
+}
+
+void Physics::set_collision(int32_t b, bool on) {
+    btRigidBody& r = *bodies_[b];
+    int f = r.getCollisionFlags();
+    r.setCollisionFlags(on ? f & ~btCollisionObject::CF_NO_CONTACT_RESPONSE
+                           : f | btCollisionObject::CF_NO_CONTACT_RESPONSE);
+    coll_on_[b] = on;
+}
+
+void Physics::set_joint(int32_t j, bool on) {
+    joints_[j]->setEnabled(on);
+    joint_on_[j] = on;
+    ++version_;
+}
+
+btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
+Pose Physics::pose(int32_t b) const { return from_bt(frame(b)); }
+
+void Physics::place(int32_t b, const btTransform& f) {
+    btRigidBody& r = *bodies_[b];
+    btTransform t = f * local_[b];
+    r.setWorldTransform(t);
+    r.setInterpolationWorldTransform(t);
+    if (in_world_[b]) world_->updateSingleAabb(&r);
+}
+
+void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
+
+}  // namespace plant::engine

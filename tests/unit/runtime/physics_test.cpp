@@ -1,0 +1,146 @@
+// Bodies, the conveyor law, collision and dynamics toggles, constraints.
+#include "engine/engine.h"
+#include "scene_builder.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace plant::test;
+using plant::engine::Engine;
+
+namespace {
+
+// A frictionless floor (top at z = 0) and a belt field over it along +x.
+int32_t floor_and_belt(SceneBuilder& b, double speed, double gain) {
+    b.body(0, "floor", BodyMode::Static, {box({20, 20, 0.2})}, 0, at(0, 0, -0.1));
+    return b.field(0, "belt", {20, 2, 0.5}, at(0, 0, 0.25), {1, 0, 0}, speed, gain);
+}
+
+}  // namespace
+
+TEST_CASE("runtime: conveyor law against its analytic solution on a frictionless plane") {
+    for (auto [mass, gain] : {std::pair{1.0, 4.0}, std::pair{0.2, 1.0}, std::pair{0.02, 16.0}}) {
+        SceneBuilder b;
+        floor_and_belt(b, 0.5, gain);
+        int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.05, 0.05, 0.05})}, mass,
+                              at(0, 0, 0.025));
+        Engine e(b.g);
+        double worst = 0;
+        for (int i = 0; i < 300; ++i) {
+            e.step();
+            const double want = 0.5 * (1 - std::exp(-gain * e.time() / mass));
+            worst = std::max(worst, std::abs(e.body_velocity(cube)[0] - want) / 0.5);
+        }
+        CAPTURE(mass);
+        CAPTURE(gain);
+        CHECK(worst < 0.01);  // within 1 % of the target speed at every step
+        CHECK(std::abs(e.body_velocity(cube)[1]) < 1e-6);
+    }
+}
+
+TEST_CASE("runtime: a field rotated in the world pushes along its own direction, only inside its box") {
+    SceneBuilder b;
+    b.g.settings.gravity = {0, 0, 0};
+    Pose rot = at(0, 0, 0);
+    rot.q = {0, 0, std::sin(M_PI / 4), std::cos(M_PI / 4)};  // +90 deg about z: local x is world y
+    b.field(0, "f", {1, 1, 1}, rot, {1, 0, 0}, 0.3, 16);
+    int32_t in = b.body(b.dobj("in"), "body", BodyMode::Dynamic, {sphere(0.02)}, 0.05, at(0, 0, 0));
+    int32_t out = b.body(b.dobj("out"), "body", BodyMode::Dynamic, {sphere(0.02)}, 0.05, at(3, 0, 0));
+    Engine e(b.g);
+    for (int i = 0; i < 30; ++i) e.step();
+    CHECK(e.body_velocity(in)[1] == doctest::Approx(0.3).epsilon(0.01));
+    CHECK(std::abs(e.body_velocity(in)[0]) < 1e-6);
+    CHECK(e.body_velocity(out)[0] == 0);
+}
+
+TEST_CASE("runtime: a light bottle with a bottom body stays stable on a fast belt at 150 Hz") {
+    SceneBuilder b;
+    floor_and_belt(b, 1.0, 16);
+    int32_t d = b.dobj("bottle");
+    int32_t main = b.body(d, "main", BodyMode::Dynamic, {cylinder(0.02, 0.1)}, 0.02, at(0, 0, 0.0505));
+    int32_t foot = b.body(d, "foot", BodyMode::Dynamic, {sphere(0.004)}, 0.002, at(0, 0, 0.0045));
+    b.joint(d, "fix", JointKind::Fixed, main, foot, at(0, 0, -0.046), at(0, 0, 0));
+    Engine e(b.g);
+    double tilt = 0;
+    for (int i = 0; i < 150; ++i) {
+        e.step();
+        const auto q = e.body_pose(main).q;
+        tilt = std::max(tilt, 2 * std::asin(std::min(1.0, std::sqrt(q[0] * q[0] + q[1] * q[1]))));
+    }
+    CHECK(std::isfinite(e.body_com(main)[0]));
+    CHECK(e.warnings().total() == 0);
+    CHECK(tilt > 0.01);  // the foot pulls at the bottom: the bottle tips
+    const auto v = e.body_velocity(main);
+    CHECK(std::abs(v[0]) < 2.0);
+}
+
+TEST_CASE("runtime: collision_off lets a blocked body through, collision_on blocks again") {
+    SceneBuilder b;
+    b.g.settings.gravity = {0, 0, 0};
+    int32_t wall = b.body(b.dobj("wall"), "body", BodyMode::Static, {box({0.1, 2, 2})}, 0, at(1, 0, 0));
+    int32_t ball = b.body(b.dobj("ball"), "body", BodyMode::Dynamic, {sphere(0.05)}, 0.1, at(0, 0, 0));
+    b.field(0, "push", {10, 10, 10}, at(0, 0, 0), {1, 0, 0}, 1.0, 5);
+    Engine e(b.g);
+    for (int i = 0; i < 300; ++i) e.step();
+    CHECK(e.body_com(ball)[0] < 0.95);  // blocked in front of the wall
+    CHECK(e.body_com(ball)[0] > 0.85);
+    e.input(b.S(b.body_comp(wall), "collision_off"));
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(e.body_com(ball)[0] > 1.2);  // passed through
+    (void)wall;
+}
+
+TEST_CASE("runtime: a fixed constraint holds a heavy body under gravity, and lets go when disabled") {
+    SceneBuilder b;
+    int32_t d = b.dobj("crane");
+    int32_t anchor = b.body(d, "anchor", BodyMode::Static, {box({0.1, 0.1, 0.1})}, 0, at(0, 0, 1));
+    int32_t load = b.body(d, "load", BodyMode::Dynamic, {box({0.2, 0.2, 0.2})}, 5, at(0, 0, 0.8));
+    int32_t j = b.joint(d, "hold", JointKind::Fixed, anchor, load, at(0, 0, -0.2), at(0, 0, 0));
+    Engine e(b.g);
+    for (int i = 0; i < 300; ++i) e.step();
+    CHECK(std::abs(e.body_com(load)[2] - 0.8) < 0.005);
+    e.input(b.S(b.g.joints[size_t(j)].comp, "disable"));
+    for (int i = 0; i < 90; ++i) e.step();
+    CHECK(e.body_com(load)[2] < 0.0);  // free fall: 0.8 m in 0.4 s
+    CHECK_FALSE(e.active(b.S(b.g.joints[size_t(j)].comp, "enabled")));
+    CHECK(e.value(b.S(b.g.joints[size_t(j)].comp, "enabled"))[0] == 0);
+}
+
+TEST_CASE("runtime: dynamics_off takes a body out of the simulation; set_velocity then moves it") {
+    SceneBuilder b;
+    int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
+    const int32_t c = b.body_comp(body);
+    Engine e(b.g);
+    e.input(b.S(c, "dynamics_off"));
+    e.step();
+    const double z = e.body_com(body)[2];
+    const std::array<double, 3> v{1, 0, 0};
+    e.input(b.S(c, "set_velocity"), v);
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(e.body_com(body)[2] == doctest::Approx(z));
+    CHECK(e.body_com(body)[0] == doctest::Approx(1.0).epsilon(0.01));
+    e.input(b.S(c, "dynamics_on"));
+    for (int i = 0; i < 30; ++i) e.step();
+    CHECK(e.body_com(body)[2] < z - 0.1);  // falls again
+}
+
+TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body frame") {
+    SceneBuilder b;
+    b.g.settings.gravity = {0, 0, 0};
+    // Centre of mass off the body frame, two shapes: a compound.
+    int32_t body = b.body(b.dobj("odd"), "body", BodyMode::Dynamic,
+                          {box({0.1, 0.1, 0.1}), sphere(0.05, at(0.2, 0, 0))}, 1, at(1, 2, 3), 0, {0.05, 0, 0});
+    const int32_t c = b.body_comp(body);
+    b.record(b.S(c, "position"), "p");
+    Engine e(b.g);
+    e.step();
+    CHECK(e.value(b.S(c, "position"))[0] == doctest::Approx(1));
+    CHECK(e.body_com(body)[0] == doctest::Approx(1.05));
+    const std::array<double, 7> pose{5, 0, 0, 0, 0, 0, 1};
+    e.input(b.S(c, "set_pose"), pose);
+    e.step();  // written in phase 5
+    e.step();
+    CHECK(e.value(b.S(c, "position"))[0] == doctest::Approx(5));
+    CHECK(e.body_pose(body).p[1] == doctest::Approx(0).epsilon(1e-6));
+}

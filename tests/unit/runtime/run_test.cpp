@@ -1,0 +1,110 @@
+// The run API of the `plant` command.
+#include "engine/run.h"
+#include "engine/run_args.h"
+#include "bottling_scene.h"
+
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+using namespace plant::test;
+using namespace plant::engine;
+
+namespace {
+
+int run(const Graph& g, std::vector<std::string> args, std::string& out, std::string& err) {
+    std::ostringstream o, e;
+    int rc = run_main(g, args, o, e);
+    out = o.str();
+    err = e.str();
+    return rc;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("runtime: durations and frequencies") {
+    double v = 0;
+    std::string err;
+    CHECK(parse_duration("10s", v, err));
+    CHECK(v == 10);
+    CHECK(parse_duration("250ms", v, err));
+    CHECK(v == 0.25);
+    CHECK(parse_duration("1.5min", v, err));
+    CHECK(v == 90);
+    CHECK_FALSE(parse_duration("10", v, err));
+    CHECK(err.find("unit") != std::string::npos);
+    CHECK_FALSE(parse_duration("ten s", v, err));
+    CHECK(parse_frequency("150Hz", v, err));
+    CHECK(v == 150);
+    CHECK(parse_frequency("1kHz", v, err));
+    CHECK(v == 1000);
+    CHECK_FALSE(parse_frequency("0Hz", v, err));
+    CHECK_FALSE(parse_frequency("150", v, err));
+}
+
+TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
+    const Graph g = bottling_scene(2);
+    std::string out, err;
+    CHECK(run(g, {"--for", "ten"}, out, err) == 2);
+    CHECK(err.find("duration") != std::string::npos);
+    CHECK(run(g, {"--rate", "fast"}, out, err) == 2);
+    CHECK(run(g, {"--frobnicate"}, out, err) == 2);
+    CHECK(err.find("unknown flag") != std::string::npos);
+    CHECK(run(g, {"--for"}, out, err) == 2);
+    CHECK(run(g, {"--event", "1s no.such.slot"}, out, err) == 2);
+    CHECK(err.find("no slot 'no.such.slot'") != std::string::npos);
+    CHECK(run(g, {"--event", "1s line.belt.set_speed"}, out, err) == 2);  // needs a value
+    CHECK(run(g, {"--events", "/nonexistent/events.txt"}, out, err) == 2);
+    CHECK(run(g, {"--broadphase", "octree"}, out, err) == 2);
+}
+
+TEST_CASE("runtime: run_main runs, traces and summarises") {
+    const Graph g = bottling_scene(4);
+    const std::string path = "/tmp/plant_runtime_test_trace.csv";
+    std::string out, err;
+    CHECK(run(g, {"--for", "2s", "--rate", "100Hz", "--trace", path, "--quiet", "--event",
+                  "0.5s line.belt.set_speed 0.25", "--event", "1s line.state.other.put"},
+              out, err) == 0);
+    CHECK(err.empty());
+    CHECK(out.find("simulated time:   2 s") != std::string::npos);
+    CHECK(out.find("steps:            200 at 100 Hz") != std::string::npos);
+    CHECK(out.find("real-time factor") != std::string::npos);
+    const std::string csv = slurp(path);
+    std::istringstream lines(csv);
+    std::string header, line;
+    std::getline(lines, header);
+    CHECK(header.rfind("time,bottle0.main.x,bottle0.main.y,bottle0.main.z,bottle0.main.speed", 0) == 0);
+    CHECK(header.find("line.state.other.tokens") != std::string::npos);
+    CHECK(header.find("line.reader.on_enter") != std::string::npos);
+    int rows = 0;
+    while (std::getline(lines, line)) ++rows;
+    CHECK(rows == 201);  // t = 0 and every step
+    std::remove(path.c_str());
+}
+
+TEST_CASE("runtime: records choose the trace columns; --trace-places selects a default group") {
+    SceneBuilder b;
+    const int32_t p = b.net(0, "net", {{"p", 2}}, {});
+    const int32_t t = b.g.timers[size_t(b.timer(0, "clock", 0.1, true, true))].comp;
+    b.record(b.S(t, "tick"), "tick");
+    b.record(b.S(t, "elapsed"), "");
+    b.record(b.g.places[size_t(p)].tokens_slot, "tokens");
+    const std::string path = "/tmp/plant_runtime_test_records.csv";
+    std::string out, err;
+    CHECK(run(b.g, {"--for", "0.2s", "--rate", "10Hz", "--trace", path}, out, err) == 0);
+    std::string csv = slurp(path);
+    CHECK(csv == "time,tick,clock.elapsed,tokens\n0,0,0,2\n0.1,1,0.1,2\n0.2,1,0.2,2\n");
+    CHECK(run(b.g, {"--for", "0.1s", "--rate", "10Hz", "--trace", path, "--trace-places"}, out, err) == 0);
+    csv = slurp(path);
+    CHECK(csv == "time,net.p.tokens\n0,2\n0.1,2\n");
+    std::remove(path.c_str());
+}
