@@ -2,6 +2,8 @@
 // compared with the files beside it:
 //   NAME.graph  the compiled graph's text form (when it compiles)
 //   NAME.err    the rendered diagnostics (present exactly when there are any)
+//   NAME.trace  the runtime trace (CSV), for a case that has a NAME.run file holding
+//               the `plant run` flags to use (e.g. `--for 2s --trace-rate 10Hz`)
 // A file named fail_*.plant must produce errors, any other must not. Every graph must
 // round-trip (write -> load -> write is identical), and every registered diagnostic code
 // must appear in at least one .err file.
@@ -9,6 +11,7 @@
 //   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
 //   plant_golden --update DIR   rewrite the expected files; review with `git diff`
 #include "compiler.h"
+#include "engine/run.h"
 #include "graph/text.h"
 
 #include <algorithm>
@@ -19,6 +22,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -145,6 +149,22 @@ int main(int argc, char** argv) {
         }
         fs::path base = f;
         base.replace_extension();
+        std::string trace;
+        if (fs::exists(base.string() + ".run") && c.ok()) {
+            std::istringstream flags(read(base.string() + ".run"));
+            std::vector<std::string> args;
+            for (std::string w; flags >> w;) args.push_back(w);
+            fs::path tmp = fs::temp_directory_path() / ("plant_golden_" + std::to_string(::getpid()) + ".csv");
+            args.insert(args.end(), {"--trace", tmp.string(), "--quiet"});
+            std::ostringstream out, err;
+            if (plant::engine::run_main(c.graph, args, out, err) != 0) {
+                std::cout << "  " << f.generic_string() << ": run failed: " << err.str() << "\n";
+                ok = false;
+            }
+            trace = read(tmp);
+            fs::remove(tmp);
+        }
+        expect_file(base.string() + ".trace", trace, update, r, ok, "trace");
         expect_file(base.string() + ".graph", graph, update, r, ok, "graph");
         expect_file(base.string() + ".err", err, update, r, ok, "diagnostics");
         if (!ok) {
