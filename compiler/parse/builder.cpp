@@ -130,7 +130,7 @@ private:
 
 class Builder {
 public:
-    Builder(int32_t file, const Offsets& off) : file_(file), off_(off) {}
+    Builder(int32_t file, const Offsets& off, const std::string& text) : file_(file), off_(off), text_(text) {}
 
     Span span(antlr4::ParserRuleContext* c) const {
         if (!c || !c->start) return Span{file_, 0, 0};
@@ -330,7 +330,7 @@ public:
 
     ast::Ident ident(P::IdentContext* c) const {
         if (!c) return {};
-        return ast::Ident{c->getText(), span(c)};
+        return ast::Ident{c->getStart()->getText(), span(c)};  // one token; getText() would build a stream
     }
 
     ast::Property property(P::PropertyContext* c) {
@@ -476,7 +476,8 @@ public:
             auto e = make(ast::ExprKind::Number, c);
             e->number = x->NUMBER() ? number(x->NUMBER()->getText()) : 0.0;
             if (auto* u = x->unit()) {
-                e->text = u->getText();
+                e->text = text_.substr(off_.byte(u->getStart()->getStartIndex()),
+                                       off_.byte(u->getStop()->getStopIndex() + 1) - off_.byte(u->getStart()->getStartIndex()));
                 e->unit_span = span(u);
             }
             return e;
@@ -543,6 +544,7 @@ public:
 private:
     int32_t file_;
     const Offsets& off_;
+    const std::string& text_;
 };
 
 }  // namespace
@@ -560,15 +562,34 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     parser.removeErrorListeners();
     parser.addErrorListener(&listener);
 
+    // Two-stage parse: the fast SLL prediction almost always suffices; only when it
+    // fails is the input parsed again with full LL prediction and error recovery, so the
+    // diagnostics are the same as with LL alone.
     const int before = sink.count(Severity::Error);
-    auto* tree = parser.module();
+    plant_antlr::PlantParser::ModuleContext* tree = nullptr;
+    parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::SLL);
+    parser.removeErrorListeners();
+    parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
+    try {
+        tree = parser.module();
+    } catch (const antlr4::ParseCancellationException&) {
+        tree = nullptr;
+    }
+    if (!tree) {
+        tokens.seek(0);
+        parser.reset();
+        parser.addErrorListener(&listener);
+        parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+        parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::LL);
+        tree = parser.module();
+    }
     if (sink.count(Severity::Error) > before) {
         // The tree after recovery may be partial; only syntax errors are reported for this file.
         ast::Module empty;
         empty.file = file;
         return empty;
     }
-    Builder builder(file, offsets);
+    Builder builder(file, offsets, text);
     return builder.module(tree);
 }
 

@@ -583,30 +583,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                     if (ev_.expect_vec3(v, units::dims::length, "move"))
                         end.p += Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
                 }
-                for (const auto& r : a.rotations) {
-                    Value ang = ev_.eval(*r.angle, env);
-                    if (!ev_.expect_number(ang, units::dims::angle, "rotation angle")) continue;
-                    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-                    if (r.axis_name) {
-                        const auto& n = r.axis_name->text;
-                        if (n == "x") axis = Eigen::Vector3d::UnitX();
-                        else if (n == "y") axis = Eigen::Vector3d::UnitY();
-                        else if (n != "z") {
-                            sink_.report(DiagId::UnknownName, r.axis_name->span, fmt::format("unknown axis '{}'", n));
-                            continue;
-                        }
-                    } else if (r.axis_vec) {
-                        Value v = ev_.eval(*r.axis_vec, env);
-                        if (!ev_.expect_vec3(v, {}, "rotation axis")) continue;
-                        axis = Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
-                        if (axis.norm() < 1e-12) {
-                            sink_.report(DiagId::ZeroVector, r.axis_vec->span, "rotation axis is the zero vector");
-                            continue;
-                        }
-                        axis.normalize();
-                    }
-                    end.q = (end.q * Eigen::Quaterniond(Eigen::AngleAxisd(ang.num, axis))).normalized();
-                }
+                for (const auto& r : a.rotations) rotate(end.q, r, env);
                 if (duration < 0) {
                     sink_.report(DiagId::MissingProperty, a.name.span,
                                  fmt::format("animation '{}' needs a 'duration' (or keys)", a.name.text));

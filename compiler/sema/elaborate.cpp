@@ -211,6 +211,33 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
     }
 }
 
+bool Elaborator::rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env) {
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+    if (r.axis_name) {
+        const auto& a = r.axis_name->text;
+        if (a == "x") axis = Eigen::Vector3d::UnitX();
+        else if (a == "y") axis = Eigen::Vector3d::UnitY();
+        else if (a != "z") {
+            sink_.report(DiagId::UnknownName, r.axis_name->span,
+                         fmt::format("unknown axis '{}'; write x, y, z or a vector (x, y, z)", a));
+            return false;
+        }
+    } else if (r.axis_vec) {
+        Value v = ev_.eval(*r.axis_vec, env);
+        if (!ev_.expect_vec3(v, {}, "rotation axis")) return false;
+        axis = Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
+        if (axis.norm() < 1e-12) {
+            sink_.report(DiagId::ZeroVector, r.axis_vec->span, "rotation axis is the zero vector");
+            return false;
+        }
+        axis.normalize();
+    }
+    Value angle = ev_.eval(*r.angle, env);
+    if (!ev_.expect_number(angle, units::dims::angle, "rotation angle")) return false;
+    q = (q * Eigen::Quaterniond(Eigen::AngleAxisd(angle.num, axis))).normalized();
+    return true;
+}
+
 Frame Elaborator::placement(const ast::Placement* p, const Env& env) {
     Frame f;
     if (!p) return f;
@@ -220,32 +247,7 @@ Frame Elaborator::placement(const ast::Placement* p, const Env& env) {
             f.p = Eigen::Vector3d(at.items[0].num, at.items[1].num, at.items[2].num);
     }
     // Rotations are intrinsic: each turns about the axes left by the previous ones.
-    for (const auto& r : p->rotations) {
-        Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-        if (r.axis_name) {
-            const auto& a = r.axis_name->text;
-            if (a == "x") axis = Eigen::Vector3d::UnitX();
-            else if (a == "y") axis = Eigen::Vector3d::UnitY();
-            else if (a == "z") axis = Eigen::Vector3d::UnitZ();
-            else {
-                sink_.report(DiagId::UnknownName, r.axis_name->span,
-                             fmt::format("unknown axis '{}'; write x, y, z or a vector (x, y, z)", a));
-                continue;
-            }
-        } else if (r.axis_vec) {
-            Value v = ev_.eval(*r.axis_vec, env);
-            if (!ev_.expect_vec3(v, {}, "rotation axis")) continue;
-            axis = Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
-            if (axis.norm() < 1e-12) {
-                sink_.report(DiagId::ZeroVector, r.axis_vec->span, "rotation axis is the zero vector");
-                continue;
-            }
-            axis.normalize();
-        }
-        Value angle = ev_.eval(*r.angle, env);
-        if (!ev_.expect_number(angle, units::dims::angle, "rotation angle")) continue;
-        f.q = (f.q * Eigen::Quaterniond(Eigen::AngleAxisd(angle.num, axis))).normalized();
-    }
+    for (const auto& r : p->rotations) rotate(f.q, r, env);
     return f;
 }
 

@@ -100,6 +100,7 @@ public:
                 std::vector<Item>& out, int depth);
     bool declare(Scope& s, const std::string& name, Span span);
     Frame placement(const ast::Placement* p, const Env& env);
+    bool rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env);  // q := q * rotation
     graph::Src src(Span s);
     graph::Name name(std::string_view s) { return g_.intern(s); }
 

@@ -15,9 +15,14 @@ Name Graph::intern(std::string_view s) {
         for (size_t i = 0; i < names.size(); ++i)
             index_.emplace(names[i], static_cast<int32_t>(i));
     }
-    auto [it, added] = index_.emplace(std::string(s), static_cast<int32_t>(names.size()));
-    if (added) names.emplace_back(s);
-    return Name{it->second};
+    // Looking up first: almost every name is already there, and emplace would build a
+    // string and a node for nothing.
+    thread_local std::string key;
+    key.assign(s);
+    if (auto it = index_.find(key); it != index_.end()) return Name{it->second};
+    index_.emplace(key, static_cast<int32_t>(names.size()));
+    names.emplace_back(s);
+    return Name{static_cast<int32_t>(names.size()) - 1};
 }
 
 namespace {
