@@ -220,7 +220,7 @@ Result run_ours(const plant::graph::Graph& g, const std::vector<int32_t>& bottle
         auto v = e.body_velocity(b);
         auto p = e.body_com(b);
         auto q = e.body_pose(b).q;
-        btQuaternion bq(btScalar(q[0]), btScalar(q[1]), btScalar(q[2]), btScalar(q[3]));
+        const btQuaternion bq{btScalar(q[0]), btScalar(q[1]), btScalar(q[2]), btScalar(q[3])};
         vel.emplace_back(btScalar(v[0]), btScalar(v[1]), btScalar(v[2]));
         com.emplace_back(btScalar(p[0]), btScalar(p[1]), btScalar(p[2]));
         axis.push_back(btMatrix3x3(bq).getColumn(2));
@@ -313,7 +313,7 @@ struct RawWorld {
         mass = s.mass;
         const double m = s.mass, rr = s.radius, h = s.height;
         const double side = m * (3 * rr * rr + h * h) / 12.0;  // solid_cylinder, axis z
-        const btVector3 inertia(btScalar(side), btScalar(side), btScalar(m * rr * rr / 2.0));
+        const btVector3 inertia{btScalar(side), btScalar(side), btScalar(m * rr * rr / 2.0)};
         for (int i = 0; i < s.n; ++i) {
             btRigidBody::btRigidBodyConstructionInfo ci(btScalar(m), nullptr, bottle_shape.get(), inertia);
             ci.m_startWorldTransform.setIdentity();

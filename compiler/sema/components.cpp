@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <fmt/format.h>
 
 namespace plant::sema {
@@ -576,21 +577,36 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 }
                 if (duration < 0) duration = std::max(0.0, last);
             } else {
-                // rotate/move: from the start pose to the moved pose over the duration.
-                Frame end;
+                // rotate/move: from the start pose to the moved pose over the duration. A
+                // turn of 90 deg or more gets intermediate keys, so that interpolating
+                // between keys (the short way) still turns the whole angle.
+                Eigen::Vector3d move = Eigen::Vector3d::Zero();
                 for (const auto& m : a.moves) {
                     Value v = ev_.eval(*m, env);
                     if (ev_.expect_vec3(v, units::dims::length, "move"))
-                        end.p += Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
+                        move += Eigen::Vector3d(v.items[0].num, v.items[1].num, v.items[2].num);
                 }
-                for (const auto& r : a.rotations) rotate(end.q, r, env);
+                double largest = 0;
+                Eigen::Quaterniond probe = Eigen::Quaterniond::Identity();
+                for (const auto& r : a.rotations) {
+                    double angle = 0;
+                    rotate(probe, r, env, 1.0, &angle);
+                    largest = std::max(largest, std::abs(angle));
+                }
                 if (duration < 0) {
                     sink_.report(DiagId::MissingProperty, a.name.span,
                                  fmt::format("animation '{}' needs a 'duration' (or keys)", a.name.text));
                     duration = 0;
                 }
+                const int pieces = std::max(1, static_cast<int>(std::ceil(largest / (std::numbers::pi / 2) - 1e-9)));
                 g_.keys.push_back({0.0, Frame{}.pose()});
-                g_.keys.push_back({duration, end.pose()});
+                for (int i = 1; i <= pieces; ++i) {
+                    const double share = static_cast<double>(i) / pieces;
+                    Frame k;
+                    k.p = move * share;
+                    for (const auto& r : a.rotations) rotate(k.q, r, env, share);
+                    g_.keys.push_back({duration * share, k.pose()});
+                }
             }
             an.duration = duration;
             an.key_num = static_cast<int32_t>(g_.keys.size()) - an.key_adr;

@@ -211,7 +211,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
     }
 }
 
-bool Elaborator::rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env) {
+bool Elaborator::rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env, double share, double* angle_out) {
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
     if (r.axis_name) {
         const auto& a = r.axis_name->text;
@@ -234,7 +234,8 @@ bool Elaborator::rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env
     }
     Value angle = ev_.eval(*r.angle, env);
     if (!ev_.expect_number(angle, units::dims::angle, "rotation angle")) return false;
-    q = (q * Eigen::Quaterniond(Eigen::AngleAxisd(angle.num, axis))).normalized();
+    if (angle_out) *angle_out = angle.num;
+    q = (q * Eigen::Quaterniond(Eigen::AngleAxisd(angle.num * share, axis))).normalized();
     return true;
 }
 

@@ -100,7 +100,9 @@ public:
                 std::vector<Item>& out, int depth);
     bool declare(Scope& s, const std::string& name, Span span);
     Frame placement(const ast::Placement* p, const Env& env);
-    bool rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env);  // q := q * rotation
+    // q := q * (the rotation, its angle scaled by share); the full angle in *angle_out.
+    bool rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env, double share = 1.0,
+                double* angle_out = nullptr);
     graph::Src src(Span s);
     graph::Name name(std::string_view s) { return g_.intern(s); }
 
