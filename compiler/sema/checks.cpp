@@ -7,6 +7,7 @@
 #include "petri/analysis.h"
 
 #include <fmt/format.h>
+#include <tuple>
 
 namespace plant::sema {
 
@@ -56,7 +57,7 @@ void Elaborator::check_petri_nets() {
     for (size_t p = 0; p < g_.places.size(); ++p) places_of[static_cast<size_t>(g_.places[p].comp)].push_back(static_cast<int32_t>(p));
     for (size_t t = 0; t < g_.transitions.size(); ++t)
         transitions_of[static_cast<size_t>(g_.transitions[t].comp)].push_back(static_cast<int32_t>(t));
-    std::set<std::pair<uint32_t, std::string>> reported;  // one analysis per declaration and marking
+    std::set<std::tuple<int32_t, uint32_t, std::string>> reported;  // one analysis per declaration and marking
     for (size_t c = 0; c < g_.comps.size(); ++c) {
         if (g_.comps[c].kind != CompKind::State || places_of[c].empty()) continue;
         petri::Net net;
@@ -84,7 +85,8 @@ void Elaborator::check_petri_nets() {
         // Instances of one type with the same marking and feeding give the same answer.
         std::string sig;
         for (size_t i = 0; i < net.initial.size(); ++i) sig += fmt::format("{}{},", net.initial[i], net.fed[i] ? "f" : "");
-        if (!reported.insert({comp_spans_[static_cast<int32_t>(c)].begin + (static_cast<uint32_t>(comp_spans_[static_cast<int32_t>(c)].file) << 24), sig}).second)
+        const Span decl = comp_spans_[static_cast<int32_t>(c)];
+        if (!reported.insert({decl.file, decl.begin, sig}).second)
             continue;
         petri::Report rep = petri::analyse(net);
         const std::string net_name(g_.str(g_.comps[c].name));

@@ -366,7 +366,6 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     }
     case CompKind::State: {
         std::map<std::string, int32_t> place_ids;
-        int32_t first_place = static_cast<int32_t>(g_.places.size());
         for (const auto& p : c.places) {
             if (place_ids.count(p.name.text)) {
                 sink_.report(DiagId::DuplicateName, p.name.span, fmt::format("place '{}' is declared twice", p.name.text));
@@ -435,7 +434,6 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             transition_spans_[static_cast<int32_t>(g_.transitions.size())] = t.name.span;
             g_.transitions.push_back(tr);
         }
-        (void)first_place;
         break;
     }
     case CompKind::Trigger: {

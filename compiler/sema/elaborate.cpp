@@ -49,7 +49,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     library_mode_ = true;
     int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
     type_stack_.push_back(o.name.text);
-    elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}, prog_.root));
+    elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}));
     finish_accesses();
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
@@ -253,7 +253,7 @@ Frame Elaborator::placement(const ast::Placement* p, const Env& env) {
 }
 
 std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, const std::vector<ast::Arg>& args,
-                                                 Span call_span, const Env& caller_env, int module) {
+                                                 Span call_span, const Env& caller_env) {
     auto env = std::make_shared<Env>();
     std::vector<const ast::Arg*> given(decl.params.size(), nullptr);
     size_t positional = 0;
@@ -335,7 +335,6 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
         if (ok) env->set(p.name.text, v);
         else env->set(p.name.text, Value{});
     }
-    (void)module;
     return env;
 }
 
@@ -408,7 +407,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             continue;
         }
         auto child_env = bind_args(*type, inst->args, inst->args.empty() ? inst->type.span : inst->args_span,
-                                   *it.env, module);
+                                   *it.env);
         Frame f = scopes_[static_cast<size_t>(do_id)].frame *
                   placement(inst->placement ? &*inst->placement : nullptr, *it.env);
         const std::string& parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
@@ -458,7 +457,7 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         }
         static const std::vector<ast::Arg> no_args;
         const auto& args = v.call && v.call->kind == ast::ExprKind::Call ? v.call->args : no_args;
-        auto env = bind_args(*type, args, v.span, *it.env, type_module);
+        auto env = bind_args(*type, args, v.span, *it.env);
         Frame at;
         const auto& sp = src_rec.pose;
         at.p = Eigen::Vector3d(sp.p[0], sp.p[1], sp.p[2]);

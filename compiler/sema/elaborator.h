@@ -94,7 +94,7 @@ public:
     int32_t new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span src);
     int32_t do_type(const std::string& name, Span src);
     std::shared_ptr<const Env> bind_args(const ast::ObjectDecl& decl, const std::vector<ast::Arg>& args,
-                                         Span call_span, const Env& caller_env, int module);
+                                         Span call_span, const Env& caller_env);
     const ast::ObjectDecl* find_type(const std::string& name, int module, Span use, int* type_module);
     void expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                 std::vector<Item>& out, int depth);
@@ -120,7 +120,8 @@ public:
     void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);
     void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
-    void emit_flow(const Endpoint& from, const Endpoint& to, graph::Cond cond, bool once, Span span);
+    void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
+                   int32_t to_access, graph::Cond cond, bool once, Span span);
     void finish_accesses();
     std::optional<std::pair<graph::SlotType, graph::Dir>> probe_member(const std::string& type_name, const ast::Path& member,
                                                                         bool& reported);

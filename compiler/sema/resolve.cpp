@@ -214,15 +214,16 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
     scopes_[static_cast<size_t>(s.do_id)].ports[p.name.text] = std::move(info);
 }
 
-void Elaborator::emit_flow(const Endpoint& from, const Endpoint& to, graph::Cond cond, bool once, Span span) {
-    // Static ends only; dynamic ones are emitted by finish_accesses.
-    for (int32_t f : from.slots)
-        for (int32_t t : to.slots) {
+void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
+                           int32_t to_access, graph::Cond cond, bool once, Span span) {
+    // One flow per pair of ends: an input port may stand for several inner inputs.
+    for (int32_t f : from)
+        for (int32_t t : to) {
             graph::Flow fl;
             fl.from = f;
             fl.to = t;
-            fl.from_access = -1;
-            fl.to_access = -1;
+            fl.from_access = from_access;
+            fl.to_access = to_access;
             fl.cond = cond;
             fl.once = once;
             fl.src = src(span);
@@ -266,7 +267,7 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
                                  from.text, graph::word(to.type), to.text));
         return;
     }
-    emit_flow(from, to, cond, f.once, f.span);
+    emit_flow(from.slots, to.slots, -1, -1, cond, f.once, f.span);
 }
 
 void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
@@ -285,9 +286,8 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
                                      with_article(graph::word(e.type)), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
             continue;
         }
-        Endpoint in;
-        in.slots = {g_.logic_inputs[static_cast<size_t>(lg.in_adr) + i].slot};
-        emit_flow(e, in, graph::Cond::Source, false, l.terms[i].span);
+        emit_flow(e.slots, {g_.logic_inputs[static_cast<size_t>(lg.in_adr) + i].slot}, -1, -1, graph::Cond::Source,
+                  false, l.terms[i].span);
     }
 }
 
@@ -339,7 +339,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
     proto.library_mode_ = true;
     int32_t root = proto.new_do("", -1, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
     proto.type_stack_.push_back(type_name);
-    proto.elaborate_do(root, decl, it->second.first, proto.bind_args(decl, {}, decl.name.span, Env{}, it->second.first));
+    proto.elaborate_do(root, decl, it->second.first, proto.bind_args(decl, {}, decl.name.span, Env{}));
     const int before = sink_.count(Severity::Error);
     Endpoint m = proto.resolve(root, member, Env{});
     if (!m.ok || m.slots.size() != 1) {
@@ -444,18 +444,10 @@ void Elaborator::finish_accesses() {
                                      pf.from.text, graph::word(types[1]), pf.to.text));
             continue;
         }
-        for (int32_t f : pf.from.ref_slot >= 0 ? std::vector<int32_t>{pf.from.ref_slot} : pf.from.slots)
-            for (int32_t t : pf.to.ref_slot >= 0 ? std::vector<int32_t>{pf.to.ref_slot} : pf.to.slots) {
-                graph::Flow fl;
-                fl.from = f;
-                fl.to = t;
-                fl.from_access = access_ids[0];
-                fl.to_access = access_ids[1];
-                fl.cond = pf.cond;
-                fl.once = pf.decl->once;
-                fl.src = src(pf.decl->span);
-                g_.flows.push_back(fl);
-            }
+        // A dynamic end is carried by its ref slot; the access names the member.
+        emit_flow(pf.from.ref_slot >= 0 ? std::vector<int32_t>{pf.from.ref_slot} : pf.from.slots,
+                  pf.to.ref_slot >= 0 ? std::vector<int32_t>{pf.to.ref_slot} : pf.to.slots, access_ids[0], access_ids[1],
+                  pf.cond, pf.decl->once, pf.decl->span);
     }
 }
 
