@@ -118,6 +118,8 @@ public:
     Endpoint resolve(int32_t scope_do, const ast::Path& path, const Env& env);
     void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
     void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);
+    bool flow_ends_fit(const Endpoint& from, graph::Dir from_dir, graph::SlotType from_type, const Endpoint& to,
+                       graph::Dir to_dir, graph::SlotType to_type);
     void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
     void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,

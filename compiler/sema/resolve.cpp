@@ -231,6 +231,28 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
         }
 }
 
+// A flow runs from an output to an input of the same type; otherwise one diagnostic.
+bool Elaborator::flow_ends_fit(const Endpoint& from, Dir from_dir, SlotType from_type, const Endpoint& to, Dir to_dir,
+                               SlotType to_type) {
+    if (from_dir != Dir::Out) {
+        auto& d = sink_.report(DiagId::DirectionMismatch, from.span,
+                               fmt::format("a flow starts at an output, but '{}' is an input", from.text));
+        if (to_dir == Dir::Out) d.notes.push_back({to.span, "and its target is an output: swap the two ends?"});
+        return false;
+    }
+    if (to_dir != Dir::In) {
+        sink_.report(DiagId::DirectionMismatch, to.span, fmt::format("a flow ends at an input, but '{}' is an output", to.text));
+        return false;
+    }
+    if (from_type != to_type) {
+        sink_.report(DiagId::SlotTypeMismatch, to.span,
+                     fmt::format("slot types differ: '{}' output '{}' cannot drive '{}' input '{}'", graph::word(from_type),
+                                 from.text, graph::word(to_type), to.text));
+        return false;
+    }
+    return true;
+}
+
 void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do) {
     graph::Cond cond = graph::Cond::Source;
     if (f.condition && !graph::parse_word(f.condition->text, cond)) {
@@ -250,23 +272,7 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
         pending_.push_back({&f, std::move(from), std::move(to), cond});
         return;
     }
-    if (from.dir != Dir::Out) {
-        auto& d = sink_.report(DiagId::DirectionMismatch, f.from.span,
-                               fmt::format("a flow starts at an output, but '{}' is an input", from.text));
-        if (to.dir == Dir::Out) d.notes.push_back({f.to.span, "and its target is an output: swap the two ends?"});
-        return;
-    }
-    if (to.dir != Dir::In) {
-        sink_.report(DiagId::DirectionMismatch, f.to.span,
-                     fmt::format("a flow ends at an input, but '{}' is an output", to.text));
-        return;
-    }
-    if (from.type != to.type) {
-        sink_.report(DiagId::SlotTypeMismatch, f.to.span,
-                     fmt::format("slot types differ: '{}' output '{}' cannot drive '{}' input '{}'", graph::word(from.type),
-                                 from.text, graph::word(to.type), to.text));
-        return;
-    }
+    if (!flow_ends_fit(from, from.dir, from.type, to, to.dir, to.type)) return;
     emit_flow(from.slots, to.slots, -1, -1, cond, f.once, f.span);
 }
 
@@ -428,22 +434,7 @@ void Elaborator::finish_accesses() {
             }
         }
         if (!ok) continue;
-        if (dirs[0] != Dir::Out) {
-            sink_.report(DiagId::DirectionMismatch, pf.from.span,
-                         fmt::format("a flow starts at an output, but '{}' is an input", pf.from.text));
-            continue;
-        }
-        if (dirs[1] != Dir::In) {
-            sink_.report(DiagId::DirectionMismatch, pf.to.span,
-                         fmt::format("a flow ends at an input, but '{}' is an output", pf.to.text));
-            continue;
-        }
-        if (types[0] != types[1]) {
-            sink_.report(DiagId::SlotTypeMismatch, pf.to.span,
-                         fmt::format("slot types differ: '{}' output '{}' cannot drive '{}' input '{}'", graph::word(types[0]),
-                                     pf.from.text, graph::word(types[1]), pf.to.text));
-            continue;
-        }
+        if (!flow_ends_fit(pf.from, dirs[0], types[0], pf.to, dirs[1], types[1])) continue;
         // A dynamic end is carried by its ref slot; the access names the member.
         emit_flow(pf.from.ref_slot >= 0 ? std::vector<int32_t>{pf.from.ref_slot} : pf.from.slots,
                   pf.to.ref_slot >= 0 ? std::vector<int32_t>{pf.to.ref_slot} : pf.to.slots, access_ids[0], access_ids[1],
