@@ -1,4 +1,5 @@
 // Compiles plant source text from a test: writes it to a temporary file first.
+// ctest runs test cases as parallel processes, so each process gets its own folder.
 #pragma once
 
 #include "compiler.h"
@@ -7,12 +8,28 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace plant::test {
 
+// This process's scratch folder, removed when the process exits.
+inline const std::filesystem::path& scratch_dir() {
+    struct Scratch {
+        std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("plant_unit_tests_" + std::to_string(::getpid()));
+        Scratch() { std::filesystem::create_directories(dir); }
+        ~Scratch() {
+            std::error_code ec;
+            std::filesystem::remove_all(dir, ec);
+        }
+    };
+    static const Scratch scratch;
+    return scratch.dir;
+}
+
 inline std::string temp_plant(const std::string& name, const std::string& text) {
-    auto dir = std::filesystem::temp_directory_path() / "plant_unit_tests";
-    std::filesystem::create_directories(dir);
-    auto path = dir / name;
+    auto path = scratch_dir() / name;
+    std::filesystem::create_directories(path.parent_path());
     std::ofstream(path) << text;
     return path.string();
 }

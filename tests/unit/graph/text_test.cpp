@@ -15,6 +15,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <unistd.h>
+
 using namespace plant::graph;
 
 namespace {
@@ -326,7 +328,7 @@ TEST_CASE("comments, blank lines and CRLF are accepted") {
 }
 
 TEST_CASE("load_text_file") {
-    auto path = std::filesystem::temp_directory_path() / "plant_text_test.graph";
+    auto path = std::filesystem::temp_directory_path() / ("plant_text_test_" + std::to_string(::getpid()) + ".graph");
     {
         std::ofstream out(path, std::ios::binary);
         write_text(full_graph(), out);
