@@ -44,6 +44,11 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
                                                        solver_.get(), config_.get());
     world_->setGravity(to_bt(g.settings.gravity));
     world_->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
+    // Contact normals between boxes and hulls from the separating-axis test on their
+    // polyhedra (see shapes.cpp), not from GJK/EPA: EPA's normals for a bottle sliding
+    // over a belt's band are tilted now and then, and each tilted normal kicks the bottle
+    // (single-body bottles on a running belt fell over within seconds; docs/runtime.md).
+    world_->getDispatchInfo().m_enableSatConvex = true;
 
     const size_t nb = g.bodies.size();
     local_.resize(nb);

@@ -57,7 +57,12 @@ btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
     const btScalar r = btScalar(s.size[0]), h = btScalar(s.size[1]);
     std::unique_ptr<btCollisionShape> shape;
     switch (s.kind) {
-    case ShapeKind::Box: shape = std::make_unique<btBoxShape>(to_bt(s.size) * btScalar(0.5)); break;
+    case ShapeKind::Box: {
+        auto box = std::make_unique<btBoxShape>(to_bt(s.size) * btScalar(0.5));
+        box->initializePolyhedralFeatures();  // exact contact manifolds: see Physics()
+        shape = std::move(box);
+        break;
+    }
     case ShapeKind::Sphere: shape = std::make_unique<btSphereShape>(r); break;
     case ShapeKind::Cylinder: shape = std::make_unique<btCylinderShapeZ>(btVector3(r, r, h / 2)); break;
     // The graph gives a capsule's total height; Bullet wants the distance between its caps.
@@ -68,6 +73,7 @@ btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
         hull->optimizeConvexHull();
         hull->setMargin(btScalar(kHullMargin));  // before the AABB: see PLATFORM.md
         hull->recalcLocalAabb();
+        hull->initializePolyhedralFeatures();
         shape = std::move(hull);
         break;
     }
