@@ -1,0 +1,74 @@
+// std.belts and std.bottle, compiled from the standard library and run on Bullet.
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+using namespace plant::test;
+using plant::engine::Engine;
+
+namespace {
+
+// The angle between a body's z axis and the vertical, in degrees.
+double tilt_deg(const plant::graph::Quat& q) {
+    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
+    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// Bodies whose component path ends with `suffix` (e.g. ".main"), in graph order.
+std::vector<int32_t> bodies_named(const plant::graph::Graph& g, std::string_view suffix) {
+    std::vector<int32_t> out;
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        if (g.comp_path(g.bodies[b].comp).ends_with(suffix)) out.push_back(int32_t(b));
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("std.belts: bottles cross belt joints and a left and a right curve upright, inside the rails") {
+    // Belt, left curve, belt, right curve, belt: the track ends 1.6 m to the left of
+    // where it started, heading +x again.
+    plant::Compilation c;
+    compile_text(R"(
+import std.belts
+import std.bottle
+plant Track {
+    b1: Belt(length = 1 m)
+    c1: Curve(radius = 30 cm, left = true) at (1 m, 0 m, 0 m)
+    b2: Belt(length = 1 m) at (1.3 m, 30 cm, 0 m) rotate z by 90 deg
+    c2: Curve(radius = 30 cm, left = false) at (1.3 m, 1.3 m, 0 m) rotate z by 90 deg
+    b3: Belt(length = 2 m) at (1.6 m, 1.6 m, 0 m)
+    for i in 0 .. 6 {
+        bottle[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
+    }
+}
+)",
+                 c, "track.plant");
+    REQUIRE(c.ok());
+    const std::vector<int32_t> bottles = bodies_named(c.graph, ".main");
+    REQUIRE(bottles.size() == 6);
+    Engine e(c.graph);
+    double worst_tilt = 0;
+    for (int i = 0; i < 150 * 7; ++i) {  // 7 s: every bottle is on b3 by then
+        e.step();
+        for (int32_t b : bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+    }
+    CHECK(worst_tilt < 5);
+    CHECK(e.warnings().total() == 0);
+    for (int32_t b : bottles) {
+        CAPTURE(b);
+        const auto p = e.body_pose(b).p;
+        const auto v = e.body_velocity(b);
+        // On b3, between its rails (centre line y = 1.6 m, 8 cm wide), at belt speed.
+        CHECK(p[0] > 1.6);
+        CHECK(p[0] < 3.6);
+        CHECK(std::abs(p[1] - 1.6) < 0.02 + 0.001);
+        CHECK(std::abs(v[0] - 0.5) < 0.01);
+    }
+}
