@@ -116,6 +116,7 @@ void phase_actuators(Runtime& r) {
     State& s = r.st;
     s.comp_list.clear();
     for (int32_t x : s.in_list) {
+        if (!r.tab.slot_acts[x]) continue;
         const int32_t c = r.g.slots[x].comp;
         if (s.comp_mark[c]) continue;
         s.comp_mark[c] = 1;

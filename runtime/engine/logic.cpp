@@ -128,6 +128,9 @@ void phase_logic(Runtime& r) {
     for (const Op& op : r.sched.ops) {
         switch (op.kind) {
         case OpKind::Flow: run_flow(r, op.index, false); break;
+        case OpKind::Pulse:
+            if (s.act[op.from]) r.activate(op.to);
+            break;
         case OpKind::Logic: run_connector(r, op.index); break;
         case OpKind::Router: run_router(r, op.index); break;
         case OpKind::Label: run_label(r, op.index); break;

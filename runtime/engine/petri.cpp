@@ -43,8 +43,8 @@ void phase_petri(Runtime& r) {
     if (g.places.empty()) return;
 
     for (int32_t x : s.in_list) {
-        const int32_t p = r.tab.slot_aux[x];
-        if (p < 0 || g.places[p].put_slot != x) continue;
+        const int32_t p = r.tab.put_place[x];
+        if (p < 0) continue;
         s.tokens[p] += 1;
         touch(s, p);
         s.net_live[r.tab.place_net[p]] = 1;
@@ -85,11 +85,11 @@ void phase_petri(Runtime& r) {
     }
     for (size_t i = 0; i < s.places_touched.size(); ++i) {
         const int32_t p = s.places_touched[i];
-        const Place& pl = g.places[p];
         const int32_t before = s.tokens[p] - (i < puts ? 1 : 0);
         const int32_t after = std::max(0, s.tokens[p] - s.consume[p]) + s.produce[p];
-        if ((i < puts || s.produce[p] > 0) && pl.entered_slot >= 0) r.activate(pl.entered_slot);
-        if (after != before && pl.tokens_slot >= 0) r.emit(pl.tokens_slot, after);
+        const int32_t entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
+        if ((i < puts || s.produce[p] > 0) && entered >= 0) r.activate(entered);
+        if (after != before && tokens >= 0) r.emit(tokens, after);
         s.tokens[p] = after;
         s.consume[p] = s.produce[p] = 0;
         s.place_mark[p] = 0;

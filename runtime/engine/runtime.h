@@ -28,8 +28,8 @@ struct Runtime {
     Runtime(const graph::Graph& graph, const Options& opt);
 
     std::string_view str(int32_t name) const;
-    double* val(int32_t slot) { return st.values.data() + g.slots[slot].value_adr; }
-    const double* val(int32_t slot) const { return st.values.data() + g.slots[slot].value_adr; }
+    double* val(int32_t slot) { return st.values.data() + tab.value_adr[slot]; }
+    const double* val(int32_t slot) const { return st.values.data() + tab.value_adr[slot]; }
 
     // Marks a slot active for this step; each slot enters its list at most once.
     void activate(int32_t slot) {

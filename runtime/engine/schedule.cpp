@@ -60,6 +60,7 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
         const Op& op = nodes[n];
         const int32_t id = int32_t(n);
         switch (op.kind) {
+        case OpKind::Pulse:  // made from flows after ordering
         case OpKind::Flow: {
             const Flow& f = g.flows[op.index];
             for (int32_t x : end_slots(g, f.to, f.to_access, false)) {
@@ -146,6 +147,12 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
         else s.ops.push_back(nodes[cut]);
         release(cut);
         ++done;
+    }
+    for (Op& op : s.ops) {
+        if (op.kind != OpKind::Flow) continue;
+        const FlowOp& f = s.flows[op.index];
+        if (f.from_access >= 0 || f.to_access >= 0 || f.cond != Cond::Source || f.once || f.width > 0) continue;
+        op = {OpKind::Pulse, op.index, f.from, f.to};
     }
     return s;
 }

@@ -26,11 +26,14 @@ struct FlowOp {
     bool once = false;
 };
 
-enum class OpKind : uint8_t { Flow, Logic, Router, Label };
+// Pulse: a static flow that runs whenever its source is active (condition `source`, not
+// `once`) and carries no value — most flows; the logic phase runs it from the Op alone.
+enum class OpKind : uint8_t { Flow, Pulse, Logic, Router, Label };
 
 struct Op {
     OpKind kind;
-    int32_t index;  // flow id, logic id, router comp id, label id
+    int32_t index;          // flow id, logic id, router comp id, label id
+    int32_t from = -1, to = -1;  // a Pulse's slots
 };
 
 struct Schedule {

@@ -66,17 +66,20 @@ void run_timers(Runtime& r) {
     for (size_t i = 0; i < r.g.timers.size(); ++i) {
         TimerState& ts = r.st.timers[i];
         if (!ts.running) continue;
-        const Timer& tm = r.g.timers[i];
+        const int32_t s0 = r.tab.timer_slots[i];
         ts.n++;
         const double elapsed = double(ts.n) * r.dt;
-        r.emit(r.comp_slot(tm.comp, timerslot::elapsed), elapsed);
+        // Only a read or watched `elapsed` is made active: most timers just tick.
+        if (r.st.watched[s0 + timerslot::elapsed]) r.emit(s0 + timerslot::elapsed, elapsed);
+        else *r.val(s0 + timerslot::elapsed) = elapsed;
         if (elapsed + 1e-9 < ts.deadline) continue;
-        r.activate(r.comp_slot(tm.comp, timerslot::tick));
+        r.activate(s0 + timerslot::tick);
+        const Timer& tm = r.g.timers[i];
         if (tm.periodic) {
             ts.deadline += tm.period;
         } else {
             ts.running = false;
-            r.emit(r.comp_slot(tm.comp, timerslot::running), 0);
+            r.emit(s0 + timerslot::running, 0);
         }
     }
 }

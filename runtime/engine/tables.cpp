@@ -39,13 +39,28 @@ btTransform relative(const Pose& frame, const Pose& thing) { return to_bt(pmul(p
 Tables::Tables(const Graph& g) {
     const size_t ndo = g.dos.size();
     slot_out.resize(g.slots.size());
+    value_adr.resize(g.slots.size());
+    for (size_t s = 0; s < g.slots.size(); ++s) value_adr[s] = g.slots[s].value_adr;
+    for (const Timer& t : g.timers) timer_slots.push_back(g.comps[t.comp].slot_adr);
     for (size_t s = 0; s < g.slots.size(); ++s) slot_out[s] = g.slots[s].dir == Dir::Out;
+    // State, logic, router and label inputs are read by phases 3 and 4; the rest act.
+    slot_acts.resize(g.slots.size());
+    for (size_t s = 0; s < g.slots.size(); ++s) {
+        const CompKind k = g.comps[g.slots[s].comp].kind;
+        slot_acts[s] = !slot_out[s] && k != CompKind::State && k != CompKind::Logic && k != CompKind::Router &&
+                       k != CompKind::Label;
+    }
 
     slot_aux.assign(g.slots.size(), -1);
     auto set_aux = [&](int32_t slot, size_t i) {
         if (slot >= 0 && size_t(slot) < slot_aux.size()) slot_aux[slot] = int32_t(i);
     };
-    for (size_t i = 0; i < g.places.size(); ++i) set_aux(g.places[i].put_slot, i);
+    put_place.assign(g.slots.size(), -1);
+    for (size_t i = 0; i < g.places.size(); ++i) {
+        if (g.places[i].put_slot >= 0) put_place[g.places[i].put_slot] = int32_t(i);
+        place_entered.push_back(g.places[i].entered_slot);
+        place_tokens.push_back(g.places[i].tokens_slot);
+    }
     for (size_t i = 0; i < g.animations.size(); ++i) set_aux(g.animations[i].play_slot, i);
     for (size_t i = 0; i < g.variants.size(); ++i) set_aux(g.variants[i].select_slot, i);
 

@@ -23,9 +23,14 @@ struct Csr {
 
 struct Tables {
     std::vector<uint8_t> slot_out;  // 1 for outputs
-    // Dynamic slots: the place of a put slot, the animation of a play slot, the
-    // variant of a select slot; -1 for every other slot.
+    std::vector<int32_t> value_adr; // Slot::value_adr, packed: the hot lookup of every step
+    std::vector<int32_t> timer_slots; // first slot of each timer's component
+    std::vector<uint8_t> slot_acts; // 1 for inputs of components that act in phase 5
+    // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
+    // every other slot.
     std::vector<int32_t> slot_aux;
+    std::vector<int32_t> put_place;  // per slot: the place whose put input it is, -1
+    std::vector<int32_t> place_entered, place_tokens;  // per place: its output slots, -1
 
     std::vector<int32_t> body_do;   // owner DO of each body
     std::vector<int32_t> dyn_bodies;  // bodies declared dynamic: what fields and triggers see
