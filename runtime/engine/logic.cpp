@@ -129,7 +129,7 @@ void phase_logic(Runtime& r) {
         switch (op.kind) {
         case OpKind::Flow: run_flow(r, op.index, false); break;
         case OpKind::Pulse:
-            if (s.act[op.from]) r.activate(op.to);
+            if (s.act[op.from]) r.activate_in(op.to);  // flows end at inputs
             break;
         case OpKind::Logic: run_connector(r, op.index); break;
         case OpKind::Router: run_router(r, op.index); break;

@@ -81,14 +81,14 @@ void phase_petri(Runtime& r) {
             s.produce[a.place] += a.weight;
             touch(s, a.place);
         }
-        if (tr.fired_slot >= 0) r.activate(tr.fired_slot);
+        if (tr.fired_slot >= 0) r.activate_out(tr.fired_slot);
     }
     for (size_t i = 0; i < s.places_touched.size(); ++i) {
         const int32_t p = s.places_touched[i];
         const int32_t before = s.tokens[p] - (i < puts ? 1 : 0);
         const int32_t after = std::max(0, s.tokens[p] - s.consume[p]) + s.produce[p];
         const int32_t entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
-        if ((i < puts || s.produce[p] > 0) && entered >= 0) r.activate(entered);
+        if ((i < puts || s.produce[p] > 0) && entered >= 0) r.activate_out(entered);
         if (after != before && tokens >= 0) r.emit(tokens, after);
         s.tokens[p] = after;
         s.consume[p] = s.produce[p] = 0;

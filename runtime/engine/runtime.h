@@ -37,6 +37,17 @@ struct Runtime {
         st.act[slot] = 1;
         (tab.slot_out[slot] ? st.out_list : st.in_list).push_back(slot);
     }
+    // The same, for a slot whose direction the caller knows (hot paths).
+    void activate_in(int32_t slot) {
+        if (st.act[slot]) return;
+        st.act[slot] = 1;
+        st.in_list.push_back(slot);
+    }
+    void activate_out(int32_t slot) {
+        if (st.act[slot]) return;
+        st.act[slot] = 1;
+        st.out_list.push_back(slot);
+    }
     // Writes an output's value and makes it active.
     void emit(int32_t slot, double v) {
         *val(slot) = v;

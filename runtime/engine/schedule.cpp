@@ -151,7 +151,9 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
     for (Op& op : s.ops) {
         if (op.kind != OpKind::Flow) continue;
         const FlowOp& f = s.flows[op.index];
-        if (f.from_access >= 0 || f.to_access >= 0 || f.cond != Cond::Source || f.once || f.width > 0) continue;
+        if (f.from_access >= 0 || f.to_access >= 0 || f.cond != Cond::Source || f.once || f.width > 0 ||
+            t.slot_out[f.to])
+            continue;
         op = {OpKind::Pulse, op.index, f.from, f.to};
     }
     return s;
