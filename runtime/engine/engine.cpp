@@ -146,6 +146,13 @@ bool Engine::body_in_world(int32_t b) const { return rt_->phys.in_world(b); }
 int32_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
 Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }
 int64_t Engine::trigger_enters(int32_t t) const { return rt_->st.triggers[t].enters; }
+int64_t Engine::issued(int32_t src) const { return rt_->st.sources[src].issued; }
+int64_t Engine::taken(int32_t exit) const { return rt_->st.exit_count[exit]; }
+double Engine::lost_at(int32_t object) const { return rt_->st.lost_at[object]; }
+double Engine::stalled_for(int32_t b) const {
+    const State& s = rt_->st;
+    return s.slow_step[b] + 1 >= s.step ? s.time - s.stall_since[b] : 0.0;
+}
 const Warnings& Engine::warnings() const { return rt_->st.warn; }
 
 }  // namespace plant::engine

@@ -29,8 +29,8 @@ struct Options {
 
 // Runtime warnings: counted, never fatal (the summary of a run prints them).
 struct Warnings {
-    int64_t left_world = 0;    // bodies that fell below z = -10 m or went beyond 1 km
-    int64_t nan_state = 0;     // bodies whose position or velocity became NaN
+    int64_t left_world = 0;    // objects a body of which fell below z = -10 m or went beyond 1 km
+    int64_t nan_state = 0;     // objects a body of which got a NaN position or velocity
     int64_t access_null = 0;   // a dynamic flow ran while its reference held no object
     int64_t access_type = 0;   // ... held an object of another type (or out of its range)
     int64_t pool_empty = 0;    // a source was asked to issue with an empty pool
@@ -74,6 +74,12 @@ public:
     int32_t tokens(int32_t place) const;
     graph::Pose graphics_pose(int32_t graphics) const;
     int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far
+    int64_t issued(int32_t source) const;           // objects a source issued so far
+    int64_t taken(int32_t exit) const;              // objects an exit took so far
+    double lost_at(int32_t object) const;           // when the object left the world; -1: never
+    // Seconds since a dynamic body was last moving: at least a tenth of the speed of the
+    // running conveyor field it is in, or in no running field at all (0 then).
+    double stalled_for(int32_t body) const;
     const Warnings& warnings() const;
 
     Runtime& internals() { return *rt_; }

@@ -115,10 +115,20 @@ void apply_fields(Runtime& r) {
                 continue;
             const btVector3 v = r.phys.rb(b).getLinearVelocity() * R;
             if (s.body_k[b] == 0) s.touched.push_back(b);
+            s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
             s.body_k[b] += kmax;
             s.force[b] += R * (gain * (target - v));
             s.gain[b] += K;
         }
+    }
+    for (int32_t b : s.touched) {
+        // Stalled: slower than a tenth of the running field it is in, as the last
+        // physics step left it (a bottle held at a gate, a jam).
+        if (s.field_run[b] > 0 && r.phys.rb(b).getLinearVelocity().length() < 0.1 * s.field_run[b]) {
+            if (s.slow_step[b] + 1 < s.step) s.stall_since[b] = s.time;
+            s.slow_step[b] = s.step;
+        }
+        s.field_run[b] = 0;
     }
     for (int32_t b : s.touched) {
         const int32_t grp = s.group_of[b];

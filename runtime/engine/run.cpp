@@ -90,7 +90,91 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
     return true;
 }
 
-void summary(const Engine& e, double wall, std::ostream& out) {
+// Counts of the plant's void records (events per column, several records of one
+// column summed) and the final values of its number records, in declaration order.
+class Tally {
+public:
+    explicit Tally(const Graph& g) {
+        for (const Record& rec : g.records) {
+            const SlotType t = g.slots[rec.slot].type;
+            if (t != SlotType::Void && t != SlotType::Bool && t != SlotType::Int && t != SlotType::Real) continue;
+            const std::string col(g.str(rec.column));
+            auto it = std::find_if(cols_.begin(), cols_.end(), [&](const Column& c) { return c.name == col; });
+            if (it == cols_.end()) it = cols_.insert(cols_.end(), Column{col, t == SlotType::Void, {}, 0});
+            it->slots.push_back(rec.slot);
+        }
+        for (const Column& c : cols_)
+            if (c.events) events_ = true;
+    }
+    void step(const Engine& e) {
+        if (!events_) return;
+        for (Column& c : cols_)
+            if (c.events)
+                for (int32_t x : c.slots) c.count += e.active(x) ? 1 : 0;
+    }
+    void print(const Engine& e, std::ostream& out) const {
+        if (cols_.empty()) return;
+        size_t width = 0;
+        for (const Column& c : cols_) width = std::max(width, c.name.size());
+        fmt::print(out, "records:\n");
+        for (const Column& c : cols_) {
+            if (c.events) {
+                fmt::print(out, "  {:<{}}  {} events\n", c.name, width, c.count);
+                continue;
+            }
+            double sum = 0;
+            for (int32_t x : c.slots) sum += e.value(x)[0];
+            fmt::print(out, "  {:<{}}  {:g}{}\n", c.name, width, sum, c.slots.size() > 1 ? " (sum)" : "");
+        }
+    }
+
+private:
+    struct Column {
+        std::string name;
+        bool events;
+        std::vector<int32_t> slots;
+        int64_t count;
+    };
+    std::vector<Column> cols_;
+    bool events_ = false;
+};
+
+// Objects with dynamic bodies: issued, taken, lost, on the line, stalled.
+void material(const Engine& e, std::ostream& out) {
+    const Graph& g = e.graph();
+    std::vector<uint8_t> counted(g.dos.size(), 0);
+    int64_t on_line = 0, lost = 0, stalled = 0;
+    std::string lost_names, stalled_names;
+    auto name = [&](std::string& list, int64_t n, int32_t d) {
+        if (n <= 5) list += (n > 1 ? ", " : "") + std::string(g.str(g.dos[size_t(d)].path));
+        else if (n == 6) list += ", ...";
+    };
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        if (g.bodies[b].mode != BodyMode::Dynamic) continue;
+        const int32_t d = g.comps[g.bodies[b].comp].owner;
+        if (counted[d]) continue;
+        if (e.lost_at(d) >= 0) {
+            counted[d] = 1;
+            name(lost_names, ++lost, d);
+        } else if (e.body_in_world(int32_t(b))) {
+            counted[d] = 1;
+            ++on_line;
+            if (e.stalled_for(int32_t(b)) > 30) name(stalled_names, ++stalled, d);
+        }
+    }
+    int64_t issued = 0, taken = 0;
+    for (size_t s = 0; s < g.sources.size(); ++s) issued += e.issued(int32_t(s));
+    for (size_t x = 0; x < g.exits.size(); ++x) taken += e.taken(int32_t(x));
+    if (g.sources.empty() && g.exits.empty() && lost == 0 && on_line == 0) return;
+    fmt::print(out, "objects:\n");
+    if (!g.sources.empty()) fmt::print(out, "  issued by sources:     {}\n", issued);
+    if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", taken);
+    fmt::print(out, "  on the line:           {}\n", on_line);
+    fmt::print(out, "  lost (left the world): {}{}\n", lost, lost ? " (" + lost_names + ")" : "");
+    fmt::print(out, "  stalled over 30 s:     {}{}\n", stalled, stalled ? " (" + stalled_names + ")" : "");
+}
+
+void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out) {
     const Graph& g = e.graph();
     const Warnings& w = e.warnings();
     std::vector<std::string> silent;
@@ -100,12 +184,14 @@ void summary(const Engine& e, double wall, std::ostream& out) {
     fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
     fmt::print(out, "wall time:        {:.3f} s\n", wall);
     fmt::print(out, "real-time factor: {:.1f}\n", wall > 0 ? e.time() / wall : 0.0);
+    material(e, out);
+    tally.print(e, out);
     fmt::print(out, "warnings:         {}\n", w.total() + int64_t(silent.size()));
     auto line = [&](const char* what, int64_t n) {
         if (n) fmt::print(out, "  {}: {}\n", what, n);
     };
-    line("bodies that left the world", w.left_world);
-    line("NaN states", w.nan_state);
+    line("objects that left the world", w.left_world);
+    line("objects with a NaN state", w.nan_state);
     line("dynamic flows without an object", w.access_null);
     line("dynamic flows with an object of another type", w.access_type);
     line("issues from an empty pool", w.pool_empty);
@@ -139,6 +225,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     eo.dt = o.rate > 0 ? 1.0 / o.rate : 0;
     eo.broadphase = o.broadphase;
     Engine e(g, eo);
+    Tally tally(g);
     for (Event& ev : o.events)
         if (g.slots[ev.slot].type == SlotType::String) ev.value = {double(e.intern(ev.text))};
 
@@ -162,6 +249,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event)
             e.input(o.events[next_event].slot, o.events[next_event].value);
         e.step();
+        tally.step(e);
         if (trace && (e.steps() % every == 0 || i + 1 == steps)) trace->row();
         if ((i & 63) != 63 && !o.realtime) continue;
         const double w = wall();
@@ -176,7 +264,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
     if (progressed) fmt::print(err, "\n");
     if (trace) trace->flush();
-    summary(e, wall(), out);
+    summary(e, tally, wall(), out);
     return 0;
 }
 

@@ -15,7 +15,8 @@ namespace {
 
 bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
-// Bodies that fall off the plant or blow up are taken out, once, with a warning.
+// An object that falls off the plant or blows up is taken out, all its bodies, once,
+// with one warning.
 void check_bodies(Runtime& r) {
     for (int32_t b : r.tab.dyn_bodies) {
         if (!r.phys.in_world(b) || r.st.gone[b]) continue;
@@ -24,8 +25,13 @@ void check_bodies(Runtime& r) {
         const bool nan = !finite(p) || !finite(rb.getLinearVelocity()) || !finite(rb.getAngularVelocity());
         if (!nan && p.z() >= -10 && p.length2() <= 1e6) continue;
         (nan ? r.st.warn.nan_state : r.st.warn.left_world)++;
-        r.st.gone[b] = 1;
-        take_body_out(r, b);
+        const int32_t d = r.tab.body_do[b];
+        if (r.st.lost_at[d] < 0) r.st.lost_at[d] = r.st.time;
+        for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
+            if (r.st.gone[*x]) continue;
+            r.st.gone[*x] = 1;
+            if (r.phys.in_world(*x)) take_body_out(r, *x);
+        }
     }
 }
 

@@ -29,6 +29,10 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.held_by.assign(nb, -1);
     s.grip_rel.assign(nb, btTransform::getIdentity());
     s.gone.assign(nb, 0);
+    s.lost_at.assign(g.dos.size(), -1.0);
+    s.stall_since.assign(nb, 0.0);
+    s.field_run.assign(nb, 0.0);
+    s.slow_step.assign(nb, -1);
 
     s.field_speed.resize(g.fields.size());
     s.field_on.resize(g.fields.size());

@@ -65,6 +65,11 @@ struct State {
     std::vector<int32_t> held_by;        // gripper holding the body, -1
     std::vector<btTransform> grip_rel;   // body frame relative to the gripper's
     std::vector<uint8_t> gone;           // left the world or NaN: warned once, taken out
+    std::vector<double> lost_at;         // per DO: when it left the world, -1
+    // Per body, for Engine::stalled_for: since when it has been slower than a tenth of the
+    // running field it is in, and the last step in which it was (-1: never).
+    std::vector<double> stall_since, field_run;  // field_run: scratch, the fastest field's speed
+    std::vector<int64_t> slow_step;
 
     // Fields: scratch for the conveyor law, and rigid groups (fixed joints).
     std::vector<double> field_speed;

@@ -1,12 +1,14 @@
 // std.belts and std.bottle, compiled from the standard library and run on Bullet.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "engine/run.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -71,4 +73,40 @@ plant Track {
         CHECK(std::abs(p[1] - 1.6) < 0.02 + 0.001);
         CHECK(std::abs(v[0] - 0.5) < 0.01);
     }
+}
+
+TEST_CASE("run summary: objects on the line, lost once per object, stalled at a wall, record counts") {
+    // One bottle rides off the end of its belt and falls (lost: one object, although it
+    // has two bodies); one is pushed against a wall (stalled); one stands in no field.
+    plant::Compilation c;
+    compile_text(R"(
+import std.belts
+import std.bottle
+import std.sensors
+object Wall { physics w: static { shape box(1 cm, 20 cm, 10 cm) at (0 m, 0 m, 5 cm) } }
+plant Summary {
+    off: Belt(length = 50 cm) at (0 m, 0 m, 0 m)
+    faller: Bottle at (20 cm, 0 m, 0 m)
+    blocked: Belt(length = 50 cm) at (0 m, 1 m, 0 m)
+    wall: Wall at (45 cm, 1 m, 0 m)
+    waiter: Bottle at (10 cm, 1 m, 0 m)
+    table: Belt(length = 50 cm, speed = 0 m/s) at (0 m, 2 m, 0 m)
+    idle: Bottle at (20 cm, 2 m, 0 m)
+    eye: BinarySensor at (40 cm, 1 m, 0 m)
+    record eye.seen as "arrivals"
+    record eye.count as "at the wall"
+}
+)",
+                 c, "summary.plant");
+    REQUIRE(c.ok());
+    std::ostringstream out, err;
+    CHECK(plant::engine::run_main(c.graph, {"--for", "40s", "--quiet"}, out, err) == 0);
+    const std::string s = out.str();
+    CAPTURE(s);
+    CHECK(s.find("  on the line:           2\n") != std::string::npos);
+    CHECK(s.find("  lost (left the world): 1 (faller)\n") != std::string::npos);
+    CHECK(s.find("  stalled over 30 s:     1 (waiter)\n") != std::string::npos);
+    CHECK(s.find("  arrivals     1 events\n") != std::string::npos);
+    CHECK(s.find("  at the wall  1\n") != std::string::npos);
+    CHECK(s.find("  objects that left the world: 1\n") != std::string::npos);
 }
