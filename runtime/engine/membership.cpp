@@ -73,6 +73,11 @@ void Physics::take_out(int32_t b) {
     proxy->m_collisionFilterGroup = 0;
     proxy->m_collisionFilterMask = 0;
     broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(proxy, dispatcher_.get());
+    // Its AABB goes out of the way too, each parked body to a point of its own: a body
+    // issued where its parked twin sits (a source's pool) collided with it although the
+    // twin's proxy has no group and no mask (seen with btDbvtBroadphase).
+    const btVector3 park(btScalar(5000 + b), 5000, 5000);
+    broadphase_->setAabb(proxy, park, park, dispatcher_.get());
 }
 
 // Dynamic and kinematic bodies share Bullet's list of non-static bodies and our
