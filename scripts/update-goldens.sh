@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Regenerates every golden file (compiled graphs, diagnostics, runtime traces) from the
+# Regenerates every golden file (compiled graphs, diagnostics, runtime traces, and the
+# compiled graphs of the shipped plants in tests/plants/) from the
 # current build. Review the result with `git diff tests/golden` before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh ci >/dev/null
 build/ci/tests/plant_golden --update tests/golden
-git --no-pager diff --stat -- tests/golden || true
+mkdir -p tests/plants
+build/ci/tests/plant_golden --update --sources=plants tests/plants
+git --no-pager diff --stat -- tests/golden tests/plants || true

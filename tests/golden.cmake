@@ -4,6 +4,9 @@ target_compile_options(plant_golden PRIVATE ${PLANT_WARNINGS})
 target_link_libraries(plant_golden PRIVATE plant_compiler plant_runtime)
 add_test(NAME golden COMMAND plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden)
 set_tests_properties(golden PROPERTIES ENVIRONMENT "PLANT_STDLIB=${PLANT_STDLIB_DIR}")
+# The shipped plants' compiled graphs: plants/**/NAME.plant -> tests/plants/**/NAME.graph.
+add_test(NAME golden_plants COMMAND plant_golden --sources=${CMAKE_SOURCE_DIR}/plants ${CMAKE_CURRENT_SOURCE_DIR}/plants)
+set_tests_properties(golden_plants PROPERTIES ENVIRONMENT "PLANT_STDLIB=${PLANT_STDLIB_DIR}")
 
 # Every example compiles without errors, and its graph renders with dot when available.
 file(GLOB PLANT_EXAMPLES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/examples/*.plant)

@@ -93,23 +93,28 @@ void expect_file(const fs::path& path, const std::string& actual, bool update, R
 
 int main(int argc, char** argv) {
     bool update = false;
-    std::string dir;
+    std::string dir, sources;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--update") update = true;
+        else if (a.rfind("--sources=", 0) == 0) sources = a.substr(10);
         else dir = a;
     }
     if (dir.empty()) {
-        std::cerr << "usage: plant_golden [--update] DIR\n";
+        std::cerr << "usage: plant_golden [--update] [--sources=SRC] DIR\n"
+                     "  cases are DIR/**/NAME.plant, their goldens beside them; with --sources, the\n"
+                     "  cases are SRC/**/NAME.plant (shipped plants) and their goldens DIR/**/NAME.*\n";
         return 2;
     }
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) {
-        std::cerr << "plant_golden: '" << dir << "' is not a folder\n";
-        return 2;
-    }
-    // Paths in diagnostics are relative to the golden folder: stable across machines.
-    fs::current_path(dir);
+    for (const std::string& d : {dir, sources})
+        if (!d.empty() && !fs::is_directory(d, ec)) {
+            std::cerr << "plant_golden: '" << d << "' is not a folder\n";
+            return 2;
+        }
+    // Paths in diagnostics are relative to the case folder: stable across machines.
+    const fs::path out_dir = fs::absolute(dir);
+    fs::current_path(sources.empty() ? dir : sources);
     std::vector<fs::path> files;
     for (const auto& e : fs::recursive_directory_iterator("."))
         if (e.is_regular_file() && e.path().extension() == ".plant") files.push_back(e.path().lexically_normal());
@@ -147,8 +152,9 @@ int main(int argc, char** argv) {
                 ok = false;
             }
         }
-        fs::path base = f;
+        fs::path base = sources.empty() ? f : out_dir / f;
         base.replace_extension();
+        fs::create_directories(base.parent_path());
         std::string trace;
         if (fs::exists(base.string() + ".run") && c.ok()) {
             std::istringstream flags(read(base.string() + ".run"));
@@ -173,14 +179,14 @@ int main(int argc, char** argv) {
         }
     }
 
-    // Every registered code is exercised by at least one case.
+    // Every registered code is exercised by at least one case (of the golden folder).
     int uncovered = 0;
     for (const auto& info : plant::all_diagnostics())
-        if (!r.codes_seen.count(std::string(info.code))) {
+        if (sources.empty() && !r.codes_seen.count(std::string(info.code))) {
             std::cout << "  diagnostic " << info.code << " (" << info.summary << ") has no golden case\n";
             ++uncovered;
         }
-    if (update) std::cout << "updated " << r.updated << " file(s); review with `git diff tests/golden`\n";
+    if (update) std::cout << "updated " << r.updated << " file(s); review with `git diff tests/`\n";
     std::cout << "golden: " << r.cases - r.failed << " passed, " << r.failed << " failed"
               << (uncovered ? ", " + std::to_string(uncovered) + " diagnostic code(s) without a case" : "") << "\n";
     return (r.failed || uncovered) && !update ? 1 : 0;

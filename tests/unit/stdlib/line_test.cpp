@@ -1,0 +1,63 @@
+// std.arm and std.stations, through examples/line.plant: an arm sets bottles from the
+// storage onto a belt, a filling and a capping station process them, an exit takes them.
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "graph/kinds.h"
+
+#include <doctest/doctest.h>
+
+#include <string>
+#include <vector>
+
+#ifndef PLANT_SOURCE_DIR
+#define PLANT_SOURCE_DIR "."
+#endif
+
+using plant::engine::Engine;
+
+TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped and commissioned") {
+    plant::Compilation c;
+    plant::CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/line.plant", opts, c);
+    REQUIRE(c.ok());
+    const auto& g = c.graph;
+    auto slot = [&](const std::string& path) {
+        for (size_t s = 0; s < g.slots.size(); ++s)
+            if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+        return int32_t(-1);
+    };
+    const int32_t placed = slot("arm.hand.released"), filled = slot("fill.core.work.tick"),
+                  capped = slot("cap.core.work.tick"), taken = slot("done.away.taken");
+    // The bottle the exit takes: its variant must be the filled and capped one.
+    const int32_t taken_obj = slot("done.away.object");
+    REQUIRE(placed >= 0);
+    REQUIRE(taken_obj >= 0);
+    std::vector<int32_t> shown_of(g.dos.size(), -1);
+    for (size_t gr = 0; gr < g.graphics.size(); ++gr) {
+        const int32_t s = g.comps[g.graphics[gr].comp].slot_adr + plant::graph::graphicsslot::shown;
+        shown_of[size_t(g.comps[g.graphics[gr].comp].owner)] = s;
+    }
+    Engine e(g);
+    for (int32_t s : shown_of)
+        if (s >= 0) e.watch(s);
+    int n_placed = 0, n_filled = 0, n_capped = 0, n_taken = 0, unfinished = 0;
+    for (int i = 0; i < 150 * 40; ++i) {
+        e.step();
+        n_placed += e.active(placed);
+        n_filled += e.active(filled);
+        n_capped += e.active(capped);
+        if (e.active(taken)) {
+            ++n_taken;
+            const int32_t d = int32_t(e.value(taken_obj)[0]);
+            REQUIRE(d >= 0);
+            unfinished += e.str(int32_t(e.value(shown_of[size_t(d)])[0])) != "filled_capped";
+        }
+    }
+    CHECK(n_taken >= 5);
+    CHECK(n_placed >= n_filled);
+    CHECK(n_filled >= n_capped);
+    CHECK(n_capped >= n_taken);
+    CHECK(unfinished == 0);
+    CHECK(e.warnings().total() == 0);  // nothing dropped, nothing lost
+}
