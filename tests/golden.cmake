@@ -20,6 +20,6 @@ if(DOT_TOOL)
   foreach(example ${PLANT_EXAMPLES})
     get_filename_component(name ${example} NAME_WE)
     add_test(NAME example_dot_${name}
-             COMMAND sh -c "\"$<TARGET_FILE:plant>\" graph \"${example}\" | \"${DOT_TOOL}\" -Tsvg -o /dev/null")
+             COMMAND bash -o pipefail -c "\"$<TARGET_FILE:plant>\" graph \"${example}\" | \"${DOT_TOOL}\" -Tsvg -o /dev/null")
   endforeach()
 endif()

@@ -1,5 +1,6 @@
 #include "dot/dot.h"
 
+#include <algorithm>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -27,19 +28,23 @@ std::string q(std::string_view s) {
     return r + "\"";
 }
 
-// Text of a record field, already in DOT string form: the record parser sees every
-// syntax character ({}|<> and space) escaped, and unescapes backslashes itself.
-std::string field(std::string_view s) {
+// Text inside an HTML-like label: the XML special characters escaped.
+std::string html(std::string_view s) {
     std::string r;
     for (char c : s) {
-        if (std::string_view("{}|<> \"\\").find(c) != std::string_view::npos) r += '\\';
-        if (c == '\n') r += ' ';
-        else r += c;
+        switch (c) {
+        case '&': r += "&amp;"; break;
+        case '<': r += "&lt;"; break;
+        case '>': r += "&gt;"; break;
+        case '"': r += "&quot;"; break;
+        case '\n': r += ' '; break;
+        default: r += c;
+        }
     }
     return r;
 }
 
-// Where a slot is drawn: the node and, for record nodes, the port; `note` names
+// Where a slot is drawn: the node and, for component tables, the port; `note` names
 // the slot when the node itself does not show it (places, transitions).
 struct End {
     std::string node;
@@ -101,7 +106,7 @@ void Writer::run() {
     for (size_t s = 0; s < g_.slots.size(); ++s) {
         int32_t c = g_.slots[s].comp;
         if (!in_range(g_.comps, c)) continue;
-        // The compass point keeps a flow on the side of the record its slot is drawn on.
+        // The compass point keeps a flow on the side of the table its slot is drawn on.
         std::string port = q("s" + std::to_string(s));
         port += g_.slots[s].dir == Dir::In ? ":w" : ":e";
         ends_[s] = {q("c" + std::to_string(c)), port, {}};
@@ -162,21 +167,25 @@ void Writer::component(int32_t c, int depth) {
            << ", xlabel=" << q(g_.str(k.name)) << "];\n";
         return;
     }
-    // Inputs on the left, outputs on the right: with rankdir=LR the outer braces of a
-    // record run horizontally and the inner ones vertically.
-    std::string ins, outs;
-    for (int32_t s = k.slot_adr; s < k.slot_adr + k.slot_num; ++s) {
-        if (!in_range(g_.slots, s)) continue;
-        std::string& side = g_.slots[s].dir == Dir::In ? ins : outs;
-        side += (side.empty() ? "" : "|") + std::string("<s") + std::to_string(s) + "> " +
-                field(g_.str(g_.slots[s].name));
+    // A table: inputs down the left, the component in the middle, outputs down the
+    // right, each slot a port. (HTML-like labels, not records: graphviz loses flat
+    // edges between record nodes.)
+    std::vector<int32_t> ins, outs;
+    for (int32_t s = k.slot_adr; s < k.slot_adr + k.slot_num; ++s)
+        if (in_range(g_.slots, s)) (g_.slots[s].dir == Dir::In ? ins : outs).push_back(s);
+    const size_t rows = std::max({ins.size(), outs.size(), size_t(1)});
+    auto cell = [&](const std::vector<int32_t>& side, size_t r) {
+        if (r >= side.size()) return std::string("<TD BORDER=\"0\"></TD>");
+        return "<TD PORT=\"s" + std::to_string(side[r]) + "\">" + html(g_.str(g_.slots[side[r]].name)) + "</TD>";
+    };
+    std::string label = "<TABLE BORDER=\"0\" CELLBORDER=\"1\" CELLSPACING=\"0\" CELLPADDING=\"3\">";
+    for (size_t r = 0; r < rows; ++r) {
+        label += "<TR>" + cell(ins, r);
+        if (r == 0) label += "<TD ROWSPAN=\"" + std::to_string(rows) + "\">" + html(comp_label(c)) + "</TD>";
+        label += cell(outs, r) + "</TR>";
     }
-    std::string label = "{";
-    if (!ins.empty()) label += "{" + ins + "}|";
-    label += field(comp_label(c));
-    if (!outs.empty()) label += "|{" + outs + "}";
-    label += "}";
-    o_ << in << id << " [shape=record, label=\"" << label << "\"];\n";
+    label += "</TABLE>";
+    o_ << in << id << " [shape=plaintext, label=<" << label << ">];\n";
 }
 
 void Writer::net(int32_t c, int depth) {

@@ -141,7 +141,7 @@ bool balanced(const std::string& s) {
 
 }  // namespace
 
-TEST_CASE("dot: clusters, records, nets, connectors and flows") {
+TEST_CASE("dot: clusters, component tables, nets, connectors and flows") {
     Graph g = sample();
     std::string out = render(g);
     INFO(out);
@@ -151,9 +151,12 @@ TEST_CASE("dot: clusters, records, nets, connectors and flows") {
 
     CHECK(out.find("  subgraph \"cluster_do0\" {\n    label=\"Demo\";\n") != std::string::npos);
     CHECK(out.find("subgraph \"cluster_do1\" {\n      label=\"sw.\\\"a\\\"[1]\";\n") != std::string::npos);
-    CHECK(out.find("\"c0\" [shape=record, label=\"{{<s0> set_pose|") != std::string::npos);
-    CHECK(out.find("|body\\ blade|{") != std::string::npos);
-    CHECK(out.find("label=\"{trigger\\ eye\\|\\<1\\>|{<s14> on_enter|") != std::string::npos);
+    // Components are tables: inputs left, the component in the middle, outputs right.
+    CHECK(out.find("\"c0\" [shape=plaintext, label=<<TABLE ") != std::string::npos);
+    CHECK(out.find("<TR><TD PORT=\"s0\">set_pose</TD><TD ROWSPAN=\"9\">body blade</TD><TD PORT=\"s9\">pose</TD></TR>") !=
+          std::string::npos);
+    // Names are escaped for HTML-like labels.
+    CHECK(out.find("<TD ROWSPAN=\"5\">trigger eye|&lt;1&gt;</TD><TD PORT=\"s14\">on_enter</TD>") != std::string::npos);
     CHECK(out.find("subgraph \"cluster_net2\" {\n        label=\"state net\";\n") != std::string::npos);
     CHECK(out.find("\"p0\" [shape=circle, fixedsize=false, label=\"Base\\n1 token\"];") != std::string::npos);
     CHECK(out.find("\"p1\" [shape=circle, fixedsize=false, label=\"Work\\\\\"];") != std::string::npos);
