@@ -1,0 +1,179 @@
+// std.separator: the gates hold a queue of bottles on a running belt and let exactly one
+// pass per cycle.
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+using namespace plant::test;
+using plant::engine::Engine;
+
+namespace {
+
+double tilt_deg(const plant::graph::Quat& q) {
+    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
+    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+int32_t slot_named(const plant::graph::Graph& g, std::string_view path) {
+    for (size_t s = 0; s < g.slots.size(); ++s)
+        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    return -1;
+}
+
+int32_t trigger_named(const plant::graph::Graph& g, std::string_view path) {
+    for (size_t t = 0; t < g.triggers.size(); ++t)
+        if (g.comp_path(g.triggers[t].comp) == path) return int32_t(t);
+    return -1;
+}
+
+// A 6 m belt at 50 cm/s with the separator's WP at x = 1.5 m and 4 bottles queued
+// upstream, touching (0.5 mm apart), slightly off the centre line.
+//
+// The bottle is std.bottle's model with one difference: its hull is a straight octagonal
+// prism up to the shoulder (8 points at the shoulder ring, where std.bottle has 4, which
+// makes its sides lean inwards by 5.6° between the octagon's corners). Pressed together
+// by the belt (16 N per held bottle), std.bottle bottles climb onto each other on those
+// slanted faces; straight-sided ones stay upright (see the separator's documentation).
+const char* queue_plant = R"(
+import std.belts, std.separator
+
+object StraightBottle(mass: mass = 40 g, radius: length = 2 cm, height: length = 8 cm) {
+    let r = radius
+    let h = height
+    let c = 0.7071
+    physics main at (0 m, 0 m, height / 2) {
+        mass = mass * 0.9
+        inertia = solid_cylinder(mass * 0.9, r, h)
+        shape hull((r, 0 m, -h / 2), (r * c, r * c, -h / 2), (0 m, r, -h / 2), (-r * c, r * c, -h / 2),
+                   (-r, 0 m, -h / 2), (-r * c, -r * c, -h / 2), (0 m, -r, -h / 2), (r * c, -r * c, -h / 2),
+                   (r, 0 m, h / 4), (r * c, r * c, h / 4), (0 m, r, h / 4), (-r * c, r * c, h / 4),
+                   (-r, 0 m, h / 4), (-r * c, -r * c, h / 4), (0 m, -r, h / 4), (r * c, -r * c, h / 4),
+                   (r / 2, 0 m, h / 2), (0 m, r / 2, h / 2), (-r / 2, 0 m, h / 2), (0 m, -r / 2, h / 2))
+        friction = 0
+        restitution = 0
+    }
+    physics bottom at (0 m, 0 m, 3 mm) { mass = mass * 0.1; shape sphere(3 mm); collision = false; friction = 0 }
+    constraint weld: fixed at (0 m, 0 m, 3 mm) { a = main; b = bottom }
+}
+
+plant Queue {
+    belt: Belt(length = 6 m)
+    sep: Separator at (1.5 m, 0 m, 0 m)
+    for i in 0 .. 4 { b[i]: StraightBottle at (1 m - i * 4.05 cm, -1.5 cm + i * 7 mm, 0 m) }
+}
+)";
+
+struct Queue {
+    plant::Compilation c;
+    std::vector<int32_t> bottles;  // main bodies, b[0] first in the queue
+    int32_t released = -1, hold = -1, free = -1, b327 = -1;
+    Queue() {
+        compile_text(queue_plant, c, "separator_queue.plant");
+        INFO(plant::render_all_text(c.sink.all(), c.sources));
+        REQUIRE(c.ok());
+        const auto& g = c.graph;
+        for (int i = 0; i < 4; ++i)
+            for (size_t b = 0; b < g.bodies.size(); ++b)
+                if (g.comp_path(g.bodies[b].comp) == "b[" + std::to_string(i) + "].main") bottles.push_back(int32_t(b));
+        REQUIRE(bottles.size() == 4);
+        // The port `released` forwards to BP's `closed`, the end of its close animation.
+        released = slot_named(g, "sep.bp.left.look.close.finished");
+        hold = slot_named(g, "sep.holding.start");
+        free = slot_named(g, "sep.holding.stop");
+        b327 = trigger_named(g, "sep.b327.volume");
+        REQUIRE(released >= 0);
+        REQUIRE(hold >= 0);
+        REQUIRE(free >= 0);
+        REQUIRE(b327 >= 0);
+    }
+};
+
+constexpr double wp_x = 1.5;
+
+}  // namespace
+
+TEST_CASE("std.separator: a queue of touching bottles on a running belt leaves one bottle per cycle") {
+    Queue q;
+    Engine e(q.c.graph);
+    std::vector<double> release_times;
+    std::vector<int64_t> b327_at_release;          // bottles B327 had seen at each release
+    std::vector<int> passed_at_release;            // bottles past WP at each release
+    std::vector<double> passed_at(4, -1);          // when each bottle's centre passed WP + 3 cm
+    double worst_tilt = 0;
+    for (int i = 0; i < 150 * 9; ++i) {
+        e.step();
+        if (e.active(q.released)) {
+            release_times.push_back(e.time());
+            b327_at_release.push_back(e.trigger_enters(q.b327));
+            passed_at_release.push_back(int(std::count_if(passed_at.begin(), passed_at.end(), [](double t) { return t >= 0; })));
+        }
+        for (size_t k = 0; k < 4; ++k) {
+            const auto pose = e.body_pose(q.bottles[k]);
+            worst_tilt = std::max(worst_tilt, tilt_deg(pose.q));
+            if (passed_at[k] < 0 && pose.p[0] > wp_x + 0.03) passed_at[k] = e.time();
+        }
+    }
+    MESSAGE("releases at " << (release_times.size() > 0 ? release_times[0] : -1.0) << " s ... "
+                           << (release_times.empty() ? -1.0 : release_times.back()) << " s, worst tilt " << worst_tilt << " deg");
+    REQUIRE(release_times.size() == 4);
+    for (size_t k = 0; k < 4; ++k) {
+        CAPTURE(k);
+        // Before the k-th release exactly k bottles had passed, and B327 had seen k of
+        // them: one bottle per cycle, the next one held.
+        CHECK(passed_at_release[k] == int(k));
+        CHECK(b327_at_release[k] == int64_t(k));
+        // Bottles leave in queue order, each in its own cycle.
+        CHECK(passed_at[k] > release_times[k]);
+        if (k + 1 < 4) CHECK(passed_at[k] < release_times[k + 1]);
+    }
+    // Cycles are paced: settle (0.1 s) + BP in (0.1 s) + pitch (0.6 s) and the move-up.
+    for (size_t k = 1; k < 4; ++k) CHECK(release_times[k] - release_times[k - 1] > 0.75);
+    CHECK(e.trigger_enters(q.b327) == 4);
+    CHECK(worst_tilt < 10);
+    CHECK(e.warnings().total() == 0);
+    // All downstream, on the belt's centre line, at belt speed.
+    for (int32_t b : q.bottles) {
+        const auto p = e.body_pose(b).p;
+        CHECK(p[0] > wp_x + 0.5);
+        CHECK(std::abs(p[1]) < 0.021);
+        CHECK(std::abs(e.body_velocity(b)[0] - 0.5) < 0.01);
+    }
+}
+
+TEST_CASE("std.separator: hold keeps it closed, free lets the queue go") {
+    Queue q;
+    Engine e(q.c.graph);
+    int releases = 0;
+    double worst_tilt = 0;
+    e.input(q.hold);
+    for (int i = 0; i < 150 * 3; ++i) {  // 3 s held: the queue arrives and waits
+        e.step();
+        releases += e.active(q.released);
+        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+    }
+    CHECK(releases == 0);
+    // The first bottle waits at WP (its face at x = wp_x - 3 mm), the others behind it.
+    const double first = e.body_pose(q.bottles[0]).p[0];
+    CHECK(first < wp_x - 0.02);
+    CHECK(first > wp_x - 0.03);
+    for (size_t k = 1; k < 4; ++k) CHECK(e.body_pose(q.bottles[k]).p[0] < e.body_pose(q.bottles[k - 1]).p[0] - 0.03);
+    CHECK(std::abs(e.body_velocity(q.bottles[3])[0]) < 0.02);
+
+    e.input(q.free);
+    for (int i = 0; i < 150 * 5; ++i) {
+        e.step();
+        releases += e.active(q.released);
+        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+    }
+    CHECK(releases == 4);
+    CHECK(e.trigger_enters(q.b327) == 4);
+    CHECK(worst_tilt < 10);
+    MESSAGE("held queue: worst tilt " << worst_tilt << " deg");
+}
