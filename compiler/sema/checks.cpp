@@ -46,13 +46,20 @@ std::vector<bool> used_outputs(const graph::Graph& g) {
 
 }  // namespace
 
-void Elaborator::check_petri_nets() {
+// Inputs driven by a flow, or exposed by an input port of their object: what a port
+// forwards to is the object's interface, fed from outside whether or not this plant
+// connects it (an unconnected port is the plant's choice, not a mistake in the type).
+std::vector<bool> Elaborator::driven_or_exposed() const {
     auto driven = driven_inputs(g_);
-    // A library object checked alone: whatever its input ports forward to is fed from outside.
-    if (library_mode_ && !scopes_.empty())
-        for (const auto& [n, port] : scopes_[0].ports)
+    for (const auto& scope : scopes_)
+        for (const auto& [n, port] : scope.ports)
             if (port.input)
                 for (int32_t s : port.slots) driven[static_cast<size_t>(s)] = true;
+    return driven;
+}
+
+void Elaborator::check_petri_nets() {
+    const auto driven = driven_or_exposed();
     std::vector<std::vector<int32_t>> places_of(g_.comps.size()), transitions_of(g_.comps.size());
     for (size_t p = 0; p < g_.places.size(); ++p) places_of[static_cast<size_t>(g_.places[p].comp)].push_back(static_cast<int32_t>(p));
     for (size_t t = 0; t < g_.transitions.size(); ++t)
@@ -106,7 +113,7 @@ void Elaborator::check_petri_nets() {
 }
 
 void Elaborator::check_unused() {
-    const auto driven = driven_inputs(g_);
+    const auto driven = driven_or_exposed();
     const auto used = used_outputs(g_);
     for (size_t c = 0; c < g_.comps.size(); ++c) {
         const auto& comp = g_.comps[c];

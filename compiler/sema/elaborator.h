@@ -132,6 +132,7 @@ public:
     // checks.cpp
     void check_petri_nets();
     void check_unused();
+    std::vector<bool> driven_or_exposed() const;
     void check_logic_cycles();
 
     const Program& prog_;
@@ -148,8 +149,8 @@ public:
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
-    long long expanded_ = 0;
-    bool library_mode_ = false;  // checking one object type of a library  // members produced by loops, against runaway loops
+    long long expanded_ = 0;      // members produced by loops, against runaway loops
+    bool library_mode_ = false;  // checking one object type of a library
 };
 
 }  // namespace plant::sema

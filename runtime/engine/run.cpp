@@ -119,7 +119,9 @@ public:
         fmt::print(out, "records:\n");
         for (const Column& c : cols_) {
             if (c.events) {
-                fmt::print(out, "  {:<{}}  {} events\n", c.name, width, c.count);
+                const double minutes = e.time() / 60;
+                fmt::print(out, "  {:<{}}  {} events ({:.1f} per minute)\n", c.name, width, c.count,
+                           minutes > 0 ? double(c.count) / minutes : 0.0);
                 continue;
             }
             double sum = 0;

@@ -106,7 +106,7 @@ plant Summary {
     CHECK(s.find("  on the line:           2\n") != std::string::npos);
     CHECK(s.find("  lost (left the world): 1 (faller)\n") != std::string::npos);
     CHECK(s.find("  stalled over 30 s:     1 (waiter)\n") != std::string::npos);
-    CHECK(s.find("  arrivals     1 events\n") != std::string::npos);
+    CHECK(s.find("  arrivals     1 events (1.5 per minute)\n") != std::string::npos);
     CHECK(s.find("  at the wall  1\n") != std::string::npos);
     CHECK(s.find("  objects that left the world: 1\n") != std::string::npos);
 }
