@@ -36,37 +36,13 @@ int32_t trigger_named(const plant::graph::Graph& g, std::string_view path) {
 // A 6 m belt at 50 cm/s with the separator's WP at x = 1.5 m and 4 bottles queued
 // upstream, touching (0.5 mm apart), slightly off the centre line.
 //
-// The bottle is std.bottle's model with one difference: its hull is a straight octagonal
-// prism up to the shoulder (8 points at the shoulder ring, where std.bottle has 4, which
-// makes its sides lean inwards by 5.6° between the octagon's corners). Pressed together
-// by the belt (16 N per held bottle), std.bottle bottles climb onto each other on those
-// slanted faces; straight-sided ones stay upright (see the separator's documentation).
 const char* queue_plant = R"(
-import std.belts, std.separator
-
-object StraightBottle(mass: mass = 40 g, radius: length = 2 cm, height: length = 8 cm) {
-    let r = radius
-    let h = height
-    let c = 0.7071
-    physics main at (0 m, 0 m, height / 2) {
-        mass = mass * 0.9
-        inertia = solid_cylinder(mass * 0.9, r, h)
-        shape hull((r, 0 m, -h / 2), (r * c, r * c, -h / 2), (0 m, r, -h / 2), (-r * c, r * c, -h / 2),
-                   (-r, 0 m, -h / 2), (-r * c, -r * c, -h / 2), (0 m, -r, -h / 2), (r * c, -r * c, -h / 2),
-                   (r, 0 m, h / 4), (r * c, r * c, h / 4), (0 m, r, h / 4), (-r * c, r * c, h / 4),
-                   (-r, 0 m, h / 4), (-r * c, -r * c, h / 4), (0 m, -r, h / 4), (r * c, -r * c, h / 4),
-                   (r / 2, 0 m, h / 2), (0 m, r / 2, h / 2), (-r / 2, 0 m, h / 2), (0 m, -r / 2, h / 2))
-        friction = 0
-        restitution = 0
-    }
-    physics bottom at (0 m, 0 m, 3 mm) { mass = mass * 0.1; shape sphere(3 mm); collision = false; friction = 0 }
-    constraint weld: fixed at (0 m, 0 m, 3 mm) { a = main; b = bottom }
-}
+import std.belts, std.bottle, std.separator
 
 plant Queue {
     belt: Belt(length = 6 m)
     sep: Separator at (1.5 m, 0 m, 0 m)
-    for i in 0 .. 4 { b[i]: StraightBottle at (1 m - i * 4.05 cm, -1.5 cm + i * 7 mm, 0 m) }
+    for i in 0 .. 4 { b[i]: Bottle at (1 m - i * 4.05 cm, -1.5 cm + i * 7 mm, 0 m) }
 }
 )";
 
