@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <set>
+#include <optional>
 #include <string>
 
 namespace plant::parse {
@@ -127,6 +128,10 @@ private:
     const Offsets& off_;
     size_t last_line_ = 0;  // lines count from 1
 };
+
+// Limits that keep the parser and the compiler's recursive passes within the stack.
+constexpr int kMaxNesting = 200;     // brackets and runs of prefix operators
+constexpr int kMaxExprDepth = 1000;  // operators on the way down one expression tree
 
 class Builder {
 public:
@@ -452,8 +457,21 @@ public:
         return e;
     }
 
+    // The first expression deeper than kMaxExprDepth, if any: it is not built further
+    // (the compiler's passes over expressions recurse).
+    const std::optional<Span>& too_deep() const { return too_deep_; }
+
     ast::ExprPtr expr(P::ExprContext* c) {
         if (!c) return make(ast::ExprKind::Number, nullptr);
+        struct Depth {
+            int& d;
+            explicit Depth(int& x) : d(++x) {}
+            ~Depth() { --d; }
+        } guard(depth_);
+        if (depth_ > kMaxExprDepth) {
+            if (!too_deep_) too_deep_ = span(c);
+            return make(ast::ExprKind::Number, c);
+        }
         if (auto* x = dynamic_cast<P::PrimaryExprContext*>(c)) return primary(x->primary());
         if (auto* x = dynamic_cast<P::UnaryExprContext*>(c)) {
             auto e = make(ast::ExprKind::Unary, c);
@@ -545,6 +563,8 @@ private:
     int32_t file_;
     const Offsets& off_;
     const std::string& text_;
+    int depth_ = 0;
+    std::optional<Span> too_deep_;
 };
 
 }  // namespace
@@ -561,6 +581,25 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     lexer.addErrorListener(&listener);
     parser.removeErrorListeners();
     parser.addErrorListener(&listener);
+
+    // Nesting the parser would recurse through without bound: brackets, and runs of
+    // prefix operators (`- - - x`). Stop at the first too deep one.
+    tokens.fill();
+    int open = 0, prefix = 0;
+    for (antlr4::Token* t : tokens.getTokens()) {
+        const std::string s = t->getText();
+        if (t->getType() == antlr4::Token::EOF) break;
+        open += s == "(" || s == "[" ? 1 : s == ")" || s == "]" ? -1 : 0;
+        prefix = s == "-" || s == "not" ? prefix + 1 : 0;
+        if (open > kMaxNesting || prefix > kMaxNesting) {
+            sink.report(DiagId::NestingTooDeep, Span{file, offsets.byte(t->getStartIndex()),
+                                                     offsets.byte(t->getStopIndex() + 1)},
+                        "more than " + std::to_string(kMaxNesting) + " nested brackets or prefix operators");
+            ast::Module empty;
+            empty.file = file;
+            return empty;
+        }
+    }
 
     // Two-stage parse: the fast SLL prediction almost always suffices; only when it
     // fails is the input parsed again with full LL prediction and error recovery, so the
@@ -590,7 +629,15 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
         return empty;
     }
     Builder builder(file, offsets, text);
-    return builder.module(tree);
+    ast::Module m = builder.module(tree);
+    if (builder.too_deep()) {
+        sink.report(DiagId::NestingTooDeep, *builder.too_deep(),
+                    "an expression nested more than " + std::to_string(kMaxExprDepth) + " operators deep; split it with `let`");
+        ast::Module empty;
+        empty.file = file;
+        return empty;
+    }
+    return m;
 }
 
 }  // namespace plant::parse
