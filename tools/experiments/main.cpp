@@ -197,8 +197,8 @@ int traction(const fs::path& out, std::vector<Run>& runs) {
         fine += num(tf);
         for (size_t k = 0; k < runs.size(); ++k) {
             const Bottle& b = runs[k].bottle;
-            fine += "," + num(upright_speed(tf, speed[k][0], b.belt_speed, b.gain_sum, b.mass())) + "," +
-                    num(runtime_upright_speed(tf, speed[k][0], b.belt_speed, b, step_of(runs[k])));
+            fine += fmt::format(",{},{}", upright_speed(tf, speed[k][0], b.belt_speed, b.gain_sum, b.mass()),
+                                runtime_upright_speed(tf, speed[k][0], b.belt_speed, b, step_of(runs[k])));
         }
         fine += "\n";
     }
@@ -390,15 +390,17 @@ int spacing(const fs::path& out, std::vector<Run>& runs) {
     write_file(out / "spacing.csv", csv);
 
     const std::string plot = fmt::format(
-        "set multiplot layout 1,2 title 'Spacing: two bottles on a closed loop at {} m/s (physics at {} Hz)'\n"
+        "set multiplot title 'Spacing: two bottles on a closed loop at {} m/s (physics at {} Hz)'\n"
+        "set origin 0,0\nset size 0.62,0.95\n"
         "set title 'Manhattan distance between the bottles'\nset xlabel 'time [s]'\n"
-        "set ylabel 'distance |Δx| + |Δy| [cm]'\nset grid\nset key right bottom box opaque\nset xrange [0:{}]\n"
+        "set ylabel 'distance |Δx| + |Δy| [cm]'\nset grid\nset key below horizontal\nset xrange [0:{}]\n"
         "plot 'spacing.csv' skip 1 using 1:($6*100) with lines lw 1.5 lc rgb '{}' title 'distance', \\\n"
         "     {} with lines dt 2 lw 1.5 lc rgb '#555555' title 'mean {:.1f} cm', \\\n"
-        "     {} with lines dt 3 lw 1 lc rgb '#d62728' title 'min {:.1f} cm', \\\n"
-        "     {} with lines dt 3 lw 1 lc rgb '#2ca02c' title 'max {:.1f} cm'\n"
+        "     {} with lines lw 1 lc rgb '#d62728' title 'min {:.1f} cm', \\\n"
+        "     {} with lines lw 1 lc rgb '#2ca02c' title 'max {:.1f} cm'\n"
+        "set origin 0.62,0\nset size 0.38,0.95\n"
         "set title 'The loop: paths of the two bottles'\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-        "set size ratio -1\nset autoscale\nset key outside bottom center horizontal\n"
+        "set size ratio -1\nset autoscale\nset key below horizontal\n"
         "plot 'spacing.csv' skip 1 using 2:3 with lines lw 1.5 lc rgb '{}' title 'bottle a (in front)', \\\n"
         "     'spacing.csv' skip 1 using 4:5 with lines lw 1 dt 2 lc rgb '{}' title 'bottle b'\n"
         "unset multiplot",
