@@ -7,12 +7,16 @@
 #include "sema/modules.h"
 
 #include <string>
+#include <vector>
 
 namespace plant {
 
 struct CompileOptions {
     std::string stdlib_dir;     // where `import std.x` looks
     bool require_plant = true;  // false: a library file is checked type by type
+    // `--set NAME=VALUE`, in order: values for the plant's parameters. Each is parsed as
+    // a source of its own named "--set", so its diagnostics have a line and column.
+    std::vector<std::string> overrides;
 };
 
 struct Compilation {

@@ -23,10 +23,14 @@ importDecl : 'import' dotted (',' dotted)* ';'? ;
 dotted     : ID ('.' ID)* ;
 
 objectDecl : 'object' ID paramList? '{' member* '}' ;
-plantDecl  : 'plant' ID '{' member* '}' ;
+plantDecl  : 'plant' ID paramList? '{' member* '}' ;
 
 paramList : '(' (param (',' param)* ','?)? ')' ;
 param     : ID ':' ident ('=' expr)? ;
+
+// `plant run f.plant --set k=4kg/s`: one command-line value for a plant parameter,
+// parsed on its own (not part of a module).
+cliSet : ID '=' expr EOF ;
 
 member
     : portDecl ';'?

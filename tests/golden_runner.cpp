@@ -4,6 +4,8 @@
 //   NAME.err    the rendered diagnostics (present exactly when there are any)
 //   NAME.trace  the runtime trace (CSV), for a case that has a NAME.run file holding
 //               the `plant run` flags to use (e.g. `--for 2s --trace-rate 10Hz`)
+// A case with a NAME.set file is compiled with one `--set` per non-empty line of it
+// (`k=4 kg/s`), as `plant check --set k=4kg/s NAME.plant` would.
 // A file named fail_*.plant must produce errors, any other must not. Every graph must
 // round-trip (write -> load -> write is identical), and every registered diagnostic code
 // must appear in at least one .err file.
@@ -128,8 +130,18 @@ int main(int argc, char** argv) {
         if (f.generic_string().find("/lib/") != std::string::npos || f.generic_string().rfind("lib/", 0) == 0) continue;
         ++r.cases;
         bool ok = true;
+        // Goldens (and a case's .set and .run files) beside the case, or under DIR for --sources.
+        fs::path base = sources.empty() ? f : out_dir / f;
+        base.replace_extension();
+        fs::create_directories(base.parent_path());
+        plant::CompileOptions case_opts = opts;
+        if (fs::exists(base.string() + ".set")) {
+            std::istringstream lines(read(base.string() + ".set"));
+            for (std::string line; std::getline(lines, line);)
+                if (!line.empty()) case_opts.overrides.push_back(line);
+        }
         plant::Compilation c;
-        plant::compile_file(f.generic_string(), opts, c);
+        plant::compile_file(f.generic_string(), case_opts, c);
         auto sorted = c.sink.sorted();
         for (const auto& d : sorted) r.codes_seen.insert(std::string(plant::info(d.id).code));
         std::string err = sorted.empty() ? "" : plant::render_all_text(sorted, c.sources);
@@ -152,9 +164,6 @@ int main(int argc, char** argv) {
                 ok = false;
             }
         }
-        fs::path base = sources.empty() ? f : out_dir / f;
-        base.replace_extension();
-        fs::create_directories(base.parent_path());
         std::string trace;
         if (fs::exists(base.string() + ".run") && c.ok()) {
             std::istringstream flags(read(base.string() + ".run"));

@@ -31,6 +31,8 @@ commands:
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
 
 common options:
+  --set NAME=VALUE      give the plant's parameter NAME the value VALUE, an expression with
+                        its unit (`--set k=4kg/s`, `--set "mass=20 g"`); repeatable
   --stdlib DIR          where `import std.x` looks (default: $PLANT_STDLIB or the bundled stdlib)
   --diagnostics=FORMAT  text (default) or json
   --emit=ast|graph      with check: print the AST or the graph text to stdout
@@ -38,20 +40,22 @@ common options:
   -h, --help            this help
 )";
 
-constexpr const char* kCheckHelp = R"(usage: plant check [--emit=ast|graph] [--diagnostics=text|json] [--stdlib DIR] FILE...
+constexpr const char* kCheckHelp = R"(usage: plant check [--emit=ast|graph] [--diagnostics=text|json] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Parses and checks each FILE: names, slot types and directions, units, values and Petri
 nets. Prints every diagnostic as file:line:col with the source line and a caret.
-Exit code: 0 no errors (warnings allowed), 1 errors, 2 bad usage.
+--set NAME=VALUE gives the plant's parameter NAME a value (checked against its type;
+errors in VALUE are reported at --set:1:COL). Exit code: 0 no errors (warnings
+allowed), 1 errors, 2 bad usage.
 )";
 
-constexpr const char* kBuildHelp = R"(usage: plant build FILE -o OUT [--diagnostics=text|json] [--stdlib DIR]
+constexpr const char* kBuildHelp = R"(usage: plant build FILE -o OUT [--diagnostics=text|json] [--stdlib DIR] [--set NAME=VALUE]...
 
 Compiles FILE into the flat graph and writes its text form (stable, diffable, loadable
 by `plant run OUT`) to OUT, or to stdout with `-o -`.
 )";
 
-constexpr const char* kGraphHelp = R"(usage: plant graph FILE [-o OUT] [--stdlib DIR]
+constexpr const char* kGraphHelp = R"(usage: plant graph FILE [-o OUT] [--stdlib DIR] [--set NAME=VALUE]...
 
 Writes the compiled plant as Graphviz DOT: one cluster per object, components as nodes,
 flows as edges, each Petri net as a cluster of places and transitions.
@@ -65,6 +69,7 @@ struct Options {
     std::string emit;
     bool json = false;
     std::string stdlib;
+    std::vector<std::string> sets;  // --set NAME=VALUE, in order
     std::vector<std::string> rest;  // passed to `run`
     bool help = false;
 };
@@ -94,6 +99,7 @@ bool compile(const std::string& file, const Options& o, plant::Compilation& c, b
     plant::CompileOptions opts;
     opts.require_plant = require_plant;
     opts.stdlib_dir = o.stdlib.empty() ? plant::default_stdlib_dir() : o.stdlib;
+    opts.overrides = o.sets;
     plant::compile_file(file, opts, c);
     print_diagnostics(c, o.json);
     return c.ok();
@@ -164,6 +170,7 @@ int cmd_run(const Options& o) {
     const std::string& f = o.files[0];
     plant::graph::Graph g;
     if (f.size() > 6 && f.substr(f.size() - 6) == ".graph") {
+        if (!o.sets.empty()) return usage_error("--set needs a .plant file; a built .graph has its values already");
         std::string err;
         if (!plant::graph::load_text_file(f, g, err)) {
             std::cerr << "plant: error: " << err << "\n";
@@ -203,6 +210,10 @@ int main(int argc, char** argv) {
         else if (a == "-o" || a.rfind("--output", 0) == 0) o.out = value(a == "-o" ? "-o" : "--output");
         else if (a.rfind("--emit", 0) == 0) o.emit = value("--emit");
         else if (a.rfind("--stdlib", 0) == 0) o.stdlib = value("--stdlib");
+        else if (a == "--set" || a.rfind("--set=", 0) == 0) {
+            if (a == "--set" && i + 1 >= args.size()) return usage_error("--set needs NAME=VALUE");
+            o.sets.push_back(value("--set"));
+        }
         else if (a.rfind("--diagnostics", 0) == 0) {
             std::string v = value("--diagnostics");
             if (v != "json" && v != "text") return usage_error("--diagnostics takes text or json");

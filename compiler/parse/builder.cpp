@@ -39,8 +39,8 @@ private:
 };
 
 // Words for tokens in "expected ..." messages.
-std::string token_words(const antlr4::dfa::Vocabulary& voc, size_t type) {
-    if (type == antlr4::Token::EOF) return "end of file";
+std::string token_words(const antlr4::dfa::Vocabulary& voc, size_t type, const std::string& eof) {
+    if (type == antlr4::Token::EOF) return eof;
     std::string sym = voc.getSymbolicName(type);
     if (sym == "ID") return "a name";
     if (sym == "NUMBER") return "a number";
@@ -50,14 +50,17 @@ std::string token_words(const antlr4::dfa::Vocabulary& voc, size_t type) {
     return sym;
 }
 
-std::string token_text(antlr4::Token* t) {
-    if (!t || t->getType() == antlr4::Token::EOF) return "end of file";
+std::string token_text(antlr4::Token* t, const std::string& eof) {
+    if (!t || t->getType() == antlr4::Token::EOF) return eof;
     return "'" + t->getText() + "'";
 }
 
 class ErrorListener : public antlr4::BaseErrorListener {
 public:
-    ErrorListener(Sink& sink, int32_t file, const Offsets& off) : sink_(sink), file_(file), off_(off) {}
+    // `eof` names the end of the input in messages: "end of file", or for a --set
+    // value "end of the value".
+    ErrorListener(Sink& sink, int32_t file, const Offsets& off, std::string eof = "end of file")
+        : sink_(sink), file_(file), off_(off), eof_(std::move(eof)) {}
 
     void syntaxError(antlr4::Recognizer* rec, antlr4::Token* bad, size_t line, size_t,
                      const std::string& msg, std::exception_ptr) override {
@@ -85,7 +88,7 @@ public:
             if (bad->getText() == "\"")  // STRING did not match: no closing quote on this line
                 sink_.report(DiagId::Syntax, span, "unterminated string: close it with '\"' on the same line");
             else
-                sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad));
+                sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad, eof_));
             return;
         }
         std::string expected;
@@ -96,7 +99,7 @@ public:
             for (auto t : set.toList())
                 only_name = only_name && (t == static_cast<size_t>(P::ID) || parser->getVocabulary().getLiteralName(t) == "'object'");
             std::set<std::string> words;
-            for (auto t : set.toList()) words.insert(token_words(parser->getVocabulary(), t));
+            for (auto t : set.toList()) words.insert(token_words(parser->getVocabulary(), t, eof_));
             size_t i = 0;
             for (const auto& w : words) {
                 if (i) expected += (i + 1 == words.size()) ? " or " : ", ";
@@ -106,7 +109,7 @@ public:
         } catch (...) {
             expected.clear();
         }
-        std::string text = "unexpected " + token_text(bad);
+        std::string text = "unexpected " + token_text(bad, eof_);
         if (!expected.empty() && expected.size() < 300) text += "; expected " + expected;
         auto& d = sink_.report(DiagId::Syntax, span, text);
         // A keyword where a name was meant: `animation out { ... }`, `flow: Belt`.
@@ -126,6 +129,7 @@ private:
     Sink& sink_;
     int32_t file_;
     const Offsets& off_;
+    std::string eof_;
     size_t last_line_ = 0;  // lines count from 1
 };
 
@@ -177,6 +181,7 @@ public:
                 d.is_plant = true;
                 d.name = ident(p->ID());
                 d.span = span(p);
+                params(p->paramList(), d.params);
                 for (auto* mem : p->member()) member(mem, d.members);
                 m.objects.push_back(std::move(d));
             }
@@ -188,18 +193,30 @@ public:
         ast::ObjectDecl d;
         d.name = ident(c->ID());
         d.span = span(c);
-        if (auto* pl = c->paramList()) {
-            for (auto* p : pl->param()) {
-                ast::Param param;
-                param.name = ident(p->ID());
-                param.type = ident(p->ident());
-                if (p->expr()) param.default_value = expr(p->expr());
-                param.span = span(p);
-                d.params.push_back(std::move(param));
-            }
-        }
+        params(c->paramList(), d.params);
         for (auto* mem : c->member()) member(mem, d.members);
         return d;
+    }
+
+    void params(P::ParamListContext* pl, std::vector<ast::Param>& out) {
+        if (!pl) return;
+        for (auto* p : pl->param()) {
+            ast::Param param;
+            param.name = ident(p->ID());
+            param.type = ident(p->ident());
+            if (p->expr()) param.default_value = expr(p->expr());
+            param.span = span(p);
+            out.push_back(std::move(param));
+        }
+    }
+
+    // NAME=VALUE from the command line: a named argument for the plant.
+    ast::Arg cli_set(P::CliSetContext* c) {
+        ast::Arg a;
+        a.name = ident(c->ID());
+        a.value = expr(c->expr());
+        a.span = ast::join(a.name->span, a.value ? a.value->span : Span{});  // not the EOF
+        return a;
     }
 
     void member(P::MemberContext* c, std::vector<ast::Member>& out) {
@@ -638,6 +655,25 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
         return empty;
     }
     return m;
+}
+
+std::optional<ast::Arg> parse_set(const SourceMap& sources, int32_t file, Sink& sink) {
+    const std::string& text = sources.text(file);
+    Offsets offsets(text);
+    antlr4::ANTLRInputStream input(text);
+    plant_antlr::PlantLexer lexer(&input);
+    antlr4::CommonTokenStream tokens(&lexer);
+    plant_antlr::PlantParser parser(&tokens);
+    ErrorListener listener(sink, file, offsets, "end of the value");
+    lexer.removeErrorListeners();
+    lexer.addErrorListener(&listener);
+    parser.removeErrorListeners();
+    parser.addErrorListener(&listener);
+    const int before = sink.count(Severity::Error);
+    auto* tree = parser.cliSet();
+    if (sink.count(Severity::Error) > before) return std::nullopt;
+    Builder builder(file, offsets, text);
+    return builder.cli_set(tree);
 }
 
 }  // namespace plant::parse

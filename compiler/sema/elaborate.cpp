@@ -12,6 +12,19 @@ constexpr long long kMaxExpanded = 2'000'000;  // members produced by loops in o
 constexpr int kMaxDepth = 64;                  // nesting of loops/conditions
 
 template <class T> Span span_of(const T& member) { return member.span; }
+
+// The first name in `e` that is a parameter of `decl`, or null.
+const ast::Expr* uses_param(const ast::Expr& e, const ast::ObjectDecl& decl) {
+    if (e.kind == ast::ExprKind::Name)
+        for (const auto& p : decl.params)
+            if (p.name.text == e.text) return &e;
+    for (const auto& k : e.kids)
+        if (const ast::Expr* u = k ? uses_param(*k, decl) : nullptr) return u;
+    for (const auto& a : e.args)
+        if (const ast::Expr* u = a.value ? uses_param(*a.value, decl) : nullptr) return u;
+    if (e.index) return uses_param(*e.index, decl);
+    return nullptr;
+}
 template <class T> Span span_of(const std::unique_ptr<T>& member) { return member->span; }
 }  // namespace
 
@@ -71,6 +84,10 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     // Plants in imported modules are ignored: a module can be both a plant and a library.
     if (!plant) {
+        for (const auto& a : prog_.overrides)
+            sink_.report(DiagId::UnknownArgument, a.name ? a.name->span : a.span,
+                         fmt::format("this file declares no plant, so there is nothing for --set '{}' to set",
+                                     a.name ? a.name->text : ""));
         if (require_plant || root.objects.empty()) {
             if (!sink_.has_errors())
                 sink_.report(DiagId::NoPlant, Span{root.file, 0, 0},
@@ -89,7 +106,8 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     g_.plant = name(plant->name.text);
     int32_t root_do = new_do("", -1, -1, Frame{}, plant->name.span);
-    elaborate_do(root_do, *plant, prog_.root, std::make_shared<Env>());
+    // The plant's parameters take their values from `--set NAME=VALUE`, else their defaults.
+    elaborate_do(root_do, *plant, prog_.root, bind_args(*plant, prog_.overrides, plant->name.span, Env{}));
     finish_accesses();
     // The whole-plant warnings assume every flow was made: after an error, a failed flow
     // would show up as an input nothing drives or a place nothing feeds.
@@ -292,7 +310,16 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
     for (size_t i = 0; i < decl.params.size(); ++i) {
         const auto& p = decl.params[i];
         Value v;
-        if (given[i]) {
+        if (given[i] && decl.is_plant) {
+            // A --set value is a constant: it sees no parameter of the plant.
+            if (const ast::Expr* use = uses_param(*given[i]->value, decl)) {
+                sink_.report(DiagId::UnknownName, use->span,
+                             fmt::format("a --set value is a constant and cannot use the parameter '{}'", use->text));
+                env->set(p.name.text, Value{});
+                continue;
+            }
+            v = ev_.eval(*given[i]->value, caller_env);
+        } else if (given[i]) {
             v = ev_.eval(*given[i]->value, caller_env);
         } else if (p.default_value) {
             v = ev_.eval(*p.default_value, *env);  // defaults may use earlier parameters
@@ -301,6 +328,8 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
                                    fmt::format("missing argument '{}: {}' of '{}'", p.name.text, p.type.text,
                                                decl.name.text));
             d.notes.push_back({p.span, "parameter declared here without a default"});
+            if (decl.is_plant)
+                d.notes.push_back({{}, fmt::format("give it on the command line: --set {}=VALUE", p.name.text)});
             env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
             continue;
         }

@@ -20,6 +20,7 @@ struct LoadedModule {
 struct Program {
     std::vector<LoadedModule> modules;  // dependencies before dependents
     int root = -1;
+    std::vector<ast::Arg> overrides;    // `--set NAME=VALUE`: arguments for the root file's plant
 };
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,

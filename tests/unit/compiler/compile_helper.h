@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -34,9 +35,12 @@ inline std::string temp_plant(const std::string& name, const std::string& text) 
     return path.string();
 }
 
-inline void compile_text(const std::string& text, Compilation& c, const std::string& name = "t.plant") {
+// `overrides` are `--set NAME=VALUE` values for the plant's parameters.
+inline void compile_text(const std::string& text, Compilation& c, const std::string& name = "t.plant",
+                         const std::vector<std::string>& overrides = {}) {
     CompileOptions opts;
     opts.stdlib_dir = PLANT_STDLIB_DIR;
+    opts.overrides = overrides;
     compile_file(temp_plant(name, text), opts, c);
 }
 

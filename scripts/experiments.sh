@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# The three measurements of the original work (MISSION.md §5), in one command:
+#
+#   bash scripts/experiments.sh [--only NAME]... [--set NAME=VALUE]... [--out DIR]
+#
+# Installs what is missing (scripts/setup.sh: gnuplot among it), builds optimised, runs
+# every plant of plants/experiments over its sweep and writes, per experiment, into
+# DIR/NAME/ (default out/experiments/NAME/): NAME.csv (the series), NAME.png and NAME.svg
+# (the plot), summary.md (the headline numbers), and runs/ (each run's compiled graph and
+# raw trace).
+#
+#   traction  a bottle let go on a belt at 50 cm/s, k = 1, 4, 16 kg/s          (1 s each)
+#   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16 and 1 kg/s (3 s each)
+#   spacing   two bottles 20 cm apart on a loop of 5 belts and 6 curves         (50 s)
+#
+# --set NAME=VALUE sets a plant parameter (a value with its unit: k=4kg/s, "mass=20 g",
+# speed=60cm/s) in every selected experiment whose plant declares NAME. For a parameter an
+# experiment sweeps (traction: k; tipping: k and mass) the values given replace its sweep:
+# `--set k=2kg/s --set k=8kg/s` runs traction with k = 2 and 8 kg/s. Elsewhere the last
+# value given counts. --only NAME (repeatable) runs only those experiments.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; }
+
+out=out/experiments
+only=()
+set_names=()
+set_values=()
+add_set() {
+  case "$1" in
+    *=*) set_names+=("$(echo "${1%%=*}" | tr -d ' ')"); set_values+=("${1#*=}") ;;
+    *) echo "experiments: --set needs NAME=VALUE, got '$1'" >&2; exit 2 ;;
+  esac
+}
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --only) [ $# -ge 2 ] || { usage >&2; exit 2; }; only+=("$2"); shift 2 ;;
+    --only=*) only+=("${1#--only=}"); shift ;;
+    --set) [ $# -ge 2 ] || { usage >&2; exit 2; }; add_set "$2"; shift 2 ;;
+    --set=*) add_set "${1#--set=}"; shift ;;
+    --out) [ $# -ge 2 ] || { usage >&2; exit 2; }; out="$2"; shift 2 ;;
+    --out=*) out="${1#--out=}"; shift ;;
+    -h|--help) usage; exit 0 ;;
+    *) echo "experiments: unknown argument '$1'" >&2; usage >&2; exit 2 ;;
+  esac
+done
+[ ${#only[@]} -gt 0 ] || only=(traction tipping spacing)
+for name in "${only[@]}"; do
+  case "$name" in traction|tipping|spacing) ;; *) echo "experiments: no experiment '$name' (traction, tipping, spacing)" >&2; exit 2 ;; esac
+done
+
+scripts/setup.sh
+scripts/build.sh release
+plant=build/release/compiler/plant
+analyse=build/release/tools/plant-analyse
+
+# The parameters a plant declares, from its syntax tree: "k mass speed ...".
+declared() {
+  "$plant" check --emit=ast "$1" | grep -m1 -E '^ *plant ' | grep -oE '[(,] *[A-Za-z_][A-Za-z_0-9]*:' | tr -d '(,: '
+}
+
+# Every --set name must be declared by at least one selected plant.
+for n in "${set_names[@]+"${set_names[@]}"}"; do
+  found=0
+  for name in "${only[@]}"; do
+    if declared "plants/experiments/$name.plant" | grep -qx "$n"; then found=1; fi
+  done
+  [ $found -eq 1 ] || { echo "experiments: no selected experiment has a parameter '$n'" >&2; exit 2; }
+done
+
+# values NAME: the values given for NAME, one per line (none when not given).
+values() {
+  local i
+  for i in "${!set_names[@]}"; do [ "${set_names[$i]}" = "$1" ] && printf '%s\n' "${set_values[$i]}"; done
+  return 0
+}
+
+# run_experiment NAME SECONDS SWEPT_NAME:DEFAULTS...  (DEFAULTS separated by '|')
+run_experiment() {
+  local name="$1" seconds="$2"; shift 2
+  local file="plants/experiments/$name.plant" dir="$out/$name"
+  local params; params="$(declared "$file")"
+  # Fixed values: the last value of every name this plant declares and does not sweep.
+  local fixed=() swept=() n
+  for spec in "$@"; do swept+=("${spec%%:*}"); done
+  for n in $(printf '%s\n' "${set_names[@]+"${set_names[@]}"}" | awk '!seen[$0]++'); do
+    echo "$params" | grep -qx "$n" || continue
+    printf '%s\n' "${swept[@]+"${swept[@]}"}" | grep -qx "$n" && continue
+    fixed+=(--set "$n=$(values "$n" | tail -n 1)")
+  done
+  # The sweep: the cartesian product of the swept names' values.
+  local combos=("")
+  for spec in "$@"; do
+    local sname="${spec%%:*}" defaults="${spec#*:}" list=() next=() c v
+    mapfile -t list < <(values "$sname")
+    [ ${#list[@]} -gt 0 ] || IFS='|' read -r -a list <<< "$defaults"
+    for c in "${combos[@]}"; do
+      for v in "${list[@]}"; do next+=("$c"$'\t'"$sname=$v"); done
+    done
+    combos=("${next[@]}")
+  done
+  rm -rf "$dir"
+  mkdir -p "$dir/runs"
+  echo
+  echo "== $name (${#combos[@]} run(s), $seconds s each)"
+  local pairs=() combo tag sets
+  for combo in "${combos[@]}"; do
+    sets=()
+    tag="$name"
+    IFS=$'\t' read -r -a parts <<< "${combo#$'\t'}"
+    for p in "${parts[@]+"${parts[@]}"}"; do
+      [ -n "$p" ] || continue
+      sets+=(--set "$p")
+      tag+="_$(echo "$p" | tr -c 'A-Za-z0-9.=\n' '_' | tr '=' '-')"
+    done
+    echo "   $plant run $file$(printf ' %q' "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" | sed 's/ '"''"'//g') --for ${seconds}s"
+    "$plant" build "$file" "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" -o "$dir/runs/$tag.graph"
+    "$plant" run "$dir/runs/$tag.graph" --for "${seconds}s" --trace "$dir/runs/$tag.csv" --quiet > "$dir/runs/$tag.summary"
+    pairs+=("$dir/runs/$tag.graph" "$dir/runs/$tag.csv")
+  done
+  "$analyse" "$name" "$dir" "${pairs[@]}"
+  (cd "$dir" && gnuplot "$name.gp")
+  echo "   wrote $dir/$name.csv, $name.png, $name.svg, summary.md"
+}
+
+for name in "${only[@]}"; do
+  case "$name" in
+    traction) run_experiment traction 1 "k:1 kg/s|4 kg/s|16 kg/s" ;;
+    tipping)  run_experiment tipping 3 "k:16 kg/s|1 kg/s" "mass:20 g|40 g|80 g" ;;
+    spacing)  run_experiment spacing 50 ;;
+  esac
+done
+
+echo
+for name in "${only[@]}"; do
+  echo "=================================================================="
+  cat "$out/$name/summary.md"
+done

@@ -1,0 +1,149 @@
+// tools/experiments: the analysis functions on inputs whose answers are known by hand.
+#include "analysis.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+using namespace plant::experiments;
+
+namespace {
+
+Quat about_y(double deg) {  // a rotation about +y: tips the z axis towards +x
+    const double h = deg * std::numbers::pi / 360;
+    return {0, std::sin(h), 0, std::cos(h)};
+}
+
+}  // namespace
+
+TEST_CASE("experiments: the upright solution and its time to a fraction of the target") {
+    CHECK(upright_speed(0, 0, 0.5, 2, 0.04) == 0);
+    CHECK(upright_speed(0.02, 0, 0.5, 2, 0.04) == doctest::Approx(0.5 * (1 - std::exp(-1.0))));
+    CHECK(upright_speed(1e3, 0.2, 0.5, 2, 0.04) == doctest::Approx(0.5));
+    CHECK(upright_time_to_fraction(0.95, 2, 0.04) == doctest::Approx(0.02 * std::log(20.0)));
+    // Sampled: linear interpolation between the samples around the level.
+    const std::vector<double> t{0, 1, 2, 3}, v{0, 0.4, 0.6, 1.0};
+    CHECK(time_to_fraction(t, v, 1.0, 0.5) == doctest::Approx(1.5));
+    CHECK(time_to_fraction(t, v, 1.0, 1.0) == doctest::Approx(3));
+    CHECK(std::isnan(time_to_fraction(t, v, 2.0, 0.95)));
+    CHECK(time_to_fraction(t, {0, -0.4, -0.6, -1.0}, -1.0, 0.5) == doctest::Approx(1.5));  // a belt running backwards
+}
+
+TEST_CASE("experiments: the runtime's step is exact for a bottle without lever arms, slower with them") {
+    Bottle b;
+    b.m_main = 0.036;
+    b.m_bottom = 0.004;
+    b.k_main = b.k_bottom = 4;
+    b.inertia = 2.8e-5;
+    const double dt = 1 / 150.0, a = 8 * dt / 0.04;
+    CHECK(runtime_step_fraction(b, dt) == doctest::Approx(1 - std::exp(-a)).epsilon(1e-12));
+    CHECK(runtime_upright_speed(3 * dt, 0, 0.5, b, dt) == doctest::Approx(upright_speed(3 * dt, 0, 0.5, 8, 0.04)));
+    b.z_main = 0.0037;
+    b.z_bottom = -0.0333;  // the bottom body pulls below the centre of mass
+    const double f = runtime_step_fraction(b, dt);
+    CHECK(f < 1 - std::exp(-a));
+    CHECK(f > 0.5);
+    b.k_main = b.k_bottom = 0;
+    CHECK(runtime_step_fraction(b, dt) == 0);
+}
+
+TEST_CASE("experiments: traction numbers from a sampled curve") {
+    Bottle b;
+    b.m_main = 0.04;
+    b.k_main = 2;
+    b.belt_speed = 0.5;
+    b.gain_sum = 2;
+    const double dt = 0.01;
+    std::vector<double> t, v;
+    for (int i = 0; i <= 100; ++i) {
+        t.push_back(i * dt);
+        v.push_back(upright_speed(i * dt, 0, 0.5, 2, 0.04));
+    }
+    v[50] += 0.01;  // a bump above the target, then a drop back
+    const Traction x = analyse_traction(t, v, b, dt);
+    CHECK(x.t95 == doctest::Approx(upright_time_to_fraction(0.95, 2, 0.04)).epsilon(0.02));
+    CHECK(x.max_dev == doctest::Approx(0.01));
+    CHECK(x.max_dev_time == doctest::Approx(0.5));
+    CHECK(x.overshoot == doctest::Approx(0.01).epsilon(0.01));
+    CHECK(x.max_drop == doctest::Approx(0.01).epsilon(0.01));
+    CHECK(x.final_speed == doctest::Approx(0.5));
+}
+
+TEST_CASE("experiments: tilt and signed lean of a body's z axis") {
+    CHECK(tilt_deg({0, 0, 0, 1}) == doctest::Approx(0));
+    CHECK(tilt_deg(about_y(30)) == doctest::Approx(30));
+    CHECK(tilt_deg(about_y(-30)) == doctest::Approx(30));
+    CHECK(pitch_deg(about_y(30), {1, 0, 0}) == doctest::Approx(30));    // top towards +x: forwards
+    CHECK(pitch_deg(about_y(30), {-1, 0, 0}) == doctest::Approx(-30));  // on a belt running along -x
+    CHECK(pitch_deg(about_y(30), {0, 1, 0}) == doctest::Approx(0));     // a lean across the belt
+    const double h = 10 * std::numbers::pi / 360;
+    CHECK(tilt_deg({std::sin(h), 0, 0, std::cos(h)}) == doctest::Approx(10));  // about x
+}
+
+TEST_CASE("experiments: swings are excursions beyond the threshold, one side at a time") {
+    std::vector<double> t, pitch, tilt, speed;
+    auto add = [&](double p) {
+        t.push_back(double(t.size()) * 0.01);
+        pitch.push_back(p);
+        tilt.push_back(std::abs(p));
+        speed.push_back(1);
+    };
+    for (double p : {0.0, -0.5, -2.0, -5.0, -3.0, -0.2, 0.3, 1.5, 2.5, 0.4, -0.3, -1.2, 0.1}) add(p);
+    const Tipping x = analyse_tipping(t, pitch, tilt, speed, 1.0);
+    CHECK(x.peak_tilt == 5.0);
+    CHECK(x.peak_time == doctest::Approx(0.03));
+    CHECK(x.first.found);
+    CHECK(x.first.side == -1);
+    CHECK(x.first.peak == 5.0);
+    CHECK(x.second.found);
+    CHECK(x.second.side == 1);  // the largest later swing, on the other side
+    CHECK(x.second.peak == 2.5);
+    CHECK(x.later_max == 2.5);
+    CHECK(x.final_tilt == doctest::Approx(0.1));
+
+    std::vector<double> quiet(t.size(), 0.4);
+    const Tipping q = analyse_tipping(t, quiet, quiet, speed, 1.0);
+    CHECK_FALSE(q.first.found);
+    CHECK_FALSE(q.second.found);
+    CHECK(q.peak_tilt == 0.4);
+}
+
+TEST_CASE("experiments: statistics and laps") {
+    const Stats s = stats({1, 2, 3, 4});
+    CHECK(s.min == 1);
+    CHECK(s.max == 4);
+    CHECK(s.mean == 2.5);
+    CHECK(s.variance == doctest::Approx(1.25));
+    CHECK(s.n == 4);
+
+    // Three and a half turns on a circle, starting at its bottom heading +x.
+    std::vector<double> x, y;
+    for (int i = 0; i <= 700; ++i) {
+        const double a = i * 3.5 * 2 * std::numbers::pi / 700;
+        x.push_back(std::sin(a));
+        y.push_back(1 - std::cos(a));
+    }
+    CHECK(laps(x, y, {1, 0, 0}, 0.1) == 3);
+    CHECK(laps(x, y, {-1, 0, 0}, 0.1) == 0);  // never passes the gate the other way
+}
+
+TEST_CASE("experiments: reading a trace") {
+    std::istringstream good("time,a.x,a.y\n0,1,2\n0.5,3,4e-3\n");
+    Table t;
+    std::string err;
+    REQUIRE(read_csv(good, t, err));
+    CHECK(t.rows() == 2);
+    REQUIRE(t.col("a.y"));
+    CHECK((*t.col("a.y"))[1] == doctest::Approx(0.004));
+    CHECK(t.col("b") == nullptr);
+
+    std::istringstream short_row("time,a\n0,1\n1\n");
+    CHECK_FALSE(read_csv(short_row, t, err));
+    CHECK(err.find("line 3") != std::string::npos);
+    std::istringstream text("time,a\n0,x\n");
+    CHECK_FALSE(read_csv(text, t, err));
+    std::istringstream empty("");
+    CHECK_FALSE(read_csv(empty, t, err));
+}

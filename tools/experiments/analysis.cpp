@@ -1,0 +1,330 @@
+#include "analysis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <istream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace plant::experiments {
+
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+// v rotated by the unit quaternion q (x y z w).
+Vec3 rotate(const Quat& q, const Vec3& v) {
+    const Vec3 u{q[0], q[1], q[2]};
+    const Vec3 t = cross(u, v);
+    const Vec3 t2{2 * t[0], 2 * t[1], 2 * t[2]};
+    const Vec3 c = cross(u, t2);
+    return {v[0] + q[3] * t2[0] + c[0], v[1] + q[3] * t2[1] + c[1], v[2] + q[3] * t2[2] + c[2]};
+}
+Quat conj(const Quat& q) { return {-q[0], -q[1], -q[2], q[3]}; }
+
+// The bottle's axis (the body's z axis) in the world.
+Vec3 axis(const Quat& q) { return rotate(q, {0, 0, 1}); }
+
+bool inside(const graph::Field& f, const Vec3& p) {
+    const Vec3 local = rotate(conj(f.pose.q), sub(p, f.pose.p));
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(local[i]) > f.extent[i] / 2) return false;
+    return true;
+}
+
+int32_t body_named(const graph::Graph& g, const std::string& path) {
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        if (g.comp_path(g.bodies[b].comp) == path) return int32_t(b);
+    return -1;
+}
+
+}  // namespace
+
+bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std::string& error) {
+    Bottle b;
+    b.main = body_named(g, std::string(name) + ".main");
+    b.bottom = body_named(g, std::string(name) + ".bottom");
+    if (b.main < 0 || b.bottom < 0) {
+        error = "the plant has no bottle '" + std::string(name) + "' (bodies " + std::string(name) + ".main and " +
+                std::string(name) + ".bottom)";
+        return false;
+    }
+    const graph::Body& m = g.bodies[size_t(b.main)];
+    const graph::Body& f = g.bodies[size_t(b.bottom)];
+    b.m_main = m.mass;
+    b.m_bottom = f.mass;
+    for (int32_t body : {b.main, b.bottom}) {
+        const Vec3 p = g.bodies[size_t(body)].pose.p;  // the centre of mass is the body frame's origin
+        double k = 0;
+        for (size_t i = 0; i < g.fields.size(); ++i) {
+            const graph::Field& fd = g.fields[i];
+            if (fd.body >= 0 || !fd.enabled || !inside(fd, p)) continue;
+            k += fd.gain;
+            if (body == b.main && b.field < 0) {
+                b.field = int32_t(i);
+                b.belt_speed = fd.speed;
+                b.belt_dir = rotate(fd.pose.q, fd.dir);
+            }
+        }
+        (body == b.main ? b.k_main : b.k_bottom) = k;
+        b.gain_sum += k;
+    }
+    if (b.field < 0) {
+        error = "the bottle '" + std::string(name) + "' does not start on a belt (in a force field)";
+        return false;
+    }
+    const Vec3 c{(b.m_main * m.pose.p[0] + b.m_bottom * f.pose.p[0]) / b.mass(),
+                 (b.m_main * m.pose.p[1] + b.m_bottom * f.pose.p[1]) / b.mass(),
+                 (b.m_main * m.pose.p[2] + b.m_bottom * f.pose.p[2]) / b.mass()};
+    b.z_main = m.pose.p[2] - c[2];
+    b.z_bottom = f.pose.p[2] - c[2];
+    // The tipping axis: horizontal, across the belt.
+    const double h = std::hypot(b.belt_dir[0], b.belt_dir[1]);
+    const Vec3 u{-b.belt_dir[1] / h, b.belt_dir[0] / h, 0};
+    for (const graph::Body* body : {&m, &f}) {
+        double own = 0;
+        if (body->inertia_set) {  // principal moments about the body frame's axes
+            for (int j = 0; j < 3; ++j) {
+                Vec3 e{0, 0, 0};
+                e[size_t(j)] = 1;
+                const double c_j = dot(u, rotate(body->pose.q, e));
+                own += body->inertia[size_t(j)] * c_j * c_j;
+            }
+        } else if (body->shape_num == 1 && g.shapes[size_t(body->shape_adr)].kind == graph::ShapeKind::Sphere) {
+            const double r = g.shapes[size_t(body->shape_adr)].size[0];
+            own = 0.4 * body->mass * r * r;  // Bullet's solid sphere
+        } else {
+            error = "the bottle's body '" + g.comp_path(body->comp) +
+                    "' has neither an inertia nor a single sphere shape: its inertia is not known here";
+            return false;
+        }
+        const Vec3 r = sub(body->pose.p, c);
+        const double along_u = dot(r, u);
+        b.inertia += own + body->mass * (dot(r, r) - along_u * along_u);
+    }
+    out = b;
+    return true;
+}
+
+bool in_some_field(const graph::Graph& g, const Vec3& p) {
+    for (const graph::Field& f : g.fields)
+        if (f.body < 0 && inside(f, p)) return true;
+    return false;
+}
+
+bool frictionless(const graph::Graph& g) {
+    return std::all_of(g.bodies.begin(), g.bodies.end(),
+                       [](const graph::Body& b) { return b.friction == 0 && b.restitution == 0; });
+}
+
+double upright_speed(double t, double v0, double v_target, double gain_sum, double mass) {
+    return v_target + (v0 - v_target) * std::exp(-gain_sum * t / mass);
+}
+
+double upright_time_to_fraction(double fraction, double gain_sum, double mass) {
+    return -mass / gain_sum * std::log(1 - fraction);
+}
+
+double time_to_fraction(const std::vector<double>& t, const std::vector<double>& v, double target, double fraction) {
+    const double level = fraction * target;
+    const size_t n = std::min(t.size(), v.size());
+    for (size_t i = 0; i < n; ++i) {
+        if ((target >= 0 && v[i] < level) || (target < 0 && v[i] > level)) continue;
+        if (i == 0) return t[0];
+        const double s = (level - v[i - 1]) / (v[i] - v[i - 1]);
+        return t[i - 1] + s * (t[i] - t[i - 1]);
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+}
+
+double runtime_step_fraction(const Bottle& b, double dt) {
+    const double M = b.mass(), k = b.k_main + b.k_bottom;
+    if (k <= 0) return 0;
+    const double kz = b.k_main * b.z_main + b.k_bottom * b.z_bottom;
+    const double kzz = b.k_main * b.z_main * b.z_main + b.k_bottom * b.z_bottom * b.z_bottom;
+    const double a = k * dt / M;
+    const double inv_s = a / std::expm1(a);
+    // (D/s + dt·A)·x = dt·A·(1, 0): Cramer's rule for the speed component.
+    const double l11 = M * inv_s + dt * k, l12 = dt * kz, l22 = b.inertia * inv_s + dt * kzz;
+    const double r1 = dt * k, r2 = dt * kz;
+    return (r1 * l22 - l12 * r2) / (l11 * l22 - l12 * l12);
+}
+
+double runtime_upright_speed(double t, double v0, double v_target, const Bottle& b, double dt) {
+    return v_target + (v0 - v_target) * std::pow(1 - runtime_step_fraction(b, dt), t / dt);
+}
+
+Traction analyse_traction(const std::vector<double>& t, const std::vector<double>& v, const Bottle& b, double dt) {
+    Traction r;
+    const size_t n = std::min(t.size(), v.size());
+    if (n == 0) return r;
+    const double v_target = b.belt_speed;
+    r.t95 = time_to_fraction(t, v, v_target, 0.95);
+    r.t95_analytic = upright_time_to_fraction(0.95, b.gain_sum, b.mass());
+    r.t95_runtime = dt * std::log(0.05) / std::log(1 - runtime_step_fraction(b, dt));
+    double top = v[0];
+    r.overshoot = -std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < n; ++i) {
+        const double dev = v[i] - upright_speed(t[i], v[0], v_target, b.gain_sum, b.mass());
+        if (std::abs(dev) > std::abs(r.max_dev)) r.max_dev = dev, r.max_dev_time = t[i];
+        const double dev_rt = v[i] - runtime_upright_speed(t[i], v[0], v_target, b, dt);
+        if (std::abs(dev_rt) > std::abs(r.max_dev_runtime)) r.max_dev_runtime = dev_rt, r.max_dev_runtime_time = t[i];
+        r.overshoot = std::max(r.overshoot, v[i] - v_target);
+        top = std::max(top, v[i]);
+        r.max_drop = std::max(r.max_drop, top - v[i]);
+    }
+    r.final_speed = v[n - 1];
+    return r;
+}
+
+double tilt_deg(const Quat& q) {
+    const Vec3 a = axis(q);
+    return std::atan2(std::hypot(a[0], a[1]), a[2]) * kDeg;
+}
+
+double pitch_deg(const Quat& q, const Vec3& dir) {
+    const Vec3 a = axis(q);
+    const double h = std::hypot(dir[0], dir[1]);
+    const double along = h > 0 ? (a[0] * dir[0] + a[1] * dir[1]) / h : 0;
+    return std::atan2(along, a[2]) * kDeg;
+}
+
+Tipping analyse_tipping(const std::vector<double>& t, const std::vector<double>& pitch,
+                        const std::vector<double>& tilt, const std::vector<double>& speed, double threshold_deg) {
+    Tipping r;
+    const size_t n = std::min({t.size(), pitch.size(), tilt.size(), speed.size()});
+    if (n == 0) return r;
+    for (size_t i = 0; i < n; ++i)
+        if (tilt[i] > r.peak_tilt) r.peak_tilt = tilt[i], r.peak_time = t[i];
+    // Swings: runs of |pitch| > threshold on one side.
+    std::vector<Swing> swings;
+    Swing cur;
+    size_t first_end = n;
+    for (size_t i = 0; i < n; ++i) {
+        const int side = pitch[i] > threshold_deg ? 1 : pitch[i] < -threshold_deg ? -1 : 0;
+        if (cur.found && side != cur.side) {
+            swings.push_back(cur);
+            if (swings.size() == 1) first_end = i;
+            cur = Swing{};
+        }
+        if (side != 0) {
+            if (!cur.found) cur = Swing{true, 0, t[i], side};
+            if (std::abs(pitch[i]) > cur.peak) cur.peak = std::abs(pitch[i]), cur.time = t[i];
+        }
+    }
+    if (cur.found) {
+        swings.push_back(cur);
+        if (swings.size() == 1) first_end = n;
+    }
+    if (!swings.empty()) r.first = swings[0];
+    for (size_t s = 1; s < swings.size(); ++s)
+        if (swings[s].peak > r.second.peak) r.second = swings[s];
+    for (size_t i = swings.empty() ? 0 : first_end; i < n; ++i) r.later_max = std::max(r.later_max, tilt[i]);
+    r.final_tilt = tilt[n - 1];
+    r.final_speed = speed[n - 1];
+    return r;
+}
+
+Stats stats(const std::vector<double>& x) {
+    Stats s;
+    s.n = x.size();
+    if (x.empty()) return s;
+    s.min = *std::min_element(x.begin(), x.end());
+    s.max = *std::max_element(x.begin(), x.end());
+    double sum = 0;
+    for (double v : x) sum += v;
+    s.mean = sum / double(x.size());
+    double sq = 0;
+    for (double v : x) sq += (v - s.mean) * (v - s.mean);
+    s.variance = sq / double(x.size());
+    return s;
+}
+
+int laps(const std::vector<double>& x, const std::vector<double>& y, const Vec3& dir, double half_width) {
+    const size_t n = std::min(x.size(), y.size());
+    if (n < 2) return 0;
+    const double len = std::hypot(dir[0], dir[1]);
+    const double dx = dir[0] / len, dy = dir[1] / len;
+    // A crossing counts once the path has been away from the gate (so jitter at the
+    // start, or on the gate, is not a lap).
+    const double away = std::max(0.5, 4 * half_width);
+    int count = 0;
+    bool armed = false;
+    double prev_s = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double rx = x[i] - x[0], ry = y[i] - y[0];
+        const double s = rx * dx + ry * dy;
+        const double lateral = std::abs(-rx * dy + ry * dx);
+        if (std::hypot(rx, ry) > away) armed = true;
+        if (i > 0 && armed && prev_s < 0 && s >= 0 && lateral <= half_width) {
+            ++count;
+            armed = false;
+        }
+        prev_s = s;
+    }
+    return count;
+}
+
+const std::vector<double>* Table::col(std::string_view name) const {
+    for (size_t i = 0; i < names.size(); ++i)
+        if (names[i] == name) return &cols[i];
+    return nullptr;
+}
+
+bool read_csv(std::istream& in, Table& out, std::string& error) {
+    Table t;
+    std::string line;
+    if (!std::getline(in, line)) {
+        error = "empty trace";
+        return false;
+    }
+    {
+        std::istringstream h(line);
+        for (std::string name; std::getline(h, name, ',');) t.names.push_back(name);
+    }
+    t.cols.resize(t.names.size());
+    for (size_t row = 2; std::getline(in, line); ++row) {
+        if (line.empty()) continue;
+        std::istringstream r(line);
+        size_t c = 0;
+        for (std::string cell; std::getline(r, cell, ','); ++c) {
+            char* end = nullptr;
+            const double v = std::strtod(cell.c_str(), &end);
+            if (c >= t.cols.size() || cell.empty() || *end != '\0') {
+                error = "line " + std::to_string(row) + ": '" + cell + "' is not a number of a known column";
+                return false;
+            }
+            t.cols[c].push_back(v);
+        }
+        if (c != t.cols.size()) {
+            error = "line " + std::to_string(row) + ": " + std::to_string(c) + " values for " +
+                    std::to_string(t.cols.size()) + " columns";
+            return false;
+        }
+    }
+    out = std::move(t);
+    return true;
+}
+
+bool read_csv_file(const std::string& path, Table& out, std::string& error) {
+    std::ifstream in(path);
+    if (!in) {
+        error = path + ": cannot open";
+        return false;
+    }
+    if (!read_csv(in, out, error)) {
+        error = path + ": " + error;
+        return false;
+    }
+    return true;
+}
+
+}  // namespace plant::experiments
