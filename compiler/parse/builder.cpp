@@ -586,6 +586,13 @@ private:
 
 }  // namespace
 
+// What a file with errors that stop its checking contributes: nothing.
+static ast::Module empty_module(int32_t file) {
+    ast::Module m;
+    m.file = file;
+    return m;
+}
+
 ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     const std::string& text = sources.text(file);
     Offsets offsets(text);
@@ -612,9 +619,7 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
             sink.report(DiagId::NestingTooDeep, Span{file, offsets.byte(t->getStartIndex()),
                                                      offsets.byte(t->getStopIndex() + 1)},
                         "more than " + std::to_string(kMaxNesting) + " nested brackets or prefix operators");
-            ast::Module empty;
-            empty.file = file;
-            return empty;
+            return empty_module(file);
         }
     }
 
@@ -641,18 +646,14 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     }
     if (sink.count(Severity::Error) > before) {
         // The tree after recovery may be partial; only syntax errors are reported for this file.
-        ast::Module empty;
-        empty.file = file;
-        return empty;
+        return empty_module(file);
     }
     Builder builder(file, offsets, text);
     ast::Module m = builder.module(tree);
     if (builder.too_deep()) {
         sink.report(DiagId::NestingTooDeep, *builder.too_deep(),
                     "an expression nested more than " + std::to_string(kMaxExprDepth) + " operators deep; split it with `let`");
-        ast::Module empty;
-        empty.file = file;
-        return empty;
+        return empty_module(file);
     }
     return m;
 }

@@ -2,6 +2,7 @@
 // file, run for 120 simulated seconds, its material flow checked step by step.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "../stdlib/lookup.h"
 
 #include <doctest/doctest.h>
 
@@ -17,23 +18,6 @@ using namespace plant::test;
 using plant::engine::Engine;
 using plant::graph::Graph;
 
-namespace {
-
-// The slot at a dotted path (Graph::slot_path), or -1.
-int32_t slot(const Graph& g, const std::string& path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
-    return -1;
-}
-
-int32_t place(const Graph& g, const std::string& net_path, const std::string& name) {
-    for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.comp_path(g.places[p].comp) == net_path && g.str(g.places[p].name) == name) return int32_t(p);
-    return -1;
-}
-
-}  // namespace
-
 TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in the lane of their code") {
     plant::Compilation c;
     plant::CompileOptions opts;
@@ -46,16 +30,16 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     std::map<char, std::pair<int32_t, int32_t>> exits;  // lane -> (taken, id)
     for (char lane : std::string("abcde")) {
         const std::string e = std::string("exit_") + lane + ".away.";
-        exits[char(lane - 'a' + 'A')] = {slot(g, e + "taken"), slot(g, e + "id")};
+        exits[char(lane - 'a' + 'A')] = {slot_named(g, e + "taken"), slot_named(g, e + "id")};
         REQUIRE(exits[char(lane - 'a' + 'A')].first >= 0);
     }
     std::vector<int32_t> requests;
     for (int k = 1; k <= 5; ++k)
         for (const char* p : {"MoveToBasePos", "MoveToWorkingPos"}) {
-            requests.push_back(place(g, "s" + std::to_string(k) + ".net", p));
+            requests.push_back(place_named(g, "s" + std::to_string(k) + ".net", p));
             REQUIRE(requests.back() >= 0);
         }
-    const int32_t filled = slot(g, "fill.core.work.tick"), capped = slot(g, "cap.core.work.tick");
+    const int32_t filled = slot_named(g, "fill.core.work.tick"), capped = slot_named(g, "cap.core.work.tick");
     REQUIRE(filled >= 0);
     REQUIRE(capped >= 0);
 

@@ -1,6 +1,7 @@
 // std.belts and std.bottle, compiled from the standard library and run on Bullet.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "lookup.h"
 #include "engine/run.h"
 
 #include <doctest/doctest.h>
@@ -14,24 +15,6 @@
 
 using namespace plant::test;
 using plant::engine::Engine;
-
-namespace {
-
-// The angle between a body's z axis and the vertical, in degrees.
-double tilt_deg(const plant::graph::Quat& q) {
-    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
-    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
-}
-
-// Bodies whose component path ends with `suffix` (e.g. ".main"), in graph order.
-std::vector<int32_t> bodies_named(const plant::graph::Graph& g, std::string_view suffix) {
-    std::vector<int32_t> out;
-    for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.comp_path(g.bodies[b].comp).ends_with(suffix)) out.push_back(int32_t(b));
-    return out;
-}
-
-}  // namespace
 
 TEST_CASE("std.belts: bottles cross belt joints and a left and a right curve upright, inside the rails") {
     // Belt, left curve, belt, right curve, belt: the track ends 1.6 m to the left of
@@ -53,7 +36,7 @@ plant Track {
 )",
                  c, "track.plant");
     REQUIRE(c.ok());
-    const std::vector<int32_t> bottles = bodies_named(c.graph, ".main");
+    const std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
     REQUIRE(bottles.size() == 6);
     Engine e(c.graph);
     double worst_tilt = 0;

@@ -3,6 +3,7 @@
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "graph/kinds.h"
+#include "lookup.h"
 
 #include <doctest/doctest.h>
 
@@ -13,6 +14,7 @@
 #define PLANT_SOURCE_DIR "."
 #endif
 
+using namespace plant::test;
 using plant::engine::Engine;
 
 TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped and commissioned") {
@@ -22,15 +24,10 @@ TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped an
     plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/line.plant", opts, c);
     REQUIRE(c.ok());
     const auto& g = c.graph;
-    auto slot = [&](const std::string& path) {
-        for (size_t s = 0; s < g.slots.size(); ++s)
-            if (g.slot_path(int32_t(s)) == path) return int32_t(s);
-        return int32_t(-1);
-    };
-    const int32_t placed = slot("arm.hand.released"), filled = slot("fill.core.work.tick"),
-                  capped = slot("cap.core.work.tick"), taken = slot("done.away.taken");
+    const int32_t placed = slot_named(g, "arm.hand.released"), filled = slot_named(g, "fill.core.work.tick"),
+                  capped = slot_named(g, "cap.core.work.tick"), taken = slot_named(g, "done.away.taken");
     // The bottle the exit takes: its variant must be the filled and capped one.
-    const int32_t taken_obj = slot("done.away.object");
+    const int32_t taken_obj = slot_named(g, "done.away.object");
     REQUIRE(placed >= 0);
     REQUIRE(taken_obj >= 0);
     std::vector<int32_t> shown_of(g.dos.size(), -1);

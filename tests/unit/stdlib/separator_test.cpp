@@ -2,6 +2,7 @@
 // pass per cycle.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "lookup.h"
 
 #include <doctest/doctest.h>
 
@@ -15,23 +16,6 @@ using namespace plant::test;
 using plant::engine::Engine;
 
 namespace {
-
-double tilt_deg(const plant::graph::Quat& q) {
-    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
-    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
-}
-
-int32_t slot_named(const plant::graph::Graph& g, std::string_view path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
-    return -1;
-}
-
-int32_t trigger_named(const plant::graph::Graph& g, std::string_view path) {
-    for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (g.comp_path(g.triggers[t].comp) == path) return int32_t(t);
-    return -1;
-}
 
 // A 6 m belt at 50 cm/s with the separator's WP at x = 1.5 m and 4 bottles queued
 // upstream, touching (0.5 mm apart), slightly off the centre line.
@@ -63,7 +47,7 @@ struct Queue {
         released = slot_named(g, "sep.bp.left.look.close.finished");
         hold = slot_named(g, "sep.holding.start");
         free = slot_named(g, "sep.holding.stop");
-        b327 = trigger_named(g, "sep.b327.volume");
+        b327 = row_of_comp(g, g.triggers, "sep.b327.volume");
         REQUIRE(released >= 0);
         REQUIRE(hold >= 0);
         REQUIRE(free >= 0);

@@ -1,6 +1,7 @@
 // std.switch: the switch section routes bottles physically, driven through its ports.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "lookup.h"
 
 #include <doctest/doctest.h>
 
@@ -14,36 +15,6 @@ using namespace plant::test;
 using plant::engine::Engine;
 
 namespace {
-
-// The angle between a body's z axis and the vertical, in degrees.
-double tilt_deg(const plant::graph::Quat& q) {
-    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
-    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
-}
-
-int32_t slot_named(const plant::graph::Graph& g, std::string_view path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
-    return -1;
-}
-
-int32_t place_named(const plant::graph::Graph& g, std::string_view net, std::string_view name) {
-    for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.comp_path(g.places[p].comp) == net && g.str(g.places[p].name) == name) return int32_t(p);
-    return -1;
-}
-
-int32_t body_named(const plant::graph::Graph& g, std::string_view path) {
-    for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.comp_path(g.bodies[b].comp) == path) return int32_t(b);
-    return -1;
-}
-
-int32_t trigger_named(const plant::graph::Graph& g, std::string_view path) {
-    for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (g.comp_path(g.triggers[t].comp) == path) return int32_t(t);
-    return -1;
-}
 
 // A line through a switch section: 4 bottles `a` pass first, 4 bottles `b` follow
 // 1.9 m behind them; long belts on both exits, a binary sensor 20 cm into each.
@@ -78,12 +49,12 @@ Run run_line(const plant::graph::Graph& g, double belt_speed, double switch_at, 
     Run r;
     const int32_t to_working = slot_named(g, "sw.net.MoveToWorkingPos.put");
     REQUIRE(to_working >= 0);
-    const int32_t ahead_eye = trigger_named(g, "ahead_eye.volume"), aside_eye = trigger_named(g, "aside_eye.volume");
+    const int32_t ahead_eye = row_of_comp(g, g.triggers, "ahead_eye.volume"), aside_eye = row_of_comp(g, g.triggers, "aside_eye.volume");
     REQUIRE(ahead_eye >= 0);
     REQUIRE(aside_eye >= 0);
     std::vector<int32_t> bottles;
     for (int i = 0; i < 4; ++i)
-        for (const char* grp : {"a", "b"}) bottles.push_back(body_named(g, std::string(grp) + "[" + std::to_string(i) + "].main"));
+        for (const char* grp : {"a", "b"}) bottles.push_back(row_of_comp(g, g.bodies, std::string(grp) + "[" + std::to_string(i) + "].main"));
     for (int32_t b : bottles) REQUIRE(b >= 0);
 
     Engine e(g);
@@ -151,7 +122,7 @@ TEST_CASE("std.switch: without a request every bottle runs straight on") {
     INFO(plant::render_all_text(c.sink.all(), c.sources));
     REQUIRE(c.ok());
     // The switch is never sent to working: all 8 bottles take the straight exit.
-    const int32_t ahead_eye = trigger_named(c.graph, "ahead_eye.volume"), aside_eye = trigger_named(c.graph, "aside_eye.volume");
+    const int32_t ahead_eye = row_of_comp(c.graph, c.graph.triggers, "ahead_eye.volume"), aside_eye = row_of_comp(c.graph, c.graph.triggers, "aside_eye.volume");
     std::vector<int32_t> bottles;
     for (size_t b = 0; b < c.graph.bodies.size(); ++b)
         if (c.graph.comp_path(c.graph.bodies[b].comp).ends_with("].main")) bottles.push_back(int32_t(b));

@@ -1,0 +1,52 @@
+// Finding things in a compiled plant by their dotted paths, and measuring a bottle, for
+// the tests that run plants written in the language (stdlib types, shipped plants).
+#pragma once
+
+#include "graph/graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string_view>
+#include <vector>
+
+namespace plant::test {
+
+// The angle between a body's z axis and the vertical, in degrees.
+inline double tilt_deg(const graph::Quat& q) {
+    const double c = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
+    return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / std::numbers::pi;
+}
+
+// The slot at a dotted path (Graph::slot_path), or -1.
+inline int32_t slot_named(const graph::Graph& g, std::string_view path) {
+    for (size_t s = 0; s < g.slots.size(); ++s)
+        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    return -1;
+}
+
+// The place `name` of the net at component path `net`, or -1.
+inline int32_t place_named(const graph::Graph& g, std::string_view net, std::string_view name) {
+    for (size_t p = 0; p < g.places.size(); ++p)
+        if (g.comp_path(g.places[p].comp) == net && g.str(g.places[p].name) == name) return int32_t(p);
+    return -1;
+}
+
+// Rows of a table whose component path is `path`, or -1.
+template <class Rows>
+int32_t row_of_comp(const graph::Graph& g, const Rows& rows, std::string_view path) {
+    for (size_t i = 0; i < rows.size(); ++i)
+        if (g.comp_path(rows[i].comp) == path) return int32_t(i);
+    return -1;
+}
+
+// Bodies whose component path ends with `suffix` (e.g. ".main"), in graph order.
+inline std::vector<int32_t> bodies_ending(const graph::Graph& g, std::string_view suffix) {
+    std::vector<int32_t> out;
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        if (g.comp_path(g.bodies[b].comp).ends_with(suffix)) out.push_back(int32_t(b));
+    return out;
+}
+
+}  // namespace plant::test
