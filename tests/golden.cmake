@@ -16,7 +16,13 @@ foreach(example ${PLANT_EXAMPLES})
 endforeach()
 
 find_program(DOT_TOOL dot)
+file(GLOB PLANT_SHIPPED CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/plants/*.plant)
 if(DOT_TOOL)
+  foreach(plant_file ${PLANT_SHIPPED})
+    get_filename_component(name ${plant_file} NAME_WE)
+    add_test(NAME plant_dot_${name}
+             COMMAND bash -o pipefail -c "\"$<TARGET_FILE:plant>\" graph \"${plant_file}\" | \"${DOT_TOOL}\" -Tsvg -o /dev/null")
+  endforeach()
   foreach(example ${PLANT_EXAMPLES})
     get_filename_component(name ${example} NAME_WE)
     add_test(NAME example_dot_${name}
