@@ -36,6 +36,13 @@ inline std::string temp_plant(const std::string& name, const std::string& text) 
 }
 
 // `overrides` are `--set NAME=VALUE` values for the plant's parameters.
+// Compiles a plant file of this checkout (path relative to its root) with its stdlib.
+inline void compile_repo_file(const std::string& path, Compilation& c) {
+    CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    compile_file(std::string(PLANT_SOURCE_DIR) + "/" + path, opts, c);
+}
+
 inline void compile_text(const std::string& text, Compilation& c, const std::string& name = "t.plant",
                          const std::vector<std::string>& overrides = {}) {
     CompileOptions opts;

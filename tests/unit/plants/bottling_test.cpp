@@ -10,19 +10,13 @@
 #include <string>
 #include <vector>
 
-#ifndef PLANT_SOURCE_DIR
-#define PLANT_SOURCE_DIR "."
-#endif
-
 using namespace plant::test;
 using plant::engine::Engine;
 using plant::graph::Graph;
 
 TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in the lane of their code") {
     plant::Compilation c;
-    plant::CompileOptions opts;
-    opts.stdlib_dir = PLANT_STDLIB_DIR;
-    plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant", opts, c);
+    compile_repo_file("plants/bottling.plant", c);
     REQUIRE(c.ok());
     const Graph& g = c.graph;
 

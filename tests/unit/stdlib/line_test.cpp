@@ -10,18 +10,12 @@
 #include <string>
 #include <vector>
 
-#ifndef PLANT_SOURCE_DIR
-#define PLANT_SOURCE_DIR "."
-#endif
-
 using namespace plant::test;
 using plant::engine::Engine;
 
 TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped and commissioned") {
     plant::Compilation c;
-    plant::CompileOptions opts;
-    opts.stdlib_dir = PLANT_STDLIB_DIR;
-    plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/line.plant", opts, c);
+    compile_repo_file("examples/line.plant", c);
     REQUIRE(c.ok());
     const auto& g = c.graph;
     const int32_t placed = slot_named(g, "arm.hand.released"), filled = slot_named(g, "fill.core.work.tick"),
