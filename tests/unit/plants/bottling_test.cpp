@@ -23,17 +23,18 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     // Exits by lane; the switch places that take requests.
     std::map<char, std::pair<int32_t, int32_t>> exits;  // lane -> (taken, id)
     for (char lane : std::string("abcde")) {
-        const std::string e = std::string("exit_") + lane + ".away.";
+        const std::string e = std::string("line[0].exit_") + lane + ".away.";
         exits[char(lane - 'a' + 'A')] = {slot_named(g, e + "taken"), slot_named(g, e + "id")};
         REQUIRE(exits[char(lane - 'a' + 'A')].first >= 0);
     }
     std::vector<int32_t> requests;
     for (int k = 1; k <= 5; ++k)
         for (const char* p : {"MoveToBasePos", "MoveToWorkingPos"}) {
-            requests.push_back(place_named(g, "s" + std::to_string(k) + ".net", p));
+            requests.push_back(place_named(g, "line[0].s" + std::to_string(k) + ".net", p));
             REQUIRE(requests.back() >= 0);
         }
-    const int32_t filled = slot_named(g, "fill.core.work.tick"), capped = slot_named(g, "cap.core.work.tick");
+    const int32_t filled = slot_named(g, "line[0].fill.core.work.tick"),
+                  capped = slot_named(g, "line[0].cap.core.work.tick");
     REQUIRE(filled >= 0);
     REQUIRE(capped >= 0);
 
