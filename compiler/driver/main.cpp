@@ -62,6 +62,34 @@ flows as edges, each Petri net as a cluster of places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
+constexpr const char* kInfoHelp = R"(usage: plant info [--stdlib DIR] [--set NAME=VALUE]... FILE...
+
+Compiles each FILE and prints one line of counts (objects, components, slots, flows,
+connectors, places, transitions, bodies, force fields, triggers, warnings), then the
+plant's parameters with their types and defaults (change them with --set NAME=VALUE).
+)";
+
+constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
+
+Runs FILE (a .plant, or a .graph written by `plant build`) headless and prints a summary:
+objects issued, taken, on the line, lost and stalled; records; warnings; wall time and
+the real-time factor.
+
+  --for 10s                 simulated time (s, ms, min; default 10 s)
+  --rate 150Hz              physics rate (Hz, kHz; default the plant's settings.rate)
+  --set NAME=VALUE          a plant parameter (.plant files only); repeatable
+  --trace FILE              write a CSV trace
+  --trace-bodies, --trace-places, --trace-slots
+                            the trace's column groups (any subset; default all)
+  --trace-rate 50Hz         sample rate of the trace (default every step)
+  --event "5s PATH [VALUE]" a timed external input to the slot PATH; repeatable
+  --events FILE             one event per line, # comments
+  --realtime                not faster than real time
+  --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
+  --quiet                   no progress line
+See docs/runtime.md ("plant run") for the event values and the trace format.
+)";
+
 struct Options {
     std::string command;
     std::vector<std::string> files;
@@ -145,6 +173,24 @@ int cmd_graph(const Options& o) {
     return 0;
 }
 
+// The root file's plant parameters, as written: `  bottles: count = 40`.
+void print_plant_params(const plant::Compilation& c, std::ostream& out) {
+    const auto& p = c.program;
+    if (p.root < 0) return;
+    for (const auto& obj : p.modules[size_t(p.root)].ast.objects) {
+        if (!obj.is_plant) continue;
+        for (const auto& prm : obj.params) {
+            out << "  parameter " << prm.name.text;
+            if (!prm.type.text.empty()) out << ": " << prm.type.text;
+            if (prm.default_value) {
+                const auto& sp = prm.default_value->span;
+                out << " = " << c.sources.text(sp.file).substr(sp.begin, sp.end - sp.begin);
+            }
+            out << "\n";
+        }
+    }
+}
+
 int cmd_info(const Options& o) {
     if (o.files.empty()) return usage_error("info needs at least one FILE");
     bool ok = true;
@@ -160,6 +206,7 @@ int cmd_info(const Options& o) {
                   << " connectors, " << g.places.size() << " places, " << g.transitions.size() << " transitions, "
                   << g.bodies.size() << " bodies, " << g.fields.size() << " force fields, " << g.triggers.size()
                   << " triggers; " << c.sink.count(plant::Severity::Warning) << " warnings\n";
+        print_plant_params(c, std::cout);
     }
     return ok ? 0 : 1;
 }
@@ -241,10 +288,13 @@ int main(int argc, char** argv) {
         if (o.help) return std::cout << kGraphHelp, 0;
         return cmd_graph(o);
     }
-    if (o.command == "info") return cmd_info(o);
+    if (o.command == "info") {
+        if (o.help) return std::cout << kInfoHelp, 0;
+        return cmd_info(o);
+    }
     if (o.command == "run") {
 #ifdef PLANT_HAS_RUNTIME
-        if (o.help) o.rest.push_back("--help");
+        if (o.help) return std::cout << kRunHelp, 0;
         return cmd_run(o);
 #else
         return usage_error("this build has no runtime");
