@@ -24,7 +24,7 @@ void Physics::add_to_world(int32_t b) {
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
     }
-    world_->addRigidBody(bodies_[b].get(), group_[b], mask_[b]);
+    world_->addRigidBody(bodies_[b].get(), coll_on_[b] ? group_[b] : 0, coll_on_[b] ? mask_[b] : 0);
 }
 
 void Physics::sync_joints(int32_t b) {
@@ -45,16 +45,9 @@ void Physics::sync_joints(int32_t b) {
 void Physics::insert(int32_t b) {
     if (in_world_[b]) return;
     btRigidBody& r = *bodies_[b];
-    btBroadphaseProxy* proxy = r.getBroadphaseHandle();
-    proxy->m_collisionFilterGroup = group_[b];
-    proxy->m_collisionFilterMask = mask_[b];
     r.forceActivationState(g_.bodies[b].mode == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
-    // Through a far box and back, so the broadphase looks for new pairs even if the
-    // body is issued where it was parked.
-    const btVector3 far(999, 999, 999);
-    broadphase_->setAabb(proxy, far, far, dispatcher_.get());
-    world_->updateSingleAabb(&r);
     in_world_[b] = 1;
+    refilter(b);
     ++version_;
     sync_joints(b);
 }
@@ -103,12 +96,31 @@ void Physics::set_dynamics(int32_t b, bool on) {
     ++version_;
 }
 
+// A body that takes no collisions is in no broadphase pair at all (group and mask 0),
+// like a parked one: no narrowphase work for it. Triggers do not need its pairs; they
+// read AABBs from our own index (triggers.cpp).
 void Physics::set_collision(int32_t b, bool on) {
-    btRigidBody& r = *bodies_[b];
-    int f = r.getCollisionFlags();
-    r.setCollisionFlags(on ? f & ~btCollisionObject::CF_NO_CONTACT_RESPONSE
-                           : f | btCollisionObject::CF_NO_CONTACT_RESPONSE);
+    if (bool(coll_on_[b]) == on) return;
     coll_on_[b] = on;
+    if (in_world_[b]) refilter(b);
+}
+
+// Gives an in-world body's proxy the filter its mode and collision switch ask for and
+// makes the broadphase look for its pairs again.
+void Physics::refilter(int32_t b) {
+    btRigidBody& r = *bodies_[b];
+    btBroadphaseProxy* proxy = r.getBroadphaseHandle();
+    proxy->m_collisionFilterGroup = coll_on_[b] ? group_[b] : 0;
+    proxy->m_collisionFilterMask = coll_on_[b] ? mask_[b] : 0;
+    if (!coll_on_[b]) {  // cleanProxyFromPairs would keep the pairs (and their contacts next step)
+        broadphase_->getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy, dispatcher_.get());
+        return;
+    }
+    // Through a far box and back, so the broadphase looks for new pairs even if the
+    // body comes back where it was (issued where it was parked, collision switched on).
+    const btVector3 far(999, 999, 999);
+    broadphase_->setAabb(proxy, far, far, dispatcher_.get());
+    world_->updateSingleAabb(&r);
 }
 
 void Physics::set_joint(int32_t j, bool on) {

@@ -47,7 +47,7 @@ public:
     void insert(int32_t b);
     void take_out(int32_t b);
     void set_dynamics(int32_t b, bool on);  // off: kinematic, moved by us
-    void set_collision(int32_t b, bool on);
+    void set_collision(int32_t b, bool on);  // off: in no broadphase pair
     void set_joint(int32_t j, bool on);
     bool joint_on(int32_t j) const { return joint_on_[j]; }
     // Changes whenever membership, a dynamics mode or a joint changes (caches compare it).
@@ -62,6 +62,7 @@ public:
     void move(int32_t b, const btTransform& frame);
 
 private:
+    void refilter(int32_t b);
     void add_to_world(int32_t b);
     void sync_joints(int32_t b);
 
