@@ -36,6 +36,8 @@ void advance_graphics(Runtime& r) {
         const Graphics& gr = g.graphics[i];
         GraphicsState& gs = s.graphics[i];
         if (gr.body >= 0) {
+            // A parked body's graphics keep their pose: nothing to do unless animated.
+            if (!r.phys.in_world(gr.body) && gs.anim < 0) continue;
             if (r.phys.in_world(gr.body)) gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
         } else if (gr.parent >= 0) {
             gs.base = pmul(s.graphics[gr.parent].pose, r.tab.graphics_local[i]);

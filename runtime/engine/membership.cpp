@@ -18,13 +18,26 @@ constexpr int kStatic = btBroadphaseProxy::StaticFilter;
 constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
 }  // namespace
 
-void Physics::add_to_world(int32_t b) {
+void Physics::add_to_world(int32_t b, bool filtered) {
     switch (g_.bodies[b].mode) {
     case BodyMode::Dynamic: group_[b] = btBroadphaseProxy::DefaultFilter, mask_[b] = kAll; break;
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
     }
-    world_->addRigidBody(bodies_[b].get(), coll_on_[b] ? group_[b] : 0, coll_on_[b] ? mask_[b] : 0);
+    const bool pairs = filtered && coll_on_[b];
+    world_->addRigidBody(bodies_[b].get(), pairs ? group_[b] : 0, pairs ? mask_[b] : 0);
+}
+
+// Bullet's static/kinematic flags as the body's mode and dynamics switch say. A parked
+// body is flagged static: Bullet integrates every non-static body of its world each step
+// (predictIntegratedTransform, without looking at its activation), parked or not.
+void Physics::set_mode_flags(int32_t b) {
+    btRigidBody& r = *bodies_[b];
+    int f = r.getCollisionFlags() & ~(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_KINEMATIC_OBJECT);
+    const BodyMode mode = g_.bodies[b].mode;
+    if (!in_world_[b] || mode == BodyMode::Static) f |= btCollisionObject::CF_STATIC_OBJECT;
+    else if (mode == BodyMode::Kinematic || !dyn_on_[b]) f |= btCollisionObject::CF_KINEMATIC_OBJECT;
+    r.setCollisionFlags(f);
 }
 
 void Physics::sync_joints(int32_t b) {
@@ -47,6 +60,7 @@ void Physics::insert(int32_t b) {
     btRigidBody& r = *bodies_[b];
     r.forceActivationState(g_.bodies[b].mode == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
     in_world_[b] = 1;
+    set_mode_flags(b);
     refilter(b);
     ++version_;
     sync_joints(b);
@@ -62,6 +76,7 @@ void Physics::take_out(int32_t b) {
     r.setAngularVelocity(btVector3(0, 0, 0));
     r.clearForces();
     r.forceActivationState(DISABLE_SIMULATION);
+    set_mode_flags(b);
     btBroadphaseProxy* proxy = r.getBroadphaseHandle();
     proxy->m_collisionFilterGroup = 0;
     proxy->m_collisionFilterMask = 0;
@@ -93,6 +108,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
     r.setAngularVelocity(btVector3(0, 0, 0));
     r.clearForces();
     dyn_on_[b] = on;
+    if (!in_world_[b]) set_mode_flags(b);
     ++version_;
 }
 

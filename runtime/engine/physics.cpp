@@ -132,9 +132,13 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         body_joints_.list.push_back(j);
     }
 
-    // Every body joins Bullet's world once, in id order; pooled ones are parked.
+    // Every body joins Bullet's world once, in id order; pooled ones are parked. A pool's
+    // objects all start at one pose: they join without a filter, or the broadphase would
+    // pair each with every other at once (a million pairs for a pool of 1,000 bottles).
+    std::vector<char> pool(nb);
     for (size_t b = 0; b < nb; ++b) {
-        add_to_world(int32_t(b));
+        pool[b] = pooled(g, t, t.body_do[b]);
+        add_to_world(int32_t(b), !pool[b]);
         in_world_[b] = 1;
     }
     for (size_t j = 0; j < g.joints.size(); ++j) {
@@ -142,7 +146,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         joint_in_[j] = 1;
     }
     for (size_t b = 0; b < nb; ++b)
-        if (pooled(g, t, t.body_do[b])) take_out(int32_t(b));
+        if (pool[b]) take_out(int32_t(b));
 }
 
 Physics::~Physics() {

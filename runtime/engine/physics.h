@@ -63,7 +63,8 @@ public:
 
 private:
     void refilter(int32_t b);
-    void add_to_world(int32_t b);
+    void add_to_world(int32_t b, bool filtered);
+    void set_mode_flags(int32_t b);
     void sync_joints(int32_t b);
 
     const graph::Graph& g_;
