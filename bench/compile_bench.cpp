@@ -372,6 +372,7 @@ int main(int argc, char** argv) {
     int64_t runs = 3;
     double max_seconds = 20;
     std::string keep;
+    bool table_rows = false;  // --rows: only the rows of bench/run.sh's summary table
     std::string stdlib = plant::default_stdlib_dir();
 
     std::vector<std::string> args(argv + 1, argv + argc);
@@ -384,6 +385,8 @@ int main(int argc, char** argv) {
         if (a == "-h" || a == "--help") {
             std::fputs(kUsage, stdout);
             return 0;
+        } else if (a == "--rows") {
+            table_rows = true;
         } else if (a == "--gen") {
             if (i + 3 >= args.size()) return usage_error("--gen needs N, a form and an output file");
             int64_t n = 0;
@@ -450,6 +453,8 @@ int main(int argc, char** argv) {
         dir = tmpl;
     }
 
+    const int saved_stdout = table_rows ? ::dup(1) : -1;  // --rows: the header goes, the rows come at the end
+    if (table_rows && !std::freopen("/dev/null", "w", stdout)) return 1;
     std::printf("# plant_bench_compile: %s, %s (%u threads available), build %s\n", today().c_str(),
                 cpu_model().c_str(), std::thread::hardware_concurrency(), PLANT_BENCH_BUILD_TYPE);
     if (double load[3]; ::getloadavg(load, 3) == 3)
@@ -520,6 +525,28 @@ int main(int argc, char** argv) {
         fs::remove_all(dir, ec);
     }
 
+    if (table_rows) {
+        std::fflush(stdout);
+        ::dup2(saved_stdout, 1);
+        ::close(saved_stdout);
+        for (size_t i = 0; i < rows.size(); ++i) {
+            const Row& r = rows[i];
+            std::string growth = "-";
+            if (i > 0 && rows[i - 1].form == r.form && rows[i - 1].median_cpu_ms > 0)
+                growth = fmt::format("{:.2f}", (r.median_cpu_ms / rows[i - 1].median_cpu_ms) /
+                                                   (double(r.instances) / double(rows[i - 1].instances)));
+            const bool ten_k = r.instances == 10000;
+            std::printf("| compiler | %s instances, %s form (%s source lines) | %.0f ms (CPU %.0f ms), peak RSS "
+                        "%.0f MiB; growth per size step %s | %s | %s |\n",
+                        with_commas(r.instances).c_str(), std::string(plant::bench::form_name(r.form)).c_str(),
+                        with_commas(r.gen.lines).c_str(), r.median_ms, r.median_cpu_ms,
+                        double(r.result.compile_hwm_kib) / 1024.0, growth.c_str(),
+                        ten_k ? "< 1 s at 10k; linear" : "linear",
+                        ten_k ? (r.median_ms < 1000 ? "yes" : "**no**")
+                              : (growth == "-" || std::atof(growth.c_str()) < 1.5 ? "yes" : "**no**"));
+        }
+        return status;
+    }
     std::printf("\n| form | instances | source lines | source KiB | DOs | slots | flows | warnings | runs "
                 "| compile ms (median) | ms / 1k inst | growth | compile CPU ms | growth (CPU) "
                 "| graph text ms | graph text MiB | peak RSS MiB (compile) | peak RSS MiB (+ text) |\n");

@@ -504,6 +504,7 @@ bool check_graph(const Scene& s, const plant::graph::Graph& g, std::vector<int32
 }
 
 struct Args {
+    bool rows = false;  // only the rows of bench/run.sh's summary table
     std::vector<int> sizes{10, 100, 1000};
     int steps = 300, reps = 3;
     Broadphase bp = Broadphase::Dbvt;
@@ -555,7 +556,8 @@ bool parse_args(int argc, char** argv, Args& a) {
             a.belts = v == "belts";
             a.logic = v == "logic";
             if (!a.belts && !a.logic) return false;
-        } else if (val("--keep=", v)) a.keep = v;
+        } else if (s == "--rows") a.rows = true;
+        else if (val("--keep=", v)) a.keep = v;
         else if (val("--speed=", v)) a.speed = std::atof(std::string(v).c_str());
         else if (val("--seg=", v)) a.seg = std::atof(std::string(v).c_str());
         else if (val("--room=", v)) a.room = std::atof(std::string(v).c_str());
@@ -635,10 +637,11 @@ int main(int argc, char** argv) {
         return 0;
     }
 
-    std::printf("# plant_bench_runtime (%s build), broadphase %s\n\n", PLANT_BENCH_BUILD_TYPE, bp_name(a.bp));
+    if (!a.rows)
+        std::printf("# plant_bench_runtime (%s build), broadphase %s\n\n", PLANT_BENCH_BUILD_TYPE, bp_name(a.bp));
     int status = 0;
 
-    if (a.belts) {
+    if (a.belts && !a.rows) {
         std::printf("## Belts: N upright bottles, ours (compiled plant + Engine) vs raw Bullet\n\n");
         std::printf("%d steps at 150 Hz, medians of %d interleaved repetitions; times are thread CPU "
                     "(wall in brackets).\n\n",
@@ -646,6 +649,8 @@ int main(int argc, char** argv) {
         std::printf("| N | belts | ours ms | raw ms | ratio ours/raw | ours us/body-step | raw us/body-step | "
                     "mean vx ours | mean vx raw | upright ours | upright raw |\n");
         std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    }
+    if (a.belts) {
         std::fflush(stdout);
         for (int n : a.sizes) {
             const Scene s = scene_for(a, n);
@@ -673,6 +678,14 @@ int main(int argc, char** argv) {
             }
             const double oc = median(ocpu), rc = median(rcpu), ow = median(owall), rw = median(rwall);
             const double per = 1e3 / (double(n) * a.steps);
+            if (a.rows) {
+                std::printf("| runtime vs raw Bullet | %d bottles on belts (upright after %d steps: %d ours, %d raw) "
+                            "| ratio %.3f (%.2f vs %.2f us per body-step) | <= 1.05 | %s |\n",
+                            n, a.steps, ro.upright, rr.upright, oc / rc, oc * per, rc * per,
+                            oc / rc <= 1.05 ? "yes" : "**no**");
+                std::fflush(stdout);
+                continue;
+            }
             std::printf("| %d | %d | %.1f (%.1f) | %.1f (%.1f) | %.3f (%.3f) | %.2f | %.2f | %.4f | %.4f | %d/%d | %d/%d |\n",
                         n, s.rows(), oc, ow, rc, rw, oc / rc, ow / rw, oc * per, rc * per, ro.mean_vx, rr.mean_vx,
                         ro.upright, n, rr.upright, n);
@@ -680,12 +693,13 @@ int main(int argc, char** argv) {
                          ro.max_vx, ro.mean_z, rr.min_vx, rr.max_vx, rr.mean_z);
             std::fflush(stdout);
         }
-        std::printf("\n");
+        if (!a.rows) std::printf("\n");
     }
 
     if (a.logic) {
-        std::printf("## Logic alone: %d cells (timer, connector, 2-place net, 3 flows), no dynamic bodies\n\n",
-                    a.logic_cells);
+        if (!a.rows)
+            std::printf("## Logic alone: %d cells (timer, connector, 2-place net, 3 flows), no dynamic bodies\n\n",
+                        a.logic_cells);
         plant::Compilation c;
         if (!compile_text(dir, "logic.plant", logic_plant(a.logic_cells), c)) return 1;
         const auto& g = c.graph;
@@ -700,6 +714,14 @@ int main(int argc, char** argv) {
         }
         const double flows = double(g.flows.size());
         const double oc = median(cpu), ow = median(wall);
+        if (a.rows) {
+            const double ns = oc * 1e6 / (flows * a.logic_steps);
+            std::printf("| logic engine (physics off) | %zu flows, %zu connectors, %zu transitions, %zu timers | "
+                        "%.2f ns per flow-step | <= 10 ns | %s |\n",
+                        g.flows.size(), g.logics.size(), g.transitions.size(), g.timers.size(), ns,
+                        ns <= 10 ? "yes" : "**no**");
+            return status;
+        }
         std::printf("| flows | connectors | transitions | places | timers | slots | steps | ms | ns/flow/step |\n");
         std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         std::printf("| %zu | %zu | %zu | %zu | %zu | %zu | %d | %.1f (%.1f) | %.2f (%.2f) |\n\n", g.flows.size(),

@@ -11,14 +11,65 @@
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btSliderConstraint.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <LinearMath/btAlignedAllocator.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 
 namespace plant::engine {
 
 using namespace plant::graph;
 
 namespace {
+
+// ---- Bullet's allocator: size classes of 16 B to 1 MiB, blocks recycled, never returned.
+// Each block starts with a header naming its class; a block without our mark was
+// allocated before the pool was installed and goes back to the heap.
+#if !defined(__SANITIZE_ADDRESS__)
+constexpr uint64_t kMark = 0x706c616e742d6274ULL;
+constexpr int kClasses = 17;
+struct alignas(16) BlockHeader {
+    uint64_t mark;
+    uint32_t cls;
+};
+void* g_free_blocks[kClasses] = {};
+uint64_t g_heap_requests = 0;
+
+int size_class(size_t n) {
+    int c = 0;
+    for (size_t s = 16; s < n; s <<= 1) ++c;
+    return c;
+}
+
+void* bullet_alloc(size_t n) {
+    const int c = size_class(n);
+    if (c < kClasses && g_free_blocks[c]) {
+        void* p = g_free_blocks[c];
+        g_free_blocks[c] = *static_cast<void**>(p);
+        return p;
+    }
+    ++g_heap_requests;
+    const size_t bytes = c < kClasses ? size_t(16) << c : n;
+    auto* h = static_cast<BlockHeader*>(std::malloc(sizeof(BlockHeader) + bytes));
+    if (!h) return nullptr;
+    h->mark = kMark;
+    h->cls = uint32_t(c);
+    return h + 1;
+}
+
+void bullet_free(void* p) {
+    if (!p) return;
+    BlockHeader* h = static_cast<BlockHeader*>(p) - 1;
+    if (h->mark != kMark) return std::free(p);
+    if (h->cls >= uint32_t(kClasses)) return std::free(h);
+    *static_cast<void**>(p) = g_free_blocks[h->cls];
+    g_free_blocks[h->cls] = p;
+}
+
+// Installed before main, so that every Bullet object of the process uses it.
+const bool g_bullet_pool = (btAlignedAllocSetCustom(bullet_alloc, bullet_free), true);
+#endif
 
 bool pooled(const Graph& g, const Tables& t, int32_t d) {
     for (size_t guard = 0; d >= 0 && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
@@ -27,6 +78,14 @@ bool pooled(const Graph& g, const Tables& t, int32_t d) {
 }
 
 }  // namespace
+
+uint64_t bullet_heap_requests() {
+#if !defined(__SANITIZE_ADDRESS__)
+    return g_bullet_pool ? g_heap_requests : 0;
+#else
+    return 0;
+#endif
+}
 
 Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
     config_ = std::make_unique<btDefaultCollisionConfiguration>();

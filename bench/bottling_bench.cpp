@@ -1,0 +1,288 @@
+// plant_bench_bottling: the bundled bottling plant (plants/bottling.plant) at scale.
+//
+// For each target number N of bottles in circulation the plant is compiled with
+// `lines = round(N / per_line)` lines side by side (each line holds about `per_line`
+// bottles in circulation at its storage's pace), run for a warm-up and then for a
+// measured window. Every run is a fresh forked child (a clean heap, its own peak RSS):
+//
+//   - real-time factor: simulated seconds of the window / wall seconds of the window;
+//   - bottles in circulation: issued by the storages and not yet taken by an exit,
+//     sampled every 0.1 s of the window (mean, min, max), and the number lost;
+//   - allocations: calls to operator new during the window (a counting allocator in
+//     this binary) plus the blocks Bullet's allocator took from the heap in it
+//     (plant::engine::bullet_heap_requests) — the step must take none;
+//   - peak RSS of the child, and for the largest N also the same lines with one bottle
+//     per storage: (peak RSS - that) / bottles in the pools = memory per bottle.
+//
+// Output: a Markdown table; with --rows only the rows of bench/run.sh's summary table.
+//
+//   plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12]
+//                        [--warmup=40] [--window=30] [--plant=PATH] [--rows]
+#include "compiler.h"
+#include "engine/engine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <new>
+#include <string>
+#include <string_view>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+// ---- The counting allocator: counts while `g_counting` is set. -------------------------
+
+namespace {
+bool g_counting = false;
+long g_allocs = 0;
+
+void* counted(std::size_t n) {
+    if (g_counting) ++g_allocs;
+    if (void* p = std::malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t n) { return counted(n); }
+void* operator new[](std::size_t n) { return counted(n); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+struct Args {
+    std::vector<int> counts{10, 50, 200, 1000};
+    int runs = 3;
+    double per_line = 12;
+    double warmup = 40;  // simulated seconds before the window
+    double window = 30;  // simulated seconds measured
+    std::string plant = std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant";
+    bool rows = false;
+};
+
+struct Sample {
+    bool ok = false;
+    double wall = 0, cpu = 0;  // seconds, over the window
+    double mean = 0;           // bottles in circulation
+    long min = 0, max = 0, lost = 0, allocs = 0, pool = 0;
+    long news = 0;             // of allocs: operator new (the rest: Bullet's heap blocks)
+    long rss_kib = 0;          // peak of the child
+    long steps = 0;
+};
+
+double now_wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+double now_cpu() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// One run, in the calling (child) process.
+Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, double window) {
+    Sample s;
+    plant::CompileOptions opt;
+    opt.stdlib_dir = plant::default_stdlib_dir();
+    opt.overrides = {"lines=" + std::to_string(lines), "bottles=" + std::to_string(bottles_per_line),
+                     "feed_every=1s"};
+    plant::Compilation c;
+    plant::compile_file(a.plant, opt, c);
+    if (!c.ok()) {
+        std::fprintf(stderr, "%s does not compile with lines=%d\n", a.plant.c_str(), lines);
+        return s;
+    }
+    const plant::graph::Graph& g = c.graph;
+    plant::engine::Engine e(g);
+    for (const auto& src : g.sources) s.pool += src.pool_num;
+    auto circulating = [&] {
+        long n = 0;
+        for (size_t i = 0; i < g.sources.size(); ++i) n += long(e.issued(int32_t(i)));
+        for (size_t i = 0; i < g.exits.size(); ++i) n -= long(e.taken(int32_t(i)));
+        return n;
+    };
+    const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
+    const long every = std::max(1L, std::lround(0.1 / e.dt()));
+    for (long i = 0; i < warm; ++i) e.step();
+    s.min = circulating();
+    double sum = 0;
+    long samples = 0;
+    const double w0 = now_wall(), c0 = now_cpu();
+    g_allocs = 0;
+    const uint64_t bullet0 = plant::engine::bullet_heap_requests();
+    g_counting = true;
+    for (long i = 0; i < steps; ++i) {
+        e.step();
+        if (i % every == 0) {  // no allocation here: plain arithmetic
+            const long n = circulating();
+            sum += double(n);
+            ++samples;
+            s.min = std::min(s.min, n);
+            s.max = std::max(s.max, n);
+        }
+    }
+    g_counting = false;
+    s.wall = now_wall() - w0;
+    s.cpu = now_cpu() - c0;
+    s.news = g_allocs;
+    s.allocs = g_allocs + long(plant::engine::bullet_heap_requests() - bullet0);
+    s.steps = steps;
+    s.mean = samples ? sum / double(samples) : 0;
+    for (size_t d = 0; d < g.dos.size(); ++d)
+        if (e.lost_at(int32_t(d)) >= 0) ++s.lost;
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    s.rss_kib = ru.ru_maxrss;
+    s.ok = true;
+    return s;
+}
+
+// The same in a forked child; the result comes back through a pipe.
+Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, double window) {
+    int fd[2];
+    if (pipe(fd) != 0) return {};
+    std::fflush(nullptr);
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        Sample s = run_once(a, lines, bottles_per_line, warmup, window);
+        const ssize_t w = write(fd[1], &s, sizeof s);
+        _exit(w == ssize_t(sizeof s) ? 0 : 1);
+    }
+    close(fd[1]);
+    Sample s;
+    if (read(fd[0], &s, sizeof s) != ssize_t(sizeof s)) s.ok = false;
+    close(fd[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) s.ok = false;
+    return s;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+bool parse(int argc, char** argv, Args& a) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view s = argv[i];
+        auto val = [&](std::string_view key, std::string& out) {
+            if (!s.starts_with(key)) return false;
+            out = std::string(s.substr(key.size()));
+            return true;
+        };
+        std::string v;
+        if (val("--counts=", v)) {
+            a.counts.clear();
+            for (size_t p = 0; p <= v.size();) {
+                size_t q = v.find(',', p);
+                if (q == std::string::npos) q = v.size();
+                const int n = std::atoi(v.substr(p, q - p).c_str());
+                if (n <= 0) return false;
+                a.counts.push_back(n);
+                p = q + 1;
+            }
+        } else if (val("--runs=", v)) a.runs = std::max(1, std::atoi(v.c_str()));
+        else if (val("--per-line=", v)) a.per_line = std::atof(v.c_str());
+        else if (val("--warmup=", v)) a.warmup = std::atof(v.c_str());
+        else if (val("--window=", v)) a.window = std::atof(v.c_str());
+        else if (val("--plant=", v)) a.plant = v;
+        else if (s == "--rows") a.rows = true;
+        else return false;
+    }
+    return a.per_line > 0 && a.warmup >= 0 && a.window > 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    if (!parse(argc, argv, a)) {
+        std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "
+                             "[--warmup=40] [--window=30] [--plant=PATH] [--rows]\n");
+        return 2;
+    }
+    if (!a.rows) {
+        std::printf("# plant_bench_bottling (%s build): %s\n\n", PLANT_BENCH_BUILD_TYPE, a.plant.c_str());
+        std::printf("150 Hz, feed_every = 1 s, %g s warm-up, then %g s measured; medians of %d runs, each a "
+                    "fresh process.\n\n",
+                    a.warmup, a.window, a.runs);
+        std::printf("| target N | lines | pool | in circulation mean (min-max) | lost | wall s | CPU s | "
+                    "real-time factor | us per bottle-step | allocations in window (of them operator new) | peak RSS MiB |\n");
+        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    }
+    int status = 0;
+    Sample last;
+    int last_lines = 0;
+    for (int n : a.counts) {
+        const int lines = std::max(1, int(std::lround(double(n) / a.per_line)));
+        const int per_line_pool = 40;  // the plant's default: enough for warm-up + window
+        std::vector<double> rtf, wall, cpu, mean;
+        Sample s;
+        long allocs = 0, news = 0, lost = 0;
+        for (int r = 0; r < a.runs; ++r) {
+            std::fprintf(stderr, "bottling N=%d (%d lines) run %d/%d\n", n, lines, r + 1, a.runs);
+            s = run_child(a, lines, per_line_pool, a.warmup, a.window);
+            if (!s.ok) {
+                status = 1;
+                break;
+            }
+            rtf.push_back(a.window / s.wall);
+            wall.push_back(s.wall);
+            cpu.push_back(s.cpu);
+            mean.push_back(s.mean);
+            allocs = std::max(allocs, s.allocs);
+            news = std::max(news, s.news);
+            lost = std::max(lost, s.lost);
+        }
+        if (!s.ok) continue;
+        const double us = median(cpu) * 1e6 / (double(s.steps) * median(mean));
+        const char* target = n == 50 ? ">= 20x" : n == 1000 ? ">= 1x" : "-";
+        const bool met = n == 50 ? median(rtf) >= 20 : n == 1000 ? median(rtf) >= 1 : true;
+        if (a.rows) {
+            std::printf("| bottling plant | %d bottles in circulation (%d lines; measured mean %.0f, %ld lost) | "
+                        "%.1fx real time (%.1f us per bottle-step) | %s | %s |\n",
+                        n, lines, median(mean), lost, median(rtf), us, target,
+                        *target == '-' ? "-" : met ? "yes" : "**no**");
+        } else {
+            std::printf("| %d | %d | %ld | %.1f (%ld-%ld) | %ld | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | %.1f |\n", n,
+                        lines, s.pool, median(mean), s.min, s.max, lost, median(wall), median(cpu), median(rtf), us,
+                        allocs, news, double(s.rss_kib) / 1024);
+        }
+        std::fflush(stdout);
+        last = s;
+        last_lines = lines;
+    }
+    // Memory per bottle: the largest plant against the same lines with one bottle each.
+    if (last.ok) {
+        std::fprintf(stderr, "bottling %d lines, one bottle per storage (memory baseline)\n", last_lines);
+        const Sample base = run_child(a, last_lines, 1, 0.0, 1.0);
+        if (base.ok && last.pool > base.pool) {
+            const double per = double(last.rss_kib - base.rss_kib) / double(last.pool - base.pool);
+            const double all = double(last.rss_kib) / std::max(1.0, last.mean);
+            if (a.rows) {
+                std::printf("| memory | peak RSS per bottle (%ld bottles in the pools, %d lines) | %.1f KiB "
+                            "(whole process: %.1f MiB, %.0f KiB per bottle in circulation) | - | - |\n",
+                            last.pool, last_lines, per, double(last.rss_kib) / 1024, all);
+                std::printf("| memory | allocations during the measured steps | %ld | 0 | %s |\n", last.allocs,
+                            last.allocs == 0 ? "yes" : "**no**");
+            } else {
+                std::printf("\nMemory: %.1f KiB per bottle (peak RSS %.1f MiB with %ld bottles in the pools, %.1f "
+                            "MiB with %ld); %.0f KiB of the whole process per bottle in circulation.\n",
+                            per, double(last.rss_kib) / 1024, last.pool, double(base.rss_kib) / 1024, base.pool,
+                            all);
+            }
+        } else {
+            status = 1;
+        }
+    }
+    return status;
+}

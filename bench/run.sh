@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# The benchmarks in one command: installs what is missing, builds in Release, runs every
+# benchmark and prints one Markdown table (bench/README.md explains each row).
+#   bash bench/run.sh            the full table (about 6 minutes on 2 cores)
+#   bash bench/run.sh --quick    one run per figure and smaller sizes, to try the command
+# Every figure is the median of several runs; ours and raw Bullet run interleaved in the
+# same process. Progress goes to stderr, the table to stdout.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+quick=0
+[[ "${1:-}" == "--quick" ]] && quick=1
+scripts/setup.sh >&2
+scripts/build.sh release >&2
+b=build/release/bench
+
+if (( quick )); then
+  runtime=(--reps=1 --sizes=10,100) logic=(--reps=1 --logic-cells=10000)
+  bottling=(--runs=1 --counts=10,50 --warmup=20 --window=10)
+  compile=(--runs=1 --sizes=1000,10000)
+else
+  runtime=(--reps=5 --sizes=10,100,1000) logic=(--reps=5)
+  bottling=(--runs=3 --counts=10,50,200,1000)
+  compile=(--runs=3 --sizes=1000,10000,100000)
+fi
+
+cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
+echo "Measured $(date -u +%Y-%m-%d) on ${cpu:-an unknown CPU}, $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GiB," \
+     "$(. /etc/os-release && echo "$PRETTY_NAME"), $(c++ --version | head -1), Release build;" \
+     "load average before: $(cut -d' ' -f1-3 /proc/loadavg)."
+echo
+echo "| area | case | measured | target | met |"
+echo "|---|---|---|---|---|"
+"$b/plant_bench_runtime" --rows --only=belts "${runtime[@]}"
+"$b/plant_bench_runtime" --rows --only=logic "${logic[@]}"
+"$b/plant_bench_bottling" --rows "${bottling[@]}"
+"$b/plant_bench_compile" --rows "${compile[@]}"
