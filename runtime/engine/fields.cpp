@@ -106,20 +106,19 @@ void apply_fields(Runtime& r) {
         const btVector3& c = pose.getOrigin();
         const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
         const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
-        auto [first, last] = r.index.range(c.x() - rx, c.x() + rx);
-        for (size_t i = first; i < last; ++i) {
-            const int32_t b = r.index.body_at(i);
-            if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) continue;
+        const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
+        r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
+            if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) return;
             const btVector3 local = (r.index.com(b) - c) * R;  // R^T (p - c): into the field frame
             if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z())
-                continue;
+                return;
             const btVector3 v = r.phys.rb(b).getLinearVelocity() * R;
             if (s.body_k[b] == 0) s.touched.push_back(b);
             s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
             s.body_k[b] += kmax;
             s.force[b] += R * (gain * (target - v));
             s.gain[b] += K;
-        }
+        });
     }
     for (int32_t b : s.touched) {
         // Stalled: slower than a tenth of the running field it is in, as the last

@@ -1,6 +1,7 @@
 #include "engine/spatial.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace plant::engine {
 
@@ -8,11 +9,17 @@ Spatial::Spatial(const Tables& t, size_t bodies) : t_(t), com_(bodies), lo_(bodi
     order_.reserve(t.dyn_bodies.size());
 }
 
+int32_t Spatial::cell(btScalar y) {
+    constexpr btScalar kCell = 1;  // metres
+    if (!(std::abs(y) < btScalar(1e6))) return 0;  // NaN or far away: one cell for all
+    return int32_t(std::floor(y / kCell));
+}
+
 void Spatial::refresh(const Physics& ph, bool aabbs) {
     if (version_ != ph.version()) {
         order_.clear();
         for (int32_t b : t_.dyn_bodies)
-            if (ph.in_world(b)) order_.push_back({0, b});
+            if (ph.in_world(b)) order_.push_back({0, 0, b});
         version_ = ph.version();
     }
     btScalar reach = 0;
@@ -20,17 +27,25 @@ void Spatial::refresh(const Physics& ph, bool aabbs) {
         const btRigidBody& r = ph.rb(e.body);
         com_[e.body] = r.getWorldTransform().getOrigin();
         e.x = com_[e.body].x();
+        e.cell = cell(com_[e.body].y());
         if (aabbs) {
             r.getCollisionShape()->getAabb(r.getWorldTransform(), lo_[e.body], hi_[e.body]);
-            reach = std::max({reach, e.x - lo_[e.body].x(), hi_[e.body].x() - e.x});
+            const btVector3 c = com_[e.body];
+            reach = std::max({reach, c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
+                              hi_[e.body].y() - c.y()});
         }
     }
     if (aabbs) reach_ = reach;
-    // Insertion sort by (x, id): ties by id keep the order independent of history.
+    // Insertion sort by (cell, x, id): ties by id keep the order independent of history.
+    auto before = [](const Entry& a, const Entry& b) {
+        if (a.cell != b.cell) return a.cell < b.cell;
+        if (a.x != b.x) return a.x < b.x;
+        return a.body < b.body;
+    };
     for (size_t i = 1; i < order_.size(); ++i) {
         Entry e = order_[i];
         size_t j = i;
-        while (j > 0 && (order_[j - 1].x > e.x || (order_[j - 1].x == e.x && order_[j - 1].body > e.body))) {
+        while (j > 0 && before(e, order_[j - 1])) {
             order_[j] = order_[j - 1];
             --j;
         }
@@ -38,12 +53,11 @@ void Spatial::refresh(const Physics& ph, bool aabbs) {
     }
 }
 
-std::pair<size_t, size_t> Spatial::range(btScalar lo, btScalar hi) const {
-    auto first = std::lower_bound(order_.begin(), order_.end(), lo,
-                                  [](const Entry& e, btScalar v) { return e.x < v; });
-    auto last = std::upper_bound(first, order_.end(), hi,
-                                 [](btScalar v, const Entry& e) { return v < e.x; });
-    return {size_t(first - order_.begin()), size_t(last - order_.begin())};
+size_t Spatial::first(int32_t c, btScalar x) const {
+    auto it = std::lower_bound(order_.begin(), order_.end(), std::pair(c, x), [](const Entry& e, std::pair<int32_t, btScalar> v) {
+        return e.cell != v.first ? e.cell < v.first : e.x < v.second;
+    });
+    return size_t(it - order_.begin());
 }
 
 }  // namespace plant::engine

@@ -1,7 +1,9 @@
 // The bodies that fields and triggers look at (declared dynamic and in the world),
-// sorted by the x of their centre of mass, so that a box volume visits only the
-// bodies in its x range instead of all of them. The order barely changes between
-// steps, so an insertion sort keeps it sorted in about linear time.
+// sorted by (y cell, x) of their centre of mass — y cells 1 m wide — so that a box
+// volume visits only the bodies in its x range within the cells its y range covers,
+// instead of all of them. (Sorted by x alone, plants of many lines side by side made
+// every band visit the bottles of every line at its x.) The order barely changes
+// between steps, so an insertion sort keeps it sorted in about linear time.
 #pragma once
 
 #include "engine/physics.h"
@@ -18,21 +20,35 @@ public:
 
     // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and re-sorts.
     void refresh(const Physics& ph, bool aabbs);
-    // [first, last) positions in the sorted order whose centre lies in [lo, hi].
-    std::pair<size_t, size_t> range(btScalar lo, btScalar hi) const;
-
-    int32_t body_at(size_t i) const { return order_[i].body; }
+    // Calls f(body) for every body whose centre has x in [xlo, xhi] and lies in a y cell
+    // that [ylo, yhi] touches (a superset of the bodies with y in [ylo, yhi]).
+    template <class F>
+    void for_each(btScalar xlo, btScalar xhi, btScalar ylo, btScalar yhi, F&& f) const {
+        const int32_t c0 = cell(ylo), c1 = cell(yhi);
+        if (int64_t(c1) - int64_t(c0) > kMaxCells) {  // a huge volume: all cells, by x
+            for (const Entry& e : order_)
+                if (e.x >= xlo && e.x <= xhi) f(e.body);
+            return;
+        }
+        for (int32_t c = c0; c <= c1; ++c)
+            for (size_t i = first(c, xlo); i < order_.size() && order_[i].cell == c && order_[i].x <= xhi; ++i)
+                f(order_[i].body);
+    }
     const btVector3& com(int32_t b) const { return com_[b]; }
     const btVector3& lo(int32_t b) const { return lo_[b]; }
     const btVector3& hi(int32_t b) const { return hi_[b]; }
-    // Largest distance along x from a body's centre to its bounding box (for triggers).
+    // Largest distance along x or y from a body's centre to its bounding box (for triggers).
     btScalar reach() const { return reach_; }
 
 private:
+    static constexpr int64_t kMaxCells = 256;
     struct Entry {
+        int32_t cell;
         btScalar x;
         int32_t body;
     };
+    static int32_t cell(btScalar y);
+    size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     const Tables& t_;
     std::vector<Entry> order_;
     std::vector<btVector3> com_, lo_, hi_;

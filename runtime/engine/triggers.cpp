@@ -58,28 +58,28 @@ void sense_triggers(Runtime& r) {
         ts.pose = tg.body >= 0 ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
         const btMatrix3x3& R = ts.pose.getBasis();
         const btVector3 h = to_bt(tg.extent) * btScalar(0.5);
-        const btScalar cx = ts.pose.getOrigin().x();
+        const btVector3& c = ts.pose.getOrigin();
         const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z() +
                             r.index.reach();
-        const auto [first, last] = r.index.range(cx - rx, cx + rx);
+        const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z() +
+                            r.index.reach();
         const size_t adr = s.inside.size();
-        for (size_t i = first; i < last; ++i) {
-            const int32_t b = r.index.body_at(i);
-            if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) continue;
+        r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
+            if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) return;
             const int32_t obj = object_of(g, r.tab.body_do[b], tg.filter);
-            if (obj < 0) continue;
+            if (obj < 0) return;
             // Insert sorted, once per object (a bottle has two bodies).
             size_t k = s.inside.size();
             bool dup = false;
             for (size_t q = adr; q < k && !dup; ++q) dup = s.inside[q] == obj;
-            if (dup) continue;
+            if (dup) return;
             s.inside.push_back(obj);
             while (k > adr && s.inside[k - 1] > obj) {
                 s.inside[k] = s.inside[k - 1];
                 --k;
             }
             s.inside[k] = obj;
-        }
+        });
         ts.adr = int32_t(adr);
         ts.num = int32_t(s.inside.size() - adr);
 
