@@ -248,9 +248,9 @@ int main(int argc, char** argv) {
         const char* target = n == 50 ? ">= 20x" : n == 1000 ? ">= 1x" : "-";
         const bool met = n == 50 ? median(rtf) >= 20 : n == 1000 ? median(rtf) >= 1 : true;
         if (a.rows) {
-            std::printf("| bottling plant | %d bottles in circulation (%d lines; measured mean %.0f, %ld lost) | "
+            std::printf("| bottling plant | %d bottles in circulation (%d line%s; measured mean %.0f, %ld lost) | "
                         "%.1fx real time (%.1f us per bottle-step) | %s | %s |\n",
-                        n, lines, median(mean), lost, median(rtf), us, target,
+                        n, lines, lines == 1 ? "" : "s", median(mean), lost, median(rtf), us, target,
                         *target == '-' ? "-" : met ? "yes" : "**no**");
         } else {
             std::printf("| %d | %d | %ld | %.1f (%ld-%ld) | %ld | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | %.1f |\n", n,
@@ -269,11 +269,15 @@ int main(int argc, char** argv) {
             const double per = double(last.rss_kib - base.rss_kib) / double(last.pool - base.pool);
             const double all = double(last.rss_kib) / std::max(1.0, last.mean);
             if (a.rows) {
-                std::printf("| memory | peak RSS per bottle (%ld bottles in the pools, %d lines) | %.1f KiB "
+                std::printf("| memory | peak RSS per bottle (%ld bottles in the pools, %d line%s) | %.1f KiB "
                             "(whole process: %.1f MiB, %.0f KiB per bottle in circulation) | - | - |\n",
-                            last.pool, last_lines, per, double(last.rss_kib) / 1024, all);
-                std::printf("| memory | allocations during the measured steps | %ld | 0 | %s |\n", last.allocs,
-                            last.allocs == 0 ? "yes" : "**no**");
+                            last.pool, last_lines, last_lines == 1 ? "" : "s", per, double(last.rss_kib) / 1024, all);
+                std::printf("| memory | allocations by the runtime in the measured steps (operator new) | %ld | 0 "
+                            "| %s |\n",
+                            last.news, last.news == 0 ? "yes" : "**no**");
+                std::printf("| memory | blocks Bullet took from the heap in the measured steps (new peaks of its "
+                            "recycled pools, %ld steps) | %ld | 0 | %s |\n",
+                            last.steps, last.allocs - last.news, last.allocs == last.news ? "yes" : "**no**");
             } else {
                 std::printf("\nMemory: %.1f KiB per bottle (peak RSS %.1f MiB with %ld bottles in the pools, %.1f "
                             "MiB with %ld); %.0f KiB of the whole process per bottle in circulation.\n",
