@@ -65,7 +65,25 @@ void append_factor(std::string& out, std::string_view base, int exp) {
     if (exp == 0) return;
     if (!out.empty()) out += '*';
     out += base;
-    if (exp != 1) out += "^" + std::to_string(exp);
+    if (exp == 1) return;
+    out += '^';
+    out += std::to_string(exp);
+}
+
+// "a*b^2/c" from the four base names, or "1/..." without a numerator.
+std::string quotient(Dim d, const std::array<std::string_view, 4>& base) {
+    std::string num, den;
+    const std::array<int, 4> exps = {d.L, d.M, d.T, d.A};
+    for (size_t i = 0; i < exps.size(); ++i) {
+        if (exps[i] > 0) append_factor(num, base[i], exps[i]);
+        if (exps[i] < 0) append_factor(den, base[i], -exps[i]);
+    }
+    if (num.empty()) num.push_back('1');  // (push_back: GCC 12 warns -Wrestrict on assign)
+    if (!den.empty()) {
+        num += '/';
+        num += den;
+    }
+    return num;
 }
 
 }  // namespace
@@ -74,29 +92,13 @@ std::string dim_name(Dim d) {
     if (d.none()) return "dimensionless";
     for (const auto& n : kNamed)
         if (n.dim == d) return std::string(n.name);
-    std::string num, den;
-    const std::array<std::pair<std::string_view, int>, 4> parts = {
-        {{"length", d.L}, {"mass", d.M}, {"time", d.T}, {"angle", d.A}}};
-    for (auto [name, e] : parts) {
-        if (e > 0) append_factor(num, name, e);
-        if (e < 0) append_factor(den, name, -e);
-    }
-    if (num.empty()) num = "1";
-    return den.empty() ? num : num + "/" + den;
+    return quotient(d, {"length", "mass", "time", "angle"});
 }
 
 std::string si_unit(Dim d) {
     if (d == dims::force) return "N";
     if (d == dims::frequency) return "Hz";
-    std::string num, den;
-    const std::array<std::pair<std::string_view, int>, 4> parts = {
-        {{"m", d.L}, {"kg", d.M}, {"s", d.T}, {"rad", d.A}}};
-    for (auto [name, e] : parts) {
-        if (e > 0) append_factor(num, name, e);
-        if (e < 0) append_factor(den, name, -e);
-    }
-    if (num.empty()) num = "1";
-    return den.empty() ? num : num + "/" + den;
+    return quotient(d, {"m", "kg", "s", "rad"});
 }
 
 std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
