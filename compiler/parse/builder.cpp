@@ -92,12 +92,16 @@ public:
             return;
         }
         std::string expected;
-        bool only_name = false;  // nothing but a name fits here
+        bool name_fits = false;      // a name may come here
+        bool self_expected = false;  // the recovery's set names the very token it rejects
+        bool only_name = false;      // nothing but a name fits here
         try {
             auto set = parser->getExpectedTokens();
-            only_name = set.contains(static_cast<size_t>(P::ID));
+            name_fits = set.contains(static_cast<size_t>(P::ID));
+            only_name = name_fits;
             for (auto t : set.toList())
                 only_name = only_name && (t == static_cast<size_t>(P::ID) || parser->getVocabulary().getLiteralName(t) == "'object'");
+            self_expected = bad && bad->getType() > 0 && set.contains(static_cast<size_t>(bad->getType()));
             std::set<std::string> words;
             for (auto t : set.toList()) words.insert(token_words(parser->getVocabulary(), t, eof_));
             size_t i = 0;
@@ -110,7 +114,8 @@ public:
             expected.clear();
         }
         std::string text = "unexpected " + token_text(bad, eof_);
-        if (!expected.empty() && expected.size() < 300) text += "; expected " + expected;
+        // "unexpected 'flow'; expected 'flow', ..." would contradict itself: say less.
+        if (!expected.empty() && expected.size() < 300 && !self_expected) text += "; expected " + expected;
         auto& d = sink_.report(DiagId::Syntax, span, text);
         // A keyword where a name was meant: `animation out { ... }`, `flow: Belt`.
         auto keyword = [](antlr4::Token* t) {
@@ -119,7 +124,10 @@ public:
                    std::all_of(w.begin(), w.end(), [](char ch) { return std::isalpha(static_cast<unsigned char>(ch)) != 0; });
         };
         antlr4::Token* prev = bad && bad->getText() == ":" ? parser->getTokenStream()->LT(-1) : nullptr;
-        if (only_name && keyword(bad))
+        // A keyword where only a name fits, or one the recovery both rejects and expects
+        // (`timer flow {`): a name was meant. A keyword starting a statement after a
+        // missing brace gets no note.
+        if (name_fits && keyword(bad) && (only_name || self_expected))
             d.notes.push_back({{}, "'" + bad->getText() + "' is a keyword and cannot be used as a name"});
         else if (keyword(prev))
             d.notes.push_back({{}, "'" + prev->getText() + "' is a keyword and cannot be used as a name"});
