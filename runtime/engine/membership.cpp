@@ -94,21 +94,18 @@ void Physics::set_dynamics(int32_t b, bool on) {
     if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
     btRigidBody& r = *bodies_[b];
     if (on) {
-        r.setCollisionFlags(r.getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
         r.setMassProps(btScalar(mass_[b]), inertia_[b]);
         r.updateInertiaTensor();
         r.setGravity(world_->getGravity());
     } else {
-        r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: undone below
-        r.setCollisionFlags((r.getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
-                            btCollisionObject::CF_KINEMATIC_OBJECT);
+        r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: set_mode_flags decides
         r.setInterpolationWorldTransform(r.getWorldTransform());
     }
     r.setLinearVelocity(btVector3(0, 0, 0));
     r.setAngularVelocity(btVector3(0, 0, 0));
     r.clearForces();
     dyn_on_[b] = on;
-    if (!in_world_[b]) set_mode_flags(b);
+    set_mode_flags(b);
     ++version_;
 }
 

@@ -69,7 +69,7 @@ void bullet_free(void* p) {
 }
 
 // Installed before main, so that every Bullet object of the process uses it.
-const bool g_bullet_pool = (btAlignedAllocSetCustom(bullet_alloc, bullet_free), true);
+[[maybe_unused]] const bool g_bullet_pool = (btAlignedAllocSetCustom(bullet_alloc, bullet_free), true);
 #endif
 
 // ---- The dynamics world: Bullet's, with a constraint lookup per island that does not
@@ -166,7 +166,7 @@ bool pooled(const Graph& g, const Tables& t, int32_t d) {
 
 uint64_t bullet_heap_requests() {
 #if !defined(__SANITIZE_ADDRESS__)
-    return g_bullet_pool ? g_heap_requests : 0;
+    return g_heap_requests;
 #else
     return 0;
 #endif
@@ -221,9 +221,6 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         if (body.mode == BodyMode::Static) {
             rb->setActivationState(ISLAND_SLEEPING);
         } else {
-            if (body.mode == BodyMode::Kinematic)
-                rb->setCollisionFlags((rb->getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
-                                      btCollisionObject::CF_KINEMATIC_OBJECT);
             // Belts push with forces that do not wake sleepers; kinematics must stay active.
             rb->forceActivationState(DISABLE_DEACTIVATION);
         }
@@ -281,8 +278,9 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
     std::vector<char> pool(nb);
     for (size_t b = 0; b < nb; ++b) {
         pool[b] = pooled(g, t, t.body_do[b]);
-        add_to_world(int32_t(b), !pool[b]);
         in_world_[b] = 1;
+        set_mode_flags(int32_t(b));  // before joining: Bullet files a body as static or not then
+        add_to_world(int32_t(b), !pool[b]);
     }
     for (size_t j = 0; j < g.joints.size(); ++j) {
         world_->addConstraint(joints_[j].get(), true);  // linked bodies do not collide

@@ -125,6 +125,19 @@ TEST_CASE("runtime: dynamics_off takes a body out of the simulation; set_velocit
     CHECK(e.body_com(body)[2] < z - 0.1);  // falls again
 }
 
+TEST_CASE("runtime: a body declared with dynamics off starts still and falls after dynamics_on") {
+    SceneBuilder b;
+    int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
+    b.g.bodies[size_t(body)].dynamics = false;
+    const int32_t c = b.body_comp(body);
+    Engine e(b.g);
+    for (int i = 0; i < 30; ++i) e.step();
+    CHECK(e.body_com(body)[2] == doctest::Approx(1.0));
+    e.input(b.S(c, "dynamics_on"));
+    for (int i = 0; i < 30; ++i) e.step();
+    CHECK(e.body_com(body)[2] < 0.9);  // 0.2 s of free fall: 0.2 m
+}
+
 TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body frame") {
     SceneBuilder b;
     b.g.settings.gravity = {0, 0, 0};
