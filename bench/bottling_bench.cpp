@@ -259,6 +259,8 @@ int main(int argc, char** argv) {
         }
         std::fflush(stdout);
         last = s;
+        last.allocs = allocs;  // the memory rows report the largest count of the runs, as the table
+        last.news = news;
         last_lines = lines;
     }
     // Memory per bottle: the largest plant against the same lines with one bottle each.

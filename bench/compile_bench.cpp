@@ -453,21 +453,21 @@ int main(int argc, char** argv) {
         dir = tmpl;
     }
 
-    const int saved_stdout = table_rows ? ::dup(1) : -1;  // --rows: the header goes, the rows come at the end
-    if (table_rows && !std::freopen("/dev/null", "w", stdout)) return 1;
-    std::printf("# plant_bench_compile: %s, %s (%u threads available), build %s\n", today().c_str(),
-                cpu_model().c_str(), std::thread::hardware_concurrency(), PLANT_BENCH_BUILD_TYPE);
-    if (double load[3]; ::getloadavg(load, 3) == 3)
-        std::printf("# load average %.2f %.2f %.2f on %ld online CPUs%s\n", load[0], load[1], load[2],
-                    ::sysconf(_SC_NPROCESSORS_ONLN),
-                    load[0] > static_cast<double>(::sysconf(_SC_NPROCESSORS_ONLN)) * 0.5
-                        ? " (busy machine: trust the CPU ms columns more than wall ms)"
-                        : "");
-    if (std::string_view(PLANT_BENCH_BUILD_TYPE) != "Release")
-        std::printf("# warning: not a Release build; numbers are not comparable\n");
-    const long baseline = fork_baseline_kib();
-    std::printf("# each run compiles in a fresh forked child; peak RSS includes the fork baseline of %.1f MiB\n",
-                static_cast<double>(baseline) / 1024.0);
+    if (!table_rows) {  // --rows prints only the rows, at the end
+        std::printf("# plant_bench_compile: %s, %s (%u threads available), build %s\n", today().c_str(),
+                    cpu_model().c_str(), std::thread::hardware_concurrency(), PLANT_BENCH_BUILD_TYPE);
+        if (double load[3]; ::getloadavg(load, 3) == 3)
+            std::printf("# load average %.2f %.2f %.2f on %ld online CPUs%s\n", load[0], load[1], load[2],
+                        ::sysconf(_SC_NPROCESSORS_ONLN),
+                        load[0] > static_cast<double>(::sysconf(_SC_NPROCESSORS_ONLN)) * 0.5
+                            ? " (busy machine: trust the CPU ms columns more than wall ms)"
+                            : "");
+        if (std::string_view(PLANT_BENCH_BUILD_TYPE) != "Release")
+            std::printf("# warning: not a Release build; numbers are not comparable\n");
+        const long baseline = fork_baseline_kib();
+        std::printf("# each run compiles in a fresh forked child; peak RSS includes the fork baseline of %.1f MiB\n",
+                    static_cast<double>(baseline) / 1024.0);
+    }
     std::fflush(stdout);
 
     int status = 0;
@@ -525,25 +525,27 @@ int main(int argc, char** argv) {
         fs::remove_all(dir, ec);
     }
 
+    // (time ratio) / (size ratio) against the previous size of the same form; < 0: none.
+    auto growth_of = [&](size_t i, double Row::*field) {
+        if (i == 0 || rows[i - 1].form != rows[i].form || rows[i - 1].*field <= 0) return -1.0;
+        return (rows[i].*field / rows[i - 1].*field) /
+               (static_cast<double>(rows[i].instances) / static_cast<double>(rows[i - 1].instances));
+    };
+    auto growth_text = [&](size_t i, double Row::*field) {
+        const double g = growth_of(i, field);
+        return g < 0 ? std::string("-") : fmt::format("{:.2f}", g);
+    };
     if (table_rows) {
-        std::fflush(stdout);
-        ::dup2(saved_stdout, 1);
-        ::close(saved_stdout);
         for (size_t i = 0; i < rows.size(); ++i) {
             const Row& r = rows[i];
-            std::string growth = "-";
-            if (i > 0 && rows[i - 1].form == r.form && rows[i - 1].median_cpu_ms > 0)
-                growth = fmt::format("{:.2f}", (r.median_cpu_ms / rows[i - 1].median_cpu_ms) /
-                                                   (double(r.instances) / double(rows[i - 1].instances)));
             const bool ten_k = r.instances == 10000;
+            const bool met = ten_k ? r.median_ms < 1000 : growth_of(i, &Row::median_cpu_ms) < 1.5;
             std::printf("| compiler | %s instances, %s form (%s source lines) | %.0f ms (CPU %.0f ms), peak RSS "
                         "%.0f MiB; growth per size step %s | %s | %s |\n",
                         with_commas(r.instances).c_str(), std::string(plant::bench::form_name(r.form)).c_str(),
                         with_commas(r.gen.lines).c_str(), r.median_ms, r.median_cpu_ms,
-                        double(r.result.compile_hwm_kib) / 1024.0, growth.c_str(),
-                        ten_k ? "< 1 s at 10k; linear" : "linear",
-                        ten_k ? (r.median_ms < 1000 ? "yes" : "**no**")
-                              : (growth == "-" || std::atof(growth.c_str()) < 1.5 ? "yes" : "**no**"));
+                        double(r.result.compile_hwm_kib) / 1024.0, growth_text(i, &Row::median_cpu_ms).c_str(),
+                        ten_k ? "< 1 s at 10k; linear" : "linear", met ? "yes" : "**no**");
         }
         return status;
     }
@@ -553,19 +555,13 @@ int main(int argc, char** argv) {
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
-        auto growth = [&](double Row::*field) -> std::string {
-            if (i == 0 || rows[i - 1].form != r.form || rows[i - 1].*field <= 0) return "-";
-            double time_ratio = r.*field / rows[i - 1].*field;
-            double size_ratio = static_cast<double>(r.instances) / static_cast<double>(rows[i - 1].instances);
-            return fmt::format("{:.2f}", time_ratio / size_ratio);
-        };
         std::printf("| %s | %s | %s | %s | %s | %s | %s | %lld | %d | %.1f | %.2f | %s | %.1f | %s | %.1f | %.1f | %.1f | %.1f |\n",
                     std::string(plant::bench::form_name(r.form)).c_str(), with_commas(r.instances).c_str(),
                     with_commas(r.gen.lines).c_str(), with_commas(r.gen.bytes / 1024).c_str(),
                     with_commas(r.result.dos).c_str(), with_commas(r.result.slots).c_str(),
                     with_commas(r.result.flows).c_str(), static_cast<long long>(r.result.warnings), r.runs,
                     r.median_ms, r.median_ms / (static_cast<double>(r.instances) / 1000.0),
-                    growth(&Row::median_ms).c_str(), r.median_cpu_ms, growth(&Row::median_cpu_ms).c_str(), r.text_ms,
+                    growth_text(i, &Row::median_ms).c_str(), r.median_cpu_ms, growth_text(i, &Row::median_cpu_ms).c_str(), r.text_ms,
                     static_cast<double>(r.result.text_bytes) / (1024.0 * 1024.0),
                     static_cast<double>(r.result.compile_hwm_kib) / 1024.0,
                     static_cast<double>(r.result.maxrss_kib) / 1024.0);

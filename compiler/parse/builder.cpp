@@ -594,6 +594,24 @@ private:
 
 }  // namespace
 
+// ANTLR's pipeline over one source text, our error listener on lexer and parser.
+// (Members in construction order: each takes the one before it.)
+struct Pipeline {
+    Pipeline(const std::string& text, Sink& sink, int32_t file, const Offsets& offsets,
+             std::string eof = "end of file")
+        : input(text), lexer(&input), tokens(&lexer), parser(&tokens), listener(sink, file, offsets, std::move(eof)) {
+        lexer.removeErrorListeners();
+        lexer.addErrorListener(&listener);
+        parser.removeErrorListeners();
+        parser.addErrorListener(&listener);
+    }
+    antlr4::ANTLRInputStream input;
+    plant_antlr::PlantLexer lexer;
+    antlr4::CommonTokenStream tokens;
+    plant_antlr::PlantParser parser;
+    ErrorListener listener;
+};
+
 // What a file with errors that stop its checking contributes: nothing.
 static ast::Module empty_module(int32_t file) {
     ast::Module m;
@@ -604,15 +622,9 @@ static ast::Module empty_module(int32_t file) {
 ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     const std::string& text = sources.text(file);
     Offsets offsets(text);
-    antlr4::ANTLRInputStream input(text);
-    plant_antlr::PlantLexer lexer(&input);
-    antlr4::CommonTokenStream tokens(&lexer);
-    plant_antlr::PlantParser parser(&tokens);
-    ErrorListener listener(sink, file, offsets);
-    lexer.removeErrorListeners();
-    lexer.addErrorListener(&listener);
-    parser.removeErrorListeners();
-    parser.addErrorListener(&listener);
+    Pipeline p(text, sink, file, offsets);
+    auto& tokens = p.tokens;
+    auto& parser = p.parser;
 
     // Nesting the parser would recurse through without bound: brackets, and runs of
     // prefix operators (`- - - x`). Stop at the first too deep one.
@@ -647,7 +659,7 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     if (!tree) {
         tokens.seek(0);
         parser.reset();
-        parser.addErrorListener(&listener);
+        parser.addErrorListener(&p.listener);
         parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
         parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::LL);
         tree = parser.module();
@@ -669,17 +681,9 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
 std::optional<ast::Arg> parse_set(const SourceMap& sources, int32_t file, Sink& sink) {
     const std::string& text = sources.text(file);
     Offsets offsets(text);
-    antlr4::ANTLRInputStream input(text);
-    plant_antlr::PlantLexer lexer(&input);
-    antlr4::CommonTokenStream tokens(&lexer);
-    plant_antlr::PlantParser parser(&tokens);
-    ErrorListener listener(sink, file, offsets, "end of the value");
-    lexer.removeErrorListeners();
-    lexer.addErrorListener(&listener);
-    parser.removeErrorListeners();
-    parser.addErrorListener(&listener);
+    Pipeline p(text, sink, file, offsets, "end of the value");
     const int before = sink.count(Severity::Error);
-    auto* tree = parser.cliSet();
+    auto* tree = p.parser.cliSet();
     if (sink.count(Severity::Error) > before) return std::nullopt;
     Builder builder(file, offsets, text);
     return builder.cli_set(tree);

@@ -123,10 +123,18 @@ void write_file(const fs::path& p, const std::string& text) {
     if (!f) fail("cannot write " + p.string());
 }
 
-void check_same_times(const std::vector<Run>& runs) {
+// The runs of a one-bottle experiment: each run's bottle found, the runs labelled by
+// `primary`, their sample times checked to be the same. Returns those times.
+const std::vector<double>& bottle_runs(std::vector<Run>& runs, const std::string& primary) {
+    for (Run& r : runs) {
+        std::string err;
+        if (!find_bottle(r.g, "bottle", r.bottle, err)) fail(r.graph_path + ": " + err);
+    }
+    label_runs(runs, primary);
     for (const Run& r : runs)
         if (*r.trace.col("time") != *runs[0].trace.col("time"))
             fail(r.trace_path + ": its times differ from " + runs[0].trace_path + "'s (use the same --for and rate)");
+    return *runs[0].trace.col("time");
 }
 
 std::string plant_line(const Run& r) {
@@ -151,13 +159,7 @@ std::string terminals(const std::string& name, const std::string& plot) {
 // ---- traction ----
 
 int traction(const fs::path& out, std::vector<Run>& runs) {
-    for (Run& r : runs) {
-        std::string err;
-        if (!find_bottle(r.g, "bottle", r.bottle, err)) fail(r.graph_path + ": " + err);
-    }
-    label_runs(runs, "k");
-    check_same_times(runs);
-    const std::vector<double>& t = *runs[0].trace.col("time");
+    const std::vector<double>& t = bottle_runs(runs, "k");
     // Per run: simulated speed, the exact upright solution, the runtime's step, tilt.
     std::vector<std::vector<double>> speed, exact, stepped, tilt;
     std::vector<Traction> res;
@@ -274,13 +276,7 @@ std::string swing_text(const Swing& s, const Swing& first) {
 }
 
 int tipping(const fs::path& out, std::vector<Run>& runs) {
-    for (Run& r : runs) {
-        std::string err;
-        if (!find_bottle(r.g, "bottle", r.bottle, err)) fail(r.graph_path + ": " + err);
-    }
-    label_runs(runs, "mass");
-    check_same_times(runs);
-    const std::vector<double>& t = *runs[0].trace.col("time");
+    const std::vector<double>& t = bottle_runs(runs, "mass");
     std::vector<Tipping> res;
     std::vector<std::vector<double>> tilt, pitch, speed;
     constexpr double kThreshold = 1.0;  // degrees: a swing must exceed the contact jitter
