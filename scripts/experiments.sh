@@ -10,7 +10,7 @@
 # raw trace).
 #
 #   traction  a bottle let go on a belt at 50 cm/s, k = 1, 4, 16 kg/s          (1 s each)
-#   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16 and 1 kg/s (3 s each)
+#   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16 and 0.5 kg/s (3 s each)
 #   spacing   two bottles 20 cm apart on a loop of 5 belts and 6 curves         (50 s)
 #
 # --set NAME=VALUE sets a plant parameter (a value with its unit: k=4kg/s, "mass=20 g",
@@ -127,7 +127,7 @@ run_experiment() {
 for name in "${only[@]}"; do
   case "$name" in
     traction) run_experiment traction 1 "k:1 kg/s|4 kg/s|16 kg/s" ;;
-    tipping)  run_experiment tipping 3 "k:16 kg/s|1 kg/s" "mass:20 g|40 g|80 g" ;;
+    tipping)  run_experiment tipping 3 "k:16 kg/s|0.5 kg/s" "mass:20 g|40 g|80 g" ;;
     spacing)  run_experiment spacing 50 ;;
   esac
 done
