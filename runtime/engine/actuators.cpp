@@ -48,7 +48,7 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
         const double* v = r.val(c.slot_adr + slot);
         const Vec3 vel{v[0], v[1], v[2]};
         if (ph.dynamic_now(b)) {
-            btRigidBody& rb = ph.rb(b);
+            btRigidBody& rb = ph.write(b);
             if (k == 0) rb.setLinearVelocity(to_bt(vel));
             else rb.setAngularVelocity(to_bt(vel));
             rb.activate();

@@ -41,7 +41,7 @@ void integrate_single(Runtime& r, int32_t b) {
     const double inv_s = inv_stretch(s.body_k[b] * dt / m);
     const Mat3 lhs = m * inv_s * Mat3::Identity() + dt * eig(s.gain[b]);
     const Vec3d dv = lhs.inverse() * (dt * eig(s.force[b]));
-    r.phys.rb(b).applyCentralForce(bt(m * dv / dt));
+    r.phys.apply(b, bt(m * dv / dt), btVector3(0, 0, 0));
 }
 
 // A rigid group: the same in 6 dof about the group's centre of mass. Each body's
@@ -56,8 +56,7 @@ void integrate_group(Runtime& r, int32_t grp) {
     Vec3d c = Vec3d::Zero(), p = Vec3d::Zero();
     double k = 0;
     for (int32_t i = 0; i < n; ++i) {
-        const btRigidBody& rb = r.phys.rb(mem[i]);
-        c += r.phys.mass(mem[i]) * eig(rb.getCenterOfMassPosition());
+        c += r.phys.mass(mem[i]) * eig(r.phys.com(mem[i]));
         k += s.body_k[mem[i]];
     }
     c /= mass;
@@ -65,11 +64,10 @@ void integrate_group(Runtime& r, int32_t grp) {
     Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
     for (int32_t i = 0; i < n; ++i) {
-        const btRigidBody& rb = r.phys.rb(mem[i]);
         const double m = r.phys.mass(mem[i]);
-        const Vec3d rel = eig(rb.getCenterOfMassPosition()) - c;
-        inertia += eig(rb.getInvInertiaTensorWorld()).inverse() + m * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
-        p += m * eig(rb.getLinearVelocity());
+        const Vec3d rel = eig(r.phys.com(mem[i])) - c;
+        inertia += eig(r.phys.inertia_world(mem[i])) + m * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
+        p += m * eig(r.phys.velocity(mem[i]));
         if (s.body_k[mem[i]] == 0) continue;
         const Mat3 K = eig(s.gain[mem[i]]), S = skew(rel);
         A.block<3, 3>(0, 0) += K;
@@ -87,12 +85,10 @@ void integrate_group(Runtime& r, int32_t grp) {
     const Eigen::Matrix<double, 6, 1> x = lhs.ldlt().solve(dt * f);
     const Vec3d dv = x.head<3>(), dw = x.tail<3>();
     for (int32_t i = 0; i < n; ++i) {
-        btRigidBody& rb = r.phys.rb(mem[i]);
-        const Vec3d rel = eig(rb.getCenterOfMassPosition()) - c;
-        const Mat3 I = eig(rb.getInvInertiaTensorWorld()).inverse();
-        rb.applyCentralForce(bt(r.phys.mass(mem[i]) * (dv + dw.cross(rel)) / dt));
-        rb.applyTorque(bt(I * dw / dt));
-        rb.activate();
+        const Vec3d rel = eig(r.phys.com(mem[i])) - c;
+        const Mat3 I = eig(r.phys.inertia_world(mem[i]));
+        r.phys.apply(mem[i], bt(r.phys.mass(mem[i]) * (dv + dw.cross(rel)) / dt), bt(I * dw / dt));
+        r.phys.rb(mem[i]).activate();
     }
 }
 

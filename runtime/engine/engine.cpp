@@ -139,9 +139,9 @@ bool Engine::active(int32_t slot) const {
 }
 
 Pose Engine::body_pose(int32_t b) const { return rt_->phys.pose(b); }
-Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.rb(b).getWorldTransform().getOrigin()); }
-Vec3 Engine::body_velocity(int32_t b) const { return from_bt(rt_->phys.rb(b).getLinearVelocity()); }
-Vec3 Engine::body_angular_velocity(int32_t b) const { return from_bt(rt_->phys.rb(b).getAngularVelocity()); }
+Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.com(b)); }
+Vec3 Engine::body_velocity(int32_t b) const { return from_bt(rt_->phys.velocity(b)); }
+Vec3 Engine::body_angular_velocity(int32_t b) const { return from_bt(rt_->phys.angular_velocity(b)); }
 bool Engine::body_in_world(int32_t b) const { return rt_->phys.in_world(b); }
 int32_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
 Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }

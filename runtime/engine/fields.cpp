@@ -76,7 +76,7 @@ void move_kinematic(Runtime& r) {
         const Vec3 &v = s.cmd_lin[b], &w = s.cmd_ang[b];
         if (v == Vec3{0, 0, 0} && w == Vec3{0, 0, 0}) continue;
         if (!r.phys.in_world(int32_t(b)) || r.phys.dynamic_now(int32_t(b)) || s.held_by[b] >= 0) continue;
-        btRigidBody& rb = r.phys.rb(int32_t(b));
+        btRigidBody& rb = r.phys.write(int32_t(b));
         btTransform next;
         btTransformUtil::integrateTransform(rb.getWorldTransform(), to_bt(v), to_bt(w), btScalar(r.dt), next);
         rb.setWorldTransform(next);  // Bullet derives the kinematic velocity from the move
@@ -112,7 +112,7 @@ void apply_fields(Runtime& r) {
             const btVector3 local = (r.index.com(b) - c) * R;  // R^T (p - c): into the field frame
             if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z())
                 return;
-            const btVector3 v = r.phys.rb(b).getLinearVelocity() * R;
+            const btVector3 v = r.phys.velocity(b) * R;
             if (s.body_k[b] == 0) s.touched.push_back(b);
             s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
             s.body_k[b] += kmax;
@@ -123,7 +123,7 @@ void apply_fields(Runtime& r) {
     for (int32_t b : s.touched) {
         // Stalled: slower than a tenth of the running field it is in, as the last
         // physics step left it (a bottle held at a gate, a jam).
-        if (s.field_run[b] > 0 && r.phys.rb(b).getLinearVelocity().length() < 0.1 * s.field_run[b]) {
+        if (s.field_run[b] > 0 && r.phys.velocity(b).length() < 0.1 * s.field_run[b]) {
             if (s.slow_step[b] + 1 < s.step) s.stall_since[b] = s.time;
             s.slow_step[b] = s.step;
         }
@@ -148,6 +148,7 @@ void apply_fields(Runtime& r) {
 }
 
 void phase_physics(Runtime& r) {
+    r.phys.update_welds();  // before any force of this step
     move_kinematic(r);
     apply_fields(r);
     r.phys.step(r.dt);

@@ -57,6 +57,7 @@ void Physics::sync_joints(int32_t b) {
 // an object is issued or taken; parking costs nothing per step.
 void Physics::insert(int32_t b) {
     if (in_world_[b]) return;
+    unweld(b);
     btRigidBody& r = *bodies_[b];
     r.forceActivationState(g_.bodies[b].mode == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
     in_world_[b] = 1;
@@ -68,6 +69,7 @@ void Physics::insert(int32_t b) {
 
 void Physics::take_out(int32_t b) {
     if (!in_world_[b]) return;
+    unweld(b);
     in_world_[b] = 0;
     ++version_;
     sync_joints(b);
@@ -92,6 +94,7 @@ void Physics::take_out(int32_t b) {
 // broadphase group: switching needs flags and mass only, no re-adding.
 void Physics::set_dynamics(int32_t b, bool on) {
     if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
+    unweld(b);
     btRigidBody& r = *bodies_[b];
     if (on) {
         r.setMassProps(btScalar(mass_[b]), inertia_[b]);
@@ -114,6 +117,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
 // read AABBs from our own index (triggers.cpp).
 void Physics::set_collision(int32_t b, bool on) {
     if (bool(coll_on_[b]) == on) return;
+    unweld(b);
     coll_on_[b] = on;
     if (in_world_[b]) refilter(b);
 }
@@ -137,6 +141,7 @@ void Physics::refilter(int32_t b) {
 }
 
 void Physics::set_joint(int32_t j, bool on) {
+    if (weld_joint_[j] >= 0) unweld(welds_[weld_joint_[j]].host);
     joints_[j]->setEnabled(on);
     joint_on_[j] = on;
     ++version_;
@@ -146,6 +151,7 @@ btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransfo
 Pose Physics::pose(int32_t b) const { return from_bt(frame(b)); }
 
 void Physics::place(int32_t b, const btTransform& f) {
+    unweld(b);
     btRigidBody& r = *bodies_[b];
     btTransform t = f * local_[b];
     r.setWorldTransform(t);

@@ -97,10 +97,9 @@ void release(Runtime& r, int32_t i) {
     // the followed graphics' change over the last step.
     btVector3 v(0, 0, 0), w(0, 0, 0), p(0, 0, 0);
     if (gr.body >= 0) {
-        const btRigidBody& rb = r.phys.rb(gr.body);
-        v = rb.getLinearVelocity();
-        w = rb.getAngularVelocity();
-        p = rb.getWorldTransform().getOrigin();
+        v = r.phys.velocity(gr.body);
+        w = r.phys.angular_velocity(gr.body);
+        p = r.phys.com(gr.body);
     } else if (gr.graphics >= 0) {
         const GraphicsState& gs = r.st.graphics[gr.graphics];
         v = to_bt(scale(sub(gs.pose.p, gs.prev.p), 1.0 / r.dt));
@@ -111,7 +110,7 @@ void release(Runtime& r, int32_t i) {
         if (r.st.held_by[*b] != i) continue;
         r.st.held_by[*b] = -1;
         r.phys.set_dynamics(*b, true);
-        btRigidBody& rb = r.phys.rb(*b);
+        btRigidBody& rb = r.phys.write(*b);
         rb.setLinearVelocity(v + w.cross(rb.getWorldTransform().getOrigin() - p));
         rb.setAngularVelocity(w);
     }
@@ -138,7 +137,7 @@ void issue(Runtime& r, int32_t src) {
         r.phys.set_dynamics(*b, body.dynamics);
         r.phys.set_collision(*b, body.collision);
         r.phys.place(*b, to_bt(pmul(to, body.pose)));
-        btRigidBody& rb = r.phys.rb(*b);
+        btRigidBody& rb = r.phys.write(*b);
         rb.setLinearVelocity(btVector3(0, 0, 0));
         rb.setAngularVelocity(btVector3(0, 0, 0));
         rb.clearForces();

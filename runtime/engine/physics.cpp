@@ -271,6 +271,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         if (body_joints_.num[b]++ == 0) body_joints_.adr[b] = int32_t(body_joints_.list.size());
         body_joints_.list.push_back(j);
     }
+    find_welds();
 
     // Every body joins Bullet's world once, in id order; pooled ones are parked. A pool's
     // objects all start at one pose: they join without a filter, or the broadphase would
@@ -298,6 +299,10 @@ Physics::~Physics() {
     bodies_.clear();
 }
 
-void Physics::step(double dt) { world_->stepSimulation(btScalar(dt), 0, btScalar(dt)); }
+void Physics::step(double dt) {
+    update_welds();
+    world_->stepSimulation(btScalar(dt), 0, btScalar(dt));
+    follow_all();
+}
 
 }  // namespace plant::engine

@@ -29,10 +29,24 @@ public:
     Physics(const Physics&) = delete;
     Physics& operator=(const Physics&) = delete;
 
+    // Forms and ends welds as membership and modes say: call before forces are applied.
+    void update_welds();
     void step(double dt);
     btDiscreteDynamicsWorld& world() { return *world_; }
 
-    btRigidBody& rb(int32_t b) const { return *bodies_[b]; }
+    // Bullet's body, to read. A welded host's Bullet body carries its passenger too: its
+    // centre of mass, velocity and inertia are the pair's; com(), velocity(),
+    // angular_velocity() and inertia_world() give each body's own.
+    const btRigidBody& rb(int32_t b) const { return *bodies_[b]; }
+    // Bullet's body, to write its state by hand: ends its weld first (until the next step).
+    btRigidBody& write(int32_t b);
+    btVector3 com(int32_t b) const;
+    btVector3 velocity(int32_t b) const;
+    const btVector3& angular_velocity(int32_t b) const { return bodies_[b]->getAngularVelocity(); }
+    btMatrix3x3 inertia_world(int32_t b) const;  // the body's own tensor, in the world
+    // A force at the body's centre of mass and a torque (its carrier's, while welded).
+    void apply(int32_t b, const btVector3& force, const btVector3& torque);
+    bool welded(int32_t b) const { return weld_of_[b] >= 0 && welds_[weld_of_[b]].on; }
     bool in_world(int32_t b) const { return in_world_[b]; }
     bool declared_dynamic(int32_t b) const { return g_.bodies[b].mode == graph::BodyMode::Dynamic; }
     // Simulated by the dynamics right now: declared dynamic, in the world, dynamics on.
@@ -62,6 +76,25 @@ public:
     void move(int32_t b, const btTransform& frame);
 
 private:
+    // A welded pair: a dynamic body that takes no collisions (a bottle's foot) joined by
+    // an enabled fixed joint to a dynamic host is left out of Bullet's world, and the
+    // host's Bullet body carries both (the fixed constraint leaves Bullet's world too). After
+    // each step the passenger's state is copied from its carrier. See welds.cpp.
+    struct Weld {
+        int32_t host = -1, pass = -1, joint = -1;
+        graph::Pose rel;         // the passenger's body frame in the host's
+        BodyShape own, both;     // the host alone, and the pair about its centre of mass
+        btTransform off;         // the passenger's Bullet frame in the carrier's
+        bool on = false;
+    };
+    void find_welds();
+    void weld_on(Weld& w);
+    void weld_off(Weld& w);
+    void follow(const Weld& w);
+    void follow_all();
+    void unweld(int32_t b);
+    void reshape(int32_t b, const BodyShape& s);
+    const BodyShape* carried_host(int32_t b) const;  // its own shape when b carries a passenger
     void refilter(int32_t b);
     void add_to_world(int32_t b, bool filtered);
     void set_mode_flags(int32_t b);
@@ -82,6 +115,10 @@ private:
     std::vector<uint8_t> in_world_, dyn_on_, coll_on_, joint_in_, joint_on_;
     std::vector<int> group_, mask_;  // broadphase filter while in the world
     Csr body_joints_;
+    std::vector<Weld> welds_;
+    std::vector<int32_t> weld_of_;  // per body: its weld (host or passenger), or -1
+    std::vector<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
+    bool welds_dirty_ = true;
     uint64_t version_ = 0;
 };
 

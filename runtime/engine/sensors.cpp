@@ -40,7 +40,6 @@ void body_outputs(Runtime& r) {
         if (!r.phys.in_world(b)) continue;
         const uint8_t bits = r.st.body_outputs[b];
         const int32_t s0 = r.comp_slot(r.g.bodies[b].comp, bodyslot::pose);
-        const btRigidBody& rb = r.phys.rb(b);
         if (bits & 7) {
             const Pose p = r.phys.pose(b);
             if (bits & 1) r.emit_pose(s0, p);
@@ -57,7 +56,7 @@ void body_outputs(Runtime& r) {
         }
         for (int k = 3; k < 5; ++k) {
             if (!(bits & (1u << k))) continue;
-            const btVector3& v = k == 3 ? rb.getLinearVelocity() : rb.getAngularVelocity();
+            const btVector3 v = k == 3 ? r.phys.velocity(b) : r.phys.angular_velocity(b);
             double* out = r.val(s0 + k);
             out[0] = v.x();
             out[1] = v.y();

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 namespace plant::engine {
 
@@ -45,6 +46,29 @@ Eigen::Matrix3d rotation(const Quat& q) {
     return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).toRotationMatrix();
 }
 
+Eigen::Vector3d vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// Principal moments and axes (a proper rotation) of a symmetric inertia tensor; the
+// axes stay the frame's own while the tensor is diagonal.
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> principal_axes(const Eigen::Matrix3d& tensor) {
+    const double off = std::abs(tensor(0, 1)) + std::abs(tensor(0, 2)) + std::abs(tensor(1, 2));
+    if (off <= 1e-9 * tensor.trace()) return {tensor.diagonal(), Eigen::Matrix3d::Identity()};
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(tensor);
+    Eigen::Matrix3d axes = eig.eigenvectors();
+    if (axes.determinant() < 0) axes.col(2) *= -1;
+    return {eig.eigenvalues(), axes};
+}
+
+// Adds a part of mass m, principal moments `moments` in the frame `at`, to a tensor
+// about the point c (parallel axes).
+void add_inertia(Eigen::Matrix3d& tensor, const Pose& at, const Eigen::Vector3d& moments, double m,
+                 const Eigen::Vector3d& c) {
+    const Eigen::Matrix3d r = rotation(at.q);
+    const Eigen::Vector3d d = vec(at.p) - c;
+    tensor += r * moments.asDiagonal() * r.transpose();
+    tensor += m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+}
+
 }  // namespace
 
 ShapeCache::~ShapeCache() {
@@ -67,19 +91,32 @@ btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
     case ShapeKind::Cylinder: shape = std::make_unique<btCylinderShapeZ>(btVector3(r, r, h / 2)); break;
     // The graph gives a capsule's total height; Bullet wants the distance between its caps.
     case ShapeKind::Capsule: shape = std::make_unique<btCapsuleShapeZ>(r, std::max<btScalar>(h - 2 * r, 0)); break;
-    case ShapeKind::Hull: {
-        auto hull = std::make_unique<btConvexHullShape>();
-        for (int32_t i = 0; i < s.point_num; ++i) hull->addPoint(to_bt(g.points[s.point_adr + i].p), false);
-        hull->optimizeConvexHull();
-        hull->setMargin(btScalar(kHullMargin));  // before the AABB: see PLATFORM.md
-        hull->recalcLocalAabb();
-        hull->initializePolyhedralFeatures();
-        shape = std::move(hull);
-        break;
-    }
+    case ShapeKind::Hull: return hull(g, s, Pose{});
     }
     btCollisionShape* raw = shape.get();
     owned_.push_back(std::move(shape));
+    cache_.emplace(std::move(key), raw);
+    return raw;
+}
+
+// A hull's points moved by `to`: a hull placed off its body's centre of mass without
+// a compound around it.
+btCollisionShape* ShapeCache::hull(const Graph& g, const Shape& s, const Pose& to) {
+    std::vector<double> key = primitive_key(g, s);
+    if (!is_identity(to, 0)) {
+        key.insert(key.end(), to.p.begin(), to.p.end());
+        key.insert(key.end(), to.q.begin(), to.q.end());
+    }
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    auto h = std::make_unique<btConvexHullShape>();
+    const btTransform t = to_bt(to);
+    for (int32_t i = 0; i < s.point_num; ++i) h->addPoint(t * to_bt(g.points[s.point_adr + i].p), false);
+    h->optimizeConvexHull();
+    h->setMargin(btScalar(kHullMargin));  // before the AABB: see PLATFORM.md
+    h->recalcLocalAabb();
+    h->initializePolyhedralFeatures();
+    btCollisionShape* raw = h.get();
+    owned_.push_back(std::move(h));
     cache_.emplace(std::move(key), raw);
     return raw;
 }
@@ -136,19 +173,10 @@ BodyShape ShapeCache::build(const Graph& g, const Body& b) {
                 double m = total > 0 ? b.mass * vol[i] / total : b.mass / double(kids.size());
                 btVector3 li;
                 kids[i].shape->calculateLocalInertia(btScalar(m), li);
-                Eigen::Matrix3d r = rotation(kids[i].in_com.q);
-                Eigen::Vector3d d(kids[i].in_com.p[0], kids[i].in_com.p[1], kids[i].in_com.p[2]);
-                tensor += r * Eigen::Vector3d(li.x(), li.y(), li.z()).asDiagonal() * r.transpose();
-                tensor += m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+                add_inertia(tensor, kids[i].in_com, Eigen::Vector3d(li.x(), li.y(), li.z()), m, Eigen::Vector3d::Zero());
             }
-            double off = std::abs(tensor(0, 1)) + std::abs(tensor(0, 2)) + std::abs(tensor(1, 2));
-            Eigen::Vector3d moments = tensor.diagonal();
-            if (off > 1e-9 * tensor.trace()) {
-                Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(tensor);
-                moments = eig.eigenvalues();
-                principal = eig.eigenvectors();
-                if (principal.determinant() < 0) principal.col(2) *= -1;
-            }
+            Eigen::Vector3d moments;
+            std::tie(moments, principal) = principal_axes(tensor);
             out.inertia = btVector3(btScalar(moments.x()), btScalar(moments.y()), btScalar(moments.z()));
         }
     }
@@ -169,6 +197,45 @@ BodyShape ShapeCache::build(const Graph& g, const Body& b) {
         key.insert(key.end(), local.p.begin(), local.p.end());
         key.insert(key.end(), local.q.begin(), local.q.end());
         parts.emplace_back(k.shape, to_bt(local));
+    }
+    out.shape = compound(key, parts);
+    return out;
+}
+
+}  // namespace plant::engine
+
+namespace plant::engine {
+
+BodyShape ShapeCache::build_welded(const Graph& g, const Body& host, const Body& pass, const Pose& rel) {
+    const BodyShape hs = build(g, host), ps = build(g, pass);
+    const Pose at_h = from_bt(hs.local), at_p = pmul(rel, from_bt(ps.local));  // in the host's frame
+    BodyShape out;
+    out.mass = hs.mass + ps.mass;
+    const Eigen::Vector3d c = (hs.mass * vec(at_h.p) + ps.mass * vec(at_p.p)) / out.mass;
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    add_inertia(tensor, at_h, Eigen::Vector3d(hs.inertia.x(), hs.inertia.y(), hs.inertia.z()), hs.mass, c);
+    add_inertia(tensor, at_p, Eigen::Vector3d(ps.inertia.x(), ps.inertia.y(), ps.inertia.z()), ps.mass, c);
+    const auto [moments, axes] = principal_axes(tensor);
+    out.inertia = btVector3(btScalar(moments.x()), btScalar(moments.y()), btScalar(moments.z()));
+    const Eigen::Quaterniond q(axes);
+    const Pose com{{c.x(), c.y(), c.z()}, {q.x(), q.y(), q.z(), q.w()}};
+    out.local = to_bt(com);
+    // The host's shapes about the common centre of mass (the passenger takes no collisions).
+    const Pose to_com = pinv(com);
+    if (host.shape_num == 1 && g.shapes[host.shape_adr].kind == ShapeKind::Hull) {
+        const Shape& s = g.shapes[host.shape_adr];
+        out.shape = hull(g, s, pmul(to_com, s.local));
+        return out;
+    }
+    std::vector<double> key{-2.0, double(host.shape_num)};
+    std::vector<std::pair<btCollisionShape*, btTransform>> parts;
+    for (int32_t i = 0; i < host.shape_num; ++i) {
+        const Shape& s = g.shapes[host.shape_adr + i];
+        const Pose local = pmul(to_com, s.local);
+        for (double v : primitive_key(g, s)) key.push_back(v);
+        key.insert(key.end(), local.p.begin(), local.p.end());
+        key.insert(key.end(), local.q.begin(), local.q.end());
+        parts.emplace_back(primitive(g, s), to_bt(local));
     }
     out.shape = compound(key, parts);
     return out;

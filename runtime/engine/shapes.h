@@ -34,9 +34,15 @@ public:
     ShapeCache& operator=(const ShapeCache&) = delete;
 
     BodyShape build(const graph::Graph& g, const graph::Body& b);
+    // Two bodies welded together as one Bullet body: the host's shapes and both masses
+    // about their common centre of mass, in the host's body frame. `rel` is the
+    // passenger's body frame in the host's; the passenger takes no collisions.
+    BodyShape build_welded(const graph::Graph& g, const graph::Body& host, const graph::Body& pass,
+                           const graph::Pose& rel);
 
 private:
     btCollisionShape* primitive(const graph::Graph& g, const graph::Shape& s);
+    btCollisionShape* hull(const graph::Graph& g, const graph::Shape& s, const graph::Pose& to);
     btCollisionShape* compound(const std::vector<double>& key,
                                const std::vector<std::pair<btCollisionShape*, btTransform>>& kids);
     std::map<std::vector<double>, btCollisionShape*> cache_;

@@ -25,7 +25,7 @@ void Spatial::refresh(const Physics& ph, bool aabbs) {
     btScalar reach = 0;
     for (Entry& e : order_) {
         const btRigidBody& r = ph.rb(e.body);
-        com_[e.body] = r.getWorldTransform().getOrigin();
+        com_[e.body] = ph.com(e.body);
         e.x = com_[e.body].x();
         e.cell = cell(com_[e.body].y());
         if (aabbs) {

@@ -1,7 +1,10 @@
 // Bodies, the conveyor law, collision and dynamics toggles, constraints.
 #include "engine/engine.h"
+#include "engine/pose.h"
+#include "engine/runtime.h"
 #include "scene_builder.h"
 
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -73,6 +76,49 @@ TEST_CASE("runtime: a light bottle with a bottom body stays stable on a fast bel
     CHECK(tilt > 0.01);  // the foot pulls at the bottom: the bottle tips
     const auto v = e.body_velocity(main);
     CHECK(std::abs(v[0]) < 2.0);
+}
+
+TEST_CASE("runtime: a bottom body without collisions rides welded to its main body, and leaves when the joint lets go") {
+    SceneBuilder b;
+    floor_and_belt(b, 1.0, 16);
+    int32_t d = b.dobj("bottle");
+    int32_t main = b.body(d, "main", BodyMode::Dynamic, {cylinder(0.02, 0.1)}, 0.036, at(0, 0, 0.0505));
+    int32_t foot = b.body(d, "foot", BodyMode::Dynamic, {sphere(0.003)}, 0.004, at(0, 0, 0.0035));
+    b.g.bodies[size_t(foot)].collision = false;
+    int32_t j = b.joint(d, "fix", JointKind::Fixed, main, foot, at(0, 0, -0.047), at(0, 0, 0));
+    Engine e(b.g);
+    auto& phys = e.internals().phys;
+    double tilt = 0;
+    for (int i = 0; i < 150; ++i) {
+        e.step();
+        const auto q = e.body_pose(main).q;
+        tilt = std::max(tilt, 2 * std::asin(std::min(1.0, std::sqrt(q[0] * q[0] + q[1] * q[1]))));
+        // The foot is where the joint holds it and moves with the main body's rigid motion.
+        const Pose want = plant::engine::pmul(e.body_pose(main), at(0, 0, -0.047));
+        const auto vm = e.body_velocity(main), vf = e.body_velocity(foot), w = e.body_angular_velocity(main);
+        const Vec3 r = plant::engine::sub(e.body_com(foot), e.body_com(main));
+        for (int k = 0; k < 3; ++k) {
+            REQUIRE(e.body_pose(foot).p[k] == doctest::Approx(want.p[k]).epsilon(1e-5));
+            const double cross = w[(k + 1) % 3] * r[(k + 2) % 3] - w[(k + 2) % 3] * r[(k + 1) % 3];
+            REQUIRE(vf[k] == doctest::Approx(vm[k] + cross).epsilon(1e-5));
+        }
+    }
+    CHECK(phys.welded(main));
+    CHECK(phys.welded(foot));
+    CHECK(phys.world().getNumCollisionObjects() == 2);  // the floor and the bottle: one Bullet body
+    CHECK(phys.world().getNumConstraints() == 0);
+    CHECK(tilt > 0.01);  // the belt still pulls at the foot: the bottle tips
+    CHECK(e.body_velocity(main)[0] == doctest::Approx(1.0).epsilon(0.01));
+    CHECK(e.body_velocity(foot)[0] == doctest::Approx(1.0).epsilon(0.01));
+    // The bottle's mass is both bodies': the belt pulls it to speed with M/(2k), not m/k.
+    CHECK(phys.rb(main).getMass() == doctest::Approx(0.040));
+    e.input(b.S(b.g.joints[size_t(j)].comp, "disable"));
+    for (int i = 0; i < 60; ++i) e.step();
+    CHECK_FALSE(phys.welded(foot));
+    CHECK(phys.world().getNumCollisionObjects() == 3);
+    CHECK(phys.rb(main).getMass() == doctest::Approx(0.036));
+    CHECK(e.body_com(foot)[2] < -0.2);                    // no collisions: it falls through the floor
+    CHECK(e.body_com(main)[2] == doctest::Approx(0.0505).epsilon(0.01));  // the main body stands
 }
 
 TEST_CASE("runtime: collision_off lets a blocked body through, collision_on blocks again") {

@@ -1,0 +1,161 @@
+// Welded pairs carried by one Bullet body (see physics.h, Physics::Weld).
+//
+// A bottle is a main body and a small bottom body joined by a fixed joint (MISSION.md
+// §1). Given to Bullet as two bodies and a constraint, the pair costs a second body to
+// integrate, six solver rows every iteration and an island that holds both; about 15 %
+// of the bottling plant's step. The constraint only keeps the two rigidly together, so
+// while the weld holds (joint enabled, both in the world and dynamic, the bottom body
+// taking no collisions) the main body's Bullet body takes the pair's mass, centre of mass
+// and inertia, and the bottom body leaves Bullet's world: after each step its state is
+// the carrier's rigid motion at its place. The conveyor law still pulls each body at its
+// own centre of mass with its own velocity (apply() passes a passenger's force on to its
+// carrier at that point), so the bottle tips as before.
+//
+// Anything that changes a body's membership or mode, or writes its state by hand, ends
+// the weld first; update_welds() forms it again before the next step's forces.
+#include "engine/physics.h"
+
+#include "engine/pose.h"
+
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+void Physics::find_welds() {
+    weld_of_.assign(g_.bodies.size(), -1);
+    weld_joint_.assign(g_.joints.size(), -1);
+    for (size_t j = 0; j < g_.joints.size(); ++j) {
+        const Joint& jt = g_.joints[j];
+        if (jt.kind != JointKind::Fixed || jt.body_b < 0 || jt.body_a == jt.body_b) continue;
+        const int32_t a = jt.body_a, b = jt.body_b;
+        if (!declared_dynamic(a) || !declared_dynamic(b) || mass_[a] <= 0 || mass_[b] <= 0) continue;
+        const bool a_solid = g_.bodies[a].collision, b_solid = g_.bodies[b].collision;
+        if (a_solid == b_solid) continue;  // the passenger is the one without collisions
+        Weld w;
+        w.host = a_solid ? a : b;
+        w.pass = a_solid ? b : a;
+        w.joint = int32_t(j);
+        if (body_joints_.num[w.pass] != 1 || weld_of_[w.host] >= 0 || weld_of_[w.pass] >= 0) continue;
+        // The joint holds frame_a on a where frame_b is on b.
+        w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
+        w.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
+        w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
+        w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
+        weld_of_[w.host] = weld_of_[w.pass] = weld_joint_[j] = int32_t(welds_.size());
+        welds_.push_back(w);
+    }
+}
+
+void Physics::update_welds() {
+    if (!welds_dirty_) return;
+    welds_dirty_ = false;
+    for (Weld& w : welds_) {
+        const bool want = joint_on_[w.joint] && in_world_[w.host] && in_world_[w.pass] && dyn_on_[w.host] &&
+                          dyn_on_[w.pass] && !coll_on_[w.pass];
+        if (want && !w.on) weld_on(w);
+        else if (!want && w.on) weld_off(w);
+    }
+}
+
+void Physics::unweld(int32_t b) {
+    if (weld_of_.empty() || weld_of_[b] < 0) return;  // (none yet while the constructor runs)
+    Weld& w = welds_[weld_of_[b]];
+    if (w.on) weld_off(w);
+    welds_dirty_ = true;
+}
+
+// Gives body b's Bullet body another shape and mass, keeping its body frame and the
+// velocity of every point of it.
+void Physics::reshape(int32_t b, const BodyShape& s) {
+    btRigidBody& r = *bodies_[b];
+    const btTransform body = frame(b);
+    const btVector3 v = r.getLinearVelocity(), w = r.getAngularVelocity(), c = r.getCenterOfMassPosition();
+    local_[b] = s.local;
+    local_inv_[b] = s.local.inverse();
+    r.setCollisionShape(s.shape);
+    r.setMassProps(btScalar(s.mass), s.inertia);
+    r.setGravity(world_->getGravity());           // Bullet keeps gravity as a force: m·g
+    r.setCenterOfMassTransform(body * s.local);   // and the interpolation frame, the inertia
+    r.setLinearVelocity(v + w.cross(r.getCenterOfMassPosition() - c));
+    r.setAngularVelocity(w);
+    // Collision algorithms were made for the old shape: the pairs get new ones next step.
+    broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(r.getBroadphaseHandle(), dispatcher_.get());
+    world_->updateSingleAabb(&r);
+}
+
+void Physics::weld_on(Weld& w) {
+    if (joint_in_[w.joint]) {
+        world_->removeConstraint(joints_[w.joint].get());
+        joint_in_[w.joint] = 0;
+    }
+    world_->removeRigidBody(bodies_[w.pass].get());
+    reshape(w.host, w.both);
+    w.on = true;
+    follow(w);
+}
+
+void Physics::weld_off(Weld& w) {
+    follow(w);  // the passenger where its carrier left it
+    w.on = false;
+    reshape(w.host, w.own);
+    set_mode_flags(w.pass);
+    add_to_world(w.pass, true);
+    if (in_world_[w.host] && in_world_[w.pass]) {
+        world_->addConstraint(joints_[w.joint].get(), true);
+        joint_in_[w.joint] = 1;
+    }
+}
+
+void Physics::follow(const Weld& w) {
+    const btRigidBody& h = *bodies_[w.host];
+    btRigidBody& p = *bodies_[w.pass];
+    const btTransform t = h.getWorldTransform() * w.off;
+    p.setWorldTransform(t);
+    p.setInterpolationWorldTransform(t);
+    p.setLinearVelocity(h.getLinearVelocity() + h.getAngularVelocity().cross(t.getOrigin() - h.getCenterOfMassPosition()));
+    p.setAngularVelocity(h.getAngularVelocity());
+}
+
+void Physics::follow_all() {
+    for (const Weld& w : welds_)
+        if (w.on) follow(w);
+}
+
+btRigidBody& Physics::write(int32_t b) {
+    unweld(b);
+    return *bodies_[b];
+}
+
+const BodyShape* Physics::carried_host(int32_t b) const {
+    if (weld_of_[b] < 0) return nullptr;
+    const Weld& w = welds_[weld_of_[b]];
+    return w.on && w.host == b ? &w.own : nullptr;
+}
+
+btVector3 Physics::com(int32_t b) const {
+    const BodyShape* own = carried_host(b);
+    return own ? frame(b) * own->local.getOrigin() : bodies_[b]->getCenterOfMassPosition();
+}
+
+btVector3 Physics::velocity(int32_t b) const {
+    const btRigidBody& r = *bodies_[b];
+    if (!carried_host(b)) return r.getLinearVelocity();
+    return r.getLinearVelocity() + r.getAngularVelocity().cross(com(b) - r.getCenterOfMassPosition());
+}
+
+btMatrix3x3 Physics::inertia_world(int32_t b) const {
+    const BodyShape* own = carried_host(b);
+    const btMatrix3x3 R = (frame(b) * (own ? own->local : local_[b])).getBasis();
+    return R.scaled(inertia_[b]) * R.transpose();
+}
+
+void Physics::apply(int32_t b, const btVector3& force, const btVector3& torque) {
+    btRigidBody& carrier = *bodies_[welded(b) ? welds_[weld_of_[b]].host : b];
+    carrier.applyForce(force, com(b) - carrier.getCenterOfMassPosition());
+    carrier.applyTorque(torque);
+}
+
+}  // namespace plant::engine
