@@ -64,10 +64,26 @@ void rebuild_groups(Runtime& r) {
     s.groups_version = r.phys.version();
 }
 
-btTransform field_pose(const Runtime& r, size_t f) {
+btVector3 field_gain(const Field& fd) {
+    const btVector3 d = to_bt(fd.dir);
+    return btVector3(std::abs(d.x()), std::abs(d.y()), std::abs(d.z())) * btScalar(fd.gain);
+}
+
+// The field's frame, recomputed only when its carrier has moved.
+const State::FieldFrame& field_frame(Runtime& r, size_t f) {
     const Field& fd = r.g.fields[f];
-    if (fd.body >= 0) return r.phys.frame(fd.body) * r.tab.field_local[f];
-    return to_bt(fd.pose);
+    State::FieldFrame& ff = r.st.field_frame[f];
+    const btTransform carrier = fd.body >= 0 ? r.phys.rb(fd.body).getWorldTransform() : btTransform::getIdentity();
+    if (ff.valid && carrier == ff.carrier) return ff;
+    ff.carrier = carrier;
+    ff.pose = fd.body >= 0 ? r.phys.frame(fd.body) * r.tab.field_local[f] : to_bt(fd.pose);
+    const btMatrix3x3& R = ff.pose.getBasis();
+    ff.K = R.scaled(field_gain(fd)) * R.transpose();  // R·diag(gain)·R^T
+    const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
+    ff.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
+    ff.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
+    ff.valid = true;
+    return ff;
 }
 
 void move_kinematic(Runtime& r) {
@@ -95,19 +111,16 @@ void apply_fields(Runtime& r) {
     for (size_t f = 0; f < g.fields.size(); ++f) {
         const Field& fd = g.fields[f];
         if (!s.field_on[f] || fd.gain <= 0) continue;
-        const btVector3 d = to_bt(fd.dir);
-        const btVector3 gain = btVector3(std::abs(d.x()), std::abs(d.y()), std::abs(d.z())) * btScalar(fd.gain);
+        const btVector3 gain = field_gain(fd);
         const btScalar kmax = gain[gain.maxAxis()];
         if (kmax <= 0) continue;
-        const btVector3 target = d * btScalar(s.field_speed[f]);
-        const btTransform pose = field_pose(r, f);
-        const btMatrix3x3& R = pose.getBasis();
-        const btMatrix3x3 K = R.scaled(gain) * R.transpose();  // R·diag(gain)·R^T
-        const btVector3& c = pose.getOrigin();
+        const btVector3 target = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+        const State::FieldFrame& ff = field_frame(r, f);
+        const btMatrix3x3& R = ff.pose.getBasis();
+        const btMatrix3x3& K = ff.K;
+        const btVector3& c = ff.pose.getOrigin();
         const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
-        const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
-        const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
-        r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
+        r.index.for_each(c.x() - ff.rx, c.x() + ff.rx, c.y() - ff.ry, c.y() + ff.ry, [&](int32_t b) {
             if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) return;
             const btVector3 local = (r.index.com(b) - c) * R;  // R^T (p - c): into the field frame
             if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z())

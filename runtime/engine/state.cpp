@@ -36,6 +36,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
 
     s.field_speed.resize(g.fields.size());
     s.field_on.resize(g.fields.size());
+    s.field_frame.resize(g.fields.size());
     for (size_t f = 0; f < g.fields.size(); ++f) {
         s.field_speed[f] = g.fields[f].speed;
         s.field_on[f] = g.fields[f].enabled;

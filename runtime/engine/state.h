@@ -74,6 +74,15 @@ struct State {
     // Fields: scratch for the conveyor law, and rigid groups (fixed joints).
     std::vector<double> field_speed;
     std::vector<uint8_t> field_on;
+    // Each field's pose, gain matrix and reach in x and y, for the Bullet frame its
+    // carrier had (most carriers never move: a band).
+    struct FieldFrame {
+        btTransform carrier, pose;
+        btMatrix3x3 K;
+        btScalar rx = 0, ry = 0;
+        bool valid = false;
+    };
+    std::vector<FieldFrame> field_frame;
     std::vector<btVector3> force;      // the law at the body's velocity, summed over fields
     std::vector<btMatrix3x3> gain;     // its gain matrices k·R·diag|d|·R^T, summed
     std::vector<double> body_k, group_k, group_mass;
