@@ -22,6 +22,8 @@ class btTypedConstraint;
 
 namespace plant::engine {
 
+class BoxHullContacts;
+
 class Physics {
 public:
     Physics(const graph::Graph& g, const Tables& t, Broadphase bp);
@@ -102,6 +104,7 @@ private:
 
     const graph::Graph& g_;
     std::unique_ptr<btDefaultCollisionConfiguration> config_;
+    std::unique_ptr<BoxHullContacts> contacts_;  // outlives the dispatcher, which calls it
     std::unique_ptr<btCollisionDispatcher> dispatcher_;
     std::unique_ptr<btBroadphaseInterface> broadphase_;
     std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
