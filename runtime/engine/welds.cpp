@@ -15,6 +15,7 @@
 // the weld first; update_welds() forms it again before the next step's forces.
 #include "engine/physics.h"
 
+#include "engine/contact.h"
 #include "engine/pose.h"
 
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
@@ -43,6 +44,7 @@ void Physics::find_welds() {
         w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
         w.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
         w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
+        contacts_->prepare(*w.both.shape);  // not at its first contact, inside a step
         w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
         weld_of_[w.host] = weld_of_[w.pass] = weld_joint_[j] = int32_t(welds_.size());
         welds_.push_back(w);
