@@ -42,8 +42,8 @@ public:
     const btRigidBody& rb(int32_t b) const { return *bodies_[b]; }
     // Bullet's body, to write its state by hand: ends its weld first (until the next step).
     btRigidBody& write(int32_t b);
-    btVector3 com(int32_t b) const;
-    btVector3 velocity(int32_t b) const;
+    btVector3 com(int32_t b) const { return carries_[b] ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }
+    btVector3 velocity(int32_t b) const { return carries_[b] ? host_velocity(b) : bodies_[b]->getLinearVelocity(); }
     const btVector3& angular_velocity(int32_t b) const { return bodies_[b]->getAngularVelocity(); }
     btMatrix3x3 inertia_world(int32_t b) const;  // the body's own tensor, in the world
     // A force at the body's centre of mass and a torque (its carrier's, while welded).
@@ -97,6 +97,8 @@ private:
     void unweld(int32_t b);
     void reshape(int32_t b, const BodyShape& s);
     const BodyShape* carried_host(int32_t b) const;  // its own shape when b carries a passenger
+    btVector3 host_com(int32_t b) const;
+    btVector3 host_velocity(int32_t b) const;
     void refilter(int32_t b);
     void add_to_world(int32_t b, bool filtered);
     void set_mode_flags(int32_t b);
@@ -120,6 +122,7 @@ private:
     Csr body_joints_;
     std::vector<Weld> welds_;
     std::vector<int32_t> weld_of_;  // per body: its weld (host or passenger), or -1
+    std::vector<uint8_t> carries_;  // per body: 1 while it carries a passenger
     std::vector<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;

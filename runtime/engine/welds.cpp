@@ -27,6 +27,7 @@ using namespace plant::graph;
 
 void Physics::find_welds() {
     weld_of_.assign(g_.bodies.size(), -1);
+    carries_.assign(g_.bodies.size(), 0);
     weld_joint_.assign(g_.joints.size(), -1);
     for (size_t j = 0; j < g_.joints.size(); ++j) {
         const Joint& jt = g_.joints[j];
@@ -96,12 +97,14 @@ void Physics::weld_on(Weld& w) {
     world_->removeRigidBody(bodies_[w.pass].get());
     reshape(w.host, w.both);
     w.on = true;
+    carries_[w.host] = 1;
     follow(w);
 }
 
 void Physics::weld_off(Weld& w) {
     follow(w);  // the passenger where its carrier left it
     w.on = false;
+    carries_[w.host] = 0;
     reshape(w.host, w.own);
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
@@ -137,15 +140,11 @@ const BodyShape* Physics::carried_host(int32_t b) const {
     return w.on && w.host == b ? &w.own : nullptr;
 }
 
-btVector3 Physics::com(int32_t b) const {
-    const BodyShape* own = carried_host(b);
-    return own ? frame(b) * own->local.getOrigin() : bodies_[b]->getCenterOfMassPosition();
-}
+btVector3 Physics::host_com(int32_t b) const { return frame(b) * welds_[weld_of_[b]].own.local.getOrigin(); }
 
-btVector3 Physics::velocity(int32_t b) const {
+btVector3 Physics::host_velocity(int32_t b) const {
     const btRigidBody& r = *bodies_[b];
-    if (!carried_host(b)) return r.getLinearVelocity();
-    return r.getLinearVelocity() + r.getAngularVelocity().cross(com(b) - r.getCenterOfMassPosition());
+    return r.getLinearVelocity() + r.getAngularVelocity().cross(host_com(b) - r.getCenterOfMassPosition());
 }
 
 btMatrix3x3 Physics::inertia_world(int32_t b) const {
