@@ -54,6 +54,10 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
             rb.activate();
         } else {
             (k == 0 ? r.st.cmd_lin : r.st.cmd_ang)[b] = vel;  // kinematic: we move it
+            if (!r.st.is_commanded[b]) {
+                r.st.is_commanded[b] = 1;
+                r.st.commanded.push_back(b);
+            }
         }
     }
 }

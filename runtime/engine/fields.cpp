@@ -88,11 +88,11 @@ const State::FieldFrame& field_frame(Runtime& r, size_t f) {
 
 void move_kinematic(Runtime& r) {
     State& s = r.st;
-    for (size_t b = 0; b < r.g.bodies.size(); ++b) {
+    for (const int32_t b : s.commanded) {
         const Vec3 &v = s.cmd_lin[b], &w = s.cmd_ang[b];
         if (v == Vec3{0, 0, 0} && w == Vec3{0, 0, 0}) continue;
-        if (!r.phys.in_world(int32_t(b)) || r.phys.dynamic_now(int32_t(b)) || s.held_by[b] >= 0) continue;
-        btRigidBody& rb = r.phys.write(int32_t(b));
+        if (!r.phys.in_world(b) || r.phys.dynamic_now(b) || s.held_by[b] >= 0) continue;
+        btRigidBody& rb = r.phys.write(b);
         btTransform next;
         btTransformUtil::integrateTransform(rb.getWorldTransform(), to_bt(v), to_bt(w), btScalar(r.dt), next);
         rb.setWorldTransform(next);  // Bullet derives the kinematic velocity from the move

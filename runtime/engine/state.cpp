@@ -26,6 +26,8 @@ void init_state(State& s, const Graph& g, const Tables& t) {
 
     s.cmd_lin.assign(nb, Vec3{0, 0, 0});
     s.cmd_ang.assign(nb, Vec3{0, 0, 0});
+    s.commanded.reserve(nb);  // the step allocates nothing
+    s.is_commanded.assign(nb, 0);
     s.held_by.assign(nb, -1);
     s.grip_rel.assign(nb, btTransform::getIdentity());
     s.gone.assign(nb, 0);

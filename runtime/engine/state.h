@@ -62,6 +62,8 @@ struct State {
 
     // Bodies.
     std::vector<Vec3> cmd_lin, cmd_ang;  // velocity of a kinematic body, moved by us
+    std::vector<int32_t> commanded;      // bodies ever given such a velocity, once each
+    std::vector<uint8_t> is_commanded;
     std::vector<int32_t> held_by;        // gripper holding the body, -1
     std::vector<btTransform> grip_rel;   // body frame relative to the gripper's
     std::vector<uint8_t> gone;           // left the world or NaN: warned once, taken out
