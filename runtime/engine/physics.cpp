@@ -305,7 +305,6 @@ Physics::~Physics() {
 }
 
 void Physics::step(double dt) {
-    update_welds();
     world_->stepSimulation(btScalar(dt), 0, btScalar(dt));
     follow_all();
 }

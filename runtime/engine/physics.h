@@ -31,7 +31,8 @@ public:
     Physics(const Physics&) = delete;
     Physics& operator=(const Physics&) = delete;
 
-    // Forms and ends welds as membership and modes say: call before forces are applied.
+    // Forms and ends welds as membership and modes say: call before the step's forces
+    // are applied (phase_physics does).
     void update_welds();
     void step(double dt);
     btDiscreteDynamicsWorld& world() { return *world_; }
@@ -96,7 +97,6 @@ private:
     void follow_all();
     void unweld(int32_t b);
     void reshape(int32_t b, const BodyShape& s);
-    const BodyShape* carried_host(int32_t b) const;  // its own shape when b carries a passenger
     btVector3 host_com(int32_t b) const;
     btVector3 host_velocity(int32_t b) const;
     void refilter(int32_t b);

@@ -91,7 +91,7 @@ btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
     case ShapeKind::Cylinder: shape = std::make_unique<btCylinderShapeZ>(btVector3(r, r, h / 2)); break;
     // The graph gives a capsule's total height; Bullet wants the distance between its caps.
     case ShapeKind::Capsule: shape = std::make_unique<btCapsuleShapeZ>(r, std::max<btScalar>(h - 2 * r, 0)); break;
-    case ShapeKind::Hull: return hull(g, s, Pose{});
+    case ShapeKind::Hull: return hull(g, s, Pose{});  // its own cache entry, the same key
     }
     btCollisionShape* raw = shape.get();
     owned_.push_back(std::move(shape));
@@ -189,22 +189,25 @@ BodyShape ShapeCache::build(const Graph& g, const Body& b) {
         out.shape = kids[0].shape;
         return out;
     }
-    std::vector<double> key{-1.0, double(kids.size())};
-    std::vector<std::pair<btCollisionShape*, btTransform>> parts;
-    for (const Kid& k : kids) {
-        Pose local = pmul(pinv(rot), k.in_com);
-        for (double v : primitive_key(g, *k.src)) key.push_back(v);
-        key.insert(key.end(), local.p.begin(), local.p.end());
-        key.insert(key.end(), local.q.begin(), local.q.end());
-        parts.emplace_back(k.shape, to_bt(local));
-    }
-    out.shape = compound(key, parts);
+    out.shape = compound_in(g, b, pmul(b.com, rot));
     return out;
 }
 
-}  // namespace plant::engine
-
-namespace plant::engine {
+// The body's shapes placed in `frame` (Bullet's frame of the body, in its body frame).
+btCollisionShape* ShapeCache::compound_in(const Graph& g, const Body& b, const Pose& frame) {
+    const Pose to_frame = pinv(frame);
+    std::vector<double> key{-1.0, double(b.shape_num)};
+    std::vector<std::pair<btCollisionShape*, btTransform>> parts;
+    for (int32_t i = 0; i < b.shape_num; ++i) {
+        const Shape& s = g.shapes[b.shape_adr + i];
+        const Pose local = pmul(to_frame, s.local);
+        for (double v : primitive_key(g, s)) key.push_back(v);
+        key.insert(key.end(), local.p.begin(), local.p.end());
+        key.insert(key.end(), local.q.begin(), local.q.end());
+        parts.emplace_back(primitive(g, s), to_bt(local));
+    }
+    return compound(key, parts);
+}
 
 BodyShape ShapeCache::build_welded(const Graph& g, const Body& host, const Body& pass, const Pose& rel) {
     const BodyShape hs = build(g, host), ps = build(g, pass);
@@ -220,24 +223,11 @@ BodyShape ShapeCache::build_welded(const Graph& g, const Body& host, const Body&
     const Eigen::Quaterniond q(axes);
     const Pose com{{c.x(), c.y(), c.z()}, {q.x(), q.y(), q.z(), q.w()}};
     out.local = to_bt(com);
-    // The host's shapes about the common centre of mass (the passenger takes no collisions).
-    const Pose to_com = pinv(com);
-    if (host.shape_num == 1 && g.shapes[host.shape_adr].kind == ShapeKind::Hull) {
-        const Shape& s = g.shapes[host.shape_adr];
-        out.shape = hull(g, s, pmul(to_com, s.local));
-        return out;
-    }
-    std::vector<double> key{-2.0, double(host.shape_num)};
-    std::vector<std::pair<btCollisionShape*, btTransform>> parts;
-    for (int32_t i = 0; i < host.shape_num; ++i) {
-        const Shape& s = g.shapes[host.shape_adr + i];
-        const Pose local = pmul(to_com, s.local);
-        for (double v : primitive_key(g, s)) key.push_back(v);
-        key.insert(key.end(), local.p.begin(), local.p.end());
-        key.insert(key.end(), local.q.begin(), local.q.end());
-        parts.emplace_back(primitive(g, s), to_bt(local));
-    }
-    out.shape = compound(key, parts);
+    // The host's shapes about the common centre of mass (the passenger takes no collisions):
+    // a lone hull moved there, not wrapped in a compound.
+    const Shape& first = g.shapes[host.shape_adr];
+    out.shape = host.shape_num == 1 && first.kind == ShapeKind::Hull ? hull(g, first, pmul(pinv(com), first.local))
+                                                                      : compound_in(g, host, com);
     return out;
 }
 

@@ -43,6 +43,7 @@ public:
 private:
     btCollisionShape* primitive(const graph::Graph& g, const graph::Shape& s);
     btCollisionShape* hull(const graph::Graph& g, const graph::Shape& s, const graph::Pose& to);
+    btCollisionShape* compound_in(const graph::Graph& g, const graph::Body& b, const graph::Pose& frame);
     btCollisionShape* compound(const std::vector<double>& key,
                                const std::vector<std::pair<btCollisionShape*, btTransform>>& kids);
     std::map<std::vector<double>, btCollisionShape*> cache_;

@@ -134,12 +134,6 @@ btRigidBody& Physics::write(int32_t b) {
     return *bodies_[b];
 }
 
-const BodyShape* Physics::carried_host(int32_t b) const {
-    if (weld_of_[b] < 0) return nullptr;
-    const Weld& w = welds_[weld_of_[b]];
-    return w.on && w.host == b ? &w.own : nullptr;
-}
-
 btVector3 Physics::host_com(int32_t b) const { return frame(b) * welds_[weld_of_[b]].own.local.getOrigin(); }
 
 btVector3 Physics::host_velocity(int32_t b) const {
@@ -148,8 +142,7 @@ btVector3 Physics::host_velocity(int32_t b) const {
 }
 
 btMatrix3x3 Physics::inertia_world(int32_t b) const {
-    const BodyShape* own = carried_host(b);
-    const btMatrix3x3 R = (frame(b) * (own ? own->local : local_[b])).getBasis();
+    const btMatrix3x3 R = (frame(b) * (carries_[b] ? welds_[weld_of_[b]].own.local : local_[b])).getBasis();
     return R.scaled(inertia_[b]) * R.transpose();
 }
 
