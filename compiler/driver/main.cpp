@@ -86,6 +86,8 @@ the real-time factor.
   --events FILE             one event per line, # comments
   --realtime                not faster than real time
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
+  --threads N               threads for a plant in several physics regions
+                            (default: one per core; the results do not depend on it)
   --quiet                   no progress line
 See docs/runtime.md ("plant run") for the event values and the trace format.
 )";
@@ -269,7 +271,7 @@ int main(int argc, char** argv) {
         else if (o.command == "run" && a.size() > 1 && a[0] == '-') {
             o.rest.push_back(a);
             // Flags of `run` that take a value.
-            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed", "--trace-rate", "--broadphase"};
+            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed", "--trace-rate", "--broadphase", "--threads"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");

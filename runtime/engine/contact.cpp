@@ -312,14 +312,19 @@ static_assert(sizeof(BoxHullAlgorithm) <= sizeof(btConvexConvexAlgorithm));
 // Node-based: the algorithms keep pointers to its values.
 class Polytopes {
 public:
-    const Polytope& of(const btConvexPolyhedron& p) {
+    const Polytope* of(const btConvexPolyhedron& p) {
         auto it = map_.find(&p);
-        if (it == map_.end()) it = map_.emplace(&p, describe(p)).first;
-        return it->second;
+        if (it == map_.end()) {
+            if (frozen_) return nullptr;
+            it = map_.emplace(&p, describe(p)).first;
+        }
+        return &it->second;
     }
+    void freeze() { frozen_ = true; }
 
 private:
     std::unordered_map<const btConvexPolyhedron*, Polytope> map_;
+    bool frozen_ = false;
 };
 
 // The shape's polyhedron if it is a box or a hull with polyhedral features.
@@ -338,10 +343,12 @@ public:
                                                    const btCollisionObjectWrapper* w1) override {
         const btConvexPolyhedron* p0 = polyhedron(*w0->getCollisionShape());
         const btConvexPolyhedron* p1 = polyhedron(*w1->getCollisionShape());
-        if (!p0 || !p1) return bullet_->CreateCollisionAlgorithm(ci, w0, w1);  // no polyhedral features
+        const Polytope* a = p0 && p1 ? polytopes_.of(*p0) : nullptr;
+        const Polytope* b = a ? polytopes_.of(*p1) : nullptr;
+        if (!b) return bullet_->CreateCollisionAlgorithm(ci, w0, w1);  // no polyhedral features (known)
         const bool box_first = w0->getCollisionShape()->getShapeType() == BOX_SHAPE_PROXYTYPE;
         void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(BoxHullAlgorithm));
-        return new (mem) BoxHullAlgorithm(ci, w0, w1, polytopes_.of(*p0), polytopes_.of(*p1), box_first);
+        return new (mem) BoxHullAlgorithm(ci, w0, w1, *a, *b, box_first);
     }
 
 private:
@@ -356,8 +363,9 @@ struct BoxHullContacts::State {
     std::vector<std::unique_ptr<Creator>> creators;
 };
 
-BoxHullContacts::BoxHullContacts(btCollisionDispatcher& dispatcher, btCollisionConfiguration& config)
-    : state_(std::make_unique<State>()) {
+BoxHullContacts::BoxHullContacts() : state_(std::make_unique<State>()) {}
+
+void BoxHullContacts::attach(btCollisionDispatcher& dispatcher, btCollisionConfiguration& config) {
     constexpr int kBox = BOX_SHAPE_PROXYTYPE, kHull = CONVEX_HULL_SHAPE_PROXYTYPE;
     for (auto [t0, t1] : {std::pair{kBox, kHull}, std::pair{kHull, kBox}}) {
         auto& contacts = state_->creators.emplace_back(
@@ -370,6 +378,8 @@ BoxHullContacts::BoxHullContacts(btCollisionDispatcher& dispatcher, btCollisionC
 }
 
 BoxHullContacts::~BoxHullContacts() = default;
+
+void BoxHullContacts::freeze() { state_->polytopes.freeze(); }
 
 void BoxHullContacts::prepare(const btCollisionShape& shape) {
     if (shape.isCompound()) {

@@ -10,22 +10,27 @@ class btCollisionShape;
 
 namespace plant::engine {
 
-// Registers the algorithm on `dispatcher` for box-hull and hull-box pairs, for contacts and for
-// closest-point queries; `config` supplies Bullet's algorithm for shapes without polyhedral
-// features. Owns what the dispatcher calls and what the algorithms share (per-polyhedron data),
-// so it must outlive every algorithm the dispatcher creates: create it right after the
-// dispatcher, destroy it after the dispatcher. The algorithm is Bullet's polyhedral path, which
-// Bullet takes only with m_enableSatConvex: register it only on such worlds.
+// Owns what the dispatchers call and what the algorithms share (per-polyhedron data), so it
+// must outlive every algorithm a dispatcher it is attached to creates: create it before the
+// dispatchers, destroy it after them. The algorithm is Bullet's polyhedral path, which Bullet
+// takes only with m_enableSatConvex: attach it only to such worlds.
 class BoxHullContacts {
 public:
-    BoxHullContacts(btCollisionDispatcher& dispatcher, btCollisionConfiguration& config);
+    BoxHullContacts();
     ~BoxHullContacts();
     BoxHullContacts(const BoxHullContacts&) = delete;
     BoxHullContacts& operator=(const BoxHullContacts&) = delete;
 
+    // Registers the algorithm on `dispatcher` for box-hull and hull-box pairs, for contacts and
+    // for closest-point queries; `config` supplies Bullet's algorithm for shapes without
+    // polyhedral features. Several dispatchers share one set of per-polyhedron data.
+    void attach(btCollisionDispatcher& dispatcher, btCollisionConfiguration& config);
     // Computes what the algorithm keeps per polyhedron for a shape (a compound's children)
     // now, instead of at the shape's first contact inside a step (which would allocate).
     void prepare(const btCollisionShape& shape);
+    // After this, the per-polyhedron data is only read, so worlds may step on several threads
+    // at once: a polyhedron that was not prepared gets Bullet's own algorithm.
+    void freeze();
 
 private:
     struct State;

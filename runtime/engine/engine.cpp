@@ -3,6 +3,8 @@
 #include "engine/runtime.h"
 #include "graph/kinds.h"
 
+#include <algorithm>
+
 namespace plant::engine {
 
 using namespace plant::graph;
@@ -21,7 +23,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
       dt(step_of(graph, opt)),
       tab(graph),
       sched(build_schedule(graph, tab)),
-      phys(graph, tab, opt.broadphase),
+      phys(graph, tab, opt.broadphase, opt.threads),
       index(tab, graph.bodies.size()) {
     init_state(st, g, tab);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
@@ -154,5 +156,7 @@ double Engine::stalled_for(int32_t b) const {
     return s.slow_step[b] + 1 >= s.step ? s.time - s.stall_since[b] : 0.0;
 }
 const Warnings& Engine::warnings() const { return rt_->st.warn; }
+int Engine::regions() const { return std::max(1, rt_->phys.worlds() - 1); }
+int Engine::threads() const { return rt_->phys.threads(); }
 
 }  // namespace plant::engine

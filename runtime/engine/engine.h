@@ -25,6 +25,9 @@ enum class Broadphase : uint8_t { Dbvt, Sap };
 struct Options {
     double dt = 0;  // fixed physics step in s; 0: 1 / graph.settings.rate
     Broadphase broadphase = Broadphase::Dbvt;
+    // Threads that step the physics of a plant in several regions (0: one per core). The
+    // results do not depend on it.
+    int threads = 0;
 };
 
 // Runtime warnings: counted, never fatal (the summary of a run prints them).
@@ -34,7 +37,8 @@ struct Warnings {
     int64_t access_null = 0;   // a dynamic flow ran while its reference held no object
     int64_t access_type = 0;   // ... held an object of another type (or out of its range)
     int64_t pool_empty = 0;    // a source was asked to issue with an empty pool
-    int64_t total() const { return left_world + nan_state + access_null + access_type + pool_empty; }
+    int64_t missed_contacts = 0;  // bodies of two physics regions met (see docs/runtime.md)
+    int64_t total() const { return left_world + nan_state + access_null + access_type + pool_empty + missed_contacts; }
 };
 
 struct Runtime;  // the internals (engine/runtime.h)
@@ -81,6 +85,8 @@ public:
     // running conveyor field it is in, or in no running field at all (0 then).
     double stalled_for(int32_t body) const;
     const Warnings& warnings() const;
+    int regions() const;  // physics regions: Bullet worlds of static bodies (physics.h)
+    int threads() const;  // threads that step them
 
     Runtime& internals() { return *rt_; }
 

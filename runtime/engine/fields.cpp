@@ -165,6 +165,7 @@ void phase_physics(Runtime& r) {
     move_kinematic(r);
     apply_fields(r);
     r.phys.step(r.dt);
+    r.st.warn.missed_contacts = r.phys.missed_contacts();
     r.st.step++;
     r.st.time = double(r.st.step) * r.dt;  // no accumulated rounding
 }

@@ -5,6 +5,9 @@
 #include "engine/pose.h"
 
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
+#include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
 namespace plant::engine {
@@ -25,7 +28,7 @@ void Physics::add_to_world(int32_t b, bool filtered) {
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
     }
     const bool pairs = filtered && coll_on_[b];
-    world_->addRigidBody(bodies_[b].get(), pairs ? group_[b] : 0, pairs ? mask_[b] : 0);
+    world_at(b).world->addRigidBody(bodies_[b].get(), pairs ? group_[b] : 0, pairs ? mask_[b] : 0);
 }
 
 // Bullet's static/kinematic flags as the body's mode and dynamics switch say. A parked
@@ -46,8 +49,9 @@ void Physics::sync_joints(int32_t b) {
         const Joint& jt = g_.joints[*j];
         bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
         if (want == bool(joint_in_[*j])) continue;
-        if (want) world_->addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
-        else world_->removeConstraint(joints_[*j].get());
+        btDiscreteDynamicsWorld& w = *world_at(jt.body_a).world;
+        if (want) w.addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
+        else w.removeConstraint(joints_[*j].get());
         joint_in_[*j] = want;
     }
 }
@@ -79,15 +83,20 @@ void Physics::take_out(int32_t b) {
     r.clearForces();
     r.forceActivationState(DISABLE_SIMULATION);
     set_mode_flags(b);
-    btBroadphaseProxy* proxy = r.getBroadphaseHandle();
+    park(b);
+}
+
+void Physics::park(int32_t b) {
+    btBroadphaseProxy* proxy = bodies_[b]->getBroadphaseHandle();
     proxy->m_collisionFilterGroup = 0;
     proxy->m_collisionFilterMask = 0;
-    broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(proxy, dispatcher_.get());
+    World& w = world_at(b);
+    w.broadphase->getOverlappingPairCache()->cleanProxyFromPairs(proxy, w.dispatcher.get());
     // Its AABB goes out of the way too, each parked body to a point of its own: a body
     // issued where its parked twin sits (a source's pool) collided with it although the
     // twin's proxy has no group and no mask (seen with btDbvtBroadphase).
     const btVector3 park(btScalar(5000 + b), 5000, 5000);
-    broadphase_->setAabb(proxy, park, park, dispatcher_.get());
+    w.broadphase->setAabb(proxy, park, park, w.dispatcher.get());
 }
 
 // Dynamic and kinematic bodies share Bullet's list of non-static bodies and our
@@ -99,7 +108,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
     if (on) {
         r.setMassProps(btScalar(mass_[b]), inertia_[b]);
         r.updateInertiaTensor();
-        r.setGravity(world_->getGravity());
+        r.setGravity(gravity_);
     } else {
         r.setMassProps(0, btVector3(0, 0, 0));  // sets CF_STATIC_OBJECT: set_mode_flags decides
         r.setInterpolationWorldTransform(r.getWorldTransform());
@@ -126,18 +135,19 @@ void Physics::set_collision(int32_t b, bool on) {
 // makes the broadphase look for its pairs again.
 void Physics::refilter(int32_t b) {
     btRigidBody& r = *bodies_[b];
+    World& w = world_at(b);
     btBroadphaseProxy* proxy = r.getBroadphaseHandle();
     proxy->m_collisionFilterGroup = coll_on_[b] ? group_[b] : 0;
     proxy->m_collisionFilterMask = coll_on_[b] ? mask_[b] : 0;
     if (!coll_on_[b]) {  // cleanProxyFromPairs would keep the pairs (and their contacts next step)
-        broadphase_->getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy, dispatcher_.get());
+        w.broadphase->getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy, w.dispatcher.get());
         return;
     }
     // Through a far box and back, so the broadphase looks for new pairs even if the
     // body comes back where it was (issued where it was parked, collision switched on).
     const btVector3 far(999, 999, 999);
-    broadphase_->setAabb(proxy, far, far, dispatcher_.get());
-    world_->updateSingleAabb(&r);
+    w.broadphase->setAabb(proxy, far, far, w.dispatcher.get());
+    w.world->updateSingleAabb(&r);
 }
 
 void Physics::set_joint(int32_t j, bool on) {
@@ -156,7 +166,7 @@ void Physics::place(int32_t b, const btTransform& f) {
     btTransform t = f * local_[b];
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
-    if (in_world_[b]) world_->updateSingleAabb(&r);
+    if (in_world_[b]) world_at(b).world->updateSingleAabb(&r);
 }
 
 void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }

@@ -2,6 +2,7 @@
 
 #include "engine/contact.h"
 #include "engine/pose.h"
+#include "engine/workers.h"
 
 #include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
@@ -16,8 +17,10 @@
 #include <LinearMath/btAlignedAllocator.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
+#include <thread>
 
 namespace plant::engine {
 
@@ -35,8 +38,31 @@ struct alignas(16) BlockHeader {
     uint64_t mark;
     uint32_t cls;
 };
-void* g_free_blocks[kClasses] = {};
-uint64_t g_heap_requests = 0;
+// The worlds step on several threads, and a block one thread took may be freed by another: one
+// list per class, each behind a spin lock (held for a few instructions).
+struct alignas(64) FreeList {
+    std::atomic_flag busy;
+    void* head = nullptr;
+};
+FreeList g_free[kClasses];
+std::atomic<uint64_t> g_heap_requests{0};
+
+class Hold {
+public:
+    explicit Hold(FreeList& l) : l_(l) {
+        while (l_.busy.test_and_set(std::memory_order_acquire)) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        }
+    }
+    ~Hold() { l_.busy.clear(std::memory_order_release); }
+    Hold(const Hold&) = delete;
+    Hold& operator=(const Hold&) = delete;
+
+private:
+    FreeList& l_;
+};
 
 int size_class(size_t n) {
     int c = 0;
@@ -46,12 +72,14 @@ int size_class(size_t n) {
 
 void* bullet_alloc(size_t n) {
     const int c = size_class(n);
-    if (c < kClasses && g_free_blocks[c]) {
-        void* p = g_free_blocks[c];
-        g_free_blocks[c] = *static_cast<void**>(p);
-        return p;
+    if (c < kClasses) {
+        Hold hold(g_free[c]);
+        if (void* p = g_free[c].head) {
+            g_free[c].head = *static_cast<void**>(p);
+            return p;
+        }
     }
-    ++g_heap_requests;
+    g_heap_requests.fetch_add(1, std::memory_order_relaxed);
     const size_t bytes = c < kClasses ? size_t(16) << c : n;
     auto* h = static_cast<BlockHeader*>(std::malloc(sizeof(BlockHeader) + bytes));
     if (!h) return nullptr;
@@ -65,8 +93,10 @@ void bullet_free(void* p) {
     BlockHeader* h = static_cast<BlockHeader*>(p) - 1;
     if (h->mark != kMark) return std::free(p);
     if (h->cls >= uint32_t(kClasses)) return std::free(h);
-    *static_cast<void**>(p) = g_free_blocks[h->cls];
-    g_free_blocks[h->cls] = p;
+    FreeList& l = g_free[h->cls];
+    Hold hold(l);
+    *static_cast<void**>(p) = l.head;
+    l.head = p;
 }
 
 // Installed before main, so that every Bullet object of the process uses it.
@@ -132,7 +162,7 @@ private:
     btAlignedObjectArray<btTypedConstraint*> joints_;
 };
 
-class World : public btDiscreteDynamicsWorld {
+class IslandWorld : public btDiscreteDynamicsWorld {
 public:
     using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
     void solveConstraints(btContactSolverInfo& info) override {
@@ -153,6 +183,15 @@ public:
         m_constraintSolver->allSolved(info, m_debugDrawer);
     }
 
+    // Bullet's visits every collision object of the world, parked and static ones included;
+    // kinematic bodies are all in the list of non-static ones (parked bodies are flagged static).
+    void saveKinematicState(btScalar dt) override {
+        for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+            btRigidBody* body = m_nonStaticRigidBodies[i];
+            if (body->getActivationState() != ISLAND_SLEEPING && body->isKinematicObject()) body->saveKinematicState(dt);
+        }
+    }
+
 private:
     IslandSolver islands_;
 };
@@ -167,36 +206,54 @@ bool pooled(const Graph& g, const Tables& t, int32_t d) {
 
 uint64_t bullet_heap_requests() {
 #if !defined(__SANITIZE_ADDRESS__)
-    return g_heap_requests;
+    return g_heap_requests.load(std::memory_order_relaxed);
 #else
     return 0;
 #endif
 }
 
-Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
-    config_ = std::make_unique<btDefaultCollisionConfiguration>();
-    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
+Physics::World::World() = default;
+Physics::World::~World() = default;
+Physics::World::World(World&&) noexcept = default;
+Physics::World& Physics::World::operator=(World&&) noexcept = default;
+
+void Physics::make_world(World& w, Broadphase bp, size_t bodies) {
+    // Bullet's pools of contact manifolds and pair algorithms, sized to the world's bodies
+    // (4,096 each by default, about 5 MiB a world); past them Bullet takes blocks from its
+    // allocator (above), which recycles them.
+    btDefaultCollisionConstructionInfo ci;
+    if (void_ >= 0) {
+        const int pool = int(std::clamp<size_t>(4 * bodies, 64, 4096));
+        ci.m_defaultMaxPersistentManifoldPoolSize = pool;
+        ci.m_defaultMaxCollisionAlgorithmPoolSize = pool;
+    }
+    auto config = std::make_unique<btDefaultCollisionConfiguration>(ci);
+    w.dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
     if (bp == Broadphase::Sap) {
         // 32-bit handles: a 2 km world quantised in 16 bits would be 3 cm coarse.
-        unsigned handles = unsigned(std::max<size_t>(1024, 2 * g.bodies.size() + 16));
-        broadphase_ = std::make_unique<bt32BitAxisSweep3>(btVector3(-1000, -1000, -1000),
-                                                          btVector3(1000, 1000, 1000), handles);
+        unsigned handles = unsigned(std::max<size_t>(1024, 2 * bodies + 16));
+        w.broadphase = std::make_unique<bt32BitAxisSweep3>(btVector3(-1000, -1000, -1000),
+                                                           btVector3(1000, 1000, 1000), handles);
     } else {
-        broadphase_ = std::make_unique<btDbvtBroadphase>();
+        w.broadphase = std::make_unique<btDbvtBroadphase>();
     }
-    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<World>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
-    world_->setGravity(to_bt(g.settings.gravity));
-    world_->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
+    w.solver = std::make_unique<btSequentialImpulseConstraintSolver>();
+    w.world = std::make_unique<IslandWorld>(w.dispatcher.get(), w.broadphase.get(), w.solver.get(), config.get());
+    w.world->setGravity(gravity_);
+    w.world->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
     // Contact normals between boxes and hulls from the separating-axis test on their
     // polyhedra (see shapes.cpp), not from GJK/EPA: EPA's normals for a bottle sliding
     // over a belt's band are tilted now and then, and each tilted normal kicks the bottle
     // (single-body bottles on a running belt fell over within seconds; docs/runtime.md).
-    world_->getDispatchInfo().m_enableSatConvex = true;
+    w.world->getDispatchInfo().m_enableSatConvex = true;
     // The same contacts for box against hull (a bottle on a band) at a fraction of the cost of
     // Bullet's separating-axis test: contact.cpp.
-    contacts_ = std::make_unique<BoxHullContacts>(*dispatcher_, *config_);
+    contacts_->attach(*w.dispatcher, *config);
+    w.config = std::move(config);
+}
 
+Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
+    : g_(g), gravity_(to_bt(g.settings.gravity)), contacts_(std::make_unique<BoxHullContacts>()) {
     const size_t nb = g.bodies.size();
     local_.resize(nb);
     local_inv_.resize(nb);
@@ -278,9 +335,17 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
     }
     find_welds();
 
-    // Every body joins Bullet's world once, in id order; pooled ones are parked. A pool's
-    // objects all start at one pose: they join without a filter, or the broadphase would
-    // pair each with every other at once (a million pairs for a pool of 1,000 bottles).
+    // The regions and their worlds (regions.cpp), then every body joins its world once, in id
+    // order; pooled ones are parked. A pool's objects all start at one pose: they join without
+    // a filter, or the broadphase would pair each with every other at once (a million pairs
+    // for a pool of 1,000 bottles).
+    find_regions();
+    contacts_->freeze();
+    {
+        std::vector<size_t> count(worlds_.size());
+        for (size_t b = 0; b < nb; ++b) ++count[size_t(world_of_[b])];
+        for (size_t w = 0; w < worlds_.size(); ++w) make_world(worlds_[w], bp, count[w]);
+    }
     std::vector<char> pool(nb);
     for (size_t b = 0; b < nb; ++b) {
         pool[b] = pooled(g, t, t.body_do[b]);
@@ -289,23 +354,40 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp) : g_(g) {
         add_to_world(int32_t(b), !pool[b]);
     }
     for (size_t j = 0; j < g.joints.size(); ++j) {
-        world_->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
+        world_at(g.joints[j].body_a).world->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
         joint_in_[j] = 1;
     }
     for (size_t b = 0; b < nb; ++b)
         if (pool[b]) take_out(int32_t(b));
+    int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    workers_ = std::make_unique<Workers>(std::min(n, std::max(1, int(worlds_.size()) - (void_ >= 0))));
 }
 
 Physics::~Physics() {
+    workers_.reset();
     for (size_t j = joints_.size(); j-- > 0;)
-        if (joint_in_[j]) world_->removeConstraint(joints_[j].get());
-    for (size_t b = bodies_.size(); b-- > 0;) world_->removeRigidBody(bodies_[b].get());
+        if (joint_in_[j]) world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
+    for (size_t b = bodies_.size(); b-- > 0;) world_at(int32_t(b)).world->removeRigidBody(bodies_[b].get());
+    worlds_.clear();
     joints_.clear();
     bodies_.clear();
 }
 
+int Physics::threads() const { return workers_->threads(); }
+
 void Physics::step(double dt) {
-    world_->stepSimulation(btScalar(dt), 0, btScalar(dt));
+    if (void_ < 0) {
+        worlds_[0].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+    } else {
+        assign_worlds();
+        to_step_.clear();
+        for (size_t w = 0; w < worlds_.size(); ++w)
+            if (worlds_[w].active) to_step_.push_back(int32_t(w));
+        auto one = [this, dt](int i) {
+            worlds_[size_t(to_step_[size_t(i)])].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+        };
+        workers_->run(int(to_step_.size()), one);
+    }
     follow_all();
 }
 

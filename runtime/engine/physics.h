@@ -1,7 +1,12 @@
-// The one owner of the Bullet world and of every Bullet object: created in order
-// (configuration, dispatcher, broadphase, solver, world, shapes, bodies, constraints)
-// and destroyed in reverse. Bodies carry their graph id in setUserIndex, constraints
+// The one owner of the Bullet worlds and of every Bullet object: created in order
+// (shapes, bodies, constraints, then per world configuration, dispatcher, broadphase, solver,
+// world) and destroyed in reverse. Bodies carry their graph id in setUserIndex, constraints
 // in setUserConstraintId. The phases change membership and modes only through here.
+//
+// A plant whose static bodies fall apart into regions far enough from each other (the lines
+// of a plant side by side) gets a Bullet world per region, stepped on several threads, and
+// one for what moves outside every region; bodies move between them as they go. See
+// regions.cpp.
 #pragma once
 
 #include "engine/engine.h"
@@ -13,7 +18,7 @@
 #include <memory>
 #include <vector>
 
-class btDefaultCollisionConfiguration;
+class btCollisionConfiguration;
 class btCollisionDispatcher;
 class btBroadphaseInterface;
 class btSequentialImpulseConstraintSolver;
@@ -23,10 +28,12 @@ class btTypedConstraint;
 namespace plant::engine {
 
 class BoxHullContacts;
+class Workers;
 
 class Physics {
 public:
-    Physics(const graph::Graph& g, const Tables& t, Broadphase bp);
+    // threads: how many threads may step the worlds (0: one per core).
+    Physics(const graph::Graph& g, const Tables& t, Broadphase bp, int threads = 1);
     ~Physics();
     Physics(const Physics&) = delete;
     Physics& operator=(const Physics&) = delete;
@@ -35,7 +42,13 @@ public:
     // are applied (phase_physics does).
     void update_welds();
     void step(double dt);
-    btDiscreteDynamicsWorld& world() { return *world_; }
+    // Bullet's worlds: one per region, then (with more than one region) the void's.
+    int worlds() const { return int(worlds_.size()); }
+    btDiscreteDynamicsWorld& world(int w = 0) { return *worlds_[size_t(w)].world; }
+    int world_of(int32_t b) const { return world_of_[b]; }
+    int threads() const;
+    // Bodies of two worlds whose bounding boxes met (their contact was not simulated).
+    int64_t missed_contacts() const { return missed_; }
 
     // Bullet's body, to read. A welded host's Bullet body carries its passenger too: its
     // centre of mass, velocity and inertia are the pair's; com(), velocity(),
@@ -79,6 +92,21 @@ public:
     void move(int32_t b, const btTransform& frame);
 
 private:
+    // One Bullet world: a region's static bodies and the movers (bodies that are not static)
+    // near them, or the void's movers (regions.cpp).
+    struct World {
+        World();
+        ~World();
+        World(World&&) noexcept;
+        World& operator=(World&&) noexcept;
+        std::unique_ptr<btCollisionConfiguration> config;
+        std::unique_ptr<btCollisionDispatcher> dispatcher;
+        std::unique_ptr<btBroadphaseInterface> broadphase;
+        std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
+        std::unique_ptr<btDiscreteDynamicsWorld> world;
+        btVector3 lo{0, 0, 0}, hi{-1, -1, -1};  // the region's box (the void's is empty)
+        bool active = false;                   // has a mover in the world: step it
+    };
     // A welded pair: a dynamic body that takes no collisions (a bottle's foot) joined by
     // an enabled fixed joint to a dynamic host is left out of Bullet's world, and the
     // host's Bullet body carries both (the fixed constraint leaves Bullet's world too). After
@@ -100,18 +128,22 @@ private:
     btVector3 host_com(int32_t b) const;
     btVector3 host_velocity(int32_t b) const;
     void refilter(int32_t b);
+    void park(int32_t b);  // parked: no pairs, its AABB far away
     void add_to_world(int32_t b, bool filtered);
     void set_mode_flags(int32_t b);
     void sync_joints(int32_t b);
+    World& world_at(int32_t b) { return worlds_[size_t(world_of_[b])]; }
+    void make_world(World& w, Broadphase bp, size_t bodies);
+    // regions.cpp
+    void find_regions();
+    int home(int32_t b) const;  // the region whose box b's bounding box meets, or the void
+    void assign_worlds();
+    void move_group(int32_t group, int to);
 
     const graph::Graph& g_;
-    std::unique_ptr<btDefaultCollisionConfiguration> config_;
-    std::unique_ptr<BoxHullContacts> contacts_;  // outlives the dispatcher, which calls it
-    std::unique_ptr<btCollisionDispatcher> dispatcher_;
-    std::unique_ptr<btBroadphaseInterface> broadphase_;
-    std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
-    std::unique_ptr<btDiscreteDynamicsWorld> world_;
+    btVector3 gravity_;
     ShapeCache shapes_;
+    std::unique_ptr<BoxHullContacts> contacts_;  // outlives the dispatchers, which call it
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
     std::vector<std::unique_ptr<btTypedConstraint>> joints_;
     std::vector<btTransform> local_, local_inv_;  // Bullet frame relative to the body frame
@@ -126,6 +158,20 @@ private:
     std::vector<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;
+
+    // Regions (regions.cpp): bodies joined by joints form a group and share a world.
+    std::vector<World> worlds_;       // declared after the bodies: destroyed before them
+    std::vector<int32_t> world_of_;   // per body
+    std::vector<int32_t> group_of_;   // per body
+    Csr group_bodies_;                // per group: its bodies
+    std::vector<uint8_t> anchored_;   // per group: holds a static body (never leaves its region)
+    std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
+    std::vector<int32_t> movers_;     // bodies that are not static
+    std::vector<int32_t> to_step_;    // scratch: the worlds to step
+    std::vector<int32_t> void_groups_, void_home_, moved_joints_;  // scratch of assign_worlds
+    int void_ = -1;                   // the void's world, or -1 with one region
+    int64_t missed_ = 0;
+    std::unique_ptr<Workers> workers_;
 };
 
 }  // namespace plant::engine

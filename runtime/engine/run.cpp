@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -27,6 +28,7 @@ struct RunOptions {
     TraceSelect select;
     bool realtime = false, quiet = false;
     Broadphase broadphase = Broadphase::Dbvt;
+    int threads = 0;
     std::vector<Event> events;
 };
 
@@ -69,6 +71,15 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
                 error = fmt::format("--broadphase: '{}' is neither dbvt nor sap", v);
                 return false;
             }
+        } else if (a == "--threads") {
+            if (!value(i, v)) return false;
+            char* end = nullptr;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || n < 1 || n > 256) {
+                error = fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v);
+                return false;
+            }
+            o.threads = int(n);
         } else if (a == "--event" || a == "--events") {
             if (!value(i, v)) return false;
             if (slots.empty()) slots = slot_index(g);
@@ -184,6 +195,9 @@ void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out
         if (e.trigger_enters(int32_t(t)) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
     fmt::print(out, "simulated time:   {:g} s\n", e.time());
     fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
+    if (e.regions() > 1)
+        fmt::print(out, "physics regions:  {} (a Bullet world each), on {} thread{}\n", e.regions(), e.threads(),
+                   e.threads() == 1 ? "" : "s");
     fmt::print(out, "wall time:        {:.3f} s\n", wall);
     fmt::print(out, "real-time factor: {:.1f}\n", wall > 0 ? e.time() / wall : 0.0);
     material(e, out);
@@ -197,6 +211,7 @@ void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out
     line("dynamic flows without an object", w.access_null);
     line("dynamic flows with an object of another type", w.access_type);
     line("issues from an empty pool", w.pool_empty);
+    line("contacts between physics regions not simulated", w.missed_contacts);
     if (!silent.empty()) {
         std::string names;
         for (size_t i = 0; i < silent.size() && i < 5; ++i) names += (i ? ", " : "") + silent[i];
@@ -226,6 +241,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     Options eo;
     eo.dt = o.rate > 0 ? 1.0 / o.rate : 0;
     eo.broadphase = o.broadphase;
+    eo.threads = o.threads;
     Engine e(g, eo);
     Tally tally(g);
     for (Event& ev : o.events)

@@ -10,6 +10,8 @@
 //   --events FILE        one such event per line
 //   --realtime           do not run faster than real time
 //   --broadphase dbvt|sap
+//   --threads N          threads for the physics of a plant in several regions
+//                        (default: one per core; results do not depend on it)
 //   --quiet              no progress line
 //
 // Returns 0, or 2 for a bad flag or flag value (with a message on `err`).

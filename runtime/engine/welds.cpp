@@ -19,6 +19,9 @@
 #include "engine/pose.h"
 
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
+#include <BulletCollision/BroadphaseCollision/btOverlappingPairCache.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
 namespace plant::engine {
@@ -80,21 +83,22 @@ void Physics::reshape(int32_t b, const BodyShape& s) {
     local_inv_[b] = s.local.inverse();
     r.setCollisionShape(s.shape);
     r.setMassProps(btScalar(s.mass), s.inertia);
-    r.setGravity(world_->getGravity());           // Bullet keeps gravity as a force: m·g
+    r.setGravity(gravity_);                       // Bullet keeps gravity as a force: m·g
     r.setCenterOfMassTransform(body * s.local);   // and the interpolation frame, the inertia
     r.setLinearVelocity(v + w.cross(r.getCenterOfMassPosition() - c));
     r.setAngularVelocity(w);
     // Collision algorithms were made for the old shape: the pairs get new ones next step.
-    broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(r.getBroadphaseHandle(), dispatcher_.get());
-    world_->updateSingleAabb(&r);
+    World& in = world_at(b);
+    in.broadphase->getOverlappingPairCache()->cleanProxyFromPairs(r.getBroadphaseHandle(), in.dispatcher.get());
+    in.world->updateSingleAabb(&r);
 }
 
 void Physics::weld_on(Weld& w) {
     if (joint_in_[w.joint]) {
-        world_->removeConstraint(joints_[w.joint].get());
+        world_at(w.host).world->removeConstraint(joints_[w.joint].get());
         joint_in_[w.joint] = 0;
     }
-    world_->removeRigidBody(bodies_[w.pass].get());
+    world_at(w.pass).world->removeRigidBody(bodies_[w.pass].get());
     reshape(w.host, w.both);
     w.on = true;
     carries_[w.host] = 1;
@@ -109,7 +113,7 @@ void Physics::weld_off(Weld& w) {
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
     if (in_world_[w.host] && in_world_[w.pass]) {
-        world_->addConstraint(joints_[w.joint].get(), true);
+        world_at(w.host).world->addConstraint(joints_[w.joint].get(), true);
         joint_in_[w.joint] = 1;
     }
 }

@@ -11,15 +11,19 @@
 
 namespace plant::test {
 
-inline Graph bottling_scene(int bottles = 6, double belt_speed = 0.5) {
-    SceneBuilder b;
-    const int32_t line = b.dobj("line");
+// One line at y0; its DOs are named "line", "bottle0", ... (with a prefix for more lines).
+inline void bottling_line(SceneBuilder& b, const std::string& prefix, double y0, int bottles, double belt_speed) {
+    auto at = [y0](double x, double y, double z) { return plant::test::at(x, y0 + y, z); };
+    const int32_t line = b.dobj(prefix + "line");
     b.body(line, "floor", BodyMode::Static, {box({4, 1, 0.02})}, 0, at(1.5, 0, -0.01));
     b.body(line, "rail_l", BodyMode::Static, {box({4, 0.01, 0.05})}, 0, at(1.5, 0.05, 0.025));
     b.body(line, "rail_r", BodyMode::Static, {box({4, 0.01, 0.05})}, 0, at(1.5, -0.05, 0.025));
     b.field(line, "belt", {4, 0.09, 0.04}, at(1.5, 0, 0.02), {1, 0, 0}, belt_speed, 16);
 
-    const int32_t bottle = b.type("Bottle");
+    int32_t bottle = -1;  // one type for the bottles of every line
+    for (size_t t = 0; t < b.g.do_types.size(); ++t)
+        if (b.g.do_types[t].name.id == b.name("Bottle").id) bottle = int32_t(t);
+    if (bottle < 0) bottle = b.type("Bottle");
     const int32_t pool = int32_t(b.g.dos.size());
     std::vector<Vec3> hull;
     for (int i = 0; i < 12; ++i) {
@@ -28,7 +32,7 @@ inline Graph bottling_scene(int bottles = 6, double belt_speed = 0.5) {
     }
     for (int i = 0; i < bottles; ++i) {
         const double y = 2 + i;  // parked away from the line
-        const int32_t d = b.dobj("bottle" + std::to_string(i), 0, bottle, at(0, y, 0));
+        const int32_t d = b.dobj(prefix + "bottle" + std::to_string(i), 0, bottle, at(0, y, 0));
         ShapeSpec h{ShapeKind::Hull, {}, {}, hull};
         const int32_t main = b.body(d, "main", BodyMode::Dynamic, {h}, 0.02, at(0, y, 0.051));
         b.g.bodies[size_t(main)].inertia_set = true;  // a homogeneous cylinder's
@@ -63,6 +67,13 @@ inline Graph bottling_scene(int bottles = 6, double belt_speed = 0.5) {
 
     const int32_t end = b.trigger(line, "end", {0.1, 0.2, 0.2}, at(3.2, 0, 0.05), bottle);
     b.exit(line, "exit", end);
+}
+
+// `lines` copies of the line, 20 m apart (each a physics region of its own).
+inline Graph bottling_scene(int bottles = 6, double belt_speed = 0.5, int lines = 1) {
+    SceneBuilder b;
+    for (int k = 0; k < lines; ++k)
+        bottling_line(b, k ? "l" + std::to_string(k) + "_" : "", 20.0 * k, bottles, belt_speed);
     return b.g;
 }
 

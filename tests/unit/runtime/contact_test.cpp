@@ -47,7 +47,9 @@ struct Contact {
 struct Narrowphase {
     explicit Narrowphase(bool ours) {
         info.m_enableSatConvex = true;
-        if (ours) contacts = std::make_unique<BoxHullContacts>(dispatcher, config);
+        if (!ours) return;
+        contacts = std::make_unique<BoxHullContacts>();
+        contacts->attach(dispatcher, config);
     }
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};

@@ -1,0 +1,354 @@
+// Regions: a Bullet world per group of static bodies that lie far enough from every other.
+//
+// Why: a plant of many lines side by side (the 1,000-bottle benchmark is 83 lines) in one Bullet
+// world pays, in every step, for one broadphase tree holding every band and rail of every line,
+// for Bullet's loops over all its bodies, and for a working set far larger than the caches. The
+// lines do not touch: each line's statics and the bodies moving near them make a world of their
+// own, stepped on as many threads as there are cores.
+//
+// The rule that keeps this exact. s is the largest size of a mover group (the bodies that are not
+// static, joined by joints), measured as the sum of its bodies' bounding-sphere diameters.
+//  - Static bodies (and the movers joined to them: anchored groups) whose bounding boxes, each
+//    grown by h = s + 10 cm, overlap belong to one region; regions whose grown boxes overlap merge.
+//    A region's box is its bodies' boxes plus 5 cm, so two regions' boxes are more than 2s apart.
+//  - Before each step, a free mover group goes to the world of the region whose box one of its
+//    bodies' bounding box (plus 5 cm) meets, in body order: a body can meet one region's box at
+//    most, and two groups that meet different regions' boxes cannot touch. A group that meets no
+//    box is in the void; it touches no static body. A void group that meets a mover of a region's
+//    world (one that reaches out of its box) joins that world, and void groups that meet such a
+//    group join it too.
+//  - Anchored groups stay in their region. If one reaches out of its region's box and meets a
+//    mover of another world, their contact is not simulated: counted (missed_contacts) and shown
+//    in the run's summary. A static body placed by hand outside its region's box merges every
+//    world into one.
+// Results do not depend on the number of threads. They differ from a single world's in the last
+// digits: Bullet's order of pairs and islands is per world.
+#include "engine/physics.h"
+
+#include "engine/pose.h"
+
+#include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+constexpr btScalar kGrow = btScalar(0.10);  // h = s + kGrow
+constexpr btScalar kBox = btScalar(0.05);   // a region's box around its bodies' boxes
+constexpr btScalar kNear = btScalar(0.05);  // a mover's box, grown: Bullet pairs bodies a little apart
+
+struct Box {
+    btVector3 lo, hi;
+};
+
+bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
+    return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
+           alo.z() <= bhi.z() && blo.z() <= ahi.z();
+}
+
+bool inside(const btVector3& lo, const btVector3& hi, const btVector3& blo, const btVector3& bhi) {
+    return lo.x() >= blo.x() && lo.y() >= blo.y() && lo.z() >= blo.z() && hi.x() <= bhi.x() &&
+           hi.y() <= bhi.y() && hi.z() <= bhi.z();
+}
+
+struct UnionFind {
+    std::vector<int32_t> up;
+    explicit UnionFind(size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
+    int32_t find(int32_t a) {
+        while (up[a] != a) a = up[a] = up[up[a]];
+        return a;
+    }
+    bool unite(int32_t a, int32_t b) {
+        a = find(a), b = find(b);
+        if (a == b) return false;
+        if (b < a) std::swap(a, b);
+        up[b] = a;  // the lower index is the root
+        return true;
+    }
+};
+
+// Unites the boxes (grown by h) that overlap, through a grid of cells: each box is filed under
+// the cells it covers, and only boxes sharing a cell are compared. Boxes covering very many
+// cells are compared with every box.
+bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>& ids, btScalar h, UnionFind& uf) {
+    const btScalar cell = std::max(btScalar(1), 4 * h);
+    std::vector<std::pair<uint64_t, int32_t>> filed;
+    std::vector<int32_t> big;
+    auto idx = [cell](btScalar v) { return int64_t(std::floor(v / cell)); };
+    for (int32_t i : ids) {
+        const Box& b = boxes[size_t(i)];
+        const int64_t x0 = idx(b.lo.x() - h), x1 = idx(b.hi.x() + h), y0 = idx(b.lo.y() - h), y1 = idx(b.hi.y() + h),
+                      z0 = idx(b.lo.z() - h), z1 = idx(b.hi.z() + h);
+        if ((x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > 4096) {
+            big.push_back(i);
+            continue;
+        }
+        for (int64_t x = x0; x <= x1; ++x)
+            for (int64_t y = y0; y <= y1; ++y)
+                for (int64_t z = z0; z <= z1; ++z)
+                    filed.emplace_back((uint64_t(x & 0x1fffff) << 42) | (uint64_t(y & 0x1fffff) << 21) | uint64_t(z & 0x1fffff), i);
+    }
+    std::sort(filed.begin(), filed.end());
+    const btVector3 g(h, h, h);
+    bool merged = false;
+    auto test = [&](int32_t a, int32_t b) {
+        const Box &p = boxes[size_t(a)], &q = boxes[size_t(b)];
+        if (overlap(p.lo - g, p.hi + g, q.lo - g, q.hi + g)) merged |= uf.unite(a, b);
+    };
+    for (size_t i = 0; i < filed.size();) {
+        size_t j = i;
+        while (j < filed.size() && filed[j].first == filed[i].first) ++j;
+        for (size_t a = i; a < j; ++a)
+            for (size_t b = a + 1; b < j; ++b) test(filed[a].second, filed[b].second);
+        i = j;
+    }
+    for (int32_t a : big)
+        for (int32_t b : ids)
+            if (a != b) test(a, b);
+    return merged;
+}
+
+}  // namespace
+
+void Physics::find_regions() {
+    const size_t nb = g_.bodies.size();
+    auto is_static = [this](size_t b) { return g_.bodies[b].mode == BodyMode::Static; };
+
+    // Groups: bodies joined by joints, numbered in order of their first body.
+    UnionFind joined(nb);
+    for (const Joint& j : g_.joints)
+        if (j.body_b >= 0) joined.unite(j.body_a, j.body_b);
+    group_of_.assign(nb, -1);
+    std::vector<int32_t> first_of(nb, -1);
+    int32_t groups = 0;
+    for (size_t b = 0; b < nb; ++b) {
+        int32_t r = joined.find(int32_t(b));
+        if (first_of[size_t(r)] < 0) first_of[size_t(r)] = groups++;
+        group_of_[b] = first_of[size_t(r)];
+    }
+    group_bodies_.adr.assign(size_t(groups), 0);
+    group_bodies_.num.assign(size_t(groups), 0);
+    for (size_t b = 0; b < nb; ++b) ++group_bodies_.num[size_t(group_of_[b])];
+    for (int32_t gi = 1; gi < groups; ++gi) group_bodies_.adr[gi] = group_bodies_.adr[gi - 1] + group_bodies_.num[gi - 1];
+    group_bodies_.list.assign(nb, -1);
+    {
+        std::vector<int32_t> fill(size_t(groups), 0);
+        for (size_t b = 0; b < nb; ++b) {
+            const int32_t gi = group_of_[b];
+            group_bodies_.list[size_t(group_bodies_.adr[gi] + fill[size_t(gi)]++)] = int32_t(b);
+        }
+    }
+    anchored_.assign(size_t(groups), 0);
+    movers_.clear();
+    for (size_t b = 0; b < nb; ++b) {
+        if (is_static(b)) anchored_[size_t(group_of_[b])] = 1;
+        else movers_.push_back(int32_t(b));
+    }
+    free_groups_.clear();
+    for (int32_t gi = 0; gi < groups; ++gi)
+        if (!anchored_[size_t(gi)]) free_groups_.push_back(gi);
+
+    // s: the largest free group.
+    btScalar s = 0;
+    for (int32_t gi : free_groups_) {
+        btScalar size = 0;
+        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+            btVector3 c;
+            btScalar r = 0;
+            bodies_[*b]->getCollisionShape()->getBoundingSphere(c, r);
+            size += 2 * r;
+        }
+        s = std::max(s, size);
+    }
+    const btScalar h = s + kGrow;
+
+    // Regions: the anchored groups' bodies, clustered.
+    std::vector<Box> boxes(nb);
+    std::vector<int32_t> items;
+    for (size_t b = 0; b < nb; ++b) {
+        bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), boxes[b].lo, boxes[b].hi);
+        if (!(boxes[b].lo.x() <= boxes[b].hi.x()))  // a shape without extent: its origin
+            boxes[b].lo = boxes[b].hi = bodies_[b]->getWorldTransform().getOrigin();
+        if (anchored_[size_t(group_of_[b])]) items.push_back(int32_t(b));
+    }
+    UnionFind cluster(nb);
+    for (int32_t b : items) cluster.unite(b, *group_bodies_.begin(group_of_[b]));
+    unite_overlapping(boxes, items, h, cluster);
+    std::vector<Box> cbox(nb);
+    std::vector<int32_t> roots;
+    do {  // clusters' boxes, kept at their roots (their lowest bodies), until none overlap
+        roots.clear();
+        for (int32_t b : items)
+            if (cluster.find(b) == b) roots.push_back(b), cbox[size_t(b)] = boxes[size_t(b)];
+        for (int32_t b : items) {
+            const int32_t r = cluster.find(b);
+            cbox[size_t(r)].lo.setMin(boxes[size_t(b)].lo);
+            cbox[size_t(r)].hi.setMax(boxes[size_t(b)].hi);
+        }
+    } while (unite_overlapping(cbox, roots, h, cluster));
+
+    const size_t regions = roots.size();
+    world_of_.assign(nb, 0);
+    if (regions <= 1) {
+        worlds_.resize(1);
+        void_ = -1;
+        return;
+    }
+    worlds_.resize(regions + 1);
+    void_ = int(regions);
+    std::vector<int32_t> region_of_root(nb, -1);
+    for (size_t i = 0; i < regions; ++i) {  // roots are in body order
+        region_of_root[size_t(roots[i])] = int32_t(i);
+        const btVector3 m(kBox, kBox, kBox);
+        worlds_[i].lo = cbox[size_t(roots[i])].lo - m;
+        worlds_[i].hi = cbox[size_t(roots[i])].hi + m;
+    }
+    for (int32_t b : items) world_of_[size_t(b)] = region_of_root[size_t(cluster.find(b))];
+    for (int32_t gi : free_groups_) {
+        int to = void_;
+        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi) && to == void_; ++b) {
+            world_of_[size_t(*b)] = void_;
+            to = home(*b);
+        }
+        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) world_of_[size_t(*b)] = to;
+    }
+}
+
+int Physics::home(int32_t b) const {
+    const int cur = world_of_[b];
+    const btVector3& o = bodies_[b]->getWorldTransform().getOrigin();
+    if (cur != void_ && inside(o, o, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;  // most
+    btVector3 lo, hi;
+    bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
+    const btVector3 m(kNear, kNear, kNear);
+    lo -= m, hi += m;
+    if (cur != void_ && overlap(lo, hi, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;
+    for (int w = 0; w < void_; ++w)
+        if (overlap(lo, hi, worlds_[size_t(w)].lo, worlds_[size_t(w)].hi)) return w;
+    return void_;
+}
+
+void Physics::assign_worlds() {
+    auto present = [this](int32_t b) {  // in the world and in Bullet's (not carried by a weld)
+        return in_world_[b] && !(welded(b) && welds_[weld_of_[b]].pass == b);
+    };
+    auto box = [this](int32_t b, btVector3& lo, btVector3& hi) {
+        bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
+        const btVector3 m(kNear, kNear, kNear);
+        lo -= m, hi += m;
+    };
+    // Free groups: to the region whose box they meet.
+    void_groups_.clear();
+    for (int32_t gi : free_groups_) {
+        int to = -1;
+        bool any = false;
+        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+            if (!present(*b)) continue;
+            any = true;
+            const int h = home(*b);
+            if (h != void_) {
+                to = h;
+                break;
+            }
+        }
+        if (!any) {  // parked: waits in the void's world, which is not stepped for it
+            if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[gi])]] != void_) move_group(gi, void_);
+            continue;
+        }
+        if (to < 0) {
+            void_groups_.push_back(gi);
+            continue;
+        }
+        if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[gi])]] != to) move_group(gi, to);
+    }
+    // Void groups join the world of a mover they meet, and void groups meeting those join too.
+    void_home_.assign(void_groups_.size(), void_);
+    for (bool changed = !void_groups_.empty(); changed;) {
+        changed = false;
+        for (size_t i = 0; i < void_groups_.size(); ++i) {
+            if (void_home_[i] != void_) continue;
+            const int32_t gi = void_groups_[i];
+            for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+                if (!present(*b)) continue;
+                btVector3 lo, hi;
+                box(*b, lo, hi);
+                for (int32_t m : movers_) {
+                    if (group_of_[m] == gi || !present(m)) continue;
+                    int w = world_of_[m];
+                    for (size_t k = 0; k < void_groups_.size(); ++k)
+                        if (void_groups_[k] == group_of_[m]) w = void_home_[k];
+                    if (w == void_) continue;
+                    btVector3 mlo, mhi;
+                    box(m, mlo, mhi);
+                    if (!overlap(lo, hi, mlo, mhi)) continue;
+                    if (void_home_[i] == void_) void_home_[i] = w, changed = true;
+                    else if (void_home_[i] != w) ++missed_;
+                }
+            }
+        }
+    }
+    for (size_t i = 0; i < void_groups_.size(); ++i)
+        if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[void_groups_[i]])]] != void_home_[i])
+            move_group(void_groups_[i], void_home_[i]);
+    // Anchored movers reaching out of their region's box: contacts with other worlds' movers.
+    for (int32_t b : movers_) {
+        if (!present(b) || !anchored_[size_t(group_of_[b])]) continue;
+        btVector3 lo, hi;
+        box(b, lo, hi);
+        const World& own = worlds_[size_t(world_of_[b])];
+        if (inside(lo, hi, own.lo, own.hi)) continue;
+        for (int32_t m : movers_) {
+            if (!present(m) || world_of_[m] == world_of_[b]) continue;
+            btVector3 mlo, mhi;
+            box(m, mlo, mhi);
+            if (overlap(lo, hi, mlo, mhi)) ++missed_;
+        }
+    }
+    for (World& w : worlds_) w.active = false;
+    for (int32_t b : movers_)
+        if (in_world_[b]) worlds_[size_t(world_of_[b])].active = true;
+}
+
+// Takes a group's bodies and joints out of their Bullet world and puts them into another, as
+// they were: filters, parked or not, joints in or out.
+void Physics::move_group(int32_t gi, int to) {
+    std::vector<int32_t>& joints = moved_joints_;
+    joints.clear();
+    for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+        if (body_joints_.num.empty()) break;
+        for (const int32_t* j = body_joints_.begin(*b); j != body_joints_.end(*b); ++j) {
+            if (!joint_in_[*j] || std::find(joints.begin(), joints.end(), *j) != joints.end()) continue;
+            world_at(g_.joints[*j].body_a).world->removeConstraint(joints_[*j].get());
+            joints.push_back(*j);
+        }
+    }
+    for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+        const bool carried = welded(*b) && welds_[weld_of_[*b]].pass == *b;
+        if (!carried) world_at(*b).world->removeRigidBody(bodies_[*b].get());
+        world_of_[*b] = to;
+        if (carried) continue;
+        // Bullet files a body as static or not when it joins: a parked one joins as if it were
+        // in the world, so that it is simulated once it is inserted again.
+        const int state = bodies_[*b]->getActivationState();
+        const bool parked = !in_world_[*b];
+        in_world_[*b] = 1;
+        set_mode_flags(*b);
+        add_to_world(*b, !parked);
+        in_world_[*b] = !parked;
+        set_mode_flags(*b);
+        bodies_[*b]->forceActivationState(state);
+        if (parked) park(*b);
+    }
+    for (int32_t j : joints) world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);
+}
+
+}  // namespace plant::engine

@@ -1,0 +1,138 @@
+// Physics regions (runtime/engine/regions.cpp): a Bullet world per group of static bodies far
+// from the others, bodies moving between them, and results that do not depend on the threads.
+#include "engine/engine.h"
+#include "engine/runtime.h"
+#include "engine/trace.h"
+#include "bottling_scene.h"
+
+#include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+using namespace plant::test;
+using namespace plant::engine;
+
+namespace {
+
+Options on_threads(int n) {
+    Options o;
+    o.threads = n;
+    return o;
+}
+
+std::string trace_of(const Graph& g, int steps, int threads) {
+    Engine e(g, on_threads(threads));
+    std::ostringstream out;
+    TraceWriter w(e, trace_columns(g, {true, true, false}), out);
+    w.header();
+    for (int i = 0; i < steps; ++i) {
+        e.step();
+        w.row();
+    }
+    w.flush();
+    return out.str();
+}
+
+// Two frictional floors 1.2 m square, their tops at z = 0, centred at x = 0 and x = `far`.
+void two_floors(SceneBuilder& b, double far) {
+    b.body(0, "floor_a", BodyMode::Static, {box({1.2, 1.2, 0.2})}, 0, at(0, 0, -0.1), 1.0);
+    b.body(0, "floor_b", BodyMode::Static, {box({1.2, 1.2, 0.2})}, 0, at(far, 0, -0.1), 1.0);
+}
+
+}  // namespace
+
+TEST_CASE("runtime: lines far apart are physics regions, a Bullet world each, and a void's") {
+    const Graph g = bottling_scene(6, 0.5, 3);
+    Engine e(g, on_threads(1));
+    auto& phys = e.internals().phys;
+    CHECK(e.regions() == 3);
+    CHECK(phys.worlds() == 4);
+    auto body = [&](std::string_view line, std::string_view name) {
+        for (size_t b = 0; b < g.bodies.size(); ++b)
+            if (g.comp_path(g.bodies[b].comp) == std::string(line) + "." + std::string(name)) return int32_t(b);
+        FAIL("no body ", line, ".", name);
+        return int32_t(-1);
+    };
+    const int32_t f0 = body("line", "floor"), f1 = body("l1_line", "floor"), f2 = body("l2_line", "floor");
+    CHECK(phys.world_of(f0) != phys.world_of(f1));
+    CHECK(phys.world_of(f1) != phys.world_of(f2));
+    CHECK(phys.world_of(body("line", "rail_l")) == phys.world_of(f0));
+    CHECK(phys.world_of(body("l2_line", "rail_r")) == phys.world_of(f2));
+    for (int i = 0; i < 600; ++i) e.step();
+    // A body joins its region's world in the physics phase; one issued in the last step's
+    // actuator phase is still in the void's. So: the bodies in the world before and after a step.
+    std::vector<char> was(g.bodies.size());
+    for (size_t b = 0; b < g.bodies.size(); ++b) was[b] = phys.in_world(int32_t(b));
+    e.step();
+    // Bottles on each line are in that line's world; pooled ones wait in the void's.
+    int on_lines = 0, parked = 0;
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        if (g.bodies[b].mode != BodyMode::Dynamic || was[b] != phys.in_world(int32_t(b))) continue;
+        const int32_t w = phys.world_of(int32_t(b));
+        if (!phys.in_world(int32_t(b))) {
+            CHECK(w == phys.worlds() - 1);
+            ++parked;
+            continue;
+        }
+        const double y = e.body_pose(int32_t(b)).p[1];
+        const int32_t floor = y < 10 ? f0 : y < 30 ? f1 : f2;
+        CHECK(w == phys.world_of(floor));
+        ++on_lines;
+    }
+    CHECK(on_lines > 6);
+    CHECK(parked > 0);
+    CHECK(phys.world(phys.worlds() - 1).getNumCollisionObjects() >= parked);
+}
+
+TEST_CASE("runtime: a plant of several regions gives the same trace on one thread and on two") {
+    const Graph g = bottling_scene(6, 0.5, 3);
+    const std::string one = trace_of(g, 900, 1), two = trace_of(g, 900, 2);
+    CHECK(one.size() > 10000);
+    CHECK(one == two);
+    CHECK(one.find(",1,") != std::string::npos);  // alive: bottles issued, routed, taken
+}
+
+TEST_CASE("runtime: a body thrown from one region over the void lands on the other region's floor") {
+    SceneBuilder b;
+    two_floors(b, 4);
+    const int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0,
+                                at(0, 0, 0.05), 1.0);
+    Engine e(b.g, on_threads(2));
+    auto& phys = e.internals().phys;
+    REQUIRE(e.regions() == 2);
+    const int void_world = phys.worlds() - 1;
+    CHECK(phys.world_of(cube) == phys.world_of(0));
+    // 4 m in about 0.8 s of flight: up at 4 m/s, along at 5 m/s.
+    phys.write(cube).setLinearVelocity(btVector3(5, 0, 4));
+    bool crossed_void = false;
+    for (int i = 0; i < 450; ++i) {
+        e.step();
+        crossed_void |= phys.world_of(cube) == void_world;
+    }
+    CHECK(crossed_void);
+    CHECK(phys.world_of(cube) == phys.world_of(1));
+    const auto p = e.body_pose(cube).p;
+    CHECK(p[0] > 3.4);
+    CHECK(p[0] < 4.6);
+    CHECK(p[2] == doctest::Approx(0.05).epsilon(0.05));  // resting on floor b, not fallen through
+}
+
+TEST_CASE("runtime: a body in the void collides with a body of a region that reaches out of it") {
+    SceneBuilder b;
+    two_floors(b, 8);
+    // A plank lying on floor a, 40 cm of it over the edge (x = 0.6); a ball dropped on that end.
+    const int32_t plank = b.body(b.dobj("plank"), "body", BodyMode::Dynamic, {box({1.0, 0.2, 0.05})}, 5.0,
+                                 at(0.5, 0, 0.025), 0.8);
+    const int32_t ball = b.body(b.dobj("ball"), "body", BodyMode::Dynamic, {sphere(0.04)}, 0.05,
+                                at(0.9, 0, 0.5), 0.8);
+    Engine e(b.g, on_threads(1));
+    auto& phys = e.internals().phys;
+    REQUIRE(e.regions() == 2);
+    CHECK(phys.world_of(ball) == phys.worlds() - 1);  // starts in the void, over no floor
+    for (int i = 0; i < 300; ++i) e.step();
+    CHECK(phys.world_of(ball) == phys.world_of(plank));
+    CHECK(phys.world_of(plank) == phys.world_of(0));
+    CHECK(e.body_pose(ball).p[2] > 0.05);  // on the plank, not fallen past it
+    CHECK(e.warnings().missed_contacts == 0);
+}
