@@ -16,8 +16,12 @@
 //
 // Output: a Markdown table; with --rows only the rows of bench/run.sh's summary table.
 //
+// The lines are physics regions of their own, stepped on --threads threads (default: one per
+// core; the results do not depend on it).
+//
 //   plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12]
-//                        [--warmup=40] [--window=30] [--plant=PATH] [--rows]
+//                        [--warmup=40] [--window=30] [--threads=N] [--plant=PATH] [--rows]
+//                        [--no-memory]
 #include "compiler.h"
 #include "engine/engine.h"
 
@@ -65,6 +69,8 @@ struct Args {
     double window = 30;  // simulated seconds measured
     std::string plant = std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant";
     bool rows = false;
+    bool memory = true;  // the memory rows after the largest N
+    int threads = 0;     // 0: one per core
 };
 
 struct Sample {
@@ -75,6 +81,7 @@ struct Sample {
     long news = 0;             // of allocs: operator new (the rest: Bullet's heap blocks)
     long rss_kib = 0;          // peak of the child
     long steps = 0;
+    int regions = 0, threads = 0;  // physics regions and the threads that stepped them
 };
 
 double now_wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
@@ -98,7 +105,11 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
         return s;
     }
     const plant::graph::Graph& g = c.graph;
-    plant::engine::Engine e(g);
+    plant::engine::Options eo;
+    eo.threads = a.threads;
+    plant::engine::Engine e(g, eo);
+    s.regions = e.regions();
+    s.threads = e.threads();
     for (const auto& src : g.sources) s.pool += src.pool_num;
     auto circulating = [&] {
         long n = 0;
@@ -195,7 +206,12 @@ bool parse(int argc, char** argv, Args& a) {
         else if (val("--warmup=", v)) a.warmup = std::atof(v.c_str());
         else if (val("--window=", v)) a.window = std::atof(v.c_str());
         else if (val("--plant=", v)) a.plant = v;
+        else if (val("--threads=", v)) {
+            a.threads = std::atoi(v.c_str());
+            if (a.threads < 1) return false;
+        }
         else if (s == "--rows") a.rows = true;
+        else if (s == "--no-memory") a.memory = false;
         else return false;
     }
     return a.per_line > 0 && a.warmup >= 0 && a.window > 0;
@@ -207,7 +223,7 @@ int main(int argc, char** argv) {
     Args a;
     if (!parse(argc, argv, a)) {
         std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "
-                             "[--warmup=40] [--window=30] [--plant=PATH] [--rows]\n");
+                             "[--warmup=40] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory]\n");
         return 2;
     }
     if (!a.rows) {
@@ -215,9 +231,9 @@ int main(int argc, char** argv) {
         std::printf("150 Hz, feed_every = 1 s, %g s warm-up, then %g s measured; medians of %d runs, each a "
                     "fresh process.\n\n",
                     a.warmup, a.window, a.runs);
-        std::printf("| target N | lines | pool | in circulation mean (min-max) | lost | wall s | CPU s | "
-                    "real-time factor | us per bottle-step | allocations in window (of them operator new) | peak RSS MiB |\n");
-        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        std::printf("| target N | lines | regions / threads | pool | in circulation mean (min-max) | lost | wall s | CPU s | "
+                    "real-time factor | CPU us per bottle-step | allocations in window (of them operator new) | peak RSS MiB |\n");
+        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     }
     int status = 0;
     Sample last;
@@ -248,13 +264,13 @@ int main(int argc, char** argv) {
         const char* target = n == 50 ? ">= 20x" : n == 1000 ? ">= 1x" : "-";
         const bool met = n == 50 ? median(rtf) >= 20 : n == 1000 ? median(rtf) >= 1 : true;
         if (a.rows) {
-            std::printf("| bottling plant | %d bottles in circulation (%d line%s; measured mean %.0f, %ld lost) | "
-                        "%.1fx real time (%.1f us per bottle-step) | %s | %s |\n",
-                        n, lines, lines == 1 ? "" : "s", median(mean), lost, median(rtf), us, target,
-                        *target == '-' ? "-" : met ? "yes" : "**no**");
+            std::printf("| bottling plant | %d bottles in circulation (%d line%s, %d thread%s; measured mean %.0f, "
+                        "%ld lost) | %.1fx real time (%.1f CPU us per bottle-step) | %s | %s |\n",
+                        n, lines, lines == 1 ? "" : "s", s.threads, s.threads == 1 ? "" : "s", median(mean), lost,
+                        median(rtf), us, target, *target == '-' ? "-" : met ? "yes" : "**no**");
         } else {
-            std::printf("| %d | %d | %ld | %.1f (%ld-%ld) | %ld | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | %.1f |\n", n,
-                        lines, s.pool, median(mean), s.min, s.max, lost, median(wall), median(cpu), median(rtf), us,
+            std::printf("| %d | %d | %d / %d | %ld | %.1f (%ld-%ld) | %ld | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | %.1f |\n",
+                        n, lines, s.regions, s.threads, s.pool, median(mean), s.min, s.max, lost, median(wall), median(cpu), median(rtf), us,
                         allocs, news, double(s.rss_kib) / 1024);
         }
         std::fflush(stdout);
@@ -264,7 +280,7 @@ int main(int argc, char** argv) {
         last_lines = lines;
     }
     // Memory per bottle: the largest plant against the same lines with one bottle each.
-    if (last.ok) {
+    if (last.ok && a.memory) {
         std::fprintf(stderr, "bottling %d lines, one bottle per storage (memory baseline)\n", last_lines);
         const Sample base = run_child(a, last_lines, 1, 0.0, 1.0);
         if (base.ok && last.pool > base.pool) {

@@ -33,4 +33,6 @@ echo "|---|---|---|---|---|"
 "$b/plant_bench_runtime" --rows --only=belts "${runtime[@]}"
 "$b/plant_bench_runtime" --rows --only=logic "${logic[@]}"
 "$b/plant_bench_bottling" --rows "${bottling[@]}"
+# The largest plant again on one thread: what stepping the lines' regions on every core gives.
+(( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=3 --counts=1000 --threads=1
 "$b/plant_bench_compile" --rows "${compile[@]}"

@@ -167,6 +167,7 @@ void Physics::place(int32_t b, const btTransform& f) {
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
     if (in_world_[b]) world_at(b).world->updateSingleAabb(&r);
+    if (void_ >= 0 && g_.bodies[b].mode == BodyMode::Static) placed_static(b);
 }
 
 void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }

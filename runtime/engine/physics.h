@@ -139,6 +139,8 @@ private:
     int home(int32_t b) const;  // the region whose box b's bounding box meets, or the void
     void assign_worlds();
     void move_group(int32_t group, int to);
+    void merge_worlds();
+    void placed_static(int32_t b);
 
     const graph::Graph& g_;
     btVector3 gravity_;

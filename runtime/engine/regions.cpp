@@ -318,6 +318,24 @@ void Physics::assign_worlds() {
         if (in_world_[b]) worlds_[size_t(world_of_[b])].active = true;
 }
 
+// One world for everything from now on: the regions' boxes no longer hold (a static body was
+// placed outside its region's box).
+void Physics::merge_worlds() {
+    if (void_ < 0) return;
+    const int32_t groups = int32_t(group_bodies_.adr.size());
+    for (int32_t gi = 0; gi < groups; ++gi)
+        if (world_of_[*group_bodies_.begin(gi)] != 0) move_group(gi, 0);
+    worlds_.resize(1);  // the others are empty now
+    void_ = -1;
+}
+
+void Physics::placed_static(int32_t b) {
+    btVector3 lo, hi;
+    bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
+    const World& w = world_at(b);
+    if (!inside(lo, hi, w.lo, w.hi)) merge_worlds();
+}
+
 // Takes a group's bodies and joints out of their Bullet world and puts them into another, as
 // they were: filters, parked or not, joints in or out.
 void Physics::move_group(int32_t gi, int to) {

@@ -136,3 +136,21 @@ TEST_CASE("runtime: a body in the void collides with a body of a region that rea
     CHECK(e.body_pose(ball).p[2] > 0.05);  // on the plank, not fallen past it
     CHECK(e.warnings().missed_contacts == 0);
 }
+
+TEST_CASE("runtime: a static body placed outside its region's box merges every world into one") {
+    SceneBuilder b;
+    two_floors(b, 4);
+    const int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0,
+                                at(8, 0, 0.5), 1.0);
+    Engine e(b.g, on_threads(2));
+    auto& phys = e.internals().phys;
+    REQUIRE(e.regions() == 2);
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(phys.world_of(cube) == phys.worlds() - 1);  // falling in the void
+    phys.place(1, btTransform(btQuaternion::getIdentity(), btVector3(8, 0, -0.1)));  // floor b under the cube
+    CHECK(e.regions() == 1);
+    CHECK(phys.worlds() == 1);
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(e.body_pose(cube).p[2] == doctest::Approx(0.05).epsilon(0.05));  // caught by floor b
+    CHECK(phys.world(0).getNumCollisionObjects() == 3);
+}
