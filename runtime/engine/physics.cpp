@@ -38,18 +38,23 @@ struct alignas(16) BlockHeader {
     uint64_t mark;
     uint32_t cls;
 };
-// The worlds step on several threads, and a block one thread took may be freed by another: one
-// list per class, each behind a spin lock (held for a few instructions).
-struct alignas(64) FreeList {
+// The worlds step on several threads, and a block one thread took may be freed by another. Each
+// thread recycles through lists of its own; a list that grows past 2 batches hands a batch to
+// the shared list of its class (behind a spin lock), and an empty one takes a batch from there
+// before it asks the heap. So no list grows without bound while another thread keeps asking the
+// heap, and the lock is taken once per batch.
+constexpr uint32_t kBatch = 64;
+
+struct alignas(64) Shared {
     std::atomic_flag busy;
     void* head = nullptr;
 };
-FreeList g_free[kClasses];
+Shared g_shared[kClasses];
 std::atomic<uint64_t> g_heap_requests{0};
 
 class Hold {
 public:
-    explicit Hold(FreeList& l) : l_(l) {
+    explicit Hold(Shared& l) : l_(l) {
         while (l_.busy.test_and_set(std::memory_order_acquire)) {
 #if defined(__x86_64__) || defined(__i386__)
             __builtin_ia32_pause();
@@ -61,8 +66,42 @@ public:
     Hold& operator=(const Hold&) = delete;
 
 private:
-    FreeList& l_;
+    Shared& l_;
 };
+
+void*& next_of(void* p) { return *static_cast<void**>(p); }
+
+struct Local {
+    void* head[kClasses] = {};
+    uint32_t count[kClasses] = {};
+    // Moves up to n blocks from this list to the shared one.
+    void give(int c, uint32_t n) {
+        if (!head[c]) return;
+        void* first = head[c];
+        void* last = first;
+        uint32_t k = 1;
+        for (; k < n && next_of(last); ++k) last = next_of(last);
+        head[c] = next_of(last);
+        count[c] -= k;
+        Hold hold(g_shared[c]);
+        next_of(last) = g_shared[c].head;
+        g_shared[c].head = first;
+    }
+    void take(int c) {
+        Hold hold(g_shared[c]);
+        for (uint32_t k = 0; k < kBatch && g_shared[c].head; ++k) {
+            void* p = g_shared[c].head;
+            g_shared[c].head = next_of(p);
+            next_of(p) = head[c];
+            head[c] = p;
+            ++count[c];
+        }
+    }
+    ~Local() {  // a thread that ends leaves its blocks to the others
+        for (int c = 0; c < kClasses; ++c) give(c, count[c]);
+    }
+};
+thread_local Local t_local;
 
 int size_class(size_t n) {
     int c = 0;
@@ -73,9 +112,11 @@ int size_class(size_t n) {
 void* bullet_alloc(size_t n) {
     const int c = size_class(n);
     if (c < kClasses) {
-        Hold hold(g_free[c]);
-        if (void* p = g_free[c].head) {
-            g_free[c].head = *static_cast<void**>(p);
+        Local& l = t_local;
+        if (!l.head[c]) l.take(c);
+        if (void* p = l.head[c]) {
+            l.head[c] = next_of(p);
+            --l.count[c];
             return p;
         }
     }
@@ -93,10 +134,11 @@ void bullet_free(void* p) {
     BlockHeader* h = static_cast<BlockHeader*>(p) - 1;
     if (h->mark != kMark) return std::free(p);
     if (h->cls >= uint32_t(kClasses)) return std::free(h);
-    FreeList& l = g_free[h->cls];
-    Hold hold(l);
-    *static_cast<void**>(p) = l.head;
-    l.head = p;
+    Local& l = t_local;
+    const int c = int(h->cls);
+    next_of(p) = l.head[c];
+    l.head[c] = p;
+    if (++l.count[c] > 2 * kBatch) l.give(c, kBatch);
 }
 
 // Installed before main, so that every Bullet object of the process uses it.
@@ -217,15 +259,15 @@ Physics::World::~World() = default;
 Physics::World::World(World&&) noexcept = default;
 Physics::World& Physics::World::operator=(World&&) noexcept = default;
 
-void Physics::make_world(World& w, Broadphase bp, size_t bodies) {
-    // Bullet's pools of contact manifolds and pair algorithms, sized to the world's bodies
-    // (4,096 each by default, about 5 MiB a world); past them Bullet takes blocks from its
-    // allocator (above), which recycles them.
+void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: for SAP's handles
+    // Bullet's pools of contact manifolds and pair algorithms: 4,096 each by default, about
+    // 5 MiB a world. A region's world gets 128 (a line of the bottling plant has about 60
+    // contact pairs); past them Bullet takes blocks from its allocator (above), which
+    // recycles them.
     btDefaultCollisionConstructionInfo ci;
     if (void_ >= 0) {
-        const int pool = int(std::clamp<size_t>(4 * bodies, 64, 4096));
-        ci.m_defaultMaxPersistentManifoldPoolSize = pool;
-        ci.m_defaultMaxCollisionAlgorithmPoolSize = pool;
+        ci.m_defaultMaxPersistentManifoldPoolSize = 128;
+        ci.m_defaultMaxCollisionAlgorithmPoolSize = 128;
     }
     auto config = std::make_unique<btDefaultCollisionConfiguration>(ci);
     w.dispatcher = std::make_unique<btCollisionDispatcher>(config.get());

@@ -170,7 +170,13 @@ private:
     std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
     std::vector<int32_t> movers_;     // bodies that are not static
     std::vector<int32_t> to_step_;    // scratch: the worlds to step
+    struct Near {  // a mover's bounding box and world, for void groups to meet
+        btVector3 lo, hi;
+        int world;
+    };
     std::vector<int32_t> void_groups_, void_home_, moved_joints_;  // scratch of assign_worlds
+    std::vector<uint8_t> void_mark_;  // per group: in void_groups_
+    std::vector<Near> near_;
     int void_ = -1;                   // the void's world, or -1 with one region
     int64_t missed_ = 0;
     std::unique_ptr<Workers> workers_;

@@ -153,6 +153,7 @@ void Physics::find_regions() {
         if (is_static(b)) anchored_[size_t(group_of_[b])] = 1;
         else movers_.push_back(int32_t(b));
     }
+    void_mark_.assign(size_t(groups), 0);
     free_groups_.clear();
     for (int32_t gi = 0; gi < groups; ++gi)
         if (!anchored_[size_t(gi)]) free_groups_.push_back(gi);
@@ -270,31 +271,46 @@ void Physics::assign_worlds() {
         }
         if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[gi])]] != to) move_group(gi, to);
     }
-    // Void groups join the world of a mover they meet, and void groups meeting those join too.
+    // Void groups join the world of a mover they meet (of a region's world, or a void group
+    // that joined one before), in turn until none joins.
     void_home_.assign(void_groups_.size(), void_);
-    for (bool changed = !void_groups_.empty(); changed;) {
-        changed = false;
-        for (size_t i = 0; i < void_groups_.size(); ++i) {
-            if (void_home_[i] != void_) continue;
-            const int32_t gi = void_groups_[i];
-            for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-                if (!present(*b)) continue;
-                btVector3 lo, hi;
-                box(*b, lo, hi);
-                for (int32_t m : movers_) {
-                    if (group_of_[m] == gi || !present(m)) continue;
-                    int w = world_of_[m];
-                    for (size_t k = 0; k < void_groups_.size(); ++k)
-                        if (void_groups_[k] == group_of_[m]) w = void_home_[k];
-                    if (w == void_) continue;
-                    btVector3 mlo, mhi;
-                    box(m, mlo, mhi);
-                    if (!overlap(lo, hi, mlo, mhi)) continue;
-                    if (void_home_[i] == void_) void_home_[i] = w, changed = true;
-                    else if (void_home_[i] != w) ++missed_;
+    if (!void_groups_.empty()) {
+        for (int32_t gi : void_groups_) void_mark_[size_t(gi)] = 1;
+        near_.clear();
+        for (int32_t m : movers_) {
+            if (!present(m) || void_mark_[size_t(group_of_[m])]) continue;
+            Near n;
+            box(m, n.lo, n.hi);
+            n.world = world_of_[m];
+            near_.push_back(n);
+        }
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (size_t i = 0; i < void_groups_.size(); ++i) {
+                if (void_home_[i] != void_) continue;
+                const int32_t gi = void_groups_[i];
+                const size_t known = near_.size();
+                for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+                    if (!present(*b)) continue;
+                    btVector3 lo, hi;
+                    box(*b, lo, hi);
+                    for (size_t k = 0; k < known; ++k) {
+                        if (!overlap(lo, hi, near_[k].lo, near_[k].hi)) continue;
+                        if (void_home_[i] == void_) void_home_[i] = near_[k].world, changed = true;
+                        else if (void_home_[i] != near_[k].world) ++missed_;
+                    }
+                }
+                if (void_home_[i] == void_) continue;
+                for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+                    if (!present(*b)) continue;
+                    Near n;
+                    box(*b, n.lo, n.hi);
+                    n.world = void_home_[i];
+                    near_.push_back(n);
                 }
             }
         }
+        for (int32_t gi : void_groups_) void_mark_[size_t(gi)] = 0;
     }
     for (size_t i = 0; i < void_groups_.size(); ++i)
         if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[void_groups_[i]])]] != void_home_[i])
