@@ -12,10 +12,12 @@
 // bottle, but the torque this creates is integrated implicitly too, so the
 // bottle's rotation stays stable however light it is.
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <LinearMath/btTransformUtil.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace plant::engine {
@@ -69,12 +71,12 @@ btVector3 field_gain(const Field& fd) {
     return btVector3(std::abs(d.x()), std::abs(d.y()), std::abs(d.z())) * btScalar(fd.gain);
 }
 
-// The field's frame, recomputed only when its carrier has moved.
-const State::FieldFrame& field_frame(Runtime& r, size_t f) {
+// The field's frame, recomputed only when its carrier has moved. Returns whether it changed.
+bool field_frame(Runtime& r, size_t f) {
     const Field& fd = r.g.fields[f];
     State::FieldFrame& ff = r.st.field_frame[f];
     const btTransform carrier = fd.body >= 0 ? r.phys.rb(fd.body).getWorldTransform() : btTransform::getIdentity();
-    if (ff.valid && carrier == ff.carrier) return ff;
+    if (ff.valid && carrier == ff.carrier) return false;
     ff.carrier = carrier;
     ff.pose = fd.body >= 0 ? r.phys.frame(fd.body) * r.tab.field_local[f] : to_bt(fd.pose);
     const btMatrix3x3& R = ff.pose.getBasis();
@@ -83,7 +85,136 @@ const State::FieldFrame& field_frame(Runtime& r, size_t f) {
     ff.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
     ff.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
     ff.valid = true;
-    return ff;
+    return true;
+}
+
+// ---- Which fields a body is in: a grid of 1 m cells over (x, y).
+constexpr btScalar kCell = 1;             // m
+constexpr int64_t kMaxFieldCells = 1024;  // a field covering more is tried for every body
+
+bool cell_of(btScalar x, btScalar y, int64_t& ix, int64_t& iy) {
+    if (!(std::abs(x) < btScalar(1e6) && std::abs(y) < btScalar(1e6))) return false;  // NaN or far away
+    ix = int64_t(std::floor(x / kCell)), iy = int64_t(std::floor(y / kCell));
+    return true;
+}
+uint64_t cell_key(int64_t ix, int64_t iy) { return (uint64_t(ix & 0xffffffff) << 32) | uint64_t(iy & 0xffffffff); }
+
+// Files every field under the cells its bounding box covers (after any field frame changed).
+// Allocates only when the plant's fields cover more cells than ever before.
+void build_field_cells(Runtime& r) {
+    State& s = r.st;
+    s.field_filed.clear();
+    s.field_big.clear();
+    for (size_t f = 0; f < r.g.fields.size(); ++f) {
+        if (r.g.fields[f].gain <= 0) continue;
+        const State::FieldFrame& ff = s.field_frame[f];
+        const btVector3& c = ff.pose.getOrigin();
+        int64_t x0, y0, x1, y1;
+        if (!cell_of(c.x() - ff.rx, c.y() - ff.ry, x0, y0) || !cell_of(c.x() + ff.rx, c.y() + ff.ry, x1, y1) ||
+            (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxFieldCells) {
+            s.field_big.push_back(int32_t(f));
+            continue;
+        }
+        for (int64_t x = x0; x <= x1; ++x)
+            for (int64_t y = y0; y <= y1; ++y) s.field_filed.emplace_back(cell_key(x, y), int32_t(f));
+    }
+    std::sort(s.field_filed.begin(), s.field_filed.end());  // by cell, then field id
+    s.field_cells.clear();
+    s.field_cell_adr.clear();
+    s.field_cell_list.clear();
+    for (size_t i = 0; i < s.field_filed.size(); ++i) {
+        if (i == 0 || s.field_filed[i].first != s.field_filed[i - 1].first) {
+            s.field_cells.push_back(s.field_filed[i].first);
+            s.field_cell_adr.push_back(int32_t(s.field_cell_list.size()));
+        }
+        s.field_cell_list.push_back(s.field_filed[i].second);
+    }
+    s.field_cell_adr.push_back(int32_t(s.field_cell_list.size()));
+    s.field_cells_valid = true;
+}
+
+// The law of every field body b's centre of mass is in, summed in field id order (so the sums
+// do not depend on how bodies are split among threads). Returns whether any field acts on it.
+bool gather_fields(Runtime& r, int32_t b) {
+    State& s = r.st;
+    const btVector3 p = r.phys.com(b);
+    int64_t ix, iy;
+    const int32_t *cell = nullptr, *cell_end = nullptr;
+    if (cell_of(p.x(), p.y(), ix, iy)) {
+        const uint64_t key = cell_key(ix, iy);
+        const auto it = std::lower_bound(s.field_cells.begin(), s.field_cells.end(), key);
+        if (it != s.field_cells.end() && *it == key) {
+            const size_t i = size_t(it - s.field_cells.begin());
+            cell = s.field_cell_list.data() + s.field_cell_adr[i];
+            cell_end = s.field_cell_list.data() + s.field_cell_adr[i + 1];
+        }
+    } else if (!(std::abs(p.x()) < btScalar(1e30) && std::abs(p.y()) < btScalar(1e30))) {
+        return false;  // NaN: in no field (the sensors take it out)
+    }
+    const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
+    bool any = false;
+    btVector3 v(0, 0, 0);
+    bool have_v = false;
+    while (cell != cell_end || big != big_end) {  // the two id-ordered lists, merged
+        const int32_t f = big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++;
+        if (!s.field_act[size_t(f)]) continue;
+        const Field& fd = r.g.fields[size_t(f)];
+        const State::FieldFrame& ff = s.field_frame[size_t(f)];
+        const btMatrix3x3& R = ff.pose.getBasis();
+        const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
+        const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame
+        if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z()) continue;
+        if (!have_v) v = r.phys.velocity(b), have_v = true;
+        const btVector3& gain = s.field_gain[size_t(f)];
+        s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[size_t(f)])));
+        s.body_k[b] += gain[gain.maxAxis()];
+        s.force[b] += R * (gain * (s.field_target[size_t(f)] - v * R));
+        s.gain[b] += ff.K;
+        any = true;
+    }
+    return any;
+}
+
+// The conveyor law for the dynamic bodies of one physics world (listed in world_list), from
+// gathering the fields to the forces that integrate it. Touches only these bodies and their
+// rigid groups (which share their world), so worlds can run on several threads at once.
+void fields_of_world(Runtime& r, int32_t w) {
+    State& s = r.st;
+    const int32_t* list = s.world_list.data() + s.world_adr[w];
+    int32_t* touched = s.touched.data() + s.world_adr[w];
+    int32_t n = 0;
+    for (int32_t i = 0; i < s.world_num[w]; ++i) {
+        const int32_t b = list[i];
+        if (gather_fields(r, b)) touched[n++] = b;
+    }
+    for (int32_t i = 0; i < n; ++i) {
+        const int32_t b = touched[i];
+        // Stalled: slower than a tenth of the running field it is in, as the last
+        // physics step left it (a bottle held at a gate, a jam).
+        if (s.field_run[b] > 0 && r.phys.velocity(b).length() < 0.1 * s.field_run[b]) {
+            if (s.slow_step[b] + 1 < s.step) s.stall_since[b] = s.time;
+            s.slow_step[b] = s.step;
+        }
+        s.field_run[b] = 0;
+    }
+    for (int32_t i = 0; i < n; ++i) {
+        const int32_t b = touched[i];
+        const int32_t grp = s.group_of[b];
+        if (s.group_num[grp] <= 1) {
+            integrate_single(r, b);
+            r.phys.rb(b).activate();
+        } else if (!s.group_mark[grp]) {
+            s.group_mark[grp] = 1;
+            integrate_group(r, grp);
+        }
+    }
+    for (int32_t i = 0; i < n; ++i) {
+        const int32_t b = touched[i];
+        s.group_mark[s.group_of[b]] = 0;
+        s.force[b].setZero();
+        s.gain[b].setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
+        s.body_k[b] = 0;
+    }
 }
 
 void move_kinematic(Runtime& r) {
@@ -101,63 +232,47 @@ void move_kinematic(Runtime& r) {
 
 }  // namespace
 
+// Each body gathers the fields its centre of mass is in (a grid of the fields' bounding
+// boxes), and each physics world's bodies are done as one job (fields_of_world): the worlds of
+// a plant in several regions run on the physics threads.
 void apply_fields(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
     if (g.fields.empty()) return;
     if (s.groups_version != r.phys.version()) rebuild_groups(r);
-    r.index.refresh(r.phys, false);
-    s.touched.clear();
+    bool moved = !s.field_cells_valid;
     for (size_t f = 0; f < g.fields.size(); ++f) {
         const Field& fd = g.fields[f];
-        if (!s.field_on[f] || fd.gain <= 0) continue;
+        s.field_act[f] = 0;
+        if (fd.gain <= 0) continue;
+        moved |= field_frame(r, f);
         const btVector3 gain = field_gain(fd);
-        const btScalar kmax = gain[gain.maxAxis()];
-        if (kmax <= 0) continue;
-        const btVector3 target = to_bt(fd.dir) * btScalar(s.field_speed[f]);
-        const State::FieldFrame& ff = field_frame(r, f);
-        const btMatrix3x3& R = ff.pose.getBasis();
-        const btMatrix3x3& K = ff.K;
-        const btVector3& c = ff.pose.getOrigin();
-        const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
-        r.index.for_each(c.x() - ff.rx, c.x() + ff.rx, c.y() - ff.ry, c.y() + ff.ry, [&](int32_t b) {
-            if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) return;
-            const btVector3 local = (r.index.com(b) - c) * R;  // R^T (p - c): into the field frame
-            if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z())
-                return;
-            const btVector3 v = r.phys.velocity(b) * R;
-            if (s.body_k[b] == 0) s.touched.push_back(b);
-            s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
-            s.body_k[b] += kmax;
-            s.force[b] += R * (gain * (target - v));
-            s.gain[b] += K;
-        });
+        if (!s.field_on[f] || gain[gain.maxAxis()] <= 0) continue;
+        s.field_act[f] = 1;
+        s.field_gain[f] = gain;
+        s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
     }
-    for (int32_t b : s.touched) {
-        // Stalled: slower than a tenth of the running field it is in, as the last
-        // physics step left it (a bottle held at a gate, a jam).
-        if (s.field_run[b] > 0 && r.phys.velocity(b).length() < 0.1 * s.field_run[b]) {
-            if (s.slow_step[b] + 1 < s.step) s.stall_since[b] = s.time;
-            s.slow_step[b] = s.step;
-        }
-        s.field_run[b] = 0;
+    if (moved) build_field_cells(r);
+
+    // The bodies the law can act on, by world.
+    const int nw = r.phys.worlds();
+    s.world_adr.assign(size_t(nw), 0);
+    s.world_num.assign(size_t(nw), 0);
+    for (int32_t b : r.tab.dyn_bodies)
+        if (r.phys.dynamic_now(b) && s.held_by[b] < 0) ++s.world_num[size_t(r.phys.world_of(b))];
+    for (int w = 1; w < nw; ++w) s.world_adr[size_t(w)] = s.world_adr[size_t(w - 1)] + s.world_num[size_t(w - 1)];
+    s.worlds_busy.clear();
+    for (int w = 0; w < nw; ++w) {
+        if (s.world_num[size_t(w)]) s.worlds_busy.push_back(w);
+        s.world_num[size_t(w)] = 0;
     }
-    for (int32_t b : s.touched) {
-        const int32_t grp = s.group_of[b];
-        if (s.group_num[grp] <= 1) {
-            integrate_single(r, b);
-            r.phys.rb(b).activate();
-        } else if (!s.group_mark[grp]) {
-            s.group_mark[grp] = 1;
-            integrate_group(r, grp);
-        }
+    for (int32_t b : r.tab.dyn_bodies) {
+        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) continue;
+        const size_t w = size_t(r.phys.world_of(b));
+        s.world_list[size_t(s.world_adr[w] + s.world_num[w]++)] = b;
     }
-    for (int32_t b : s.touched) {
-        s.group_mark[s.group_of[b]] = 0;
-        s.force[b].setZero();
-        s.gain[b].setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
-        s.body_k[b] = 0;
-    }
+    auto job = [&r](int i) { fields_of_world(r, r.st.worlds_busy[size_t(i)]); };
+    r.phys.workers().run(int(s.worlds_busy.size()), job);
 }
 
 void phase_physics(Runtime& r) {

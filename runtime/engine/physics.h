@@ -47,6 +47,7 @@ public:
     btDiscreteDynamicsWorld& world(int w = 0) { return *worlds_[size_t(w)].world; }
     int world_of(int32_t b) const { return world_of_[b]; }
     int threads() const;
+    Workers& workers() { return *workers_; }
     // Bodies of two worlds whose bounding boxes met (their contact was not simulated).
     int64_t missed_contacts() const { return missed_; }
 

@@ -54,7 +54,11 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.group_mass.assign(nb, 0);
     s.group_of.resize(nb);
     for (size_t b = 0; b < nb; ++b) s.group_of[b] = int32_t(b);
-    s.touched.reserve(nb);
+    s.touched.assign(nb, 0);
+    s.world_list.assign(nb, 0);
+    s.field_act.assign(g.fields.size(), 0);
+    s.field_gain.assign(g.fields.size(), btVector3(0, 0, 0));
+    s.field_target.assign(g.fields.size(), btVector3(0, 0, 0));
 
     const size_t np = g.places.size();
     s.tokens.resize(np);

@@ -85,6 +85,17 @@ struct State {
         bool valid = false;
     };
     std::vector<FieldFrame> field_frame;
+    // Per field, this step: acting (on, gain > 0), the law's gain along its axes, target velocity.
+    std::vector<uint8_t> field_act;
+    std::vector<btVector3> field_gain, field_target;
+    // The fields by 1 m cells of (x, y) of their bounding boxes (fields.cpp): cell keys sorted,
+    // each with its fields in id order; fields covering very many cells are in `field_big`.
+    std::vector<uint64_t> field_cells;
+    std::vector<int32_t> field_cell_adr, field_cell_list, field_big;
+    std::vector<std::pair<uint64_t, int32_t>> field_filed;  // scratch of the build
+    bool field_cells_valid = false;
+    // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
+    std::vector<int32_t> world_adr, world_num, world_list, worlds_busy;
     std::vector<btVector3> force;      // the law at the body's velocity, summed over fields
     std::vector<btMatrix3x3> gain;     // its gain matrices k·R·diag|d|·R^T, summed
     std::vector<double> body_k, group_k, group_mass;
