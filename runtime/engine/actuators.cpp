@@ -95,6 +95,7 @@ void act_on(Runtime& r, int32_t comp) {
         if (a[graphicsslot::set_pose]) {
             const double* v = r.val(c.slot_adr + graphicsslot::set_pose);
             r.st.graphics[i].base = Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
+            r.st.graphics[i].base_fresh = false;
         }
         for (int32_t x = c.slot_adr + graphicsslot::count; x < c.slot_adr + c.slot_num; ++x) {
             const int32_t aux = r.tab.slot_aux[x];

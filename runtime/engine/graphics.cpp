@@ -38,7 +38,21 @@ void advance_graphics(Runtime& r) {
         if (gr.body >= 0) {
             // A parked body's graphics keep their pose: nothing to do unless animated.
             if (!r.phys.in_world(gr.body) && gs.anim < 0) continue;
-            if (r.phys.in_world(gr.body)) gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
+            if (r.phys.in_world(gr.body)) {
+                // Most bodies stand still (bands, rails): their pose is taken again only when
+                // their Bullet transform changed.
+                const btTransform& tr = r.phys.rb(gr.body).getWorldTransform();
+                if (gs.base_fresh && tr == gs.body_tr) {
+                    if (gs.anim < 0) {
+                        gs.prev = gs.pose;
+                        continue;  // base, offset and so the pose are as they were
+                    }
+                } else {
+                    gs.body_tr = tr;
+                    gs.base_fresh = true;
+                    gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
+                }
+            }
         } else if (gr.parent >= 0) {
             gs.base = pmul(s.graphics[gr.parent].pose, r.tab.graphics_local[i]);
         }

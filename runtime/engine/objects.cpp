@@ -144,8 +144,10 @@ void issue(Runtime& r, int32_t src) {
         r.st.gone[*b] = 0;
         r.phys.insert(*b);
     }
-    for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i)
+    for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i) {
         r.st.graphics[*i].base = pmul(to, r.g.graphics[*i].pose);
+        r.st.graphics[*i].base_fresh = false;
+    }
     const double code = S.id_num > 0 ? r.g.ids[S.id_adr + ss.issued % S.id_num].v.id : r.g.dos[d].path.id;
     if (int32_t l = r.tab.do_label[d]; l >= 0) r.emit(r.comp_slot(r.g.labels[l].comp, labelslot::value), code);
     ss.issued++;

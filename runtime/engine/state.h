@@ -34,6 +34,10 @@ struct GraphicsState {
     Pose pose, prev;      // base * offset, now and one step ago
     int32_t anim = -1;    // playing animation
     double t = 0;         // its time
+    // The attached body's Bullet transform `base` was computed from; `base_fresh` false when
+    // something else set `base` (set_pose, an object issued), so the body's is taken again.
+    btTransform body_tr;
+    bool base_fresh = false;
 };
 
 struct SourceState {
