@@ -261,13 +261,13 @@ Physics::World& Physics::World::operator=(World&&) noexcept = default;
 
 void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: for SAP's handles
     // Bullet's pools of contact manifolds and pair algorithms: 4,096 each by default, about
-    // 5 MiB a world. A region's world gets 128 (a line of the bottling plant has about 60
-    // contact pairs); past them Bullet takes blocks from its allocator (above), which
-    // recycles them.
+    // 5 MiB a world. A region's world gets 256 (a line of the bottling plant has up to about
+    // 150 pair algorithms alive at once); past them Bullet takes blocks from its allocator
+    // (above), which recycles them.
     btDefaultCollisionConstructionInfo ci;
     if (void_ >= 0) {
-        ci.m_defaultMaxPersistentManifoldPoolSize = 128;
-        ci.m_defaultMaxCollisionAlgorithmPoolSize = 128;
+        ci.m_defaultMaxPersistentManifoldPoolSize = 256;
+        ci.m_defaultMaxCollisionAlgorithmPoolSize = 256;
     }
     auto config = std::make_unique<btDefaultCollisionConfiguration>(ci);
     w.dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
