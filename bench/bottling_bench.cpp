@@ -9,7 +9,7 @@
 //   - bottles in circulation: issued by the storages and not yet taken by an exit,
 //     sampled every 0.1 s of the window (mean, min, max), and the number lost;
 //   - allocations: calls to operator new during the window (a counting allocator in
-//     this binary) plus the blocks Bullet's allocator took from the heap in it
+//     this binary) plus the times Bullet's allocator grew from the heap in it
 //     (plant::engine::bullet_heap_requests) — the step must take none;
 //   - peak RSS of the child, and for the largest N also the same lines with one bottle
 //     per storage: (peak RSS - that) / bottles in the pools = memory per bottle.
@@ -293,8 +293,8 @@ int main(int argc, char** argv) {
                 std::printf("| memory | allocations by the runtime in the measured steps (operator new) | %ld | 0 "
                             "| %s |\n",
                             last.news, last.news == 0 ? "yes" : "**no**");
-                std::printf("| memory | blocks Bullet took from the heap in the measured steps (new peaks of its "
-                            "recycled pools, %ld steps after a %g s warm-up) | %ld | 0 | %s |\n",
+                std::printf("| memory | times Bullet's recycled pools grew from the heap in the measured steps (new "
+                            "peaks, %ld steps after a %g s warm-up) | %ld | 0 | %s |\n",
                             last.steps, a.warmup, last.allocs - last.news, last.allocs == last.news ? "yes" : "**no**");
             } else {
                 std::printf("\nMemory: %.1f KiB per bottle (peak RSS %.1f MiB with %ld bottles in the pools, %.1f "

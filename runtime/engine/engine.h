@@ -96,8 +96,9 @@ private:
 
 // Bullet's memory comes from size-class free lists that recycle what Bullet frees
 // (physics.cpp): after the first steps, Bullet's per-step requests (broadphase tree
-// nodes, clipping arrays) are served from them. This counts the blocks taken from the
-// system heap so far, for benchmarks; 0 in sanitizer builds, which use the heap directly.
+// nodes, clipping arrays) are served from them. This counts the times they grew from the
+// system heap so far (by a quarter of a class's blocks each time), for benchmarks; 0 in
+// sanitizer builds, which use the heap directly.
 uint64_t bullet_heap_requests();
 
 }  // namespace plant::engine
