@@ -44,6 +44,9 @@ struct alignas(16) BlockHeader {
 // before it asks the heap. So no list grows without bound while another thread keeps asking the
 // heap, and the lock is taken once per batch.
 constexpr uint32_t kBatch = 64;
+// Blocks of 1 KiB and more are few and rarely asked for: they go straight to the shared lists,
+// so that no thread holds back a large block another one then takes from the heap.
+constexpr int kLocalClasses = 6;
 
 struct alignas(64) Shared {
     std::atomic_flag busy;
@@ -114,12 +117,18 @@ void bullet_free(void* p);
 
 void* bullet_alloc(size_t n) {
     const int c = size_class(n);
-    if (c < kClasses) {
+    if (c < kLocalClasses) {
         Local& l = t_local;
         if (!l.head[c]) l.take(c);
         if (void* p = l.head[c]) {
             l.head[c] = next_of(p);
             --l.count[c];
+            return p;
+        }
+    } else if (c < kClasses) {
+        Hold hold(g_shared[c]);
+        if (void* p = g_shared[c].head) {
+            g_shared[c].head = next_of(p);
             return p;
         }
     }
@@ -151,8 +160,14 @@ void bullet_free(void* p) {
     BlockHeader* h = static_cast<BlockHeader*>(p) - 1;
     if (h->mark != kMark) return std::free(p);
     if (h->cls >= uint32_t(kClasses)) return std::free(h);
-    Local& l = t_local;
     const int c = int(h->cls);
+    if (c >= kLocalClasses) {
+        Hold hold(g_shared[c]);
+        next_of(p) = g_shared[c].head;
+        g_shared[c].head = p;
+        return;
+    }
+    Local& l = t_local;
     next_of(p) = l.head[c];
     l.head[c] = p;
     if (++l.count[c] > 2 * kBatch) l.give(c, kBatch);
@@ -398,7 +413,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     // order; pooled ones are parked. A pool's objects all start at one pose: they join without
     // a filter, or the broadphase would pair each with every other at once (a million pairs
     // for a pool of 1,000 bottles).
-    find_regions();
+    find_regions(bp != Broadphase::Sap);
     contacts_->freeze();
     {
         std::vector<size_t> count(worlds_.size());

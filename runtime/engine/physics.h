@@ -136,7 +136,7 @@ private:
     World& world_at(int32_t b) { return worlds_[size_t(world_of_[b])]; }
     void make_world(World& w, Broadphase bp, size_t bodies);
     // regions.cpp
-    void find_regions();
+    void find_regions(bool split);  // split: regions allowed (not with sweep-and-prune)
     int home(int32_t b) const;  // the region whose box b's bounding box meets, or the void
     void assign_worlds();
     void move_group(int32_t group, int to);

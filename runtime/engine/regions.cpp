@@ -119,7 +119,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
 
 }  // namespace
 
-void Physics::find_regions() {
+void Physics::find_regions(bool split) {
     const size_t nb = g_.bodies.size();
     auto is_static = [this](size_t b) { return g_.bodies[b].mode == BodyMode::Static; };
 
@@ -199,7 +199,9 @@ void Physics::find_regions() {
 
     const size_t regions = roots.size();
     world_of_.assign(nb, 0);
-    if (regions <= 1) {
+    // Sweep-and-prune has a fixed number of handles per world, and bodies move between worlds:
+    // with it, one world.
+    if (regions <= 1 || !split) {
         worlds_.resize(1);
         void_ = -1;
         return;

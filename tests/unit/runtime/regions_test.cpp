@@ -154,3 +154,14 @@ TEST_CASE("runtime: a static body placed outside its region's box merges every w
     CHECK(e.body_pose(cube).p[2] == doctest::Approx(0.05).epsilon(0.05));  // caught by floor b
     CHECK(phys.world(0).getNumCollisionObjects() == 3);
 }
+
+TEST_CASE("runtime: with sweep-and-prune a plant of lines far apart keeps one Bullet world") {
+    const Graph g = bottling_scene(6, 0.5, 3);
+    Options o = on_threads(2);
+    o.broadphase = Broadphase::Sap;
+    Engine e(g, o);
+    CHECK(e.regions() == 1);
+    CHECK(e.internals().phys.worlds() == 1);
+    for (int i = 0; i < 300; ++i) e.step();
+    CHECK(e.warnings().total() == 0);
+}
