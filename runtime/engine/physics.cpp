@@ -39,7 +39,7 @@ struct alignas(16) BlockHeader {
     uint32_t cls;
 };
 // The worlds step on several threads, and a block one thread took may be freed by another. Each
-// thread recycles through lists of its own; a list that grows past 2 batches hands a batch to
+// thread recycles small blocks through lists of its own; a list that grows past 2 batches hands a batch to
 // the shared list of its class (behind a spin lock), and an empty one takes a batch from there
 // before it asks the heap. So no list grows without bound while another thread keeps asking the
 // heap, and the lock is taken once per batch.
