@@ -138,6 +138,9 @@ private:
     // regions.cpp
     void find_regions(bool split);  // split: regions allowed (not with sweep-and-prune)
     int home(int32_t b) const;  // the region whose box b's bounding box meets, or the void
+    void aabb(int32_t b, btScalar grow, btVector3& lo, btVector3& hi) const;  // now, grown
+    // A welded passenger: in the world, but not in Bullet's (its carrier stands for it).
+    bool carried(int32_t b) const { return welded(b) && welds_[weld_of_[b]].pass == b; }
     void assign_worlds();
     void move_group(int32_t group, int to);
     void merge_worlds();

@@ -176,7 +176,7 @@ void Physics::find_regions(bool split) {
     std::vector<Box> boxes(nb);
     std::vector<int32_t> items;
     for (size_t b = 0; b < nb; ++b) {
-        bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), boxes[b].lo, boxes[b].hi);
+        aabb(int32_t(b), 0, boxes[b].lo, boxes[b].hi);
         if (!(boxes[b].lo.x() <= boxes[b].hi.x()))  // a shape without extent: its origin
             boxes[b].lo = boxes[b].hi = bodies_[b]->getWorldTransform().getOrigin();
         if (anchored_[size_t(group_of_[b])]) items.push_back(int32_t(b));
@@ -226,14 +226,18 @@ void Physics::find_regions(bool split) {
     }
 }
 
+void Physics::aabb(int32_t b, btScalar grow, btVector3& lo, btVector3& hi) const {
+    bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
+    const btVector3 m(grow, grow, grow);
+    lo -= m, hi += m;
+}
+
 int Physics::home(int32_t b) const {
     const int cur = world_of_[b];
     const btVector3& o = bodies_[b]->getWorldTransform().getOrigin();
     if (cur != void_ && inside(o, o, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;  // most
     btVector3 lo, hi;
-    bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
-    const btVector3 m(kNear, kNear, kNear);
-    lo -= m, hi += m;
+    aabb(b, kNear, lo, hi);
     if (cur != void_ && overlap(lo, hi, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;
     for (int w = 0; w < void_; ++w)
         if (overlap(lo, hi, worlds_[size_t(w)].lo, worlds_[size_t(w)].hi)) return w;
@@ -241,14 +245,8 @@ int Physics::home(int32_t b) const {
 }
 
 void Physics::assign_worlds() {
-    auto present = [this](int32_t b) {  // in the world and in Bullet's (not carried by a weld)
-        return in_world_[b] && !(welded(b) && welds_[weld_of_[b]].pass == b);
-    };
-    auto box = [this](int32_t b, btVector3& lo, btVector3& hi) {
-        bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
-        const btVector3 m(kNear, kNear, kNear);
-        lo -= m, hi += m;
-    };
+    auto present = [this](int32_t b) { return in_world_[b] && !carried(b); };  // and in Bullet's
+    auto box = [this](int32_t b, btVector3& lo, btVector3& hi) { aabb(b, kNear, lo, hi); };
     // Free groups: to the region whose box they meet.
     void_groups_.clear();
     for (int32_t gi : free_groups_) {
@@ -349,7 +347,7 @@ void Physics::merge_worlds() {
 
 void Physics::placed_static(int32_t b) {
     btVector3 lo, hi;
-    bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
+    aabb(b, 0, lo, hi);
     const World& w = world_at(b);
     if (!inside(lo, hi, w.lo, w.hi)) merge_worlds();
 }
@@ -368,10 +366,9 @@ void Physics::move_group(int32_t gi, int to) {
         }
     }
     for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-        const bool carried = welded(*b) && welds_[weld_of_[*b]].pass == *b;
-        if (!carried) world_at(*b).world->removeRigidBody(bodies_[*b].get());
+        if (!carried(*b)) world_at(*b).world->removeRigidBody(bodies_[*b].get());
         world_of_[*b] = to;
-        if (carried) continue;
+        if (carried(*b)) continue;
         // Bullet files a body as static or not when it joins: a parked one joins as if it were
         // in the world, so that it is simulated once it is inserted again.
         const int state = bodies_[*b]->getActivationState();

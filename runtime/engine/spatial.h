@@ -1,8 +1,9 @@
-// The bodies that fields and triggers look at (declared dynamic and in the world),
-// sorted by (y cell, x) of their centre of mass — y cells 1 m wide — so that a box
-// volume visits only the bodies in its x range within the cells its y range covers,
-// instead of all of them. (Sorted by x alone, plants of many lines side by side made
-// every band visit the bottles of every line at its x.) The order barely changes
+// The bodies that triggers look at (declared dynamic and in the world), sorted by
+// (y cell, x) of their centre of mass — y cells 1 m wide — so that a box volume visits
+// only the bodies in its x range within the cells its y range covers, instead of all of
+// them. (Sorted by x alone, plants of many lines side by side made every trigger visit
+// the bottles of every line at its x.) Fields go the other way: each body looks up its
+// fields (fields.cpp). The order barely changes
 // between steps, so an insertion sort keeps it sorted in about linear time.
 #pragma once
 

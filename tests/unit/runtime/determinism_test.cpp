@@ -2,6 +2,7 @@
 #include "engine/engine.h"
 #include "engine/trace.h"
 #include "bottling_scene.h"
+#include "trace_of.h"
 
 #include <doctest/doctest.h>
 
@@ -10,7 +11,6 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
-#include <sstream>
 
 using namespace plant::test;
 using namespace plant::engine;
@@ -54,19 +54,6 @@ uint64_t fnv1a(const std::string& s) {
     uint64_t h = 1469598103934665603ull;
     for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
     return h;
-}
-
-std::string trace_of(const Graph& g, int steps) {
-    Engine e(g);
-    std::ostringstream out;
-    TraceWriter w(e, trace_columns(g, {}), out);
-    w.header();
-    for (int i = 0; i < steps; ++i) {
-        e.step();
-        w.row();
-    }
-    w.flush();
-    return out.str();
 }
 
 }  // namespace

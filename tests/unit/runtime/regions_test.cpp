@@ -4,11 +4,11 @@
 #include "engine/runtime.h"
 #include "engine/trace.h"
 #include "bottling_scene.h"
+#include "trace_of.h"
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <doctest/doctest.h>
 
-#include <sstream>
 
 using namespace plant::test;
 using namespace plant::engine;
@@ -21,23 +21,15 @@ Options on_threads(int n) {
     return o;
 }
 
-std::string trace_of(const Graph& g, int steps, int threads) {
-    Engine e(g, on_threads(threads));
-    std::ostringstream out;
-    TraceWriter w(e, trace_columns(g, {true, true, false}), out);
-    w.header();
-    for (int i = 0; i < steps; ++i) {
-        e.step();
-        w.row();
-    }
-    w.flush();
-    return out.str();
-}
-
 // Two frictional floors 1.2 m square, their tops at z = 0, centred at x = 0 and x = `far`.
 void two_floors(SceneBuilder& b, double far) {
     b.body(0, "floor_a", BodyMode::Static, {box({1.2, 1.2, 0.2})}, 0, at(0, 0, -0.1), 1.0);
     b.body(0, "floor_b", BodyMode::Static, {box({1.2, 1.2, 0.2})}, 0, at(far, 0, -0.1), 1.0);
+}
+
+// A 10 cm frictional cube of 1 kg.
+int32_t cube_at(SceneBuilder& b, double x, double z) {
+    return b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0, at(x, 0, z), 1.0);
 }
 
 }  // namespace
@@ -87,7 +79,9 @@ TEST_CASE("runtime: lines far apart are physics regions, a Bullet world each, an
 
 TEST_CASE("runtime: a plant of several regions gives the same trace on one thread and on two") {
     const Graph g = bottling_scene(6, 0.5, 3);
-    const std::string one = trace_of(g, 900, 1), two = trace_of(g, 900, 2);
+    const TraceSelect bodies_and_places{true, true, false};
+    const std::string one = trace_of(g, 900, on_threads(1), bodies_and_places),
+                      two = trace_of(g, 900, on_threads(2), bodies_and_places);
     CHECK(one.size() > 10000);
     CHECK(one == two);
     CHECK(one.find(",1,") != std::string::npos);  // alive: bottles issued, routed, taken
@@ -96,8 +90,7 @@ TEST_CASE("runtime: a plant of several regions gives the same trace on one threa
 TEST_CASE("runtime: a body thrown from one region over the void lands on the other region's floor") {
     SceneBuilder b;
     two_floors(b, 4);
-    const int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0,
-                                at(0, 0, 0.05), 1.0);
+    const int32_t cube = cube_at(b, 0, 0.05);
     Engine e(b.g, on_threads(2));
     auto& phys = e.internals().phys;
     REQUIRE(e.regions() == 2);
@@ -140,8 +133,7 @@ TEST_CASE("runtime: a body in the void collides with a body of a region that rea
 TEST_CASE("runtime: a static body placed outside its region's box merges every world into one") {
     SceneBuilder b;
     two_floors(b, 4);
-    const int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0,
-                                at(8, 0, 0.5), 1.0);
+    const int32_t cube = cube_at(b, 8, 0.5);
     Engine e(b.g, on_threads(2));
     auto& phys = e.internals().phys;
     REQUIRE(e.regions() == 2);

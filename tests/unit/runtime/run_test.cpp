@@ -65,6 +65,17 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(run(g, {"--event", "1s line.belt.set_speed"}, out, err) == 2);  // needs a value
     CHECK(run(g, {"--events", "/nonexistent/events.txt"}, out, err) == 2);
     CHECK(run(g, {"--broadphase", "octree"}, out, err) == 2);
+    CHECK(run(g, {"--threads", "0"}, out, err) == 2);
+    CHECK(err.find("--threads: '0' is not a number of threads") != std::string::npos);
+    CHECK(run(g, {"--threads", "two"}, out, err) == 2);
+}
+
+TEST_CASE("runtime: run_main names the physics regions and their threads in the summary") {
+    std::string out, err;
+    CHECK(run(bottling_scene(2, 0.5, 2), {"--for", "0.1s", "--quiet", "--threads", "2"}, out, err) == 0);
+    CHECK(out.find("physics regions:  2 (a Bullet world each), on 2 threads") != std::string::npos);
+    CHECK(run(bottling_scene(2), {"--for", "0.1s", "--quiet", "--threads", "2"}, out, err) == 0);
+    CHECK(out.find("physics regions") == std::string::npos);  // one region: as before
 }
 
 TEST_CASE("runtime: run_main runs, traces and summarises") {
