@@ -9,7 +9,8 @@
 # (the plot), summary.md (the headline numbers), and runs/ (each run's compiled graph and
 # raw trace).
 #
-#   traction  a bottle let go on a belt at 50 cm/s, k = 1, 4, 16 kg/s          (1 s each)
+#   traction  a bottle let go on a belt at 50 cm/s, k = 1, 4, 16 kg/s          (1 s each;
+#             again at 600, 2400 and 9600 Hz for the step-by-step table and traction_rates.png)
 #   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16 and 0.5 kg/s (3 s each)
 #   spacing   two bottles 20 cm apart on a loop of 5 belts and 6 curves         (50 s)
 #
@@ -21,7 +22,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
 
 out=out/experiments
 only=()
@@ -119,8 +120,23 @@ run_experiment() {
     "$plant" run "$dir/runs/$tag.graph" --for "${seconds}s" --trace "$dir/runs/$tag.csv" --quiet > "$dir/runs/$tag.summary"
     pairs+=("$dir/runs/$tag.graph" "$dir/runs/$tag.csv")
   done
+  # Traction: the same runs at finer steps, for the summary's step-by-step table.
+  if [ "$name" = traction ]; then
+    local graphs=() g r base
+    for ((i = 0; i < ${#pairs[@]}; i += 2)); do graphs+=("${pairs[$i]}"); done
+    base="$(sed -n 's/^settings rate=\([^ ]*\).*/\1/p' "${graphs[0]}")"
+    for r in 600 2400 9600; do
+      [ "$r" = "$base" ] && continue
+      echo "   (each again with --rate ${r}Hz)"
+      for g in "${graphs[@]}"; do
+        "$plant" run "$g" --rate "${r}Hz" --for "${seconds}s" --trace "${g%.graph}_${r}Hz.csv" --quiet > "${g%.graph}_${r}Hz.summary"
+        pairs+=("$g" "${g%.graph}_${r}Hz.csv")
+      done
+    done
+  fi
   "$analyse" "$name" "$dir" "${pairs[@]}"
   (cd "$dir" && gnuplot "$name.gp")
+  [ "$name" != traction ] || (cd "$dir" && gnuplot traction_rates.gp)
   echo "   wrote $dir/$name.csv, $name.png, $name.svg, summary.md"
 }
 

@@ -84,6 +84,7 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
     const Vec3 c{(b.m_main * m.pose.p[0] + b.m_bottom * f.pose.p[0]) / b.mass(),
                  (b.m_main * m.pose.p[1] + b.m_bottom * f.pose.p[1]) / b.mass(),
                  (b.m_main * m.pose.p[2] + b.m_bottom * f.pose.p[2]) / b.mass()};
+    b.gravity_along = dot(g.settings.gravity, b.belt_dir);
     b.z_main = m.pose.p[2] - c[2];
     b.z_bottom = f.pose.p[2] - c[2];
     // The tipping axis: horizontal, across the belt.
@@ -162,10 +163,37 @@ double runtime_upright_speed(double t, double v0, double v_target, const Bottle&
     return v_target + (v0 - v_target) * std::pow(1 - runtime_step_fraction(b, dt), t / dt);
 }
 
-Traction analyse_traction(const std::vector<double>& t, const std::vector<double>& v, const Bottle& b, double dt) {
+double lean_along(const Quat& q, const Vec3& dir) { return dot(axis(q), dir); }
+
+std::vector<double> leaning_speed(const std::vector<double>& t, const std::vector<double>& lean, double v0,
+                                  const Bottle& b) {
+    const size_t n = std::min(t.size(), lean.size());
+    std::vector<double> v(n);
+    if (n == 0) return v;
+    v[0] = v0;
+    const double K = b.k_main + b.k_bottom, S = b.k_main * b.z_main + b.k_bottom * b.z_bottom, M = b.mass();
+    for (size_t i = 1; i < n; ++i) {
+        const double h = t[i] - t[i - 1];
+        if (K <= 0) {  // no pull: only gravity and the lean's shift between the bodies
+            v[i] = v[i - 1] + b.gravity_along * h;
+            continue;
+        }
+        const double target = b.belt_speed + (M * b.gravity_along - S * (lean[i] - lean[i - 1]) / h) / K;
+        v[i] = target + (v[i - 1] - target) * std::exp(-K * h / M);
+    }
+    return v;
+}
+
+Traction analyse_traction(const std::vector<double>& t, const std::vector<double>& v, const Bottle& b, double dt,
+                          const std::vector<double>& lean) {
     Traction r;
     const size_t n = std::min(t.size(), v.size());
     if (n == 0) return r;
+    if (lean.size() >= n) {
+        const std::vector<double> law = leaning_speed(t, lean, v[0], b);
+        for (size_t i = 0; i < n; ++i)
+            if (std::abs(v[i] - law[i]) > std::abs(r.max_dev_lean)) r.max_dev_lean = v[i] - law[i], r.max_dev_lean_time = t[i];
+    }
     const double v_target = b.belt_speed;
     r.t95 = time_to_fraction(t, v, v_target, 0.95);
     r.t95_analytic = upright_time_to_fraction(0.95, b.gain_sum, b.mass());

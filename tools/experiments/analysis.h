@@ -41,6 +41,8 @@ struct Bottle {
     // The bottle's moment of inertia about the horizontal axis across its belt through its
     // centre of mass (kg·m²): the axis it tips about.
     double inertia = 0;
+    // Gravity along the belt direction (m/s²): not 0 where the band slopes.
+    double gravity_along = 0;
     double mass() const { return m_main + m_bottom; }
     double lever_sum() const { return z_main + z_bottom; }
 };
@@ -84,6 +86,23 @@ double runtime_step_fraction(const Bottle& b, double dt);
 // exponential): v_target + (v0 − v_target)·(1 − fraction)^(t/dt).
 double runtime_upright_speed(double t, double v0, double v_target, const Bottle& b, double dt);
 
+// How far a body's z axis (the bottle's axis) leans along `dir`, a unit vector: the axis
+// dotted with `dir`, the sine of pitch_deg. < 0 while the top lags behind.
+double lean_along(const Quat& q, const Vec3& dir);
+
+// The law's exact solution for a bottle that leans. Nothing but the law and gravity acts
+// along the belt (frictionless contacts push across the band), and body i, at height z_i
+// above the centre of mass on the bottle's axis, moves along the belt at V + z_i·dλ/dt,
+// λ the lean (lean_along). So the centre of mass's speed V obeys
+//   M·dV/dt = Σk_i·(v_target − V) − (Σ k_i·z_i)·dλ/dt + M·g_along,
+// linear in V, with the lean as its input. Solved exactly in time with λ linear between
+// the samples: over a step of length h with e = exp(−Σk·h/M) and
+// V* = v_target + (M·g_along − Σk_i z_i·Δλ/h)/Σk,
+//   V(t + h) = V* + (V(t) − V*)·e.
+// With λ constant it is upright_speed. Returns V at the samples t, from V(t[0]) = v0.
+std::vector<double> leaning_speed(const std::vector<double>& t, const std::vector<double>& lean, double v0,
+                                  const Bottle& b);
+
 struct Traction {
     double t95 = 0;            // simulated time to 95 % of belt speed, s
     double t95_analytic = 0;   // the same for the exact upright solution (upright_speed)
@@ -92,11 +111,15 @@ struct Traction {
     double max_dev_time = 0;   // when
     double max_dev_runtime = 0;       // largest |simulated − runtime_upright_speed|, m/s, signed
     double max_dev_runtime_time = 0;  // when
+    double max_dev_lean = 0;          // largest |simulated − leaning_speed|, m/s, signed (0 without a lean)
+    double max_dev_lean_time = 0;     // when
     double overshoot = 0;      // max(v) − belt speed, m/s (≤ 0: none)
     double max_drop = 0;       // largest fall below the speed reached before, m/s
     double final_speed = 0;    // last sample
 };
-Traction analyse_traction(const std::vector<double>& t, const std::vector<double>& v, const Bottle& b, double dt);
+// `lean`: the bottle's lean per sample (lean_along), for max_dev_lean; empty: not known.
+Traction analyse_traction(const std::vector<double>& t, const std::vector<double>& v, const Bottle& b, double dt,
+                          const std::vector<double>& lean = {});
 
 // ---- tilt ----
 

@@ -49,6 +49,57 @@ TEST_CASE("experiments: the runtime's step is exact for a bottle without lever a
     CHECK(runtime_step_fraction(b, dt) == 0);
 }
 
+TEST_CASE("experiments: the law's exact solution for a leaning bottle") {
+    Bottle b;
+    b.m_main = 0.036;
+    b.m_bottom = 0.004;
+    b.k_main = b.k_bottom = 1;
+    b.gain_sum = 2;
+    b.z_main = 0.0037;
+    b.z_bottom = -0.0333;
+    b.belt_speed = 0.5;
+    const double M = b.mass(), K = 2, S = b.z_main + b.z_bottom;
+    // A bottle that does not lean follows the upright solution.
+    std::vector<double> t, still;
+    for (int i = 0; i <= 60; ++i) t.push_back(i / 150.0), still.push_back(0.01);
+    const std::vector<double> v = leaning_speed(t, still, 0, b);
+    for (size_t i = 0; i < t.size(); ++i) CHECK(v[i] == doctest::Approx(upright_speed(t[i], 0, 0.5, K, M)));
+    // A smooth lean, sampled every 2 ms: against M·dV/dt = K·(v_belt − V) − S·dλ/dt
+    // integrated by classical Runge-Kutta every microsecond with the exact dλ/dt.
+    const double A = 0.03, w = 40;
+    auto lean = [&](double x) { return -A * std::sin(w * x); };
+    auto rate = [&](double x, double V) { return (K * (0.5 - V) - S * (-A * w * std::cos(w * x))) / M; };
+    std::vector<double> ts, ls;
+    for (int i = 0; i <= 100; ++i) ts.push_back(i * 0.002), ls.push_back(lean(i * 0.002));
+    const std::vector<double> law = leaning_speed(ts, ls, 0, b);
+    double V = 0, x = 0, worst = 0;
+    const double h = 1e-6;
+    for (size_t i = 1; i < ts.size(); ++i) {
+        while (x < ts[i] - h / 2) {
+            const double k1 = rate(x, V), k2 = rate(x + h / 2, V + h / 2 * k1), k3 = rate(x + h / 2, V + h / 2 * k2),
+                         k4 = rate(x + h, V + h * k3);
+            V += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+            x += h;
+        }
+        worst = std::max(worst, std::abs(law[i] - V));
+    }
+    CHECK(worst < 1e-3 * 0.5);                            // within 0.1 % of the belt speed
+    CHECK(std::abs(law[50] - upright_speed(ts[50], 0, 0.5, K, M)) > 0.01);  // and the lean matters
+    // On a slope gravity shifts the speed the law settles at by M·g_along/Σk.
+    b.gravity_along = -0.1;
+    std::vector<double> tl, flat;
+    for (int i = 0; i <= 300; ++i) tl.push_back(i / 150.0), flat.push_back(0);
+    CHECK(leaning_speed(tl, flat, 0, b).back() == doctest::Approx(0.5 - M * 0.1 / K));
+    // analyse_traction reports the largest gap to it.
+    b.gravity_along = 0;
+    std::vector<double> sim = leaning_speed(ts, ls, 0, b);
+    sim[30] -= 0.004;
+    const Traction tr = analyse_traction(ts, sim, b, 0.002, ls);
+    CHECK(tr.max_dev_lean == doctest::Approx(-0.004));
+    CHECK(tr.max_dev_lean_time == doctest::Approx(ts[30]));
+    CHECK(analyse_traction(ts, sim, b, 0.002).max_dev_lean == 0);  // no lean given
+}
+
 TEST_CASE("experiments: traction numbers from a sampled curve") {
     Bottle b;
     b.m_main = 0.04;
@@ -78,6 +129,8 @@ TEST_CASE("experiments: tilt and signed lean of a body's z axis") {
     CHECK(pitch_deg(about_y(30), {1, 0, 0}) == doctest::Approx(30));    // top towards +x: forwards
     CHECK(pitch_deg(about_y(30), {-1, 0, 0}) == doctest::Approx(-30));  // on a belt running along -x
     CHECK(pitch_deg(about_y(30), {0, 1, 0}) == doctest::Approx(0));     // a lean across the belt
+    CHECK(lean_along(about_y(30), {1, 0, 0}) == doctest::Approx(0.5));   // the sine of the pitch
+    CHECK(lean_along(about_y(-30), {1, 0, 0}) == doctest::Approx(-0.5));
     const double h = 10 * std::numbers::pi / 360;
     CHECK(tilt_deg({std::sin(h), 0, 0, std::cos(h)}) == doctest::Approx(10));  // about x
 }
