@@ -139,3 +139,47 @@ TEST_CASE("std.switch: without a request every bottle runs straight on") {
     CHECK(e.warnings().total() == 0);
     MESSAGE("base position: worst tilt " << worst << " deg");
 }
+
+TEST_CASE("std.switch: the blade's graphics swings out to the working position and back to the base position") {
+    plant::Compilation c;
+    compile_text("import std.switch\nplant P { sw: Switch(side = -1, blade_angle = 20 deg, swing = 200 ms) }\n", c,
+                 "switch_blade.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const int32_t look = row_of_comp(c.graph, c.graph.graphics, "sw.look");
+    REQUIRE(look >= 0);
+    const int32_t to_working = slot_named(c.graph, "sw.net.MoveToWorkingPos.put");
+    const int32_t to_base = slot_named(c.graph, "sw.net.MoveToBasePos.put");
+    REQUIRE(to_working >= 0);
+    REQUIRE(to_base >= 0);
+    Engine e(c.graph);
+    e.step();
+    const plant::graph::Quat q0 = e.graphics_pose(look).q;
+    const plant::graph::Vec3 p0 = e.graphics_pose(look).p;  // the blade turns about its own origin
+    // The angle about z between the start pose and q (both rotations about z only).
+    auto turned_deg = [&](const plant::graph::Quat& q) {
+        const double a0 = 2 * std::atan2(q0[2], q0[3]), a = 2 * std::atan2(q[2], q[3]);
+        double d = (a - a0) * 180 / std::numbers::pi;
+        while (d > 180) d -= 360;
+        while (d < -180) d += 360;
+        return d;
+    };
+    auto run = [&](double seconds) {
+        for (int i = 0; i < int(seconds * 150); ++i) e.step();
+    };
+    e.input(to_working);
+    run(0.1);
+    const double halfway = turned_deg(e.graphics_pose(look).q);
+    run(0.4);
+    CHECK(turned_deg(e.graphics_pose(look).q) == doctest::Approx(-20).epsilon(1e-6));  // side −1: turned by −20°
+    CHECK(halfway < -1);
+    CHECK(halfway > -19);
+    e.input(to_base);
+    run(0.1);
+    const double back_halfway = turned_deg(e.graphics_pose(look).q);
+    run(0.4);
+    CHECK(back_halfway < -1);  // on its way back from the working position
+    CHECK(back_halfway > -19);
+    CHECK(std::abs(turned_deg(e.graphics_pose(look).q)) < 1e-6);  // back at the start pose
+    for (int i = 0; i < 3; ++i) CHECK(e.graphics_pose(look).p[size_t(i)] == doctest::Approx(p0[size_t(i)]));
+}
