@@ -137,3 +137,30 @@ TEST_CASE("std.separator: hold keeps it closed, free lets the queue go") {
     CHECK(worst_tilt < 10);
     MESSAGE("held queue: worst tilt " << worst_tilt << " deg");
 }
+
+TEST_CASE("std.separator: a gate's pin graphics goes up on open and back down to its start pose on close") {
+    plant::Compilation c;
+    compile_text("import std.separator\nplant P { g: Gate(lift = 100 ms) }\n", c, "gate_look.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const int32_t look = row_of_comp(c.graph, c.graph.graphics, "g.look");
+    const int32_t open = slot_named(c.graph, "g.look.raise.play"), close = slot_named(c.graph, "g.look.lower.play");
+    REQUIRE(look >= 0);
+    REQUIRE(open >= 0);
+    REQUIRE(close >= 0);
+    Engine e(c.graph);
+    e.step();
+    const double z0 = e.graphics_pose(look).p[2];
+    auto run = [&](int steps) {
+        for (int i = 0; i < steps; ++i) e.step();
+    };
+    e.input(open);
+    run(30);
+    CHECK(e.graphics_pose(look).p[2] == doctest::Approx(z0 + 0.06));
+    e.input(close);
+    run(8);  // about halfway down
+    CHECK(e.graphics_pose(look).p[2] > z0 + 0.01);
+    CHECK(e.graphics_pose(look).p[2] < z0 + 0.05);
+    run(30);
+    CHECK(e.graphics_pose(look).p[2] == doctest::Approx(z0));
+}
