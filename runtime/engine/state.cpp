@@ -87,7 +87,8 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.variant.resize(g.graphics.size());
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         s.graphics[i].base = s.graphics[i].pose = s.graphics[i].prev = g.graphics[i].pose;
-        s.variant[i] = g.graphics[i].variant;
+        const Graphics& gr = g.graphics[i];
+        s.variant[i] = gr.variant >= 0 ? gr.variant_adr + gr.variant : -1;  // a Variant id
     }
 
     s.sources.resize(g.sources.size());

@@ -251,7 +251,7 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, anim_num)                                   \
     F(int32_t, variant_adr)                                \
     F(int32_t, variant_num)                                \
-    F(int32_t, variant)   /* initial variant, -1: model */
+    F(int32_t, variant)   /* initial variant, among its own (variant_adr + variant), -1: model */
 
 #define PLANT_FIELDS_ANIMATION(F)                            \
     F(int32_t, graphics)                                     \

@@ -1,4 +1,5 @@
 // Triggers, timers, graphics.
+#include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "scene_builder.h"
 
@@ -114,6 +115,32 @@ TEST_CASE("runtime: graphics animations play relative to the start pose and repo
     e.step();
     CHECK(e.str(int32_t(e.value(b.S(gc, "shown"))[0])) == "filled");
     CHECK(e.active(b.S(gc, "shown")));
+}
+
+TEST_CASE("runtime: each graphics starts with the variant its `show` names") {
+    // The second graphics' variants follow the first's in the variants table: its `show`
+    // is an index among its own variants, not a row of the table.
+    plant::Compilation c;
+    compile_text(R"(
+plant P {
+    graphics a { model = "a.glb"; variant x = "ax.glb"; variant y = "ay.glb"; show = "y" }
+    graphics b { model = "b.glb"; variant p = "bp.glb"; variant q = "bq.glb"; variant r = "br.glb"; show = "r" }
+    graphics c { model = "c.glb"; variant u = "cu.glb" }
+}
+)", c, "variants.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    Engine e(c.graph);
+    auto shown = [&](const char* path) {
+        for (size_t s = 0; s < c.graph.slots.size(); ++s)
+            if (c.graph.slot_path(int32_t(s)) == path) return std::string(e.str(int32_t(e.value(int32_t(s))[0])));
+        FAIL("no slot " << path);
+        return std::string();
+    };
+    e.step();
+    CHECK(shown("a.shown") == "y");
+    CHECK(shown("b.shown") == "r");
+    CHECK(shown("c.shown") == "c.glb");
 }
 
 TEST_CASE("runtime: graphics attached to a body track it") {
