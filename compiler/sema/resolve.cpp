@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace plant::sema {
 
 using graph::Dir;
@@ -321,7 +323,8 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
             column += (column.empty() ? "" : ".") + seg.name.text;
             if (seg.index) {
                 Value i = ev_.eval(*seg.index, env);
-                column += i.kind == Value::Kind::Num ? fmt::format("[{}]", static_cast<long long>(i.num)) : "[?]";
+                const bool whole = i.kind == Value::Kind::Num && std::floor(i.num) == i.num && std::abs(i.num) < 9e15;
+                column += whole ? fmt::format("[{}]", static_cast<long long>(i.num)) : "[?]";
             }
         }
     }

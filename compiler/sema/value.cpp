@@ -75,7 +75,26 @@ bool report_name(Sink& sink, const Value& v, std::string_view what) {
 
 }  // namespace
 
+namespace {
+bool all_finite(const Value& v) {
+    if (v.kind == Value::Kind::Num) return std::isfinite(v.num);
+    if (v.kind == Value::Kind::Vec)
+        for (const Value& x : v.items)
+            if (!all_finite(x)) return false;
+    return true;
+}
+}  // namespace
+
 Value Evaluator::eval(const ast::Expr& e, const Env& env) {
+    Value v = eval_raw(e, env);
+    if (all_finite(v)) return v;
+    sink_.report(DiagId::ArithmeticError, e.span,
+                 v.kind == Value::Kind::Vec || std::isinf(v.num) ? "this value is too large to be represented"
+                                                                   : "this value is not a number (an undefined operation)");
+    return {};
+}
+
+Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
     using K = ast::ExprKind;
     switch (e.kind) {
     case K::Number: {
@@ -281,12 +300,13 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                 r.boolean = op == "<" ? a.num < b.num : op == "<=" ? a.num <= b.num
                           : op == ">" ? a.num > b.num : a.num >= b.num;
             }
+            r.integer = r.integer && std::abs(r.num) < 9e15;  // whole numbers stay exact in a double
             return r;
         }
         if (op == "*") {
             r.num = a.num * b.num;
             r.dim = a.dim * b.dim;
-            r.integer = a.integer && b.integer;
+            r.integer = a.integer && b.integer && std::abs(r.num) < 9e15;
             return r;
         }
         if (op == "/") {
@@ -494,6 +514,13 @@ bool Evaluator::expect_int(const Value& v, std::string_view what) {
     if (v.kind != Value::Kind::Num || !v.dim.none() || std::floor(v.num) != v.num) {
         sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a whole number, not {}", what,
                                                                     with_article(v.kind == Value::Kind::Num && v.dim.none() ? "fraction" : describe(v))));
+        return false;
+    }
+    // Loop bounds and indices become 64-bit integers; beyond 9e15 a double no longer
+    // holds every whole number either.
+    if (std::abs(v.num) >= 9e15) {
+        sink_.report(DiagId::ValueTypeMismatch, v.span,
+                     fmt::format("{} must be a whole number of at most 15 digits, not {}", what, v.num));
         return false;
     }
     return true;

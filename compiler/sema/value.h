@@ -63,6 +63,8 @@ class Evaluator {
 public:
     Evaluator(Sink& sink, const TypeLookup& types) : sink_(sink), types_(types) {}
     // Evaluates; on error reports and returns a None value (no cascade of errors).
+    // A number that overflows or is undefined (an infinity, a NaN) is reported where it
+    // arises (E0212) and the value is None, so no plant gets a non-finite quantity.
     Value eval(const ast::Expr& e, const Env& env);
 
     // Checks helpers: report E0203/E0204 and return false on mismatch.
@@ -74,6 +76,7 @@ public:
     Sink& sink() { return sink_; }
 
 private:
+    Value eval_raw(const ast::Expr& e, const Env& env);
     Value binary(const ast::Expr& e, const Value& a, const Value& b);
     Value call(const ast::Expr& e, const Env& env);
     Sink& sink_;
