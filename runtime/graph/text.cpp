@@ -1,5 +1,7 @@
 #include "text.h"
 
+#include "validate.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -7,8 +9,10 @@
 #include <fstream>
 #include <istream>
 #include <iterator>
+#include <map>
 #include <ostream>
 #include <type_traits>
+#include <vector>
 
 namespace plant::graph {
 namespace {
@@ -107,6 +111,15 @@ private:
 
 // ---- reading ----
 
+// The element word of a table ("comps" -> "comp"), for messages.
+std::string_view element_word(std::string_view member) {
+#define PLANT_ELEMENT_WORD(member_, Record, elem, FIELDS) \
+    if (member == #member_) return #elem;
+    PLANT_GRAPH_TABLES(PLANT_ELEMENT_WORD)
+#undef PLANT_ELEMENT_WORD
+    return member;
+}
+
 // What a value was expected to be, for messages.
 constexpr std::string_view what(int32_t) { return "integer"; }
 constexpr std::string_view what(double) { return "number"; }
@@ -134,6 +147,12 @@ class Reader {
 public:
     Reader(std::istream& in, Graph& g) : in_(in), g_(g) {}
     const std::string& error() const { return error_; }
+    // The line each record was read from, per table member name; the settings line as "".
+    int line_of(std::string_view member, int32_t row) const {
+        auto it = lines_.find(std::string(member));
+        if (it == lines_.end() || row < 0 || size_t(row) >= it->second.size()) return settings_line_;
+        return it->second[size_t(row)];
+    }
 
     bool read() {
         Graph& g = g_;
@@ -141,7 +160,9 @@ public:
         if (!lit(" ") || rest_ != kVersion)
             return fail(fmt::format("unsupported version '{}' (expected {})", snippet(rest_), kVersion));
         if (!line("plant") || !arg("plant", g.plant) || !end_of_line()) return false;
-        if (!line("settings") || !field("rate", g.settings.rate) ||
+        if (!line("settings")) return false;
+        settings_line_ = line_no_;
+        if (!field("rate", g.settings.rate) ||
             !field("gravity", g.settings.gravity) || !end_of_line())
             return false;
         if (!table("files", "file", g.files, [&](std::string& f) { return arg("file", f); }))
@@ -327,6 +348,7 @@ private:
             R r{};
             if (!fields(r) || !end_of_line()) return false;
             rows.push_back(std::move(r));
+            lines_[std::string(member)].push_back(line_no_);
         }
         return true;
     }
@@ -337,6 +359,8 @@ private:
     std::string_view rest_;  // the unread part of line_
     int line_no_ = 0;
     std::string error_;
+    std::map<std::string, std::vector<int>> lines_;
+    int settings_line_ = 0;
 };
 
 }  // namespace
@@ -366,11 +390,18 @@ std::string to_text(const Graph& g) {
 
 void write_text(const Graph& g, std::ostream& out) { out << to_text(g); }
 
-bool read_text(std::istream& in, Graph& g, std::string& error) {
+bool read_text(std::istream& in, Graph& g, std::string& error, Check check) {
     Graph loaded;
     Reader reader(in, loaded);
     if (!reader.read()) {
         error = reader.error();
+        return false;
+    }
+    GraphProblem p;
+    if (check == Check::Full && !validate(loaded, p)) {
+        const int line = reader.line_of(p.table, p.row);
+        error = p.table.empty() ? fmt::format("line {}: {}", line, p.message)
+                                : fmt::format("line {}: {} {}: {}", line, element_word(p.table), p.row, p.message);
         return false;
     }
     g = std::move(loaded);
@@ -378,13 +409,13 @@ bool read_text(std::istream& in, Graph& g, std::string& error) {
     return true;
 }
 
-bool load_text_file(const std::string& path, Graph& g, std::string& error) {
+bool load_text_file(const std::string& path, Graph& g, std::string& error, Check check) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         error = path + ": cannot open";
         return false;
     }
-    if (read_text(in, g, error)) return true;
+    if (read_text(in, g, error, check)) return true;
     error = path + ": " + error;
     return false;
 }

@@ -34,12 +34,17 @@ namespace plant::graph {
 std::string to_text(const Graph&);
 void write_text(const Graph&, std::ostream&);
 
+// How much read_text checks: the text form only, or also what the records promise each
+// other (validate.h: ids and ranges inside their tables, the components' fixed slots,
+// finite numbers), which the runtime relies on.
+enum class Check { Form, Full };
+
 // Replaces `g` only on success. On failure returns false with `error` as
-// "line N: message"; any input, however broken, fails cleanly. Only the form is
-// checked: ids referring to other tables are not validated here.
-bool read_text(std::istream&, Graph& g, std::string& error);
+// "line N: message"; any input, however broken, fails cleanly. A problem found by
+// validate() names the record and the line it was read from: "line N: comp 7: ...".
+bool read_text(std::istream&, Graph& g, std::string& error, Check check = Check::Full);
 
 // As read_text; `error` is then "<path>: line N: message" or "<path>: cannot open".
-bool load_text_file(const std::string& path, Graph& g, std::string& error);
+bool load_text_file(const std::string& path, Graph& g, std::string& error, Check check = Check::Full);
 
 }  // namespace plant::graph

@@ -1,0 +1,539 @@
+#include "validate.h"
+
+#include "kinds.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string_view>
+#include <type_traits>
+
+namespace plant::graph {
+
+namespace {
+
+bool finite(double v) { return std::isfinite(v); }
+template <size_t N>
+bool finite(const std::array<double, N>& v) {
+    for (double x : v)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+bool finite(const Pose& p) { return finite(p.p) && finite(p.q); }
+template <class T>
+bool finite(const T&) {
+    return true;
+}
+
+// A rotation: |q| = 1 up to the rounding of a written quaternion.
+bool unit(const Quat& q) {
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    return std::abs(n - 1) < 1e-6;
+}
+bool unit_quats(const Pose& p) { return unit(p.q); }
+template <class T>
+bool unit_quats(const T&) {
+    return true;
+}
+
+class Checker {
+public:
+    Checker(const Graph& g, GraphProblem& p) : g_(g), p_(p) {}
+
+    bool run() {
+        if (!(finite(g_.settings.rate) && g_.settings.rate > 0 && g_.settings.rate <= 1e6))
+            return fail_at("", -1, fmt::format("settings: rate {} is not in (0, 1e6] Hz", g_.settings.rate));
+        if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
+        return numbers() && dos() && comps() && slots() && flows() && accesses() && logics() && bodies() &&
+               shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
+               exits() && routes() && graphics() && animations() && variants() && labels() && records();
+    }
+
+private:
+    bool fail_at(std::string_view table, int32_t row, std::string message) {
+        p_.table = std::string(table);
+        p_.row = row;
+        p_.message = std::move(message);
+        return false;
+    }
+    bool fail(std::string message) { return fail_at(table_, row_, std::move(message)); }
+    void at(std::string_view table, size_t row) {
+        table_ = table;
+        row_ = int32_t(row);
+    }
+
+    // `value` is a row of a table with n rows, or -1 when `none` allows it.
+    bool id(std::string_view field, int32_t value, size_t n, std::string_view target, bool none = false) {
+        if (none && value == -1) return true;
+        if (value >= 0 && size_t(value) < n) return true;
+        return fail(fmt::format("field '{}' = {} is not {}a row of {} ({} rows)", field, value,
+                                none ? "-1 or " : "", target, n));
+    }
+    // [adr, adr + num) inside a table of n rows (num = 0: any adr).
+    bool range(std::string_view adr_field, int32_t adr, int32_t num, size_t n, std::string_view target) {
+        if (num == 0 && adr >= -1) return true;
+        if (num > 0 && adr >= 0 && size_t(adr) + size_t(num) <= n) return true;
+        return fail(fmt::format("fields '{}' + num ({} + {}) are not a range of {} ({} rows)", adr_field, adr, num,
+                                target, n));
+    }
+    // A slot of the given type and direction.
+    bool slot(std::string_view field, int32_t s, SlotType type, Dir dir, bool none = false) {
+        if (!id(field, s, g_.slots.size(), "slots", none)) return false;
+        if (s < 0) return true;
+        const Slot& sl = g_.slots[size_t(s)];
+        if (sl.type != type || sl.dir != dir)
+            return fail(fmt::format("field '{}' = {}: slot {} is {} {}, expected {} {}", field, s, s, word(sl.type),
+                                    word(sl.dir), word(type), word(dir)));
+        return true;
+    }
+    bool check(bool ok, std::string_view what) { return ok || fail(std::string(what)); }
+    // The component `c` is of `kind` and its detail is this record.
+    bool owner(int32_t c, CompKind kind, size_t self) {
+        if (!id("comp", c, g_.comps.size(), "comps")) return false;
+        const Comp& cp = g_.comps[size_t(c)];
+        if (cp.kind != kind || cp.detail != int32_t(self))
+            return fail(fmt::format("field 'comp' = {}: that component is a {} whose detail is {}, not this {}", c,
+                                    word(cp.kind), cp.detail, word(kind)));
+        return true;
+    }
+
+    // Every double finite, every written rotation a unit quaternion, every source
+    // position in a known file.
+    bool numbers() {
+#define PLANT_CHECK_FIELD(T_, f_)                                                         \
+    if (!finite(r.f_)) return fail(fmt::format("field '{}' is not a finite number", #f_)); \
+    if (!unit_quats(r.f_)) return fail(fmt::format("field '{}' has a rotation that is not a unit quaternion", #f_)); \
+    if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size()));
+#define PLANT_CHECK_TABLE(member, Record, elem, FIELDS)     \
+    for (size_t i = 0; i < g_.member.size(); ++i) {         \
+        at(#member, i);                                     \
+        const Record& r = g_.member[i];                     \
+        FIELDS(PLANT_CHECK_FIELD)                           \
+    }
+        PLANT_GRAPH_TABLES(PLANT_CHECK_TABLE)
+#undef PLANT_CHECK_TABLE
+#undef PLANT_CHECK_FIELD
+        return true;
+    }
+    template <class T>
+    bool src_ok(const T& s) {
+        if constexpr (std::is_same_v<T, Src>) return s.file >= -1 && s.file < int32_t(g_.files.size());
+        return true;
+    }
+    template <class T>
+    int32_t src_file(const T& s) {
+        if constexpr (std::is_same_v<T, Src>) return s.file;
+        return 0;
+    }
+
+    bool dos() {
+        for (size_t i = 0; i < g_.do_types.size(); ++i) {
+            at("do_types", i);
+            if (!check(g_.do_types[i].instance_num >= 0, "field 'instance_num' is negative")) return false;
+        }
+        for (size_t i = 0; i < g_.dos.size(); ++i) {
+            at("dos", i);
+            const Do& d = g_.dos[i];
+            if (!check(d.parent < int32_t(i), "field 'parent' must name an earlier DO (or be -1)") ||
+                !id("parent", d.parent, g_.dos.size(), "dos", true) ||
+                !id("type", d.type, g_.do_types.size(), "do_types", true) ||
+                !range("comp_adr", d.comp_adr, d.comp_num, g_.comps.size(), "comps") ||
+                !id("pool", d.pool, g_.comps.size(), "comps", true))
+                return false;
+            if (d.type >= 0 && !(d.ordinal >= 0 && d.ordinal < g_.do_types[size_t(d.type)].instance_num))
+                return fail(fmt::format("field 'ordinal' = {} is not below its type's instance_num {}", d.ordinal,
+                                        g_.do_types[size_t(d.type)].instance_num));
+            if (d.pool >= 0 && !check(g_.comps[size_t(d.pool)].kind == CompKind::Source,
+                                      "field 'pool' does not name a source component"))
+                return false;
+        }
+        return true;
+    }
+
+    // The table a component kind's `detail` indexes, with its size; none for state and router.
+    bool detail_table(CompKind k, size_t& n, std::string_view& name) const {
+        switch (k) {
+        case CompKind::Graphics: n = g_.graphics.size(), name = "graphics"; return true;
+        case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
+        case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
+        case CompKind::Constraint: n = g_.joints.size(), name = "joints"; return true;
+        case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
+        case CompKind::Timer: n = g_.timers.size(), name = "timers"; return true;
+        case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
+        case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
+        case CompKind::Exit: n = g_.exits.size(), name = "exits"; return true;
+        case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
+        case CompKind::Label: n = g_.labels.size(), name = "labels"; return true;
+        case CompKind::State:
+        case CompKind::Router: return false;
+        }
+        return false;
+    }
+
+    bool comps() {
+        for (size_t c = 0; c < g_.comps.size(); ++c) {
+            at("comps", c);
+            const Comp& cp = g_.comps[c];
+            if (!id("owner", cp.owner, g_.dos.size(), "dos") ||
+                !range("slot_adr", cp.slot_adr, cp.slot_num, g_.slots.size(), "slots"))
+                return false;
+            size_t n = 0;
+            std::string_view table;
+            if (detail_table(cp.kind, n, table)) {
+                if (!id("detail", cp.detail, n, table)) return false;
+            } else if (!check(cp.detail == -1, "field 'detail' must be -1 for this kind")) {
+                return false;
+            }
+            const auto fixed = fixed_slots(cp.kind);
+            if (cp.slot_num < int32_t(fixed.size()))
+                return fail(fmt::format("a {} has {} fixed slots, field 'slot_num' is {}", word(cp.kind), fixed.size(),
+                                        cp.slot_num));
+            for (int32_t k = 0; k < cp.slot_num; ++k) {
+                const Slot& s = g_.slots[size_t(cp.slot_adr + k)];
+                if (s.comp != int32_t(c))
+                    return fail(fmt::format("slot {} in its slot range belongs to component {}", cp.slot_adr + k, s.comp));
+                if (size_t(k) < fixed.size() && (s.type != fixed[size_t(k)].type || s.dir != fixed[size_t(k)].dir))
+                    return fail(fmt::format("slot {} ('{}' of a {}) is {} {}, expected {} {}", cp.slot_adr + k,
+                                            fixed[size_t(k)].name, word(cp.kind), word(s.type), word(s.dir),
+                                            word(fixed[size_t(k)].type), word(fixed[size_t(k)].dir)));
+            }
+        }
+        return true;
+    }
+
+    bool slots() {
+        for (size_t s = 0; s < g_.slots.size(); ++s) {
+            at("slots", s);
+            const Slot& sl = g_.slots[s];
+            if (!id("comp", sl.comp, g_.comps.size(), "comps")) return false;
+            const int w = slot_width(sl.type);
+            if (w == 0) continue;
+            if (sl.value_adr < 0 || size_t(sl.value_adr) + size_t(w) > g_.values.size())
+                return fail(fmt::format("field 'value_adr' = {}: a {} slot needs {} values there, the graph has {}",
+                                        sl.value_adr, word(sl.type), w, g_.values.size()));
+        }
+        return true;
+    }
+
+    // The slots one end of a flow may be: the slot, or every target of its access.
+    template <class F>
+    bool each_end(int32_t slot, int32_t access, F&& f) {
+        if (access < 0) return f(slot);
+        const Access& a = g_.accesses[size_t(access)];
+        for (int32_t i = 0; i < a.target_num; ++i)
+            if (!f(g_.access_targets[size_t(a.target_adr + i)].v)) return false;
+        return true;
+    }
+
+    bool flows() {
+        // Accesses first: the flows' ends go through them.
+        for (size_t i = 0; i < g_.accesses.size(); ++i) {
+            at("accesses", i);
+            const Access& a = g_.accesses[i];
+            if (!slot("ref_slot", a.ref_slot, SlotType::Ref, Dir::Out) ||
+                !id("do_type", a.do_type, g_.do_types.size(), "do_types") ||
+                !range("target_adr", a.target_adr, a.target_num, g_.access_targets.size(), "access_targets"))
+                return false;
+            if (a.target_num != g_.do_types[size_t(a.do_type)].instance_num)
+                return fail(fmt::format("field 'target_num' = {}: its type has {} instances", a.target_num,
+                                        g_.do_types[size_t(a.do_type)].instance_num));
+        }
+        for (size_t i = 0; i < g_.access_targets.size(); ++i) {
+            at("access_targets", i);
+            if (!id("v", g_.access_targets[i].v, g_.slots.size(), "slots")) return false;
+        }
+        for (size_t i = 0; i < g_.flows.size(); ++i) {
+            at("flows", i);
+            const Flow& f = g_.flows[i];
+            if (!id("from", f.from, g_.slots.size(), "slots") || !id("to", f.to, g_.slots.size(), "slots") ||
+                !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
+                !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
+                return false;
+            // The runtime copies the target's width of values from the source.
+            int width = -1;
+            bool same = each_end(f.to, f.to_access, [&](int32_t s) {
+                const int w = slot_width(g_.slots[size_t(s)].type);
+                if (width >= 0 && w != width) return false;
+                width = w;
+                return true;
+            });
+            if (!same) return fail("the slots its target may be differ in width");
+            if (width <= 0) continue;
+            const bool fits = each_end(f.from, f.from_access,
+                                       [&](int32_t s) { return slot_width(g_.slots[size_t(s)].type) == width; });
+            if (!fits) return fail(fmt::format("its source is not {} values wide, as its target is", width));
+        }
+        return true;
+    }
+    bool accesses() { return true; }  // checked with the flows
+
+    bool logics() {
+        for (size_t i = 0; i < g_.logics.size(); ++i) {
+            at("logics", i);
+            const Logic& l = g_.logics[i];
+            if (!owner(l.comp, CompKind::Logic, i) ||
+                !range("in_adr", l.in_adr, l.in_num, g_.logic_inputs.size(), "logic_inputs") ||
+                !id("out_slot", l.out_slot, g_.slots.size(), "slots"))
+                return false;
+        }
+        for (size_t i = 0; i < g_.logic_inputs.size(); ++i) {
+            at("logic_inputs", i);
+            if (!id("slot", g_.logic_inputs[i].slot, g_.slots.size(), "slots")) return false;
+        }
+        return true;
+    }
+
+    bool bodies() {
+        for (size_t i = 0; i < g_.bodies.size(); ++i) {
+            at("bodies", i);
+            const Body& b = g_.bodies[i];
+            if (!owner(b.comp, CompKind::Body, i) ||
+                !range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") ||
+                !check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") ||
+                !check(b.mass >= 0, "field 'mass' is negative") ||
+                !check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
+                       "field 'inertia' must be above 0 on every axis") ||
+                !check(b.friction >= 0 && b.restitution >= 0, "friction and restitution must be 0 or more") ||
+                !check(b.linear_damping >= 0 && b.linear_damping <= 1 && b.angular_damping >= 0 &&
+                           b.angular_damping <= 1,
+                       "damping must lie in [0, 1]"))
+                return false;
+        }
+        return true;
+    }
+
+    bool shapes() {
+        for (size_t i = 0; i < g_.shapes.size(); ++i) {
+            at("shapes", i);
+            const Shape& s = g_.shapes[i];
+            const Vec3& z = s.size;
+            bool ok = true;
+            switch (s.kind) {
+            case ShapeKind::Box: ok = z[0] > 0 && z[1] > 0 && z[2] > 0; break;
+            case ShapeKind::Sphere: ok = z[0] > 0; break;
+            case ShapeKind::Cylinder:
+            case ShapeKind::Capsule: ok = z[0] > 0 && z[1] > 0; break;
+            case ShapeKind::Hull:
+                if (!check(s.point_num > 0, "a hull needs points")) return false;
+                if (!range("point_adr", s.point_adr, s.point_num, g_.points.size(), "points")) return false;
+                break;
+            }
+            if (!check(ok, "field 'size' must be above 0 where the shape uses it")) return false;
+        }
+        return true;
+    }
+
+    bool fields() {
+        for (size_t i = 0; i < g_.fields.size(); ++i) {
+            at("fields", i);
+            const Field& f = g_.fields[i];
+            const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
+            if (!owner(f.comp, CompKind::Field, i) || !id("body", f.body, g_.bodies.size(), "bodies", true) ||
+                !check(f.extent[0] >= 0 && f.extent[1] >= 0 && f.extent[2] >= 0, "field 'extent' is negative") ||
+                !check(d > 0, "field 'dir' is the zero vector") || !check(f.gain >= 0, "field 'gain' is negative"))
+                return false;
+        }
+        return true;
+    }
+
+    bool joints() {
+        for (size_t i = 0; i < g_.joints.size(); ++i) {
+            at("joints", i);
+            const Joint& j = g_.joints[i];
+            if (!owner(j.comp, CompKind::Constraint, i) || !id("body_a", j.body_a, g_.bodies.size(), "bodies") ||
+                !id("body_b", j.body_b, g_.bodies.size(), "bodies", true) ||
+                !check(j.body_a != j.body_b, "a joint joins two different bodies"))
+                return false;
+        }
+        return true;
+    }
+
+    bool nets() {
+        for (size_t i = 0; i < g_.places.size(); ++i) {
+            at("places", i);
+            const Place& p = g_.places[i];
+            if (!id("comp", p.comp, g_.comps.size(), "comps") ||
+                !check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") ||
+                !check(p.initial >= 0, "field 'initial' is negative") ||
+                !slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) ||
+                !slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) ||
+                !slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true))
+                return false;
+        }
+        for (size_t i = 0; i < g_.transitions.size(); ++i) {
+            at("transitions", i);
+            const Transition& t = g_.transitions[i];
+            if (!id("comp", t.comp, g_.comps.size(), "comps") ||
+                !check(g_.comps[size_t(t.comp)].kind == CompKind::State, "field 'comp' is not a state component") ||
+                !range("in_adr", t.in_adr, t.in_num, g_.arcs.size(), "arcs") ||
+                !range("out_adr", t.out_adr, t.out_num, g_.arcs.size(), "arcs") ||
+                !slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out, true))
+                return false;
+        }
+        for (size_t i = 0; i < g_.arcs.size(); ++i) {
+            at("arcs", i);
+            if (!id("place", g_.arcs[i].place, g_.places.size(), "places") ||
+                !check(g_.arcs[i].weight >= 1, "field 'weight' must be 1 or more"))
+                return false;
+        }
+        return true;
+    }
+
+    bool triggers() {
+        for (size_t i = 0; i < g_.triggers.size(); ++i) {
+            at("triggers", i);
+            const Trigger& t = g_.triggers[i];
+            if (!owner(t.comp, CompKind::Trigger, i) || !id("body", t.body, g_.bodies.size(), "bodies", true) ||
+                !check(t.extent[0] >= 0 && t.extent[1] >= 0 && t.extent[2] >= 0, "field 'extent' is negative") ||
+                !id("filter", t.filter, g_.do_types.size(), "do_types", true))
+                return false;
+        }
+        return true;
+    }
+
+    bool timers() {
+        for (size_t i = 0; i < g_.timers.size(); ++i) {
+            at("timers", i);
+            const Timer& t = g_.timers[i];
+            if (!owner(t.comp, CompKind::Timer, i) ||
+                !check(t.periodic ? t.period > 0 : t.period >= 0, "field 'period' must be above 0 (0 or more for a one-shot)"))
+                return false;
+        }
+        return true;
+    }
+
+    bool grippers() {
+        for (size_t i = 0; i < g_.grippers.size(); ++i) {
+            at("grippers", i);
+            const Gripper& gr = g_.grippers[i];
+            if (!owner(gr.comp, CompKind::Gripper, i) || !id("trigger", gr.trigger, g_.triggers.size(), "triggers") ||
+                !id("body", gr.body, g_.bodies.size(), "bodies", true) ||
+                !id("graphics", gr.graphics, g_.graphics.size(), "graphics", true))
+                return false;
+        }
+        return true;
+    }
+
+    bool sources() {
+        for (size_t i = 0; i < g_.sources.size(); ++i) {
+            at("sources", i);
+            const Source& s = g_.sources[i];
+            if (!owner(s.comp, CompKind::Source, i) || !id("do_type", s.do_type, g_.do_types.size(), "do_types") ||
+                !range("pool_adr", s.pool_adr, s.pool_num, g_.dos.size(), "dos") ||
+                !check(s.rate >= 0, "field 'rate' is negative") ||
+                !range("id_adr", s.id_adr, s.id_num, g_.ids.size(), "ids"))
+                return false;
+            for (int32_t k = 0; k < s.pool_num; ++k) {
+                const Do& d = g_.dos[size_t(s.pool_adr + k)];
+                if (d.pool != s.comp || d.type != s.do_type)
+                    return fail(fmt::format("DO {} in its pool is not a pooled {} of this source",
+                                            s.pool_adr + k, std::string(g_.str(g_.do_types[size_t(s.do_type)].name))));
+            }
+        }
+        return true;
+    }
+
+    bool exits() {
+        for (size_t i = 0; i < g_.exits.size(); ++i) {
+            at("exits", i);
+            if (!owner(g_.exits[i].comp, CompKind::Exit, i) ||
+                !id("trigger", g_.exits[i].trigger, g_.triggers.size(), "triggers"))
+                return false;
+        }
+        return true;
+    }
+
+    bool routes() {
+        for (size_t i = 0; i < g_.routes.size(); ++i) {
+            at("routes", i);
+            const Route& r = g_.routes[i];
+            if (!id("comp", r.comp, g_.comps.size(), "comps") ||
+                !check(g_.comps[size_t(r.comp)].kind == CompKind::Router, "field 'comp' is not a router") ||
+                !slot("out_slot", r.out_slot, SlotType::Void, Dir::Out))
+                return false;
+        }
+        return true;
+    }
+
+    bool graphics() {
+        for (size_t i = 0; i < g_.graphics.size(); ++i) {
+            at("graphics", i);
+            const Graphics& gr = g_.graphics[i];
+            if (!owner(gr.comp, CompKind::Graphics, i) ||
+                !check(gr.parent < int32_t(i), "field 'parent' must name an earlier graphics (or be -1)") ||
+                !id("parent", gr.parent, g_.graphics.size(), "graphics", true) ||
+                !id("body", gr.body, g_.bodies.size(), "bodies", true) ||
+                !range("anim_adr", gr.anim_adr, gr.anim_num, g_.animations.size(), "animations") ||
+                !range("variant_adr", gr.variant_adr, gr.variant_num, g_.variants.size(), "variants"))
+                return false;
+            if (gr.variant < -1 || gr.variant >= gr.variant_num)
+                return fail(fmt::format("field 'variant' = {} is not -1 or the index of one of its {} variants",
+                                        gr.variant, gr.variant_num));
+        }
+        return true;
+    }
+
+    bool animations() {
+        for (size_t i = 0; i < g_.animations.size(); ++i) {
+            at("animations", i);
+            const Animation& a = g_.animations[i];
+            if (!id("graphics", a.graphics, g_.graphics.size(), "graphics") ||
+                !check(a.duration >= 0, "field 'duration' is negative") ||
+                !check(a.key_num > 0, "an animation needs keys") ||
+                !range("key_adr", a.key_adr, a.key_num, g_.keys.size(), "keys") ||
+                !slot("play_slot", a.play_slot, SlotType::Void, Dir::In) ||
+                !slot("finished_slot", a.finished_slot, SlotType::Void, Dir::Out))
+                return false;
+            // A bad key is reported at the key.
+            for (int32_t k = 0; k < a.key_num; ++k) {
+                const double t = g_.keys[size_t(a.key_adr + k)].t;
+                at("keys", size_t(a.key_adr + k));
+                if (k == 0 && t < 0) return fail(fmt::format("the first key of animation {} is at a negative time", i));
+                if (k > 0 && !(t > g_.keys[size_t(a.key_adr + k - 1)].t))
+                    return fail(fmt::format("its time is not later than the key before it (animation {})", i));
+            }
+        }
+        return true;
+    }
+
+    bool variants() {
+        for (size_t i = 0; i < g_.variants.size(); ++i) {
+            at("variants", i);
+            const Variant& v = g_.variants[i];
+            if (!id("graphics", v.graphics, g_.graphics.size(), "graphics") ||
+                !slot("select_slot", v.select_slot, SlotType::Void, Dir::In))
+                return false;
+        }
+        return true;
+    }
+
+    bool labels() {
+        for (size_t i = 0; i < g_.labels.size(); ++i) {
+            at("labels", i);
+            if (!owner(g_.labels[i].comp, CompKind::Label, i)) return false;
+        }
+        return true;
+    }
+
+    bool records() {
+        for (size_t i = 0; i < g_.records.size(); ++i) {
+            at("records", i);
+            if (!id("slot", g_.records[i].slot, g_.slots.size(), "slots")) return false;
+        }
+        return true;
+    }
+
+    const Graph& g_;
+    GraphProblem& p_;
+    std::string_view table_;
+    int32_t row_ = -1;
+};
+
+}  // namespace
+
+bool validate(const Graph& g, GraphProblem& problem) {
+    problem = GraphProblem{};
+    return Checker(g, problem).run();
+}
+
+}  // namespace plant::graph

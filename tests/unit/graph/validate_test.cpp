@@ -1,0 +1,145 @@
+// validate(): a damaged .graph file fails to load with the record at fault and its line,
+// one case per kind of check; the graph the compiler wrote for the bottling plant passes.
+#include "graph/text.h"
+#include "graph/validate.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace plant::graph;
+
+namespace {
+
+std::string fmt_line(int line) { return "line " + std::to_string(line) + ": "; }
+
+std::string bottling_text() {
+    std::ifstream in(std::string(PLANT_SOURCE_DIR) + "/tests/plants/bottling.graph", std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+struct Damage {
+    std::string elem;   // the record's element word, "settings" for the settings line
+    int32_t row;        // its id
+    std::string field;  // the field to overwrite
+    std::string value;  // its new text
+    std::string says;   // a piece of the expected message
+};
+
+// Overwrites one field of one record; returns the 1-based line it is on.
+int damage(std::string& text, const Damage& d) {
+    const std::string head = d.elem == "settings" ? "settings " : d.elem + " " + std::to_string(d.row) + " ";
+    size_t at = text.starts_with(head) ? 0 : text.find("\n" + head);
+    REQUIRE_MESSAGE(at != std::string::npos, "no record '" << head << "'");
+    if (at > 0) ++at;
+    const size_t end = text.find('\n', at);
+    std::string line = text.substr(at, end - at);
+    const std::regex field(" " + d.field + R"(=(\([^)]*\)|"[^"]*"|\S+))");
+    REQUIRE_MESSAGE(std::regex_search(line, field), "no field '" << d.field << "' in: " << line);
+    line = std::regex_replace(line, field, " " + d.field + "=" + d.value, std::regex_constants::format_first_only);
+    text.replace(at, end - at, line);
+    return 1 + int(std::count(text.begin(), text.begin() + long(at), '\n'));
+}
+
+}  // namespace
+
+TEST_CASE("validate: the compiler's bottling graph passes, and every kind of damage is named with its line") {
+    const std::string good = bottling_text();
+    Graph g;
+    std::string error;
+    {
+        std::istringstream in(good);
+        REQUIRE_MESSAGE(read_text(in, g, error), error);
+        GraphProblem p;
+        CHECK(validate(g, p));
+    }
+    // Rows picked from the graph itself, so that each damage trips the check it names.
+    auto first = [&](auto&& rows, auto&& pred) {
+        for (size_t i = 0; i < rows.size(); ++i)
+            if (pred(rows[i])) return int32_t(i);
+        FAIL("no such row");
+        return int32_t(-1);
+    };
+    const int32_t dyn = first(g.bodies, [](const Body& b) { return b.mode == BodyMode::Dynamic; });
+    const int32_t box = first(g.shapes, [](const Shape& s) { return s.kind == ShapeKind::Box; });
+    const int32_t hull = first(g.shapes, [](const Shape& s) { return s.kind == ShapeKind::Hull; });
+    const int32_t periodic = first(g.timers, [](const Timer& t) { return t.periodic; });
+    const int32_t typed_do = first(g.dos, [](const Do& d) { return d.type >= 0; });
+    const int32_t place = first(g.places, [](const Place& p) { return p.tokens_slot >= 0 && p.put_slot >= 0; });
+    const int32_t child = first(g.graphics, [](const Graphics& x) { return x.parent >= 0; });
+    const int32_t multi = first(g.animations, [](const Animation& a) { return a.key_num >= 2; });
+    const int32_t event = first(g.flows, [&](const Flow& f) {
+        return f.from_access < 0 && f.to_access < 0 && g.slots[size_t(f.from)].type == SlotType::Void;
+    });
+    const int32_t int_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Int; });
+    const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
+    const int32_t body_comp = g.bodies[0].comp;
+    const Access& a0 = g.accesses[0];
+    const std::string n = std::to_string(g.do_types[size_t(a0.do_type)].instance_num - 1);
+
+    const std::vector<Damage> cases = {
+        {"settings", 0, "rate", "0", "settings: rate 0 is not in (0, 1e6] Hz"},
+        {"body", dyn, "mass", "nan", "field 'mass' is not a finite number"},
+        {"do", 1, "pose", "(0 0 0|0 0 0 2)", "field 'pose' has a rotation that is not a unit quaternion"},
+        {"comp", 0, "src", "99:1:1", "field 'src' names file 99, not one of the 8 files"},
+        {"do", 1, "parent", "5", "field 'parent' must name an earlier DO"},
+        {"do", typed_do, "ordinal", "100000", "field 'ordinal' = 100000 is not below its type's instance_num"},
+        {"comp", 0, "owner", "100000", "field 'owner' = 100000 is not a row of dos (190 rows)"},
+        {"comp", body_comp, "slot_num", "3", "a body has 14 fixed slots, field 'slot_num' is 3"},
+        {"comp", body_comp, "slot_adr", "0", "slot 0 in its slot range belongs to component"},
+        {"comp", body_comp, "detail", "5000", "field 'detail' = 5000 is not a row of bodies (309 rows)"},
+        {"slot", pose_slot, "value_adr", "13709", "a pose slot needs 7 values there, the graph has 13710"},
+        {"flow", 0, "from", "99999", "field 'from' = 99999 is not a row of slots"},
+        {"flow", event, "to", std::to_string(int_slot), "its source is not 1 values wide, as its target is"},
+        {"access", 0, "target_num", n, "its type has " + std::to_string(std::stoi(n) + 1) + " instances"},
+        {"logic", 0, "out_slot", "-1", "field 'out_slot' = -1 is not a row of slots"},
+        {"body", dyn, "mass", "0", "a dynamic body needs a mass above 0"},
+        {"body", 0, "friction", "-1", "friction and restitution must be 0 or more"},
+        {"body", 0, "comp", std::to_string(g.bodies[1].comp), "that component is a body whose detail is 1, not this body"},
+        {"shape", box, "size", "(0 1 1)", "field 'size' must be above 0 where the shape uses it"},
+        {"shape", hull, "point_num", "0", "a hull needs points"},
+        {"field", 0, "dir", "(0 0 0)", "field 'dir' is the zero vector"},
+        {"joint", 0, "body_b", std::to_string(g.joints[0].body_a), "a joint joins two different bodies"},
+        {"place", place, "tokens_slot", std::to_string(g.places[size_t(place)].put_slot), "expected int out"},
+        {"arc", 0, "weight", "0", "field 'weight' must be 1 or more"},
+        {"transition", 0, "in_adr", "100000", "fields 'in_adr' + num"},
+        {"trigger", 0, "filter", "999", "field 'filter' = 999 is not -1 or a row of do_types"},
+        {"timer", periodic, "period", "0", "field 'period' must be above 0"},
+        {"gripper", 0, "trigger", "999", "field 'trigger' = 999 is not a row of triggers"},
+        {"source", 0, "rate", "-1", "field 'rate' is negative"},
+        {"exit", 0, "trigger", "-1", "field 'trigger' = -1 is not a row of triggers"},
+        {"route", 0, "out_slot", std::to_string(pose_slot), "expected void out"},
+        {"graphics", child, "parent", std::to_string(child), "field 'parent' must name an earlier graphics"},
+        {"graphics", 0, "variant", "99", "field 'variant' = 99 is not -1 or the index of one of its"},
+        {"animation", 0, "play_slot", std::to_string(pose_slot), "expected void in"},
+        {"key", g.animations[size_t(multi)].key_adr + 1, "t", "-1", "its time is not later than the key before it"},
+        {"variant", 0, "graphics", "-1", "field 'graphics' = -1 is not a row of graphics"},
+        {"label", 0, "comp", std::to_string(body_comp), "that component is a body"},
+        {"record", 0, "slot", "-2", "field 'slot' = -2 is not a row of slots"},
+    };
+    for (const Damage& d : cases) {
+        CAPTURE(d.elem);
+        CAPTURE(d.field);
+        CAPTURE(d.value);
+        std::string text = good;
+        const int line = damage(text, d);
+        std::istringstream in(text);
+        Graph out;
+        out.intern("untouched");
+        CHECK_FALSE(read_text(in, out, error));
+        const std::string where = d.elem == "settings" ? fmt_line(line) : fmt_line(line) + d.elem + " " + std::to_string(d.row) + ": ";
+        CHECK_MESSAGE(error.starts_with(where), error);
+        CHECK_MESSAGE(error.find(d.says) != std::string::npos, error);
+        CHECK(out.names.size() == 1);  // a graph that fails is not replaced
+        // The form alone still reads.
+        std::istringstream again(text);
+        CHECK(read_text(again, out, error, Check::Form));
+    }
+}
