@@ -397,6 +397,9 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             if (st->name.text == "rate") {
                 if (ev_.expect_number(v, units::dims::frequency, "rate")) {
                     if (v.num <= 0) sink_.report(DiagId::NonPositive, v.span, "the step rate must be positive");
+                    else if (v.num < graph::kMinRate || v.num > graph::kMaxRate)
+                        sink_.report(DiagId::OutOfRange, v.span,
+                                     fmt::format("the step rate must lie between 1 Hz and 1 MHz, not {:g} Hz", v.num));
                     else g_.settings.rate = v.num;
                 }
             } else if (st->name.text == "gravity") {

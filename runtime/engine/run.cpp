@@ -49,8 +49,16 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
             if (!value(i, v) || !parse_duration(v, o.duration, error)) return false;
         } else if (a == "--rate") {
             if (!value(i, v) || !parse_frequency(v, o.rate, error)) return false;
+            if (o.rate < graph::kMinRate || o.rate > graph::kMaxRate) {
+                error = fmt::format("--rate {}: the physics rate must lie between 1 Hz and 1 MHz", v);
+                return false;
+            }
         } else if (a == "--trace-rate") {
             if (!value(i, v) || !parse_frequency(v, o.trace_rate, error)) return false;
+            if (o.trace_rate > graph::kMaxRate) {
+                error = fmt::format("--trace-rate {}: at most 1 MHz", v);
+                return false;
+            }
         } else if (a == "--trace") {
             if (!value(i, o.trace)) return false;
         } else if (a == "--trace-bodies") {
@@ -253,8 +261,15 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         trace->header();
         trace->row();
     }
-    const int64_t every = o.trace_rate > 0 ? std::max<int64_t>(1, std::llround(1.0 / (o.trace_rate * e.dt()))) : 1;
-    const int64_t steps = int64_t(std::ceil(o.duration / e.dt() - 1e-9));
+    const double step_count = std::ceil(o.duration / e.dt() - 1e-9);
+    if (!(step_count < 1e18)) {
+        fmt::print(err, "plant run: error: --for {:g}s: more than 1e18 steps at {:g} Hz\n", o.duration, 1.0 / e.dt());
+        return 2;
+    }
+    const int64_t steps = int64_t(step_count);
+    // A trace row every `every` steps; a rate far below one row per run gives the first and last rows.
+    const double every_steps = o.trace_rate > 0 ? std::round(1.0 / (o.trace_rate * e.dt())) : 1;
+    const int64_t every = every_steps < 1 ? 1 : every_steps > 1e18 ? int64_t(1e18) : int64_t(every_steps);
 
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -328,8 +328,12 @@ constexpr int slot_width(SlotType t) {
 PLANT_GRAPH_TABLES(PLANT_DECLARE_RECORD)
 #undef PLANT_DECLARE_RECORD
 
+// The physics rates a plant may have: 1 Hz to 1 MHz (the compiler, `plant run --rate`
+// and the graph loader all hold to it).
+constexpr double kMinRate = 1.0, kMaxRate = 1e6;
+
 struct Settings {
-    double rate = 150.0;      // physics steps per second
+    double rate = 150.0;      // physics steps per second, kMinRate .. kMaxRate
     Vec3 gravity{0, 0, -9.81};
     friend bool operator==(const Settings&, const Settings&) = default;
 };

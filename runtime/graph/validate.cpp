@@ -41,8 +41,8 @@ public:
     Checker(const Graph& g, GraphProblem& p) : g_(g), p_(p) {}
 
     bool run() {
-        if (!(finite(g_.settings.rate) && g_.settings.rate > 0 && g_.settings.rate <= 1e6))
-            return fail_at("", -1, fmt::format("settings: rate {} is not in (0, 1e6] Hz", g_.settings.rate));
+        if (!(finite(g_.settings.rate) && g_.settings.rate >= kMinRate && g_.settings.rate <= kMaxRate))
+            return fail_at("", -1, fmt::format("settings: rate {} is not between 1 Hz and 1 MHz", g_.settings.rate));
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
         return numbers() && dos() && comps() && slots() && flows() && accesses() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&

@@ -85,7 +85,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const std::string n = std::to_string(g.do_types[size_t(a0.do_type)].instance_num - 1);
 
     const std::vector<Damage> cases = {
-        {"settings", 0, "rate", "0", "settings: rate 0 is not in (0, 1e6] Hz"},
+        {"settings", 0, "rate", "0", "settings: rate 0 is not between 1 Hz and 1 MHz"},
         {"body", dyn, "mass", "nan", "field 'mass' is not a finite number"},
         {"do", 1, "pose", "(0 0 0|0 0 0 2)", "field 'pose' has a rotation that is not a unit quaternion"},
         {"comp", 0, "src", "99:1:1", "field 'src' names file 99, not one of the 8 files"},

@@ -68,6 +68,16 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(run(g, {"--threads", "0"}, out, err) == 2);
     CHECK(err.find("--threads: '0' is not a number of threads") != std::string::npos);
     CHECK(run(g, {"--threads", "two"}, out, err) == 2);
+    // Numbers that parse but cannot run: refused, not run as 0 steps or forever.
+    CHECK(run(g, {"--rate", "1e-300Hz"}, out, err) == 2);
+    CHECK(err.find("the physics rate must lie between 1 Hz and 1 MHz") != std::string::npos);
+    CHECK(run(g, {"--rate", "2000kHz"}, out, err) == 2);
+    CHECK(run(g, {"--trace-rate", "2000kHz"}, out, err) == 2);
+    CHECK(err.find("at most 1 MHz") != std::string::npos);
+    CHECK(run(g, {"--for", "1e308s", "--quiet"}, out, err) == 2);
+    CHECK(err.find("more than 1e18 steps") != std::string::npos);
+    out.clear();
+    CHECK(run(g, {"--for", "0.1s", "--quiet", "--trace-rate", "1e-300Hz"}, out, err) == 0);  // a row at the start and the end
 }
 
 TEST_CASE("runtime: run_main names the physics regions and their threads in the summary") {
