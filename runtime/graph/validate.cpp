@@ -44,7 +44,7 @@ public:
         if (!(finite(g_.settings.rate) && g_.settings.rate >= kMinRate && g_.settings.rate <= kMaxRate))
             return fail_at("", -1, fmt::format("settings: rate {} is not between 1 Hz and 1 MHz", g_.settings.rate));
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
-        return numbers() && dos() && comps() && slots() && flows() && accesses() && logics() && bodies() &&
+        return numbers() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() && records();
     }
@@ -225,8 +225,8 @@ private:
         return true;
     }
 
+    // Accesses and their targets, then the flows whose ends go through them.
     bool flows() {
-        // Accesses first: the flows' ends go through them.
         for (size_t i = 0; i < g_.accesses.size(); ++i) {
             at("accesses", i);
             const Access& a = g_.accesses[i];
@@ -265,8 +265,6 @@ private:
         }
         return true;
     }
-    bool accesses() { return true; }  // checked with the flows
-
     bool logics() {
         for (size_t i = 0; i < g_.logics.size(); ++i) {
             at("logics", i);
