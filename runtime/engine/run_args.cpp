@@ -37,12 +37,22 @@ bool numbers(std::string_view text, std::vector<double>& out, size_t n) {
     while (!(rest = trim(rest)).empty()) {
         double v;
         auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), v);
-        if (ec != std::errc()) return false;
+        if (ec != std::errc() || !std::isfinite(v)) return false;
         out.push_back(v);
         rest.remove_prefix(size_t(end - rest.data()));
     }
     return out.size() == n;
 }
+
+// The rotation at `q` (x y z w): a unit quaternion, as typed to a few digits; made exact.
+bool unit_rotation(double* q) {
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (std::abs(n - 1) > 1e-3) return false;
+    for (int i = 0; i < 4; ++i) q[i] /= n;
+    return true;
+}
+
+bool whole(double v) { return std::floor(v) == v && std::abs(v) < 9e15; }
 
 }  // namespace
 
@@ -109,11 +119,11 @@ bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, 
         ok = value == "true" || value == "false" || value == "1" || value == "0";
         ev.value = {value == "true" || value == "1" ? 1.0 : 0.0};
         break;
-    case SlotType::Int:
+    case SlotType::Int: ok = numbers(value, ev.value, 1) && whole(ev.value[0]); break;
     case SlotType::Real: ok = numbers(value, ev.value, 1); break;
     case SlotType::Vec3: ok = numbers(value, ev.value, 3); break;
-    case SlotType::Quat: ok = numbers(value, ev.value, 4); break;
-    case SlotType::Pose: ok = numbers(value, ev.value, 7); break;
+    case SlotType::Quat: ok = numbers(value, ev.value, 4) && unit_rotation(&ev.value[0]); break;
+    case SlotType::Pose: ok = numbers(value, ev.value, 7) && unit_rotation(&ev.value[3]); break;
     case SlotType::String:
         ev.text = std::string(value.size() >= 2 && value.front() == '"' && value.back() == '"'
                                   ? value.substr(1, value.size() - 2) : value);
@@ -125,14 +135,18 @@ bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, 
                 ev.value = {double(d)};
                 ok = true;
             }
-        if (!ok) ok = numbers(value, ev.value, 1);
+        if (!ok)  // a DO id, or -1 for none
+            ok = numbers(value, ev.value, 1) && whole(ev.value[0]) && ev.value[0] >= -1 &&
+                 ev.value[0] < double(g.dos.size());
         break;
     }
     }
     if (!ok) {
         error = value.empty() && type != SlotType::Void
                     ? fmt::format("'{}' ({}) needs a value", path, word(type))
-                    : fmt::format("'{}' is not a {} value for '{}'", value, word(type), path);
+                    : fmt::format("'{}' is not a {} value for '{}'{}", value, word(type), path,
+                                  type == SlotType::Quat || type == SlotType::Pose ? " (finite numbers, a unit quaternion x y z w)"
+                                  : type == SlotType::Ref ? " (a DO path, or its id)" : "");
         return false;
     }
     return true;

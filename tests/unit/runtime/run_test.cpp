@@ -78,6 +78,13 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(err.find("more than 1e18 steps") != std::string::npos);
     out.clear();
     CHECK(run(g, {"--for", "0.1s", "--quiet", "--trace-rate", "1e-300Hz"}, out, err) == 0);  // a row at the start and the end
+    // Event values: finite numbers; rotations unit quaternions (to a typed precision).
+    CHECK(run(g, {"--event", "0.05s bottle0.main.set_velocity (nan 0 0)"}, out, err) == 2);
+    CHECK(err.find("is not a vec3 value for 'bottle0.main.set_velocity'") != std::string::npos);
+    CHECK(run(g, {"--event", "0.05s bottle0.main.set_pose (0 0 0.1|0 0 0 0)"}, out, err) == 2);
+    CHECK(err.find("a unit quaternion") != std::string::npos);
+    CHECK(run(g, {"--event", "0.05s bottle0.main.set_orientation (0 0 0.7071 0.7071)", "--for", "0.1s", "--quiet"},
+              out, err) == 0);
 }
 
 TEST_CASE("runtime: run_main names the physics regions and their threads in the summary") {
