@@ -142,7 +142,7 @@ private:
 };
 
 // Limits that keep the parser and the compiler's recursive passes within the stack.
-constexpr int kMaxNesting = 200;     // brackets and runs of prefix operators
+constexpr int kMaxNesting = 200;     // brackets and braces, and runs of prefix operators
 constexpr int kMaxExprDepth = 1000;  // operators on the way down one expression tree
 
 class Builder {
@@ -626,19 +626,19 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
     auto& tokens = p.tokens;
     auto& parser = p.parser;
 
-    // Nesting the parser would recurse through without bound: brackets, and runs of
-    // prefix operators (`- - - x`). Stop at the first too deep one.
+    // Nesting the parser would recurse through without bound: brackets and braces, and
+    // runs of prefix operators (`- - - x`). Stop at the first too deep one.
     tokens.fill();
     int open = 0, prefix = 0;
     for (antlr4::Token* t : tokens.getTokens()) {
         const std::string s = t->getText();
         if (t->getType() == antlr4::Token::EOF) break;
-        open += s == "(" || s == "[" ? 1 : s == ")" || s == "]" ? -1 : 0;
+        open += s == "(" || s == "[" || s == "{" ? 1 : s == ")" || s == "]" || s == "}" ? -1 : 0;
         prefix = s == "-" || s == "not" ? prefix + 1 : 0;
         if (open > kMaxNesting || prefix > kMaxNesting) {
             sink.report(DiagId::NestingTooDeep, Span{file, offsets.byte(t->getStartIndex()),
                                                      offsets.byte(t->getStopIndex() + 1)},
-                        "more than " + std::to_string(kMaxNesting) + " nested brackets or prefix operators");
+                        "more than " + std::to_string(kMaxNesting) + " nested brackets, braces or prefix operators");
             return empty_module(file);
         }
     }
