@@ -432,6 +432,11 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
         if (!type) continue;
+        if (type_stack_.size() >= size_t(kMaxDepth)) {  // the elaboration recurses per level
+            sink_.report(DiagId::LoopTooLarge, inst->type.span,
+                         fmt::format("objects nest more than {} deep (an instance inside an instance inside ...)", kMaxDepth));
+            continue;
+        }
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
             auto& d = sink_.report(DiagId::RecursiveObject, inst->type.span,
                                    fmt::format("'{}' contains itself", type->name.text));
@@ -483,6 +488,11 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(v.str, scopes_[static_cast<size_t>(do_id)].module, v.span, &type_module);
         if (!type) continue;
+        if (type_stack_.size() >= size_t(kMaxDepth)) {  // the elaboration recurses per level
+            sink_.report(DiagId::LoopTooLarge, v.span,
+                         fmt::format("objects nest more than {} deep (a pooled object inside an instance inside ...)", kMaxDepth));
+            continue;
+        }
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
             sink_.report(DiagId::RecursiveObject, v.span, fmt::format("'{}' issues itself", type->name.text));
             continue;
