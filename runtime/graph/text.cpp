@@ -338,6 +338,7 @@ private:
         int32_t n = -1;
         if (!(lit("count ") && lit(member) && lit(" ") && number(n) && rest_.empty() && n >= 0))
             return fail(fmt::format("expected 'count {} N', got '{}'", member, at.substr(0, 40)));
+        std::vector<int>& lines = lines_[std::string(member)];
         for (int32_t i = 0; i < n; ++i) {
             if (!next_line()) return false;
             at = rest_;
@@ -348,7 +349,7 @@ private:
             R r{};
             if (!fields(r) || !end_of_line()) return false;
             rows.push_back(std::move(r));
-            lines_[std::string(member)].push_back(line_no_);
+            lines.push_back(line_no_);
         }
         return true;
     }
