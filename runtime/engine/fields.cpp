@@ -66,11 +66,6 @@ void rebuild_groups(Runtime& r) {
     s.groups_version = r.phys.version();
 }
 
-btVector3 field_gain(const Field& fd) {
-    const btVector3 d = to_bt(fd.dir);
-    return btVector3(std::abs(d.x()), std::abs(d.y()), std::abs(d.z())) * btScalar(fd.gain);
-}
-
 // The field's frame, recomputed only when its carrier has moved. Returns whether it changed.
 bool field_frame(Runtime& r, size_t f) {
     const Field& fd = r.g.fields[f];
@@ -80,7 +75,7 @@ bool field_frame(Runtime& r, size_t f) {
     ff.carrier = carrier;
     ff.pose = fd.body >= 0 ? r.phys.frame(fd.body) * r.tab.field_local[f] : to_bt(fd.pose);
     const btMatrix3x3& R = ff.pose.getBasis();
-    ff.K = R.scaled(field_gain(fd)) * R.transpose();  // R·diag(gain)·R^T
+    ff.K = R.scaled(r.tab.field_gain[f]) * R.transpose();  // R·diag(gain)·R^T
     const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
     ff.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
     ff.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
@@ -165,7 +160,7 @@ bool gather_fields(Runtime& r, int32_t b) {
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame
         if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z()) continue;
         if (!have_v) v = r.phys.velocity(b), have_v = true;
-        const btVector3& gain = s.field_gain[size_t(f)];
+        const btVector3& gain = r.tab.field_gain[size_t(f)];
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[size_t(f)])));
         s.body_k[b] += gain[gain.maxAxis()];
         s.force[b] += R * (gain * (s.field_target[size_t(f)] - v * R));
@@ -246,10 +241,9 @@ void apply_fields(Runtime& r) {
         s.field_act[f] = 0;
         if (fd.gain <= 0) continue;
         moved |= field_frame(r, f);
-        const btVector3 gain = field_gain(fd);
+        const btVector3& gain = r.tab.field_gain[f];
         if (!s.field_on[f] || gain[gain.maxAxis()] <= 0) continue;
         s.field_act[f] = 1;
-        s.field_gain[f] = gain;
         s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
     }
     if (moved) build_field_cells(r);

@@ -57,7 +57,6 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.touched.assign(nb, 0);
     s.world_list.assign(nb, 0);
     s.field_act.assign(g.fields.size(), 0);
-    s.field_gain.assign(g.fields.size(), btVector3(0, 0, 0));
     s.field_target.assign(g.fields.size(), btVector3(0, 0, 0));
 
     const size_t np = g.places.size();

@@ -89,9 +89,9 @@ struct State {
         bool valid = false;
     };
     std::vector<FieldFrame> field_frame;
-    // Per field, this step: acting (on, gain > 0), the law's gain along its axes, target velocity.
+    // Per field, this step: acting (on, gain > 0), target velocity.
     std::vector<uint8_t> field_act;
-    std::vector<btVector3> field_gain, field_target;
+    std::vector<btVector3> field_target;
     // The fields by 1 m cells of (x, y) of their bounding boxes (fields.cpp): cell keys sorted,
     // each with its fields in id order; fields covering very many cells are in `field_big`.
     std::vector<uint64_t> field_cells;

@@ -3,6 +3,7 @@
 #include "graph/kinds.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace plant::engine {
 
@@ -140,6 +141,12 @@ Tables::Tables(const Graph& g) {
     for (size_t f = 0; f < g.fields.size(); ++f)
         if (g.fields[f].body >= 0)
             field_local[f] = relative(g.bodies[g.fields[f].body].pose, g.fields[f].pose);
+    field_gain.resize(g.fields.size());
+    for (size_t f = 0; f < g.fields.size(); ++f) {
+        const Vec3& d = g.fields[f].dir;
+        field_gain[f] = btVector3(btScalar(std::abs(d[0])), btScalar(std::abs(d[1])), btScalar(std::abs(d[2]))) *
+                        btScalar(g.fields[f].gain);
+    }
     trigger_local.resize(g.triggers.size(), btTransform::getIdentity());
     for (size_t t = 0; t < g.triggers.size(); ++t)
         if (g.triggers[t].body >= 0)

@@ -48,6 +48,7 @@ struct Tables {
     std::vector<int32_t> graphics_order;  // parents before children
     std::vector<Pose> graphics_local;     // relative to the parent or attached body
     std::vector<btTransform> field_local;   // field box relative to its body frame
+    std::vector<btVector3> field_gain;      // the law's gain along the field's own axes: k·|d|
     std::vector<btTransform> trigger_local; // trigger box relative to its body frame
     std::vector<int32_t> rate_sources;
 
