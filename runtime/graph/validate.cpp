@@ -61,6 +61,15 @@ private:
         table_ = table;
         row_ = int32_t(row);
     }
+    // check(record, id) for every record of a table, stopping at the first that fails.
+    template <class R, class F>
+    bool each(std::string_view table, const std::vector<R>& rows, F&& check) {
+        for (size_t i = 0; i < rows.size(); ++i) {
+            at(table, i);
+            if (!check(rows[i], i)) return false;
+        }
+        return true;
+    }
 
     // `value` is a row of a table with n rows, or -1 when `none` allows it.
     bool id(std::string_view field, int32_t value, size_t n, std::string_view target, bool none = false) {
@@ -127,13 +136,11 @@ private:
     }
 
     bool dos() {
-        for (size_t i = 0; i < g_.do_types.size(); ++i) {
-            at("do_types", i);
-            if (!check(g_.do_types[i].instance_num >= 0, "field 'instance_num' is negative")) return false;
-        }
-        for (size_t i = 0; i < g_.dos.size(); ++i) {
-            at("dos", i);
-            const Do& d = g_.dos[i];
+        if (!each("do_types", g_.do_types, [&](const auto& r, size_t) {
+            return check(r.instance_num >= 0, "field 'instance_num' is negative");
+        }))
+            return false;
+        return each("dos", g_.dos, [&](const Do& d, size_t i) {
             if (!check(d.parent < int32_t(i), "field 'parent' must name an earlier DO (or be -1)") ||
                 !id("parent", d.parent, g_.dos.size(), "dos", true) ||
                 !id("type", d.type, g_.do_types.size(), "do_types", true) ||
@@ -146,8 +153,8 @@ private:
             if (d.pool >= 0 && !check(g_.comps[size_t(d.pool)].kind == CompKind::Source,
                                       "field 'pool' does not name a source component"))
                 return false;
-        }
-        return true;
+            return true;
+        });
     }
 
     // The table a component kind's `detail` indexes, with its size; none for state and router.
@@ -171,9 +178,7 @@ private:
     }
 
     bool comps() {
-        for (size_t c = 0; c < g_.comps.size(); ++c) {
-            at("comps", c);
-            const Comp& cp = g_.comps[c];
+        return each("comps", g_.comps, [&](const Comp& cp, size_t c) {
             if (!id("owner", cp.owner, g_.dos.size(), "dos") ||
                 !range("slot_adr", cp.slot_adr, cp.slot_num, g_.slots.size(), "slots"))
                 return false;
@@ -197,22 +202,20 @@ private:
                                             fixed[size_t(k)].name, word(cp.kind), word(s.type), word(s.dir),
                                             word(fixed[size_t(k)].type), word(fixed[size_t(k)].dir)));
             }
-        }
-        return true;
+            return true;
+        });
     }
 
     bool slots() {
-        for (size_t s = 0; s < g_.slots.size(); ++s) {
-            at("slots", s);
-            const Slot& sl = g_.slots[s];
+        return each("slots", g_.slots, [&](const Slot& sl, size_t) {
             if (!id("comp", sl.comp, g_.comps.size(), "comps")) return false;
             const int w = slot_width(sl.type);
-            if (w == 0) continue;
+            if (w == 0) return true;
             if (sl.value_adr < 0 || size_t(sl.value_adr) + size_t(w) > g_.values.size())
                 return fail(fmt::format("field 'value_adr' = {}: a {} slot needs {} values there, the graph has {}",
                                         sl.value_adr, word(sl.type), w, g_.values.size()));
-        }
-        return true;
+            return true;
+        });
     }
 
     // The slots one end of a flow may be: the slot, or every target of its access.
@@ -227,9 +230,7 @@ private:
 
     // Accesses and their targets, then the flows whose ends go through them.
     bool flows() {
-        for (size_t i = 0; i < g_.accesses.size(); ++i) {
-            at("accesses", i);
-            const Access& a = g_.accesses[i];
+        if (!each("accesses", g_.accesses, [&](const Access& a, size_t) {
             if (!slot("ref_slot", a.ref_slot, SlotType::Ref, Dir::Out) ||
                 !id("do_type", a.do_type, g_.do_types.size(), "do_types") ||
                 !range("target_adr", a.target_adr, a.target_num, g_.access_targets.size(), "access_targets"))
@@ -237,14 +238,14 @@ private:
             if (a.target_num != g_.do_types[size_t(a.do_type)].instance_num)
                 return fail(fmt::format("field 'target_num' = {}: its type has {} instances", a.target_num,
                                         g_.do_types[size_t(a.do_type)].instance_num));
-        }
-        for (size_t i = 0; i < g_.access_targets.size(); ++i) {
-            at("access_targets", i);
-            if (!id("v", g_.access_targets[i].v, g_.slots.size(), "slots")) return false;
-        }
-        for (size_t i = 0; i < g_.flows.size(); ++i) {
-            at("flows", i);
-            const Flow& f = g_.flows[i];
+            return true;
+        }))
+            return false;
+        if (!each("access_targets", g_.access_targets, [&](const auto& r, size_t) {
+            return id("v", r.v, g_.slots.size(), "slots");
+        }))
+            return false;
+        return each("flows", g_.flows, [&](const Flow& f, size_t) {
             if (!id("from", f.from, g_.slots.size(), "slots") || !id("to", f.to, g_.slots.size(), "slots") ||
                 !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
                 !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
@@ -258,52 +259,42 @@ private:
                 return true;
             });
             if (!same) return fail("the slots its target may be differ in width");
-            if (width <= 0) continue;
+            if (width <= 0) return true;
             const bool fits = each_end(f.from, f.from_access,
                                        [&](int32_t s) { return slot_width(g_.slots[size_t(s)].type) == width; });
             if (!fits) return fail(fmt::format("its source is not {} values wide, as its target is", width));
-        }
-        return true;
+            return true;
+        });
     }
     bool logics() {
-        for (size_t i = 0; i < g_.logics.size(); ++i) {
-            at("logics", i);
-            const Logic& l = g_.logics[i];
-            if (!owner(l.comp, CompKind::Logic, i) ||
-                !range("in_adr", l.in_adr, l.in_num, g_.logic_inputs.size(), "logic_inputs") ||
-                !id("out_slot", l.out_slot, g_.slots.size(), "slots"))
-                return false;
-        }
-        for (size_t i = 0; i < g_.logic_inputs.size(); ++i) {
-            at("logic_inputs", i);
-            if (!id("slot", g_.logic_inputs[i].slot, g_.slots.size(), "slots")) return false;
-        }
-        return true;
+        if (!each("logics", g_.logics, [&](const Logic& l, size_t i) {
+            return owner(l.comp, CompKind::Logic, i) &&
+                   range("in_adr", l.in_adr, l.in_num, g_.logic_inputs.size(), "logic_inputs") &&
+                   id("out_slot", l.out_slot, g_.slots.size(), "slots");
+        }))
+            return false;
+        return each("logic_inputs", g_.logic_inputs, [&](const auto& r, size_t) {
+            return id("slot", r.slot, g_.slots.size(), "slots");
+        });
     }
 
     bool bodies() {
-        for (size_t i = 0; i < g_.bodies.size(); ++i) {
-            at("bodies", i);
-            const Body& b = g_.bodies[i];
-            if (!owner(b.comp, CompKind::Body, i) ||
-                !range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") ||
-                !check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") ||
-                !check(b.mass >= 0, "field 'mass' is negative") ||
-                !check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
-                       "field 'inertia' must be above 0 on every axis") ||
-                !check(b.friction >= 0 && b.restitution >= 0, "friction and restitution must be 0 or more") ||
-                !check(b.linear_damping >= 0 && b.linear_damping <= 1 && b.angular_damping >= 0 &&
-                           b.angular_damping <= 1,
-                       "damping must lie in [0, 1]"))
-                return false;
-        }
-        return true;
+        return each("bodies", g_.bodies, [&](const Body& b, size_t i) {
+            return owner(b.comp, CompKind::Body, i) &&
+                   range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") &&
+                   check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
+                   check(b.mass >= 0, "field 'mass' is negative") &&
+                   check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
+                          "field 'inertia' must be above 0 on every axis") &&
+                   check(b.friction >= 0 && b.restitution >= 0, "friction and restitution must be 0 or more") &&
+                   check(b.linear_damping >= 0 && b.linear_damping <= 1 && b.angular_damping >= 0 &&
+                              b.angular_damping <= 1,
+                          "damping must lie in [0, 1]");
+        });
     }
 
     bool shapes() {
-        for (size_t i = 0; i < g_.shapes.size(); ++i) {
-            at("shapes", i);
-            const Shape& s = g_.shapes[i];
+        return each("shapes", g_.shapes, [&](const Shape& s, size_t) {
             const Vec3& z = s.size;
             bool ok = true;
             switch (s.kind) {
@@ -316,106 +307,77 @@ private:
                 if (!range("point_adr", s.point_adr, s.point_num, g_.points.size(), "points")) return false;
                 break;
             }
-            if (!check(ok, "field 'size' must be above 0 where the shape uses it")) return false;
-        }
-        return true;
+            return check(ok, "field 'size' must be above 0 where the shape uses it");
+        });
     }
 
     bool fields() {
-        for (size_t i = 0; i < g_.fields.size(); ++i) {
-            at("fields", i);
-            const Field& f = g_.fields[i];
+        return each("fields", g_.fields, [&](const Field& f, size_t i) {
             const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
-            if (!owner(f.comp, CompKind::Field, i) || !id("body", f.body, g_.bodies.size(), "bodies", true) ||
-                !check(f.extent[0] >= 0 && f.extent[1] >= 0 && f.extent[2] >= 0, "field 'extent' is negative") ||
-                !check(d > 0, "field 'dir' is the zero vector") || !check(f.gain >= 0, "field 'gain' is negative"))
-                return false;
-        }
-        return true;
+            return owner(f.comp, CompKind::Field, i) && id("body", f.body, g_.bodies.size(), "bodies", true) &&
+                   check(f.extent[0] >= 0 && f.extent[1] >= 0 && f.extent[2] >= 0, "field 'extent' is negative") &&
+                   check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative");
+        });
     }
 
     bool joints() {
-        for (size_t i = 0; i < g_.joints.size(); ++i) {
-            at("joints", i);
-            const Joint& j = g_.joints[i];
-            if (!owner(j.comp, CompKind::Constraint, i) || !id("body_a", j.body_a, g_.bodies.size(), "bodies") ||
-                !id("body_b", j.body_b, g_.bodies.size(), "bodies", true) ||
-                !check(j.body_a != j.body_b, "a joint joins two different bodies"))
-                return false;
-        }
-        return true;
+        return each("joints", g_.joints, [&](const Joint& j, size_t i) {
+            return owner(j.comp, CompKind::Constraint, i) && id("body_a", j.body_a, g_.bodies.size(), "bodies") &&
+                   id("body_b", j.body_b, g_.bodies.size(), "bodies", true) &&
+                   check(j.body_a != j.body_b, "a joint joins two different bodies");
+        });
     }
 
     bool nets() {
-        for (size_t i = 0; i < g_.places.size(); ++i) {
-            at("places", i);
-            const Place& p = g_.places[i];
-            if (!id("comp", p.comp, g_.comps.size(), "comps") ||
-                !check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") ||
-                !check(p.initial >= 0, "field 'initial' is negative") ||
-                !slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) ||
-                !slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) ||
-                !slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true))
-                return false;
-        }
-        for (size_t i = 0; i < g_.transitions.size(); ++i) {
-            at("transitions", i);
-            const Transition& t = g_.transitions[i];
-            if (!id("comp", t.comp, g_.comps.size(), "comps") ||
-                !check(g_.comps[size_t(t.comp)].kind == CompKind::State, "field 'comp' is not a state component") ||
-                !range("in_adr", t.in_adr, t.in_num, g_.arcs.size(), "arcs") ||
-                !range("out_adr", t.out_adr, t.out_num, g_.arcs.size(), "arcs") ||
-                !slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out, true))
-                return false;
-        }
-        for (size_t i = 0; i < g_.arcs.size(); ++i) {
-            at("arcs", i);
-            if (!id("place", g_.arcs[i].place, g_.places.size(), "places") ||
-                !check(g_.arcs[i].weight >= 1, "field 'weight' must be 1 or more"))
-                return false;
-        }
-        return true;
+        if (!each("places", g_.places, [&](const Place& p, size_t) {
+            return id("comp", p.comp, g_.comps.size(), "comps") &&
+                   check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
+                   check(p.initial >= 0, "field 'initial' is negative") &&
+                   slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) &&
+                   slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) &&
+                   slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true);
+        }))
+            return false;
+        if (!each("transitions", g_.transitions, [&](const Transition& t, size_t) {
+            return id("comp", t.comp, g_.comps.size(), "comps") &&
+                   check(g_.comps[size_t(t.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
+                   range("in_adr", t.in_adr, t.in_num, g_.arcs.size(), "arcs") &&
+                   range("out_adr", t.out_adr, t.out_num, g_.arcs.size(), "arcs") &&
+                   slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out, true);
+        }))
+            return false;
+        return each("arcs", g_.arcs, [&](const auto& r, size_t) {
+            return id("place", r.place, g_.places.size(), "places") &&
+                   check(r.weight >= 1, "field 'weight' must be 1 or more");
+        });
     }
 
     bool triggers() {
-        for (size_t i = 0; i < g_.triggers.size(); ++i) {
-            at("triggers", i);
-            const Trigger& t = g_.triggers[i];
-            if (!owner(t.comp, CompKind::Trigger, i) || !id("body", t.body, g_.bodies.size(), "bodies", true) ||
-                !check(t.extent[0] >= 0 && t.extent[1] >= 0 && t.extent[2] >= 0, "field 'extent' is negative") ||
-                !id("filter", t.filter, g_.do_types.size(), "do_types", true))
-                return false;
-        }
-        return true;
+        return each("triggers", g_.triggers, [&](const Trigger& t, size_t i) {
+            return owner(t.comp, CompKind::Trigger, i) && id("body", t.body, g_.bodies.size(), "bodies", true) &&
+                   check(t.extent[0] >= 0 && t.extent[1] >= 0 && t.extent[2] >= 0, "field 'extent' is negative") &&
+                   id("filter", t.filter, g_.do_types.size(), "do_types", true);
+        });
     }
 
     bool timers() {
-        for (size_t i = 0; i < g_.timers.size(); ++i) {
-            at("timers", i);
-            const Timer& t = g_.timers[i];
-            if (!owner(t.comp, CompKind::Timer, i) ||
-                !check(t.periodic ? t.period > 0 : t.period >= 0, "field 'period' must be above 0 (0 or more for a one-shot)"))
-                return false;
-        }
-        return true;
+        return each("timers", g_.timers, [&](const Timer& t, size_t i) {
+            return owner(t.comp, CompKind::Timer, i) &&
+                   check(t.periodic ? t.period > 0 : t.period >= 0,
+                         "field 'period' must be above 0 (0 or more for a one-shot)");
+        });
     }
 
     bool grippers() {
-        for (size_t i = 0; i < g_.grippers.size(); ++i) {
-            at("grippers", i);
-            const Gripper& gr = g_.grippers[i];
-            if (!owner(gr.comp, CompKind::Gripper, i) || !id("trigger", gr.trigger, g_.triggers.size(), "triggers") ||
-                !id("body", gr.body, g_.bodies.size(), "bodies", true) ||
-                !id("graphics", gr.graphics, g_.graphics.size(), "graphics", true))
-                return false;
-        }
-        return true;
+        return each("grippers", g_.grippers, [&](const Gripper& gr, size_t i) {
+            return owner(gr.comp, CompKind::Gripper, i) && id("trigger", gr.trigger, g_.triggers.size(), "triggers") &&
+                   id("body", gr.body, g_.bodies.size(), "bodies", true) &&
+                   id("graphics", gr.graphics, g_.graphics.size(), "graphics", true);
+        });
     }
 
     bool sources() {
-        for (size_t i = 0; i < g_.sources.size(); ++i) {
-            at("sources", i);
-            const Source& s = g_.sources[i];
+        return each("sources", g_.sources, [&](const Source& s, size_t i) {
             if (!owner(s.comp, CompKind::Source, i) || !id("do_type", s.do_type, g_.do_types.size(), "do_types") ||
                 !range("pool_adr", s.pool_adr, s.pool_num, g_.dos.size(), "dos") ||
                 !check(s.rate >= 0, "field 'rate' is negative") ||
@@ -427,36 +389,27 @@ private:
                     return fail(fmt::format("DO {} in its pool is not a pooled {} of this source",
                                             s.pool_adr + k, std::string(g_.str(g_.do_types[size_t(s.do_type)].name))));
             }
-        }
-        return true;
+            return true;
+        });
     }
 
     bool exits() {
-        for (size_t i = 0; i < g_.exits.size(); ++i) {
-            at("exits", i);
-            if (!owner(g_.exits[i].comp, CompKind::Exit, i) ||
-                !id("trigger", g_.exits[i].trigger, g_.triggers.size(), "triggers"))
-                return false;
-        }
-        return true;
+        return each("exits", g_.exits, [&](const auto& r, size_t i) {
+            return owner(r.comp, CompKind::Exit, i) &&
+                   id("trigger", r.trigger, g_.triggers.size(), "triggers");
+        });
     }
 
     bool routes() {
-        for (size_t i = 0; i < g_.routes.size(); ++i) {
-            at("routes", i);
-            const Route& r = g_.routes[i];
-            if (!id("comp", r.comp, g_.comps.size(), "comps") ||
-                !check(g_.comps[size_t(r.comp)].kind == CompKind::Router, "field 'comp' is not a router") ||
-                !slot("out_slot", r.out_slot, SlotType::Void, Dir::Out))
-                return false;
-        }
-        return true;
+        return each("routes", g_.routes, [&](const Route& r, size_t) {
+            return id("comp", r.comp, g_.comps.size(), "comps") &&
+                   check(g_.comps[size_t(r.comp)].kind == CompKind::Router, "field 'comp' is not a router") &&
+                   slot("out_slot", r.out_slot, SlotType::Void, Dir::Out);
+        });
     }
 
     bool graphics() {
-        for (size_t i = 0; i < g_.graphics.size(); ++i) {
-            at("graphics", i);
-            const Graphics& gr = g_.graphics[i];
+        return each("graphics", g_.graphics, [&](const Graphics& gr, size_t i) {
             if (!owner(gr.comp, CompKind::Graphics, i) ||
                 !check(gr.parent < int32_t(i), "field 'parent' must name an earlier graphics (or be -1)") ||
                 !id("parent", gr.parent, g_.graphics.size(), "graphics", true) ||
@@ -467,14 +420,12 @@ private:
             if (gr.variant < -1 || gr.variant >= gr.variant_num)
                 return fail(fmt::format("field 'variant' = {} is not -1 or the index of one of its {} variants",
                                         gr.variant, gr.variant_num));
-        }
-        return true;
+            return true;
+        });
     }
 
     bool animations() {
-        for (size_t i = 0; i < g_.animations.size(); ++i) {
-            at("animations", i);
-            const Animation& a = g_.animations[i];
+        return each("animations", g_.animations, [&](const Animation& a, size_t i) {
             if (!id("graphics", a.graphics, g_.graphics.size(), "graphics") ||
                 !check(a.duration >= 0, "field 'duration' is negative") ||
                 !check(a.key_num > 0, "an animation needs keys") ||
@@ -490,35 +441,27 @@ private:
                 if (k > 0 && !(t > g_.keys[size_t(a.key_adr + k - 1)].t))
                     return fail(fmt::format("its time is not later than the key before it (animation {})", i));
             }
-        }
-        return true;
+            return true;
+        });
     }
 
     bool variants() {
-        for (size_t i = 0; i < g_.variants.size(); ++i) {
-            at("variants", i);
-            const Variant& v = g_.variants[i];
-            if (!id("graphics", v.graphics, g_.graphics.size(), "graphics") ||
-                !slot("select_slot", v.select_slot, SlotType::Void, Dir::In))
-                return false;
-        }
-        return true;
+        return each("variants", g_.variants, [&](const Variant& v, size_t) {
+            return id("graphics", v.graphics, g_.graphics.size(), "graphics") &&
+                   slot("select_slot", v.select_slot, SlotType::Void, Dir::In);
+        });
     }
 
     bool labels() {
-        for (size_t i = 0; i < g_.labels.size(); ++i) {
-            at("labels", i);
-            if (!owner(g_.labels[i].comp, CompKind::Label, i)) return false;
-        }
-        return true;
+        return each("labels", g_.labels, [&](const auto& r, size_t i) {
+            return owner(r.comp, CompKind::Label, i);
+        });
     }
 
     bool records() {
-        for (size_t i = 0; i < g_.records.size(); ++i) {
-            at("records", i);
-            if (!id("slot", g_.records[i].slot, g_.slots.size(), "slots")) return false;
-        }
-        return true;
+        return each("records", g_.records, [&](const auto& r, size_t) {
+            return id("slot", r.slot, g_.slots.size(), "slots");
+        });
     }
 
     const Graph& g_;
