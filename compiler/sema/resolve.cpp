@@ -323,7 +323,7 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
             column += (column.empty() ? "" : ".") + seg.name.text;
             if (seg.index) {
                 Value i = ev_.eval(*seg.index, env);
-                const bool whole = i.kind == Value::Kind::Num && std::floor(i.num) == i.num && std::abs(i.num) < 9e15;
+                const bool whole = i.kind == Value::Kind::Num && is_whole(i.num);
                 column += whole ? fmt::format("[{}]", static_cast<long long>(i.num)) : "[?]";
             }
         }

@@ -104,7 +104,7 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
         }
         Value v = Value::number(e.number, {}, e.span);
         if (e.text.empty()) {
-            v.integer = std::floor(e.number) == e.number && std::abs(e.number) < 9e15;
+            v.integer = is_whole(e.number);
             v.any_dim = e.number == 0;
             return v;
         }
@@ -300,13 +300,13 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                 r.boolean = op == "<" ? a.num < b.num : op == "<=" ? a.num <= b.num
                           : op == ">" ? a.num > b.num : a.num >= b.num;
             }
-            r.integer = r.integer && std::abs(r.num) < 9e15;  // whole numbers stay exact in a double
+            r.integer = r.integer && is_whole(r.num);  // whole numbers stay exact in a double
             return r;
         }
         if (op == "*") {
             r.num = a.num * b.num;
             r.dim = a.dim * b.dim;
-            r.integer = a.integer && b.integer && std::abs(r.num) < 9e15;
+            r.integer = a.integer && b.integer && is_whole(r.num);
             return r;
         }
         if (op == "/") {
@@ -516,9 +516,8 @@ bool Evaluator::expect_int(const Value& v, std::string_view what) {
                                                                     with_article(v.kind == Value::Kind::Num && v.dim.none() ? "fraction" : describe(v))));
         return false;
     }
-    // Loop bounds and indices become 64-bit integers; beyond 9e15 a double no longer
-    // holds every whole number either.
-    if (std::abs(v.num) >= 9e15) {
+    // Loop bounds and indices become 64-bit integers (is_whole).
+    if (!is_whole(v.num)) {
         sink_.report(DiagId::ValueTypeMismatch, v.span,
                      fmt::format("{} must be a whole number of at most 15 digits, not {}", what, v.num));
         return false;

@@ -5,6 +5,7 @@
 #include "diag/diagnostic.h"
 #include "units/units.h"
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
@@ -36,6 +37,9 @@ struct Value {
         return x;
     }
 };
+
+// A whole number a double holds exactly, and a loop counter or index can take: |v| < 9e15.
+inline bool is_whole(double v) { return std::floor(v) == v && std::abs(v) < 9e15; }
 
 std::string describe(const Value& v);  // "length", "bool", "string", "vec3 of length" ...
 std::string with_article(std::string_view noun);  // "an int", "a length"
