@@ -262,14 +262,14 @@ void Physics::assign_worlds() {
             }
         }
         if (!any) {  // parked: waits in the void's world, which is not stepped for it
-            if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[gi])]] != void_) move_group(gi, void_);
+            if (world_of_[*group_bodies_.begin(gi)] != void_) move_group(gi, void_);
             continue;
         }
         if (to < 0) {
             void_groups_.push_back(gi);
             continue;
         }
-        if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[gi])]] != to) move_group(gi, to);
+        if (world_of_[*group_bodies_.begin(gi)] != to) move_group(gi, to);
     }
     // Void groups join the world of a mover they meet (of a region's world, or a void group
     // that joined one before), in turn until none joins.
@@ -313,7 +313,7 @@ void Physics::assign_worlds() {
         for (int32_t gi : void_groups_) void_mark_[size_t(gi)] = 0;
     }
     for (size_t i = 0; i < void_groups_.size(); ++i)
-        if (world_of_[group_bodies_.list[size_t(group_bodies_.adr[void_groups_[i]])]] != void_home_[i])
+        if (world_of_[*group_bodies_.begin(void_groups_[i])] != void_home_[i])
             move_group(void_groups_[i], void_home_[i]);
     // Anchored movers reaching out of their region's box: contacts with other worlds' movers.
     for (int32_t b : movers_) {
