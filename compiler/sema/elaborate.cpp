@@ -173,6 +173,15 @@ const ast::ObjectDecl* Elaborator::find_type(const std::string& type_name, int m
     return it->second.second;
 }
 
+// One more level of objects (an instance, or a source's pooled object) would nest deeper
+// than kMaxDepth: reported at `at`. The elaboration recurses once per level.
+bool Elaborator::nested_too_deep(Span at) {
+    if (type_stack_.size() < size_t(kMaxDepth)) return false;
+    sink_.report(DiagId::LoopTooLarge, at,
+                 fmt::format("objects nest more than {} deep (an instance inside an instance inside ...)", kMaxDepth));
+    return true;
+}
+
 bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
     auto [it, fresh] = s.declared.try_emplace(n, span);
     if (fresh) return true;
@@ -432,11 +441,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
         if (!type) continue;
-        if (type_stack_.size() >= size_t(kMaxDepth)) {  // the elaboration recurses per level
-            sink_.report(DiagId::LoopTooLarge, inst->type.span,
-                         fmt::format("objects nest more than {} deep (an instance inside an instance inside ...)", kMaxDepth));
-            continue;
-        }
+        if (nested_too_deep(inst->type.span)) continue;
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
             auto& d = sink_.report(DiagId::RecursiveObject, inst->type.span,
                                    fmt::format("'{}' contains itself", type->name.text));
@@ -488,11 +493,7 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(v.str, scopes_[static_cast<size_t>(do_id)].module, v.span, &type_module);
         if (!type) continue;
-        if (type_stack_.size() >= size_t(kMaxDepth)) {  // the elaboration recurses per level
-            sink_.report(DiagId::LoopTooLarge, v.span,
-                         fmt::format("objects nest more than {} deep (a pooled object inside an instance inside ...)", kMaxDepth));
-            continue;
-        }
+        if (nested_too_deep(v.span)) continue;
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
             sink_.report(DiagId::RecursiveObject, v.span, fmt::format("'{}' issues itself", type->name.text));
             continue;

@@ -99,6 +99,7 @@ public:
     void expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                 std::vector<Item>& out, int depth);
     bool declare(Scope& s, const std::string& name, Span span);
+    bool nested_too_deep(Span at);
     Frame placement(const ast::Placement* p, const Env& env);
     // q := q * (the rotation, its angle scaled by share); the full angle in *angle_out.
     bool rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env, double share = 1.0,
