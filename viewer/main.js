@@ -1,0 +1,209 @@
+// The viewer page: connects to `plant serve` (docs/viewer.md), draws the plant, and sends
+// every interaction as a protocol message.
+import { Connection } from './protocol.js';
+import { PlantView } from './scene.js';
+import { Inspector } from './inspector.js';
+import { Plots } from './plots.js';
+
+const $ = (id) => document.getElementById(id);
+const view = new PlantView($('view'));
+const debug = {
+  sceneReady: false,
+  framesReceived: 0,
+  statusReceived: 0,
+  bodyCount: 0,
+  lastStatus: null,
+  scene: null,
+  events: [],
+  errors: [],
+  drawCalls: () => view.renderer.info.render.calls,
+  triangles: () => view.renderer.info.render.triangles,
+  // bodies drawn now (in the world), counting instances
+  bodiesDrawn: () => view.bodyGroups?.reduce((n, g) => n + g.solid.n + g.ghost.n, 0) ?? 0,
+  bodiesInWorld: () => (view.bodyState ? view.bodyState.reduce((n, s) => n + (s & 1), 0) : 0),
+  bodyPose: (id) => {
+    const i = view.bodyIndex?.get(id);
+    return i === undefined ? null : Array.from(view.bodyPose.subarray(7 * i, 7 * i + 7));
+  },
+  bodyState: (id) => { const i = view.bodyIndex?.get(id); return i === undefined ? null : view.bodyState[i]; },
+  send: (msg) => conn.send(msg),
+  inspect: (path) => inspector.open(path),
+  inspectedPath: () => inspector.path,
+  view,
+};
+window.plantViewer = debug;
+
+let paused = false;
+let replay = false;
+let seeking = false;
+
+function log(text, cls) {
+  const ol = $('log');
+  const li = document.createElement('li');
+  li.textContent = text;
+  if (cls) li.className = cls;
+  ol.append(li);
+  while (ol.children.length > 500) ol.firstChild.remove();
+  ol.scrollTop = ol.scrollHeight;
+}
+
+const conn = new Connection({
+  onConnection(state) {
+    $('conn').textContent = state === 'open' ? 'connected' : 'disconnected';
+    $('conn').className = `badge ${state === 'open' ? 'ok' : 'bad'}`;
+  },
+  onScene(scene) {
+    debug.sceneReady = false;
+    debug.scene = scene;
+    $('plant-name').textContent = scene.plant;
+    document.title = `${scene.plant} · plant viewer`;
+    view.load(scene);
+    inspector.setScene(scene);
+    plots.setScene(scene);
+    replay = scene.mode === 'replay';
+    $('timeline').hidden = !replay;
+    for (const id of ['step', 'restart']) $(id).disabled = replay;
+    if (replay) $('seek').max = String(scene.duration ?? 0);
+    debug.bodyCount = view.bodyCount;
+    debug.sceneReady = true;
+    log(`scene: ${scene.plant}, ${scene.bodies.length} bodies, ${scene.rate} Hz${replay ? ', replay' : ''}`);
+  },
+  onFrame(frame) {
+    debug.framesReceived++;
+    debug.lastFrame = { time: frame.time, step: frame.step, full: frame.full, paused: frame.paused, bodies: frame.bodyIds.length, graphics: frame.gfxIds.length };
+    view.applyFrame(frame);
+    setPaused(frame.paused);
+    $('clock').textContent = `t = ${frame.time.toFixed(2)} s · step ${frame.step}`;
+  },
+  onStatus(st) {
+    debug.statusReceived++;
+    debug.lastStatus = st;
+    view.applyStatus(st);
+    setPaused(!!st.paused);
+    markSpeed(st.speed);
+    $('clock').textContent = `t = ${Number(st.time).toFixed(2)} s · step ${st.step} · ${st.rtf !== undefined ? `${Number(st.rtf).toFixed(2)}× real time` : ''}`;
+    inspector.applyStatus(st.inspect);
+    plots.applyStatus(st);
+    if (replay && !seeking) {
+      $('seek').value = String(st.time);
+      $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${debug.scene?.duration ?? '?'} s`;
+    }
+  },
+  onEvent(msg) {
+    debug.events.push(msg.line);
+    log(msg.line + (msg.client !== undefined ? `   (client ${msg.client})` : ''));
+  },
+  onError(msg) {
+    debug.errors.push(msg.message);
+    log(`error: ${msg.message}`, 'error');
+  },
+});
+
+const inspector = new Inspector((msg) => {
+  conn.send(msg);
+});
+const plots = new Plots();
+
+function setPaused(p) {
+  if (p === paused) return;
+  paused = p;
+  $('run').textContent = p ? 'run' : 'pause';
+  $('run').classList.toggle('on', p);
+}
+
+function markSpeed(speed) {
+  for (const b of $('speeds').querySelectorAll('button')) b.classList.toggle('on', Number(b.dataset.speed) === speed);
+}
+
+// ---- controls ----
+$('run').addEventListener('click', () => conn.send({ type: 'control', action: paused ? 'run' : 'pause' }));
+$('step').addEventListener('click', () => conn.send({ type: 'control', action: 'step' }));
+$('restart').addEventListener('click', () => conn.send({ type: 'control', action: 'restart' }));
+for (const b of $('speeds').querySelectorAll('button')) {
+  b.addEventListener('click', () => conn.send({ type: 'control', action: 'speed', speed: Number(b.dataset.speed) }));
+}
+$('top-view').addEventListener('click', () => { view.follow(-1); $('follow').classList.remove('on'); view.topView(); });
+$('follow').addEventListener('click', () => {
+  if (view.followBody >= 0) { view.follow(-1); $('follow').classList.remove('on'); return; }
+  if (selectedBody >= 0) { view.follow(selectedBody); $('follow').classList.add('on'); }
+});
+for (const name of ['bodies', 'graphics', 'fields', 'triggers']) {
+  $(`layer-${name}`).addEventListener('change', (e) => view.setLayer(name, e.target.checked));
+}
+$('seek').addEventListener('input', () => {
+  seeking = true;
+  $('seek-label').textContent = `${Number($('seek').value).toFixed(2)} s`;
+});
+$('seek').addEventListener('change', () => {
+  conn.send({ type: 'seek', time: Number($('seek').value) });
+  seeking = false;
+});
+window.addEventListener('keydown', (e) => {
+  if (e.target instanceof HTMLInputElement) return;
+  if (e.key === ' ') { e.preventDefault(); $('run').click(); }
+});
+
+// ---- hover label and selection ----
+const canvas = view.renderer.domElement;
+let pointer = null, pointerMoved = false, lastPick = 0, downAt = null;
+let selectedBody = -1;
+canvas.addEventListener('pointermove', (e) => {
+  const r = canvas.getBoundingClientRect();
+  pointer = { x: e.clientX - r.left, y: e.clientY - r.top, w: r.width, h: r.height };
+  pointerMoved = true;
+});
+canvas.addEventListener('pointerleave', () => { pointer = null; $('hover').hidden = true; });
+canvas.addEventListener('pointerdown', (e) => { downAt = { x: e.clientX, y: e.clientY }; });
+canvas.addEventListener('pointerup', (e) => {
+  if (!downAt || Math.hypot(e.clientX - downAt.x, e.clientY - downAt.y) > 4) return;   // a drag of the camera
+  const r = canvas.getBoundingClientRect();
+  const hit = view.pick(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+  selectHit(hit);
+});
+
+function selectHit(hit) {
+  if (!hit) { view.select(-1); inspector.close(); selectedBody = -1; $('follow').disabled = true; return; }
+  view.select(hit.doId);
+  inspector.open(hit.doPath);
+  selectedBody = hit.kind === 'body' && view.scene.bodies[hit.index].mode === 'dynamic' ? hit.index : -1;
+  $('follow').disabled = selectedBody < 0;
+  if (view.followBody >= 0 && selectedBody >= 0) view.follow(selectedBody);
+}
+debug.select = (path) => {
+  const d = view.scene?.dos.find((x) => x.path === path);
+  if (!d) return false;
+  const bi = view.scene.bodies.findIndex((b) => b.do === d.id);
+  selectHit({ kind: bi >= 0 ? 'body' : 'do', index: bi, path, doId: d.id, doPath: path });
+  return true;
+};
+// Where on the canvas (CSS pixels) a body's origin is drawn, for clicking it in tests.
+debug.screenPoint = (id) => {
+  const i = view.bodyIndex?.get(id);
+  if (i === undefined) return null;
+  const p = view.bodyWorldPosition(i).project(view.camera);
+  const r = canvas.getBoundingClientRect();
+  return { x: r.left + (p.x + 1) / 2 * r.width, y: r.top + (1 - p.y) / 2 * r.height };
+};
+$('insp-close').addEventListener('click', () => { view.select(-1); selectedBody = -1; $('follow').disabled = true; });
+
+function hover() {
+  if (!pointer || !pointerMoved) return;
+  const now = performance.now();
+  if (now - lastPick < 60) return;
+  lastPick = now;
+  pointerMoved = false;
+  const hit = view.pick((pointer.x / pointer.w) * 2 - 1, -(pointer.y / pointer.h) * 2 + 1);
+  const label = $('hover');
+  if (!hit) { label.hidden = true; return; }
+  label.textContent = hit.path + (hit.kind === 'body' ? '' : ` (${hit.kind})`);
+  label.style.left = `${pointer.x + 14}px`;
+  label.style.top = `${pointer.y + 10}px`;
+  label.hidden = false;
+}
+
+function loop() {
+  hover();
+  view.render();
+  requestAnimationFrame(loop);
+}
+requestAnimationFrame(loop);

