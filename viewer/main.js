@@ -136,6 +136,7 @@ $('seek').addEventListener('input', () => {
 });
 $('seek').addEventListener('change', () => {
   conn.send({ type: 'seek', time: Number($('seek').value) });
+  plots.clear();
   seeking = false;
 });
 window.addEventListener('keydown', (e) => {

@@ -82,6 +82,11 @@ export class Plots {
     this.records = (scene.records ?? []).length ? new Series(this.recordBox, scene.records.map((r) => r.column), this.width()) : null;
   }
 
+  clear() {
+    this.counters?.clear();
+    this.records?.clear();
+  }
+
   applyStatus(st) {
     if (!this.counters) return;
     const c = st.counters ?? {};

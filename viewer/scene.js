@@ -13,8 +13,9 @@ const MODE_COLOURS = {
   dynamic: new THREE.Color(0xe8893a),    // orange: what moves freely
 };
 const SELECTED = new THREE.Color(0xff2d78);
+const _c = new THREE.Color();
 const VARIANT_COLOURS = {
-  empty: 0xa9dcef, filled: 0xf0a032, capped: 0x9a63d8, filled_capped: 0x2da44e, empty_capped: 0x9a63d8,
+  empty: 0x52b4ea, filled: 0xf0a032, capped: 0x9a63d8, filled_capped: 0x2da44e, empty_capped: 0x9a63d8,
 };
 const FIELD_ON = new THREE.Color(0x1f9fb3);
 const FIELD_OFF = new THREE.Color(0x7d8690);
@@ -72,8 +73,8 @@ function bodyGeometry(shapes) {
 
 // A unit arrow along +x: shaft from 0 to 0.72, head to 1.
 function arrowGeometry() {
-  const shaft = new THREE.CylinderGeometry(0.025, 0.025, 0.72, 10).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.36, 0, 0);
-  const head = new THREE.ConeGeometry(0.08, 0.28, 14).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.86, 0, 0);
+  const shaft = new THREE.CylinderGeometry(0.015, 0.015, 0.72, 10).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.36, 0, 0);
+  const head = new THREE.ConeGeometry(0.06, 0.28, 14).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.86, 0, 0);
   return mergeGeometries([shaft.toNonIndexed(), head.toNonIndexed()], false);
 }
 
@@ -326,13 +327,10 @@ export class PlantView {
 
   bodyColour(i) {
     const b = this.scene.bodies[i];
-    if (b.do === this.selectedDo) return SELECTED;
+    let c = MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
     const gi = this.gfxTint.get(i);
-    if (gi !== undefined && !this.gfxUrl(gi)) {
-      const c = this.gfxColour(gi);
-      if (c) return c;
-    }
-    return MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
+    if (gi !== undefined && !this.gfxUrl(gi)) c = this.gfxColour(gi) ?? c;
+    return b.do === this.selectedDo ? _c.copy(c).lerp(SELECTED, 0.55) : c;
   }
 
   update() {
@@ -425,7 +423,8 @@ export class PlantView {
     const size = box.getSize(new THREE.Vector3());
     const centre = box.getCenter(new THREE.Vector3());
     const extent = Math.ceil(Math.max(size.x, size.y, 1) + 2);
-    const grid = new THREE.GridHelper(extent, extent * 2, 0xaab4c0, 0xc7cfd8);
+    const cell = extent <= 20 ? 0.5 : extent <= 60 ? 1 : 5;
+    const grid = new THREE.GridHelper(extent, Math.round(extent / cell), 0xaab4c0, 0xc7cfd8);
     grid.rotateX(Math.PI / 2);
     grid.position.set(Math.round(centre.x * 2) / 2, Math.round(centre.y * 2) / 2, Math.min(box.min.z, 0) - 0.002);
     this.layers.ground.add(grid);
@@ -444,16 +443,18 @@ export class PlantView {
     return box;
   }
 
-  // An oblique view of everything.
+  // An oblique view of everything, looking across the plant's longer side.
   fit() {
     const box = this.staticBounds();
     const c = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3());
-    const fov = THREE.MathUtils.degToRad(this.camera.fov);
-    // far enough that the plant's width fills about the view's width
-    const r = Math.max(size.x / this.camera.aspect, size.y, 0.5) / 2 / Math.tan(fov / 2);
+    const vfov = THREE.MathUtils.degToRad(this.camera.fov);
+    const hfov = 2 * Math.atan(Math.tan(vfov / 2) * this.camera.aspect);
+    const r = Math.max(0.3, 0.5 * Math.hypot(size.x, size.y));
+    const d = r / Math.sin(Math.min(vfov, hfov) / 2) * 0.68;
+    const dir = size.x >= size.y ? new THREE.Vector3(0, -0.78, 0.62) : new THREE.Vector3(-0.78, 0, 0.62);
     this.controls.target.copy(c);
-    this.camera.position.set(c.x, c.y - 0.72 * r, c.z + 0.62 * r);
+    this.camera.position.copy(c).addScaledVector(dir.normalize(), d);
     this.controls.update();
   }
 

@@ -217,6 +217,17 @@ try {
     await page.click('button[data-speed="1"]');
     await page.evaluate((p) => plantViewer.select(p), sw.path);
     await page.evaluate(() => plantViewer.view.fit());
+    await page.click('#run');   // pause, so that the bottle stays under the mouse
+    await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
+    await sleep(300);
+    // Hover over a bottle for the label.
+    const bottle = await page.evaluate(() => {
+      const v = plantViewer.view;
+      const seen = plantViewer.scene.bodies.filter((b) => b.mode === 'dynamic' && (plantViewer.bodyState(b.id) & 3) === 3);
+      const pts = seen.map((b) => plantViewer.screenPoint(b.id)).filter((p) => p.x > 150 && p.x < v.container.clientWidth - 150 && p.y > 100);
+      return pts.sort((a, b) => b.y - a.y)[0] ?? null;
+    });
+    if (bottle) await page.mouse.move(bottle.x, bottle.y - 4);
   } else {
     await page.evaluate(() => plantViewer.view.fit());
   }
