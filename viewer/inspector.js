@@ -28,6 +28,7 @@ export class Inspector {
     this.send = send;
     this.scene = null;
     this.path = null;
+    this.readOnly = false;
     this.valueCells = new Map();   // slot path -> {row, cell}
     this.placeChips = new Map();   // place id -> chip
     $('insp-close').addEventListener('click', () => this.close());
@@ -92,7 +93,7 @@ export class Inspector {
         el('td', { class: 'name', title: s.path }, s.path.slice(prefix.length)),
         el('td', { class: 'kind' }, `${s.dir} ${s.type}${s.port ? ' · port' : ''}`),
         cell,
-        el('td', {}, s.dir === 'in' ? this.control(s) : ''));
+        el('td', {}, s.dir === 'in' && !this.readOnly ? this.control(s) : ''));
       into.append(row);
       this.valueCells.set(s.path, { row, cell });
     }

@@ -10,6 +10,7 @@ const view = new PlantView($('view'));
 const debug = {
   sceneReady: false,
   framesReceived: 0,
+  scenesReceived: 0,
   statusReceived: 0,
   bodyCount: 0,
   lastStatus: null,
@@ -54,10 +55,12 @@ const conn = new Connection({
   },
   onScene(scene) {
     debug.sceneReady = false;
+    debug.scenesReceived++;
     debug.scene = scene;
     $('plant-name').textContent = scene.plant;
     document.title = `${scene.plant} · plant viewer`;
     view.load(scene);
+    inspector.readOnly = scene.mode === 'replay';   // a recording takes no events
     inspector.setScene(scene);
     plots.setScene(scene);
     replay = scene.mode === 'replay';
@@ -86,7 +89,7 @@ const conn = new Connection({
     plots.applyStatus(st);
     if (replay && !seeking) {
       $('seek').value = String(st.time);
-      $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${debug.scene?.duration ?? '?'} s`;
+      $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${Number(debug.scene?.duration ?? 0).toFixed(2)} s`;
     }
   },
   onEvent(msg) {
@@ -140,7 +143,7 @@ $('seek').addEventListener('change', () => {
   seeking = false;
 });
 window.addEventListener('keydown', (e) => {
-  if (e.target instanceof HTMLInputElement) return;
+  if (e.target instanceof HTMLInputElement || e.target instanceof HTMLButtonElement) return;
   if (e.key === ' ') { e.preventDefault(); $('run').click(); }
 });
 

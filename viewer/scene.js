@@ -168,7 +168,9 @@ export class PlantView {
   }
 
   clear() {
+    const geometries = new Set(this.groups.map((g) => g.mesh.geometry));
     for (const g of this.groups) g.dispose();
+    for (const geometry of geometries) geometry.dispose();
     this.groups = [];
     this.layers.ground.clear();
   }
@@ -268,6 +270,8 @@ export class PlantView {
         this.groups.push(group);
       });
       this.graphicsDirty = true;
+      for (const bg of this.bodyGroups) bg.dirty = true;
+      this.update();
       this.onModelLoaded?.(url);
     }, undefined, (err) => console.warn(`model ${url}: ${err?.message ?? err}`));
   }
@@ -325,6 +329,13 @@ export class PlantView {
     this.update();
   }
 
+  showsModel(i) {
+    const gi = this.gfxTint.get(i);
+    if (gi === undefined) return false;
+    const url = this.gfxUrl(gi);
+    return !!(url && this.models.get(url)?.parts);
+  }
+
   bodyColour(i) {
     const b = this.scene.bodies[i];
     let c = MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
@@ -343,7 +354,9 @@ export class PlantView {
         const st = this.bodyState[i];
         if (!(st & 1)) continue;            // not in the world: a parked pooled object
         poseMatrix(this.bodyPose, 7 * i, m);
-        (st & 2 ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
+        // translucent when its collision is off, or when it carries a loaded model (which
+        // would be hidden inside it)
+        (st & 2 && !this.showsModel(i) ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
       }
       bg.solid.end(); bg.ghost.end();
     }
@@ -419,39 +432,40 @@ export class PlantView {
   }
 
   addGround() {
-    const box = this.staticBounds();
+    const box = this.bounds();
     const size = box.getSize(new THREE.Vector3());
     const centre = box.getCenter(new THREE.Vector3());
-    const extent = Math.ceil(Math.max(size.x, size.y, 1) + 2);
-    const cell = extent <= 20 ? 0.5 : extent <= 60 ? 1 : 5;
+    const span = Math.max(size.x, size.y) * 1.4 + 0.5;
+    const cell = span <= 4 ? 0.1 : span <= 20 ? 0.5 : span <= 60 ? 1 : 5;
+    const extent = Math.ceil(span / cell) * cell;
     const grid = new THREE.GridHelper(extent, Math.round(extent / cell), 0xaab4c0, 0xc7cfd8);
     grid.rotateX(Math.PI / 2);
-    grid.position.set(Math.round(centre.x * 2) / 2, Math.round(centre.y * 2) / 2, Math.min(box.min.z, 0) - 0.002);
+    grid.position.set(Math.round(centre.x / cell) * cell, Math.round(centre.y / cell) * cell, Math.min(box.min.z, 0) - 0.002);
     this.layers.ground.add(grid);
   }
 
-  staticBounds() {
+  // What the bodies, fields and triggers drawn now cover.
+  bounds() {
     const box = new THREE.Box3();
-    const p = new THREE.Vector3();
-    this.scene.bodies.forEach((b, i) => {
-      if (!(this.bodyState[i] & 1)) return;
-      p.set(this.bodyPose[7 * i], this.bodyPose[7 * i + 1], this.bodyPose[7 * i + 2]);
-      box.expandByPoint(p);
-    });
+    for (const g of this.groups) {
+      if (g.kind === 'graphics' || !g.mesh.visible) continue;
+      g.mesh.computeBoundingBox();
+      box.union(g.mesh.boundingBox);
+    }
     if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 0.5));
-    box.expandByScalar(0.2);
+    box.expandByScalar(0.05);
     return box;
   }
 
   // An oblique view of everything, looking across the plant's longer side.
   fit() {
-    const box = this.staticBounds();
+    const box = this.bounds();
     const c = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3());
     const vfov = THREE.MathUtils.degToRad(this.camera.fov);
     const hfov = 2 * Math.atan(Math.tan(vfov / 2) * this.camera.aspect);
     const r = Math.max(0.3, 0.5 * Math.hypot(size.x, size.y));
-    const d = r / Math.sin(Math.min(vfov, hfov) / 2) * 0.68;
+    const d = r / Math.sin(Math.min(vfov, hfov) / 2) * 0.75;
     const dir = size.x >= size.y ? new THREE.Vector3(0, -0.78, 0.62) : new THREE.Vector3(-0.78, 0, 0.62);
     this.controls.target.copy(c);
     this.camera.position.copy(c).addScaledVector(dir.normalize(), d);
@@ -459,7 +473,7 @@ export class PlantView {
   }
 
   topView() {
-    const box = this.staticBounds();
+    const box = this.bounds();
     const c = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3());
     const fov = THREE.MathUtils.degToRad(this.camera.fov);

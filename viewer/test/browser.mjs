@@ -210,6 +210,17 @@ try {
   const events = await (await fetch(url + 'events')).text();
   check(events.includes(`${sw.path}.to_working`), `/events holds the session's event (${events.trim().split('\n').filter((l) => l && !l.startsWith('#')).length} lines)`);
 
+  // ---- restart: a new scene, the switch back in base position ----
+  const scenesBefore = await page.evaluate(() => plantViewer.scenesReceived);
+  await page.click('#restart');
+  const restarted = await until(() => page.evaluate((n) => plantViewer.scenesReceived > n && plantViewer.sceneReady && plantViewer.framesReceived > 0, scenesBefore), 10_000);
+  check(restarted, 'restart: the page gets and draws a new scene');
+  client.send({ type: 'inspect', path: sw.path });
+  const reset = await until(() => tokensOf(client.status?.inspect) === 0 && client.status.time < 3 && client.status.inspect, 10_000, 50);
+  check(!!reset, `restart: ${sw.path} is back in base position (t = ${client.status?.time})`);
+  const redrawn = await page.evaluate(() => ({ bodyCount: plantViewer.bodyCount, drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld() }));
+  check(redrawn.bodyCount === scene.bodies.length && redrawn.drawnNow === redrawn.inWorld, `restart: one drawn object per body again (${redrawn.bodyCount}, ${redrawn.drawnNow} of ${redrawn.inWorld} in the world drawn)`);
+
   // ---- the picture ----
   if (docs) {
     await page.click('button[data-speed="10"]');
