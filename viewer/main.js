@@ -184,6 +184,7 @@ debug.select = (path) => {
 debug.screenPoint = (id) => {
   const i = view.bodyIndex?.get(id);
   if (i === undefined) return null;
+  view.camera.updateMatrixWorld();
   const p = view.bodyWorldPosition(i).project(view.camera);
   const r = canvas.getBoundingClientRect();
   return { x: r.left + (p.x + 1) / 2 * r.width, y: r.top + (1 - p.y) / 2 * r.height };

@@ -47,7 +47,7 @@ function shapeGeometry(shape) {
   let g;
   switch (shape.kind) {
     case 'box': g = new THREE.BoxGeometry(s[0], s[1], s[2]); break;
-    case 'sphere': g = new THREE.SphereGeometry(s[0], 16, 10); break;
+    case 'sphere': g = new THREE.SphereGeometry(s[0], 12, 8); break;
     case 'cylinder': g = new THREE.CylinderGeometry(s[0], s[0], s[1], 20).applyMatrix4(Y_TO_Z); break;
     case 'capsule': g = new THREE.CapsuleGeometry(s[0], s[1], 4, 12).applyMatrix4(Y_TO_Z); break;
     case 'hull': g = new ConvexGeometry((shape.points ?? []).map((p) => new THREE.Vector3(p[0], p[1], p[2]))); break;
@@ -73,8 +73,8 @@ function bodyGeometry(shapes) {
 
 // A unit arrow along +x: shaft from 0 to 0.72, head to 1.
 function arrowGeometry() {
-  const shaft = new THREE.CylinderGeometry(0.015, 0.015, 0.72, 10).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.36, 0, 0);
-  const head = new THREE.ConeGeometry(0.06, 0.28, 14).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.86, 0, 0);
+  const shaft = new THREE.CylinderGeometry(0.015, 0.015, 0.72, 6).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.36, 0, 0);
+  const head = new THREE.ConeGeometry(0.06, 0.28, 8).applyMatrix4(new THREE.Matrix4().makeRotationZ(-Math.PI / 2)).translate(0.86, 0, 0);
   return mergeGeometries([shaft.toNonIndexed(), head.toNonIndexed()], false);
 }
 
@@ -483,6 +483,14 @@ export class PlantView {
     this.controls.update();
   }
 
+  // Looks straight down at a point from `height` metres above it.
+  lookDownAt(p, height) {
+    this.controls.target.set(p[0], p[1], p[2]);
+    this.camera.position.set(p[0], p[1] - 1e-4 * height, p[2] + height);
+    this.controls.update();
+    this.camera.updateMatrixWorld();
+  }
+
   select(doId) {
     this.selectedDo = doId;
     for (const bg of this.bodyGroups) bg.dirty = true;
@@ -516,6 +524,7 @@ export class PlantView {
   // graphics first, then fields and triggers.
   pick(x, y) {
     if (!this.scene) return null;
+    this.camera.updateMatrixWorld();
     this.raycaster.setFromCamera(new THREE.Vector2(x, y), this.camera);
     const solidFirst = [], volumes = [];
     for (const g of this.groups) {
