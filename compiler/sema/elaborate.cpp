@@ -109,6 +109,7 @@ graph::Graph Elaborator::run(bool require_plant) {
     // The plant's parameters take their values from `--set NAME=VALUE`, else their defaults.
     elaborate_do(root_do, *plant, prog_.root, bind_args(*plant, prog_.overrides, plant->name.span, Env{}));
     finish_accesses();
+    emit_ports();
     // The whole-plant warnings assume every flow was made: after an error, a failed flow
     // would show up as an input nothing drives or a place nothing feeds.
     if (!sink_.has_errors()) {
@@ -117,6 +118,25 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     check_logic_cycles();
     return std::move(g_);
+}
+
+// Every declared port, by object and name, for events and tools that address them.
+void Elaborator::emit_ports() {
+    const size_t n = std::min(scopes_.size(), g_.dos.size());
+    for (size_t d = 0; d < n; ++d)
+        for (const auto& [port_name, info] : scopes_[d].ports) {
+            if (info.slots.empty()) continue;
+            graph::Port p;
+            p.owner = static_cast<int32_t>(d);
+            p.name = name(port_name);
+            p.type = info.type;
+            p.dir = info.input ? graph::Dir::In : graph::Dir::Out;
+            p.target_adr = static_cast<int32_t>(g_.port_targets.size());
+            p.target_num = static_cast<int32_t>(info.slots.size());
+            p.src = src(info.span);
+            for (int32_t sl : info.slots) g_.port_targets.push_back({sl});
+            g_.ports.push_back(p);
+        }
 }
 
 int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {

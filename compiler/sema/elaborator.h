@@ -126,6 +126,7 @@ public:
     void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
                    int32_t to_access, graph::Cond cond, bool once, Span span);
     void finish_accesses();
+    void emit_ports();
     std::optional<std::pair<graph::SlotType, graph::Dir>> probe_member(const std::string& type_name, const ast::Path& member,
                                                                         bool& reported);
     int32_t find_comp_slot(int32_t comp, std::string_view slot_name) const;

@@ -53,6 +53,14 @@ std::string Graph::slot_path(int32_t slot) const {
     return join(comp_path(s.comp), str(s.name));
 }
 
+std::string Graph::port_path(int32_t port) const {
+    if (!in_range(ports, port)) return fmt::format("<port {}>", port);
+    const Port& p = ports[port];
+    std::string owner = in_range(dos, p.owner) ? std::string(str(dos[p.owner].path))
+                                               : fmt::format("<do {}>", p.owner);
+    return join(owner, str(p.name));
+}
+
 std::string Graph::src_text(Src s) const {
     if (s.file < 0) return "-";
     if (!in_range(files, s.file)) return fmt::format("<file {}>:{}:{}", s.file, s.line, s.col);

@@ -280,6 +280,18 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)
 
+// A port an object type declares (`in to_working: void => net.MoveToWorkingPos.put`):
+// no run-time existence, but addressable by its dotted path in events, the viewer and
+// `plant info --slots`. Inputs forward to every target, outputs name the one output.
+#define PLANT_FIELDS_PORT(F)                                                  \
+    F(int32_t, owner)      /* DO id */                                        \
+    F(Name, name)                                                             \
+    F(SlotType, type)                                                         \
+    F(Dir, dir)                                                               \
+    F(int32_t, target_adr) /* into port_targets: slot ids */                  \
+    F(int32_t, target_num)                                                    \
+    F(Src, src)
+
 #define PLANT_FIELDS_POINT(F) F(Vec3, p)
 #define PLANT_FIELDS_VALUE(F) F(double, v)
 #define PLANT_FIELDS_INT(F) F(int32_t, v)
@@ -317,7 +329,9 @@ constexpr int slot_width(SlotType t) {
     X(keys, Key, key, PLANT_FIELDS_KEY)                               \
     X(variants, Variant, variant, PLANT_FIELDS_VARIANT)               \
     X(labels, Label, label, PLANT_FIELDS_LABEL)                       \
-    X(records, Record, record, PLANT_FIELDS_RECORD)
+    X(records, Record, record, PLANT_FIELDS_RECORD)                   \
+    X(ports, Port, port, PLANT_FIELDS_PORT)                           \
+    X(port_targets, PortTarget, port_target, PLANT_FIELDS_INT)
 
 #define PLANT_DECLARE_FIELD(type, field) type field{};
 #define PLANT_DECLARE_RECORD(member, Record, word, FIELDS) \
@@ -355,6 +369,7 @@ struct Graph {
     // The dotted path of a slot: "<do path>.<comp>.<slot>".
     std::string slot_path(int32_t slot) const;
     std::string comp_path(int32_t comp) const;
+    std::string port_path(int32_t port) const;  // "<do path>.<port>"
     std::string src_text(Src s) const;  // "file:line:col" or "-"
 
     // Compares every table field by field (names by text, not by id).

@@ -46,7 +46,8 @@ public:
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
         return numbers() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
-               exits() && routes() && graphics() && animations() && variants() && labels() && records();
+               exits() && routes() && graphics() && animations() && variants() && labels() && records() &&
+               ports();
     }
 
 private:
@@ -461,6 +462,19 @@ private:
     bool records() {
         return each("records", g_.records, [&](const auto& r, size_t) {
             return id("slot", r.slot, g_.slots.size(), "slots");
+        });
+    }
+
+    bool ports() {
+        return each("ports", g_.ports, [&](const Port& p, size_t) {
+            if (!id("owner", p.owner, g_.dos.size(), "dos") ||
+                !range("target_adr", p.target_adr, p.target_num, g_.port_targets.size(), "port_targets"))
+                return false;
+            if (p.target_num < 1 || (p.dir == Dir::Out && p.target_num != 1))
+                return fail(fmt::format("a port forwards to {} slots ({} port)", p.target_num, word(p.dir)));
+            for (int32_t k = 0; k < p.target_num; ++k)
+                if (!slot("port_targets", g_.port_targets[size_t(p.target_adr + k)].v, p.type, p.dir)) return false;
+            return true;
         });
     }
 

@@ -216,6 +216,8 @@ TEST_CASE("the format, exactly") {
         "count variants 0\n"
         "count labels 0\n"
         "count records 0\n"
+        "count ports 0\n"
+        "count port_targets 0\n"
         "end\n";
     CHECK(to_text(tiny_graph()) == expected);
 }
@@ -382,7 +384,7 @@ TEST_CASE("broken input fails with a line number") {
         {"count too large", edit_line("count dos", "2", "3"), line_of("count comps")},
         {"count too small", edit_line("count dos", "2", "1"), do1},
         {"negative count", edit_line("count dos", "2", "-1"), line_of("count dos")},
-        {"huge count", edit_line("count records", "0", "2000000000"), end},
+        {"huge count", edit_line("count port_targets", "0", "2000000000"), end},
         {"tables out of order", edit_line("count flows", "flows", "accesses"), line_of("count flows")},
         {"id out of order", edit_line("do 1", "do 1", "do 2"), do1},
         {"wrong element word", edit_line("do 1", "do 1", "comp 1"), do1},
