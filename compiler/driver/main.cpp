@@ -8,8 +8,14 @@
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
 #endif
+#ifdef PLANT_HAS_SERVE
+#include "serve/record.h"
+#include "serve/serve.h"
+#endif
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -29,6 +35,8 @@ commands:
   graph FILE            print the data-flow network and Petri nets as Graphviz DOT
   info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
+  serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
+                        controls, inspector); `plant serve --help`
 
 common options:
   --set NAME=VALUE      give the plant's parameter NAME the value VALUE, an expression with
@@ -62,11 +70,13 @@ flows as edges, each Petri net as a cluster of places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
-constexpr const char* kInfoHelp = R"(usage: plant info [--stdlib DIR] [--set NAME=VALUE]... FILE...
+constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Compiles each FILE and prints one line of counts (objects, components, slots, flows,
 connectors, places, transitions, bodies, force fields, triggers, warnings), then the
 plant's parameters with their types and defaults (change them with --set NAME=VALUE).
+--slots also lists every input and output by its dotted path, direction and type: the
+objects' declared ports and the components' slots (the paths events address).
 )";
 
 constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
@@ -84,12 +94,35 @@ the real-time factor.
   --trace-rate 50Hz         sample rate of the trace (default every step)
   --event "5s PATH [VALUE]" a timed external input to the slot PATH; repeatable
   --events FILE             one event per line, # comments
+  --record FILE             write what the viewer needs (poses, graphics, status,
+                            events) for `plant serve --replay FILE`
   --realtime                not faster than real time
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
   --threads N               threads for a plant in several physics regions
                             (default: one per core; the results do not depend on it)
   --quiet                   no progress line
 See docs/runtime.md ("plant run") for the event values and the trace format.
+)";
+
+constexpr const char* kServeHelp = R"(usage: plant serve FILE [options]
+       plant serve --replay RECORDING [options]
+
+Runs FILE (a .plant, or a .graph written by `plant build`) paced to the wall clock and
+serves a page that shows it in 3D: open the printed URL. The page pauses, steps, changes
+the speed, restarts, and acts on any input slot or port through the inspector; every
+action is an event, logged on the page, and /events is the session's events file
+(`plant run FILE --events events.txt` replays it headless, bit for bit). With --replay it
+plays a recording made by `plant run FILE --record RECORDING`, with a timeline.
+
+  --port N                  TCP port (default 8150; 0: any free port)
+  --host ADDR               address to listen on (default 127.0.0.1: this machine only)
+  --set NAME=VALUE          a plant parameter (.plant files only); repeatable
+  --speed X                 times real time (default 1; 0: as fast as possible)
+  --paused                  start paused
+  --viewer DIR              the page's folder (default: $PLANT_VIEWER, else viewer/)
+  --models DIR              where glTF/GLB models are found (besides the plant's folder)
+  --threads N               physics threads (as plant run)
+Stop with Ctrl-C. The protocol and the page: docs/viewer.md.
 )";
 
 struct Options {
@@ -102,6 +135,7 @@ struct Options {
     std::vector<std::string> sets;  // --set NAME=VALUE, in order
     std::vector<std::string> rest;  // passed to `run`
     bool help = false;
+    bool slots = false;  // info --slots
 };
 
 int usage_error(const std::string& msg) {
@@ -193,6 +227,33 @@ void print_plant_params(const plant::Compilation& c, std::ostream& out) {
     }
 }
 
+// Every input and output a user can address (events, the viewer, tools): each object's
+// ports, then its components' slots, objects in graph order.
+void print_slots(const plant::graph::Graph& g, std::ostream& out) {
+    using namespace plant::graph;
+    std::vector<std::vector<int32_t>> ports(g.dos.size());
+    for (size_t p = 0; p < g.ports.size(); ++p) ports[size_t(g.ports[p].owner)].push_back(int32_t(p));
+    auto line = [&](Dir dir, SlotType type, const std::string& path, const std::string& note) {
+        out << "  " << (dir == Dir::In ? "in " : "out") << "  " << word(type)
+            << std::string(size_t(std::max(1, 8 - int(word(type).size()))), ' ') << path << note << "\n";
+    };
+    for (size_t d = 0; d < g.dos.size(); ++d) {
+        for (int32_t p : ports[d]) {
+            const Port& pt = g.ports[size_t(p)];
+            std::string to;
+            for (int32_t k = 0; k < pt.target_num; ++k)
+                to += (k ? ", " : "") + g.slot_path(g.port_targets[size_t(pt.target_adr + k)].v);
+            line(pt.dir, pt.type, g.port_path(p), (pt.dir == Dir::In ? "  (port => " : "  (port <= ") + to + ")");
+        }
+        const Do& o = g.dos[d];
+        for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
+            const Comp& cp = g.comps[size_t(c)];
+            for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl)
+                line(g.slots[size_t(sl)].dir, g.slots[size_t(sl)].type, g.slot_path(sl), "");
+        }
+    }
+}
+
 int cmd_info(const Options& o) {
     if (o.files.empty()) return usage_error("info needs at least one FILE");
     bool ok = true;
@@ -209,29 +270,84 @@ int cmd_info(const Options& o) {
                   << g.bodies.size() << " bodies, " << g.fields.size() << " force fields, " << g.triggers.size()
                   << " triggers; " << c.sink.count(plant::Severity::Warning) << " warnings\n";
         print_plant_params(c, std::cout);
+        if (o.slots) {
+            std::cout << "slots (direction, type, path; events address inputs by path):\n";
+            print_slots(g, std::cout);
+        }
     }
     return ok ? 0 : 1;
 }
 
 #ifdef PLANT_HAS_RUNTIME
+// The graph of a .plant (compiled) or a built .graph (loaded); false after printing why.
+bool load_graph(const std::string& f, const Options& o, plant::graph::Graph& g, int& code) {
+    if (f.size() > 6 && f.substr(f.size() - 6) == ".graph") {
+        if (!o.sets.empty()) {
+            code = usage_error("--set needs a .plant file; a built .graph has its values already");
+            return false;
+        }
+        std::string err;
+        if (!plant::graph::load_text_file(f, g, err)) {
+            std::cerr << "plant: error: " << err << "\n";
+            code = 1;
+            return false;
+        }
+        return true;
+    }
+    plant::Compilation c;
+    if (!compile(f, o, c)) {
+        code = 1;
+        return false;
+    }
+    g = std::move(c.graph);
+    return true;
+}
+
 int cmd_run(const Options& o) {
     if (o.files.size() != 1) return usage_error("run takes one FILE (.plant or .graph)");
     const std::string& f = o.files[0];
     plant::graph::Graph g;
-    if (f.size() > 6 && f.substr(f.size() - 6) == ".graph") {
-        if (!o.sets.empty()) return usage_error("--set needs a .plant file; a built .graph has its values already");
-        std::string err;
-        if (!plant::graph::load_text_file(f, g, err)) {
-            std::cerr << "plant: error: " << err << "\n";
-            return 1;
+    int code = 0;
+    if (!load_graph(f, o, g, code)) return code;
+    std::vector<std::string> rest;
+    std::string record;
+    for (size_t i = 0; i < o.rest.size(); ++i) {
+        if (o.rest[i] != "--record") {
+            rest.push_back(o.rest[i]);
+            continue;
         }
-    } else {
-        plant::Compilation c;
-        if (!compile(f, o, c)) return 1;
-        g = std::move(c.graph);
+        if (i + 1 >= o.rest.size()) return usage_error("--record needs a FILE");
+        record = o.rest[++i];
     }
-    return plant::engine::run_main(g, o.rest, std::cout, std::cerr);
+    if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr);
+#ifdef PLANT_HAS_SERVE
+    plant::view::ModelDirs dirs;
+    dirs.plant_dir = std::filesystem::path(f).parent_path().string();
+    plant::view::Recorder rec(g, record, dirs);
+    if (!rec.ok()) {
+        std::cerr << "plant run: error: --record: cannot write '" << record << "'\n";
+        return 2;
+    }
+    return plant::engine::run_main(g, rest, std::cout, std::cerr, &rec);
+#else
+    return usage_error("this build has no viewer: --record is not available");
+#endif
 }
+
+#ifdef PLANT_HAS_SERVE
+int cmd_serve(const Options& o) {
+    if (o.files.size() != 1) return usage_error("serve takes one FILE (.plant, .graph, or a recording with --replay)");
+    const std::string& f = o.files[0];
+    if (std::find(o.rest.begin(), o.rest.end(), "--replay") != o.rest.end()) {
+        if (!o.sets.empty()) return usage_error("--set does not apply to a replay");
+        return plant::view::serve_main(nullptr, f, o.rest, std::cout, std::cerr);
+    }
+    plant::graph::Graph g;
+    int code = 0;
+    if (!load_graph(f, o, g, code)) return code;
+    return plant::view::serve_main(&g, f, o.rest, std::cout, std::cerr);
+}
+#endif
 #endif
 
 }  // namespace
@@ -256,6 +372,7 @@ int main(int argc, char** argv) {
             return "";
         };
         if (a == "-h" || a == "--help") o.help = true;
+        else if (a == "--slots" && o.command == "info") o.slots = true;
         else if (a == "-o" || a.rfind("--output", 0) == 0) o.out = value(a == "-o" ? "-o" : "--output");
         else if (a.rfind("--emit", 0) == 0) o.emit = value("--emit");
         else if (a.rfind("--stdlib", 0) == 0) o.stdlib = value("--stdlib");
@@ -268,10 +385,12 @@ int main(int argc, char** argv) {
             if (v != "json" && v != "text") return usage_error("--diagnostics takes text or json");
             o.json = v == "json";
         } else if (a.rfind("--color", 0) == 0) (void)value("--color");
-        else if (o.command == "run" && a.size() > 1 && a[0] == '-') {
+        else if ((o.command == "run" || o.command == "serve") && a.size() > 1 && a[0] == '-') {
             o.rest.push_back(a);
-            // Flags of `run` that take a value.
-            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed", "--trace-rate", "--broadphase", "--threads"};
+            // Flags of `run` and `serve` that take a value.
+            static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed",
+                                               "--trace-rate", "--broadphase", "--threads", "--record",
+                                               "--port", "--host", "--viewer", "--models", "--speed"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");
@@ -300,6 +419,14 @@ int main(int argc, char** argv) {
         return cmd_run(o);
 #else
         return usage_error("this build has no runtime");
+#endif
+    }
+    if (o.command == "serve") {
+#ifdef PLANT_HAS_SERVE
+        if (o.help) return std::cout << kServeHelp, 0;
+        return cmd_serve(o);
+#else
+        return usage_error("this build has no viewer server");
 #endif
     }
     return usage_error("unknown command '" + o.command + "'");

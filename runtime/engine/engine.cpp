@@ -145,6 +145,14 @@ Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.com(b)); }
 Vec3 Engine::body_velocity(int32_t b) const { return from_bt(rt_->phys.velocity(b)); }
 Vec3 Engine::body_angular_velocity(int32_t b) const { return from_bt(rt_->phys.angular_velocity(b)); }
 bool Engine::body_in_world(int32_t b) const { return rt_->phys.in_world(b); }
+bool Engine::body_collision(int32_t b) const { return rt_->phys.collision_on(b); }
+int32_t Engine::graphics_variant(int32_t gr) const {
+    const int32_t v = rt_->st.variant[gr];
+    return v < 0 ? -1 : v - rt_->g.graphics[gr].variant_adr;
+}
+bool Engine::trigger_occupied(int32_t t) const { return rt_->st.triggers[t].num > 0; }
+bool Engine::field_on(int32_t f) const { return rt_->st.field_on[f] != 0; }
+double Engine::field_speed(int32_t f) const { return rt_->st.field_speed[f]; }
 int32_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
 Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }
 int64_t Engine::trigger_enters(int32_t t) const { return rt_->st.triggers[t].enters; }

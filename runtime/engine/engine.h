@@ -75,6 +75,11 @@ public:
     graph::Vec3 body_velocity(int32_t body) const;
     graph::Vec3 body_angular_velocity(int32_t body) const;
     bool body_in_world(int32_t body) const;
+    bool body_collision(int32_t body) const;        // collision on now
+    int32_t graphics_variant(int32_t graphics) const;  // among its own variants, -1: its model
+    bool trigger_occupied(int32_t trigger) const;   // an object inside now
+    bool field_on(int32_t field) const;
+    double field_speed(int32_t field) const;        // target speed now, m/s
     int32_t tokens(int32_t place) const;
     graph::Pose graphics_pose(int32_t graphics) const;
     int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far

@@ -160,12 +160,12 @@ private:
     bool events_ = false;
 };
 
-// Objects with dynamic bodies: issued, taken, lost, on the line, stalled.
-void material(const Engine& e, std::ostream& out) {
+}  // namespace
+
+MaterialCounts material_counts(const Engine& e) {
     const Graph& g = e.graph();
+    MaterialCounts m;
     std::vector<uint8_t> counted(g.dos.size(), 0);
-    int64_t on_line = 0, lost = 0, stalled = 0;
-    std::string lost_names, stalled_names;
     auto name = [&](std::string& list, int64_t n, int32_t d) {
         if (n <= 5) list += (n > 1 ? ", " : "") + std::string(g.str(g.dos[size_t(d)].path));
         else if (n == 6) list += ", ...";
@@ -176,23 +176,31 @@ void material(const Engine& e, std::ostream& out) {
         if (counted[d]) continue;
         if (e.lost_at(d) >= 0) {
             counted[d] = 1;
-            name(lost_names, ++lost, d);
+            name(m.lost_names, ++m.lost, d);
         } else if (e.body_in_world(int32_t(b))) {
             counted[d] = 1;
-            ++on_line;
-            if (e.stalled_for(int32_t(b)) > 30) name(stalled_names, ++stalled, d);
+            ++m.on_line;
+            if (e.stalled_for(int32_t(b)) > 30) name(m.stalled_names, ++m.stalled, d);
         }
     }
-    int64_t issued = 0, taken = 0;
-    for (size_t s = 0; s < g.sources.size(); ++s) issued += e.issued(int32_t(s));
-    for (size_t x = 0; x < g.exits.size(); ++x) taken += e.taken(int32_t(x));
-    if (g.sources.empty() && g.exits.empty() && lost == 0 && on_line == 0) return;
+    for (size_t s = 0; s < g.sources.size(); ++s) m.issued += e.issued(int32_t(s));
+    for (size_t x = 0; x < g.exits.size(); ++x) m.taken += e.taken(int32_t(x));
+    return m;
+}
+
+namespace {
+
+// Objects with dynamic bodies: issued, taken, lost, on the line, stalled.
+void material(const Engine& e, std::ostream& out) {
+    const Graph& g = e.graph();
+    const MaterialCounts m = material_counts(e);
+    if (g.sources.empty() && g.exits.empty() && m.lost == 0 && m.on_line == 0) return;
     fmt::print(out, "objects:\n");
-    if (!g.sources.empty()) fmt::print(out, "  issued by sources:     {}\n", issued);
-    if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", taken);
-    fmt::print(out, "  on the line:           {}\n", on_line);
-    fmt::print(out, "  lost (left the world): {}{}\n", lost, lost ? " (" + lost_names + ")" : "");
-    fmt::print(out, "  stalled over 30 s:     {}{}\n", stalled, stalled ? " (" + stalled_names + ")" : "");
+    if (!g.sources.empty()) fmt::print(out, "  issued by sources:     {}\n", m.issued);
+    if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", m.taken);
+    fmt::print(out, "  on the line:           {}\n", m.on_line);
+    fmt::print(out, "  lost (left the world): {}{}\n", m.lost, m.lost ? " (" + m.lost_names + ")" : "");
+    fmt::print(out, "  stalled over 30 s:     {}{}\n", m.stalled, m.stalled ? " (" + m.stalled_names + ")" : "");
 }
 
 void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out) {
@@ -230,7 +238,8 @@ void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out
 
 }  // namespace
 
-int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+             RunObserver* observer) {
     RunOptions o;
     std::string error;
     if (!parse_args(g, args, o, error)) {
@@ -252,8 +261,6 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     eo.threads = o.threads;
     Engine e(g, eo);
     Tally tally(g);
-    for (Event& ev : o.events)
-        if (g.slots[ev.slot].type == SlotType::String) ev.value = {double(e.intern(ev.text))};
 
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
@@ -267,6 +274,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         return 2;
     }
     const int64_t steps = int64_t(step_count);
+    if (observer) observer->started(e);
     // A trace row every `every` steps; a rate far below one row per run gives the first and last rows.
     const double every_steps = o.trace_rate > 0 ? std::round(1.0 / (o.trace_rate * e.dt())) : 1;
     const int64_t every = every_steps < 1 ? 1 : every_steps > 1e18 ? int64_t(1e18) : int64_t(every_steps);
@@ -279,9 +287,12 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     size_t next_event = 0;
     for (int64_t i = 0; i < steps; ++i) {
         const double t_next = double(e.steps() + 1) * e.dt();
-        for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event)
-            e.input(o.events[next_event].slot, o.events[next_event].value);
+        for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event) {
+            apply_event(e, o.events[next_event]);
+            if (observer) observer->event(e, o.events[next_event]);
+        }
         e.step();
+        if (observer) observer->stepped(e);
         tally.step(e);
         if (trace && (e.steps() % every == 0 || i + 1 == steps)) trace->row();
         if ((i & 63) != 63 && !o.realtime) continue;
@@ -297,6 +308,10 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
     if (progressed) fmt::print(err, "\n");
     if (trace) trace->flush();
+    if (observer && !observer->finished(e, error)) {
+        fmt::print(err, "plant run: error: {}\n", error);
+        return 1;
+    }
     summary(e, tally, wall(), out);
     return 0;
 }

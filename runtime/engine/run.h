@@ -17,6 +17,8 @@
 // Returns 0, or 2 for a bad flag or flag value (with a message on `err`).
 #pragma once
 
+#include "engine/engine.h"
+#include "engine/run_args.h"
 #include "graph/graph.h"
 
 #include <iosfwd>
@@ -25,7 +27,27 @@
 
 namespace plant::engine {
 
+// Watches a run step by step (the recorder of `plant run --record`). Called before the
+// first step, for each event as it is applied (before the step it feeds), after each step,
+// and at the end (false with `error` set: the run fails).
+class RunObserver {
+public:
+    virtual ~RunObserver() = default;
+    virtual void started(const Engine& e) = 0;
+    virtual void event(const Engine& e, const Event& ev) = 0;
+    virtual void stepped(const Engine& e) = 0;
+    virtual bool finished(const Engine& e, std::string& error) = 0;
+};
+
 int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,
-             std::ostream& err);
+             std::ostream& err, RunObserver* observer = nullptr);
+
+// Objects with dynamic bodies: issued by sources, taken by exits, on the line, lost (left
+// the world), stalled over 30 s (the first few names of the last two).
+struct MaterialCounts {
+    int64_t issued = 0, taken = 0, on_line = 0, lost = 0, stalled = 0;
+    std::string lost_names, stalled_names;
+};
+MaterialCounts material_counts(const Engine& e);
 
 }  // namespace plant::engine

@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -86,8 +87,85 @@ bool parse_frequency(std::string_view text, double& hz, std::string& error) {
 
 SlotIndex slot_index(const Graph& g) {
     SlotIndex idx;
-    for (size_t s = 0; s < g.slots.size(); ++s) idx.emplace(g.slot_path(int32_t(s)), int32_t(s));
+    for (size_t s = 0; s < g.slots.size(); ++s)
+        idx.emplace(g.slot_path(int32_t(s)), SlotTarget{{int32_t(s)}, g.slots[s].type, g.slots[s].dir, false});
+    for (size_t p = 0; p < g.ports.size(); ++p) {
+        const Port& pt = g.ports[p];
+        SlotTarget t{{}, pt.type, pt.dir, true};
+        for (int32_t k = 0; k < pt.target_num; ++k) t.slots.push_back(g.port_targets[size_t(pt.target_adr + k)].v);
+        idx.emplace(g.port_path(int32_t(p)), std::move(t));  // a slot of the same path wins
+    }
     return idx;
+}
+
+namespace {
+
+// Edits (insert, delete, replace) between two strings, stopping early past `limit`.
+size_t edits(std::string_view a, std::string_view b, size_t limit) {
+    if ((a.size() > b.size() ? a.size() - b.size() : b.size() - a.size()) > limit) return limit + 1;
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diag = row[0], best = row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diag = up;
+            best = std::min(best, row[j]);
+        }
+        if (best > limit) return limit + 1;
+    }
+    return row[b.size()];
+}
+
+std::string number_text(const std::vector<double>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += fmt::format("{}{}", i ? "," : "", v[i]);
+    return s;
+}
+
+}  // namespace
+
+std::string closest_path(const SlotIndex& slots, std::string_view path) {
+    // A third of the path's length, at most 4 edits; ties go to the smaller path.
+    const size_t limit = std::min<size_t>(4, std::max<size_t>(1, path.size() / 3));
+    std::string best;
+    size_t best_d = limit + 1;
+    for (const auto& [p, t] : slots) {
+        const size_t d = edits(path, p, std::min(limit, best_d));
+        if (d < best_d || (d == best_d && d <= limit && p < best)) best = p, best_d = d;
+    }
+    return best_d <= limit ? best : std::string{};
+}
+
+std::string format_event(const Graph& g, const Event& ev) {
+    std::string line = fmt::format("{}s {}", ev.time, ev.path);
+    if (ev.slots.empty()) return line;
+    switch (g.slots[size_t(ev.slots[0])].type) {
+    case SlotType::Void: break;
+    case SlotType::Bool: line += ev.value[0] != 0 ? " true" : " false"; break;
+    case SlotType::String: line += fmt::format(" \"{}\"", ev.text); break;
+    case SlotType::Ref: {
+        const double d = ev.value[0];
+        line += d >= 0 && d < double(g.dos.size()) && !g.str(g.dos[size_t(d)].path).empty()
+                    ? fmt::format(" {}", g.str(g.dos[size_t(d)].path))
+                    : fmt::format(" {}", d);
+        break;
+    }
+    default: line += " " + number_text(ev.value); break;
+    }
+    return line;
+}
+
+void apply_event(Engine& e, const Event& ev) {
+    if (ev.slots.empty()) return;
+    const Graph& g = e.graph();
+    if (g.slots[size_t(ev.slots[0])].type == SlotType::String) {
+        const double name[1] = {double(e.intern(ev.text))};
+        for (int32_t s : ev.slots) e.input(s, name);
+        return;
+    }
+    for (int32_t s : ev.slots) e.input(s, ev.value);
 }
 
 bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
@@ -95,21 +173,32 @@ bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, 
     line = trim(line);
     size_t sp = line.find_first_of(" \t");
     if (sp == std::string_view::npos) {
-        error = fmt::format("'{}': expected '<time> <DO.comp.slot> [value]'", line);
+        error = fmt::format("'{}': expected '<time> <path> [value]'", line);
         return false;
     }
     if (!parse_duration(line.substr(0, sp), ev.time, error)) return false;
-    std::string_view rest = trim(line.substr(sp));
+    return parse_input(g, slots, trim(line.substr(sp)), ev, error);
+}
+
+bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, Event& ev, std::string& error) {
+    rest = trim(rest);
     size_t sp2 = rest.find_first_of(" \t");
     std::string path(rest.substr(0, sp2));
     std::string_view value = sp2 == std::string_view::npos ? std::string_view{} : trim(rest.substr(sp2));
     auto it = slots.find(path);
     if (it == slots.end()) {
-        error = fmt::format("no slot '{}'", path);
+        const std::string hint = closest_path(slots, path);
+        error = hint.empty() ? fmt::format("no slot '{}' (`plant info --slots FILE` lists them)", path)
+                             : fmt::format("no slot '{}'; did you mean '{}'?", path, hint);
         return false;
     }
-    ev.slot = it->second;
-    const SlotType type = g.slots[ev.slot].type;
+    if (it->second.dir != Dir::In) {
+        error = fmt::format("'{}' is an output: events drive inputs (`plant info --slots FILE` lists them)", path);
+        return false;
+    }
+    ev.path = path;
+    ev.slots = it->second.slots;
+    const SlotType type = it->second.type;
     ev.value.clear();
     ev.text.clear();
     bool ok = true;

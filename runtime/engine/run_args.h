@@ -16,20 +16,40 @@ namespace plant::engine {
 bool parse_duration(std::string_view text, double& seconds, std::string& error);
 bool parse_frequency(std::string_view text, double& hz, std::string& error);
 
-// An external input at a time: the slot by its dotted path (Graph::slot_path) and a
+// An external input at a time: the slot by its dotted path (Graph::slot_path, or a
+// declared port's Graph::port_path: an input port feeds every slot it forwards to) and a
 // value for its type (none for void; "x,y,z" or "x y z" for vec3; text for strings;
 // a DO path or id for references).
 struct Event {
     double time = 0;
-    int32_t slot = -1;
+    std::string path;            // as addressed
+    std::vector<int32_t> slots;  // the input slots it feeds (several for a port)
     std::vector<double> value;
     std::string text;  // string slots: interned into the engine when the run starts
 };
 
-using SlotIndex = std::unordered_map<std::string, int32_t>;
+// Every addressable input and output by its dotted path: component slots and ports.
+struct SlotTarget {
+    std::vector<int32_t> slots;
+    graph::SlotType type = graph::SlotType::Void;
+    graph::Dir dir = graph::Dir::In;
+    bool port = false;
+};
+using SlotIndex = std::unordered_map<std::string, SlotTarget>;
 SlotIndex slot_index(const graph::Graph& g);
+// The closest path in the index to a misspelt one ("" when nothing is close).
+std::string closest_path(const SlotIndex& slots, std::string_view path);
+
+// The events-file line that replays `ev` ("12.5s s1.to_working", "3s b1.drive.set_speed 0.25").
+std::string format_event(const graph::Graph& g, const Event& ev);
+// Writes the event's value into the engine (strings interned) and activates its slots,
+// for the next step: the one way external inputs reach a running plant.
+void apply_event(Engine& e, const Event& ev);
 
 bool parse_event(const graph::Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
+                 std::string& error);
+// The same without the time: "PATH [VALUE]" (the viewer's and the PLC link's inputs).
+bool parse_input(const graph::Graph& g, const SlotIndex& slots, std::string_view text, Event& ev,
                  std::string& error);
 // One event per line; blank lines and lines starting with '#' are skipped.
 bool load_events(const graph::Graph& g, const SlotIndex& slots, const std::string& path,

@@ -99,8 +99,12 @@ void TraceWriter::row() {
         case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.id)[size_t(c.index)]); break;
         case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.id)[0]))); break;
         case Kind::Activity: buf_.push_back(e_.active(c.id) ? '1' : '0'); break;
-        case Kind::BodyAxis: fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.id)[size_t(c.index)]); break;
+        // A parked body (a pooled object not in the world) has empty cells, not the pool's pose.
+        case Kind::BodyAxis:
+            if (!e_.body_in_world(c.id)) break;
+            fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.id)[size_t(c.index)]); break;
         case Kind::BodySpeed: {
+            if (!e_.body_in_world(c.id)) break;
             Vec3 v = e_.body_velocity(c.id);
             fmt::format_to(std::back_inserter(buf_), "{}", std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
             break;

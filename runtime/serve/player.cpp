@@ -1,0 +1,432 @@
+#include "serve/player.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace plant::view {
+
+using json = nlohmann::json;
+
+namespace {
+
+constexpr double kFrameEvery = 1.0 / 60;  // publishing frames, wall seconds
+constexpr double kStatusEvery = 0.2;
+constexpr size_t kMaxQueue = 1024;       // commands waiting for the player
+constexpr size_t kMaxLog = 10000;        // event-log lines kept for late pages
+
+double wall_seconds() {
+    using Clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+Player::Player(const graph::Graph& g, bool paused, double speed) : g_(g), paused_(paused), speed_(speed) {}
+
+Player::~Player() { stop(); }
+
+void Player::start() {
+    stop_ = false;
+    thread_ = std::thread([this] { loop(); });
+}
+
+void Player::stop() {
+    stop_ = true;
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+}
+
+bool Player::command(Command c) {
+    {
+        std::lock_guard lock(m_);
+        if (queue_.size() >= kMaxQueue) return false;
+        queue_.push_back(std::move(c));
+    }
+    cv_.notify_all();
+    return true;
+}
+
+void Player::set_inspected(const std::set<std::string>& paths) {
+    std::lock_guard lock(m_);
+    inspected_ = paths;
+}
+
+std::set<std::string> Player::inspected() const {
+    std::lock_guard lock(m_);
+    return inspected_;
+}
+
+std::shared_ptr<const std::string> Player::scene() const {
+    std::lock_guard lock(m_);
+    return scene_;
+}
+
+std::shared_ptr<const FramePub> Player::frame() const {
+    std::lock_guard lock(m_);
+    return frame_;
+}
+
+std::shared_ptr<const StatusPub> Player::status() const {
+    std::lock_guard lock(m_);
+    return status_;
+}
+
+std::vector<std::string> Player::log_since(size_t from, size_t& next) const {
+    std::lock_guard lock(m_);
+    std::vector<std::string> out;
+    const size_t end = log_first_ + log_.size();
+    for (size_t i = std::max(from, log_first_); i < end; ++i) out.push_back(log_[i - log_first_]);
+    next = end;
+    return out;
+}
+
+std::string Player::events_file() const {
+    std::lock_guard lock(m_);
+    std::string out = "# events of a plant serve session: plant run FILE --events THIS_FILE replays it\n";
+    for (const std::string& l : lines_) out += l + "\n";
+    return out;
+}
+
+void Player::log(std::string event_json, std::string line) {
+    std::lock_guard lock(m_);
+    log_.push_back(std::move(event_json));
+    lines_.push_back(std::move(line));
+    if (log_.size() > kMaxLog) {
+        log_.erase(log_.begin());
+        ++log_first_;
+    }
+}
+
+void Player::clear_log() {
+    std::lock_guard lock(m_);
+    log_first_ += log_.size();
+    log_.clear();
+    lines_.clear();
+}
+
+void Player::new_scene(std::string scene) {
+    auto s = std::make_shared<const std::string>(std::move(scene));
+    std::lock_guard lock(m_);
+    scene_ = std::move(s);
+    ++scene_version_;
+}
+
+void Player::put_frame(const FrameTracker& t) {
+    auto f = std::make_shared<FramePub>();
+    f->seq = t.seq();
+    f->frame = t.frame();
+    f->body_seq = t.body_seq();
+    f->gfx_seq = t.gfx_seq();
+    f->paused = paused_;
+    std::lock_guard lock(m_);
+    frame_ = std::move(f);
+}
+
+void Player::put_status(std::string status, std::map<std::string, std::string> inspect) {
+    auto s = std::make_shared<StatusPub>();
+    s->status = std::move(status);
+    s->inspect = std::move(inspect);
+    std::lock_guard lock(m_);
+    status_ = std::move(s);
+}
+
+void Player::reanchor(double wall_now, double sim_now) {
+    anchor_wall_ = wall_now;
+    anchor_sim_ = sim_now;
+}
+
+double Player::paced_target(double wall_now) const { return anchor_sim_ + (wall_now - anchor_wall_) * speed_; }
+
+void Player::loop() {
+    double last_frame = -1e9, last_status = -1e9;
+    publish_frame();
+    publish_status();
+    reanchor(wall_seconds(), 0);
+    while (!stop_) {
+        std::vector<Command> cmds;
+        {
+            std::lock_guard lock(m_);
+            cmds.swap(queue_);
+        }
+        for (Command& c : cmds) handle(c);
+        const double now = wall_seconds();
+        const bool moved = advance(now);
+        const double after = wall_seconds();
+        if (after - last_frame >= kFrameEvery || (moved && paused_)) {
+            publish_frame();
+            last_frame = after;
+        }
+        if (after - last_status >= kStatusEvery || (moved && paused_)) {
+            publish_status();
+            last_status = after;
+        }
+        if (!moved) {
+            // Nothing due: sleep until the next step is, a frame is to be published, or a
+            // command arrives (at most 5 ms, so pacing stays fine-grained).
+            std::unique_lock lock(m_);
+            cv_.wait_for(lock, std::chrono::milliseconds(paused_ ? 20 : 2),
+                         [this] { return stop_.load() || !queue_.empty(); });
+        }
+    }
+}
+
+// ---- live ----
+
+namespace {
+
+class LivePlayer final : public Player {
+public:
+    LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed)
+        : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g) {
+        slots_ = engine::slot_index(g);
+        restart();
+    }
+    bool live() const override { return true; }
+
+private:
+    void restart() {
+        engine_ = std::make_unique<engine::Engine>(g_, opt_);
+        tally_.reset();
+        pending_.clear();
+        watched_.clear();
+        clear_log();
+        new_scene(scene_json(g_, dirs_, false, 0));
+        wall_started_ = -1;
+    }
+
+    void handle(Command& c) override {
+        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        switch (c.kind) {
+        case Command::Kind::Pause: paused_ = true; break;
+        case Command::Kind::Run:
+            paused_ = false;
+            reanchor(now, engine_->time());
+            break;
+        case Command::Kind::Step: step_once_ = true; break;
+        case Command::Kind::Speed:
+            speed_ = c.value;
+            reanchor(now, engine_->time());
+            break;
+        case Command::Kind::Restart:
+            restart();
+            reanchor(now, 0);
+            break;
+        case Command::Kind::Event: pending_.emplace_back(std::move(c.event), c.client); break;
+        case Command::Kind::Seek: break;  // live runs cannot seek (refused by the server)
+        }
+    }
+
+    bool advance(double now) override {
+        watch_inspected();
+        bool step = false;
+        if (paused_) {
+            step = step_once_;
+            step_once_ = false;
+        } else if (speed_ == 0) {
+            step = true;
+        } else {
+            const double target = paced_target(now);
+            if (target - engine_->time() > 0.25) reanchor(now, engine_->time());  // cannot keep up: no burst
+            step = engine_->time() + engine_->dt() <= paced_target(now) + 1e-12;
+        }
+        if (!step) return false;
+        // Events are applied before the step they feed, at the time that step ends:
+        // exactly what `plant run --events` does with the logged line.
+        for (auto& [ev, client] : pending_) {
+            ev.time = double(engine_->steps() + 1) * engine_->dt();
+            engine::apply_event(*engine_, ev);
+            const std::string line = engine::format_event(g_, ev);
+            const json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"client", client}};
+            log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
+        }
+        pending_.clear();
+        engine_->step();
+        tally_.step(*engine_);
+        if (wall_started_ < 0) wall_started_ = now, sim_started_ = engine_->time();
+        return true;
+    }
+
+    void watch_inspected() {
+        for (const std::string& p : inspected())
+            if (watched_.insert(p).second)
+                for (int32_t sl : object_slots(g_, p)) engine_->watch(sl);
+    }
+
+    void publish_frame() override {
+        tracker_.take(*engine_);
+        put_frame(tracker_);
+    }
+
+    void publish_status() override {
+        StatusExtra x;
+        x.paused = paused_;
+        x.speed = speed_;
+        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        x.rtf = wall_started_ >= 0 && now > wall_started_ ? (engine_->time() - sim_started_) / (now - wall_started_) : 0;
+        std::map<std::string, std::string> inspect;
+        for (const std::string& p : inspected()) inspect[p] = inspect_json(*engine_, p);
+        put_status(status_json(*engine_, tally_, x), std::move(inspect));
+    }
+
+    engine::Options opt_;
+    ModelDirs dirs_;
+    std::unique_ptr<engine::Engine> engine_;
+    FrameTracker tracker_;
+    RecordTally tally_;
+    std::vector<std::pair<engine::Event, int>> pending_;
+    std::set<std::string> watched_;
+    double wall_started_ = -1, sim_started_ = 0;
+};
+
+// ---- replay ----
+
+const graph::Graph& empty_graph() {
+    static const graph::Graph g;
+    return g;
+}
+
+class ReplayPlayer final : public Player {
+public:
+    ReplayPlayer(Recording rec, bool paused, double speed)
+        : Player(empty_graph(), paused, speed), rec_(std::move(rec)), tracker_(shape_graph()) {
+        json s = json::parse(rec_.scene, nullptr, false);
+        s["mode"] = "replay";
+        s["duration"] = rec_.duration;
+        new_scene(s.dump(-1, ' ', false, json::error_handler_t::replace));
+        size_frame();
+        seek(0);
+    }
+    bool live() const override { return false; }
+
+private:
+    // A graph with the recording's counts of bodies and graphics, for the tracker.
+    const graph::Graph& shape_graph() {
+        const json s = json::parse(rec_.scene, nullptr, false);
+        shape_.bodies.resize(s["bodies"].size());
+        for (auto& b : shape_.bodies) b.mode = graph::BodyMode::Dynamic;
+        shape_.graphics.resize(s["graphics"].size());
+        return shape_;
+    }
+    void size_frame() {
+        cur_.body_pose.assign(7 * shape_.bodies.size(), 0.f);
+        cur_.body_state.assign(shape_.bodies.size(), 0);
+        cur_.gfx_pose.assign(7 * shape_.graphics.size(), 0.f);
+        cur_.gfx_variant.assign(shape_.graphics.size(), -1);
+    }
+
+    // The state at time t: from the last full frame at or before it, forward.
+    void seek(double t) {
+        t = std::clamp(t, 0.0, rec_.duration);
+        size_t k = 0;
+        for (size_t i = 0; i < rec_.frames.size() && rec_.frames[i].time <= t + 1e-9; ++i)
+            if (rec_.frames[i].full) k = i;
+        next_ = k;
+        apply_until(t);
+        time_ = t;
+        clear_log();
+        next_event_ = 0;
+        emit_events(t);
+    }
+    void apply_until(double t) {
+        bool full = false;
+        for (; next_ < rec_.frames.size() && rec_.frames[next_].time <= t + 1e-9; ++next_)
+            decode_frame(rec_.frames[next_].data, cur_, full);
+    }
+    void emit_events(double t) {
+        for (; next_event_ < rec_.events.size() && rec_.events[next_event_].time <= t + 1e-9; ++next_event_) {
+            const json j = json::parse(rec_.events[next_event_].data, nullptr, false);
+            log(rec_.events[next_event_].data, j.value("line", std::string()));
+        }
+    }
+
+    void handle(Command& c) override {
+        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        switch (c.kind) {
+        case Command::Kind::Pause: paused_ = true; break;
+        case Command::Kind::Run:
+            paused_ = false;
+            if (time_ >= rec_.duration) seek(0);
+            reanchor(now, time_);
+            break;
+        case Command::Kind::Step: step_once_ = true; break;
+        case Command::Kind::Speed:
+            speed_ = c.value;
+            reanchor(now, time_);
+            break;
+        case Command::Kind::Restart:
+            seek(0);
+            reanchor(now, 0);
+            break;
+        case Command::Kind::Seek:
+            seek(c.value);
+            reanchor(now, time_);
+            moved_ = true;
+            break;
+        case Command::Kind::Event: break;  // refused by the server: a replay is read-only
+        }
+    }
+
+    bool advance(double now) override {
+        double t = time_;
+        if (paused_) {
+            if (!step_once_ && !moved_) return false;
+            if (step_once_ && next_ < rec_.frames.size()) t = rec_.frames[next_].time;
+            step_once_ = false;
+        } else {
+            t = speed_ == 0 ? time_ + 1.0 / 30 : paced_target(now);
+        }
+        moved_ = false;
+        if (t >= rec_.duration) {
+            t = rec_.duration;
+            paused_ = true;
+        }
+        if (t <= time_ && next_ >= rec_.frames.size()) return false;
+        apply_until(t);
+        emit_events(t);
+        time_ = t;
+        return true;
+    }
+
+    void publish_frame() override {
+        tracker_.put(cur_);
+        put_frame(tracker_);
+    }
+
+    void publish_status() override {
+        // The last status recorded at or before now, with the player's own state.
+        const Recording::Chunk* last = nullptr;
+        for (const auto& s : rec_.statuses)
+            if (s.time <= time_ + 1e-9) last = &s;
+        json j = last ? json::parse(last->data, nullptr, false) : json::object();
+        if (!j.is_object()) j = json::object();
+        j["type"] = "status";
+        j["time"] = time_;
+        j["paused"] = paused_;
+        j["speed"] = speed_;
+        put_status(j.dump(-1, ' ', false, json::error_handler_t::replace), {});
+    }
+
+    Recording rec_;
+    graph::Graph shape_;
+    FrameTracker tracker_;
+    Frame cur_;
+    size_t next_ = 0, next_event_ = 0;
+    double time_ = 0;
+    bool moved_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
+                                         double speed) {
+    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed);
+}
+
+std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed) {
+    return std::make_unique<ReplayPlayer>(std::move(rec), paused, speed);
+}
+
+}  // namespace plant::view

@@ -1,0 +1,112 @@
+// The thread behind `plant serve`: it runs the plant (live) or plays a recording (replay),
+// paced to the wall clock at a chosen speed, and publishes what the pages see — frames,
+// status, the event log — for the network thread to send. Pages act on it only through
+// commands; external inputs are events applied before the next step through
+// engine::apply_event, the same code `plant run --event` uses.
+#pragma once
+
+#include "engine/engine.h"
+#include "engine/run_args.h"
+#include "serve/record.h"
+#include "serve/view.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace plant::view {
+
+struct Command {
+    enum class Kind { Pause, Run, Step, Restart, Speed, Event, Seek };
+    Kind kind = Kind::Pause;
+    double value = 0;  // speed, seek time
+    engine::Event event;
+    int client = 0;
+};
+
+// What the pages see, replaced as a whole (readers keep the one they took).
+struct FramePub {
+    uint64_t seq = 0;
+    Frame frame;
+    std::vector<uint64_t> body_seq, gfx_seq;
+    bool paused = false;
+};
+struct StatusPub {
+    std::string status;                          // without "inspect"
+    std::map<std::string, std::string> inspect;  // object path -> its inspect JSON
+};
+
+class Player {
+public:
+    virtual ~Player();
+    void start();
+    void stop();
+
+    // From the network thread. False when the queue is full (the client is told).
+    bool command(Command c);
+    void set_inspected(const std::set<std::string>& paths);
+
+    uint64_t scene_version() const { return scene_version_.load(); }
+    std::shared_ptr<const std::string> scene() const;
+    std::shared_ptr<const FramePub> frame() const;
+    std::shared_ptr<const StatusPub> status() const;
+    // Event-log lines (event messages, JSON) from index `from` on; `first` is the index of
+    // the first line kept (the log restarts with the run).
+    std::vector<std::string> log_since(size_t from, size_t& next) const;
+    // The events file of the session so far (for `plant run --events`).
+    std::string events_file() const;
+    virtual bool live() const = 0;
+    const graph::Graph& graph() const { return g_; }
+    const engine::SlotIndex& slots() const { return slots_; }
+
+protected:
+    explicit Player(const graph::Graph& g, bool paused, double speed);
+    virtual void handle(Command& c) = 0;  // under no lock, on the player thread
+    // Advances towards the paced time; returns false when there was nothing to do.
+    virtual bool advance(double wall_now) = 0;
+    virtual void publish_frame() = 0;
+    virtual void publish_status() = 0;
+
+    void reanchor(double wall_now, double sim_now);
+    double paced_target(double wall_now) const;
+    void put_frame(const FrameTracker& t);
+    void put_status(std::string status, std::map<std::string, std::string> inspect);
+    void log(std::string event_json, std::string line);
+    void clear_log();
+    void new_scene(std::string scene);
+    std::set<std::string> inspected() const;
+
+    const graph::Graph& g_;
+    engine::SlotIndex slots_;
+    bool paused_;
+    bool step_once_ = false;
+    double speed_;
+    double anchor_wall_ = 0, anchor_sim_ = 0;
+
+private:
+    void loop();
+    mutable std::mutex m_;
+    std::condition_variable cv_;
+    std::vector<Command> queue_;
+    std::set<std::string> inspected_;
+    std::shared_ptr<const std::string> scene_;
+    std::shared_ptr<const FramePub> frame_;
+    std::shared_ptr<const StatusPub> status_;
+    std::vector<std::string> log_, lines_;
+    size_t log_first_ = 0;
+    std::atomic<uint64_t> scene_version_{0};
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+};
+
+std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
+                                         double speed);
+std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed);
+
+}  // namespace plant::view

@@ -1,0 +1,131 @@
+#include "serve/protocol.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace plant::view {
+
+using json = nlohmann::json;
+
+namespace {
+
+bool string_field(const json& j, const char* key, std::string& out, std::string& error, bool required = true) {
+    auto it = j.find(key);
+    if (it == j.end()) {
+        if (!required) return true;
+        error = std::string("missing \"") + key + "\"";
+        return false;
+    }
+    if (!it->is_string()) {
+        error = std::string("\"") + key + "\" must be a string";
+        return false;
+    }
+    out = it->get<std::string>();
+    return true;
+}
+
+bool number_field(const json& j, const char* key, double& out, std::string& error) {
+    auto it = j.find(key);
+    if (it == j.end() || !it->is_number()) {
+        error = std::string("\"") + key + "\" must be a number";
+        return false;
+    }
+    out = it->get<double>();
+    if (!std::isfinite(out)) {
+        error = std::string("\"") + key + "\" must be finite";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+bool decode_client_message(std::string_view text, ClientMessage& m, std::string& error) {
+    m = ClientMessage{};
+    if (text.size() > kMaxClientMessage) {
+        error = "message too long";
+        return false;
+    }
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) {
+        error = "malformed JSON";
+        return false;
+    }
+    if (!j.is_object()) {
+        error = "a message is a JSON object";
+        return false;
+    }
+    std::string type;
+    if (!string_field(j, "type", type, error)) return false;
+    if (type == "hello") {
+        m.kind = ClientMessage::Kind::Hello;
+        if (j.contains("fps")) {
+            double fps = 0;
+            if (!number_field(j, "fps", fps, error)) return false;
+            if (fps < 1 || fps > 60) {
+                error = "\"fps\" must lie between 1 and 60";
+                return false;
+            }
+            m.fps = int(fps);
+        }
+        return true;
+    }
+    if (type == "control") {
+        m.kind = ClientMessage::Kind::Control;
+        if (!string_field(j, "action", m.action, error)) return false;
+        if (m.action == "speed") {
+            if (!number_field(j, "speed", m.speed, error)) return false;
+            if (m.speed != 0 && (m.speed < 0.01 || m.speed > 1000)) {
+                error = "\"speed\" is 0 (as fast as possible) or 0.01 to 1000 times real time";
+                return false;
+            }
+            return true;
+        }
+        if (m.action == "pause" || m.action == "run" || m.action == "step" || m.action == "restart") return true;
+        error = "unknown control action '" + m.action + "' (pause, run, step, restart, speed)";
+        return false;
+    }
+    if (type == "event") {
+        m.kind = ClientMessage::Kind::Event;
+        if (!string_field(j, "path", m.path, error)) return false;
+        auto it = j.find("value");
+        if (it != j.end() && !it->is_null()) {
+            if (it->is_string()) m.value = it->get<std::string>();
+            else if (it->is_boolean()) m.value = it->get<bool>() ? "true" : "false";
+            else if (it->is_number()) m.value = it->dump();
+            else {
+                error = "\"value\" must be a string, a number or a boolean";
+                return false;
+            }
+        }
+        if (m.path.empty() || m.path.find_first_of(" \t\r\n") != std::string::npos) {
+            error = "\"path\" must be a dotted path without spaces";
+            return false;
+        }
+        if (m.value.find_first_of("\r\n") != std::string::npos) {
+            error = "\"value\" must be one line";
+            return false;
+        }
+        return true;
+    }
+    if (type == "inspect") {
+        m.kind = ClientMessage::Kind::Inspect;
+        auto it = j.find("path");
+        if (it == j.end() || it->is_null()) return true;
+        return string_field(j, "path", m.path, error);
+    }
+    if (type == "seek") {
+        m.kind = ClientMessage::Kind::Seek;
+        if (!number_field(j, "time", m.time, error)) return false;
+        if (m.time < 0) {
+            error = "\"time\" must not be negative";
+            return false;
+        }
+        return true;
+    }
+    error = "unknown message type '" + type + "'";
+    return false;
+}
+
+}  // namespace plant::view

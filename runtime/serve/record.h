@@ -1,0 +1,61 @@
+// Recordings (`plant run --record run.rec`, played by `plant serve --replay run.rec`):
+// what the viewer needs of a run, in the viewer's own messages. Format (docs/viewer.md):
+//
+//   "plant-rec 1\n", then chunks: a tag byte, a u32 length (little-endian), the payload.
+//   'C' the scene message (JSON, first chunk), 'F' a binary frame (every 1/30 s of
+//   simulated time, a full one each second, else what changed), 'S' a status message
+//   (JSON, every 0.2 s), 'E' an event message (JSON: {"type":"event","line":...}).
+#pragma once
+
+#include "engine/run.h"
+#include "serve/view.h"
+
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plant::view {
+
+class Recorder : public engine::RunObserver {
+public:
+    // Opens `path` for writing; check ok().
+    Recorder(const graph::Graph& g, const std::string& path, ModelDirs dirs);
+    bool ok() const { return bool(out_); }
+
+    void started(const engine::Engine& e) override;
+    void event(const engine::Engine& e, const engine::Event& ev) override;
+    void stepped(const engine::Engine& e) override;
+    bool finished(const engine::Engine& e, std::string& error) override;
+
+private:
+    void frame(const engine::Engine& e);
+    void chunk(char tag, std::string_view payload);
+    const graph::Graph& g_;
+    std::string path_;
+    ModelDirs dirs_;
+    std::ofstream out_;
+    FrameTracker tracker_;
+    RecordTally tally_;
+    int64_t frames_ = 0;
+    uint64_t last_seq_ = 0;
+    double next_frame_ = 0, next_status_ = 0;
+    std::string buf_;
+};
+
+struct Recording {
+    std::string scene;
+    struct Chunk {
+        double time;
+        std::string data;
+        bool full = false;  // frames: a full frame
+    };
+    std::vector<Chunk> frames, statuses, events;
+    double duration = 0;
+};
+
+// Reads a recording; false with `error` (the offset of what is wrong) otherwise. Frames are
+// checked against the scene's counts.
+bool load_recording(const std::string& path, Recording& rec, std::string& error);
+
+}  // namespace plant::view

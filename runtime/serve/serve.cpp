@@ -1,0 +1,114 @@
+#include "serve/serve.h"
+
+#include "serve/player.h"
+#include "serve/server.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <ostream>
+
+namespace plant::view {
+
+namespace fs = std::filesystem;
+
+std::string default_viewer_dir() {
+    if (const char* env = std::getenv("PLANT_VIEWER"); env && *env) return env;
+    return PLANT_VIEWER_DIR;
+}
+
+namespace {
+
+bool number(const std::string& text, double& v) {
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    return ec == std::errc() && end == text.data() + text.size() && std::isfinite(v);
+}
+
+}  // namespace
+
+int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
+               std::ostream& out, std::ostream& err) {
+    ServerOptions so;
+    so.viewer_dir = default_viewer_dir();
+    const fs::path parent = fs::path(file).parent_path();
+    so.models.plant_dir = parent.empty() ? fs::path(".").string() : parent.string();
+    engine::Options eo;
+    bool paused = false;
+    double speed = 1;
+    auto fail = [&](const std::string& msg) {
+        fmt::print(err, "plant serve: error: {}\n", msg);
+        return 2;
+    };
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&](std::string& v) {
+            if (i + 1 >= args.size()) return false;
+            v = args[++i];
+            return true;
+        };
+        std::string v;
+        double x = 0;
+        if (a == "--paused") paused = true;
+        else if (a == "--replay") continue;  // the driver already chose a replay
+        else if (a == "--port") {
+            if (!value(v) || !number(v, x) || x < 0 || x > 65535 || x != double(int(x)))
+                return fail(fmt::format("--port: '{}' is not a port number (0 to 65535)", v));
+            so.port = uint16_t(x);
+        } else if (a == "--host") {
+            if (!value(so.host)) return fail("--host needs an address");
+        } else if (a == "--viewer") {
+            if (!value(so.viewer_dir)) return fail("--viewer needs a folder");
+        } else if (a == "--models") {
+            if (!value(so.models.models_dir)) return fail("--models needs a folder");
+        } else if (a == "--speed") {
+            if (!value(v) || !number(v, speed) || (speed != 0 && (speed < 0.01 || speed > 1000)))
+                return fail(fmt::format("--speed: '{}' is not 0 (as fast as possible) or 0.01 to 1000", v));
+        } else if (a == "--threads") {
+            if (!value(v) || !number(v, x) || x < 1 || x > 256 || x != double(int(x)))
+                return fail(fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v));
+            eo.threads = int(x);
+        } else {
+            return fail(fmt::format("unknown flag '{}' (see plant serve --help)", a));
+        }
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::path(so.viewer_dir) / "index.html", ec))
+        fmt::print(err, "plant serve: warning: no viewer page in '{}' (--viewer DIR); the server runs without it\n",
+                   so.viewer_dir);
+    else if (!fs::is_directory(fs::path(so.viewer_dir) / "node_modules" / "three", ec))
+        fmt::print(err, "plant serve: warning: the page's packages are not installed: run `scripts/setup.sh` (npm ci in {})\n",
+                   so.viewer_dir);
+
+    std::unique_ptr<Player> player;
+    if (graph) {
+        player = make_live_player(*graph, eo, so.models, paused, speed);
+    } else {
+        Recording rec;
+        std::string error;
+        if (!load_recording(file, rec, error)) {
+            fmt::print(err, "plant serve: error: {}\n", error);
+            return 1;
+        }
+        player = make_replay_player(std::move(rec), paused, speed);
+    }
+    Server server(*player, so);
+    std::string error;
+    if (!server.start(error)) {
+        fmt::print(err, "plant serve: error: {}\n", error);
+        return 1;
+    }
+    player->start();
+    const bool v6 = so.host.find(':') != std::string::npos;
+    fmt::print(out, "plant serve: http://{}{}{}:{}/\n", v6 ? "[" : "", so.host, v6 ? "]" : "", server.port());
+    out.flush();
+    server.wait_for_signal();
+    fmt::print(out, "plant serve: stopped\n");
+    server.stop();
+    player->stop();
+    return 0;
+}
+
+}  // namespace plant::view

@@ -1,0 +1,30 @@
+// The `plant serve` command: a live run of a compiled graph, or the replay of a recording,
+// shown by the viewer page (docs/viewer.md). `args` are the flags after the file.
+//
+//   --port N        TCP port (default 8150; 0: any free port, printed)
+//   --host ADDR     address to listen on (default 127.0.0.1)
+//   --viewer DIR    the page's folder (default: $PLANT_VIEWER, else the checkout's viewer/)
+//   --models DIR    where graphics models (glTF/GLB) are looked up besides the plant's folder
+//   --paused        start paused
+//   --speed X       0.1, 1, 10 ... times real time; 0 as fast as possible (default 1)
+//   --threads N     physics threads (as plant run)
+//
+// Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag, 1 when it cannot listen.
+#pragma once
+
+#include "graph/graph.h"
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace plant::view {
+
+// `graph` is null for a replay: then `file` is the recording.
+int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
+               std::ostream& out, std::ostream& err);
+
+// The folder the page is served from by default.
+std::string default_viewer_dir();
+
+}  // namespace plant::view

@@ -1,0 +1,432 @@
+#include "serve/view.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace plant::view {
+
+using namespace plant::graph;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+json pose_json(const Pose& p) { return json::array({p.p[0], p.p[1], p.p[2], p.q[0], p.q[1], p.q[2], p.q[3]}); }
+json vec_json(const Vec3& v) { return json::array({v[0], v[1], v[2]}); }
+
+bool model_file(std::string_view m) {
+    auto ends = [&](std::string_view ext) {
+        return m.size() > ext.size() && m.substr(m.size() - ext.size()) == ext;
+    };
+    return ends(".glb") || ends(".gltf");
+}
+
+json model_url(const ModelDirs& dirs, std::string_view model) {
+    if (find_model(dirs, model).empty()) return nullptr;
+    return "/models/" + std::string(model);
+}
+
+}  // namespace
+
+std::string find_model(const ModelDirs& dirs, std::string_view model) {
+    if (model.empty() || !model_file(model) || model.front() == '/' || model.find('\\') != std::string_view::npos)
+        return {};
+    const fs::path rel{std::string(model)};
+    for (const auto& part : rel)
+        if (part == "..") return {};
+    for (const std::string* dir : {&dirs.models_dir, &dirs.plant_dir}) {
+        if (dir->empty()) continue;
+        std::error_code ec;
+        const fs::path p = fs::path(*dir) / rel;
+        if (fs::is_regular_file(p, ec)) return p.string();
+    }
+    return {};
+}
+
+std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, double duration) {
+    json s;
+    s["type"] = "scene";
+    s["version"] = kProtocolVersion;
+    s["mode"] = replay ? "replay" : "live";
+    if (replay) s["duration"] = duration;
+    s["plant"] = g.str(g.plant);
+    s["rate"] = g.settings.rate;
+
+    json dos = json::array();
+    for (size_t d = 0; d < g.dos.size(); ++d) {
+        const Do& o = g.dos[d];
+        dos.push_back({{"id", d},
+                       {"path", g.str(o.path)},
+                       {"type", o.type >= 0 ? g.str(g.do_types[size_t(o.type)].name) : g.str(g.plant)},
+                       {"parent", o.parent},
+                       {"pooled", o.pool >= 0}});
+    }
+    s["dos"] = std::move(dos);
+
+    json bodies = json::array();
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        const Body& body = g.bodies[b];
+        json shapes = json::array();
+        for (int32_t k = 0; k < body.shape_num; ++k) {
+            const Shape& sh = g.shapes[size_t(body.shape_adr + k)];
+            json j{{"kind", word(sh.kind)}, {"local", pose_json(sh.local)}};
+            switch (sh.kind) {
+            case ShapeKind::Box: j["size"] = vec_json(sh.size); break;
+            case ShapeKind::Sphere: j["size"] = json::array({sh.size[0]}); break;
+            case ShapeKind::Cylinder:
+            case ShapeKind::Capsule: j["size"] = json::array({sh.size[0], sh.size[1]}); break;
+            case ShapeKind::Hull: {
+                json pts = json::array();
+                for (int32_t i = 0; i < sh.point_num; ++i) pts.push_back(vec_json(g.points[size_t(sh.point_adr + i)].p));
+                j["points"] = std::move(pts);
+                break;
+            }
+            }
+            shapes.push_back(std::move(j));
+        }
+        const int32_t owner = g.comps[size_t(body.comp)].owner;
+        bodies.push_back({{"id", b},
+                          {"do", owner},
+                          {"path", g.comp_path(body.comp)},
+                          {"mode", word(body.mode)},
+                          {"collision", body.collision},
+                          {"pose", pose_json(body.pose)},
+                          {"shapes", std::move(shapes)}});
+    }
+    s["bodies"] = std::move(bodies);
+
+    json fields = json::array();
+    for (size_t f = 0; f < g.fields.size(); ++f) {
+        const Field& fd = g.fields[f];
+        fields.push_back({{"id", f},
+                          {"path", g.comp_path(fd.comp)},
+                          {"body", fd.body},
+                          {"extent", vec_json(fd.extent)},
+                          {"pose", pose_json(fd.pose)},
+                          {"dir", vec_json(fd.dir)},
+                          {"speed", fd.speed}});
+    }
+    s["fields"] = std::move(fields);
+
+    json triggers = json::array();
+    for (size_t t = 0; t < g.triggers.size(); ++t) {
+        const Trigger& tr = g.triggers[t];
+        triggers.push_back({{"id", t},
+                            {"path", g.comp_path(tr.comp)},
+                            {"body", tr.body},
+                            {"extent", vec_json(tr.extent)},
+                            {"pose", pose_json(tr.pose)}});
+    }
+    s["triggers"] = std::move(triggers);
+
+    json graphics = json::array();
+    for (size_t i = 0; i < g.graphics.size(); ++i) {
+        const Graphics& gr = g.graphics[i];
+        json variants = json::array();
+        for (int32_t v = 0; v < gr.variant_num; ++v) {
+            const Variant& var = g.variants[size_t(gr.variant_adr + v)];
+            variants.push_back({{"name", g.str(var.name)},
+                                {"model", g.str(var.model)},
+                                {"model_url", model_url(dirs, g.str(var.model))}});
+        }
+        graphics.push_back({{"id", i},
+                            {"path", g.comp_path(gr.comp)},
+                            {"parent", gr.parent},
+                            {"body", gr.body},
+                            {"model", g.str(gr.model)},
+                            {"model_url", model_url(dirs, g.str(gr.model))},
+                            {"variant", gr.variant},
+                            {"variants", std::move(variants)}});
+    }
+    s["graphics"] = std::move(graphics);
+
+    json slots = json::array();
+    for (size_t p = 0; p < g.ports.size(); ++p)
+        slots.push_back({{"path", g.port_path(int32_t(p))},
+                         {"type", word(g.ports[p].type)},
+                         {"dir", word(g.ports[p].dir)},
+                         {"port", true}});
+    for (size_t sl = 0; sl < g.slots.size(); ++sl)
+        slots.push_back({{"path", g.slot_path(int32_t(sl))},
+                         {"type", word(g.slots[sl].type)},
+                         {"dir", word(g.slots[sl].dir)},
+                         {"port", false}});
+    s["slots"] = std::move(slots);
+
+    json records = json::array();
+    for (const Record& r : g.records)
+        records.push_back({{"column", g.str(r.column)}, {"type", word(g.slots[size_t(r.slot)].type)}});
+    s["records"] = std::move(records);
+
+    json places = json::array();
+    for (size_t p = 0; p < g.places.size(); ++p)
+        places.push_back({{"id", p},
+                          {"path", g.comp_path(g.places[p].comp) + "." + std::string(g.str(g.places[p].name))},
+                          {"initial", g.places[p].initial}});
+    s["places"] = std::move(places);
+    return s.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// ---- frames ----
+
+FrameTracker::FrameTracker(const Graph& g) : g_(g) {
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        if (g.bodies[b].mode != BodyMode::Static) movable_.push_back(int32_t(b));
+    for (Frame* f : {&now_, &prev_}) {
+        f->body_pose.assign(7 * g.bodies.size(), 0.f);
+        f->body_state.assign(g.bodies.size(), 0);
+        f->gfx_pose.assign(7 * g.graphics.size(), 0.f);
+        f->gfx_variant.assign(g.graphics.size(), -1);
+    }
+    body_seq_.assign(g.bodies.size(), 1);
+    gfx_seq_.assign(g.graphics.size(), 1);
+    // Static bodies never move: their pose is the graph's.
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        for (Frame* f : {&now_, &prev_}) {
+            const Pose& p = g.bodies[b].pose;
+            float* d = &f->body_pose[7 * b];
+            for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
+            for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
+            f->body_state[b] = uint8_t(1 | (g.bodies[b].collision ? 2 : 0));
+        }
+}
+
+uint64_t FrameTracker::take(const engine::Engine& e) {
+    std::swap(now_, prev_);
+    now_.time = e.time();
+    now_.step = e.steps();
+    for (int32_t b : movable_) {
+        const Pose p = e.body_pose(b);
+        float* d = &now_.body_pose[7 * size_t(b)];
+        for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
+        for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
+    }
+    for (size_t b = 0; b < g_.bodies.size(); ++b)
+        now_.body_state[b] = uint8_t((e.body_in_world(int32_t(b)) ? 1 : 0) | (e.body_collision(int32_t(b)) ? 2 : 0));
+    for (size_t i = 0; i < g_.graphics.size(); ++i) {
+        const Pose p = e.graphics_pose(int32_t(i));
+        float* d = &now_.gfx_pose[7 * i];
+        for (int k = 0; k < 3; ++k) d[k] = float(p.p[size_t(k)]);
+        for (int k = 0; k < 4; ++k) d[3 + k] = float(p.q[size_t(k)]);
+        now_.gfx_variant[i] = e.graphics_variant(int32_t(i));
+    }
+    return commit();
+}
+
+uint64_t FrameTracker::put(const Frame& f) {
+    std::swap(now_, prev_);
+    now_ = f;
+    return commit();
+}
+
+uint64_t FrameTracker::commit() {
+    ++seq_;
+    for (size_t b = 0; b < body_seq_.size(); ++b)
+        if (now_.body_state[b] != prev_.body_state[b] ||
+            std::memcmp(&now_.body_pose[7 * b], &prev_.body_pose[7 * b], 7 * sizeof(float)) != 0)
+            body_seq_[b] = seq_;
+    for (size_t i = 0; i < gfx_seq_.size(); ++i)
+        if (now_.gfx_variant[i] != prev_.gfx_variant[i] ||
+            std::memcmp(&now_.gfx_pose[7 * i], &prev_.gfx_pose[7 * i], 7 * sizeof(float)) != 0)
+            gfx_seq_[i] = seq_;
+    return seq_;
+}
+
+namespace {
+
+template <class T>
+void put_raw(std::string& out, const T& v) {
+    const size_t at = out.size();
+    out.resize(at + sizeof(T));
+    std::memcpy(out.data() + at, &v, sizeof(T));
+}
+
+template <class T>
+bool get_raw(std::string_view& in, T& v) {
+    if (in.size() < sizeof(T)) return false;
+    std::memcpy(&v, in.data(), sizeof(T));
+    in.remove_prefix(sizeof(T));
+    return true;
+}
+
+}  // namespace
+
+void encode_frame(const Frame& f, const std::vector<uint64_t>& body_seq, const std::vector<uint64_t>& gfx_seq,
+                  uint64_t since, bool paused, std::string& out) {
+    std::vector<int32_t> bodies, gfx;
+    for (size_t b = 0; b < body_seq.size(); ++b)
+        if (since == 0 || body_seq[b] > since) bodies.push_back(int32_t(b));
+    for (size_t i = 0; i < gfx_seq.size(); ++i)
+        if (since == 0 || gfx_seq[i] > since) gfx.push_back(int32_t(i));
+    put_raw(out, uint32_t(1));
+    put_raw(out, uint32_t(bodies.size()));
+    put_raw(out, f.time);
+    put_raw(out, double(f.step));
+    put_raw(out, uint32_t(gfx.size()));
+    put_raw(out, uint32_t((since == 0 ? 1u : 0u) | (paused ? 2u : 0u)));
+    for (int32_t b : bodies) put_raw(out, b);
+    for (int32_t b : bodies)
+        for (int k = 0; k < 7; ++k) put_raw(out, f.body_pose[7 * size_t(b) + size_t(k)]);
+    for (int32_t b : bodies) put_raw(out, f.body_state[size_t(b)]);
+    out.append((4 - bodies.size() % 4) % 4, '\0');
+    for (int32_t i : gfx) put_raw(out, i);
+    for (int32_t i : gfx)
+        for (int k = 0; k < 7; ++k) put_raw(out, f.gfx_pose[7 * size_t(i) + size_t(k)]);
+    for (int32_t i : gfx) put_raw(out, f.gfx_variant[size_t(i)]);
+}
+
+bool decode_frame(std::string_view in, Frame& f, bool& full) {
+    uint32_t kind = 0, nb = 0, ng = 0, flags = 0;
+    double time = 0, step = 0;
+    if (!get_raw(in, kind) || kind != 1 || !get_raw(in, nb) || !get_raw(in, time) || !get_raw(in, step) ||
+        !get_raw(in, ng) || !get_raw(in, flags))
+        return false;
+    const size_t need = size_t(nb) * (4 + 28 + 1) + (4 - nb % 4) % 4 + size_t(ng) * (4 + 28 + 4);
+    if (nb > f.body_state.size() || ng > f.gfx_variant.size() || in.size() != need) return false;
+    const char* ids = in.data();
+    const char* poses = ids + 4 * size_t(nb);
+    const char* states = poses + 28 * size_t(nb);
+    for (uint32_t k = 0; k < nb; ++k) {
+        int32_t b;
+        std::memcpy(&b, ids + 4 * k, 4);
+        if (b < 0 || size_t(b) >= f.body_state.size()) return false;
+        std::memcpy(&f.body_pose[7 * size_t(b)], poses + 28 * k, 28);
+        f.body_state[size_t(b)] = uint8_t(states[k]);
+    }
+    const char* gids = states + nb + (4 - nb % 4) % 4;
+    const char* gposes = gids + 4 * size_t(ng);
+    const char* gvars = gposes + 28 * size_t(ng);
+    for (uint32_t k = 0; k < ng; ++k) {
+        int32_t i;
+        std::memcpy(&i, gids + 4 * k, 4);
+        if (i < 0 || size_t(i) >= f.gfx_variant.size()) return false;
+        std::memcpy(&f.gfx_pose[7 * size_t(i)], gposes + 28 * k, 28);
+        std::memcpy(&f.gfx_variant[size_t(i)], gvars + 4 * k, 4);
+    }
+    f.time = time;
+    f.step = int64_t(step);
+    full = (flags & 1) != 0;
+    return true;
+}
+
+// ---- status ----
+
+RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {}
+
+void RecordTally::step(const engine::Engine& e) {
+    for (size_t r = 0; r < g_.records.size(); ++r)
+        if (g_.slots[size_t(g_.records[r].slot)].type == SlotType::Void && e.active(g_.records[r].slot)) ++count_[r];
+}
+
+void RecordTally::reset() { std::fill(count_.begin(), count_.end(), 0); }
+
+std::vector<double> RecordTally::values(const engine::Engine& e) const {
+    std::vector<double> v(g_.records.size(), 0);
+    for (size_t r = 0; r < g_.records.size(); ++r) {
+        const int32_t sl = g_.records[r].slot;
+        const SlotType t = g_.slots[size_t(sl)].type;
+        if (t == SlotType::Void) v[r] = double(count_[r]);
+        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(sl)[0];
+    }
+    return v;
+}
+
+std::string status_json(const engine::Engine& e, const RecordTally& tally, const StatusExtra& x) {
+    const Graph& g = e.graph();
+    const engine::MaterialCounts m = engine::material_counts(e);
+    json s{{"type", "status"},
+           {"time", e.time()},
+           {"step", e.steps()},
+           {"paused", x.paused},
+           {"speed", x.speed},
+           {"rtf", x.rtf},
+           {"counters",
+            {{"issued", m.issued}, {"taken", m.taken}, {"on_line", m.on_line}, {"lost", m.lost}, {"stalled", m.stalled}}},
+           {"records", tally.values(e)}};
+    json occupied = json::array();
+    for (size_t t = 0; t < g.triggers.size(); ++t)
+        if (e.trigger_occupied(int32_t(t))) occupied.push_back(t);
+    s["occupied"] = std::move(occupied);
+    json fields = json::array();
+    for (size_t f = 0; f < g.fields.size(); ++f)
+        fields.push_back(json::array({e.field_on(int32_t(f)) ? 1 : 0, e.field_speed(int32_t(f))}));
+    s["fields"] = std::move(fields);
+    return s.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+namespace {
+
+int32_t find_do(const Graph& g, std::string_view path) {
+    for (size_t d = 0; d < g.dos.size(); ++d)
+        if (g.str(g.dos[d].path) == path) return int32_t(d);
+    return -1;
+}
+
+json slot_value(const engine::Engine& e, int32_t sl) {
+    const Graph& g = e.graph();
+    const SlotType t = g.slots[size_t(sl)].type;
+    const auto v = e.value(sl);
+    switch (t) {
+    case SlotType::Void: return nullptr;
+    case SlotType::Bool: return v[0] != 0;
+    case SlotType::String: {
+        const double n = v[0];
+        return n >= 0 ? json(std::string(e.str(int32_t(n)))) : json("");
+    }
+    case SlotType::Ref: {
+        const double d = v[0];
+        return d >= 0 && d < double(g.dos.size()) ? json(std::string(g.str(g.dos[size_t(d)].path))) : json(nullptr);
+    }
+    case SlotType::Int:
+    case SlotType::Real: return v[0];
+    default: return json(std::vector<double>(v.begin(), v.end()));
+    }
+}
+
+}  // namespace
+
+std::vector<int32_t> object_slots(const Graph& g, std::string_view path) {
+    std::vector<int32_t> out;
+    const int32_t d = find_do(g, path);
+    if (d < 0) return out;
+    const Do& o = g.dos[size_t(d)];
+    for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
+        const Comp& cp = g.comps[size_t(c)];
+        for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl) out.push_back(sl);
+    }
+    for (const Port& p : g.ports)
+        if (p.owner == d && p.dir == Dir::Out) out.push_back(g.port_targets[size_t(p.target_adr)].v);
+    return out;
+}
+
+std::string inspect_json(const engine::Engine& e, std::string_view path) {
+    const Graph& g = e.graph();
+    const int32_t d = find_do(g, path);
+    if (d < 0) return "null";
+    const Do& o = g.dos[size_t(d)];
+    json slots = json::array();
+    for (size_t p = 0; p < g.ports.size(); ++p) {
+        const Port& pt = g.ports[p];
+        if (pt.owner != d) continue;
+        const int32_t first = g.port_targets[size_t(pt.target_adr)].v;
+        slots.push_back({{"path", g.port_path(int32_t(p))},
+                         {"value", pt.dir == Dir::Out ? slot_value(e, first) : json(nullptr)},
+                         {"active", e.active(first)}});
+    }
+    json places = json::array();
+    for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
+        const Comp& cp = g.comps[size_t(c)];
+        for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl)
+            slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)}});
+    }
+    for (size_t p = 0; p < g.places.size(); ++p)
+        if (g.comps[size_t(g.places[p].comp)].owner == d)
+            places.push_back({{"id", p}, {"tokens", e.tokens(int32_t(p))}});
+    json j{{"path", path}, {"slots", std::move(slots)}, {"places", std::move(places)}};
+    return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace plant::view

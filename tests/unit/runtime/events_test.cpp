@@ -1,0 +1,58 @@
+// Events address every declared input by its dotted path: component slots and the ports
+// object types declare (an input port feeds every slot it forwards to).
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "engine/run_args.h"
+
+#include <doctest/doctest.h>
+
+using namespace plant;
+
+TEST_CASE("runtime: an event on an object's port drives what the port forwards to") {
+    Compilation c;
+    test::compile_repo_file("examples/switch.plant", c);
+    REQUIRE(c.ok());
+    const graph::Graph& g = c.graph;
+    const engine::SlotIndex idx = engine::slot_index(g);
+    engine::Event ev;
+    std::string err;
+    REQUIRE(engine::parse_event(g, idx, "0.1s sw.to_working", ev, err));
+    REQUIRE(ev.slots.size() == 1);
+    CHECK(g.slot_path(ev.slots[0]) == "sw.net.MoveToWorkingPos.put");
+    int32_t working = -1;
+    for (size_t p = 0; p < g.places.size(); ++p)
+        if (g.comp_path(g.places[p].comp) == "sw.net" && g.str(g.places[p].name) == "WorkingPos") working = int32_t(p);
+    REQUIRE(working >= 0);
+    engine::Engine e(g);
+    for (int i = 0; i < 30; ++i) e.step();
+    CHECK(e.tokens(working) == 0);
+    engine::apply_event(e, ev);
+    for (int i = 0; i < 3; ++i) e.step();
+    CHECK(e.tokens(working) == 1);
+    // The logged line replays it.
+    ev.time = 0.5;
+    CHECK(engine::format_event(g, ev) == "0.5s sw.to_working");
+    engine::Event back;
+    REQUIRE(engine::parse_event(g, idx, engine::format_event(g, ev), back, err));
+    CHECK(back.slots == ev.slots);
+}
+
+TEST_CASE("runtime: events refuse outputs and suggest a near path") {
+    Compilation c;
+    test::compile_repo_file("examples/switch.plant", c);
+    REQUIRE(c.ok());
+    const engine::SlotIndex idx = engine::slot_index(c.graph);
+    engine::Event ev;
+    std::string err;
+    CHECK_FALSE(engine::parse_event(c.graph, idx, "1s sw.in_working", ev, err));
+    CHECK(err.find("is an output") != std::string::npos);
+    CHECK_FALSE(engine::parse_event(c.graph, idx, "1s sw.to_wrking", ev, err));
+    CHECK(err.find("did you mean 'sw.to_working'") != std::string::npos);
+    CHECK_FALSE(engine::parse_event(c.graph, idx, "1s nothing.like.this.at.all", ev, err));
+    CHECK(err.find("plant info --slots") != std::string::npos);
+    // Values of every kind come back as they went out.
+    for (const char* line : {"1.5s feed.set_speed 0.25", "2s feed.drive.enable"}) {
+        REQUIRE_MESSAGE(engine::parse_event(c.graph, idx, line, ev, err), err);
+        CHECK(engine::format_event(c.graph, ev) == line);
+    }
+}

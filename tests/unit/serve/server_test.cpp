@@ -1,0 +1,396 @@
+// plant serve over loopback: the protocol, one way in for events (a session replays
+// headless bit for bit), replay of a recording against the trace of the same run, and
+// pages that misbehave. Every wait is bounded.
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "engine/run.h"
+#include "engine/run_args.h"
+#include "serve/player.h"
+#include "serve/protocol.h"
+#include "serve/record.h"
+#include "serve/server.h"
+
+#include <utility>  // before Boost 1.74's asio (std::exchange)
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/write.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+using namespace plant;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using json = nlohmann::json;
+
+namespace {
+
+graph::Graph compile_ok(const std::string& repo_path, std::vector<std::string> overrides = {}) {
+    Compilation c;
+    CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    opts.overrides = std::move(overrides);
+    compile_file(std::string(PLANT_SOURCE_DIR) + "/" + repo_path, opts, c);
+    REQUIRE(c.ok());
+    return std::move(c.graph);
+}
+
+// A page, as far as the protocol goes: a WebSocket client whose reads time out.
+struct Page {
+    net::io_context ioc;
+    websocket::stream<beast::tcp_stream> ws{ioc};
+    bool open = false;
+    view::Frame* frame = nullptr;  // every binary frame read is applied to it
+
+    explicit Page(uint16_t port, view::Frame* f = nullptr) : frame(f) {
+        beast::get_lowest_layer(ws).connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+        ws.handshake("127.0.0.1", "/ws");
+        open = true;
+    }
+    void send(const std::string& text) {
+        ws.text(true);
+        ws.write(net::buffer(text));
+    }
+    // The next message within `seconds`; false on a time-out or a closed socket.
+    bool read(std::string& msg, bool& binary, double seconds = 10) {
+        if (!open) return false;
+        beast::flat_buffer buf;
+        bool done = false;
+        beast::error_code ec;
+        ws.async_read(buf, [&](beast::error_code e, size_t) {
+            ec = e;
+            done = true;
+        });
+        ioc.restart();
+        ioc.run_for(std::chrono::milliseconds(int64_t(seconds * 1000)));
+        if (!done) {
+            beast::get_lowest_layer(ws).cancel();
+            ioc.restart();
+            ioc.run_for(std::chrono::seconds(1));
+            open = false;
+            return false;
+        }
+        if (ec) {
+            open = false;
+            return false;
+        }
+        msg = beast::buffers_to_string(buf.data());
+        binary = ws.got_binary();
+        bool full = false;
+        if (binary && frame && !view::decode_frame(msg, *frame, full)) return false;
+        return true;
+    }
+    // Reads until a JSON message of `type` arrives (skipping others), within `seconds`.
+    bool wait_json(const std::string& type, json& out, double seconds = 10) {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        std::string msg;
+        bool binary = false;
+        while (std::chrono::steady_clock::now() < end) {
+            const double left = std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count();
+            if (!read(msg, binary, std::max(0.05, left))) return false;
+            if (binary) continue;
+            out = json::parse(msg, nullptr, false);
+            if (out.is_object() && out.value("type", "") == type) return true;
+        }
+        return false;
+    }
+    // Reads until a binary frame arrives (applied to `frame`).
+    bool wait_frame(double seconds = 10) {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        std::string msg;
+        bool binary = false;
+        while (std::chrono::steady_clock::now() < end) {
+            const double left = std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count();
+            if (!read(msg, binary, std::max(0.05, left))) return false;
+            if (binary) return true;
+        }
+        return false;
+    }
+};
+
+view::Frame sized_frame(const graph::Graph& g) {
+    view::Frame f;
+    f.body_pose.assign(7 * g.bodies.size(), 0.f);
+    f.body_state.assign(g.bodies.size(), 0);
+    f.gfx_pose.assign(7 * g.graphics.size(), 0.f);
+    f.gfx_variant.assign(g.graphics.size(), -1);
+    return f;
+}
+
+// A raw HTTP GET; the status code (0 when there was no answer).
+int http_get(uint16_t port, const std::string& target, std::string* body = nullptr) {
+    net::io_context ioc;
+    beast::tcp_stream stream(ioc);
+    stream.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+    http::request<http::empty_body> req{http::verb::get, target, 11};
+    req.set(http::field::host, "127.0.0.1");
+    http::write(stream, req);
+    beast::flat_buffer buf;
+    http::response<http::string_body> res;
+    beast::error_code ec;
+    http::read(stream, buf, res, ec);
+    if (ec) return 0;
+    if (body) *body = res.body();
+    return int(res.result_int());
+}
+
+struct Served {
+    std::unique_ptr<view::Player> player;
+    std::unique_ptr<view::Server> server;
+    uint16_t port = 0;
+    Served(std::unique_ptr<view::Player> p) : player(std::move(p)) {
+        view::ServerOptions so;
+        so.port = 0;
+        so.viewer_dir = std::string(PLANT_SOURCE_DIR) + "/viewer";
+        server = std::make_unique<view::Server>(*player, so);
+        std::string error;
+        REQUIRE(server->start(error));
+        port = server->port();
+        player->start();
+    }
+    ~Served() {
+        server->stop();
+        player->stop();
+    }
+};
+
+}  // namespace
+
+TEST_CASE("serve: client messages are decoded or refused, never thrown") {
+    view::ClientMessage m;
+    std::string err;
+    CHECK(view::decode_client_message(R"({"type":"event","path":"s1.to_working"})", m, err));
+    CHECK(m.kind == view::ClientMessage::Kind::Event);
+    CHECK(view::decode_client_message(R"({"type":"event","path":"b.set_speed","value":0.25})", m, err));
+    CHECK(m.value == "0.25");
+    CHECK(view::decode_client_message(R"({"type":"control","action":"speed","speed":0})", m, err));
+    for (const char* bad : {"", "{", "[]", "null", R"({"type":5})", R"({"type":"nope"})",
+                            R"({"type":"control","action":"fly"})", R"({"type":"control","action":"speed","speed":-1})",
+                            R"({"type":"hello","fps":1000})", R"({"type":"event"})", R"({"type":"event","path":"a b"})",
+                            R"({"type":"event","path":"a","value":{}})", R"({"type":"seek","time":-1})",
+                            "{\"type\":\"event\",\"path\":\"\xff\xfe\"}"}) {
+        CHECK_FALSE(view::decode_client_message(bad, m, err));
+        CHECK_FALSE(err.empty());
+    }
+}
+
+TEST_CASE("serve: the scene has every body, then full and partial frames follow") {
+    const graph::Graph g = compile_ok("examples/switch.plant");
+    Served s(view::make_live_player(g, {}, {}, false, 0));
+    view::Frame f = sized_frame(g);
+    Page page(s.port, &f);
+    json scene;
+    REQUIRE(page.wait_json("scene", scene));
+    CHECK(scene["version"] == view::kProtocolVersion);
+    CHECK(scene["bodies"].size() == g.bodies.size());
+    CHECK(scene["graphics"].size() == g.graphics.size());
+    REQUIRE(page.wait_frame());
+    // Statics come with the graph's pose: frames carry world poses.
+    for (size_t b = 0; b < g.bodies.size(); ++b)
+        if (g.bodies[b].mode == graph::BodyMode::Static) CHECK(f.body_pose[7 * b] == float(g.bodies[b].pose.p[0]));
+    json status;
+    REQUIRE(page.wait_json("status", status));
+    CHECK(status["counters"].contains("issued"));
+    CHECK(status["fields"].size() == g.fields.size());
+}
+
+TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
+    const graph::Graph g = compile_ok("plants/bottling.plant");
+    Served s(view::make_live_player(g, {}, {}, false, 0));  // as fast as possible
+    view::Frame f = sized_frame(g);
+    Page page(s.port, &f);
+    json scene;
+    REQUIRE(page.wait_json("scene", scene));
+    REQUIRE(page.wait_frame());
+    // A port of an object type and a component slot, at whatever steps they arrive.
+    page.send(R"({"type":"event","path":"line[0].s1.to_working"})");
+    json ev;
+    REQUIRE(page.wait_json("event", ev));
+    CHECK(ev["line"].get<std::string>().find("s" " line[0].s1.to_working") != std::string::npos);
+    page.send(R"({"type":"event","path":"line[0].b1.set_speed","value":"0.3"})");
+    REQUIRE(page.wait_json("event", ev));
+    page.send(R"({"type":"control","action":"pause"})");
+    // The paused state: the status says at which step, then a frame of that step.
+    json st;
+    for (int i = 0; i < 100; ++i) {
+        REQUIRE(page.wait_json("status", st));
+        if (st["paused"] == true) break;
+    }
+    REQUIRE(st["paused"] == true);
+    const int64_t paused_at = st["step"].get<int64_t>();
+    for (int i = 0; i < 100 && f.step != paused_at; ++i) REQUIRE(page.wait_frame());
+    REQUIRE(f.step == paused_at);
+    const view::Frame& last = f;
+    std::string events;
+    REQUIRE(http_get(s.port, "/events", &events) == 200);
+    const std::string path = test::temp_plant("session.events", events);
+    engine::Engine e(g);
+    std::vector<engine::Event> evs;
+    std::string err;
+    REQUIRE(engine::load_events(g, engine::slot_index(g), path, evs, err));
+    REQUIRE(evs.size() == 2);
+    CHECK(evs[0].slots.size() == 1);
+    size_t next = 0;
+    while (e.steps() < last.step) {
+        const double t_next = double(e.steps() + 1) * e.dt();
+        for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
+        e.step();
+    }
+    CHECK(next == evs.size());
+    int moving = 0;
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        if (g.bodies[b].mode == graph::BodyMode::Static) continue;
+        const graph::Pose p = e.body_pose(int32_t(b));
+        for (int k = 0; k < 3; ++k) CHECK(float(p.p[size_t(k)]) == last.body_pose[7 * b + size_t(k)]);
+        moving += e.body_in_world(int32_t(b)) ? 1 : 0;
+    }
+    CHECK(moving > 0);
+}
+
+TEST_CASE("serve: bad pages get errors; the run and the other pages go on") {
+    const graph::Graph g = compile_ok("examples/switch.plant");
+    Served s(view::make_live_player(g, {}, {}, false, 1));
+    view::Frame f = sized_frame(g);
+    Page watcher(s.port, &f), bad(s.port);
+    json m;
+    REQUIRE(watcher.wait_json("scene", m));
+    REQUIRE(bad.wait_json("scene", m));
+    auto error_for = [&](const std::string& msg) {
+        bad.send(msg);
+        json e;
+        REQUIRE(bad.wait_json("error", e));
+        return e["message"].get<std::string>();
+    };
+    CHECK(error_for("{not json") == "malformed JSON");
+    CHECK(error_for(R"({"type":"teleport"})").find("unknown message type") != std::string::npos);
+    const std::string typo = error_for(R"({"type":"event","path":"sw.to_workin"})");
+    CHECK(typo.find("did you mean 'sw.to_working'") != std::string::npos);
+    CHECK(error_for(R"({"type":"event","path":"sw.net.BasePos.tokens"})").find("output") != std::string::npos);
+    // A value of the wrong type.
+    bool has_real = false;
+    for (const auto& sl : m["slots"])
+        if (sl["type"] == "real" && sl["dir"] == "in") {
+            has_real = true;
+            const std::string bad_value = error_for(
+                json{{"type", "event"}, {"path", sl["path"]}, {"value", "fast"}}.dump());
+            CHECK(bad_value.find("not a real value") != std::string::npos);
+            break;
+        }
+    CHECK(has_real);
+    // A burst: 10,000 messages, most of them garbage.
+    for (int i = 0; i < 10000; ++i) bad.send(i % 2 ? "{\"type\":\"hello\",\"fps\":30}" : "garbage");
+    REQUIRE(watcher.wait_frame());
+    const double t0 = f.time;
+    // A page that goes away in the middle of a frame it sends: a header promising more bytes.
+    {
+        net::io_context ioc;
+        tcp::socket raw(ioc);
+        raw.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), s.port));
+        const std::string upgrade =
+            "GET /ws HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+            "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+        net::write(raw, net::buffer(upgrade));
+        const unsigned char half[] = {0x81, 0xfe, 0x01, 0x00, 1, 2, 3, 4, 'x', 'y'};  // masked, 256 bytes promised
+        net::write(raw, net::buffer(half, sizeof half));
+        raw.close();
+    }
+    // The run goes on and the watcher keeps receiving frames.
+    double t1 = t0;
+    for (int i = 0; i < 40 && t1 <= t0 + 0.2; ++i) {
+        REQUIRE(watcher.wait_frame());
+        t1 = f.time;
+    }
+    CHECK(t1 > t0 + 0.2);
+    CHECK(s.server->stats().errors >= 5000);
+    // Paths outside the page's folder are refused.
+    CHECK(http_get(s.port, "/../../etc/passwd") == 400);
+    CHECK(http_get(s.port, "/%2e%2e/etc/passwd") == 400);
+    CHECK(http_get(s.port, "/.git/config") == 400);
+    CHECK(http_get(s.port, "/no_such_file.js") == 404);
+}
+
+TEST_CASE("serve: a replay shows the bottles where the trace of the same run has them") {
+    const graph::Graph g = compile_ok("plants/bottling.plant");
+    const std::string rec_path = (test::scratch_dir() / "run.rec").string();
+    const std::string trace_path = (test::scratch_dir() / "run.csv").string();
+    {
+        view::Recorder rec(g, rec_path, {});
+        REQUIRE(rec.ok());
+        std::ostringstream out, err;
+        REQUIRE(engine::run_main(g, {"--for", "60s", "--trace", trace_path, "--trace-bodies", "--trace-rate", "10Hz",
+                                     "--quiet"},
+                                 out, err, &rec) == 0);
+    }
+    // The trace's rows at three times: time -> column values.
+    std::ifstream in(trace_path);
+    std::string header, line;
+    REQUIRE(std::getline(in, header));
+    std::vector<std::string> cols;
+    for (std::stringstream hs(header); std::getline(hs, line, ',');) cols.push_back(line);
+    std::map<int, std::vector<double>> rows;  // tenths of a second -> values
+    while (std::getline(in, line)) {
+        std::vector<double> v;  // an empty cell (a parked body) reads NaN
+        for (size_t at = 0;;) {
+            const size_t comma = line.find(',', at);
+            const std::string cell = line.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+            v.push_back(cell.empty() ? std::nan("") : std::stod(cell));
+            if (comma == std::string::npos) break;
+            at = comma + 1;
+        }
+        REQUIRE(v.size() == cols.size());
+        rows[int(std::lround(v[0] * 10))] = v;
+    }
+    view::Recording rec;
+    std::string err;
+    REQUIRE(view::load_recording(rec_path, rec, err));
+    CHECK(rec.duration == doctest::Approx(60).epsilon(1e-6));
+    Served s(view::make_replay_player(std::move(rec), true, 1));
+    view::Frame f = sized_frame(g);
+    Page page(s.port, &f);
+    json scene;
+    REQUIRE(page.wait_json("scene", scene));
+    CHECK(scene["mode"] == "replay");
+    std::map<std::string, size_t> col_of;
+    for (size_t c = 0; c < cols.size(); ++c) col_of[cols[c]] = c;
+    for (int tenth : {100, 333, 600}) {  // 10 s, 33.3 s, 60 s: on the frame grid of 1/30 s
+        page.send(json{{"type", "seek"}, {"time", tenth / 10.0}}.dump());
+        for (int i = 0; i < 50; ++i) {
+            REQUIRE(page.wait_frame());
+            if (std::abs(f.time - tenth / 10.0) < 1e-6) break;
+        }
+        REQUIRE(f.time == doctest::Approx(tenth / 10.0));
+        const auto& row = rows.at(tenth);
+        int compared = 0;
+        for (size_t b = 0; b < g.bodies.size(); ++b) {
+            const std::string base = g.comp_path(g.bodies[b].comp);
+            if (g.bodies[b].mode != graph::BodyMode::Dynamic) continue;
+            // Parked in the replay exactly when the trace has empty cells.
+            CHECK(bool(f.body_state[b] & 1) == !std::isnan(row[col_of.at(base + ".x")]));
+            if (!(f.body_state[b] & 1)) continue;
+            // The trace has the centre of mass: the frame's body pose, moved by the body's com offset.
+            const float* p = &f.body_pose[7 * b];
+            const double x = p[3], y = p[4], z = p[5], w = p[6];
+            const graph::Vec3 c = g.bodies[b].com.p;
+            const double tx = 2 * (y * c[2] - z * c[1]), ty = 2 * (z * c[0] - x * c[2]), tz = 2 * (x * c[1] - y * c[0]);
+            const double com[3] = {p[0] + c[0] + w * tx + (y * tz - z * ty), p[1] + c[1] + w * ty + (z * tx - x * tz),
+                                   p[2] + c[2] + w * tz + (x * ty - y * tx)};
+            for (int k = 0; k < 3; ++k)
+                CHECK(std::abs(com[k] - row[col_of.at(base + "." + std::string(1, "xyz"[k]))]) < 1e-4);
+            ++compared;
+        }
+        CHECK(compared > 3);
+    }
+}
