@@ -8,7 +8,11 @@ PACKAGES=(
   libbullet-dev libeigen3-dev libfmt-dev doctest-dev nlohmann-json3-dev
   libantlr4-runtime-dev antlr4 default-jre-headless uuid-dev
   graphviz gnuplot-nox
+  libboost-dev chromium
 )
+# The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
+# from Debian when the machine has none.
+command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -17,8 +21,20 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
+# npm ci for the viewer page when its packages are missing or older than the lockfile.
+viewer_packages() {
+  local dir
+  dir="$(dirname "$0")/../viewer"
+  if [ -f "$dir/package-lock.json" ] && { [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+       [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; }; then
+    echo "setup: npm ci in viewer/"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages are installed"
+  viewer_packages
   exit 0
 fi
 
@@ -32,3 +48,4 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 $SUDO apt-get update -q
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+viewer_packages
