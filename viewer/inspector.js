@@ -90,8 +90,8 @@ export class Inspector {
       const into = ports.length && !s.port ? restTable : table;
       const cell = el('td', { class: 'num' });
       const row = el('tr', { dataset: { slot: s.path } },
-        el('td', { class: 'name', title: s.path }, s.path.slice(prefix.length)),
-        el('td', { class: 'kind' }, `${s.dir} ${s.type}${s.port ? ' · port' : ''}`),
+        el('td', { class: 'name', title: s.path }, s.path.slice(prefix.length),
+          el('div', { class: 'kind' }, `${s.dir} ${s.type}${s.port ? ' · port' : ''}`)),
         cell,
         el('td', {}, s.dir === 'in' && !this.readOnly ? this.control(s) : ''));
       into.append(row);
