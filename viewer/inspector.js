@@ -36,7 +36,7 @@ export class Inspector {
 
   setScene(scene) {
     this.scene = scene;
-    this.slotsByDo = null;
+    this.owned = null;
     if (this.path !== null) {
       // After a restart, keep inspecting the same object if it still exists.
       const p = this.path;
@@ -45,20 +45,34 @@ export class Inspector {
     }
   }
 
-  // The slots that belong to the object `path`: its ports (path.port) and its components'
-  // slots (path.comp.slot), not those of the objects inside it.
-  slotsOf(path) {
-    const scene = this.scene;
-    const prefix = path === '' ? '' : path + '.';
-    const children = new Set(scene.dos.filter((d) => d.path !== path && d.path.startsWith(prefix)).map((d) => d.path));
-    const owned = [];
-    for (const s of scene.slots) {
-      if (!s.path.startsWith(prefix)) continue;
-      const rest = s.path.slice(prefix.length).split('.');
-      if (rest.length > 1 && children.has(prefix + rest[0])) continue;
-      if (rest.length > 2 && [...children].some((c) => s.path.startsWith(c + '.'))) continue;
-      owned.push(s);
+  // The object that owns a slot or place path: its longest prefix that is an object's path
+  // (the plant's own, "", when none is).
+  ownerOf(path) {
+    const parts = path.split('.');
+    for (let i = parts.length - 1; i > 0; i--) {
+      const p = parts.slice(0, i).join('.');
+      if (this.doPaths.has(p)) return p;
     }
+    return '';
+  }
+
+  // Slots and places by the object that owns them: its ports (path.port) and its
+  // components' slots (path.comp.slot), not those of the objects inside it.
+  index() {
+    if (this.owned) return;
+    this.doPaths = new Set(this.scene.dos.map((d) => d.path));
+    this.owned = new Map();
+    const bucket = (owner) => {
+      if (!this.owned.has(owner)) this.owned.set(owner, { slots: [], places: [] });
+      return this.owned.get(owner);
+    };
+    for (const s of this.scene.slots) bucket(this.ownerOf(s.path)).slots.push(s);
+    for (const p of this.scene.places) bucket(this.ownerOf(p.path)).places.push(p);
+  }
+
+  slotsOf(path) {
+    this.index();
+    const owned = this.owned.get(path)?.slots ?? [];
     // ports first, then inputs, then the rest, each in declaration order
     const rank = (s) => (s.port ? 0 : 2) + (s.dir === 'in' ? 0 : 1);
     return owned.map((s, i) => [s, i]).sort((a, b) => rank(a[0]) - rank(b[0]) || a[1] - b[1]).map(([s]) => s);
@@ -69,7 +83,9 @@ export class Inspector {
     const d = this.scene.dos.find((x) => x.path === path);
     if (!d) return;
     this.path = path;
-    this.send({ type: 'inspect', path });
+    // Live values come for a live run's objects (a replay has none; "" is the plant's own,
+    // which protocol 1 cannot name: its inputs still work).
+    if (!this.readOnly && path !== '') this.send({ type: 'inspect', path });
     $('inspector').hidden = false;
     $('insp-path').textContent = path === '' ? `${this.scene.plant} (the plant)` : path;
     $('insp-type').textContent = `${d.type}${d.pooled ? ' · pooled' : ''}`;
@@ -102,10 +118,9 @@ export class Inspector {
     box.replaceChildren();
     this.placeChips.clear();
     const nets = new Map();
-    for (const p of this.scene.places) {
-      if (!p.path.startsWith(prefix)) continue;
+    for (const p of this.owned.get(path)?.places ?? []) {
       const parts = p.path.slice(prefix.length).split('.');
-      if (parts.length !== 2) continue;   // a place of an object inside this one
+      if (parts.length !== 2) continue;
       if (!nets.has(parts[0])) nets.set(parts[0], []);
       nets.get(parts[0]).push({ ...p, name: parts[1] });
     }

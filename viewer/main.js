@@ -125,6 +125,7 @@ $('restart').addEventListener('click', () => conn.send({ type: 'control', action
 for (const b of $('speeds').querySelectorAll('button')) {
   b.addEventListener('click', () => conn.send({ type: 'control', action: 'speed', speed: Number(b.dataset.speed) }));
 }
+$('plant-ports').addEventListener('click', () => { view.select(-1); inspector.open(''); });
 $('top-view').addEventListener('click', () => { view.follow(-1); $('follow').classList.remove('on'); view.topView(); });
 $('follow').addEventListener('click', () => {
   if (view.followBody >= 0) { view.follow(-1); $('follow').classList.remove('on'); return; }
