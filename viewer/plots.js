@@ -51,9 +51,16 @@ export class Plots {
     this.cells = {};
     this.recordCells = [];
     this.lastDraw = 0;
+    new ResizeObserver(() => this.resize()).observe(this.counterBox);
   }
 
   width() { return Math.max(200, this.counterBox.clientWidth || 300); }
+
+  resize() {
+    const size = { width: this.width(), height: 130 };
+    this.counters?.plot.setSize(size);
+    this.records?.plot.setSize(size);
+  }
 
   setScene(scene) {
     this.counters?.destroy();
