@@ -240,7 +240,12 @@ try {
     await until(() => (client.status?.counters?.issued ?? 0) >= 12, 60_000, 250);
     await page.click('button[data-speed="1"]');
     await page.evaluate((p) => plantViewer.select(p), sw.path);
-    await page.evaluate(() => plantViewer.view.fit());
+    await page.evaluate(() => {   // the whole plant, a little closer than the page's default
+      const v = plantViewer.view;
+      v.fit();
+      v.camera.position.lerp(v.controls.target, 0.15);
+      v.controls.update();
+    });
     await page.click('#run');   // pause, so that the bottle stays under the mouse
     await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
     await sleep(300);
