@@ -54,12 +54,14 @@ const conn = new Connection({
     $('conn').className = `badge ${state === 'open' ? 'ok' : 'bad'}`;
   },
   onScene(scene) {
+    const same = debug.scene && debug.scene.plant === scene.plant && debug.scene.bodies.length === scene.bodies.length;
     debug.sceneReady = false;
     debug.scenesReceived++;
     debug.scene = scene;
     $('plant-name').textContent = scene.plant;
     document.title = `${scene.plant} · plant viewer`;
-    view.load(scene);
+    view.load(scene, { keepCamera: same });
+    $('follow').classList.remove('on');
     inspector.readOnly = scene.mode === 'replay';   // a recording takes no events
     inspector.setScene(scene);
     plots.setScene(scene);

@@ -175,9 +175,11 @@ export class PlantView {
     this.layers.ground.clear();
   }
 
-  // Builds everything from a scene message.
-  load(scene) {
+  // Builds everything from a scene message; the camera stays where it is when asked to
+  // (a restart of the same plant).
+  load(scene, { keepCamera = false } = {}) {
     this.clear();
+    this.followBody = -1;
     this.scene = scene;
     const nb = scene.bodies.length, ng = scene.graphics.length;
     this.bodyIndex = new Map(scene.bodies.map((b, i) => [b.id, i]));
@@ -251,7 +253,7 @@ export class PlantView {
 
     this.update();
     this.addGround();
-    this.fit();
+    if (!keepCamera) this.fit();
   }
 
   loadModel(url, capacity) {
