@@ -12,7 +12,7 @@ class Series {
     this.data = [[], ...names.map(() => [])];
     this.plot = new uPlot({
       width, height: 130,
-      legend: { show: names.length <= 6, live: false },
+      legend: { show: true, live: false },
       cursor: { show: false },
       scales: { x: { time: false } },
       axes: [{ size: 24, font: '10px sans-serif' }, { size: 34, font: '10px sans-serif' }],
