@@ -224,7 +224,8 @@ export class PlantView {
       this.bodyGroups.push(bg);
       this.groups.push(solid, ghost);
     }
-    this.bodyCount = nb;
+    // bodies given an instance slot (all of them; those out of the world leave it empty)
+    this.bodyCount = this.bodyGroups.reduce((n, g) => n + g.members.length, 0);
 
     // Graphics: a glTF model when the server found one, else: on a body, the body is
     // tinted with the variant's colour; free, a small blade-like marker at its pose.
