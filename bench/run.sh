@@ -17,10 +17,12 @@ if (( quick )); then
   runtime=(--reps=1 --sizes=10,100) logic=(--reps=1 --logic-cells=10000)
   bottling=(--runs=1 --counts=10,50 --warmup=20 --window=10)
   compile=(--runs=1 --sizes=1000,10000)
+  serve=(--runs=1 --counts=50 --warmup=10 --window=5)
 else
   runtime=(--reps=5 --sizes=10,100,1000) logic=(--reps=5)
   bottling=(--runs=3 --counts=10,50,200,1000)
   compile=(--runs=3 --sizes=1000,10000,100000)
+  serve=(--runs=3 --counts=50,1000 --warmup=30 --window=15)
 fi
 
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
@@ -36,3 +38,16 @@ echo "|---|---|---|---|---|"
 # The largest plant again on one thread: what stepping the lines' regions on every core gives.
 (( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=3 --counts=1000 --threads=1
 "$b/plant_bench_compile" --rows "${compile[@]}"
+"$b/plant_bench_serve" --rows "${serve[@]}"
+# The page's draw calls (three.js renderer.info) with one line and with 83 (1,000 bottles in
+# circulation): instanced meshes keep them from growing with the bottles.
+if command -v node >/dev/null && command -v chromium >/dev/null; then
+  calls() {
+    node --experimental-websocket viewer/test/browser.mjs build/release/compiler/plant plants/bottling.plant \
+      "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null | sed -n 's/^draw calls: \([0-9]*\) .* for \([0-9]*\) bodies.*/\1 \2/p'
+  }
+  read -r c1 b1 < <(calls 1) || true
+  read -r c83 b83 < <(calls 83) || true
+  met=$([[ -n "${c1:-}" && -n "${c83:-}" && $c83 -le $(( c1 + 2 )) ]] && echo yes || echo "**no**")
+  echo "| viewer | the page's draw calls, 1 line vs 83 lines (bodies in the world drawn) | ${c1:-?} (${b1:-?} bodies) vs ${c83:-?} (${b83:-?} bodies) | not growing with the bottles | $met |"
+fi

@@ -1,0 +1,167 @@
+// plant_bench_serve: what one page watching `plant serve` costs the run.
+//
+// For each number N of bottles in circulation the bottling plant is compiled with
+// `lines = round(N / 12)` lines and run by the server's player as fast as possible (speed 0),
+// once with no page and once with one page connected over loopback that asks for 30 frames
+// a second and reads everything (a WebSocket client on its own thread). The measured window
+// is the wall time the player takes from simulated time `warmup` to `warmup + window`
+// (read from the published frames); runs alternate, the ratio is that of the medians:
+// step time with the page / step time without. Target <= 1.05.
+//
+//   plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--rows]
+#include "compiler.h"
+#include "serve/player.h"
+#include "serve/server.h"
+
+#include <utility>  // before Boost 1.74's asio (std::exchange)
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace beast = boost::beast;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+struct Args {
+    std::vector<int> counts{50, 1000};
+    int runs = 3;
+    double warmup = 30, window = 15;
+    bool rows = false;
+};
+
+double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// One page: reads every message until told to stop; counts frames.
+struct Page {
+    std::atomic<bool> stop{false};
+    std::atomic<long> frames{0};
+    std::thread thread;
+    void start(uint16_t port) {
+        thread = std::thread([this, port] {
+            try {
+                net::io_context ioc;
+                beast::websocket::stream<tcp::socket> ws(ioc);
+                ws.next_layer().connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+                ws.handshake("127.0.0.1", "/ws");
+                ws.write(net::buffer(std::string(R"({"type":"hello","fps":30})")));
+                beast::flat_buffer buf;
+                while (!stop) {
+                    ws.read(buf);
+                    if (ws.got_binary()) ++frames;
+                    buf.consume(buf.size());
+                }
+                beast::error_code ec;
+                ws.next_layer().close(ec);
+            } catch (const std::exception&) {
+                // the server closed: the run is over
+            }
+        });
+    }
+};
+
+// Wall seconds the player takes over the window; frames the page got in it.
+double measure(const plant::graph::Graph& g, const Args& a, bool with_page, long& frames) {
+    auto player = plant::view::make_live_player(g, {}, {}, false, 0);
+    plant::view::ServerOptions so;
+    so.port = 0;
+    plant::view::Server server(*player, so);
+    std::string error;
+    if (!server.start(error)) {
+        std::fprintf(stderr, "serve bench: %s\n", error.c_str());
+        std::exit(1);
+    }
+    Page page;
+    if (with_page) page.start(server.port());
+    player->start();
+    auto sim = [&] {
+        auto f = player->frame();
+        return f ? f->frame.time : 0.0;
+    };
+    while (sim() < a.warmup) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const double t0 = now(), s0 = sim();
+    const long f0 = page.frames;
+    while (sim() < s0 + a.window) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const double wall = now() - t0, simulated = sim() - s0;
+    frames = page.frames - f0;
+    player->stop();
+    server.stop();
+    page.stop = true;
+    if (page.thread.joinable()) page.thread.join();
+    return wall / simulated;  // wall seconds per simulated second
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        std::string s = argv[i];
+        auto val = [&](const char* k) { return s.rfind(k, 0) == 0 ? s.substr(std::string(k).size()) : std::string(); };
+        if (auto v = val("--counts="); !v.empty()) {
+            a.counts.clear();
+            for (size_t at = 0; at <= v.size();) {
+                size_t c = v.find(',', at);
+                if (c == std::string::npos) c = v.size();
+                a.counts.push_back(std::atoi(v.substr(at, c - at).c_str()));
+                at = c + 1;
+            }
+        } else if (auto r = val("--runs="); !r.empty()) a.runs = std::max(1, std::atoi(r.c_str()));
+        else if (auto w = val("--warmup="); !w.empty()) a.warmup = std::atof(w.c_str());
+        else if (auto w2 = val("--window="); !w2.empty()) a.window = std::atof(w2.c_str());
+        else if (s == "--rows") a.rows = true;
+        else {
+            std::fprintf(stderr, "usage: plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--rows]\n");
+            return 2;
+        }
+    }
+    if (!a.rows) {
+        std::printf("| area | case | measured | target | met |\n|---|---|---|---|---|\n");
+    }
+    for (int n : a.counts) {
+        const int lines = std::max(1, int(std::lround(n / 12.0)));
+        plant::Compilation c;
+        plant::CompileOptions opts;
+        opts.stdlib_dir = PLANT_SOURCE_DIR "/stdlib";
+        opts.overrides = {"lines=" + std::to_string(lines)};
+        plant::compile_file(PLANT_SOURCE_DIR "/plants/bottling.plant", opts, c);
+        if (!c.ok()) {
+            std::fprintf(stderr, "serve bench: the bottling plant does not compile\n");
+            return 1;
+        }
+        std::vector<double> without, with;
+        long frames = 0, f = 0;
+        for (int r = 0; r < a.runs; ++r) {
+            std::fprintf(stderr, "serve bench: %d bottles, run %d of %d\n", n, r + 1, a.runs);
+            without.push_back(measure(c.graph, a, false, f));
+            with.push_back(measure(c.graph, a, true, f));
+            frames += f;
+        }
+        const double mw = median(with), mo = median(without), ratio = mw / mo;
+        const double fps = double(frames) / (a.runs * a.window * mw);
+        std::printf("| viewer | one page at 30 frames/s, %d bottles in circulation (%d lines, as fast as possible) | "
+                    "ratio %.3f (%.3f vs %.3f wall s per simulated s; the page got %.1f frames/s) | <= 1.05 | %s |\n",
+                    n, lines, ratio, mw, mo, fps, ratio <= 1.05 ? "yes" : "**no**");
+        std::fflush(stdout);
+    }
+    return 0;
+}
