@@ -85,7 +85,7 @@ export class Inspector {
     this.path = path;
     // Live values come for a live run's objects (a replay has none; "" is the plant's own,
     // which protocol 1 cannot name: its inputs still work).
-    if (!this.readOnly && path !== '') this.send({ type: 'inspect', path });
+    if (!this.readOnly) this.send({ type: 'inspect', path });
     $('inspector').hidden = false;
     $('insp-path').textContent = path === '' ? `${this.scene.plant} (the plant)` : path;
     $('insp-type').textContent = `${d.type}${d.pooled ? ' · pooled' : ''}`;

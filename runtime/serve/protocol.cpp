@@ -112,7 +112,10 @@ bool decode_client_message(std::string_view text, ClientMessage& m, std::string&
     if (type == "inspect") {
         m.kind = ClientMessage::Kind::Inspect;
         auto it = j.find("path");
-        if (it == j.end() || it->is_null()) return true;
+        if (it == j.end() || it->is_null()) {
+            m.stop_inspect = true;
+            return true;
+        }
         return string_field(j, "path", m.path, error);
     }
     if (type == "seek") {

@@ -13,7 +13,8 @@ struct ClientMessage {
     int fps = 30;              // hello
     std::string action;        // control: pause, run, step, restart, speed
     double speed = 1;          // control speed: 0 (as fast as possible), 0.1 .. 100
-    std::string path;          // event: the input's dotted path; inspect: an object ("" none)
+    std::string path;          // event: the input's dotted path; inspect: an object ("" the plant)
+    bool stop_inspect = false; // inspect with a null path
     std::string value;         // event: the value as in an events file ("" for none)
     double time = 0;           // seek
 };

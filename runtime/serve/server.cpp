@@ -131,7 +131,11 @@ public:
         ws_.read_message_max(kMaxClientMessage);
         ws_.async_accept(req, beast::bind_front_handler(&WsSession::on_accept, shared_from_this()));
     }
-    const std::string& inspecting() const { return inspect_; }
+    // The object this page inspects ("" the plant itself); false when none.
+    bool inspecting(std::string& path) const {
+        path = inspect_;
+        return inspecting_;
+    }
     void close() {
         if (closed_) return;
         closed_ = true;
@@ -151,6 +155,7 @@ private:
             ++server_.stats.clients;
         }
         registered_ = true;
+        send(json{{"type", "welcome"}, {"client", id_}, {"version", kProtocolVersion}}.dump(), false);
         pump();
         do_read();
     }
@@ -162,7 +167,7 @@ private:
             server_.sessions.erase(this);
             --server_.stats.clients;
         }
-        if (!inspect_.empty()) server_.inspected_changed();
+        if (inspecting_) server_.inspected_changed();
     }
     void do_read() {
         ws_.async_read(buffer_, beast::bind_front_handler(&WsSession::on_read, shared_from_this()));
@@ -200,8 +205,9 @@ private:
         switch (msg.kind) {
         case ClientMessage::Kind::Hello: fps_ = msg.fps; return;
         case ClientMessage::Kind::Inspect:
-            if (!server_.player.live() && !msg.path.empty()) return reply_error("a replay has no live slots to inspect");
+            if (!server_.player.live() && !msg.stop_inspect) return reply_error("a replay has no live slots to inspect");
             inspect_ = msg.path;
+            inspecting_ = !msg.stop_inspect;
             server_.inspected_changed();
             return;
         case ClientMessage::Kind::Seek:
@@ -249,7 +255,7 @@ private:
                 last_status_ = now;
                 std::string s = st->status;
                 auto it = st->inspect.find(inspect_);
-                if (!inspect_.empty() && it != st->inspect.end() && !s.empty() && s.back() == '}') {
+                if (inspecting_ && it != st->inspect.end() && !s.empty() && s.back() == '}') {
                     s.pop_back();
                     s += ",\"inspect\":" + it->second + "}";
                 }
@@ -313,6 +319,7 @@ private:
     size_t log_next_ = 0;
     std::chrono::steady_clock::time_point last_status_{};
     std::string inspect_;
+    bool inspecting_ = false;
 };
 
 // One HTTP connection: files, the events file, or the upgrade to a WebSocket.
@@ -401,8 +408,9 @@ void Server::Impl::inspected_changed() {
     std::set<std::string> paths;
     {
         std::lock_guard lock(m);
+        std::string path;
         for (WsSession* s : sessions)
-            if (!s->inspecting().empty()) paths.insert(s->inspecting());
+            if (s->inspecting(path)) paths.insert(path);
     }
     player.set_inspected(paths);
 }

@@ -265,6 +265,7 @@ TEST_CASE("serve: bad pages get errors; the run and the other pages go on") {
     Served s(view::make_live_player(g, {}, {}, false, 1));
     view::Frame f = sized_frame(g);
     Page watcher(s.port, &f), bad(s.port);
+    Page stalled(s.port);  // connects, then never reads a byte
     json m;
     REQUIRE(watcher.wait_json("scene", m));
     REQUIRE(bad.wait_json("scene", m));
@@ -315,6 +316,7 @@ TEST_CASE("serve: bad pages get errors; the run and the other pages go on") {
     }
     CHECK(t1 > t0 + 0.2);
     CHECK(s.server->stats().errors >= 5000);
+    CHECK(s.server->stats().clients == 3);  // the watcher, the bad page and the stalled one
     // Paths outside the page's folder are refused.
     CHECK(http_get(s.port, "/../../etc/passwd") == 400);
     CHECK(http_get(s.port, "/%2e%2e/etc/passwd") == 400);
