@@ -83,8 +83,7 @@ export class Inspector {
     const d = this.scene.dos.find((x) => x.path === path);
     if (!d) return;
     this.path = path;
-    // Live values come for a live run's objects (a replay has none; "" is the plant's own,
-    // which protocol 1 cannot name: its inputs still work).
+    // Live values come for a live run's objects ("" is the plant's own; a replay has none).
     if (!this.readOnly) this.send({ type: 'inspect', path });
     $('inspector').hidden = false;
     $('insp-path').textContent = path === '' ? `${this.scene.plant} (the plant)` : path;
