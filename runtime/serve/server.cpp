@@ -189,6 +189,11 @@ private:
 
     void reply_error(std::string_view msg) {
         server_.count(&ServerStats::errors);
+        // Logged on the server's stderr too: the first few of each page, then a count.
+        if (++errors_ <= 5 || errors_ % 1000 == 0)
+            std::cerr << "plant serve: page " << id_ << ": " << msg
+                      << (errors_ == 5 ? " (further errors of this page: every 1000th is logged)" : "")
+                      << (errors_ > 5 ? " (" + std::to_string(errors_) + " errors so far)" : "") << "\n";
         if (queue_.size() >= kMaxQueued / 2) {  // a flooding page: replies are dropped, not queued
             server_.count(&ServerStats::dropped_replies);
             return;
@@ -315,6 +320,7 @@ private:
     std::deque<Out> queue_;
     bool writing_ = false, closed_ = false, registered_ = false;
     int id_ = 0, fps_ = 30;
+    uint64_t errors_ = 0;
     uint64_t scene_version_ = 0, last_seq_ = 0;
     size_t log_next_ = 0;
     std::chrono::steady_clock::time_point last_status_{};
