@@ -49,7 +49,7 @@ function shapeGeometry(shape) {
     case 'box': g = new THREE.BoxGeometry(s[0], s[1], s[2]); break;
     case 'sphere': g = new THREE.SphereGeometry(s[0], 12, 8); break;
     case 'cylinder': g = new THREE.CylinderGeometry(s[0], s[0], s[1], 20).applyMatrix4(Y_TO_Z); break;
-    case 'capsule': g = new THREE.CapsuleGeometry(s[0], s[1], 4, 12).applyMatrix4(Y_TO_Z); break;
+    case 'capsule': g = new THREE.CapsuleGeometry(s[0], Math.max(0, s[1] - 2 * s[0]), 4, 12).applyMatrix4(Y_TO_Z); break;  // s[1]: total height
     case 'hull': g = new ConvexGeometry((shape.points ?? []).map((p) => new THREE.Vector3(p[0], p[1], p[2]))); break;
     default: console.warn(`unknown shape kind ${shape.kind}`); return null;
   }
