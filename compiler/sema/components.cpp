@@ -42,7 +42,8 @@ int32_t Elaborator::add_slot(int32_t comp, std::string_view n, SlotType t, Dir d
     if (int w = graph::slot_width(t); w > 0) {
         s.value_adr = static_cast<int32_t>(g_.values.size());
         for (int i = 0; i < w; ++i) g_.values.push_back({0.0});
-        if (t == SlotType::Ref) g_.values.back().v = -1;  // no object
+        // No object, no text: a string slot never written reads "" (not the first name).
+        if (t == SlotType::Ref || t == SlotType::String) g_.values.back().v = -1;
         if (t == SlotType::Quat || t == SlotType::Pose) g_.values.back().v = 1;  // identity w
     }
     s.src = src(span);
