@@ -68,8 +68,15 @@ std::string render_text(const Diagnostic& d, const SourceMap& sm) {
                                   info(d.id).code, d.message);
     if (has_position(d.span, sm)) render_snippet(out, d.span, sm);
     for (const Note& n : d.notes) {
-        out += fmt::format("{}note: {}\n", location(n.span, sm), n.message);
-        if (has_position(n.span, sm)) render_snippet(out, n.span, sm);
+        if (has_position(n.span, sm)) {
+            out += fmt::format("{}note: {}\n", location(n.span, sm), n.message);
+            render_snippet(out, n.span, sm);
+        } else if (has_position(d.span, sm)) {
+            // A note of its own place belongs to the error: indented under its snippet.
+            out += fmt::format("{:>5} = note: {}\n", "", n.message);
+        } else {
+            out += fmt::format("plant: note: {}\n", n.message);
+        }
     }
     return out;
 }
@@ -96,7 +103,8 @@ std::string render_all_text(const std::vector<Diagnostic>& ds, const SourceMap& 
 }
 
 // Lines and columns are 1-based; end_line/end_col are the position of the span's
-// (exclusive) end. Position fields are null for a diagnostic or note without one.
+// (exclusive) end. Position fields are null for a diagnostic without one; a note without
+// one has its diagnostic's.
 std::string render_json(const std::vector<Diagnostic>& ds, const SourceMap& sm) {
     using nlohmann::ordered_json;
     auto put_position = [&sm](ordered_json& j, const Span& s, bool with_end) {
@@ -131,7 +139,8 @@ std::string render_json(const std::vector<Diagnostic>& ds, const SourceMap& sm) 
         ordered_json notes = ordered_json::array();
         for (const Note& n : d.notes) {
             ordered_json jn;
-            put_position(jn, n.span, false);
+            // A note without a place of its own is at its diagnostic's.
+            put_position(jn, has_position(n.span, sm) ? n.span : d.span, false);
             jn["message"] = n.message;
             notes.push_back(std::move(jn));
         }

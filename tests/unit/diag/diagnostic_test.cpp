@@ -151,7 +151,11 @@ TEST_CASE("render_text: notes with and without a position") {
           "n.plant:1:8: note: 's1' declared here\n"
           "    1 | sensor s1\n"
           "      |        ^~\n"
-          "plant: note: names must be unique in a plant\n");
+          "      = note: names must be unique in a plant\n");
+    // Without a position for the error either, the note says where it comes from.
+    Diagnostic lone = make(DiagId::DuplicateName, {}, "duplicate name 's1'");
+    lone.notes.push_back({{}, "names must be unique in a plant"});
+    CHECK(render_text(lone, sm).ends_with("plant: note: names must be unique in a plant\n"));
 }
 
 TEST_CASE("render_text: the gutter widens for long line numbers, empty lines have no trailing blank") {
@@ -262,7 +266,10 @@ TEST_CASE("render_json: parses back with every field, in a stable order") {
                                                    {"line", 1},
                                                    {"col", 8},
                                                    {"message", "'s1' declared here"}});
-    CHECK(e["notes"][1]["file"].is_null());
+    // A note without a position of its own is at its diagnostic's.
+    CHECK(e["notes"][1]["file"] == "j.plant");
+    CHECK(e["notes"][1]["line"] == 2);
+    CHECK(e["notes"][1]["col"] == 8);
     CHECK(e["notes"][1]["message"] == "no position");
 
     const auto& nw = doc["diagnostics"][1];
