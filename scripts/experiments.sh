@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The three measurements of the original work (MISSION.md §5), in one command:
+# The three measurements of the original work (docs/experiments.md), in one command:
 #
 #   bash scripts/experiments.sh [--only NAME]... [--set NAME=VALUE]... [--out DIR]
 #

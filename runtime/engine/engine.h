@@ -19,7 +19,7 @@
 namespace plant::engine {
 
 // Bullet's broadphase: the AABB tree suits sparse plants, sweep-and-prune dense ones
-// (see PLATFORM.md); choose by measurement.
+// (bench/README.md); choose by measurement.
 enum class Broadphase : uint8_t { Dbvt, Sap };
 
 struct Options {

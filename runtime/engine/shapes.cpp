@@ -112,7 +112,7 @@ btCollisionShape* ShapeCache::hull(const Graph& g, const Shape& s, const Pose& t
     const btTransform t = to_bt(to);
     for (int32_t i = 0; i < s.point_num; ++i) h->addPoint(t * to_bt(g.points[s.point_adr + i].p), false);
     h->optimizeConvexHull();
-    h->setMargin(btScalar(kHullMargin));  // before the AABB: see PLATFORM.md
+    h->setMargin(btScalar(kHullMargin));  // before the AABB: Bullet's default 4 cm outgrows a bottle
     h->recalcLocalAabb();
     h->initializePolyhedralFeatures();
     btCollisionShape* raw = h.get();

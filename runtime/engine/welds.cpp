@@ -1,7 +1,7 @@
 // Welded pairs carried by one Bullet body (see physics.h, Physics::Weld).
 //
-// A bottle is a main body and a small bottom body joined by a fixed joint (MISSION.md
-// §1). Given to Bullet as two bodies and a constraint, the pair costs a second body to
+// A bottle is a main body and a small bottom body joined by a fixed joint (std.bottle).
+// Given to Bullet as two bodies and a constraint, the pair costs a second body to
 // integrate, six solver rows every iteration and an island that holds both; about 15 %
 // of the bottling plant's step. The constraint only keeps the two rigidly together, so
 // while the weld holds (joint enabled, both in the world and dynamic, the bottom body

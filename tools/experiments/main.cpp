@@ -235,7 +235,7 @@ std::string traction_rates(const fs::path& out, std::vector<std::vector<Run>>& g
     write_file(out / "traction_rates.gp", terminals("traction_rates", plot));
     md += "\nThe deviation from the law with the measured lean falls in proportion to the step: the runtime "
           "integrates the law to first order, as Bullet integrates everything else. The deviation from the upright "
-          "solution does not vanish: it is the rocking of the two-body bottle (MISSION.md §1), whose bottom body "
+          "solution does not vanish: it is the rocking of the two-body bottle (std.bottle), whose bottom body "
           "the band pulls 3 cm below the centre of mass. Files: traction_rates.csv, traction_rates.png, "
           "traction_rates.svg.\n";
     return md;

@@ -21,7 +21,7 @@ Transition tr(std::vector<int> in, std::vector<int> out) {
     return t;
 }
 
-// MISSION.md section 3; without the two draining transitions when `drains` is false.
+// the track switch's net (stdlib/switch.plant); without the two draining transitions when `drains` is false.
 Net track_switch(bool drains) {
     Net n;
     n.initial.assign(kPlaces, 0);
