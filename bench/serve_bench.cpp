@@ -57,6 +57,7 @@ struct Page {
                 net::io_context ioc;
                 beast::websocket::stream<tcp::socket> ws(ioc);
                 ws.next_layer().connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+                ws.read_message_max(std::uint64_t(1) << 30);  // a large plant's scene is megabytes
                 ws.handshake("127.0.0.1", "/ws");
                 ws.write(net::buffer(std::string(R"({"type":"hello","fps":30})")));
                 beast::flat_buffer buf;

@@ -66,13 +66,17 @@ export class Inspector {
       if (!this.owned.has(owner)) this.owned.set(owner, { slots: [], places: [] });
       return this.owned.get(owner);
     };
-    for (const s of this.scene.slots) bucket(this.ownerOf(s.path)).slots.push(s);
+    this.doByPath = new Map(this.scene.dos.map((d) => [d.path, d]));
     for (const p of this.scene.places) bucket(this.ownerOf(p.path)).places.push(p);
   }
 
   slotsOf(path) {
     this.index();
-    const owned = this.owned.get(path)?.slots ?? [];
+    // The object's own list (shared by its type) in scene.slot_lists, names relative to it.
+    const d = this.doByPath.get(path);
+    const prefix = path === '' ? '' : path + '.';
+    const owned = (d ? this.scene.slot_lists[d.slots] ?? [] : [])
+      .map(([name, type, dir, port]) => ({ path: prefix + name, type, dir, port }));
     // ports first, then inputs, then the rest, each in declaration order
     const rank = (s) => (s.port ? 0 : 2) + (s.dir === 'in' ? 0 : 1);
     return owned.map((s, i) => [s, i]).sort((a, b) => rank(a[0]) - rank(b[0]) || a[1] - b[1]).map(([s]) => s);

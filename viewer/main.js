@@ -54,6 +54,8 @@ const conn = new Connection({
     $('conn').className = `badge ${state === 'open' ? 'ok' : 'bad'}`;
   },
   onScene(scene) {
+    // Bodies name their shape list by index (docs/viewer.md): resolve it once.
+    for (const b of scene.bodies) if (typeof b.shapes === 'number') b.shapes = scene.shape_lists[b.shapes];
     const same = debug.scene && debug.scene.plant === scene.plant && debug.scene.bodies.length === scene.bodies.length;
     debug.sceneReady = false;
     debug.scenesReceived++;

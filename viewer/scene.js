@@ -206,8 +206,13 @@ export class PlantView {
     // meshes (collision on: solid; off: translucent).
     const byShape = new Map();
     this.bodyGroupOf = new Int32Array(nb);
+    const keys = new Map();  // bodies share their shape list (scene.shape_lists): one key each
     scene.bodies.forEach((b, i) => {
-      const key = JSON.stringify(b.shapes, (k, v) => (typeof v === 'number' ? Math.round(v * 1e6) / 1e6 : v));
+      let key = keys.get(b.shapes);
+      if (key === undefined) {
+        key = JSON.stringify(b.shapes, (k, v) => (typeof v === 'number' ? Math.round(v * 1e6) / 1e6 : v));
+        keys.set(b.shapes, key);
+      }
       let entry = byShape.get(key);
       if (!entry) { entry = { shapes: b.shapes, members: [] }; byShape.set(key, entry); }
       entry.members.push(i);

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <map>
 #include <filesystem>
 #include <system_error>
 
@@ -55,18 +56,42 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     s["plant"] = g.str(g.plant);
     s["rate"] = g.settings.rate;
 
-    json dos = json::array();
+    // Each object's own inputs and outputs (its ports, its components' slots), relative to
+    // its path; objects of one type share one list.
+    std::vector<std::vector<int32_t>> ports_of(g.dos.size());
+    for (size_t p = 0; p < g.ports.size(); ++p) ports_of[size_t(g.ports[p].owner)].push_back(int32_t(p));
+    json dos = json::array(), slot_lists = json::array();
+    std::map<std::string, size_t> slot_index;
     for (size_t d = 0; d < g.dos.size(); ++d) {
         const Do& o = g.dos[d];
+        json list = json::array();
+        for (int32_t p : ports_of[d]) {
+            const Port& pt = g.ports[size_t(p)];
+            list.push_back(json::array({g.str(pt.name), word(pt.type), word(pt.dir), true}));
+        }
+        for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
+            const Comp& cp = g.comps[size_t(c)];
+            for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl) {
+                const Slot& slot = g.slots[size_t(sl)];
+                list.push_back(json::array({std::string(g.str(cp.name)) + "." + std::string(g.str(slot.name)),
+                                            word(slot.type), word(slot.dir), false}));
+            }
+        }
+        const auto [it, fresh] = slot_index.emplace(list.dump(), slot_lists.size());
+        if (fresh) slot_lists.push_back(std::move(list));
         dos.push_back({{"id", d},
                        {"path", g.str(o.path)},
                        {"type", o.type >= 0 ? g.str(g.do_types[size_t(o.type)].name) : g.str(g.plant)},
                        {"parent", o.parent},
-                       {"pooled", o.pool >= 0}});
+                       {"pooled", o.pool >= 0},
+                       {"slots", it->second}});
     }
+    s["slot_lists"] = std::move(slot_lists);
     s["dos"] = std::move(dos);
 
-    json bodies = json::array();
+    // Bodies share their shape lists (every bottle has the same): each distinct list once.
+    json bodies = json::array(), shape_lists = json::array();
+    std::map<std::string, size_t> shape_index;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
         const Body& body = g.bodies[b];
         json shapes = json::array();
@@ -87,6 +112,8 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
             }
             shapes.push_back(std::move(j));
         }
+        const auto [it, fresh] = shape_index.emplace(shapes.dump(), shape_lists.size());
+        if (fresh) shape_lists.push_back(std::move(shapes));
         const int32_t owner = g.comps[size_t(body.comp)].owner;
         bodies.push_back({{"id", b},
                           {"do", owner},
@@ -94,8 +121,9 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
                           {"mode", word(body.mode)},
                           {"collision", body.collision},
                           {"pose", pose_json(body.pose)},
-                          {"shapes", std::move(shapes)}});
+                          {"shapes", it->second}});
     }
+    s["shape_lists"] = std::move(shape_lists);
     s["bodies"] = std::move(bodies);
 
     json fields = json::array();
@@ -142,19 +170,6 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
                             {"variants", std::move(variants)}});
     }
     s["graphics"] = std::move(graphics);
-
-    json slots = json::array();
-    for (size_t p = 0; p < g.ports.size(); ++p)
-        slots.push_back({{"path", g.port_path(int32_t(p))},
-                         {"type", word(g.ports[p].type)},
-                         {"dir", word(g.ports[p].dir)},
-                         {"port", true}});
-    for (size_t sl = 0; sl < g.slots.size(); ++sl)
-        slots.push_back({{"path", g.slot_path(int32_t(sl))},
-                         {"type", word(g.slots[sl].type)},
-                         {"dir", word(g.slots[sl].dir)},
-                         {"port", false}});
-    s["slots"] = std::move(slots);
 
     json records = json::array();
     for (const Record& r : g.records)
