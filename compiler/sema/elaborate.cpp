@@ -185,6 +185,8 @@ const ast::ObjectDecl* Elaborator::find_type(const std::string& type_name, int m
         if (it != types_.end())
             d.notes.push_back({it->second.second->name.span,
                                "declared in a module this file does not import; add an import"});
+        else if (const std::string std_module = stdlib_module_declaring(prog_.stdlib_dir, type_name); !std_module.empty())
+            d.notes.push_back({{}, fmt::format("'{}' is declared in {}: add `import {}`", type_name, std_module, std_module)});
         else if (auto hint = closest_name(type_name, candidates); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
         return nullptr;
@@ -460,7 +462,11 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) continue;
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
-        if (!type) continue;
+        if (!type) {
+            // Reported once, here: uses of the instance are not errors of their own.
+            scopes_[static_cast<size_t>(do_id)].broken.insert(inst->name.text);
+            continue;
+        }
         if (nested_too_deep(inst->type.span)) continue;
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
             auto& d = sink_.report(DiagId::RecursiveObject, inst->type.span,

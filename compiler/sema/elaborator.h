@@ -50,6 +50,7 @@ struct Scope {
     std::map<std::string, int32_t> children;  // instance name ("b" or "b[3]") -> DO id
     std::map<std::string, PortInfo> ports;
     std::map<std::string, Span> declared;     // every member name, for duplicates
+    std::set<std::string> broken;             // instances whose type is unknown (reported)
 };
 
 // A member of an object after loops and conditions were expanded, with its scope chain.

@@ -2,6 +2,7 @@
 
 #include "parse/parser.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -102,7 +103,7 @@ private:
 
 }  // namespace
 
-Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
+static Program load_program_files(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
                      Sink& sink) {
     Loader loader(stdlib_dir, sources, sink);
     fs::path p(root_path);
@@ -110,6 +111,35 @@ Program load_program(const std::string& root_path, const std::string& stdlib_dir
     Program prog = loader.take();
     prog.root = root;
     return prog;
+}
+
+Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
+                     Sink& sink) {
+    Program p = load_program_files(root_path, stdlib_dir, sources, sink);
+    p.stdlib_dir = stdlib_dir;
+    return p;
+}
+
+std::string stdlib_module_declaring(const std::string& stdlib_dir, const std::string& name) {
+    std::error_code ec;
+    if (stdlib_dir.empty() || !fs::is_directory(stdlib_dir, ec)) return {};
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(stdlib_dir, ec))
+        if (e.path().extension() == ".plant" && e.is_regular_file(ec)) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    const std::string decl = "object " + name;
+    for (const auto& f : files) {
+        std::ifstream in(f);
+        std::string line;
+        while (std::getline(in, line)) {
+            const size_t at = line.find_first_not_of(" \t");
+            if (at == std::string::npos || line.compare(at, decl.size(), decl) != 0) continue;
+            const size_t after = at + decl.size();
+            if (after == line.size() || line[after] == ' ' || line[after] == '(' || line[after] == '{')
+                return "std." + f.stem().string();
+        }
+    }
+    return {};
 }
 
 }  // namespace plant::sema

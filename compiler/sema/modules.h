@@ -21,7 +21,12 @@ struct Program {
     std::vector<LoadedModule> modules;  // dependencies before dependents
     int root = -1;
     std::vector<ast::Arg> overrides;    // `--set NAME=VALUE`: arguments for the root file's plant
+    std::string stdlib_dir;             // where `import std.x` looks
 };
+
+// The standard-library module that declares object type `name` ("std.separator"), or ""
+// (the stdlib's files read as text: for "add `import std.x`" on an unknown type).
+std::string stdlib_module_declaring(const std::string& stdlib_dir, const std::string& name);
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
                      Sink& sink);

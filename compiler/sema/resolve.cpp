@@ -138,6 +138,8 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
             ep.dir = sl.dir;
             return ep;
         }
+        // An instance whose type is unknown was reported where it is declared.
+        if (s.broken.count(segs[i].name.text)) return ep;
         std::vector<std::string> names;
         for (const auto& [k, v] : s.children) names.push_back(k);
         for (const auto& [k, v] : s.comps) names.push_back(k);

@@ -204,7 +204,20 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
             }
             v.items.push_back(x);
         }
-        // All components share one dimension; a bare 0 takes the others' dimension.
+        // All components share one dimension; a bare 0 takes the others' dimension. A number
+        // without a unit among numbers with one is the component in error: `(1.5, 0 m, 0 m)`.
+        for (const auto& x : v.items) {
+            if (x.any_dim || !x.dim.none()) continue;
+            for (const auto& y : v.items) {
+                if (y.any_dim || y.dim.none()) continue;
+                const std::string unit = y.dim == units::dims::angle ? "deg" : units::si_unit(y.dim);
+                auto& diag = sink_.report(DiagId::DimensionMismatch, x.span,
+                                          fmt::format("this vector component has no unit, but the others are in {} ({})",
+                                                      unit, dim_name(y.dim)));
+                diag.notes.push_back({{}, fmt::format("add a unit, e.g. `{:g} {}`", x.num, unit)});
+                return {};
+            }
+        }
         Dim d{};
         bool have = false;
         for (const auto& x : v.items)
