@@ -1,5 +1,9 @@
 #include "dot/dot.h"
 
+#include <functional>
+#include <map>
+#include <set>
+
 #include <algorithm>
 #include <ostream>
 #include <string>
@@ -44,6 +48,11 @@ std::string html(std::string_view s) {
     return r;
 }
 
+int32_t owner_of_slot(const Graph& g, int32_t slot) {
+    if (!in_range(g.slots, slot) || !in_range(g.comps, g.slots[slot].comp)) return -1;
+    return g.comps[g.slots[slot].comp].owner;
+}
+
 // Where a slot is drawn: the node and, for component tables, the port; `note` names
 // the slot when the node itself does not show it (places, transitions).
 struct End {
@@ -54,7 +63,7 @@ struct End {
 
 class Writer {
 public:
-    Writer(const Graph& g, std::ostream& o) : g_(g), o_(o) {}
+    Writer(const Graph& g, std::ostream& o, int32_t only = -1) : g_(g), o_(o), only_(only) {}
     void run();
 
 private:
@@ -69,18 +78,23 @@ private:
     }
     std::string ep(const End& e) const { return e.port.empty() ? e.node : e.node + ":" + e.port; }
 
+    // With `only_` set: inside that object (itself or below it).
+    bool inside(int32_t d) const {
+        if (only_ < 0) return true;
+        for (int hops = 0; in_range(g_.dos, d) && hops <= int(g_.dos.size()); ++hops, d = g_.dos[d].parent)
+            if (d == only_) return true;
+        return false;
+    }
+    bool slot_inside(int32_t s) const { return only_ < 0 || inside(owner_of_slot(g_, s)); }
+
     const Graph& g_;
     std::ostream& o_;
+    int32_t only_;
     std::vector<std::vector<int32_t>> child_dos_, do_comps_, do_accesses_;
     std::vector<int32_t> top_dos_, top_comps_, top_accesses_;
     std::vector<char> drawn_;  // per DO, guards against a parent cycle in a loaded graph
     std::vector<End> ends_;    // per slot
 };
-
-int32_t owner_of_slot(const Graph& g, int32_t slot) {
-    if (!in_range(g.slots, slot) || !in_range(g.comps, g.slots[slot].comp)) return -1;
-    return g.comps[g.slots[slot].comp].owner;
-}
 
 void Writer::run() {
     size_t nd = g_.dos.size();
@@ -133,9 +147,13 @@ void Writer::run() {
        << "  graph [rankdir=LR, compound=true, fontname=\"Helvetica\", fontsize=11];\n"
        << "  node [fontname=\"Helvetica\", fontsize=10];\n"
        << "  edge [fontname=\"Helvetica\", fontsize=9];\n";
-    for (int32_t d : top_dos_) cluster(d, 1);
-    for (int32_t c : top_comps_) component(c, 1);
-    for (int32_t a : top_accesses_) access(a, 1);
+    if (only_ >= 0) {
+        cluster(only_, 1);
+    } else {
+        for (int32_t d : top_dos_) cluster(d, 1);
+        for (int32_t c : top_comps_) component(c, 1);
+        for (int32_t a : top_accesses_) access(a, 1);
+    }
     edges();
     o_ << "}\n";
 }
@@ -235,7 +253,7 @@ void Writer::access(int32_t a, int depth) {
 void Writer::edges() {
     for (size_t a = 0; a < g_.accesses.size(); ++a) {
         int32_t r = g_.accesses[a].ref_slot;
-        if (!in_range(ends_, r) || ends_[r].node.empty()) continue;
+        if (!in_range(ends_, r) || ends_[r].node.empty() || !slot_inside(r)) continue;
         o_ << "  " << ep(ends_[r]) << " -> " << q("a" + std::to_string(a))
            << " [style=dotted, arrowhead=none];\n";
     }
@@ -245,6 +263,9 @@ void Writer::edges() {
         if (in_range(g_.slots, li.slot)) negated[li.slot] = li.negated;
 
     for (const Flow& f : g_.flows) {
+        const int32_t from_slot = in_range(g_.accesses, f.from_access) ? g_.accesses[f.from_access].ref_slot : f.from;
+        const int32_t to_slot = in_range(g_.accesses, f.to_access) ? g_.accesses[f.to_access].ref_slot : f.to;
+        if (!slot_inside(from_slot) || !slot_inside(to_slot)) continue;
         End from, to;
         if (in_range(g_.accesses, f.from_access)) from = {q("a" + std::to_string(f.from_access)), {}, {}};
         else if (in_range(ends_, f.from)) from = ends_[f.from];
@@ -271,6 +292,162 @@ void Writer::edges() {
 
 }  // namespace
 
+// The overview: nodes for an object's children and own components, bundled flows.
+class Overview {
+public:
+    Overview(const Graph& g, std::ostream& o) : g_(g), o_(o) {}
+
+    void run() {
+        const size_t nd = g_.dos.size();
+        std::vector<std::vector<int32_t>> children(nd);
+        std::vector<int32_t> roots;
+        for (size_t d = 0; d < nd; ++d) {
+            const int32_t p = g_.dos[d].parent;
+            if (g_.dos[d].pool >= 0) continue;  // pooled objects (bottles) are not the plant's layout
+            (in_range(g_.dos, p) && p != int32_t(d) ? children[size_t(p)] : roots).push_back(int32_t(d));
+        }
+        int32_t focus = roots.empty() ? -1 : roots[0];
+        // A wrapper with one child object and no components of its own shows that child.
+        for (int hops = 0; focus >= 0 && hops < int(nd); ++hops) {
+            const auto& ch = children[size_t(focus)];
+            if (ch.size() != 1 || g_.dos[size_t(focus)].comp_num > 0) break;
+            focus = ch[0];
+        }
+        // Node of every DO and component: the child of `focus` (or own component) it is in.
+        node_of_do_.assign(nd, -1);
+        std::string_view plant = g_.str(g_.plant);
+        o_ << "digraph " << q(plant.empty() ? "plant" : plant) << " {\n"
+           << "  graph [rankdir=TB, nodesep=0.2, ranksep=0.35, fontname=\"Helvetica\", fontsize=11, label="
+           << q(focus >= 0 ? overview_title(focus) : std::string("empty")) << ", labelloc=t];\n"
+           << "  node [fontname=\"Helvetica\", fontsize=10];\n"
+           << "  edge [fontname=\"Helvetica\", fontsize=7];\n";
+        if (focus < 0) {
+            o_ << "}\n";
+            return;
+        }
+        std::vector<std::string> nodes;
+        for (int32_t c : children[size_t(focus)]) {
+            nodes.push_back("d" + std::to_string(c));
+            const Do& x = g_.dos[size_t(c)];
+            const std::string path(g_.str(x.path));
+            const std::string name = path.substr(path.rfind('.') == std::string::npos ? 0 : path.rfind('.') + 1);
+            const std::string type = in_range(g_.do_types, x.type) ? std::string(g_.str(g_.do_types[x.type].name)) : "";
+            o_ << "  " << q("d" + std::to_string(c)) << " [shape=box, style=rounded, label=" << q(name + ": " + type)
+               << ", tooltip=" << q(path) << "];\n";
+            mark(c, int32_t(c), children);
+        }
+        const Do& f = g_.dos[size_t(focus)];
+        comp_node_.assign(g_.comps.size(), "");
+        for (int32_t c = f.comp_adr; c < f.comp_adr + f.comp_num; ++c) {
+            const Comp& k = g_.comps[size_t(c)];
+            const std::string id = "c" + std::to_string(c);
+            comp_node_[size_t(c)] = id;
+            nodes.push_back(id);
+            o_ << "  " << q(id) << " [shape=" << (k.kind == CompKind::Logic ? "diamond" : k.kind == CompKind::State ? "doublecircle" : "ellipse")
+               << ", fontsize=9, label=" << q(std::string(word(k.kind)) + "\n" + std::string(g_.str(k.name))) << "];\n";
+        }
+        // Flows bundled per (from node, to node).
+        std::map<std::pair<std::string, std::string>, std::vector<std::string>> bundles;
+        for (const Flow& fl : g_.flows) {
+            const int32_t a = in_range(g_.accesses, fl.from_access) ? g_.accesses[fl.from_access].ref_slot : fl.from;
+            const int32_t b = in_range(g_.accesses, fl.to_access) ? g_.accesses[fl.to_access].ref_slot : fl.to;
+            const std::string from = node_of_slot(a), to = node_of_slot(b);
+            if (from.empty() || to.empty() || from == to) continue;
+            // The target slot names the flow well enough at this scale ("query", "MoveToBasePos.put").
+            bundles[{from, to}].push_back(std::string(g_.str(g_.slots[size_t(b)].name)));
+        }
+        // Objects without flows (belts, curves: joined by physics only) in rows of four, in a box.
+        std::set<std::string> joined;
+        for (const auto& [ends, names] : bundles) joined.insert(ends.first), joined.insert(ends.second);
+        std::vector<std::string> alone;
+        for (const std::string& n : nodes)
+            if (!joined.count(n)) alone.push_back(n);
+        if (!alone.empty()) {
+            o_ << "  subgraph cluster_alone {\n    label=\"without flows (joined by physics only)\"; style=dashed;\n";
+            for (size_t r = 0; r < alone.size(); r += 4) {
+                o_ << "    { rank=same;";
+                for (size_t k = r; k < std::min(alone.size(), r + 4); ++k) o_ << " " << q(alone[k]) << ";";
+                o_ << " }\n";
+                if (r > 0) o_ << "    " << q(alone[r - 4]) << " -> " << q(alone[r]) << " [style=invis];\n";
+            }
+            o_ << "  }\n";
+        }
+        // The connected groups (and the box) in rows, so the drawing is about as wide as tall:
+        // an invisible edge puts each group below the one a row before it.
+        std::map<std::string, std::string> up;  // union-find over node names
+        std::function<std::string(const std::string&)> find = [&](const std::string& n) {
+            auto it = up.find(n);
+            if (it == up.end() || it->second == n) return n;
+            return it->second = find(it->second);
+        };
+        for (const std::string& n : nodes) up[n] = n;
+        for (const auto& [ends, names] : bundles) up[find(ends.first)] = find(ends.second);
+        std::vector<std::string> groups;  // one member of each group, in node order
+        std::set<std::string> seen;
+        for (const std::string& n : nodes) {
+            if (!joined.count(n)) continue;
+            if (seen.insert(find(n)).second) groups.push_back(n);
+        }
+        if (!alone.empty()) groups.push_back(alone.back());
+        // Groups are wider than tall (a switch with its routers and connectors): fewer per row.
+        size_t per_row = 1;
+        while (2 * per_row * per_row < groups.size()) ++per_row;
+        for (size_t i = per_row; i < groups.size(); ++i)
+            o_ << "  " << q(groups[i - per_row]) << " -> " << q(groups[i]) << " [style=invis, minlen=3];\n";
+        for (const auto& [ends, names] : bundles) {
+            std::string label = names.size() <= 2 ? names[0] + (names.size() == 2 ? ", " + names[1] : "")
+                                                  : std::to_string(names.size()) + " flows";
+            o_ << "  " << q(ends.first) << " -> " << q(ends.second) << " [label=" << q(label)
+               << (names.size() > 1 ? ", penwidth=2" : "") << "];\n";
+        }
+        o_ << "}\n";
+    }
+
+private:
+    std::string overview_title(int32_t focus) const {
+        const std::string path(g_.str(g_.dos[size_t(focus)].path));
+        const std::string type = in_range(g_.do_types, g_.dos[size_t(focus)].type)
+                                     ? std::string(g_.str(g_.do_types[g_.dos[size_t(focus)].type].name))
+                                     : std::string(g_.str(g_.plant));
+        return (path.empty() ? type : path + ": " + type) +
+               " (overview: plant graph --object PATH draws one object in full)";
+    }
+    void mark(int32_t d, int32_t node, const std::vector<std::vector<int32_t>>& children) {
+        std::vector<int32_t> todo{d};
+        while (!todo.empty()) {
+            const int32_t x = todo.back();
+            todo.pop_back();
+            if (node_of_do_[size_t(x)] >= 0) continue;
+            node_of_do_[size_t(x)] = node;
+            for (int32_t c : children[size_t(x)]) todo.push_back(c);
+        }
+    }
+    std::string node_of_slot(int32_t s) const {
+        if (!in_range(g_.slots, s)) return {};
+        const int32_t c = g_.slots[size_t(s)].comp;
+        if (in_range(g_.comps, c) && !comp_node_[size_t(c)].empty()) return comp_node_[size_t(c)];
+        const int32_t d = owner_of_slot(g_, s);
+        if (!in_range(g_.dos, d) || node_of_do_[size_t(d)] < 0) return {};
+        return "d" + std::to_string(node_of_do_[size_t(d)]);
+    }
+
+    const Graph& g_;
+    std::ostream& o_;
+    std::vector<int32_t> node_of_do_;
+    std::vector<std::string> comp_node_;
+};
+
 void write_dot(const Graph& g, std::ostream& o) { Writer(g, o).run(); }
+
+bool write_dot_object(const Graph& g, std::string_view path, std::ostream& o) {
+    for (size_t d = 0; d < g.dos.size(); ++d)
+        if (g.str(g.dos[d].path) == path) {
+            Writer(g, o, int32_t(d)).run();
+            return true;
+        }
+    return false;
+}
+
+void write_overview(const Graph& g, std::ostream& o) { Overview(g, o).run(); }
 
 }  // namespace plant::dot

@@ -32,7 +32,8 @@ usage: plant <command> [options] FILE...
 commands:
   check FILE...         check plant files; exit code 0 when there is no error
   build FILE -o OUT     compile FILE and write the graph's text form to OUT (- for stdout)
-  graph FILE            print the data-flow network and Petri nets as Graphviz DOT
+  graph FILE            an overview of the plant as Graphviz DOT (--object PATH: one object
+                        in full, with its slots, flows and Petri nets)
   info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
@@ -63,10 +64,14 @@ Compiles FILE into the flat graph and writes its text form (stable, diffable, lo
 by `plant run OUT`) to OUT, or to stdout with `-o -`.
 )";
 
-constexpr const char* kGraphHelp = R"(usage: plant graph FILE [-o OUT] [--stdlib DIR] [--set NAME=VALUE]...
+constexpr const char* kGraphHelp = R"(usage: plant graph FILE [--object PATH | --full] [-o OUT] [--stdlib DIR] [--set NAME=VALUE]...
 
-Writes the compiled plant as Graphviz DOT: one cluster per object, components as nodes,
-flows as edges, each Petri net as a cluster of places and transitions.
+Writes the compiled plant as Graphviz DOT. By default an overview: the plant's objects
+(or, for a plant that wraps one line, the line's) as single nodes, its own components as
+small nodes (a Petri net as one), and the flows between them bundled per pair of nodes.
+--object PATH draws that object in full: a cluster per object inside it, components as
+tables of their slots, flows as edges, each Petri net as places and transitions.
+--full draws the whole plant so (large plants give very large drawings).
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
@@ -136,6 +141,9 @@ struct Options {
     std::vector<std::string> rest;  // passed to `run`
     bool help = false;
     bool slots = false;  // info --slots
+    bool full = false;   // graph --full
+    std::string object;  // graph --object PATH
+    bool has_object = false;
 };
 
 int usage_error(const std::string& msg) {
@@ -201,7 +209,16 @@ int cmd_graph(const Options& o) {
     plant::Compilation c;
     if (!compile(o.files[0], o, c)) return 1;
     std::ostringstream dot;
-    plant::dot::write_dot(c.graph, dot);
+    if (o.has_object) {
+        if (!plant::dot::write_dot_object(c.graph, o.object, dot)) {
+            std::cerr << "plant: error: --object: no object '" << o.object << "' (`plant info --slots` lists paths)\n";
+            return 1;
+        }
+    } else if (o.full) {
+        plant::dot::write_dot(c.graph, dot);
+    } else {
+        plant::dot::write_overview(c.graph, dot);
+    }
     if (!write_output(o.out, dot.str())) {
         std::cerr << "plant: error: cannot write '" << o.out << "'\n";
         return 1;
@@ -373,6 +390,12 @@ int main(int argc, char** argv) {
         };
         if (a == "-h" || a == "--help") o.help = true;
         else if (a == "--slots" && o.command == "info") o.slots = true;
+        else if (a == "--full" && o.command == "graph") o.full = true;
+        else if (a == "--object" && o.command == "graph") {
+            if (i + 1 >= args.size()) return usage_error("--object needs an object's dotted path");
+            o.object = args[++i];
+            o.has_object = true;
+        }
         else if (a == "-o" || a.rfind("--output", 0) == 0) o.out = value(a == "-o" ? "-o" : "--output");
         else if (a.rfind("--emit", 0) == 0) o.emit = value("--emit");
         else if (a.rfind("--stdlib", 0) == 0) o.stdlib = value("--stdlib");

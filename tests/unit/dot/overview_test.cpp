@@ -1,0 +1,50 @@
+// `plant graph`'s overview and `--object PATH` on the bottling plant.
+#include "../compiler/compile_helper.h"
+#include "dot/dot.h"
+
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+namespace {
+
+size_t count(const std::string& s, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("dot: the overview shows a line's objects as nodes and bundles their flows") {
+    plant::Compilation c;
+    plant::test::compile_repo_file("plants/bottling.plant", c);
+    REQUIRE(c.ok());
+    std::ostringstream o;
+    plant::dot::write_overview(c.graph, o);
+    const std::string dot = o.str();
+    // The plant wraps one line: the line's children are the nodes, one each.
+    CHECK(dot.find("line[0]: BottlingLine") != std::string::npos);
+    for (const char* n : {"\"s1: Switch\"", "\"s5: Switch\"", "\"sep1: Separator\"", "\"b1: Belt\"", "\"arm: Arm\""})
+        CHECK_MESSAGE(count(dot, n) == 1, n);
+    CHECK(count(dot, "shape=doublecircle") == 1);  // the feed net, collapsed
+    CHECK(dot.find("<TABLE") == std::string::npos);  // no slot tables
+    CHECK(count(dot, " -> ") < 80);
+    std::ostringstream full;
+    plant::dot::write_dot(c.graph, full);
+    CHECK(full.str().size() > 20 * dot.size());
+}
+
+TEST_CASE("dot: --object draws one object in full, and only it") {
+    plant::Compilation c;
+    plant::test::compile_repo_file("plants/bottling.plant", c);
+    REQUIRE(c.ok());
+    std::ostringstream o;
+    REQUIRE(plant::dot::write_dot_object(c.graph, "line[0].s1", o));
+    const std::string dot = o.str();
+    CHECK(dot.find("label=\"line[0].s1\"") != std::string::npos);
+    CHECK(dot.find("line[0].s2") == std::string::npos);
+    CHECK(dot.find("MoveToWorkingPos") != std::string::npos);  // its net, in full
+    std::ostringstream none;
+    CHECK_FALSE(plant::dot::write_dot_object(c.graph, "line[0].nope", none));
+}
