@@ -26,7 +26,7 @@ objectDecl : 'object' ID paramList? '{' member* '}' ;
 plantDecl  : 'plant' ID paramList? '{' member* '}' ;
 
 paramList : '(' (param (',' param)* ','?)? ')' ;
-param     : ID ':' ident ('=' expr)? ;
+param     : ID ':' ident ('=' def=expr)? ('where' cond=expr)? ;   // a constraint on the value
 
 // `plant run f.plant --set k=4kg/s`: one command-line value for a plant parameter,
 // parsed on its own (not part of a module).

@@ -230,6 +230,7 @@ struct Param {
     Ident name;
     Ident type;
     ExprPtr default_value;
+    ExprPtr constraint;  // `where EXPR`: a condition every value must meet
     Span span;
 };
 

@@ -154,7 +154,8 @@ void print(const Module& m, const SourceMap& sm, std::ostream& out) {
         std::string params;
         for (size_t i = 0; i < o.params.size(); ++i)
             params += (i ? ", " : "") + o.params[i].name.text + ": " + o.params[i].type.text +
-                      (o.params[i].default_value ? " = " + p.expr(o.params[i].default_value.get()) : "");
+                      (o.params[i].default_value ? " = " + p.expr(o.params[i].default_value.get()) : "") +
+                      (o.params[i].constraint ? " where " + p.expr(o.params[i].constraint.get()) : "");
         p.line(1, fmt::format("{} {}{}", o.is_plant ? "plant" : "object", o.name.text, o.is_plant && o.params.empty() ? "" : "(" + params + ")"), o.span);
         p.members(2, o.members);
     }

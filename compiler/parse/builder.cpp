@@ -212,7 +212,8 @@ public:
             ast::Param param;
             param.name = ident(p->ID());
             param.type = ident(p->ident());
-            if (p->expr()) param.default_value = expr(p->expr());
+            if (p->def) param.default_value = expr(p->def);
+            if (p->cond) param.constraint = expr(p->cond);
             param.span = span(p);
             out.push_back(std::move(param));
         }

@@ -395,6 +395,25 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
         if (ok) env->set(p.name.text, v);
         else env->set(p.name.text, Value{});
     }
+    // Constraints, with every parameter bound: `lines: int = 1 where lines >= 1`.
+    for (size_t i = 0; i < decl.params.size(); ++i) {
+        const auto& p = decl.params[i];
+        if (!p.constraint) continue;
+        const Value* mine = env->find(p.name.text);
+        if (!mine || mine->kind == Value::Kind::None) continue;  // reported already
+        Value c = ev_.eval(*p.constraint, *env);
+        if (c.kind == Value::Kind::None) continue;
+        if (!ev_.expect_bool(c, fmt::format("the constraint of '{}'", p.name.text))) continue;
+        if (c.boolean) continue;
+        const Span at = given[i] ? given[i]->value->span : call_span;
+        const Span& cs = p.constraint->span;
+        const std::string cond(std::string_view(sm_.text(cs.file)).substr(cs.begin, cs.end - cs.begin));
+        auto& d = sink_.report(DiagId::ConstraintFails, at,
+                               fmt::format("'{}' of '{}' must satisfy '{}'{}", p.name.text, decl.name.text, cond,
+                                           given[i] ? "" : " (its default does not)"));
+        d.notes.push_back({cs, fmt::format("the constraint of '{}'", p.name.text)});
+        env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
+    }
     return env;
 }
 

@@ -144,3 +144,20 @@ TEST_CASE("docs: no project file cites a document a checkout does not have") {
     }
     CHECK(files > 100);
 }
+
+TEST_CASE("docs: diagnostics.md has a section for every registered code") {
+    std::ifstream in(std::string(PLANT_SOURCE_DIR) + "/docs/diagnostics.md");
+    std::stringstream s;
+    s << in.rdbuf();
+    const std::string text = s.str();
+    std::ifstream codes(std::string(PLANT_SOURCE_DIR) + "/compiler/diag/codes.def");
+    int n = 0;
+    for (std::string line; std::getline(codes, line);) {
+        const size_t at = line.find("\"");
+        if (line.rfind("PLANT_DIAG(", 0) != 0 || at == std::string::npos) continue;
+        const std::string code = line.substr(at + 1, 5);
+        ++n;
+        CHECK_MESSAGE(text.find("### " + code) != std::string::npos, "docs/diagnostics.md lacks " << code);
+    }
+    CHECK(n > 40);
+}
