@@ -54,7 +54,7 @@ flowOption   : 'when' ID | 'once' ;
 // logic go = r1.seen and not b2.occupied
 logicDecl    : 'logic' ID '=' logicTerm (op+=('and' | 'or') logicTerm)* ;
 logicTerm    : neg='not'? path ;
-forDecl      : 'for' ID 'in' expr '..' expr '{' member* '}' ;
+forDecl      : 'for' ID 'in' expr ('..' expr)? '{' member* '}' ;   // a range, or the items of a list
 ifDecl       : 'if' expr '{' thenBody+=member* '}' ('else' '{' elseBody+=member* '}')? ;
 recordDecl   : 'record' path ('as' expr)? ;
 settingDecl  : ID '=' expr ;
@@ -89,7 +89,7 @@ placeInit      : ID ('=' expr)? ;
 transitionDecl : 'transition' ID ':' arcList? '->' arcList? ;
 arcList        : arc ('+' arc)* ;
 arc            : (NUMBER '*'?)? ID ;
-routeDecl      : (STRING | '*') '=>' ID ;
+routeDecl      : (expr | '*') '=>' ID ;   // a string, or a list of strings, or '*'
 
 placement : 'at' expr rotation* | rotation+ ;
 rotation  : 'rotate' axis 'by' expr ;

@@ -123,7 +123,8 @@ struct TransitionDecl {
 };
 
 struct RouteDecl {
-    std::string pattern;  // "*" for the wildcard
+    std::string pattern;  // "*" for the wildcard; else the pattern's source text
+    ExprPtr pattern_expr; // a string or a list of strings; null for "*"
     Span pattern_span;
     Ident output;
     Span span;
@@ -213,8 +214,8 @@ using Member = std::variant<PortDecl, LetDecl, FlowDecl, LogicDecl, RecordDecl, 
 
 struct ForDecl {
     Ident var;
-    ExprPtr from;
-    ExprPtr to;  // exclusive
+    ExprPtr from;  // the range's start, or the list
+    ExprPtr to;    // exclusive; null: `for x in LIST` iterates over the list's items
     std::vector<Member> body;
     Span span;
 };

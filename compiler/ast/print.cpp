@@ -93,7 +93,8 @@ public:
             };
             line(d + 1, fmt::format("transition {}: {} -> {}", t.name.text, arcs(t.inputs), arcs(t.outputs)), t.span);
         }
-        for (const auto& r : c.routes) line(d + 1, fmt::format("route \"{}\" => {}", r.pattern, r.output.text), r.span);
+        for (const auto& r : c.routes)
+            line(d + 1, fmt::format("route {} => {}", r.pattern_expr ? expr(r.pattern_expr.get()) : "*", r.output.text), r.span);
         for (const auto& ch : c.children) component(d + 1, ch);
     }
 
@@ -126,7 +127,9 @@ public:
             } else if (auto* x = std::get_if<ComponentDecl>(&m)) {
                 component(d, *x);
             } else if (auto* x = std::get_if<std::unique_ptr<ForDecl>>(&m)) {
-                line(d, fmt::format("for {} in {} .. {}", (*x)->var.text, expr((*x)->from.get()), expr((*x)->to.get())), (*x)->span);
+                line(d, (*x)->to ? fmt::format("for {} in {} .. {}", (*x)->var.text, expr((*x)->from.get()), expr((*x)->to.get()))
+                                 : fmt::format("for {} in {}", (*x)->var.text, expr((*x)->from.get())),
+                     (*x)->span);
                 members(d + 1, (*x)->body);
             } else if (auto* x = std::get_if<std::unique_ptr<IfDecl>>(&m)) {
                 line(d, "if " + expr((*x)->cond.get()), (*x)->span);

@@ -268,10 +268,8 @@ public:
             auto d = std::make_unique<ast::ForDecl>();
             d->var = ident(x->ID());
             auto es = x->expr();
-            if (es.size() >= 2) {
-                d->from = expr(es[0]);
-                d->to = expr(es[1]);
-            }
+            if (!es.empty()) d->from = expr(es[0]);
+            if (es.size() >= 2) d->to = expr(es[1]);
             for (auto* m : x->member()) member(m, d->body);
             d->span = span(x);
             out.emplace_back(std::move(d));
@@ -342,9 +340,10 @@ public:
                 d.transitions.push_back(transition(x));
             } else if (auto* x = item->routeDecl()) {
                 ast::RouteDecl r;
-                if (x->STRING()) {
-                    r.pattern = unquote(x->STRING()->getText());
-                    r.pattern_span = span(x->STRING());
+                if (x->expr()) {
+                    r.pattern = x->expr()->getText();
+                    r.pattern_expr = expr(x->expr());
+                    r.pattern_span = span(x->expr());
                 } else {
                     r.pattern = "*";
                     r.pattern_span = span(x->start);

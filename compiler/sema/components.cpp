@@ -522,7 +522,21 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 }
                 it = outs.emplace(r.output.text, add_slot(comp, r.output.text, SlotType::Void, Dir::Out, r.output.span)).first;
             }
-            g_.routes.push_back({comp, name(r.pattern), it->second});
+            if (!r.pattern_expr) {
+                g_.routes.push_back({comp, name("*"), it->second});
+                continue;
+            }
+            // A string, or a list of strings (one entry each), from parameters and lets too.
+            Value v = ev_.eval(*r.pattern_expr, env);
+            if (v.kind == Value::Kind::None) continue;
+            std::vector<Value> patterns = v.kind == Value::Kind::List ? v.items : std::vector<Value>{v};
+            if (patterns.empty())
+                sink_.report(DiagId::ValueTypeMismatch, r.pattern_span,
+                             "a routing entry needs at least one pattern; this list is empty");
+            for (const Value& pv : patterns) {
+                if (!ev_.expect_string(pv, "a routing pattern")) break;
+                g_.routes.push_back({comp, name(pv.str), it->second});
+            }
         }
         break;
     }

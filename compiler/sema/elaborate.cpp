@@ -234,6 +234,22 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
             env = next;
         } else if (auto* fp = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) {
             const ast::ForDecl& f = **fp;
+            if (!f.to) {  // for x in LIST
+                Value list = ev_.eval(*f.from, *env);
+                if (list.kind == Value::Kind::None) continue;
+                if (list.kind != Value::Kind::List) {
+                    sink_.report(DiagId::ValueTypeMismatch, f.from->span,
+                                 fmt::format("'for {} in' takes a list [...] or a range A .. B, not {}", f.var.text,
+                                             with_article(describe(list))));
+                    continue;
+                }
+                for (const Value& item : list.items) {
+                    auto inner = std::make_shared<Env>(env);
+                    inner->set(f.var.text, item);
+                    expand(f.body, inner, out, depth + 1);
+                }
+                continue;
+            }
             Value from = ev_.eval(*f.from, *env);
             Value to = ev_.eval(*f.to, *env);
             if (!ev_.expect_int(from, "loop start") || !ev_.expect_int(to, "loop end")) continue;

@@ -143,6 +143,21 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
             v.span = e.span;
             return v;
         }
+        // An item of a list: `codes[0]` (a whole index from 0, inside the list).
+        if (const Value* found = env.find(e.text); found && found->kind == Value::Kind::List && e.index &&
+                                                    e.members.empty()) {
+            Value i = eval(*e.index, env);
+            if (i.kind == Value::Kind::None || !expect_int(i, "a list index")) return {};
+            if (i.num < 0 || i.num >= double(found->items.size())) {
+                sink_.report(DiagId::OutOfRange, e.index->span,
+                             fmt::format("index {} is outside the list '{}' of {} item{}", static_cast<long long>(i.num),
+                                         e.text, found->items.size(), found->items.size() == 1 ? "" : "s"));
+                return {};
+            }
+            Value v = found->items[size_t(i.num)];
+            v.span = e.span;
+            return v;
+        }
         if (types_.is_object_type(e.text) && e.members.empty()) {
             Value v;
             v.kind = Value::Kind::Type;
