@@ -25,7 +25,7 @@ TEST_CASE("dot: the overview shows a line's objects as nodes and bundles their f
     const std::string dot = o.str();
     // The plant wraps one line: the line's children are the nodes, one each.
     CHECK(dot.find("line[0]: BottlingLine") != std::string::npos);
-    for (const char* n : {"\"s1: Switch\"", "\"s5: Switch\"", "\"sep1: Separator\"", "\"b1: Belt\"", "\"arm: Arm\""})
+    for (const char* n : {"\"s1: RoutedSwitch\"", "\"s5: RoutedSwitch\"", "\"sep1: Separator\"", "\"b1: Belt\"", "\"arm: Arm\""})
         CHECK_MESSAGE(count(dot, n) == 1, n);
     CHECK(count(dot, "shape=doublecircle") == 1);  // the feed net, collapsed
     CHECK(dot.find("<TABLE") == std::string::npos);  // no slot tables

@@ -30,7 +30,7 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     std::vector<int32_t> requests;
     for (int k = 1; k <= 5; ++k)
         for (const char* p : {"MoveToBasePos", "MoveToWorkingPos"}) {
-            requests.push_back(place_named(g, "line[0].s" + std::to_string(k) + ".net", p));
+            requests.push_back(place_named(g, "line[0].s" + std::to_string(k) + ".sw.net", p));  // a RoutedSwitch
             REQUIRE(requests.back() >= 0);
         }
     const int32_t filled = slot_named(g, "line[0].fill.core.work.tick"),
