@@ -260,6 +260,26 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
             if (x.kind == Value::Kind::None) return {};
             v.items.push_back(x);
         }
+        // One kind of item, and numbers of one dimension: [1 m, 2 m], ["A-*", "B-*"].
+        const Value* first = nullptr;
+        for (const Value& x : v.items) {
+            if (x.kind == Value::Kind::Num && x.any_dim) continue;  // a bare 0 fits any dimension
+            if (!first) {
+                first = &x;
+                continue;
+            }
+            if (x.kind != first->kind) {
+                sink_.report(DiagId::ValueTypeMismatch, x.span,
+                             fmt::format("a list holds items of one kind: this is {}, the first is {}",
+                                         with_article(describe(x)), with_article(describe(*first))));
+                return {};
+            }
+            if (x.kind == Value::Kind::Num && !(x.dim == first->dim)) {
+                sink_.report(DiagId::DimensionMismatch, x.span,
+                             fmt::format("list items differ: {} and {}", dim_name(first->dim), dim_name(x.dim)));
+                return {};
+            }
+        }
         return v;
     }
     case K::Call: return call(e, env);
