@@ -43,6 +43,23 @@ void render_snippet(std::string& out, const Span& s, const SourceMap& sm) {
     std::size_t width = std::max<std::size_t>(5, number.size());
 
     std::size_t start = std::min<std::size_t>(col - 1, text.size());
+    // A very long line (a binary file, a generated one) shows a window around the caret.
+    constexpr std::size_t kWindow = 100;
+    std::string shown_text;
+    if (text.size() > 2 * kWindow) {
+        std::size_t from = start > kWindow / 2 ? start - kWindow / 2 : 0;
+        while (from > 0 && continuation_byte(text[from])) --from;
+        std::size_t to = std::min(text.size(), from + kWindow);
+        while (to < text.size() && continuation_byte(text[to])) ++to;
+        shown_text = (from > 0 ? "..." : "") + std::string(text.substr(from, to - from)) + (to < text.size() ? "..." : "");
+        start = start - from + (from > 0 ? 3 : 0);
+        text = shown_text;
+    }
+    // Control characters would move the cursor or ring the bell: shown as '?'.
+    std::string clean(text);
+    for (char& c : clean)
+        if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) c = '?';
+    text = clean;
     std::size_t length = s.end > s.begin ? s.end - s.begin : 1;
     std::size_t stop = std::min(start + length, text.size());
     std::string marker;

@@ -369,7 +369,22 @@ int cmd_serve(const Options& o) {
 
 }  // namespace
 
+int run_command(int argc, char** argv);
+
+// Whatever escapes a command (a library's exception: a bug of ours, or memory running out)
+// is an internal error with its own exit code, never an abort.
 int main(int argc, char** argv) {
+    try {
+        return run_command(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << "plant: internal error: " << e.what() << "\n(please report it, with the input that caused it)\n";
+    } catch (...) {
+        std::cerr << "plant: internal error: an unknown exception\n";
+    }
+    return 3;
+}
+
+int run_command(int argc, char** argv) {
     std::vector<std::string> args(argv + 1, argv + argc);
     Options o;
     if (args.empty()) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
 #include <optional>
@@ -55,6 +56,27 @@ std::string token_text(antlr4::Token* t, const std::string& eof) {
     return "'" + t->getText() + "'";
 }
 
+// A character in a message: printable ASCII as itself, anything else by its code point too
+// ("U+0000 (NUL, a control character)", "'П' (U+041F)").
+std::string describe_char(const std::string& t) {
+    if (t.empty()) return "''";
+    const auto c0 = static_cast<unsigned char>(t[0]);
+    uint32_t cp = c0;
+    size_t n = c0 < 0x80 ? 1 : (c0 & 0xE0) == 0xC0 ? 2 : (c0 & 0xF0) == 0xE0 ? 3 : 4;
+    if (n > 1) {
+        cp = c0 & (0x7F >> n);
+        for (size_t k = 1; k < n && k < t.size(); ++k) cp = (cp << 6) | (static_cast<unsigned char>(t[k]) & 0x3F);
+    }
+    char code[16];
+    std::snprintf(code, sizeof code, "U+%04X", static_cast<unsigned>(cp));
+    if (cp < 0x20 || cp == 0x7F) {
+        const char* name = cp == 0 ? "NUL, " : cp == 0x7F ? "DEL, " : cp == 0x1B ? "ESC, " : "";
+        return std::string(code) + " (" + name + "a control character)";
+    }
+    if (cp < 0x80) return "'" + t.substr(0, 1) + "'";
+    return "'" + t.substr(0, n) + "' (" + code + "; names are ASCII letters, digits and '_')";
+}
+
 class ErrorListener : public antlr4::BaseErrorListener {
 public:
     // `eof` names the end of the input in messages: "end of file", or for a --set
@@ -88,7 +110,7 @@ public:
             if (bad->getText() == "\"")  // STRING did not match: no closing quote on this line
                 sink_.report(DiagId::Syntax, span, "unterminated string: close it with '\"' on the same line");
             else
-                sink_.report(DiagId::Syntax, span, "unexpected character " + token_text(bad, eof_));
+                sink_.report(DiagId::Syntax, span, "unexpected character " + describe_char(bad->getText()));
             return;
         }
         std::string expected;

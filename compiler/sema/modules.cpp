@@ -3,6 +3,7 @@
 #include "parse/parser.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
@@ -14,13 +15,56 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool read_file(const fs::path& p, std::string& out) {
+// A module is at most this large: a link to /dev/zero or a stray binary is refused before
+// it is read, not read until memory runs out.
+constexpr std::uintmax_t kMaxModuleBytes = 16u << 20;
+
+// Reads a regular file of at most kMaxModuleBytes; `why` says what is wrong otherwise.
+bool read_file(const fs::path& p, std::string& out, std::string& why) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+        why = ": it is a directory";
+        return false;
+    }
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) {
+        why = ": not a regular file";
+        return false;
+    }
+    const std::uintmax_t size = fs::file_size(p, ec);
+    if (!ec && size > kMaxModuleBytes) {
+        why = fmt::format(": {} bytes, more than the limit of {} MiB", size, kMaxModuleBytes >> 20);
+        return false;
+    }
     std::ifstream in(p, std::ios::binary);
     if (!in) return false;
     std::ostringstream ss;
     ss << in.rdbuf();
     out = ss.str();
     return true;
+}
+
+// The offset of the first byte that is not part of valid UTF-8, or npos.
+size_t invalid_utf8(std::string_view s) {
+    size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        size_t n = 0;
+        uint32_t cp = 0, min = 0;
+        if (c < 0x80) n = 1;
+        else if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1F, min = 0x80;
+        else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0F, min = 0x800;
+        else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07, min = 0x10000;
+        else return i;
+        if (i + n > s.size()) return i;
+        for (size_t k = 1; k < n; ++k) {
+            const auto d = static_cast<unsigned char>(s[i + k]);
+            if ((d & 0xC0) != 0x80) return i;
+            cp = (cp << 6) | (d & 0x3F);
+        }
+        if (n > 1 && (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))) return i;
+        i += n;
+    }
+    return std::string_view::npos;
 }
 
 class Loader {
@@ -42,20 +86,29 @@ public:
                     d.notes.push_back({stack_[j].span, fmt::format("'{}' is imported here", stack_[j].display)});
             return -1;
         }
-        std::string text;
-        if (!read_file(disk, text) || fs::is_directory(disk, ec)) {
+        std::string text, why;
+        if (!read_file(disk, text, why)) {
             if (import_span.valid() && fs::exists(disk, ec))  // there, but a folder or unreadable
                 sink_.report(DiagId::FileUnreadable, import_span,
-                             fmt::format("cannot read module file '{}'{}", display,
-                                         fs::is_directory(disk, ec) ? ": it is a directory" : ""));
+                             fmt::format("cannot read module file '{}'{}", display, why));
             else if (import_span.valid())
                 sink_.report(DiagId::ImportNotFound, import_span,
                              fmt::format("cannot find module file '{}'", display));
             else
-                sink_.report(DiagId::FileUnreadable, {}, fmt::format("cannot read '{}'", display));
+                sink_.report(DiagId::FileUnreadable, {}, fmt::format("cannot read '{}'{}", display, why));
             return -1;
         }
+        // A byte-order mark is not text: columns count from after it.
+        if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+        const size_t bad = invalid_utf8(text);
         int32_t file = sm_.add(display, std::move(text));
+        if (bad != std::string_view::npos) {
+            const auto byte = static_cast<unsigned char>(sm_.text(file)[bad]);
+            auto& d = sink_.report(DiagId::InvalidText, Span{file, static_cast<uint32_t>(bad), static_cast<uint32_t>(bad + 1)},
+                                   fmt::format("this file is not valid UTF-8: byte 0x{:02X} here", byte));
+            d.notes.push_back({{}, "plant files are UTF-8 text; save it as UTF-8 (a Latin-1 'ä' is one such byte)"});
+            return -1;
+        }
         LoadedModule mod;
         mod.key = key;
         mod.ast = parse::parse_module(sm_, file, sink_);
