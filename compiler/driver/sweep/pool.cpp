@@ -139,27 +139,32 @@ bool Pool::start(const Run& run, std::string& error) {
     return true;
 }
 
-Result Pool::wait_any() {
+bool Pool::poll(Result& r) {
     for (;;) {
         int status = 0;
         const pid_t pid = ::waitpid(-1, &status, WNOHANG);
-        if (pid > 0) {
-            for (size_t i = 0; i < children_.size(); ++i) {
-                if (children_[i].pid != pid) continue;
-                const Child c = children_[i];
-                children_.erase(children_.begin() + long(i));
-                return finish(c, status);
-            }
-            continue;  // not ours
+        if (pid <= 0) break;
+        for (size_t i = 0; i < children_.size(); ++i) {
+            if (children_[i].pid != pid) continue;
+            const Child c = children_[i];
+            children_.erase(children_.begin() + long(i));
+            r = finish(c, status);
+            return true;
         }
-        const double t = now();
-        for (Child& c : children_)
-            if (!c.timed_out && t - c.started > exec_.timeout) {
-                c.timed_out = true;
-                ::kill(c.pid, SIGKILL);
-            }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
+    const double t = now();
+    for (Child& c : children_)
+        if (!c.timed_out && t - c.started > exec_.timeout) {
+            c.timed_out = true;
+            ::kill(c.pid, SIGKILL);
+        }
+    return false;
+}
+
+Result Pool::wait_any() {
+    Result r;
+    while (!poll(r)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return r;
 }
 
 Result Pool::finish(const Child& c, int status) {

@@ -112,6 +112,8 @@ public:
     bool start(const Run& run, std::string& error);
     size_t busy() const { return children_.size(); }
     Result wait_any();
+    // Without blocking: true with the Result of a child that has ended.
+    bool poll(Result& r);
 
 private:
     struct Child {
