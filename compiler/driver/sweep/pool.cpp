@@ -190,9 +190,15 @@ Result Pool::finish(const Child& c, int status) {
         return r;
     }
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code == 127 || code == 126) {
+        // exec failed (the binary replaced or gone mid-sweep): the run never started; run it again.
+        r.status = "lost";
+        r.message = code == 127 ? "cannot run " + exec_.plant_exe : "cannot write " + out_file;
+        return r;
+    }
     if (code != 0) {
         r.status = code == 1 && err.find("error[E") != std::string::npos ? "compile_error" : "failed";
-        r.message = code == 127 ? "cannot run " + exec_.plant_exe : last_error(err);
+        r.message = last_error(err);
         if (r.message.empty()) r.message = fmt::format("exit code {}", code);
         return r;
     }
