@@ -39,6 +39,8 @@ echo "|---|---|---|---|---|"
 (( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=3 --counts=1000 --threads=1
 "$b/plant_bench_compile" --rows "${compile[@]}"
 "$b/plant_bench_serve" --rows "${serve[@]}"
+# plant sweep: runs per minute with -j 1 and -j 2 (bench/sweep.sh).
+bench/sweep.sh build/release/compiler/plant "$( (( quick )) && echo 5s || echo 30s)"
 # The page's draw calls (three.js renderer.info) with one line and with 83 (1,000 bottles in
 # circulation): instanced meshes keep them from growing with the bottles.
 if command -v node >/dev/null && command -v chromium >/dev/null; then

@@ -9,6 +9,7 @@ PACKAGES=(
   libantlr4-runtime-dev antlr4 default-jre-headless uuid-dev
   graphviz gnuplot-nox
   libboost-dev chromium
+  libyaml-cpp-dev openmpi-bin libopenmpi-dev
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.

@@ -4,6 +4,7 @@
 #include "compiler.h"
 #include "dot/dot.h"
 #include "graph/text.h"
+#include "driver/sweep/sweep.h"
 
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
@@ -38,6 +39,8 @@ commands:
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
                         controls, inspector); `plant serve --help`
+  sweep SPEC            many runs of a plant over parameter values, -j N or under mpirun;
+                        CSV, summary and plot; `plant sweep --help`
 
 common options:
   --set NAME=VALUE      give the plant's parameter NAME the value VALUE, an expression with
@@ -396,6 +399,8 @@ int run_command(int argc, char** argv) {
         return 0;
     }
     o.command = args[0];
+    // `plant sweep` has options of its own (compiler/driver/sweep).
+    if (o.command == "sweep") return plant::sweep::sweep_main({args.begin() + 1, args.end()}, std::cout, std::cerr);
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&](const std::string& flag) -> std::string {

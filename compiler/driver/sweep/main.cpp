@@ -1,0 +1,203 @@
+// `plant sweep SPEC`: the command line, the checks before any run, and the local driver
+// (-j N children at a time). Under mpirun it hands over to plant-sweep-mpi.
+#include "sweep.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+#include <unistd.h>
+
+namespace plant::sweep {
+
+const char* kSweepHelp = R"(usage: plant sweep SPEC [options]
+       mpirun -n N plant sweep SPEC [options]
+
+Runs the plant a sweep spec names once per combination of parameter values and
+replicate, each run a child process (`plant run ... --quiet`), and writes, in --out:
+  results.csv   a row per run: run, replicate, the values, the outputs, status,
+                message, wall_s (rows appended as runs finish; sorted by run at the end)
+  summary.md    a row per combination: the outputs' means over the replicates
+  plot.gp, plot.dat, plot.svg
+                one output over one or two varied parameters (gnuplot)
+Every parameter name, value and unit is checked before the first run. A run that
+fails (compile error, crash, time-out, NaN) is a row with its status; the sweep goes on.
+
+  -j N          runs at a time (default: one per core); the results do not depend on it
+  --out DIR     where the files go (default: sweep-NAME for SPEC NAME.sweep)
+  --for TIME    simulated time per run, instead of the spec's (e.g. 5s)
+  --timeout T   wall time per run before it is stopped (default: the spec's, else 600 s)
+  --resume      keep the rows already in DIR/results.csv and run only the rest
+                (runs marked lost, killed from outside, run again)
+  --stdlib DIR  where `import std.x` looks
+Under mpirun (Open MPI), rank 0 hands runs out to the other ranks and writes the files.
+The spec format and a worked example: docs/sweeps.md.
+)";
+
+namespace {
+
+std::string self_exe() {
+    std::error_code ec;
+    const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string() : p.string();
+}
+
+}  // namespace
+
+int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& err) {
+    auto bad = [&](const std::string& m) {
+        fmt::print(err, "plant sweep: error: {}\n(see `plant sweep --help`)\n", m);
+        return 2;
+    };
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&](std::string& v) {
+            if (i + 1 >= args.size()) return false;
+            v = args[++i];
+            return true;
+        };
+        std::string v;
+        if (a == "-j" || a == "--jobs") {
+            if (!value(v)) return bad(a + " needs a number");
+            char* end = nullptr;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end || n < 1 || n > 1024) return bad("-j: '" + v + "' is not a number from 1 to 1024");
+            o.jobs = int(n);
+        } else if (a.size() > 2 && a.rfind("-j", 0) == 0 && a[2] != '-') {
+            char* end = nullptr;
+            const long n = std::strtol(a.c_str() + 2, &end, 10);
+            if (*end || n < 1 || n > 1024) return bad("-j: '" + a.substr(2) + "' is not a number from 1 to 1024");
+            o.jobs = int(n);
+        } else if (a == "--out") {
+            if (!value(o.out_dir)) return bad("--out needs a DIR");
+        } else if (a == "--for") {
+            double s = 0;
+            if (!value(o.run_for) || !parse_seconds(o.run_for, s))
+                return bad("--for needs a time (s, ms, min, h), e.g. --for 5s");
+        } else if (a == "--timeout") {
+            if (!value(v) || !parse_seconds(v, o.timeout)) return bad("--timeout needs a time, e.g. --timeout 60s");
+        } else if (a == "--stdlib") {
+            if (!value(o.stdlib)) return bad("--stdlib needs a DIR");
+        } else if (a == "--resume") {
+            o.resume = true;
+        } else if (!a.empty() && a[0] == '-') {
+            return bad("unknown option '" + a + "'");
+        } else if (o.spec_path.empty()) {
+            o.spec_path = a;
+        } else {
+            return bad("sweep takes one SPEC");
+        }
+    }
+    if (o.spec_path.empty()) return bad("sweep needs a SPEC file");
+    return 0;
+}
+
+int prepare(const Options& o, Prepared& p, std::ostream& err) {
+    std::vector<SpecError> errors;
+    if (!load_spec(o.spec_path, p.spec, errors) || !check_spec(p.spec, o.stdlib, errors)) {
+        err << render_errors(o.spec_path, errors);
+        fmt::print(err, "plant sweep: {} error{} in the spec; no run started\n", errors.size(),
+                   errors.size() == 1 ? "" : "s");
+        return 1;
+    }
+    if (!o.run_for.empty()) p.spec.run_for = o.run_for;
+    if (o.timeout > 0) p.spec.timeout = o.timeout;
+    p.runs = expand(p.spec);
+    namespace fs = std::filesystem;
+    std::string dir = o.out_dir;
+    if (dir.empty()) dir = "sweep-" + fs::path(o.spec_path).stem().string();
+    std::error_code ec;
+    fs::create_directories(fs::path(dir) / "work", ec);
+    if (ec) {
+        fmt::print(err, "plant sweep: error: cannot create '{}': {}\n", dir, ec.message());
+        return 2;
+    }
+    p.csv_path = dir + "/results.csv";
+    if (fs::exists(p.csv_path) && !o.resume) {
+        fmt::print(err, "plant sweep: error: {} exists: --resume to complete it, or another --out\n", p.csv_path);
+        return 2;
+    }
+    std::map<int, std::string> rows, status;
+    std::string error;
+    if (!read_csv(p.csv_path, p.spec, rows, status, error)) {
+        fmt::print(err, "plant sweep: error: {}\n", error);
+        return 2;
+    }
+    for (const auto& [i, row] : rows)
+        if (i >= 0 && size_t(i) < p.runs.size() && is_final(status[i])) p.rows[i] = row;
+    // Start the file again with the kept rows: a lost run's old row must not stay beside its new one.
+    std::string text = csv_header(p.spec) + "\n";
+    for (const auto& [i, row] : p.rows) text += row + "\n";
+    if (!append_row(p.csv_path + ".tmp", text.substr(0, text.size() - 1)) ||
+        std::rename((p.csv_path + ".tmp").c_str(), p.csv_path.c_str()) != 0) {
+        fmt::print(err, "plant sweep: error: cannot write {}\n", p.csv_path);
+        return 2;
+    }
+    return 0;
+}
+
+int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    for (const std::string& a : args)
+        if (a == "-h" || a == "--help") return out << kSweepHelp, 0;
+    // Under mpirun: the MPI driver, a separate binary so that `plant` does not link libmpi.
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_RANK")) {
+        const std::string mpi = (std::filesystem::path(self_exe()).parent_path() / "plant-sweep-mpi").string();
+        std::vector<std::string> argv = {mpi};
+        argv.insert(argv.end(), args.begin(), args.end());
+        std::vector<char*> cargv;
+        for (std::string& a : argv) cargv.push_back(a.data());
+        cargv.push_back(nullptr);
+        ::execv(mpi.c_str(), cargv.data());
+        fmt::print(err, "plant sweep: error: under mpirun, but cannot run {} (built with Open MPI only)\n", mpi);
+        return 2;
+    }
+    Options o;
+    if (const int code = parse_options(args, o, err)) return code;
+    Prepared p;
+    if (const int code = prepare(o, p, err)) return code;
+    const std::string dir = std::filesystem::path(p.csv_path).parent_path().string();
+    const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+    Exec ex{self_exe(), dir + "/work", p.spec.run_for, p.spec.timeout};
+    Pool pool(p.spec, ex);
+    size_t next = 0, done = p.rows.size(), failed = 0;
+    const size_t total = p.runs.size();
+    fmt::print(err, "plant sweep: {} runs ({} done already), {} at a time\n", total, done, jobs);
+    auto skip = [&] {
+        while (next < total && p.rows.count(int(next))) ++next;
+    };
+    skip();
+    while (next < total || pool.busy() > 0) {
+        while (next < total && pool.busy() < size_t(jobs)) {
+            std::string error;
+            if (!pool.start(p.runs[next], error)) {
+                fmt::print(err, "plant sweep: error: {}\n", error);
+                return 1;
+            }
+            ++next;
+            skip();
+        }
+        const Result r = pool.wait_any();
+        const std::string row = csv_row(p.spec, p.runs[size_t(r.index)], r);
+        if (!append_row(p.csv_path, row)) {
+            fmt::print(err, "plant sweep: error: cannot write {}\n", p.csv_path);
+            return 1;
+        }
+        p.rows[r.index] = row;
+        ++done;
+        if (r.status != "ok") {
+            ++failed;
+            fmt::print(err, "plant sweep: run {}: {}: {}\n", r.index, r.status, r.message);
+        }
+    }
+    std::error_code ec;
+    std::filesystem::remove(dir + "/work", ec);
+    if (!finish_outputs(p.spec, dir, p.rows, err)) return 1;
+    fmt::print(out, "{} runs, {} not ok; {}/results.csv, summary.md{}\n", total, failed, dir,
+               p.spec.params.size() >= 1 && p.spec.params.size() <= 2 ? ", plot.svg" : "");
+    return 0;
+}
+
+}  // namespace plant::sweep

@@ -1,0 +1,227 @@
+// Runs as child processes: `plant run PLANT --set ... --for T --quiet`, stdout and stderr
+// to files in the work folder, read back into a Result when the child ends.
+#include "sweep.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace plant::sweep {
+
+namespace {
+
+double now() {
+    using namespace std::chrono;
+    return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+std::string trim(std::string s) {
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\n' || s.back() == '\r')) s.pop_back();
+    size_t i = 0;
+    while (i < s.size() && s[i] == ' ') ++i;
+    return s.substr(i);
+}
+
+// The last line of stderr that says something (a run's error), without the caret lines.
+std::string last_error(const std::string& err) {
+    std::istringstream in(err);
+    std::string best, line;
+    while (std::getline(in, line)) {
+        line = trim(line);
+        if (line.find("error") != std::string::npos) return line;
+        if (!line.empty() && line[0] != '|' && line[0] != '^') best = line;
+    }
+    return best;
+}
+
+std::string out_path(const std::string& dir, int index, const char* ext) {
+    return fmt::format("{}/run-{}.{}", dir, index, ext);
+}
+
+}  // namespace
+
+bool parse_summary(const std::string& text, Summary& s) {
+    std::istringstream in(text);
+    std::string line;
+    bool records = false, any = false;
+    auto after = [&](const std::string& l, const char* key, const char* name) {
+        if (l.rfind(key, 0) != 0) return false;
+        s.counters[name] = std::strtod(l.c_str() + std::strlen(key), nullptr);
+        any = true;
+        return true;
+    };
+    while (std::getline(in, line)) {
+        if (line.rfind("records:", 0) == 0) {
+            records = true;
+            continue;
+        }
+        if (line.rfind("warnings:", 0) == 0) records = false;
+        if (line.find("objects with a NaN state") != std::string::npos) s.nan = true;
+        if (records && line.rfind("  ", 0) == 0) {
+            const std::string l = trim(line);
+            const size_t ev = l.find(" events (");
+            if (ev != std::string::npos) {
+                const size_t sp = l.rfind(' ', ev - 1);
+                const std::string name = trim(l.substr(0, sp));
+                s.totals[name] = std::strtod(l.c_str() + sp + 1, nullptr);
+                s.rates[name] = std::strtod(l.c_str() + ev + 9, nullptr);
+            } else {
+                std::string body = l;
+                if (body.size() > 6 && body.substr(body.size() - 6) == " (sum)") body.resize(body.size() - 6);
+                const size_t sp = body.rfind(' ');
+                if (sp == std::string::npos) continue;
+                s.totals[trim(body.substr(0, sp))] = std::strtod(body.c_str() + sp + 1, nullptr);
+            }
+            continue;
+        }
+        records = false;
+        const std::string l = trim(line);
+        after(l, "real-time factor:", "rtf") || after(l, "issued by sources:", "issued") ||
+            after(l, "taken by exits:", "commissioned") || after(l, "on the line:", "on_line") ||
+            after(l, "lost (left the world):", "lost") || after(l, "stalled over 30 s:", "stalled");
+        if (l.rfind("simulated time:", 0) == 0) any = true;
+    }
+    return any;
+}
+
+Pool::~Pool() {
+    for (const Child& c : children_) {
+        ::kill(c.pid, SIGKILL);
+        ::waitpid(c.pid, nullptr, 0);
+    }
+}
+
+bool Pool::start(const Run& run, std::string& error) {
+    std::vector<std::string> args = {exec_.plant_exe, "run", spec_.plant};
+    for (const std::string& s : run.sets) {
+        args.push_back("--set");
+        args.push_back(s);
+    }
+    args.insert(args.end(), {"--for", exec_.run_for, "--quiet", "--threads", "1"});
+    const std::string out = out_path(exec_.work_dir, run.index, "out");
+    const std::string err = out_path(exec_.work_dir, run.index, "err");
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        error = std::string("fork: ") + std::strerror(errno);
+        return false;
+    }
+    if (pid == 0) {
+        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (o < 0 || e < 0) ::_exit(126);
+        ::dup2(o, 1);
+        ::dup2(e, 2);
+        std::vector<char*> argv;
+        for (std::string& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        ::execv(argv[0], argv.data());
+        ::_exit(127);
+    }
+    children_.push_back({int(pid), run.index, now(), false});
+    return true;
+}
+
+bool Pool::poll(Result& r) {
+    for (;;) {
+        int status = 0;
+        const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+        if (pid <= 0) break;
+        for (size_t i = 0; i < children_.size(); ++i) {
+            if (children_[i].pid != pid) continue;
+            const Child c = children_[i];
+            children_.erase(children_.begin() + long(i));
+            r = finish(c, status);
+            return true;
+        }
+    }
+    const double t = now();
+    for (Child& c : children_)
+        if (!c.timed_out && t - c.started > exec_.timeout) {
+            c.timed_out = true;
+            ::kill(c.pid, SIGKILL);
+        }
+    return false;
+}
+
+Result Pool::wait_any() {
+    Result r;
+    while (!poll(r)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return r;
+}
+
+Result Pool::finish(const Child& c, int status) {
+    Result r;
+    r.index = c.index;
+    r.wall = now() - c.started;
+    const std::string out_file = out_path(exec_.work_dir, c.index, "out");
+    const std::string err_file = out_path(exec_.work_dir, c.index, "err");
+    const std::string out = slurp(out_file), err = slurp(err_file);
+    std::remove(out_file.c_str());
+    std::remove(err_file.c_str());
+    r.outputs.assign(spec_.outputs.size(), "");
+    if (c.timed_out) {
+        r.status = "timeout";
+        r.message = fmt::format("no result after {:g} s of wall time", exec_.timeout);
+        return r;
+    }
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        // SIGKILL from outside (the OOM killer, an operator, a batch system): run it again on --resume.
+        r.status = sig == SIGKILL || sig == SIGTERM ? "lost" : "crashed";
+        r.message = fmt::format("killed by signal {} ({})", sig, strsignal(sig));
+        return r;
+    }
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code == 127 || code == 126) {
+        // exec failed (the binary replaced or gone mid-sweep): the run never started; run it again.
+        r.status = "lost";
+        r.message = code == 127 ? "cannot run " + exec_.plant_exe : "cannot write " + out_file;
+        return r;
+    }
+    if (code != 0) {
+        r.status = code == 1 && err.find("error[E") != std::string::npos ? "compile_error" : "failed";
+        r.message = last_error(err);
+        if (r.message.empty()) r.message = fmt::format("exit code {}", code);
+        return r;
+    }
+    Summary s;
+    if (!parse_summary(out, s)) {
+        r.status = "failed";
+        r.message = "no summary on stdout";
+        return r;
+    }
+    r.status = s.nan ? "nan" : "ok";
+    if (s.nan) r.message = "an object's state became NaN";
+    for (size_t k = 0; k < spec_.outputs.size(); ++k) {
+        const Output& o = spec_.outputs[k];
+        const auto& m = o.kind == Output::Counter ? s.counters : o.kind == Output::Total ? s.totals : s.rates;
+        const auto it = m.find(o.name);
+        if (it == m.end()) continue;
+        if (!std::isfinite(it->second)) {
+            r.status = "nan";
+            r.message = o.column() + " is not a number";
+        }
+        r.outputs[k] = fmt::format("{:g}", it->second);
+    }
+    return r;
+}
+
+}  // namespace plant::sweep

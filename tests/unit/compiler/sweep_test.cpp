@@ -1,0 +1,183 @@
+// plant sweep: the spec reader's values and located errors, the checks against the plant,
+// the order of runs, and the reading of `plant run`'s summary.
+#include "driver/sweep/sweep.h"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace plant::sweep;
+
+namespace {
+
+// A spec file beside the bottling plant's folder (so `plant: ../bottling.plant` resolves).
+struct SpecFile {
+    std::string path;
+    explicit SpecFile(const std::string& text) {
+        path = std::string(PLANT_SOURCE_DIR) + "/plants/sweeps/unit-test-" + std::to_string(::getpid()) + ".sweep";
+        std::ofstream(path) << text;
+    }
+    ~SpecFile() { std::filesystem::remove(path); }
+};
+
+std::vector<SpecError> errors_of(const std::string& text, bool check = false) {
+    SpecFile f(text);
+    Spec s;
+    std::vector<SpecError> e;
+    if (load_spec(f.path, s, e) && check) check_spec(s, PLANT_STDLIB_DIR, e);
+    return e;
+}
+
+}  // namespace
+
+TEST_CASE("sweep spec: lists, ranges with a step and seeded random samples") {
+    SpecFile f("plant: ../bottling.plant\nfor: 5 s\nvary:\n  feed_every: {from: 1000 ms, to: 2000 ms, step: 250 ms}\n"
+               "  belt_speed: [40 cm/s, 0.5 m/s]\n  bottles: {random: 3, from: 10, to: 20, seed: 7}\nreplicates: 2\n");
+    Spec s;
+    std::vector<SpecError> e;
+    REQUIRE(load_spec(f.path, s, e));
+    REQUIRE(s.params.size() == 3);
+    CHECK(s.run_for == "5 s");
+    REQUIRE(s.params[0].values.size() == 5);
+    CHECK(s.params[0].values[0].text == "1000 ms");
+    CHECK(s.params[0].values[4].text == "2000 ms");
+    CHECK(s.params[1].values[1].text == "0.5 m/s");
+    REQUIRE(s.params[2].values.size() == 3);
+    Spec again;
+    REQUIRE(load_spec(f.path, again, e));
+    for (size_t i = 0; i < 3; ++i) {
+        CHECK(s.params[2].values[i].text == again.params[2].values[i].text);  // the seed decides
+        const double v = std::stod(s.params[2].values[i].text);
+        CHECK(v >= 10);
+        CHECK(v < 20);
+    }
+    CHECK(s.params[2].values[0].text != s.params[2].values[1].text);
+    // Default outputs: the summary's counters.
+    REQUIRE(s.outputs.size() == 5);
+    CHECK(s.outputs[1].column() == "commissioned");
+    // 5 x 2 x 3 combinations, 2 replicates each, the first parameter slowest, replicates innermost.
+    const auto runs = expand(s);
+    REQUIRE(runs.size() == 60);
+    CHECK(runs[0].replicate == 0);
+    CHECK(runs[1].replicate == 1);
+    CHECK(runs[1].values == runs[0].values);
+    CHECK(runs[2].values[2] != runs[0].values[2]);
+    CHECK(runs[59].values[0] == "2000 ms");
+    CHECK(runs[59].sets[0] == "feed_every=2000 ms");
+    CHECK(runs[59].index == 59);
+}
+
+TEST_CASE("sweep spec: a replicate perturbs one varied parameter by a step") {
+    SpecFile f("plant: ../bottling.plant\nvary:\n  feed_every: [1000 ms]\nreplicates: {count: 3, perturb: feed_every, by: 10 ms}\n");
+    Spec s;
+    std::vector<SpecError> e;
+    REQUIRE(load_spec(f.path, s, e));
+    REQUIRE(check_spec(s, PLANT_STDLIB_DIR, e));
+    const auto runs = expand(s);
+    REQUIRE(runs.size() == 3);
+    CHECK(runs[0].sets[0] == "feed_every=1000 ms");
+    CHECK(runs[2].sets[0] == "feed_every=(1000 ms) + 2 * (10 ms)");
+    CHECK(runs[2].values[0] == "1000 ms");
+}
+
+TEST_CASE("sweep spec: errors point at the line and column") {
+    auto e = errors_of("plant: ../bottling.plant\nvary:\n  feed_every: {from: 3 s, to: 1 s, step: 1 s}\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 3);
+    CHECK(e[0].loc.col == 15);
+    CHECK(e[0].message.find("empty range") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nvary:\n  feed_every: {from: 1 s, to: 3000 ms, step: 1 s}\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("one unit") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nvary:\n  feed_every: []\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("empty list") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nvary:\n  feed_every: {from: 1 s, to: 2 s, random: 3}\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("need a seed") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nfor: 5 furlongs\nspeed: 3\n");
+    REQUIRE(e.size() == 2);
+    CHECK(e[0].loc.line == 3);  // unknown keys first, then each key's own checks
+    CHECK(e[0].message.find("unknown key 'speed'") != std::string::npos);
+    CHECK(e[1].loc.line == 2);
+    CHECK(e[1].loc.col == 6);
+
+    e = errors_of("plant: ../bottling.plant\noutputs: [issued, throughput]\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.col == 19);
+
+    e = errors_of("plant: nowhere.plant\n");
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("no plant file") != std::string::npos);
+
+    e = errors_of("plant: [unclosed\n");  // YAML's own syntax error, with its place
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line >= 1);
+}
+
+TEST_CASE("sweep check: names, units and records against the plant") {
+    auto e = errors_of("plant: ../bottling.plant\nvary:\n  feed_evry: [1 s]\n", true);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 3);
+    CHECK(e[0].loc.col == 3);
+    CHECK(e[0].message.find("no parameter 'feed_evry'") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nvary:\n  belt_speed: [40 cm/s, 40 kg]\n", true);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.col == 25);
+    CHECK(e[0].message.find("E0203") != std::string::npos);
+
+    // A good value the plant refuses elsewhere (a loop over the limit) is the run's failure,
+    // not the spec's; a value that breaks the parameter's own constraint is the spec's.
+    e = errors_of("plant: ../bottling.plant\nvary:\n  lines: [3000000, 1]\n", true);
+    CHECK(e.empty());
+    e = errors_of("plant: ../bottling.plant\nvary:\n  bottles: [0, 4]\n", true);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("E0314") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\noutputs: [{rate: filled}, {total: flled}]\n", true);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].message.find("records nothing as 'flled'") != std::string::npos);
+
+    e = errors_of("plant: ../bottling.plant\nvary:\n  bottles: [4]\nreplicates: {count: 2, perturb: bottles, by: 1 s}\n", true);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 4);
+}
+
+TEST_CASE("sweep: the summary of plant run, counters and records") {
+    const std::string text = "simulated time:   10 s\nsteps:            1500 at 150 Hz\nwall time:        0.5 s\n"
+                             "real-time factor: 20.0\nobjects:\n  issued by sources:     5\n  taken by exits:        2\n"
+                             "  on the line:           3\n  lost (left the world): 1 (line[0].b)\n"
+                             "  stalled over 30 s:     0\nrecords:\n  issued          5 events (30.0 per minute)\n"
+                             "  commissioned A  2 events (12.0 per minute)\n  level           0.25 (sum)\n"
+                             "warnings:         1\n  objects with a NaN state: 1\n";
+    Summary s;
+    REQUIRE(parse_summary(text, s));
+    CHECK(s.counters["issued"] == 5);
+    CHECK(s.counters["commissioned"] == 2);
+    CHECK(s.counters["on_line"] == 3);
+    CHECK(s.counters["lost"] == 1);
+    CHECK(s.counters["stalled"] == 0);
+    CHECK(s.counters["rtf"] == 20);
+    CHECK(s.totals["commissioned A"] == 2);
+    CHECK(s.rates["commissioned A"] == 12);
+    CHECK(s.totals["issued"] == 5);
+    CHECK(s.totals["level"] == 0.25);
+    CHECK(s.nan);
+    Summary none;
+    CHECK_FALSE(parse_summary("plant run: error: unknown flag\n", none));
+}
+
+TEST_CASE("sweep: --resume keeps finished rows and runs lost ones again") {
+    CHECK(is_final("ok"));
+    CHECK(is_final("compile_error"));
+    CHECK(is_final("timeout"));
+    CHECK_FALSE(is_final("lost"));
+    CHECK_FALSE(is_final(""));
+}
