@@ -9,6 +9,7 @@ PACKAGES=(
   libantlr4-runtime-dev antlr4 default-jre-headless uuid-dev
   graphviz gnuplot-nox
   libboost-dev chromium
+  neovim
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.
@@ -30,7 +31,13 @@ viewer_packages() {
     echo "setup: npm ci in viewer/"
     (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
   fi
-}
+  # The same for the VS Code extension (editors/vscode: its client, the grammar test, vsce).
+  dir="$(dirname "$0")/../editors/vscode"
+  if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+     [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+    echo "setup: npm ci in editors/vscode/"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages are installed"

@@ -4,6 +4,7 @@
 #include "compiler.h"
 #include "dot/dot.h"
 #include "graph/text.h"
+#include "lsp/lsp.h"
 
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
@@ -35,6 +36,7 @@ commands:
   graph FILE            print the data-flow network and Petri nets as Graphviz DOT
   info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
+  lsp                   a language server (LSP) on stdin/stdout for editors; docs/editors.md
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
                         controls, inspector); `plant serve --help`
 
@@ -364,6 +366,11 @@ int main(int argc, char** argv) {
         return 0;
     }
     o.command = args[0];
+    if (o.command == "lsp") {  // a language server on stdin/stdout: docs/editors.md
+        std::ios::sync_with_stdio(false);
+        return plant::lsp::serve(std::cin, std::cout, args.size() > 2 && args[1] == "--stdlib" ? args[2]
+                                                                                            : plant::default_stdlib_dir());
+    }
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&](const std::string& flag) -> std::string {

@@ -24,7 +24,8 @@ bool read_file(const fs::path& p, std::string& out) {
 
 class Loader {
 public:
-    Loader(std::string stdlib, SourceMap& sm, Sink& sink) : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink) {}
+    Loader(std::string stdlib, SourceMap& sm, Sink& sink, const Overlay* overlay)
+        : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink), overlay_(overlay) {}
 
     // Returns the module index, or -1 when it could not be loaded (already reported).
     int load(const fs::path& disk, const std::string& display, Span import_span) {
@@ -42,7 +43,9 @@ public:
             return -1;
         }
         std::string text;
-        if (!read_file(disk, text) || fs::is_directory(disk, ec)) {
+        const auto buffer = overlay_ ? overlay_->find(key) : Overlay::const_iterator{};
+        if (overlay_ && buffer != overlay_->end()) text = buffer->second;
+        else if (!read_file(disk, text) || fs::is_directory(disk, ec)) {
             if (import_span.valid() && fs::exists(disk, ec))  // there, but a folder or unreadable
                 sink_.report(DiagId::FileUnreadable, import_span,
                              fmt::format("cannot read module file '{}'{}", display,
@@ -95,6 +98,7 @@ private:
     std::string stdlib_;
     SourceMap& sm_;
     Sink& sink_;
+    const Overlay* overlay_;
     Program program_;
     std::map<std::string, int> done_;
     std::vector<Open> stack_;
@@ -103,8 +107,8 @@ private:
 }  // namespace
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink) {
-    Loader loader(stdlib_dir, sources, sink);
+                     Sink& sink, const Overlay* overlay) {
+    Loader loader(stdlib_dir, sources, sink, overlay);
     fs::path p(root_path);
     int root = loader.load(p, p.lexically_normal().generic_string(), {});
     Program prog = loader.take();

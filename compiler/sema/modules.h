@@ -6,6 +6,7 @@
 #include "ast/ast.h"
 #include "diag/diagnostic.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,10 @@ struct Program {
     std::vector<ast::Arg> overrides;    // `--set NAME=VALUE`: arguments for the root file's plant
 };
 
+// Unsaved editor buffers by canonical path: a file found here is read from here, not from disk.
+using Overlay = std::map<std::string, std::string>;
+
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink);
+                     Sink& sink, const Overlay* overlay = nullptr);
 
 }  // namespace plant::sema
