@@ -17,6 +17,7 @@ struct CompileOptions {
     // `--set NAME=VALUE`, in order: values for the plant's parameters. Each is parsed as
     // a source of its own named "--set", so its diagnostics have a line and column.
     std::vector<std::string> overrides;
+    const sema::Overlay* overlay = nullptr;  // unsaved editor buffers (plant lsp)
 };
 
 struct Compilation {

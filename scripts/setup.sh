@@ -10,6 +10,7 @@ PACKAGES=(
   graphviz gnuplot-nox
   libboost-dev chromium
   libyaml-cpp-dev openmpi-bin libopenmpi-dev
+  neovim
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.
@@ -29,6 +30,13 @@ viewer_packages() {
   if [ -f "$dir/package-lock.json" ] && { [ ! -f "$dir/node_modules/.package-lock.json" ] ||
        [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; }; then
     echo "setup: npm ci in viewer/"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+  # The same for the VS Code extension (editors/vscode: its client, the grammar test, vsce).
+  dir="$(dirname "$0")/../editors/vscode"
+  if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+     [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+    echo "setup: npm ci in editors/vscode/"
     (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
   fi
 }

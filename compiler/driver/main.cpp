@@ -5,6 +5,7 @@
 #include "dot/dot.h"
 #include "graph/text.h"
 #include "driver/sweep/sweep.h"
+#include "lsp/lsp.h"
 
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
@@ -37,6 +38,7 @@ commands:
                         in full, with its slots, flows and Petri nets)
   info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
+  lsp                   a language server (LSP) on stdin/stdout for editors; docs/editors.md
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
                         controls, inspector); `plant serve --help`
   sweep SPEC            many runs of a plant over parameter values, -j N or under mpirun;
@@ -401,6 +403,11 @@ int run_command(int argc, char** argv) {
     o.command = args[0];
     // `plant sweep` has options of its own (compiler/driver/sweep).
     if (o.command == "sweep") return plant::sweep::sweep_main({args.begin() + 1, args.end()}, std::cout, std::cerr);
+    if (o.command == "lsp") {  // a language server on stdin/stdout: docs/editors.md
+        std::ios::sync_with_stdio(false);
+        return plant::lsp::serve(std::cin, std::cout, args.size() > 2 && args[1] == "--stdlib" ? args[2]
+                                                                                            : plant::default_stdlib_dir());
+    }
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&](const std::string& flag) -> std::string {

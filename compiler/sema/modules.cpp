@@ -69,7 +69,8 @@ size_t invalid_utf8(std::string_view s) {
 
 class Loader {
 public:
-    Loader(std::string stdlib, SourceMap& sm, Sink& sink) : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink) {}
+    Loader(std::string stdlib, SourceMap& sm, Sink& sink, const Overlay* overlay)
+        : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink), overlay_(overlay) {}
 
     // Returns the module index, or -1 when it could not be loaded (already reported).
     int load(const fs::path& disk, const std::string& display, Span import_span) {
@@ -87,7 +88,9 @@ public:
             return -1;
         }
         std::string text, why;
-        if (!read_file(disk, text, why)) {
+        const auto buffer = overlay_ ? overlay_->find(key) : Overlay::const_iterator{};
+        if (overlay_ && buffer != overlay_->end()) text = buffer->second;
+        else if (!read_file(disk, text, why)) {
             if (import_span.valid() && fs::exists(disk, ec))  // there, but a folder or unreadable
                 sink_.report(DiagId::FileUnreadable, import_span,
                              fmt::format("cannot read module file '{}'{}", display, why));
@@ -149,6 +152,7 @@ private:
     std::string stdlib_;
     SourceMap& sm_;
     Sink& sink_;
+    const Overlay* overlay_;
     Program program_;
     std::map<std::string, int> done_;
     std::vector<Open> stack_;
@@ -157,8 +161,8 @@ private:
 }  // namespace
 
 static Program load_program_files(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink) {
-    Loader loader(stdlib_dir, sources, sink);
+                                  Sink& sink, const Overlay* overlay) {
+    Loader loader(stdlib_dir, sources, sink, overlay);
     fs::path p(root_path);
     int root = loader.load(p, p.lexically_normal().generic_string(), {});
     Program prog = loader.take();
@@ -167,8 +171,8 @@ static Program load_program_files(const std::string& root_path, const std::strin
 }
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink) {
-    Program p = load_program_files(root_path, stdlib_dir, sources, sink);
+                     Sink& sink, const Overlay* overlay) {
+    Program p = load_program_files(root_path, stdlib_dir, sources, sink, overlay);
     p.stdlib_dir = stdlib_dir;
     return p;
 }

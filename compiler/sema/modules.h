@@ -6,6 +6,7 @@
 #include "ast/ast.h"
 #include "diag/diagnostic.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,8 +28,10 @@ struct Program {
 // The standard-library module that declares object type `name` ("std.separator"), or ""
 // (the stdlib's files read as text: for "add `import std.x`" on an unknown type).
 std::string stdlib_module_declaring(const std::string& stdlib_dir, const std::string& name);
+// Unsaved editor buffers by canonical path: a file found here is read from here, not from disk.
+using Overlay = std::map<std::string, std::string>;
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink);
+                     Sink& sink, const Overlay* overlay = nullptr);
 
 }  // namespace plant::sema

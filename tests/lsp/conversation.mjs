@@ -1,0 +1,142 @@
+// A scripted conversation with `plant lsp` as a child process (JSON-RPC over stdio):
+// open the bottling plant, misspell a slot and get its diagnostic (range and code), fix
+// it and get an empty list, hover a belt's `speed`, go from a Switch instance to
+// stdlib/switch.plant, complete after `s1.`; then bad input: malformed JSON, an unknown
+// method, an unknown document. Usage: node conversation.mjs PLANT REPO_DIR
+import { spawn } from 'node:child_process';
+import { readFileSync, realpathSync } from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const [plant, repo] = process.argv.slice(2);
+const file = realpathSync(path.join(repo, 'plants/bottling.plant'));
+const uri = pathToFileURL(file).href;
+const text = readFileSync(file, 'utf8');
+const lines = text.split('\n');
+
+let failures = 0;
+function check(ok, what, detail) {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${ok ? '' : ': ' + JSON.stringify(detail)}`);
+  if (!ok) failures++;
+}
+
+const child = spawn(plant, ['lsp', '--stdlib', path.join(repo, 'stdlib')], { stdio: ['pipe', 'pipe', 'inherit'] });
+let buffer = Buffer.alloc(0);
+const messages = [];
+let waiters = [];
+child.stdout.on('data', (chunk) => {
+  buffer = Buffer.concat([buffer, chunk]);
+  for (;;) {
+    const head = buffer.indexOf('\r\n\r\n');
+    if (head < 0) return;
+    const header = buffer.subarray(0, head).toString();
+    const m = /^Content-Length: (\d+)$/m.exec(header);
+    if (!m) { check(false, 'every message has a Content-Length header', header); process.exit(1); }
+    const length = Number(m[1]);
+    if (buffer.length < head + 4 + length) return;
+    const body = buffer.subarray(head + 4, head + 4 + length).toString();
+    buffer = buffer.subarray(head + 4 + length);
+    messages.push(JSON.parse(body));  // anything but JSON on stdout fails here
+    waiters.forEach((w) => w());
+  }
+});
+
+function send(msg) {
+  const body = typeof msg === 'string' ? msg : JSON.stringify({ jsonrpc: '2.0', ...msg });
+  child.stdin.write(`Content-Length: ${Buffer.byteLength(body)}\r\n\r\n${body}`);
+}
+// Waits (at most 20 s) for the first unread message that `pred` accepts.
+function next(pred) {
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error('timed out waiting for a message')), 20000);
+    const look = () => {
+      const i = messages.findIndex(pred);
+      if (i < 0) return;
+      const [m] = messages.splice(i, 1);
+      clearTimeout(timer);
+      waiters = waiters.filter((w) => w !== look);
+      resolve(m);
+    };
+    waiters.push(look);
+    look();
+  });
+}
+let nextId = 1;
+async function request(method, params) {
+  const id = nextId++;
+  send({ id, method, params });
+  return next((m) => m.id === id);
+}
+const diagnosticsFor = (u) => next((m) => m.method === 'textDocument/publishDiagnostics' && m.params.uri === u);
+
+try {
+  const init = await request('initialize', { processId: null, rootUri: null, capabilities: {} });
+  check(init.result?.capabilities?.textDocumentSync?.change === 2, 'initialize: incremental sync', init);
+  send({ method: 'initialized', params: {} });
+
+  send({ method: 'textDocument/didOpen', params: { textDocument: { uri, languageId: 'plant', version: 1, text } } });
+  let d = await diagnosticsFor(uri);
+  check(d.params.diagnostics.length === 0, 'the bottling plant opens without diagnostics', d.params);
+
+  // Misspell s1.to_working (an incremental edit deleting one character).
+  const line = lines.findIndex((l) => l.includes('record s1.to_working'));
+  const col = lines[line].indexOf('to_working');
+  const g = col + 'to_workin'.length;
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 2 },
+    contentChanges: [{ range: { start: { line, character: g }, end: { line, character: g + 1 } }, text: '' }] } });
+  d = await diagnosticsFor(uri);
+  const diag = d.params.diagnostics[0];
+  check(d.params.diagnostics.length === 1, 'one diagnostic for the misspelt slot', d.params.diagnostics);
+  check(diag?.code === 'E0101', 'its code is E0101 (no such member)', diag);
+  check(diag?.range?.start?.line === line && diag?.range?.start?.character === col &&
+        diag?.range?.end?.line === line && diag?.range?.end?.character === col + 'to_workin'.length,
+        'its range is the misspelt name', diag?.range);
+  check(diag?.severity === 1 && /to_workin/.test(diag?.message), 'an error naming the slot', diag);
+
+  // Fix it (a full-text change) and get an empty list.
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 3 }, contentChanges: [{ text }] } });
+  d = await diagnosticsFor(uri);
+  check(d.params.diagnostics.length === 0, 'the fix clears the diagnostics', d.params.diagnostics);
+
+  // Hover `speed` in b1: Belt(length = 80 cm, speed = v).
+  const bl = lines.findIndex((l) => /^\s*b1: Belt\(/.test(l));
+  const hover = await request('textDocument/hover', { textDocument: { uri }, position: { line: bl, character: lines[bl].indexOf('speed') + 2 } });
+  const shown = hover.result?.contents?.value ?? '';
+  check(/speed: velocity/.test(shown) && /unit: m\/s/.test(shown), "hover on a belt's speed: type and unit", hover);
+
+  // From an instance of Switch to stdlib/switch.plant.
+  const sl = lines.findIndex((l) => /^\s*s1: RoutedSwitch\(/.test(l));
+  const def = await request('textDocument/definition', { textDocument: { uri }, position: { line: sl, character: lines[sl].indexOf('RoutedSwitch') + 1 } });
+  check(def.result?.uri === pathToFileURL(realpathSync(path.join(repo, 'stdlib/switch.plant'))).href,
+        'definition of RoutedSwitch (a Switch with its control) is in stdlib/switch.plant', def);
+
+  // Complete after `s1.` on a new line at the end of the plant's body (a syntax error while typing).
+  const close = lines.lastIndexOf('}');
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 4 },
+    contentChanges: [{ range: { start: { line: close, character: 0 }, end: { line: close, character: 0 } }, text: '    flow s1.\n' }] } });
+  d = await diagnosticsFor(uri);
+  check(d.params.diagnostics.some((x) => x.code === 'E0001'), 'the half-typed line is a syntax error', d.params.diagnostics);
+  const comp = await request('textDocument/completion', { textDocument: { uri }, position: { line: close, character: '    flow s1.'.length } });
+  const labels = (comp.result ?? []).map((i) => i.label);
+  const ports = [...readFileSync(path.join(repo, 'stdlib/switch.plant'), 'utf8').matchAll(/^\s*(?:in|out) (\w+):/gm)].map((m) => m[1]);
+  check(ports.length > 0 && ports.every((p) => labels.includes(p)), "completion after s1. lists the switch's ports", { labels, ports });
+
+  // Bad input: the server answers and carries on.
+  send('{"jsonrpc": "2.0", "id": 99, "method": ');
+  const bad = await next((m) => m.error && m.id === null);
+  check(bad.error.code === -32700, 'malformed JSON: a parse error response', bad);
+  const unknown = await request('plant/nothing', {});
+  check(unknown.error?.code === -32601, 'unknown method: method not found', unknown);
+  const nodoc = await request('textDocument/hover', { textDocument: { uri: 'file:///nowhere.plant' }, position: { line: 0, character: 0 } });
+  check(nodoc.error?.code === -32602, 'unknown document: invalid params', nodoc);
+
+  const down = await request('shutdown', null);
+  check(down.result === null, 'shutdown', down);
+  send({ method: 'exit' });
+  const code = await new Promise((resolve) => child.on('exit', resolve));
+  check(code === 0, 'exit code 0 after shutdown', code);
+} catch (e) {
+  check(false, 'conversation', String(e));
+  child.kill();
+}
+process.exit(failures ? 1 : 0);
