@@ -111,36 +111,34 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
 
 // Counts of the plant's void records (events per column, several records of one
 // column summed) and the final values of its number records, in declaration order.
+// The `records` section: records grouped by column (several records of one column summed);
+// void columns count events (from the run's RecordTally), numbers show their final value.
 class Tally {
 public:
     explicit Tally(const Graph& g) {
-        for (const Record& rec : g.records) {
+        for (size_t r = 0; r < g.records.size(); ++r) {
+            const Record& rec = g.records[r];
             const SlotType t = g.slots[rec.slot].type;
             if (t != SlotType::Void && t != SlotType::Bool && t != SlotType::Int && t != SlotType::Real) continue;
             const std::string col(g.str(rec.column));
             auto it = std::find_if(cols_.begin(), cols_.end(), [&](const Column& c) { return c.name == col; });
-            if (it == cols_.end()) it = cols_.insert(cols_.end(), Column{col, t == SlotType::Void, {}, 0});
+            if (it == cols_.end()) it = cols_.insert(cols_.end(), Column{col, t == SlotType::Void, {}, {}});
             it->slots.push_back(rec.slot);
+            it->records.push_back(r);
         }
-        for (const Column& c : cols_)
-            if (c.events) events_ = true;
     }
-    void step(const Engine& e) {
-        if (!events_) return;
-        for (Column& c : cols_)
-            if (c.events)
-                for (int32_t x : c.slots) c.count += e.active(x) ? 1 : 0;
-    }
-    void print(const Engine& e, std::ostream& out) const {
+    void print(const Engine& e, const RecordTally& counts, std::ostream& out) const {
         if (cols_.empty()) return;
         size_t width = 0;
         for (const Column& c : cols_) width = std::max(width, c.name.size());
         fmt::print(out, "records:\n");
         for (const Column& c : cols_) {
             if (c.events) {
+                int64_t count = 0;
+                for (size_t r : c.records) count += counts.count(r);
                 const double minutes = e.time() / 60;
-                fmt::print(out, "  {:<{}}  {} events ({:.1f} per minute)\n", c.name, width, c.count,
-                           minutes > 0 ? double(c.count) / minutes : 0.0);
+                fmt::print(out, "  {:<{}}  {} events ({:.1f} per minute)\n", c.name, width, count,
+                           minutes > 0 ? double(count) / minutes : 0.0);
                 continue;
             }
             double sum = 0;
@@ -154,13 +152,34 @@ private:
         std::string name;
         bool events;
         std::vector<int32_t> slots;
-        int64_t count;
+        std::vector<size_t> records;
     };
     std::vector<Column> cols_;
-    bool events_ = false;
 };
 
 }  // namespace
+
+RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {
+    for (size_t r = 0; r < g.records.size(); ++r)
+        if (g.slots[size_t(g.records[r].slot)].type == SlotType::Void) void_records_.push_back(int32_t(r));
+}
+
+void RecordTally::step(const Engine& e) {
+    for (int32_t r : void_records_) count_[size_t(r)] += e.active(g_.records[size_t(r)].slot) ? 1 : 0;
+}
+
+void RecordTally::reset() { std::fill(count_.begin(), count_.end(), 0); }
+
+std::vector<double> RecordTally::values(const Engine& e) const {
+    std::vector<double> v(g_.records.size(), 0);
+    for (size_t r = 0; r < g_.records.size(); ++r) {
+        const int32_t sl = g_.records[r].slot;
+        const SlotType t = g_.slots[size_t(sl)].type;
+        if (t == SlotType::Void) v[r] = double(count_[r]);
+        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(sl)[0];
+    }
+    return v;
+}
 
 MaterialCounts material_counts(const Engine& e) {
     const Graph& g = e.graph();
@@ -203,7 +222,7 @@ void material(const Engine& e, std::ostream& out) {
     fmt::print(out, "  stalled over 30 s:     {}{}\n", m.stalled, m.stalled ? " (" + m.stalled_names + ")" : "");
 }
 
-void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out) {
+void summary(const Engine& e, const Tally& tally, const RecordTally& counts, double wall, std::ostream& out) {
     const Graph& g = e.graph();
     const Warnings& w = e.warnings();
     std::vector<std::string> silent;
@@ -217,7 +236,7 @@ void summary(const Engine& e, const Tally& tally, double wall, std::ostream& out
     fmt::print(out, "wall time:        {:.3f} s\n", wall);
     fmt::print(out, "real-time factor: {:.1f}\n", wall > 0 ? e.time() / wall : 0.0);
     material(e, out);
-    tally.print(e, out);
+    tally.print(e, counts, out);
     fmt::print(out, "warnings:         {}\n", w.total() + int64_t(silent.size()));
     auto line = [&](const char* what, int64_t n) {
         if (n) fmt::print(out, "  {}: {}\n", what, n);
@@ -261,6 +280,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     eo.threads = o.threads;
     Engine e(g, eo);
     Tally tally(g);
+    RecordTally counts(g);
 
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
@@ -292,8 +312,8 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
             if (observer) observer->event(e, o.events[next_event]);
         }
         e.step();
-        if (observer) observer->stepped(e);
-        tally.step(e);
+        counts.step(e);
+        if (observer) observer->stepped(e, counts);
         if (trace && (e.steps() % every == 0 || i + 1 == steps)) trace->row();
         if ((i & 63) != 63 && !o.realtime) continue;
         const double w = wall();
@@ -308,11 +328,11 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
     if (progressed) fmt::print(err, "\n");
     if (trace) trace->flush();
-    if (observer && !observer->finished(e, error)) {
+    if (observer && !observer->finished(e, counts, error)) {
         fmt::print(err, "plant run: error: {}\n", error);
         return 1;
     }
-    summary(e, tally, wall(), out);
+    summary(e, tally, counts, wall(), out);
     return 0;
 }
 

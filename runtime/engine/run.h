@@ -27,16 +27,33 @@
 
 namespace plant::engine {
 
+// Events of the plant's void records so far (one count per record), taken after each step:
+// the summary's `records` section, the viewer's status and recordings read the same counts.
+class RecordTally {
+public:
+    explicit RecordTally(const graph::Graph& g);
+    void step(const Engine& e);
+    void reset();
+    int64_t count(size_t record) const { return count_[record]; }
+    // One number per record: events so far (void) or the value now (bool, int, real; else 0).
+    std::vector<double> values(const Engine& e) const;
+
+private:
+    const graph::Graph& g_;
+    std::vector<int32_t> void_records_;
+    std::vector<int64_t> count_;
+};
+
 // Watches a run step by step (the recorder of `plant run --record`). Called before the
-// first step, for each event as it is applied (before the step it feeds), after each step,
-// and at the end (false with `error` set: the run fails).
+// first step, for each event as it is applied (before the step it feeds), after each step
+// (with the run's record counts), and at the end (false with `error` set: the run fails).
 class RunObserver {
 public:
     virtual ~RunObserver() = default;
     virtual void started(const Engine& e) = 0;
     virtual void event(const Engine& e, const Event& ev) = 0;
-    virtual void stepped(const Engine& e) = 0;
-    virtual bool finished(const Engine& e, std::string& error) = 0;
+    virtual void stepped(const Engine& e, const RecordTally& tally) = 0;
+    virtual bool finished(const Engine& e, const RecordTally& tally, std::string& error) = 0;
 };
 
 int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,

@@ -51,7 +51,9 @@ bool Player::command(Command c) {
 
 void Player::set_inspected(const std::set<std::string>& paths) {
     std::lock_guard lock(m_);
+    if (paths == inspected_) return;
     inspected_ = paths;
+    ++inspected_version_;
 }
 
 std::set<std::string> Player::inspected() const {
@@ -95,7 +97,7 @@ void Player::log(std::string event_json, std::string line) {
     log_.push_back(std::move(event_json));
     lines_.push_back(std::move(line));
     if (log_.size() > kMaxLog) {
-        log_.erase(log_.begin());
+        log_.pop_front();
         ++log_first_;
     }
 }
@@ -140,6 +142,24 @@ void Player::reanchor(double wall_now, double sim_now) {
 
 double Player::paced_target(double wall_now) const { return anchor_sim_ + (wall_now - anchor_wall_) * speed_; }
 
+void Player::command_now(Command& c) {
+    const double now = wall_seconds();
+    switch (c.kind) {
+    case Command::Kind::Pause: paused_ = true; return;
+    case Command::Kind::Run:
+        paused_ = false;
+        before_run();
+        reanchor(now, sim_time());
+        return;
+    case Command::Kind::Step: step_once_ = true; return;
+    case Command::Kind::Speed:
+        speed_ = c.value;
+        reanchor(now, sim_time());
+        return;
+    default: handle(c, now);
+    }
+}
+
 void Player::loop() {
     double last_frame = -1e9, last_status = -1e9;
     publish_frame();
@@ -151,7 +171,7 @@ void Player::loop() {
             std::lock_guard lock(m_);
             cmds.swap(queue_);
         }
-        for (Command& c : cmds) handle(c);
+        for (Command& c : cmds) command_now(c);
         const double now = wall_seconds();
         const bool moved = advance(now);
         const double after = wall_seconds();
@@ -192,31 +212,21 @@ private:
         tally_.reset();
         pending_.clear();
         watched_.clear();
+        watched_version_ = ~uint64_t(0);
         clear_log();
         new_scene(scene_json(g_, dirs_, false, 0));
         wall_started_ = -1;
     }
 
-    void handle(Command& c) override {
-        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-        switch (c.kind) {
-        case Command::Kind::Pause: paused_ = true; break;
-        case Command::Kind::Run:
-            paused_ = false;
-            reanchor(now, engine_->time());
-            break;
-        case Command::Kind::Step: step_once_ = true; break;
-        case Command::Kind::Speed:
-            speed_ = c.value;
-            reanchor(now, engine_->time());
-            break;
-        case Command::Kind::Restart:
+    double sim_time() const override { return engine_->time(); }
+
+    void handle(Command& c, double now) override {
+        if (c.kind == Command::Kind::Restart) {
             restart();
             reanchor(now, 0);
-            break;
-        case Command::Kind::Event: pending_.emplace_back(std::move(c.event), c.client); break;
-        case Command::Kind::Seek: break;  // live runs cannot seek (refused by the server)
-        }
+        } else if (c.kind == Command::Kind::Event) {
+            pending_.emplace_back(std::move(c.event), c.client);
+        }  // Seek: live runs cannot seek (refused by the server)
     }
 
     bool advance(double now) override {
@@ -249,7 +259,10 @@ private:
         return true;
     }
 
+    // Outputs of newly inspected objects are refreshed from now on (watching changes no result).
     void watch_inspected() {
+        if (inspected_version() == watched_version_) return;
+        watched_version_ = inspected_version();
         for (const std::string& p : inspected())
             if (watched_.insert(p).second)
                 for (int32_t sl : object_slots(g_, p)) engine_->watch(sl);
@@ -264,7 +277,7 @@ private:
         StatusExtra x;
         x.paused = paused_;
         x.speed = speed_;
-        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        const double now = wall_seconds();
         x.rtf = wall_started_ >= 0 && now > wall_started_ ? (engine_->time() - sim_started_) / (now - wall_started_) : 0;
         std::map<std::string, std::string> inspect;
         for (const std::string& p : inspected()) inspect[p] = inspect_json(*engine_, p);
@@ -275,9 +288,10 @@ private:
     ModelDirs dirs_;
     std::unique_ptr<engine::Engine> engine_;
     FrameTracker tracker_;
-    RecordTally tally_;
+    engine::RecordTally tally_;
     std::vector<std::pair<engine::Event, int>> pending_;
     std::set<std::string> watched_;
+    uint64_t watched_version_ = ~uint64_t(0);
     double wall_started_ = -1, sim_started_ = 0;
 };
 
@@ -296,7 +310,7 @@ public:
         s["mode"] = "replay";
         s["duration"] = rec_.duration;
         new_scene(s.dump(-1, ' ', false, json::error_handler_t::replace));
-        size_frame();
+        cur_ = Frame::sized(rec_.bodies, rec_.graphics);
         seek(0);
     }
     bool live() const override { return false; }
@@ -304,17 +318,10 @@ public:
 private:
     // A graph with the recording's counts of bodies and graphics, for the tracker.
     const graph::Graph& shape_graph() {
-        const json s = json::parse(rec_.scene, nullptr, false);
-        shape_.bodies.resize(s["bodies"].size());
+        shape_.bodies.resize(rec_.bodies);
         for (auto& b : shape_.bodies) b.mode = graph::BodyMode::Dynamic;
-        shape_.graphics.resize(s["graphics"].size());
+        shape_.graphics.resize(rec_.graphics);
         return shape_;
-    }
-    void size_frame() {
-        cur_.body_pose.assign(7 * shape_.bodies.size(), 0.f);
-        cur_.body_state.assign(shape_.bodies.size(), 0);
-        cur_.gfx_pose.assign(7 * shape_.graphics.size(), 0.f);
-        cur_.gfx_variant.assign(shape_.graphics.size(), -1);
     }
 
     // The state at time t: from the last full frame at or before it, forward.
@@ -342,31 +349,17 @@ private:
         }
     }
 
-    void handle(Command& c) override {
-        const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-        switch (c.kind) {
-        case Command::Kind::Pause: paused_ = true; break;
-        case Command::Kind::Run:
-            paused_ = false;
-            if (time_ >= rec_.duration) seek(0);
-            reanchor(now, time_);
-            break;
-        case Command::Kind::Step: step_once_ = true; break;
-        case Command::Kind::Speed:
-            speed_ = c.value;
-            reanchor(now, time_);
-            break;
-        case Command::Kind::Restart:
-            seek(0);
-            reanchor(now, 0);
-            break;
-        case Command::Kind::Seek:
-            seek(c.value);
+    double sim_time() const override { return time_; }
+    void before_run() override {
+        if (time_ >= rec_.duration) seek(0);
+    }
+
+    void handle(Command& c, double now) override {
+        if (c.kind == Command::Kind::Restart || c.kind == Command::Kind::Seek) {
+            seek(c.kind == Command::Kind::Seek ? c.value : 0);
             reanchor(now, time_);
             moved_ = true;
-            break;
-        case Command::Kind::Event: break;  // refused by the server: a replay is read-only
-        }
+        }  // Event: refused by the server, a replay is read-only
     }
 
     bool advance(double now) override {

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -67,7 +68,11 @@ public:
 
 protected:
     explicit Player(const graph::Graph& g, bool paused, double speed);
-    virtual void handle(Command& c) = 0;  // under no lock, on the player thread
+    // Restart, Event and Seek (the others are the same for every player), on the player
+    // thread, under no lock; `now` is the wall clock.
+    virtual void handle(Command& c, double now) = 0;
+    virtual double sim_time() const = 0;  // where the paced clock stands now
+    virtual void before_run() {}          // a replay at its end starts again
     // Advances towards the paced time; returns false when there was nothing to do.
     virtual bool advance(double wall_now) = 0;
     virtual void publish_frame() = 0;
@@ -81,6 +86,8 @@ protected:
     void clear_log();
     void new_scene(std::string scene);
     std::set<std::string> inspected() const;
+    // Bumped whenever the set changes, so a step can tell without taking the lock.
+    uint64_t inspected_version() const { return inspected_version_.load(); }
 
     const graph::Graph& g_;
     engine::SlotIndex slots_;
@@ -91,14 +98,17 @@ protected:
 
 private:
     void loop();
+    void command_now(Command& c);
     mutable std::mutex m_;
     std::condition_variable cv_;
     std::vector<Command> queue_;
     std::set<std::string> inspected_;
+    std::atomic<uint64_t> inspected_version_{0};
     std::shared_ptr<const std::string> scene_;
     std::shared_ptr<const FramePub> frame_;
     std::shared_ptr<const StatusPub> status_;
-    std::vector<std::string> log_, lines_;
+    std::deque<std::string> log_;     // the last kMaxLog event messages, for late pages
+    std::vector<std::string> lines_;  // the session's events file, whole
     size_t log_first_ = 0;
     std::atomic<uint64_t> scene_version_{0};
     std::atomic<bool> stop_{false};

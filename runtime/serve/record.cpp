@@ -19,7 +19,7 @@ constexpr size_t kMaxChunk = size_t(1) << 30;
 }  // namespace
 
 Recorder::Recorder(const graph::Graph& g, const std::string& path, ModelDirs dirs)
-    : g_(g), path_(path), dirs_(std::move(dirs)), out_(path, std::ios::binary), tracker_(g), tally_(g) {}
+    : g_(g), path_(path), dirs_(std::move(dirs)), out_(path, std::ios::binary), tracker_(g) {}
 
 void Recorder::chunk(char tag, std::string_view payload) {
     const uint32_t n = uint32_t(payload.size());
@@ -44,7 +44,7 @@ void Recorder::started(const engine::Engine& e) {
     out_.write(kMagic.data(), std::streamsize(kMagic.size()));
     chunk('C', scene_json(g_, dirs_, true, 0));
     frame(e);
-    chunk('S', status_json(e, tally_, {}));
+    chunk('S', status_json(e, engine::RecordTally(g_), {}));  // nothing counted yet
     next_frame_ = kFrameEvery;
     next_status_ = kStatusEvery;
 }
@@ -54,21 +54,20 @@ void Recorder::event(const engine::Engine& e, const engine::Event& ev) {
     chunk('E', j.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
-void Recorder::stepped(const engine::Engine& e) {
-    tally_.step(e);
+void Recorder::stepped(const engine::Engine& e, const engine::RecordTally& tally) {
     if (e.time() + 1e-9 >= next_frame_) {
         frame(e);
         next_frame_ = double(frames_) * kFrameEvery;
     }
     if (e.time() + 1e-9 >= next_status_) {
-        chunk('S', status_json(e, tally_, {}));
+        chunk('S', status_json(e, tally, {}));
         next_status_ += kStatusEvery;
     }
 }
 
-bool Recorder::finished(const engine::Engine& e, std::string& error) {
+bool Recorder::finished(const engine::Engine& e, const engine::RecordTally& tally, std::string& error) {
     frame(e);
-    chunk('S', status_json(e, tally_, {}));
+    chunk('S', status_json(e, tally, {}));
     out_.flush();
     if (!out_) {
         error = fmt::format("--record: cannot write '{}'", path_);
@@ -125,10 +124,9 @@ bool load_recording(const std::string& path, Recording& rec, std::string& error)
                 error = fmt::format("{}: byte {}: not a scene", path, at);
                 return false;
             }
-            shape.body_pose.assign(7 * s["bodies"].size(), 0.f);
-            shape.body_state.assign(s["bodies"].size(), 0);
-            shape.gfx_pose.assign(7 * s["graphics"].size(), 0.f);
-            shape.gfx_variant.assign(s["graphics"].size(), -1);
+            rec.bodies = s["bodies"].size();
+            rec.graphics = s["graphics"].size();
+            shape = Frame::sized(rec.bodies, rec.graphics);
             rec.scene = std::move(data);
             have_scene = true;
         } else if (tag == 'F') {

@@ -25,8 +25,8 @@ public:
 
     void started(const engine::Engine& e) override;
     void event(const engine::Engine& e, const engine::Event& ev) override;
-    void stepped(const engine::Engine& e) override;
-    bool finished(const engine::Engine& e, std::string& error) override;
+    void stepped(const engine::Engine& e, const engine::RecordTally& tally) override;
+    bool finished(const engine::Engine& e, const engine::RecordTally& tally, std::string& error) override;
 
 private:
     void frame(const engine::Engine& e);
@@ -36,7 +36,6 @@ private:
     ModelDirs dirs_;
     std::ofstream out_;
     FrameTracker tracker_;
-    RecordTally tally_;
     int64_t frames_ = 0;
     uint64_t last_seq_ = 0;
     double next_frame_ = 0, next_status_ = 0;
@@ -52,6 +51,7 @@ struct Recording {
     };
     std::vector<Chunk> frames, statuses, events;
     double duration = 0;
+    size_t bodies = 0, graphics = 0;  // the scene's counts: what frames hold
 };
 
 // Reads a recording; false with `error` (the offset of what is wrong) otherwise. Frames are

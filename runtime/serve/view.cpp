@@ -187,45 +187,46 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
 
 // ---- frames ----
 
-FrameTracker::FrameTracker(const Graph& g) : g_(g) {
+Frame Frame::sized(size_t bodies, size_t graphics) {
+    Frame f;
+    f.body_pose.assign(7 * bodies, 0.f);
+    f.body_state.assign(bodies, 0);
+    f.gfx_pose.assign(7 * graphics, 0.f);
+    f.gfx_variant.assign(graphics, -1);
+    return f;
+}
+
+namespace {
+
+void store_pose(float* d, const Pose& p) {
+    for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
+    for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
+}
+
+}  // namespace
+
+FrameTracker::FrameTracker(const Graph& g)
+    : g_(g), now_(Frame::sized(g.bodies.size(), g.graphics.size())), body_seq_(g.bodies.size(), 1),
+      gfx_seq_(g.graphics.size(), 1) {
     for (size_t b = 0; b < g.bodies.size(); ++b)
         if (g.bodies[b].mode != BodyMode::Static) movable_.push_back(int32_t(b));
-    for (Frame* f : {&now_, &prev_}) {
-        f->body_pose.assign(7 * g.bodies.size(), 0.f);
-        f->body_state.assign(g.bodies.size(), 0);
-        f->gfx_pose.assign(7 * g.graphics.size(), 0.f);
-        f->gfx_variant.assign(g.graphics.size(), -1);
-    }
-    body_seq_.assign(g.bodies.size(), 1);
-    gfx_seq_.assign(g.graphics.size(), 1);
     // Static bodies never move: their pose is the graph's.
-    for (size_t b = 0; b < g.bodies.size(); ++b)
-        for (Frame* f : {&now_, &prev_}) {
-            const Pose& p = g.bodies[b].pose;
-            float* d = &f->body_pose[7 * b];
-            for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
-            for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
-            f->body_state[b] = uint8_t(1 | (g.bodies[b].collision ? 2 : 0));
-        }
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        store_pose(&now_.body_pose[7 * b], g.bodies[b].pose);
+        now_.body_state[b] = uint8_t(1 | (g.bodies[b].collision ? 2 : 0));
+    }
+    prev_ = now_;
 }
 
 uint64_t FrameTracker::take(const engine::Engine& e) {
     std::swap(now_, prev_);
     now_.time = e.time();
     now_.step = e.steps();
-    for (int32_t b : movable_) {
-        const Pose p = e.body_pose(b);
-        float* d = &now_.body_pose[7 * size_t(b)];
-        for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
-        for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
-    }
+    for (int32_t b : movable_) store_pose(&now_.body_pose[7 * size_t(b)], e.body_pose(b));
     for (size_t b = 0; b < g_.bodies.size(); ++b)
         now_.body_state[b] = uint8_t((e.body_in_world(int32_t(b)) ? 1 : 0) | (e.body_collision(int32_t(b)) ? 2 : 0));
     for (size_t i = 0; i < g_.graphics.size(); ++i) {
-        const Pose p = e.graphics_pose(int32_t(i));
-        float* d = &now_.gfx_pose[7 * i];
-        for (int k = 0; k < 3; ++k) d[k] = float(p.p[size_t(k)]);
-        for (int k = 0; k < 4; ++k) d[3 + k] = float(p.q[size_t(k)]);
+        store_pose(&now_.gfx_pose[7 * i], e.graphics_pose(int32_t(i)));
         now_.gfx_variant[i] = e.graphics_variant(int32_t(i));
     }
     return commit();
@@ -329,27 +330,7 @@ bool decode_frame(std::string_view in, Frame& f, bool& full) {
 
 // ---- status ----
 
-RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {}
-
-void RecordTally::step(const engine::Engine& e) {
-    for (size_t r = 0; r < g_.records.size(); ++r)
-        if (g_.slots[size_t(g_.records[r].slot)].type == SlotType::Void && e.active(g_.records[r].slot)) ++count_[r];
-}
-
-void RecordTally::reset() { std::fill(count_.begin(), count_.end(), 0); }
-
-std::vector<double> RecordTally::values(const engine::Engine& e) const {
-    std::vector<double> v(g_.records.size(), 0);
-    for (size_t r = 0; r < g_.records.size(); ++r) {
-        const int32_t sl = g_.records[r].slot;
-        const SlotType t = g_.slots[size_t(sl)].type;
-        if (t == SlotType::Void) v[r] = double(count_[r]);
-        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(sl)[0];
-    }
-    return v;
-}
-
-std::string status_json(const engine::Engine& e, const RecordTally& tally, const StatusExtra& x) {
+std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x) {
     const Graph& g = e.graph();
     const engine::MaterialCounts m = engine::material_counts(e);
     json s{{"type", "status"},

@@ -35,6 +35,9 @@ struct Frame {
     std::vector<uint8_t> body_state;  // bit 0 in the world, bit 1 collision on
     std::vector<float> gfx_pose;      // 7 per graphics
     std::vector<int32_t> gfx_variant;
+
+    // A frame for `bodies` bodies and `graphics` graphics, all zero (variants -1).
+    static Frame sized(size_t bodies, size_t graphics);
 };
 
 // Takes frames from an engine and keeps, per body and graphics, the number of the last
@@ -68,27 +71,13 @@ void encode_frame(const Frame& f, const std::vector<uint64_t>& body_seq, const s
 // holds. False on a malformed frame.
 bool decode_frame(std::string_view bytes, Frame& f, bool& full);
 
-// Counts for the status message, and the per-step tally of void records.
-class RecordTally {
-public:
-    explicit RecordTally(const graph::Graph& g);
-    void step(const engine::Engine& e);  // after each step
-    void reset();
-    // One number per record: events so far (void) or the value now.
-    std::vector<double> values(const engine::Engine& e) const;
-
-private:
-    const graph::Graph& g_;
-    std::vector<int64_t> count_;
-};
-
 // The status message: {"type":"status", ...}. `inspect` is the dotted path of the object
 // the client inspects ("" none).
 struct StatusExtra {
     bool paused = false;
     double speed = 1, rtf = 0;
 };
-std::string status_json(const engine::Engine& e, const RecordTally& tally, const StatusExtra& x);
+std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x);
 // {"path", "slots": [{path, value, active}], "places": [{id, tokens}]} of one object and its
 // components (not its children); null when the path names no object.
 std::string inspect_json(const engine::Engine& e, std::string_view path);

@@ -93,42 +93,34 @@ struct Page {
         if (binary && frame && !view::decode_frame(msg, *frame, full)) return false;
         return true;
     }
-    // Reads until a JSON message of `type` arrives (skipping others), within `seconds`.
-    bool wait_json(const std::string& type, json& out, double seconds = 10) {
+    // Reads until `done(message, binary)` holds, within `seconds`.
+    template <class Done>
+    bool wait(Done&& done, double seconds) {
         const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
         std::string msg;
         bool binary = false;
         while (std::chrono::steady_clock::now() < end) {
             const double left = std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count();
             if (!read(msg, binary, std::max(0.05, left))) return false;
-            if (binary) continue;
-            out = json::parse(msg, nullptr, false);
-            if (out.is_object() && out.value("type", "") == type) return true;
+            if (done(msg, binary)) return true;
         }
         return false;
+    }
+    // Reads until a JSON message of `type` arrives (skipping others).
+    bool wait_json(const std::string& type, json& out, double seconds = 10) {
+        return wait([&](const std::string& msg, bool binary) {
+            if (binary) return false;
+            out = json::parse(msg, nullptr, false);
+            return out.is_object() && out.value("type", "") == type;
+        }, seconds);
     }
     // Reads until a binary frame arrives (applied to `frame`).
     bool wait_frame(double seconds = 10) {
-        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-        std::string msg;
-        bool binary = false;
-        while (std::chrono::steady_clock::now() < end) {
-            const double left = std::chrono::duration<double>(end - std::chrono::steady_clock::now()).count();
-            if (!read(msg, binary, std::max(0.05, left))) return false;
-            if (binary) return true;
-        }
-        return false;
+        return wait([](const std::string&, bool binary) { return binary; }, seconds);
     }
 };
 
-view::Frame sized_frame(const graph::Graph& g) {
-    view::Frame f;
-    f.body_pose.assign(7 * g.bodies.size(), 0.f);
-    f.body_state.assign(g.bodies.size(), 0);
-    f.gfx_pose.assign(7 * g.graphics.size(), 0.f);
-    f.gfx_variant.assign(g.graphics.size(), -1);
-    return f;
-}
+view::Frame sized_frame(const graph::Graph& g) { return view::Frame::sized(g.bodies.size(), g.graphics.size()); }
 
 // A raw HTTP GET; the status code (0 when there was no answer).
 int http_get(uint16_t port, const std::string& target, std::string* body = nullptr) {
