@@ -4,8 +4,9 @@
 // references of a stdlib type, of a port and of a component's slot are every use in the
 // file and its imports (checked against the text, not counted by hand), with the
 // declaration exactly when includeDeclaration says so; a type's references asked from the
-// stdlib file reach the open plant that uses it. Usage: node outline_references.mjs PLANT REPO_DIR
-import { readFileSync, realpathSync } from 'node:fs';
+// stdlib file reach the open plant that uses it; std.bottle's Bottle and its port `code`
+// through casts, across the stdlib. Usage: node outline_references.mjs PLANT REPO_DIR
+import { readdirSync, readFileSync, realpathSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { check, converse, start } from './client.mjs';
@@ -109,6 +110,23 @@ await converse(client, async () => {
   const declOfStorage = ranges(storage, /^object (Storage)\(/g);
   got = (await references(storage, declOfStorage[0], false)).result;
   check(same(got, ranges(bottling, /: (Storage)\(/g)), 'Storage from its declaration: the use in the open bottling plant', got);
+
+  // Bottle, from a source's `object` in std.storage: its declaration, triggers' filters,
+  // casts and that `object`, everywhere in the stdlib outside comments. Then its port
+  // `code` through casts `(p as Bottle).code`.
+  const stdlib = readdirSync(path.join(repo, 'stdlib')).filter((f) => f.endsWith('.plant')).map((f) => open(`stdlib/${f}`));
+  const code = (doc) => ({ ...doc, lines: doc.lines.map((l) => (/^\s*\/\//.test(l) ? '' : l)) });
+  const bottleUses = stdlib.flatMap((doc) => ranges(code(doc), /\b(Bottle)\b/g));
+  const atObject = ranges(storage, /object = (Bottle)\(/g);
+  got = (await references(storage, atObject[0], true)).result;
+  check(bottleUses.length >= 8 && same(got, bottleUses), 'Bottle: its declaration, filters, casts and a source\'s object', got);
+  const bottle = open('stdlib/bottle.plant');
+  const codeUses = [...ranges(bottle, /^\s*out (code):/g), ...stdlib.flatMap((doc) => ranges(code(doc), /as Bottle\)\.(code)\b/g))];
+  const castAt = ranges(code(switches), /as Bottle\)\.(code)\b/g)[0];
+  send({ method: 'textDocument/didOpen', params: { textDocument: { uri: switches.uri, languageId: 'plant', version: 1, text: switches.text } } });
+  await diagnosticsFor(switches.uri);
+  got = (await references(switches, castAt, true)).result;
+  check(codeUses.length >= 3 && same(got, codeUses), "a port through a cast: Bottle's code, declared and read", got);
 
   // Nothing under the cursor: an empty list; an unknown document: invalid params.
   got = (await request('textDocument/references', { textDocument: { uri: bottling.uri }, position: { line: 0, character: 0 },
