@@ -38,11 +38,15 @@ void report_change(const std::string& name, const std::string& was, const std::s
     for (int line = 1;; ++line) {
         const bool ea = !std::getline(a, la), eb = !std::getline(b, lb);
         if (ea && eb) {
-            out << name << ": would change (line endings or a byte-order mark)\n";
+            out << name << ": would change (the line end after the last line)\n";
             return;
         }
         if (ea || eb || la != lb) {
-            out << name << ":" << line << ": would change\n";
+            // Differences that do not show when printed get named.
+            const bool cr = !ea && !eb && la == lb + "\r";
+            const bool bom = line == 1 && !ea && !eb && la == "\xEF\xBB\xBF" + lb;
+            out << name << ":" << line << ": would change" << (cr ? " (a \\r\\n line end)" : bom ? " (a byte-order mark)" : "") << "\n";
+            if (cr || bom) return;
             if (!ea) out << "-" << la << "\n";
             if (!eb) out << "+" << lb << "\n";
             return;
