@@ -1,4 +1,5 @@
-// Columns: consecutive ports, instances and transitions, and trailing comments.
+// Columns: consecutive ports, instances, transitions and one-line animations, and
+// trailing comments.
 #include "fmt/lines.h"
 
 #include <algorithm>
@@ -53,11 +54,26 @@ void align_after_colon(std::vector<Line*>& group) {
     }
 }
 
+//   animation lift  { duration = 100 ms; move (0 m, 0 m, 6 cm) }
+//   animation lower { key 0 s at (0 m, 0 m, 6 cm); key 100 ms at (0 m, 0 m, 0 m) }
+void align_braces(std::vector<Line*>& group) {
+    int widest = 0;
+    for (const Line* l : group) widest = std::max(widest, width(l->pieces[1].text));
+    for (Line* l : group) l->pieces[2].space = widest - width(l->pieces[1].text) + 1;
+}
+
+// An animation written on one line: `animation NAME { ... }`.
+bool one_line_animation(const Line& l) {
+    auto last = std::find_if(l.pieces.rbegin(), l.pieces.rend(), [](const Piece& p) { return !p.comment(); });
+    return l.pieces.size() > 3 && l.pieces[2].is("{") && last->is("}");
+}
+
 // A line that may join a group of its kind.
 bool fits(const Line& l) {
     const Starts s = l.first().tok->starts;
     if (s == Starts::Port) return l.pieces.size() >= 4 && l.pieces[2].is(":") && !l.pieces[3].comment();
     if (s == Starts::Instance || s == Starts::Transition) return colon_of(l) > 0;
+    if (s == Starts::Animation) return one_line_animation(l);
     return false;
 }
 
@@ -72,7 +88,9 @@ void align_members(std::vector<Line>& lines) {
     std::vector<Line*> group;
     auto flush = [&] {
         if (group.size() > 1) {
-            if (group[0]->first().tok->starts == Starts::Port) align_ports(group);
+            const Starts kind = group[0]->first().tok->starts;
+            if (kind == Starts::Port) align_ports(group);
+            else if (kind == Starts::Animation) align_braces(group);
             else align_after_colon(group);
         }
         group.clear();

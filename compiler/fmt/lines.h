@@ -36,7 +36,8 @@ int width(std::string_view s);
 // after `{` or before `}`) and sets the canonical spaces between the pieces of a line.
 std::vector<Line> split_lines(std::string_view text, const std::vector<parse::LayoutToken>& tokens);
 
-// Pads consecutive port declarations, instances and transitions into columns.
+// Pads consecutive port declarations, instances, transitions and one-line animations
+// into columns.
 void align_members(std::vector<Line>& lines);
 
 // Sets each line's indent: 4 spaces per open brace, continuation lines deeper.

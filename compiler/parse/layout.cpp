@@ -31,7 +31,7 @@ public:
         if (auto* m = dynamic_cast<P::MemberContext*>(ctx))
             starts[first] = m->portDecl() ? Starts::Port : m->instanceDecl() ? Starts::Instance : Starts::Other;
         else if (auto* c = dynamic_cast<P::CompItemContext*>(ctx))
-            starts[first] = c->transitionDecl() ? Starts::Transition : Starts::Other;
+            starts[first] = c->transitionDecl() ? Starts::Transition : c->animationDecl() ? Starts::Animation : Starts::Other;
         else if (dynamic_cast<P::ItemContext*>(ctx) || dynamic_cast<P::AnimItemContext*>(ctx))
             starts[first] = Starts::Other;
         else if (auto* u = dynamic_cast<P::UnaryExprContext*>(ctx))

@@ -14,7 +14,7 @@ namespace plant::parse {
 
 enum class Lex : uint8_t { Code, LineComment, DocComment, BlockComment };
 // What a member (or item, or component item) that starts at a token declares.
-enum class Starts : uint8_t { None, Port, Instance, Transition, Other };
+enum class Starts : uint8_t { None, Port, Instance, Transition, Animation, Other };
 
 struct LayoutToken {
     uint32_t begin = 0, end = 0;  // bytes of the source
