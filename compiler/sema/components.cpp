@@ -1,6 +1,7 @@
 // Components: properties checked against the registry, slots created, kind tables filled.
 #include "sema/elaborator.h"
 
+#include "graph/hull.h"
 #include "graph/kinds.h"
 
 #include <algorithm>
@@ -268,6 +269,12 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 sh.point_num = static_cast<int32_t>(g_.points.size()) - sh.point_adr;
                 if (ok && sh.point_num < 4) {
                     sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
+                    ok = false;
+                } else if (const auto flaw = graph::hull_flaw(&g_.points[size_t(sh.point_adr)], size_t(sh.point_num));
+                           ok && flaw != graph::HullFlaw::None) {
+                    auto& d = sink_.report(DiagId::BadShape, sd.span,
+                                           fmt::format("this convex hull encloses no volume: {}", graph::hull_flaw_text(flaw)));
+                    d.notes.push_back({{}, "a hull needs four points not in one plane (points within 1 µm count as one)"});
                     ok = false;
                 }
             } else {

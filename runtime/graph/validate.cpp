@@ -1,5 +1,6 @@
 #include "validate.h"
 
+#include "hull.h"
 #include "kinds.h"
 
 #include <fmt/format.h>
@@ -306,6 +307,9 @@ private:
             case ShapeKind::Hull:
                 if (!check(s.point_num > 0, "a hull needs points")) return false;
                 if (!range("point_adr", s.point_adr, s.point_num, g_.points.size(), "points")) return false;
+                if (const HullFlaw flaw = hull_flaw(&g_.points[size_t(s.point_adr)], size_t(s.point_num));
+                    flaw != HullFlaw::None)
+                    return fail(fmt::format("a hull encloses no volume: {}", hull_flaw_text(flaw)));
                 break;
             }
             return check(ok, "field 'size' must be above 0 where the shape uses it");

@@ -143,3 +143,47 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         CHECK(read_text(again, out, error, Check::Form));
     }
 }
+
+static std::string num(double v) {
+    std::ostringstream o;
+    o.precision(17);
+    o << v;
+    return o.str();
+}
+
+TEST_CASE("validate: a hull whose points lie on a line or in a plane encloses no volume") {
+    // The first hull of the bottling graph, its points moved onto a line, then into a plane.
+    std::string error;
+    Graph g;
+    {
+        std::istringstream in(bottling_text());
+        REQUIRE_MESSAGE(read_text(in, g, error), error);
+    }
+    int32_t hull = -1;
+    for (size_t i = 0; i < g.shapes.size() && hull < 0; ++i)
+        if (g.shapes[i].kind == ShapeKind::Hull) hull = int32_t(i);
+    REQUIRE(hull >= 0);
+    const Shape& s = g.shapes[size_t(hull)];
+    REQUIRE(s.point_num >= 4);
+    struct Flat {
+        const char* name;
+        std::string (*at)(int);  // the k-th point's new text
+        const char* says;
+    };
+    const Flat flats[] = {
+        {"line", [](int k) { return "(" + num(0.01 * k) + " 0 0)"; }, "its points lie on one line"},
+        {"plane", [](int k) { return "(" + num(0.01 * (k % 2)) + " " + num(0.01 * (k / 2)) + " 0.5)"; },
+         "its points lie in one plane"},
+        // Within the tolerance (1 um) of one point: merged.
+        {"one point", [](int k) { return "(0.1 0.1 " + num(1e-7 * k) + ")"; }, "all its points coincide"},
+    };
+    for (const Flat& f : flats) {
+        CAPTURE(f.name);
+        std::string text = bottling_text();
+        for (int k = 0; k < s.point_num; ++k) damage(text, {"point", s.point_adr + k, "p", f.at(k), ""});
+        std::istringstream in(text);
+        Graph out;
+        CHECK_FALSE(read_text(in, out, error));
+        CHECK_MESSAGE(error.find("shape " + std::to_string(hull) + ": a hull encloses no volume: " + f.says) != std::string::npos, error);
+    }
+}
