@@ -385,11 +385,13 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             pl.src = src(p.name.span);
             if (p.initial) {
                 Value v = ev_.eval(*p.initial, env);
-                if (v.kind == Value::Kind::Num && v.dim.none() && std::floor(v.num) == v.num && v.num >= 0 && v.num < 1e9)
+                if (v.kind == Value::Kind::Num && v.dim.none() && std::floor(v.num) == v.num && v.num >= 0 &&
+                    v.num <= graph::kMaxInitialTokens)
                     pl.initial = static_cast<int32_t>(v.num);
                 else if (v.kind != Value::Kind::None)
                     sink_.report(DiagId::NegativeTokens, v.span,
-                                 fmt::format("initial tokens of '{}' must be a whole number >= 0, not {}", p.name.text,
+                                 fmt::format("initial tokens of '{}' must be a whole number from 0 to {}, not {}", p.name.text,
+                                             graph::kMaxInitialTokens,
                                              v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : "a " + describe(v)));
             }
             pl.put_slot = add_slot(comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
@@ -424,9 +426,10 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
                         continue;
                     }
-                    if (a.weight_written && (a.weight < 1 || std::floor(a.weight) != a.weight || a.weight > 1e6)) {
+                    if (a.weight_written && (a.weight < 1 || std::floor(a.weight) != a.weight || a.weight > graph::kMaxArcWeight)) {
                         sink_.report(DiagId::ArcBadWeight, a.weight_span,
-                                     fmt::format("arc weight {} is not a positive whole number", a.weight));
+                                     fmt::format("arc weight {} is not a whole number from 1 to {}", a.weight,
+                                                 graph::kMaxArcWeight));
                         continue;
                     }
                     g_.arcs.push_back({it->second, static_cast<int32_t>(a.weight)});

@@ -109,7 +109,13 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
             return v;
         }
         std::string bad;
-        auto unit = units::parse_unit(e.text, &bad);
+        bool bad_exponent = false;
+        auto unit = units::parse_unit(e.text, &bad, &bad_exponent);
+        if (!unit && bad_exponent) {
+            sink_.report(DiagId::OutOfRange, e.unit_span,
+                         fmt::format("the unit '{}' has an exponent beyond ±{}", bad, units::kMaxExponent));
+            return {};
+        }
         if (!unit) {
             auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
             std::string hint = closest_name(bad, units::unit_atoms());
@@ -121,6 +127,10 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
         }
         v.num = unit->si(e.number);
         v.dim = unit->dim;
+        if (!std::isfinite(v.num)) {
+            sink_.report(DiagId::OutOfRange, e.span, "this number is too large in SI units");
+            return {};
+        }
         return v;
     }
     case K::String: {
@@ -296,6 +306,11 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                                  op, with_article(describe(x)), with_article(describe(y))));
         return Value{};
     };
+    auto exponent_overflow = [&] {
+        sink_.report(DiagId::OutOfRange, e.span,
+                     fmt::format("'{}' gives a dimension with an exponent beyond ±{}", op, units::kMaxExponent));
+        return Value{};
+    };
     if (report_name(sink_, a, fmt::format("'{}'", op)) || report_name(sink_, b, fmt::format("'{}'", op))) return {};
     if (op == "and" || op == "or") {
         if (!expect_bool(a, "left side of '" + op + "'") || !expect_bool(b, "right side of '" + op + "'")) return {};
@@ -353,7 +368,9 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
         }
         if (op == "*") {
             r.num = a.num * b.num;
-            r.dim = a.dim * b.dim;
+            const std::optional<Dim> dim = a.dim.times(b.dim);
+            if (!dim) return exponent_overflow();
+            r.dim = *dim;
             r.integer = a.integer && b.integer && is_whole(r.num);
             return r;
         }
@@ -363,7 +380,9 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                 return {};
             }
             r.num = a.num / b.num;
-            r.dim = a.dim / b.dim;
+            const std::optional<Dim> dim = a.dim.over(b.dim);
+            if (!dim) return exponent_overflow();
+            r.dim = *dim;
             r.integer = a.integer && b.integer && std::fmod(a.num, b.num) == 0;
             return r;
         }

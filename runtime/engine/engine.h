@@ -80,7 +80,7 @@ public:
     bool trigger_occupied(int32_t trigger) const;   // an object inside now
     bool field_on(int32_t field) const;
     double field_speed(int32_t field) const;        // target speed now, m/s
-    int32_t tokens(int32_t place) const;
+    int64_t tokens(int32_t place) const;  // at most graph::kMaxTokens
     graph::Pose graphics_pose(int32_t graphics) const;
     int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far
     int64_t issued(int32_t source) const;           // objects a source issued so far

@@ -337,7 +337,8 @@ private:
         if (!each("places", g_.places, [&](const Place& p, size_t) {
             return id("comp", p.comp, g_.comps.size(), "comps") &&
                    check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
-                   check(p.initial >= 0, "field 'initial' is negative") &&
+                   check(p.initial >= 0 && p.initial <= kMaxInitialTokens,
+                         fmt::format("field 'initial' must lie in [0, {}]", kMaxInitialTokens)) &&
                    slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) &&
                    slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) &&
                    slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true);
@@ -353,7 +354,8 @@ private:
             return false;
         return each("arcs", g_.arcs, [&](const auto& r, size_t) {
             return id("place", r.place, g_.places.size(), "places") &&
-                   check(r.weight >= 1, "field 'weight' must be 1 or more");
+                   check(r.weight >= 1 && r.weight <= kMaxArcWeight,
+                         fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
         });
     }
 
