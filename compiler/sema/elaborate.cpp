@@ -444,6 +444,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
     // Components first, so that one DO's components (and their slots) are contiguous.
     g_.dos[static_cast<size_t>(do_id)].comp_adr = static_cast<int32_t>(g_.comps.size());
     std::vector<std::pair<int32_t, const Item*>> made;
+    std::map<std::string, Span, std::less<>> settings_seen;  // each setting once: no silent "last wins"
     for (const auto& it : items) {
         Scope& s = scopes_[static_cast<size_t>(do_id)];
         if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
@@ -457,6 +458,12 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             if (!decl.is_plant) {
                 sink_.report(DiagId::UnknownProperty, st->name.span,
                              fmt::format("'{}' = ... is a plant setting; only a plant can set it", st->name.text));
+                continue;
+            }
+            if (auto [at, fresh] = settings_seen.emplace(st->name.text, st->name.span); !fresh) {
+                auto& d = sink_.report(DiagId::DuplicateProperty, st->name.span,
+                                       fmt::format("plant setting '{}' is set twice", st->name.text));
+                d.notes.push_back({at->second, "first set here"});
                 continue;
             }
             Value v = ev_.eval(*st->value, *it.env);

@@ -469,8 +469,14 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
     if (f == "sqrt") {
         if (!arity(1) || !need_nums()) return {};
         Dim d = a[0].dim;
-        if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2 || a[0].num < 0) {
+        if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2) {
             sink_.report(DiagId::ArithmeticError, e.span, fmt::format("cannot take the square root of {}", with_article(describe(a[0]))));
+            return {};
+        }
+        if (a[0].num < 0) {
+            sink_.report(DiagId::ArithmeticError, e.span,
+                         fmt::format("cannot take the square root of a negative value ({}{})", a[0].num,
+                                     d.none() ? "" : " " + units::si_unit(d)));
             return {};
         }
         return Value::number(std::sqrt(a[0].num), Dim{int8_t(d.L / 2), int8_t(d.M / 2), int8_t(d.T / 2), int8_t(d.A / 2)}, e.span);

@@ -252,6 +252,9 @@ private:
                 !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
                 !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
                 return false;
+            // A flow drives inputs: written into an output, the value would be lost or clobbered.
+            if (!each_end(f.to, f.to_access, [&](int32_t s) { return g_.slots[size_t(s)].dir == Dir::In; }))
+                return fail("its target is not an input slot");
             // The runtime copies the target's width of values from the source.
             int width = -1;
             bool same = each_end(f.to, f.to_access, [&](int32_t s) {
@@ -285,6 +288,7 @@ private:
             return owner(b.comp, CompKind::Body, i) &&
                    range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") &&
                    check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
+                   check(b.shape_num > 0, "a body needs at least one shape") &&
                    check(b.mass >= 0, "field 'mass' is negative") &&
                    check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
                           "field 'inertia' must be above 0 on every axis") &&
