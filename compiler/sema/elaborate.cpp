@@ -212,11 +212,21 @@ bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
     return false;
 }
 
+// Members alone do not bound the work: nested loops with empty bodies produce none.
+bool Elaborator::iterate(Span at) {
+    if (expanded_ > kMaxExpanded) return false;  // the members' limit stopped it: reported once
+    if (++iterations_ <= kMaxExpanded) return true;
+    if (iterations_ == kMaxExpanded + 1)
+        sink_.report(DiagId::LoopTooLarge, at,
+                     fmt::format("loops run more than {} iterations in all (nested loops multiply)", kMaxExpanded));
+    return false;
+}
+
 void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                         std::vector<Item>& out, int depth) {
     for (const auto& m : members) {
         if (++expanded_ > kMaxExpanded) {
-            if (expanded_ == kMaxExpanded + 1)
+            if (expanded_ == kMaxExpanded + 1 && iterations_ <= kMaxExpanded)
                 sink_.report(DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
                              fmt::format("the plant expands to more than {} members", kMaxExpanded));
             return;
@@ -244,6 +254,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                     continue;
                 }
                 for (const Value& item : list.items) {
+                    if (!iterate(f.span)) break;
                     auto inner = std::make_shared<Env>(env);
                     inner->set(f.var.text, item);
                     expand(f.body, inner, out, depth + 1);
@@ -259,6 +270,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 continue;
             }
             for (long long i = static_cast<long long>(from.num); i < static_cast<long long>(to.num); ++i) {
+                if (!iterate(f.span)) break;
                 auto inner = std::make_shared<Env>(env);
                 Value iv = Value::number(static_cast<double>(i), {}, f.var.span);
                 iv.integer = true;

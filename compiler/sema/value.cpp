@@ -6,6 +6,10 @@
 namespace plant::sema {
 
 using units::Dim;
+
+// A string built by '+' is at most this long (1 MiB): doubling one in a loop of lets
+// would otherwise exhaust memory.
+constexpr size_t kMaxString = size_t(1) << 20;
 using units::dim_name;
 
 std::string describe(const Value& v) {
@@ -335,6 +339,11 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
         return r;
     }
     if (a.kind == VK::Str && b.kind == VK::Str && op == "+") {
+        if (a.str.size() + b.str.size() > kMaxString) {
+            sink_.report(DiagId::OutOfRange, e.span,
+                         fmt::format("this string would be longer than {} bytes", kMaxString));
+            return {};
+        }
         Value r = a;
         r.str = a.str + b.str;
         return r;
