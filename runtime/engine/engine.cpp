@@ -11,16 +11,19 @@ using namespace plant::graph;
 
 namespace {
 
-double step_of(const Graph& g, const Options& opt) {
-    if (opt.dt > 0) return opt.dt;
-    return 1.0 / (g.settings.rate > 0 ? g.settings.rate : 150.0);
+double rate_of(const Graph& g, const Options& opt) {
+    if (opt.dt > 0) return 1.0 / opt.dt;
+    if (opt.rate > 0) return opt.rate;
+    return g.settings.rate > 0 ? g.settings.rate : 150.0;
 }
+double step_of(const Graph& g, const Options& opt) { return opt.dt > 0 ? opt.dt : 1.0 / rate_of(g, opt); }
 
 }  // namespace
 
 Runtime::Runtime(const Graph& graph, const Options& opt)
     : g(graph),
       dt(step_of(graph, opt)),
+      rate(rate_of(graph, opt)),
       tab(graph),
       sched(build_schedule(graph, tab)),
       phys(graph, tab, opt.broadphase, opt.threads),
@@ -103,6 +106,7 @@ void Engine::step() {
 double Engine::time() const { return rt_->st.time; }
 int64_t Engine::steps() const { return rt_->st.step; }
 double Engine::dt() const { return rt_->dt; }
+double Engine::rate() const { return rt_->rate; }
 const Graph& Engine::graph() const { return rt_->g; }
 
 void Engine::input(int32_t slot, std::span<const double> value) {

@@ -23,7 +23,8 @@ namespace plant::engine {
 enum class Broadphase : uint8_t { Dbvt, Sap };
 
 struct Options {
-    double dt = 0;  // fixed physics step in s; 0: 1 / graph.settings.rate
+    double dt = 0;    // fixed physics step in s; 0: 1 / rate
+    double rate = 0;  // steps per second when dt is 0; 0: graph.settings.rate
     Broadphase broadphase = Broadphase::Dbvt;
     // Threads that step the physics of a plant in several regions (0: one per core). The
     // results do not depend on it.
@@ -55,6 +56,8 @@ public:
     double time() const;    // simulated seconds at the end of the last step
     int64_t steps() const;
     double dt() const;
+    // Steps per second: time() is steps() / rate() up to rounding; a trace prints the latter.
+    double rate() const;
     const graph::Graph& graph() const;
 
     // An external input (a timed event): the value (slot_width doubles, none for
