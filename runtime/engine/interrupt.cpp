@@ -21,6 +21,7 @@ InterruptGuard::InterruptGuard() {
     g_requested = 0;
     struct sigaction sa {};
     sa.sa_handler = on_signal;
+    sa.sa_flags = SA_RESTART;  // a write to a pipe in progress goes on, rather than failing
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &g_old_int);
     sigaction(SIGTERM, &sa, &g_old_term);
