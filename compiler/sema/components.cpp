@@ -270,8 +270,9 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 if (ok && sh.point_num < 4) {
                     sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
                     ok = false;
-                } else if (const auto flaw = graph::hull_flaw(&g_.points[size_t(sh.point_adr)], size_t(sh.point_num));
-                           ok && flaw != graph::HullFlaw::None) {
+                } else if (const auto flaw = ok ? graph::hull_flaw(&g_.points[size_t(sh.point_adr)], size_t(sh.point_num))
+                                                : graph::HullFlaw::None;
+                           flaw != graph::HullFlaw::None) {
                     auto& d = sink_.report(DiagId::BadShape, sd.span,
                                            fmt::format("this convex hull encloses no volume: {}", graph::hull_flaw_text(flaw)));
                     d.notes.push_back({{}, "a hull needs four points not in one plane (points within 1 µm count as one)"});
