@@ -112,7 +112,8 @@ export class Inspector {
         el('td', { class: 'name', title: s.path }, s.path.slice(prefix.length),
           el('div', { class: 'kind' }, `${s.dir} ${s.type}${s.port ? ' · port' : ''}`)),
         cell,
-        el('td', {}, s.dir === 'in' && !this.readOnly ? this.control(s) : ''));
+        el('td', {}, s.dir === 'in' && !this.readOnly ? this.control(s) : ''),
+        el('td', {}, this.readOnly ? '' : this.forceMenu(s)));
       into.append(row);
       this.valueCells.set(s.path, { row, cell });
     }
@@ -167,6 +168,34 @@ export class Inspector {
     }
   }
 
+  // Fault forcing (docs/runtime.md, "Forced slots"): stuck at a value, open (reads as off),
+  // inverted (bool), released; sent as a force message, logged and replayed like events.
+  forceMenu(s) {
+    const ways = s.type === 'void' ? [['stuck on', 'stuck', 'on'], ['stuck off', 'stuck', 'off'], ['open', 'open']]
+      : s.type === 'bool' ? [['stuck true', 'stuck', 'true'], ['stuck false', 'stuck', 'false'], ['open', 'open'], ['invert', 'invert']]
+      : ['vec3', 'quat', 'pose'].includes(s.type) ? [['stuck at…', 'stuck', null]]
+      : [['stuck at…', 'stuck', null], ['open', 'open']];
+    const menu = el('select', { dataset: { force: s.path }, title: `force ${s.path}` },
+      el('option', { value: '' }, 'force…'),
+      ...ways.map(([label], i) => el('option', { value: String(i) }, label)),
+      el('option', { value: 'release' }, 'release'));
+    menu.addEventListener('change', () => {
+      const pick = menu.value;
+      menu.value = '';
+      if (pick === 'release') return this.send({ type: 'force', path: s.path, mode: 'release' });
+      const way = ways[Number(pick)];
+      if (!way) return;
+      let value = way[2];
+      if (value === null) {   // the value typed into the slot's own box, or asked for
+        const box = menu.closest('tr')?.querySelector(`input[data-slot="${CSS.escape(s.path)}"]`);
+        value = box && box.value !== '' ? box.value : window.prompt(`force ${s.path} stuck at (${s.type})`);
+        if (value === null || value === '') return;
+      }
+      this.send(value === undefined ? { type: 'force', path: s.path, mode: way[1] } : { type: 'force', path: s.path, mode: way[1], value: String(value) });
+    });
+    return menu;
+  }
+
   close() {
     if (this.path !== null) this.send({ type: 'inspect', path: null });
     this.path = null;
@@ -178,8 +207,9 @@ export class Inspector {
     for (const s of inspect.slots ?? []) {
       const c = this.valueCells.get(s.path);
       if (!c) continue;
-      c.cell.textContent = formatValue(s.value);
+      c.cell.textContent = formatValue(s.value) + (s.forced ? ` (${s.forced})` : '');
       c.row.classList.toggle('active', !!s.active);
+      c.row.classList.toggle('forced', !!s.forced);
     }
     for (const p of inspect.places ?? []) {
       const chip = this.placeChips.get(p.id);

@@ -1,4 +1,6 @@
 #include "lsp/lsp.h"
+#include "lsp/protocol.h"
+#include "lsp/symbols.h"
 
 #include "compiler.h"
 #include "units/units.h"
@@ -9,6 +11,7 @@
 #include <istream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <algorithm>
 #include <cctype>
 #include <variant>
@@ -31,90 +34,10 @@ constexpr int kMethodNotFound = -32601;
 constexpr int kInvalidParams = -32602;
 constexpr int kServerNotInitialized = -32002;
 
-int hex_value(char c) {
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
-// "file:///a/b%20c.plant" -> "/a/b c.plant"; "" for anything but a file URI.
-std::string uri_to_path(const std::string& uri) {
-    const std::string scheme = "file://";
-    if (uri.rfind(scheme, 0) != 0) return "";
-    std::string path;
-    for (size_t i = scheme.size(); i < uri.size(); ++i) {
-        if (uri[i] == '%' && i + 2 < uri.size() && hex_value(uri[i + 1]) >= 0 && hex_value(uri[i + 2]) >= 0) {
-            path += static_cast<char>(hex_value(uri[i + 1]) * 16 + hex_value(uri[i + 2]));
-            i += 2;
-        } else {
-            path += uri[i];
-        }
-    }
-    return path;
-}
-
-std::string path_to_uri(const std::string& path) {
-    static const char* kHex = "0123456789ABCDEF";
-    std::string uri = "file://";
-    for (unsigned char c : path) {
-        if (std::isalnum(c) || c == '/' || c == '-' || c == '.' || c == '_' || c == '~') {
-            uri += static_cast<char>(c);
-        } else {
-            uri += '%';
-            uri += kHex[c >> 4];
-            uri += kHex[c & 15];
-        }
-    }
-    return uri;
-}
-
 std::string canonical(const std::string& path) {
     std::error_code ec;
     fs::path c = fs::weakly_canonical(path, ec);
     return ec ? path : c.string();
-}
-
-// Byte offset <-> LSP position (0-based line, UTF-16 code units in the line).
-size_t line_start(const std::string& text, uint32_t line) {
-    size_t pos = 0;
-    for (uint32_t l = 0; l < line; ++l) {
-        size_t nl = text.find('\n', pos);
-        if (nl == std::string::npos) return text.size();
-        pos = nl + 1;
-    }
-    return pos;
-}
-
-size_t offset_of(const std::string& text, uint32_t line, uint32_t character) {
-    size_t pos = line_start(text, line);
-    uint32_t units = 0;
-    while (pos < text.size() && text[pos] != '\n' && units < character) {
-        unsigned char c = static_cast<unsigned char>(text[pos]);
-        size_t len = c < 0x80 ? 1 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
-        units += len == 4 ? 2 : 1;
-        pos = std::min(text.size(), pos + len);
-    }
-    return pos;
-}
-
-json position_of(const SourceMap& sm, int32_t file, uint32_t offset) {
-    const std::string& text = sm.text(file);
-    offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text.size()));
-    auto lc = sm.line_col(file, offset);
-    size_t start = offset - (lc.col - 1);
-    uint32_t units = 0;
-    for (size_t i = start; i < offset;) {
-        unsigned char c = static_cast<unsigned char>(text[i]);
-        size_t len = c < 0x80 ? 1 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
-        units += len == 4 ? 2 : 1;
-        i += len;
-    }
-    return {{"line", lc.line - 1}, {"character", units}};
-}
-
-json range_of(const SourceMap& sm, const Span& s) {
-    return {{"start", position_of(sm, s.file, s.begin)}, {"end", position_of(sm, s.file, std::max(s.begin, s.end))}};
 }
 
 json zero_range() {
@@ -167,6 +90,8 @@ private:
             json sync = {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}};
             send_result(id, {{"capabilities", {{"textDocumentSync", sync},
                                                 {"definitionProvider", true},
+                                                {"documentSymbolProvider", true},
+                                                {"referencesProvider", true},
                                                 {"hoverProvider", true},
                                                 {"completionProvider", {{"triggerCharacters", {"."}}}}}},
                              {"serverInfo", {{"name", "plant lsp"}}}});
@@ -188,17 +113,25 @@ private:
             docs_.erase(params.at("textDocument").at("uri").get<std::string>());
             recheck();
         } else if (method == "textDocument/definition" || method == "textDocument/hover" ||
-                   method == "textDocument/completion") {
+                   method == "textDocument/completion" || method == "textDocument/documentSymbol" ||
+                   method == "textDocument/references") {
             const std::string uri = params.at("textDocument").at("uri");
             auto it = docs_.find(uri);
             if (it == docs_.end()) {
                 send_error(id, kInvalidParams, "unknown document '" + uri + "' (not opened)");
                 return;
             }
-            const json& p = params.at("position");
             const Document& doc = it->second;
+            if (method == "textDocument/documentSymbol") {
+                const sema::LoadedModule* m = module_of(doc);
+                send_result(id, m ? document_symbols(*doc.parsed, *m) : json::array());
+                return;
+            }
+            const json& p = params.at("position");
             const size_t offset = offset_of(doc.text, p.at("line"), p.at("character"));
-            if (method == "textDocument/definition") send_result(id, definition(doc, offset));
+            if (method == "textDocument/references")
+                send_result(id, references(doc, offset, params.at("context").at("includeDeclaration").get<bool>()));
+            else if (method == "textDocument/definition") send_result(id, definition(doc, offset));
             else if (method == "textDocument/hover") send_result(id, hover(doc, offset));
             else send_result(id, completion(doc, offset));
         } else if (is_request) {
@@ -410,6 +343,20 @@ private:
             }
         }
         return nullptr;
+    }
+
+    // The uses of the name at `offset` in every open document's import closure (so a type
+    // of an open stdlib file is also found in an open plant that imports it).
+    json references(const Document& doc, size_t offset, bool include_declaration) const {
+        json locations = json::array();
+        const sema::LoadedModule* m = module_of(doc);
+        if (!m) return locations;
+        const std::optional<Target> target = target_at(*doc.parsed, *m, offset);
+        if (!target) return locations;
+        add_references(*doc.parsed, *target, include_declaration, locations);
+        for (const auto& [uri, other] : docs_)
+            if (other.parsed && &other != &doc) add_references(*other.parsed, *target, include_declaration, locations);
+        return locations;
     }
 
     json hover(const Document& doc, size_t offset) {

@@ -96,11 +96,13 @@ Engine::~Engine() = default;
 
 void Engine::step() {
     Runtime& r = *rt_;
+    forces_step_begin(r);
     phase_physics(r);
     phase_sensors(r);
     phase_logic(r);
     phase_petri(r);
     phase_actuators(r);
+    forces_step_end(r);
 }
 
 double Engine::time() const { return rt_->st.time; }
@@ -115,6 +117,39 @@ void Engine::input(int32_t slot, std::span<const double> value) {
     int w = slot_width(s.type);
     for (int i = 0; i < w && size_t(i) < value.size(); ++i) r.val(slot)[i] = value[size_t(i)];
     r.st.pending.push_back(slot);
+}
+
+void Engine::force(int32_t slot, ForceMode mode, std::span<const double> value) {
+    Runtime& r = *rt_;
+    State& s = r.st;
+    if (s.force_mode.empty()) {  // the first force: sized here, not in the step
+        s.force_mode.assign(r.g.slots.size(), uint8_t(ForceMode::None));
+        s.force_edge.assign(r.g.slots.size(), 0);
+        s.force_value.assign(s.values.size(), 0);
+        s.force_natural.assign(s.values.size(), 0);
+        s.forced_in.reserve(r.g.slots.size());
+        s.forced_out.reserve(r.g.slots.size());
+    }
+    const Slot& sl = r.g.slots[slot];
+    const int w = slot_width(sl.type);
+    if (w == 0 && mode == ForceMode::Stuck && !value.empty() && value[0] == 0) mode = ForceMode::Open;  // stuck off
+    const bool out = r.tab.slot_out[slot] != 0;
+    std::vector<int32_t>& list = out ? s.forced_out : s.forced_in;
+    const bool listed = std::find(list.begin(), list.end(), slot) != list.end();
+    if (!listed) {
+        if (mode == ForceMode::None) return;  // not forced: nothing to release
+        list.push_back(slot);
+        if (w) std::copy(r.val(slot), r.val(slot) + w, s.force_natural.begin() + r.tab.value_adr[slot]);
+    }
+    s.force_mode[slot] = uint8_t(mode);
+    s.force_edge[slot] = 1;
+    if (mode == ForceMode::Stuck)
+        for (int i = 0; i < w && size_t(i) < value.size(); ++i) s.force_value[size_t(r.tab.value_adr[slot] + i)] = value[size_t(i)];
+}
+
+ForceMode Engine::forced(int32_t slot) const {
+    const State& s = rt_->st;
+    return s.force_mode.empty() ? ForceMode::None : ForceMode(s.force_mode[slot]);
 }
 
 int32_t Engine::intern(std::string_view s) {
@@ -143,6 +178,8 @@ std::span<const double> Engine::value(int32_t slot) const {
 bool Engine::active(int32_t slot) const {
     return rt_->tab.slot_out[slot] ? rt_->st.seen[slot] : rt_->st.act[slot];
 }
+
+bool Engine::emitted(int32_t slot) const { return rt_->tab.slot_out[slot] && rt_->st.act[slot]; }
 
 Pose Engine::body_pose(int32_t b) const { return rt_->phys.pose(b); }
 Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.com(b)); }

@@ -44,6 +44,12 @@ struct Warnings {
 
 struct Runtime;  // the internals (engine/runtime.h)
 
+// Fault forcing (docs/runtime.md, "Forced slots"): a slot held at a value (stuck), cut
+// (open: never active, reads as off), or inverted (bool), until released (None). The
+// components' own state goes on underneath; readers of the slot (flows, connectors,
+// traces, the viewer) see the forced signal.
+enum class ForceMode : uint8_t { None, Stuck, Open, Invert };
+
 class Engine {
 public:
     explicit Engine(const graph::Graph& g, Options opt = {});
@@ -63,6 +69,12 @@ public:
     // An external input (a timed event): the value (slot_width doubles, none for
     // void) is written now, the slot becomes active in the logic phase of the next step.
     void input(int32_t slot, std::span<const double> value = {});
+    // Forces a slot (or releases it with ForceMode::None) from the next step on; `value`
+    // is the stuck value (slot_width doubles; void: {1} on, {0} off). Like input(), called
+    // between steps only: the one way in is engine::apply_event.
+    void force(int32_t slot, ForceMode mode, std::span<const double> value = {});
+    ForceMode forced(int32_t slot) const;
+
     // Strings for string slots: the graph's names, then any interned here.
     int32_t intern(std::string_view s);
     std::string_view str(int32_t name) const;
@@ -72,6 +84,9 @@ public:
     std::span<const double> value(int32_t slot) const;
     // Outputs: active in the logic phase of the last step. Inputs: activated by it.
     bool active(int32_t slot) const;
+    // An output produced after the last logic phase (in phases 4 and 5: a place entered,
+    // an object issued), which the next step's logic phase will see active.
+    bool emitted(int32_t slot) const;
 
     graph::Pose body_pose(int32_t body) const;  // the body frame, in the world
     graph::Vec3 body_com(int32_t body) const;   // centre of mass, in the world

@@ -99,6 +99,7 @@ void run_connector(Runtime& r, int32_t i) {
         v = all ? (v && a) : (v || a);
     }
     if (v) r.activate(l.out_slot);
+    if (!r.st.forced_out.empty()) force_again(r, l.out_slot);
 }
 
 void run_router(Runtime& r, int32_t comp) {
@@ -108,13 +109,17 @@ void run_router(Runtime& r, int32_t comp) {
     for (const int32_t* k = r.tab.comp_routes.begin(comp); k != r.tab.comp_routes.end(comp); ++k)
         if (glob_match(r.str(r.g.routes[*k].pattern.id), id)) {
             r.activate(r.g.routes[*k].out_slot);
+            if (!r.st.forced_out.empty()) force_again(r, r.g.routes[*k].out_slot);
             return;
         }
 }
 
 void run_label(Runtime& r, int32_t i) {
     const int32_t set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
-    if (r.st.act[set]) r.emit(r.comp_slot(r.g.labels[i].comp, labelslot::value), *r.val(set));
+    if (!r.st.act[set]) return;
+    const int32_t out = r.comp_slot(r.g.labels[i].comp, labelslot::value);
+    r.emit(out, *r.val(set));
+    if (!r.st.forced_out.empty()) force_again(r, out);
 }
 
 }  // namespace
@@ -125,6 +130,7 @@ void phase_logic(Runtime& r) {
     s.in_list.clear();
     for (int32_t x : s.pending) r.activate(x);
     s.pending.clear();
+    forces_logic_begin(r);
     for (const Op& op : r.sched.ops) {
         switch (op.kind) {
         case OpKind::Flow: run_flow(r, op.index, false); break;
@@ -137,6 +143,7 @@ void phase_logic(Runtime& r) {
         }
     }
     for (int32_t f : r.sched.delayed) run_flow(r, f, true);
+    forces_logic_end(r);
 }
 
 }  // namespace plant::engine

@@ -158,6 +158,48 @@ private:
     std::vector<Column> cols_;
 };
 
+// The forces of a run (events that force or release a slot), for the summary and the
+// trace's `forced` column: each force with the step time it took effect and its end.
+class ForceLog {
+public:
+    explicit ForceLog(const std::vector<Event>& events) {
+        for (const Event& ev : events)
+            if (ev.force)
+                for (int32_t s : ev.slots)
+                    if (std::find(slots_.begin(), slots_.end(), s) == slots_.end()) slots_.push_back(s);
+    }
+    const std::vector<int32_t>& slots() const { return slots_; }
+    void applied(const graph::Graph& g, const Event& ev, double at) {
+        if (!ev.force) return;
+        for (Entry& x : log_)
+            if (x.path == ev.path && x.until < 0) x.until = at;
+        if (ev.mode != ForceMode::None) log_.push_back({ev.path, force_text(g, ev), at, -1});
+    }
+    void print(const Engine& e, std::ostream& out) const {
+        if (log_.empty()) return;
+        size_t width = 0;
+        for (const Entry& x : log_) width = std::max(width, x.path.size());
+        fmt::print(out, "forced:           {}\n", log_.size());
+        for (const Entry& x : log_)
+            fmt::print(out, "  {:<{}}  {:<14}  from {:.3f} s to {}\n", x.path, width, x.how, x.from,
+                       x.until < 0 ? fmt::format("the end ({:.3f} s)", e.time()) : fmt::format("{:.3f} s", x.until));
+    }
+
+private:
+    // "stuck VALUE", "open", "invert": the force as its events-file line says it.
+    static std::string force_text(const graph::Graph& g, const Event& ev) {
+        const std::string line = format_event(g, ev);
+        const size_t at = line.find(" " + ev.path + " ");
+        return at == std::string::npos ? line : line.substr(at + ev.path.size() + 2);
+    }
+    struct Entry {
+        std::string path, how;
+        double from, until;
+    };
+    std::vector<int32_t> slots_;
+    std::vector<Entry> log_;
+};
+
 }  // namespace
 
 RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {
@@ -167,6 +209,10 @@ RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {
 
 void RecordTally::step(const Engine& e) {
     for (int32_t r : void_records_) count_[size_t(r)] += e.active(g_.records[size_t(r)].slot) ? 1 : 0;
+}
+
+void RecordTally::finish(const Engine& e) {
+    for (int32_t r : void_records_) count_[size_t(r)] += e.emitted(g_.records[size_t(r)].slot) ? 1 : 0;
 }
 
 void RecordTally::reset() { std::fill(count_.begin(), count_.end(), 0); }
@@ -283,9 +329,12 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     Tally tally(g);
     RecordTally counts(g);
 
+    ForceLog forces(o.events);
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
-        trace = std::make_unique<TraceWriter>(e, trace_columns(g, o.select), trace_file);
+        std::vector<TraceColumn> columns = trace_columns(g, o.select);
+        if (!forces.slots().empty()) columns.push_back(forced_column(forces.slots()));
+        trace = std::make_unique<TraceWriter>(e, std::move(columns), trace_file);
         trace->header();
         trace->row();
     }
@@ -295,6 +344,10 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         return 2;
     }
     const int64_t steps = int64_t(step_count);
+    for (const Event& ev : o.events)
+        if (ev.time > double(steps) * e.dt() + 1e-9)
+            fmt::print(err, "plant run: warning: the event '{}' is after the end of the run ({:g} s): it is never applied\n",
+                       format_event(g, ev), double(steps) * e.dt());
     if (observer) observer->started(e);
     // A trace row every `every` steps; a rate far below one row per run gives the first and last rows.
     const double every_steps = o.trace_rate > 0 ? std::round(1.0 / (o.trace_rate * e.dt())) : 1;
@@ -309,17 +362,25 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     InterruptGuard interrupt;
     int stopped_by = 0;
     for (int64_t i = 0; i < steps; ++i) {
-        if ((stopped_by = InterruptGuard::requested())) {
-            if (trace && (e.steps() % every != 0)) trace->row();  // the last step ran: its row
+        if ((stopped_by = InterruptGuard::requested())) {  // the step that ran last ends the run
+            if (i > 0) counts.finish(e);
+            if (trace && i > 0) trace->finish();
+            if (trace && e.steps() % every != 0) trace->row();
             break;
         }
         const double t_next = double(e.steps() + 1) * e.dt();
         for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event) {
             apply_event(e, o.events[next_event]);
+            forces.applied(g, o.events[next_event], t_next);
             if (observer) observer->event(e, o.events[next_event]);
         }
         e.step();
         counts.step(e);
+        if (trace) trace->step();
+        if (i + 1 == steps) {  // what the last step produced after its logic phase counts too
+            counts.finish(e);
+            if (trace) trace->finish();
+        }
         if (observer) observer->stepped(e, counts);
         if (trace && (e.steps() % every == 0 || i + 1 == steps)) trace->row();
         if ((i & 63) != 63 && !o.realtime) continue;
@@ -349,6 +410,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         fmt::print(out, "interrupted:      by {} after {:g} s of {:g} s\n", InterruptGuard::name(stopped_by), e.time(),
                    o.duration);
     summary(e, tally, counts, wall(), out);
+    forces.print(e, out);
     return stopped_by ? InterruptGuard::exit_code(stopped_by) : 0;
 }
 

@@ -33,6 +33,9 @@ class RecordTally {
 public:
     explicit RecordTally(const graph::Graph& g);
     void step(const Engine& e);
+    // At the end of a run: the events produced in its last step after its logic phase (an
+    // issue in phase 5), which no further step will count.
+    void finish(const Engine& e);
     void reset();
     int64_t count(size_t record) const { return count_[record]; }
     // One number per record: events so far (void) or the value now (bool, int, real; else 0).

@@ -158,8 +158,12 @@ std::string closest_path(const SlotIndex& slots, std::string_view path) {
 }
 
 std::string format_event(const Graph& g, const Event& ev) {
-    std::string line = fmt::format("{}s {}", ev.time, ev.path);
+    if (ev.force && ev.mode != ForceMode::Stuck)
+        return fmt::format("{}s {} {}{}", ev.time, ev.mode == ForceMode::None ? "release" : "force", ev.path,
+                           ev.mode == ForceMode::Open ? " open" : ev.mode == ForceMode::Invert ? " invert" : "");
+    std::string line = ev.force ? fmt::format("{}s force {} stuck", ev.time, ev.path) : fmt::format("{}s {}", ev.time, ev.path);
     if (ev.slots.empty()) return line;
+    if (ev.force && g.slots[size_t(ev.slots[0])].type == SlotType::Void) return line + (ev.value[0] != 0 ? " on" : " off");
     switch (g.slots[size_t(ev.slots[0])].type) {
     case SlotType::Void: break;
     case SlotType::Bool: line += ev.value[0] != 0 ? " true" : " false"; break;
@@ -179,12 +183,16 @@ std::string format_event(const Graph& g, const Event& ev) {
 void apply_event(Engine& e, const Event& ev) {
     if (ev.slots.empty()) return;
     const Graph& g = e.graph();
-    if (g.slots[size_t(ev.slots[0])].type == SlotType::String) {
-        const double name[1] = {double(e.intern(ev.text))};
-        for (int32_t s : ev.slots) e.input(s, name);
-        return;
+    double name[1];
+    std::span<const double> value = ev.value;
+    if (g.slots[size_t(ev.slots[0])].type == SlotType::String && (!ev.force || ev.mode == ForceMode::Stuck)) {
+        name[0] = double(e.intern(ev.text));
+        value = name;
     }
-    for (int32_t s : ev.slots) e.input(s, ev.value);
+    for (int32_t s : ev.slots) {
+        if (ev.force) e.force(s, ev.mode, value);
+        else e.input(s, value);
+    }
 }
 
 bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
@@ -199,25 +207,11 @@ bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, 
     return parse_input(g, slots, trim(line.substr(sp)), ev, error);
 }
 
-bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, Event& ev, std::string& error) {
-    rest = trim(rest);
-    size_t sp2 = rest.find_first_of(" \t");
-    std::string path(rest.substr(0, sp2));
-    std::string_view value = sp2 == std::string_view::npos ? std::string_view{} : trim(rest.substr(sp2));
-    auto it = slots.find(path);
-    if (it == slots.end()) {
-        const std::string hint = closest_path(slots, path);
-        error = hint.empty() ? fmt::format("no slot '{}' (`plant info --slots FILE` lists them)", path)
-                             : fmt::format("no slot '{}'; did you mean '{}'?", path, hint);
-        return false;
-    }
-    if (it->second.dir != Dir::In) {
-        error = fmt::format("'{}' is an output: events drive inputs (`plant info --slots FILE` lists them)", path);
-        return false;
-    }
-    ev.path = path;
-    ev.slots = it->second.slots;
-    const SlotType type = it->second.type;
+namespace {
+
+// A value for a slot of `type` into ev.value (ev.text for strings); false with `error`.
+bool parse_value(const Graph& g, SlotType type, const std::string& path, std::string_view value, Event& ev,
+                 std::string& error) {
     ev.value.clear();
     ev.text.clear();
     bool ok = true;
@@ -255,9 +249,98 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
                     : fmt::format("'{}' is not a {} value for '{}'{}", value, word(type), path,
                                   type == SlotType::Quat || type == SlotType::Pose ? " (finite numbers, a unit quaternion x y z w)"
                                   : type == SlotType::Ref ? " (a DO path, or its id)" : "");
+    }
+    return ok;
+}
+
+// The slot (or port) at `path`; false with a "did you mean" error.
+const SlotTarget* find_target(const SlotIndex& slots, const std::string& path, std::string& error) {
+    auto it = slots.find(path);
+    if (it != slots.end()) return &it->second;
+    const std::string hint = closest_path(slots, path);
+    error = hint.empty() ? fmt::format("no slot '{}' (`plant info --slots FILE` lists them)", path)
+                         : fmt::format("no slot '{}'; did you mean '{}'?", path, hint);
+    return nullptr;
+}
+
+std::pair<std::string_view, std::string_view> first_word(std::string_view text) {
+    text = trim(text);
+    const size_t sp = text.find_first_of(" \t");
+    if (sp == std::string_view::npos) return {text, {}};
+    return {text.substr(0, sp), trim(text.substr(sp))};
+}
+
+// "force PATH stuck VALUE | open | invert" and "release PATH" (after the first word).
+bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::string_view rest, Event& ev,
+                 std::string& error) {
+    const auto [path_text, tail] = first_word(rest);
+    const std::string path(path_text);
+    const SlotTarget* t = find_target(slots, path, error);
+    if (!t) return false;
+    ev.path = path;
+    ev.slots = t->slots;
+    ev.force = true;
+    ev.value.clear();
+    ev.text.clear();
+    if (release) {
+        ev.mode = ForceMode::None;
+        if (!tail.empty()) error = fmt::format("release '{}': unexpected '{}'", path, tail);
+        return tail.empty();
+    }
+    const auto [mode, value] = first_word(tail);
+    const SlotType type = t->type;
+    if (mode == "open" || mode == "invert") {
+        ev.mode = mode == "open" ? ForceMode::Open : ForceMode::Invert;
+        if (!value.empty()) {
+            error = fmt::format("force '{}' {}: unexpected '{}'", path, mode, value);
+            return false;
+        }
+        if (mode == "invert" && type != SlotType::Bool) {
+            error = fmt::format("force '{}' invert: only a bool slot can be inverted ('{}' is {})", path, path, word(type));
+            return false;
+        }
+        if (mode == "open" && (type == SlotType::Vec3 || type == SlotType::Quat || type == SlotType::Pose)) {
+            error = fmt::format("force '{}' open: a {} slot has no 'off' (force it stuck at a value)", path, word(type));
+            return false;
+        }
+        return true;
+    }
+    if (mode != "stuck") {
+        error = mode.empty() ? fmt::format("force '{}': which way? stuck VALUE, open or invert", path)
+                             : fmt::format("force '{}': '{}' is not a way to force (stuck VALUE, open or invert)", path, mode);
         return false;
     }
-    return true;
+    ev.mode = ForceMode::Stuck;
+    if (type == SlotType::Void) {  // a void slot is stuck on (active every step) or off
+        if (value == "on" || value == "true" || value == "1") ev.value = {1.0};
+        else if (value == "off" || value == "false" || value == "0") ev.value = {0.0};
+        else {
+            error = fmt::format("force '{}' stuck: a void slot is stuck on or off, not '{}'", path, value);
+            return false;
+        }
+        return true;
+    }
+    return parse_value(g, type, path, value, ev, error);
+}
+
+}  // namespace
+
+bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, Event& ev, std::string& error) {
+    const auto [head, tail] = first_word(rest);
+    if ((head == "force" || head == "release") && !tail.empty() && !slots.count(std::string(head)))
+        return parse_force(g, slots, head == "release", tail, ev, error);
+    std::string path(head);
+    std::string_view value = tail;
+    const SlotTarget* t = find_target(slots, path, error);
+    if (!t) return false;
+    if (t->dir != Dir::In) {
+        error = fmt::format("'{}' is an output: events drive inputs (`plant info --slots FILE` lists them)", path);
+        return false;
+    }
+    ev.path = path;
+    ev.slots = t->slots;
+    ev.force = false;
+    return parse_value(g, t->type, path, value, ev, error);
 }
 
 bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,

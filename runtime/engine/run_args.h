@@ -26,6 +26,10 @@ struct Event {
     std::vector<int32_t> slots;  // the input slots it feeds (several for a port)
     std::vector<double> value;
     std::string text;  // string slots: interned into the engine when the run starts
+    // A force ("force PATH stuck VALUE | open | invert") or, with mode None, its release
+    // ("release PATH"): outputs and inputs alike (docs/runtime.md, "Forced slots").
+    bool force = false;
+    ForceMode mode = ForceMode::None;
 };
 
 // Every addressable input and output by its dotted path: component slots and ports.
@@ -48,7 +52,8 @@ void apply_event(Engine& e, const Event& ev);
 
 bool parse_event(const graph::Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
                  std::string& error);
-// The same without the time: "PATH [VALUE]" (the viewer's and the PLC link's inputs).
+// The same without the time: "PATH [VALUE]", "force PATH ...", "release PATH" (the
+// viewer's and the PLC link's inputs).
 bool parse_input(const graph::Graph& g, const SlotIndex& slots, std::string_view text, Event& ev,
                  std::string& error);
 // One event per line; blank lines and lines starting with '#' are skipped.

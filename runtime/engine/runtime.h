@@ -67,6 +67,17 @@ void phase_logic(Runtime& r);      // 3: external inputs, flows, connectors, rou
 void phase_petri(Runtime& r);      // 4: clear outputs, puts, all enabled transitions fire
 void phase_actuators(Runtime& r);  // 5: components act on their active inputs
 
+// Forced slots (forces.cpp): outputs hold their natural values while components work
+// (phases 1, 2, 4, 5) and show the forced ones to the logic phase and to readers after
+// the step; inputs are forced after the logic phase, for the phases that act on them.
+void forces_step_begin(Runtime& r);
+void forces_logic_begin(Runtime& r);  // after the pending inputs are activated
+void forces_logic_end(Runtime& r);
+// An output the logic phase itself computes (a connector, a router entry, a label), forced
+// again after its op ran; callers test `!st.forced_out.empty()` first.
+void force_again(Runtime& r, int32_t slot);
+void forces_step_end(Runtime& r);
+
 // Pieces the phases share.
 void apply_fields(Runtime& r);
 void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step

@@ -122,6 +122,13 @@ struct State {
     std::vector<int32_t> pool_ring;
     std::vector<int64_t> exit_count;
 
+    // Forced slots (forces.cpp), sized by the first Engine::force: per slot its mode and
+    // whether the force began or ended since the last logic phase; per value the forced
+    // value and the natural one (what the component or the flows wrote underneath).
+    std::vector<uint8_t> force_mode, force_edge;
+    std::vector<double> force_value, force_natural;
+    std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
+
     Warnings warn;
 };
 

@@ -74,10 +74,18 @@ std::vector<TraceColumn> trace_columns(const Graph& g, TraceSelect sel) {
     return out;
 }
 
+TraceColumn forced_column(std::vector<int32_t> slots) {
+    TraceColumn c{TraceColumn::Kind::Forced, -1, 0, "forced", std::move(slots)};
+    return c;
+}
+
 TraceWriter::TraceWriter(Engine& e, std::vector<TraceColumn> columns, std::ostream& out)
-    : e_(e), cols_(std::move(columns)), out_(out) {
-    for (const TraceColumn& c : cols_)
+    : e_(e), cols_(std::move(columns)), counts_(cols_.size(), 0), out_(out) {
+    for (size_t i = 0; i < cols_.size(); ++i) {
+        const TraceColumn& c = cols_[i];
         if (c.kind == Kind::Value || c.kind == Kind::Text) e_.watch(c.id);
+        if (c.kind == Kind::Activity) activity_.push_back(i);
+    }
 }
 
 void TraceWriter::header() {
@@ -100,7 +108,7 @@ void TraceWriter::row() {
         switch (c.kind) {
         case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.id)[size_t(c.index)]); break;
         case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.id)[0]))); break;
-        case Kind::Activity: buf_.push_back(e_.active(c.id) ? '1' : '0'); break;
+        case Kind::Activity: fmt::format_to(std::back_inserter(buf_), "{}", counts_[size_t(&c - cols_.data())]); break;
         // A parked body (a pooled object not in the world) has empty cells, not the pool's pose.
         case Kind::BodyAxis:
             if (!e_.body_in_world(c.id)) break;
@@ -112,10 +120,30 @@ void TraceWriter::row() {
             break;
         }
         case Kind::Tokens: fmt::format_to(std::back_inserter(buf_), "{}", e_.tokens(c.id)); break;
+        case Kind::Forced: {
+            std::string cell;
+            for (int32_t s : c.slots) {
+                const ForceMode m = e_.forced(s);
+                if (m == ForceMode::None) continue;
+                cell += fmt::format("{}{}={}", cell.empty() ? "" : ";", e_.graph().slot_path(s),
+                                    m == ForceMode::Stuck ? "stuck" : m == ForceMode::Open ? "open" : "invert");
+            }
+            put_text(buf_, cell);
+            break;
+        }
         }
     }
     buf_.push_back('\n');
+    std::fill(counts_.begin(), counts_.end(), 0);
     if (buf_.size() > (1 << 16)) flush();
+}
+
+void TraceWriter::step() {
+    for (size_t i : activity_) counts_[i] += e_.active(cols_[i].id) ? 1 : 0;
+}
+
+void TraceWriter::finish() {
+    for (size_t i : activity_) counts_[i] += e_.emitted(cols_[i].id) ? 1 : 0;
 }
 
 void TraceWriter::flush() {

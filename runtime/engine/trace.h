@@ -2,12 +2,15 @@
 // row per sampled step (and one for the start, at time 0).
 //
 // Columns: the graph's records (Graph::records), each expanded by its slot's type:
-// void -> its activity 0/1; bool/int/real/ref -> the value; string -> the text;
+// void -> the steps it was active since the previous row (0/1 when every step is a row,
+// so a sampled trace never hides an event); bool/int/real/ref -> the value; string -> the text;
 // vec3 -> .x .y .z; quat -> .qx .qy .qz .qw; pose -> .x .y .z .qx .qy .qz .qw.
 // Without records, or when a selection is given, the default set:
 //   bodies: every dynamic body's centre of mass, "<body>.x/.y/.z", and "<body>.speed";
 //   places: every place's tokens, "<slot path of its tokens output>";
 //   slots:  every void output's activity, "<slot path>".
+// A run with forces (docs/runtime.md, "Forced slots") has a last column `forced`: the
+// slots forced at that row, "path=mode" separated by ';' (empty when none).
 #pragma once
 
 #include "engine/engine.h"
@@ -21,11 +24,12 @@
 namespace plant::engine {
 
 struct TraceColumn {
-    enum class Kind : uint8_t { Value, Text, Activity, BodyAxis, BodySpeed, Tokens };
+    enum class Kind : uint8_t { Value, Text, Activity, BodyAxis, BodySpeed, Tokens, Forced };
     Kind kind;
     int32_t id;     // slot, body or place
     int32_t index;  // component of a value, axis of a body
     std::string name;
+    std::vector<int32_t> slots = {};  // Forced: the slots that may be forced
 };
 
 struct TraceSelect {
@@ -34,19 +38,25 @@ struct TraceSelect {
 };
 
 std::vector<TraceColumn> trace_columns(const graph::Graph& g, TraceSelect sel);
+// The `forced` column over the slots some event forces (ids, once each, in order).
+TraceColumn forced_column(std::vector<int32_t> slots);
 
 class TraceWriter {
 public:
     // Watches the slots it traces, so their values are refreshed every step.
     TraceWriter(Engine& e, std::vector<TraceColumn> columns, std::ostream& out);
     void header();
-    void row();
+    void step();    // after every step: counts the void columns' activity
+    void finish();  // after the last step: counts what it produced after its logic phase
+    void row();     // writes the counts and starts them again
     void flush();
     size_t columns() const { return cols_.size(); }
 
 private:
     Engine& e_;
     std::vector<TraceColumn> cols_;
+    std::vector<int64_t> counts_;     // per column: steps active since the last row (activity)
+    std::vector<size_t> activity_;    // the activity columns
     std::ostream& out_;
     fmt::memory_buffer buf_;
 };

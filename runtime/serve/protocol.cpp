@@ -10,6 +10,29 @@ using json = nlohmann::json;
 
 namespace {
 
+// An input's path (one dotted path) and its optional "value" (as an events file writes it).
+bool input_fields(const json& j, const std::string& path, std::string& value, std::string& error) {
+    auto it = j.find("value");
+    if (it != j.end() && !it->is_null()) {
+        if (it->is_string()) value = it->get<std::string>();
+        else if (it->is_boolean()) value = it->get<bool>() ? "true" : "false";
+        else if (it->is_number()) value = it->dump();
+        else {
+            error = "\"value\" must be a string, a number or a boolean";
+            return false;
+        }
+    }
+    if (path.empty() || path.find_first_of(" \t\r\n") != std::string::npos) {
+        error = "\"path\" must be a dotted path without spaces";
+        return false;
+    }
+    if (value.find_first_of("\r\n") != std::string::npos) {
+        error = "\"value\" must be one line";
+        return false;
+    }
+    return true;
+}
+
 bool string_field(const json& j, const char* key, std::string& out, std::string& error, bool required = true) {
     auto it = j.find(key);
     if (it == j.end()) {
@@ -86,28 +109,23 @@ bool decode_client_message(std::string_view text, ClientMessage& m, std::string&
         error = "unknown control action '" + m.action + "' (pause, run, step, restart, speed)";
         return false;
     }
+    if (type == "force") {  // {"type":"force","path":P,"mode":"stuck"|"open"|"invert"|"release","value":V}
+        m.kind = ClientMessage::Kind::Event;
+        std::string mode, value;
+        if (!string_field(j, "path", m.path, error) || !string_field(j, "mode", mode, error)) return false;
+        if (mode != "stuck" && mode != "open" && mode != "invert" && mode != "release") {
+            error = "\"mode\" is stuck, open, invert or release";
+            return false;
+        }
+        if (!input_fields(j, m.path, value, error)) return false;
+        // The text an events file holds ("force P open"): parsed by the server like every input.
+        m.value = mode == "release" ? std::string() : mode + (value.empty() ? "" : " " + value);
+        m.path = (mode == "release" ? "release " : "force ") + m.path;
+        return true;
+    }
     if (type == "event") {
         m.kind = ClientMessage::Kind::Event;
-        if (!string_field(j, "path", m.path, error)) return false;
-        auto it = j.find("value");
-        if (it != j.end() && !it->is_null()) {
-            if (it->is_string()) m.value = it->get<std::string>();
-            else if (it->is_boolean()) m.value = it->get<bool>() ? "true" : "false";
-            else if (it->is_number()) m.value = it->dump();
-            else {
-                error = "\"value\" must be a string, a number or a boolean";
-                return false;
-            }
-        }
-        if (m.path.empty() || m.path.find_first_of(" \t\r\n") != std::string::npos) {
-            error = "\"path\" must be a dotted path without spaces";
-            return false;
-        }
-        if (m.value.find_first_of("\r\n") != std::string::npos) {
-            error = "\"value\" must be one line";
-            return false;
-        }
-        return true;
+        return string_field(j, "path", m.path, error) && input_fields(j, m.path, m.value, error);
     }
     if (type == "inspect") {
         m.kind = ClientMessage::Kind::Inspect;

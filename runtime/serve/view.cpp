@@ -398,6 +398,21 @@ std::vector<int32_t> object_slots(const Graph& g, std::string_view path) {
     return out;
 }
 
+namespace {
+
+// A slot's force for the inspector: "stuck", "open", "invert", or null.
+json force_word(const engine::Engine& e, int32_t slot) {
+    switch (e.forced(slot)) {
+    case engine::ForceMode::Stuck: return "stuck";
+    case engine::ForceMode::Open: return "open";
+    case engine::ForceMode::Invert: return "invert";
+    case engine::ForceMode::None: break;
+    }
+    return nullptr;
+}
+
+}  // namespace
+
 std::string inspect_json(const engine::Engine& e, std::string_view path) {
     const Graph& g = e.graph();
     const int32_t d = find_do(g, path);
@@ -410,13 +425,15 @@ std::string inspect_json(const engine::Engine& e, std::string_view path) {
         const int32_t first = g.port_targets[size_t(pt.target_adr)].v;
         slots.push_back({{"path", g.port_path(int32_t(p))},
                          {"value", pt.dir == Dir::Out ? slot_value(e, first) : json(nullptr)},
-                         {"active", e.active(first)}});
+                         {"active", e.active(first)},
+                         {"forced", force_word(e, first)}});
     }
     json places = json::array();
     for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
         const Comp& cp = g.comps[size_t(c)];
         for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl)
-            slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)}});
+            slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)},
+                             {"forced", force_word(e, sl)}});
     }
     for (size_t p = 0; p < g.places.size(); ++p)
         if (g.comps[size_t(g.places[p].comp)].owner == d)

@@ -3,10 +3,10 @@
 // it and get an empty list, hover a belt's `speed`, go from a Switch instance to
 // stdlib/switch.plant, complete after `s1.`; then bad input: malformed JSON, an unknown
 // method, an unknown document. Usage: node conversation.mjs PLANT REPO_DIR
-import { spawn } from 'node:child_process';
 import { readFileSync, realpathSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
+import { check, converse, start } from './client.mjs';
 
 const [plant, repo] = process.argv.slice(2);
 const file = realpathSync(path.join(repo, 'plants/bottling.plant'));
@@ -14,62 +14,10 @@ const uri = pathToFileURL(file).href;
 const text = readFileSync(file, 'utf8');
 const lines = text.split('\n');
 
-let failures = 0;
-function check(ok, what, detail) {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${ok ? '' : ': ' + JSON.stringify(detail)}`);
-  if (!ok) failures++;
-}
+const client = start(plant, repo);
+const { send, next, request, diagnosticsFor } = client;
 
-const child = spawn(plant, ['lsp', '--stdlib', path.join(repo, 'stdlib')], { stdio: ['pipe', 'pipe', 'inherit'] });
-let buffer = Buffer.alloc(0);
-const messages = [];
-let waiters = [];
-child.stdout.on('data', (chunk) => {
-  buffer = Buffer.concat([buffer, chunk]);
-  for (;;) {
-    const head = buffer.indexOf('\r\n\r\n');
-    if (head < 0) return;
-    const header = buffer.subarray(0, head).toString();
-    const m = /^Content-Length: (\d+)$/m.exec(header);
-    if (!m) { check(false, 'every message has a Content-Length header', header); process.exit(1); }
-    const length = Number(m[1]);
-    if (buffer.length < head + 4 + length) return;
-    const body = buffer.subarray(head + 4, head + 4 + length).toString();
-    buffer = buffer.subarray(head + 4 + length);
-    messages.push(JSON.parse(body));  // anything but JSON on stdout fails here
-    waiters.forEach((w) => w());
-  }
-});
-
-function send(msg) {
-  const body = typeof msg === 'string' ? msg : JSON.stringify({ jsonrpc: '2.0', ...msg });
-  child.stdin.write(`Content-Length: ${Buffer.byteLength(body)}\r\n\r\n${body}`);
-}
-// Waits (at most 20 s) for the first unread message that `pred` accepts.
-function next(pred) {
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error('timed out waiting for a message')), 20000);
-    const look = () => {
-      const i = messages.findIndex(pred);
-      if (i < 0) return;
-      const [m] = messages.splice(i, 1);
-      clearTimeout(timer);
-      waiters = waiters.filter((w) => w !== look);
-      resolve(m);
-    };
-    waiters.push(look);
-    look();
-  });
-}
-let nextId = 1;
-async function request(method, params) {
-  const id = nextId++;
-  send({ id, method, params });
-  return next((m) => m.id === id);
-}
-const diagnosticsFor = (u) => next((m) => m.method === 'textDocument/publishDiagnostics' && m.params.uri === u);
-
-try {
+await converse(client, async () => {
   const init = await request('initialize', { processId: null, rootUri: null, capabilities: {} });
   check(init.result?.capabilities?.textDocumentSync?.change === 2, 'initialize: incremental sync', init);
   send({ method: 'initialized', params: {} });
@@ -129,14 +77,4 @@ try {
   check(unknown.error?.code === -32601, 'unknown method: method not found', unknown);
   const nodoc = await request('textDocument/hover', { textDocument: { uri: 'file:///nowhere.plant' }, position: { line: 0, character: 0 } });
   check(nodoc.error?.code === -32602, 'unknown document: invalid params', nodoc);
-
-  const down = await request('shutdown', null);
-  check(down.result === null, 'shutdown', down);
-  send({ method: 'exit' });
-  const code = await new Promise((resolve) => child.on('exit', resolve));
-  check(code === 0, 'exit code 0 after shutdown', code);
-} catch (e) {
-  check(false, 'conversation', String(e));
-  child.kill();
-}
-process.exit(failures ? 1 : 0);
+});

@@ -206,6 +206,16 @@ try {
   // The page's inspector shows the live marking.
   const pageMarking = await until(() => page.evaluate((p) => document.querySelector(`[data-place="${p}"]`)?.textContent, `${sw.path}.net.BasePos`), 5000);
   check(pageMarking === 'BasePos 1', `the inspector shows the marking (${pageMarking})`);
+  // The switch's own control sends it back to base for a bottle that is not due: cut that
+  // wire first (a forced fault: to_base open), through the inspector's force menu.
+  const forceMenu = `select[data-force="${sw.path}.to_base"]`;
+  await page.waitForSelector(forceMenu, { timeout: 5000 });
+  const openChoice = await page.$eval(forceMenu, (m) => [...m.options].find((o) => o.textContent === 'open')?.value);
+  await page.select(forceMenu, openChoice);
+  const cut = await until(() => client.status?.inspect?.slots?.find((s) => s.path === `${sw.path}.to_base`)?.forced === 'open', 10_000, 50);
+  check(cut, `the inspector forced ${sw.path}.to_base open (status.inspect marks it)`);
+  const forcedLine = await until(() => client.events.find((l) => l.endsWith(`force ${sw.path}.to_base open`)), 5000);
+  check(!!forcedLine, `the force is broadcast like any event: '${forcedLine}'`);
   await page.click(button);
   const after = await until(() => tokensOf(client.status?.inspect) === 1 && client.status.inspect, 10_000, 50);
   check(!!after, `the runtime's switch moved to its working position: ${sw.path}.net.WorkingPos marked (through the protocol, ${elapsed()})`);
@@ -222,6 +232,19 @@ try {
   }
   const events = await (await fetch(url + 'events')).text();
   check(events.includes(`${sw.path}.to_working`), `/events holds the session's event (${events.trim().split('\n').filter((l) => l && !l.startsWith('#')).length} lines)`);
+  check(events.includes(`force ${sw.path}.to_base open`), '/events holds the force too');
+  // The next bottle at the held switch goes into its lane (the lane's exit counts it),
+  // due or not; run as fast as possible until it does.
+  const laneRecord = scene.records.findIndex((r) => r.column === 'commissioned A');
+  if (check(laneRecord >= 0 && sw.path.startsWith('line[0].s1.'), `the record 'commissioned A' counts lane A, behind ${sw.path}`)) {
+    const inLaneBefore = client.status?.records?.[laneRecord] ?? 0;
+    await page.click('button[data-speed="0"]');
+    const inLane = await until(() => (client.status?.records?.[laneRecord] ?? 0) > inLaneBefore && client.status, 30_000, 100);
+    check(!!inLane, `the next bottle went into lane A at the held switch (commissioned A: ${inLane?.records?.[laneRecord]}, t = ${inLane?.time?.toFixed(1)} s)`);
+    const stillWorking = tokensOf(client.status?.inspect) === 1;
+    check(stillWorking, `${sw.path} stayed in its working position`);
+    await page.click('button[data-speed="1"]');
+  }
 
   // ---- restart: a new scene, the switch back in base position ----
   const scenesBefore = await page.evaluate(() => plantViewer.scenesReceived);

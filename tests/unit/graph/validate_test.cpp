@@ -89,7 +89,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"settings", 0, "rate", "0", "settings: rate 0 is not between 1 Hz and 1 MHz"},
         {"body", dyn, "mass", "nan", "field 'mass' is not a finite number"},
         {"do", 1, "pose", "(0 0 0|0 0 0 2)", "field 'pose' has a rotation that is not a unit quaternion"},
-        {"comp", 0, "src", "99:1:1", "field 'src' names file 99, not one of the 8 files"},
+        {"comp", 0, "src", "99:1:1", "field 'src' names file 99, not one of the " + std::to_string(g.files.size()) + " files"},
         {"do", 1, "parent", "5", "field 'parent' must name an earlier DO"},
         {"do", typed_do, "ordinal", "100000", "field 'ordinal' = 100000 is not below its type's instance_num"},
         {"comp", 0, "owner", "100000", "field 'owner' = 100000 is not a row of dos (" + std::to_string(g.dos.size()) + " rows)"},

@@ -2,6 +2,7 @@
 #include "engine/run.h"
 #include "engine/run_args.h"
 #include "bottling_scene.h"
+#include "../compiler/compile_helper.h"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -183,4 +184,59 @@ TEST_CASE("runtime: records choose the trace columns; --trace-places selects a d
     csv = slurp(path);
     CHECK(csv == "time,net.p.tokens\n0,2\n0.1,2\n");
     std::remove(path.c_str());
+}
+
+// #19 §3b: a sampled trace never hides an event, and the summary's records count what the
+// last step produced.
+TEST_CASE("runtime: a 10 Hz trace counts a 30 Hz timer's ticks; records agree with the sources' count") {
+    plant::Compilation c;
+    plant::test::compile_text(R"(import std.bottle
+plant Ticks {
+    timer clock: periodic { period = 1 s / 30; autostart = true }
+    source store at (0 m, 0 m, 5 cm) { object = Bottle; pool = 20; rate = 3 Hz }
+    record clock.tick as "ticks"
+    record store.issued as "issued"
+}
+)", c, "ticks.plant");
+    REQUIRE(c.ok());
+    const Graph& g = c.graph;
+    const std::string csv = (plant::test::scratch_dir() / "ticks.csv").string();
+    for (const char* duration : {"1s", "2s", "0.34s", "1.6667s", "3s"}) {
+        const std::string for_time = duration;
+        CAPTURE(for_time);
+        std::string out, err;
+        REQUIRE(run(g, {"--for", duration, "--quiet", "--trace", csv, "--trace-rate", "10Hz"}, out, err) == 0);
+        // The summary: ticks and issues as records, issues as the sources' count.
+        auto number_after = [&](const std::string& what) {
+            const size_t at = out.find(what);
+            REQUIRE_MESSAGE(at != std::string::npos, what, " in ", out);
+            return std::stoll(out.substr(at + what.size()));
+        };
+        const long long ticks = number_after("ticks   "), issued = number_after("issued  ");
+        CHECK(issued == number_after("issued by sources: "));
+        // The trace: the sum of each void column is the summary's count.
+        std::istringstream rows(slurp(csv));
+        std::string line;
+        std::getline(rows, line);
+        REQUIRE(line == "time,ticks,issued");
+        long long sum_ticks = 0, sum_issued = 0;
+        int n = 0;
+        while (std::getline(rows, line)) {
+            const size_t a = line.find(','), b = line.find(',', a + 1);
+            sum_ticks += std::stoll(line.substr(a + 1, b - a - 1));
+            sum_issued += std::stoll(line.substr(b + 1));
+            ++n;
+        }
+        CHECK(n >= 4);
+        CHECK(sum_ticks == ticks);
+        CHECK(sum_issued == issued);
+        CHECK(ticks >= 10);
+    }
+}
+
+TEST_CASE("runtime: an event after the end of the run is reported") {
+    const Graph g = bottling_scene(2);
+    std::string out, err;
+    REQUIRE(run(g, {"--for", "1s", "--quiet", "--event", "5s line.state.other.put"}, out, err) >= 0);
+    CHECK(err.find("after the end of the run") != std::string::npos);
 }

@@ -169,6 +169,20 @@ TEST_CASE("serve: client messages are decoded or refused, never thrown") {
     CHECK(view::decode_client_message(R"({"type":"event","path":"b.set_speed","value":0.25})", m, err));
     CHECK(m.value == "0.25");
     CHECK(view::decode_client_message(R"({"type":"control","action":"speed","speed":0})", m, err));
+    // A force is an event whose text is the events-file line's (parsed by the server).
+    CHECK(view::decode_client_message(R"({"type":"force","path":"s1.to_base","mode":"open"})", m, err));
+    CHECK(m.kind == view::ClientMessage::Kind::Event);
+    CHECK(m.path + " " + m.value == "force s1.to_base open");
+    CHECK(view::decode_client_message(R"({"type":"force","path":"r.id","mode":"stuck","value":"\"A-1\""})", m, err));
+    CHECK(m.path + " " + m.value == "force r.id stuck \"A-1\"");
+    CHECK(view::decode_client_message(R"({"type":"force","path":"r.id","mode":"release"})", m, err));
+    CHECK(m.path == "release r.id");
+    CHECK(m.value.empty());
+    for (const char* bad : {R"({"type":"force","path":"a"})", R"({"type":"force","path":"a","mode":"melt"})",
+                            R"({"type":"force","path":"a b","mode":"open"})", R"({"type":"force","mode":"open"})"}) {
+        CHECK_FALSE(view::decode_client_message(bad, m, err));
+        CHECK_FALSE(err.empty());
+    }
     for (const char* bad : {"", "{", "[]", "null", R"({"type":5})", R"({"type":"nope"})",
                             R"({"type":"control","action":"fly"})", R"({"type":"control","action":"speed","speed":-1})",
                             R"({"type":"hello","fps":1000})", R"({"type":"event"})", R"({"type":"event","path":"a b"})",
