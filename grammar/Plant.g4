@@ -135,7 +135,7 @@ unit     : unitAtom ({adjacent()}? unitOp=('*' | '/') {adjacent()}? unitAtom)* ;
 unitAtom : ID ({adjacent()}? '^' {adjacent()}? '-'? NUMBER)? ;
 
 NUMBER  : [0-9]+ ('.' [0-9]+)? ([eE] [+-]? [0-9]+)? ;
-STRING  : '"' (~["\\\r\n] | '\\' .)* '"' ;
+STRING  : '"' (~["\\\r\n] | '\\' ~[\r\n])* '"' ;   // a backslash escapes a character, never a line break
 ID      : [a-zA-Z_] [a-zA-Z_0-9]* ;
 
 // Comments are kept on the hidden channel: the parser never sees them, `plant fmt` does.
