@@ -83,9 +83,9 @@ void add_slots(const ast::ComponentDecl& k, json& items) {
 json members_after(const Compilation& c, const sema::LoadedModule& m, size_t offset, const std::vector<std::string>& segs) {
     json items = json::array();
     std::vector<const ast::ObjectDecl*> from;  // the object written at `offset` first
-    for (const auto& o : m.ast.objects)
+    for (const auto& o : m.ast->objects)
         if (inside(o.span, offset)) from.push_back(&o);
-    for (const auto& o : m.ast.objects)
+    for (const auto& o : m.ast->objects)
         if (!inside(o.span, offset)) from.push_back(&o);
     for (const ast::ObjectDecl* o : from) {
         const ast::ObjectDecl* in = o;
@@ -209,7 +209,7 @@ json completion(const Compilation* c, const sema::LoadedModule* m, const std::st
     }
     if (c)
         for (const auto& mod : c->program.modules)
-            for (const auto& o : mod.ast.objects)
+            for (const auto& o : mod.ast->objects)
                 if (!o.is_plant) items.push_back({{"label", o.name.text}, {"kind", kClass}, {"detail", signature(*c, o)}});
     return items;
 }

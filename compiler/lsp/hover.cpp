@@ -61,7 +61,7 @@ Decl find_decl(const Compilation& c, const Target& t) {
     Decl d;
     for (const auto& m : c.program.modules) {
         if (m.key != t.file) continue;
-        for (const auto& o : m.ast.objects) {
+        for (const auto& o : m.ast->objects) {
             d.owner = &o;
             if (o.name.span.begin == t.at) d.type = &o;
             for (const auto& p : o.params)
@@ -199,10 +199,10 @@ json on_kinds(const std::vector<ast::Member>& ms, size_t offset) {
 }  // namespace
 
 json hover(const Compilation& c, const sema::LoadedModule& m, size_t offset) {
-    for (const auto& o : m.ast.objects)
+    for (const auto& o : m.ast->objects)
         if (json h = on_kinds(o.members, offset); !h.is_null()) return h;
     // An instance's type or name: the type.
-    for (const auto& o : m.ast.objects)
+    for (const auto& o : m.ast->objects)
         for (const ast::InstanceDecl* i : members_of(o).instances)
             if (inside(i->type.span, offset) || inside(i->name.span, offset))
                 if (const ast::ObjectDecl* t = find_type(c, i->type.text))

@@ -25,7 +25,7 @@ void collect(const std::vector<ast::Member>& members, Members& out) {
 
 const ast::ObjectDecl* find_type(const Compilation& c, const std::string& name) {
     for (const auto& m : c.program.modules)
-        for (const auto& o : m.ast.objects)
+        for (const auto& o : m.ast->objects)
             if (o.name.text == name) return &o;
     return nullptr;
 }

@@ -37,8 +37,8 @@ class Walker {
 public:
     explicit Walker(const Compilation& c) {
         for (const auto& m : c.program.modules) {
-            file_key_[m.ast.file] = m.key;
-            for (const auto& o : m.ast.objects)
+            file_key_[m.ast->file] = m.key;
+            for (const auto& o : m.ast->objects)
                 if (!o.is_plant) types_.try_emplace(o.name.text, &o);
         }
     }
@@ -46,7 +46,7 @@ public:
     // Every occurrence in module `m`.
     void walk(const sema::LoadedModule& m, std::vector<Occurrence>& out) {
         out_ = &out;
-        for (const auto& o : m.ast.objects) {
+        for (const auto& o : m.ast->objects) {
             if (!o.is_plant) add(o.name.span, declared(o.name.span), true);
             values_.clear();
             for (const auto& p : o.params) declare(p.name);
@@ -282,7 +282,7 @@ std::optional<Target> target_at(const Compilation& c, const sema::LoadedModule& 
     Walker(c).walk(m, all);
     const Occurrence* best = nullptr;
     for (const Occurrence& o : all)
-        if (o.span.file == m.ast.file && o.span.begin <= offset && offset <= o.span.end &&
+        if (o.span.file == m.ast->file && o.span.begin <= offset && offset <= o.span.end &&
             (!best || o.span.end - o.span.begin < best->span.end - best->span.begin))
             best = &o;
     if (!best) return std::nullopt;

@@ -9,7 +9,7 @@ constexpr int kRounds = 12;  // lines blanked at most
 
 int32_t file_of(const Compilation& c, const std::string& path) {
     for (const auto& m : c.program.modules)
-        if (m.key == path) return m.ast.file;
+        if (m.key == path) return m.ast->file;
     return -1;
 }
 
@@ -44,17 +44,20 @@ bool syntax_error_in(const Compilation& c, const std::string& path) {
 }
 
 std::shared_ptr<Compilation> parse_repaired(const std::string& path, std::string text, const std::string& stdlib_dir,
-                                            sema::Overlay overlay) {
+                                            sema::Overlay overlay, const Compilation& failed) {
+    std::shared_ptr<Compilation> previous;
     for (int round = 0; round < kRounds; ++round) {
         auto c = std::make_shared<Compilation>();
         overlay[path] = text;
-        c->program = sema::load_program(path, stdlib_dir, c->sources, c->sink, &overlay);
+        const Compilation& last = previous ? *previous : failed;
+        c->program = sema::load_program(path, stdlib_dir, c->sources, c->sink, &overlay, {&last.program, &last.sources});
         const int32_t file = file_of(*c, path);
         const Diagnostic* error = nullptr;
         for (const Diagnostic& d : c->sink.all())
             if (d.id == DiagId::Syntax && d.span.file == file && !error) error = &d;
         if (!error) return c;
         if (!blank_line(text, error->span.begin)) return nullptr;
+        previous = c;
     }
     return nullptr;
 }

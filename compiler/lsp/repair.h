@@ -12,8 +12,9 @@ namespace plant::lsp {
 
 // The parsed modules of `path` (its text `text`, the other buffers in `overlay`) with the
 // lines of its syntax errors blanked; null when it does not parse after a few rounds.
+// `failed` is the compilation of `text` as it is: the modules it parsed are shared.
 std::shared_ptr<Compilation> parse_repaired(const std::string& path, std::string text, const std::string& stdlib_dir,
-                                            sema::Overlay overlay);
+                                            sema::Overlay overlay, const Compilation& failed);
 
 // Whether `c` has a syntax error in the module read from `path`.
 bool syntax_error_in(const Compilation& c, const std::string& path);

@@ -195,12 +195,15 @@ private:
             options.stdlib_dir = stdlib_;
             options.require_plant = false;  // as `plant check`
             options.overlay = &overlay;
+            // The modules whose text did not change since this document's last check are
+            // not parsed again (most of the time: all but the edited file).
+            if (doc.parsed) options.reuse = {&doc.parsed->program, &doc.parsed->sources};
             compile_file(doc.path, options, c);
             std::map<int32_t, std::string> file_uri;
-            for (const auto& m : c.program.modules) file_uri[m.ast.file] = path_to_uri(m.key);
+            for (const auto& m : c.program.modules) file_uri[m.ast->file] = path_to_uri(m.key);
             for (const auto& [file, u] : file_uri) by_uri.try_emplace(u, json::array());
             if (!syntax_error_in(c, doc.path)) doc.parsed = shared;
-            else if (auto repaired = parse_repaired(doc.path, doc.text, stdlib_, overlay)) doc.parsed = repaired;
+            else if (auto repaired = parse_repaired(doc.path, doc.text, stdlib_, overlay, c)) doc.parsed = repaired;
             else if (!doc.parsed) doc.parsed = shared;
             for (const Diagnostic& d : c.sink.sorted()) {
                 std::string target = uri;
@@ -247,7 +250,7 @@ private:
 
     static json location(const Compilation& c, const Span& s) {
         for (const auto& m : c.program.modules)
-            if (m.ast.file == s.file) return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, s)}};
+            if (m.ast->file == s.file) return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, s)}};
         return nullptr;
     }
 
@@ -255,7 +258,7 @@ private:
         const sema::LoadedModule* m = module_of(doc);
         if (!m) return nullptr;
         const Compilation& c = *doc.parsed;
-        for (const auto& imp : m->ast.imports) {
+        for (const auto& imp : m->ast->imports) {
             if (!inside(imp.span, offset)) continue;
             std::string rel = imp.module;
             for (auto& ch : rel)
@@ -265,7 +268,7 @@ private:
                                                              : fs::path(doc.path).parent_path() / rel;
             return {{"uri", path_to_uri(canonical(file.string()))}, {"range", zero_range()}};
         }
-        for (const auto& o : m->ast.objects) {
+        for (const auto& o : m->ast->objects) {
             for (const ast::InstanceDecl* i : members_of(o).instances) {
                 if (!inside(i->type.span, offset) && !inside(i->name.span, offset)) continue;
                 if (const ast::ObjectDecl* t = find_type(c, i->type.text)) return location(c, t->name.span);
