@@ -97,6 +97,7 @@ sema::Value let_value(const Compilation& c, const ast::ObjectDecl& o, const ast:
         else if (auto dim = units::dim_of_type(p.type.text)) env->set(p.name.text, sema::Value::number(1, *dim, p.span));
     }
     for (const ast::LetDecl* l : members_of(o).lets) {
+        if (!l->value) return {};
         sema::Value v = ev.eval(*l->value, *env);
         if (l == &target) return v;
         env->set(l->name.text, v);
@@ -125,7 +126,7 @@ json describe_let(const Compilation& c, const ast::ObjectDecl& o, const ast::Let
         if (const std::string shown = value_text(v); !shown.empty())
             text += "; value" + std::string(o.params.empty() ? "" : " with the parameters' defaults") + ": " + shown;
     }
-    return markdown("let " + l.name.text + " = " + slice(c, l.value->span), text);
+    return markdown("let " + l.name.text + " = " + (l.value ? slice(c, l.value->span) : ""), text);
 }
 
 // A component's slot: a fixed one of its kind, or one its content declares.
