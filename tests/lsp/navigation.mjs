@@ -3,17 +3,13 @@
 // imports; every expected answer is found in the files' text by the test. Then a file
 // opened with a broken line still has its outline and hover.
 // Usage: node navigation.mjs PLANT REPO_DIR
-import { readFileSync, realpathSync } from 'node:fs';
+import { realpathSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
-import { check, converse, start } from './client.mjs';
+import { check, converse, readDoc, sameLocations, start } from './client.mjs';
 
 const [plant, repo] = process.argv.slice(2);
-const load = (rel) => {
-  const file = realpathSync(path.join(repo, rel));
-  const text = readFileSync(file, 'utf8');
-  return { uri: pathToFileURL(file).href, text, lines: text.split('\n') };
-};
+const load = (rel) => readDoc(repo, rel);
 const bottling = load('plants/bottling.plant');
 const stations = load('stdlib/stations.plant');
 const switches = load('stdlib/switch.plant');
@@ -37,8 +33,7 @@ function uses(doc, name, from, to) {
 }
 // The lines of the object or plant declared on line `first`: up to its closing `}` at column 0.
 const body = (doc, first) => [first, doc.lines.findIndex((l, i) => i > first && /^}/.test(l)) + 1];
-const key = (l) => `${l.uri}:${l.line ?? l.range.start.line}:${l.character ?? l.range.start.character}:${l.end ?? l.range.end.character}`;
-const same = (got, want) => JSON.stringify((got ?? []).map(key).sort()) === JSON.stringify(want.map(key).sort());
+const same = sameLocations;
 
 const client = start(plant, repo);
 const { send, request, diagnosticsFor } = client;
