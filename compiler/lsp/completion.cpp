@@ -1,6 +1,7 @@
 // Completion, read from the buffer as typed (the line being written rarely parses) and the
 // last parse of the file: after `a.b.` the members of what the path names (an instance's
-// type: its ports, instances and components; a component: its slots); after `import` the
+// type, a cast's, a source's pooled object's: its ports, instances and components; a
+// component: its slots); after `import` the
 // modules and the object types they declare; after a number the units; at the start of a
 // line in a component's braces its kind's properties; at the start of a member the
 // component kinds and the object types.
@@ -30,28 +31,57 @@ enum Kind { kField = 5, kVariable = 6, kClass = 7, kModule = 9, kProperty = 10, 
 
 bool ident(char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; }
 
-// The names of `a.b[i].c.` before `dot` (the position of the last dot): {"a", "b", "c"}.
-std::vector<std::string> chain_before(const std::string& t, size_t dot) {
-    std::vector<std::string> segs;
+struct Seg {
+    std::string name;
+    bool indexed = false;  // seg[i]
+};
+// What is written before the dot at `dot`: `(p as Bottle).a.b[i].c` gives the cast's type
+// "Bottle" and the segments a, b[i], c.
+struct Chain {
+    std::string cast_type;
+    std::vector<Seg> segs;
+};
+
+Chain chain_before(const std::string& t, size_t dot) {
+    Chain chain;
     size_t at = dot;
     for (;;) {
         size_t end = at;
-        if (end > 0 && t[end - 1] == ']') {  // skip an index
+        bool indexed = false;
+        if (end > 0 && (t[end - 1] == ']' || t[end - 1] == ')')) {  // skip an index, or a cast
+            const char close = t[end - 1], open = close == ']' ? '[' : '(';
+            const size_t inner_end = end - 1;
             int depth = 0;
             while (end > 0) {
                 const char ch = t[--end];
-                depth += ch == ']' ? 1 : ch == '[' ? -1 : 0;
+                depth += ch == close ? 1 : ch == open ? -1 : 0;
                 if (depth == 0) break;
             }
+            if (close == ')') {
+                std::istringstream words(t.substr(end + 1, inner_end - end - 1));
+                std::string word, last, before_last;
+                while (words >> word) before_last = last, last = word;
+                if (before_last == "as") chain.cast_type = last;
+                return chain;
+            }
+            indexed = true;
         }
         size_t begin = end;
         while (begin > 0 && ident(t[begin - 1])) --begin;
         if (begin == end) break;
-        segs.insert(segs.begin(), t.substr(begin, end - begin));
+        chain.segs.insert(chain.segs.begin(), Seg{t.substr(begin, end - begin), indexed});
         if (begin == 0 || t[begin - 1] != '.') break;
         at = begin - 1;
     }
-    return segs;
+    return chain;
+}
+
+// The type a source issues: the callee of its `object` property.
+const ast::ObjectDecl* issued_type(const Compilation& c, const ast::ComponentDecl& k) {
+    if (k.kind.text != "source") return nullptr;
+    for (const auto& p : k.properties)
+        if (p.name.text == "object" && p.value) return find_type(c, p.value->text);
+    return nullptr;
 }
 
 void add_type_members(const ast::ObjectDecl& type, json& items) {
@@ -78,37 +108,45 @@ void add_slots(const ast::ComponentDecl& k, json& items) {
     for (const auto& g : k.children) named(g.name.text, "child graphics");
 }
 
-// The members of what `segs` names, looked up from the object written at `offset` (else
-// from the file's other objects), through instances' types and into a component's slots.
-json members_after(const Compilation& c, const sema::LoadedModule& m, size_t offset, const std::vector<std::string>& segs) {
+// The members of what `chain` names, looked up from the object written at `offset` (else
+// from the file's other objects), or from a cast's type; through instances' types and a
+// source's pooled objects (`store[i].`), and into a component's slots.
+json members_after(const Compilation& c, const sema::LoadedModule& m, size_t offset, const Chain& chain) {
     json items = json::array();
     std::vector<const ast::ObjectDecl*> from;  // the object written at `offset` first
-    for (const auto& o : m.ast->objects)
-        if (inside(o.span, offset)) from.push_back(&o);
-    for (const auto& o : m.ast->objects)
-        if (!inside(o.span, offset)) from.push_back(&o);
+    if (!chain.cast_type.empty()) {
+        if (const ast::ObjectDecl* t = find_type(c, chain.cast_type)) from.push_back(t);
+    } else {
+        for (const auto& o : m.ast->objects)
+            if (inside(o.span, offset)) from.push_back(&o);
+        for (const auto& o : m.ast->objects)
+            if (!inside(o.span, offset)) from.push_back(&o);
+    }
     for (const ast::ObjectDecl* o : from) {
         const ast::ObjectDecl* in = o;
         const ast::ComponentDecl* component = nullptr;
-        for (const std::string& seg : segs) {
+        for (const Seg& seg : chain.segs) {
             if (component) {  // a child graphics: graphics look { graphics lid ... }
                 const ast::ComponentDecl* child = nullptr;
                 for (const auto& g : component->children)
-                    if (g.name.text == seg) child = &g;
+                    if (g.name.text == seg.name) child = &g;
                 component = child;
             } else if (in) {
                 const Members ms = members_of(*in);
                 const ast::ObjectDecl* next = nullptr;
                 for (const ast::InstanceDecl* i : ms.instances)
-                    if (i->name.text == seg) next = find_type(c, i->type.text);
+                    if (i->name.text == seg.name) next = find_type(c, i->type.text);
                 for (const ast::ComponentDecl* k : ms.components)
-                    if (k->name.text == seg) component = k;
+                    if (k->name.text == seg.name) {
+                        if (seg.indexed && issued_type(c, *k)) next = issued_type(c, *k);
+                        else component = k;
+                    }
                 in = next;
             }
             if (!in && !component) break;
         }
         if (component) add_slots(*component, items);
-        else if (in && in != o) add_type_members(*in, items);
+        else if (in && (in != o || !chain.cast_type.empty())) add_type_members(*in, items);
         if (!items.empty()) break;
     }
     return items;

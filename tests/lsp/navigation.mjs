@@ -141,6 +141,16 @@ await converse(client, async () => {
   const ports = [...switches.text.matchAll(/^\s*(in|out) (\w+):\s*(\w+)/gm)].filter((m) => m.index > switches.text.indexOf('object RoutedSwitch'));
   check(ports.length > 0 && ports.every((m) => items.some((i) => i.label === m[2] && i.detail === `${m[1]} ${m[3]}`)),
         'completion after line[i].s1.: the ports of RoutedSwitch with their types', labels(items));
+  // After a cast `(core.bottle as Bottle).` and after a source's pooled object `store[0].`: Bottle's ports.
+  const bottlePorts = [...load('stdlib/bottle.plant').text.matchAll(/^\s*(in|out)\s+(\w+):/gm)].map((m) => m[2]);
+  const cl = stations.lines.findIndex((l) => /\(core\.bottle as Bottle\)\.show_filled$/.test(l));
+  items = await complete(stations, cl, stations.lines[cl].indexOf('Bottle).') + 'Bottle).'.length);
+  check(bottlePorts.length > 3 && bottlePorts.every((p) => labels(items).includes(p)), 'completion after a cast: the type\'s ports', labels(items));
+  edited.splice(close, 1, '    flow line[0].storage.store[3].');
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri: bottling.uri, version: 3 }, contentChanges: [{ text: edited.join('\n') }] } });
+  await diagnosticsFor(bottling.uri);
+  items = await complete(bottling, close, '    flow line[0].storage.store[3].'.length);
+  check(bottlePorts.every((p) => labels(items).includes(p)), "completion after storage.store[3].: the issued Bottle's ports", labels(items));
   // Property names at the start of a line in a component's braces.
   const tl = stations.lines.findIndex((l) => /^\s*extent = /.test(l));
   items = await complete(stations, tl, 8);
