@@ -11,6 +11,7 @@ PACKAGES=(
   libboost-dev chromium
   libyaml-cpp-dev openmpi-bin libopenmpi-dev
   neovim
+  clang libclang-rt-14-dev
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.

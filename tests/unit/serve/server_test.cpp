@@ -228,6 +228,10 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     CHECK(ev["line"].get<std::string>().find("s" " line[0].s1.to_working") != std::string::npos);
     page.send(R"({"type":"event","path":"line[0].b1.set_speed","value":"0.3"})");
     REQUIRE(page.wait_json("event", ev));
+    // A forced fault is an event too: it replays the same way.
+    page.send(R"({"type":"force","path":"line[0].s1.sw.to_base","mode":"open"})");
+    REQUIRE(page.wait_json("event", ev));
+    CHECK(ev["line"].get<std::string>().find("s force line[0].s1.sw.to_base open") != std::string::npos);
     page.send(R"({"type":"control","action":"pause"})");
     // The paused state: the status says at which step, then a frame of that step.
     json st;
@@ -247,8 +251,9 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     std::vector<engine::Event> evs;
     std::string err;
     REQUIRE(engine::load_events(g, engine::slot_index(g), path, evs, err));
-    REQUIRE(evs.size() == 2);
+    REQUIRE(evs.size() == 3);
     CHECK(evs[0].slots.size() == 1);
+    CHECK(evs[2].force);
     size_t next = 0;
     while (e.steps() < last.step) {
         const double t_next = double(e.steps() + 1) * e.dt();

@@ -1,0 +1,28 @@
+// Target `compile`: plant source text -> the whole compiler (parse, elaborate, check,
+// lower), with the standard library importable.
+// Invariant: no crash, no sanitizer report, no hang (the driver's time limit per input);
+// the compiler either succeeds or reports errors, and every error has a location inside
+// the input or inside a file it imports (never an invalid span), and a non-empty message.
+#include "compiler.h"
+#include "fuzz.h"
+
+#include <string>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    if (size > 64 * 1024) return 0;  // larger inputs only slow the search
+    static const std::string path = "/nonexistent-plant-fuzz/input.plant";
+    plant::sema::Overlay overlay{{path, std::string(plant::fuzz::text(data, size))}};
+    plant::CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    opts.overlay = &overlay;
+    plant::Compilation c;
+    plant::compile_file(path, opts, c);
+    for (const auto& d : c.sink.all()) {
+        if (d.severity != plant::Severity::Error) continue;
+        if (!d.span.valid() || d.span.file >= c.sources.size()) plant::fuzz::broken("an error without a location");
+        const size_t file_size = c.sources.text(d.span.file).size();
+        if (d.span.begin > d.span.end || d.span.end > file_size) plant::fuzz::broken("an error located outside its file");
+        if (d.message.empty()) plant::fuzz::broken("an error without a message");
+    }
+    return 0;
+}

@@ -1,0 +1,44 @@
+// Target `viewer_message`: what a page sends to `plant serve` (docs/viewer.md, "Page to
+// server"): the client-message decoder, then, for an event or a force, the input parser the
+// server hands it to (against the switch example's graph).
+// Invariant: no crash, no sanitizer report, no exception; a refused message says why.
+#include "compiler.h"
+#include "engine/run_args.h"
+#include "fuzz.h"
+#include "serve/protocol.h"
+
+#include <string>
+
+namespace {
+
+struct Fixture {
+    plant::Compilation c;
+    plant::engine::SlotIndex idx;
+    Fixture() {
+        plant::CompileOptions opts;
+        opts.stdlib_dir = PLANT_STDLIB_DIR;
+        plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/switch.plant", opts, c);
+        if (!c.ok()) plant::fuzz::broken("examples/switch.plant does not compile");
+        idx = plant::engine::slot_index(c.graph);
+    }
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    if (size > plant::view::kMaxClientMessage) return 0;
+    static const Fixture f;
+    plant::view::ClientMessage m;
+    std::string error;
+    if (!plant::view::decode_client_message(plant::fuzz::text(data, size), m, error)) {
+        if (error.empty()) plant::fuzz::broken("a message refused without a reason");
+        return 0;
+    }
+    if (m.kind == plant::view::ClientMessage::Kind::Event) {
+        const std::string input = m.value.empty() ? m.path : m.path + " " + m.value;
+        plant::engine::Event ev;
+        if (!plant::engine::parse_input(f.c.graph, f.idx, input, ev, error) && error.empty())
+            plant::fuzz::broken("an input refused without a reason");
+    }
+    return 0;
+}
