@@ -12,7 +12,7 @@
 namespace plant {
 
 void compile_file(const std::string& path, const CompileOptions& options, Compilation& out) {
-    out.program = sema::load_program(path, options.stdlib_dir, out.sources, out.sink, options.overlay);
+    out.program = sema::load_program(path, options.stdlib_dir, out.sources, out.sink, options.overlay, options.reuse);
     for (const auto& text : options.overrides) {
         const int32_t file = out.sources.add("--set", text);
         if (auto arg = parse::parse_set(out.sources, file, out.sink)) out.program.overrides.push_back(std::move(*arg));

@@ -18,6 +18,7 @@ struct CompileOptions {
     // a source of its own named "--set", so its diagnostics have a line and column.
     std::vector<std::string> overrides;
     const sema::Overlay* overlay = nullptr;  // unsaved editor buffers (plant lsp)
+    sema::Reuse reuse;                       // an earlier compilation's parsed modules (plant lsp)
 };
 
 struct Compilation {

@@ -42,7 +42,7 @@ inline std::string compiled_form(const std::string& path, const sema::Overlay* o
     for (const auto& d : c.sink.sorted()) out << "diagnostic " << info(d.id).code << "\n";
     for (const auto& m : c.program.modules) {
         std::ostringstream ast;
-        ast::print(m.ast, c.sources, ast);
+        ast::print(*m.ast, c.sources, ast);
         std::istringstream lines(ast.str());
         for (std::string l; std::getline(lines, l);) out << l.substr(0, l.rfind("  @")) << "\n";
     }

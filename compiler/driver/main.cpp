@@ -192,7 +192,7 @@ int cmd_check(const Options& o) {
         plant::Compilation c;
         ok = compile(f, o, c, false) && ok;
         if (o.emit == "ast") {
-            for (const auto& m : c.program.modules) plant::ast::print(m.ast, c.sources, std::cout);
+            for (const auto& m : c.program.modules) plant::ast::print(*m.ast, c.sources, std::cout);
         } else if (o.emit == "graph" && c.ok()) {
             plant::graph::write_text(c.graph, std::cout);
         }
@@ -238,7 +238,7 @@ int cmd_graph(const Options& o) {
 void print_plant_params(const plant::Compilation& c, std::ostream& out) {
     const auto& p = c.program;
     if (p.root < 0) return;
-    for (const auto& obj : p.modules[size_t(p.root)].ast.objects) {
+    for (const auto& obj : p.modules[size_t(p.root)].ast->objects) {
         if (!obj.is_plant) continue;
         for (const auto& prm : obj.params) {
             out << "  parameter " << prm.name.text;

@@ -102,7 +102,7 @@ private:
 json document_symbols(const Compilation& c, const sema::LoadedModule& m) {
     json out = json::array();
     Outline outline(c);
-    for (const auto& o : m.ast.objects) out.push_back(outline.object(o));
+    for (const auto& o : m.ast->objects) out.push_back(outline.object(o));
     return out;
 }
 

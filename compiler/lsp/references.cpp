@@ -1,6 +1,8 @@
 // Find references: every name in the parsed modules is resolved to a Target (the
 // declaration it stands for), by the same walk for the name under the cursor and for its
-// uses. Dotted paths resolve as the compiler reads them: a segment names an instance, a
+// uses. A name in an expression is a loop variable, a `let` before it in an enclosing
+// body, or a parameter of the object it is written in; a named argument `speed = v` names
+// the parameter of the type called. Dotted paths resolve as the compiler reads them: a segment names an instance, a
 // port, a component or a logic connector of the object it is written in, an instance's
 // type is where the next segment is looked up, and what follows a component is a slot of
 // it. A cast `(p as T)` and a source's pooled objects `store[i]` continue in their type.
@@ -9,6 +11,7 @@
 
 #include <map>
 #include <set>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -34,8 +37,8 @@ class Walker {
 public:
     explicit Walker(const Compilation& c) {
         for (const auto& m : c.program.modules) {
-            file_key_[m.ast.file] = m.key;
-            for (const auto& o : m.ast.objects)
+            file_key_[m.ast->file] = m.key;
+            for (const auto& o : m.ast->objects)
                 if (!o.is_plant) types_.try_emplace(o.name.text, &o);
         }
     }
@@ -43,8 +46,14 @@ public:
     // Every occurrence in module `m`.
     void walk(const sema::LoadedModule& m, std::vector<Occurrence>& out) {
         out_ = &out;
-        for (const auto& o : m.ast.objects) {
+        for (const auto& o : m.ast->objects) {
             if (!o.is_plant) add(o.name.span, declared(o.name.span), true);
+            values_.clear();
+            for (const auto& p : o.params) declare(p.name);
+            for (const auto& p : o.params) {
+                expr(p.default_value.get());
+                expr(p.constraint.get());
+            }
             members(o.members, o);
         }
     }
@@ -66,6 +75,49 @@ private:
 
     void type_use(const std::string& name, const Span& span) {
         if (const ast::ObjectDecl* t = type(name)) add(span, declared(t->name.span));
+    }
+
+    // A parameter, `let` or loop variable: in scope from here to the end of its body.
+    void declare(const ast::Ident& name) {
+        add(name.span, declared(name.span), true);
+        values_.emplace_back(name.text, declared(name.span));
+    }
+
+    // The arguments of a call of type `callee` (an instance or `Bottle(mass = 20 g)`).
+    void args(const std::vector<ast::Arg>& as, const std::string& callee) {
+        const ast::ObjectDecl* t = type(callee);
+        for (const auto& a : as) {
+            if (a.name && t)
+                for (const auto& p : t->params)
+                    if (p.name.text == a.name->text) add(a.name->span, declared(p.name.span));
+            expr(a.value.get());
+        }
+    }
+
+    void expr(const ast::Expr* e) {
+        if (!e) return;
+        if (e->kind == ast::ExprKind::Name) {
+            for (auto it = values_.rbegin(); it != values_.rend(); ++it)
+                if (it->first == e->text) {
+                    add({e->span.file, e->span.begin, e->span.begin + uint32_t(e->text.size())}, it->second);
+                    break;
+                }
+        }
+        if (e->kind == ast::ExprKind::Call) args(e->args, e->text);
+        expr(e->index.get());
+        for (const auto& k : e->kids) expr(k.get());
+    }
+
+    void placement(const std::optional<ast::Placement>& p) {
+        if (!p) return;
+        expr(p->at.get());
+        rotations(p->rotations);
+    }
+    void rotations(const std::vector<ast::Rotation>& rs) {
+        for (const auto& r : rs) {
+            expr(r.axis_vec.get());
+            expr(r.angle.get());
+        }
     }
 
     // The members of `o` a path can name, through its `for`s and `if`s.
@@ -104,6 +156,7 @@ private:
             in = type(p.cast_type.text);
         }
         std::optional<Target> component;  // set once a segment named a component
+        for (const auto& seg : p.segs) expr(seg.index.get());
         for (const auto& seg : p.segs) {
             if (component) {
                 component->slot += (component->slot.empty() ? "" : ".") + seg.name.text;
@@ -130,6 +183,25 @@ private:
 
     void component(const ast::ComponentDecl& k, const ast::ObjectDecl& o, const Target& self) {
         if (k.on) path(*k.on, &o);
+        placement(k.placement);
+        for (const auto& p : k.properties) expr(p.value.get());
+        for (const auto& sh : k.shapes) {
+            args(sh.args, "");
+            placement(sh.placement);
+        }
+        for (const auto& an : k.animations) {
+            for (const auto& p : an.properties) expr(p.value.get());
+            rotations(an.rotations);
+            for (const auto& mv : an.moves) expr(mv.get());
+            for (const auto& key : an.keys) {
+                expr(key.time.get());
+                expr(key.placement.at.get());
+                rotations(key.placement.rotations);
+            }
+        }
+        for (const auto& v : k.variants) expr(v.model.get());
+        for (const auto& pl : k.places) expr(pl.initial.get());
+        for (const auto& r : k.routes) expr(r.pattern_expr.get());
         for (const auto& p : k.properties)
             if ((p.name.text == "object" || p.name.text == "filter") && p.value &&
                 (p.value->kind == ast::ExprKind::Name || p.value->kind == ast::ExprKind::Call))
@@ -152,10 +224,19 @@ private:
     }
 
     void members(const std::vector<ast::Member>& ms, const ast::ObjectDecl& o) {
+        const size_t scope_size = values_.size();  // a body's lets and loop variable end with it
         for (const auto& m : ms) {
             if (auto* i = std::get_if<ast::InstanceDecl>(&m)) {
                 add(i->name.span, declared(i->name.span), true);
                 type_use(i->type.text, i->type.span);
+                expr(i->index.get());
+                args(i->args, i->type.text);
+                placement(i->placement);
+            } else if (auto* let = std::get_if<ast::LetDecl>(&m)) {
+                expr(let->value.get());
+                declare(let->name);
+            } else if (auto* set = std::get_if<ast::SettingDecl>(&m)) {
+                expr(set->value.get());
             } else if (auto* p = std::get_if<ast::PortDecl>(&m)) {
                 add(p->name.span, declared(p->name.span), true);
                 for (const auto& t : p->targets) path(t, &o);
@@ -170,18 +251,27 @@ private:
                 path(f->to, &o);
             } else if (auto* r = std::get_if<ast::RecordDecl>(&m)) {
                 path(r->path, &o);
+                expr(r->column.get());
             } else if (auto* loop = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) {
+                expr((*loop)->from.get());
+                expr((*loop)->to.get());
+                const size_t outer = values_.size();
+                declare((*loop)->var);
                 members((*loop)->body, o);
+                values_.resize(outer);
             } else if (auto* c = std::get_if<std::unique_ptr<ast::IfDecl>>(&m)) {
+                expr((*c)->cond.get());
                 members((*c)->then_body, o);
                 members((*c)->else_body, o);
             }
         }
+        values_.resize(scope_size);
     }
 
     std::map<int32_t, std::string> file_key_;
     std::map<std::string, const ast::ObjectDecl*> types_;
     std::map<const ast::ObjectDecl*, std::map<std::string, Named>> scopes_;
+    std::vector<std::pair<std::string, Target>> values_;  // the names in scope, innermost last
     std::vector<Occurrence>* out_ = nullptr;
 };
 
@@ -192,7 +282,7 @@ std::optional<Target> target_at(const Compilation& c, const sema::LoadedModule& 
     Walker(c).walk(m, all);
     const Occurrence* best = nullptr;
     for (const Occurrence& o : all)
-        if (o.span.file == m.ast.file && o.span.begin <= offset && offset <= o.span.end &&
+        if (o.span.file == m.ast->file && o.span.begin <= offset && offset <= o.span.end &&
             (!best || o.span.end - o.span.begin < best->span.end - best->span.begin))
             best = &o;
     if (!best) return std::nullopt;
@@ -212,6 +302,21 @@ void add_references(const Compilation& c, const Target& t, bool include_declarat
             if (have.insert(l.dump()).second) locations.push_back(std::move(l));
         }
     }
+}
+
+json declaration_of(const Compilation& c, const Target& t) {
+    for (const auto& m : c.program.modules) {
+        if (m.key != t.file) continue;
+        std::vector<Occurrence> all;
+        Walker(c).walk(m, all);
+        // A place, transition, variant or child graphics is declared by name; a built-in
+        // slot (`look.tick`) by its component.
+        for (const Target& want : {t, Target{t.file, t.at, ""}})
+            for (const Occurrence& o : all)
+                if (o.declaration && o.target == want)
+                    return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, o.span)}};
+    }
+    return nullptr;
 }
 
 }  // namespace plant::lsp

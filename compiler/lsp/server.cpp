@@ -1,5 +1,7 @@
 #include "lsp/lsp.h"
+#include "lsp/lookup.h"
 #include "lsp/protocol.h"
+#include "lsp/repair.h"
 #include "lsp/symbols.h"
 
 #include "compiler.h"
@@ -133,8 +135,12 @@ private:
             if (method == "textDocument/references")
                 send_result(id, references(doc, offset, params.at("context").at("includeDeclaration").get<bool>()));
             else if (method == "textDocument/definition") send_result(id, definition(doc, offset));
-            else if (method == "textDocument/hover") send_result(id, hover(doc, offset));
-            else send_result(id, completion(doc, offset));
+            else if (method == "textDocument/hover") {
+                const sema::LoadedModule* m = module_of(doc);
+                send_result(id, m ? hover(*doc.parsed, *m, offset) : json());
+            } else {
+                send_result(id, completion(doc.parsed.get(), module_of(doc), doc.text, offset, stdlib_));
+            }
         } else if (is_request) {
             send_error(id, kMethodNotFound, "unknown method '" + method + "'");
         }
@@ -144,8 +150,10 @@ private:
     struct Document {
         std::string path;  // canonical
         std::string text;
-        // The last compilation of this document whose own file parsed: what hover,
-        // definition and completion look at while the buffer has a syntax error.
+        // What hover, definition, completion, the outline and references read: the last
+        // compilation of this document's text; with a syntax error, of the text with the
+        // broken lines blanked (lsp/repair.h), so the rest of the file answers at the
+        // buffer's positions; else the last version that parsed.
         std::shared_ptr<Compilation> parsed;
     };
 
@@ -217,14 +225,16 @@ private:
             options.stdlib_dir = stdlib_;
             options.require_plant = false;  // as `plant check`
             options.overlay = &overlay;
+            // The modules whose text did not change since this document's last check are
+            // not parsed again (most of the time: all but the edited file).
+            if (doc.parsed) options.reuse = {&doc.parsed->program, &doc.parsed->sources};
             compile_file(doc.path, options, c);
             std::map<int32_t, std::string> file_uri;
-            for (const auto& m : c.program.modules) file_uri[m.ast.file] = path_to_uri(m.key);
+            for (const auto& m : c.program.modules) file_uri[m.ast->file] = path_to_uri(m.key);
             for (const auto& [file, u] : file_uri) by_uri.try_emplace(u, json::array());
-            bool syntax_ok = !c.program.modules.empty();
-            for (const Diagnostic& d : c.sink.all())
-                if (d.id == DiagId::Syntax) syntax_ok = false;
-            if (syntax_ok || !doc.parsed) doc.parsed = shared;
+            if (!syntax_error_in(c, doc.path)) doc.parsed = shared;
+            else if (auto repaired = parse_repaired(doc.path, doc.text, stdlib_, overlay, c)) doc.parsed = repaired;
+            else if (!doc.parsed) doc.parsed = shared;
             for (const Diagnostic& d : c.sink.sorted()) {
                 std::string target = uri;
                 json range = zero_range();
@@ -259,9 +269,7 @@ private:
         }
     }
 
-    // --- Features on the last parsed AST ------------------------------------------------
-
-    static bool inside(const Span& s, size_t offset) { return s.valid() && s.begin <= offset && offset <= s.end; }
+    // --- Features on the last parse ------------------------------------------------
 
     static const sema::LoadedModule* module_of(const Document& doc) {
         if (!doc.parsed) return nullptr;
@@ -272,91 +280,15 @@ private:
 
     static json location(const Compilation& c, const Span& s) {
         for (const auto& m : c.program.modules)
-            if (m.ast.file == s.file) return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, s)}};
+            if (m.ast->file == s.file) return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, s)}};
         return nullptr;
-    }
-
-    static const ast::ObjectDecl* find_type(const Compilation& c, const std::string& name) {
-        for (const auto& m : c.program.modules)
-            for (const auto& o : m.ast.objects)
-                if (o.name.text == name) return &o;
-        return nullptr;
-    }
-
-    struct Members {
-        std::vector<const ast::InstanceDecl*> instances;
-        std::vector<const ast::PortDecl*> ports;
-        std::vector<const ast::ComponentDecl*> components;
-    };
-    static void collect(const std::vector<ast::Member>& members, Members& out) {
-        for (const auto& m : members) {
-            if (auto* i = std::get_if<ast::InstanceDecl>(&m)) out.instances.push_back(i);
-            else if (auto* p = std::get_if<ast::PortDecl>(&m)) out.ports.push_back(p);
-            else if (auto* k = std::get_if<ast::ComponentDecl>(&m)) out.components.push_back(k);
-            else if (auto* f = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) collect((*f)->body, out);
-            else if (auto* c = std::get_if<std::unique_ptr<ast::IfDecl>>(&m)) {
-                collect((*c)->then_body, out);
-                collect((*c)->else_body, out);
-            }
-        }
-    }
-    static Members members_of(const ast::ObjectDecl& o) {
-        Members out;
-        collect(o.members, out);
-        return out;
-    }
-
-    static std::string slice(const Compilation& c, const Span& s) {
-        if (!s.valid()) return "";
-        const std::string& t = c.sources.text(s.file);
-        return t.substr(s.begin, std::min<size_t>(s.end, t.size()) - std::min<size_t>(s.begin, t.size()));
-    }
-
-    // The `///` lines right above a declaration, without the slashes.
-    static std::string doc_comment(const Compilation& c, const Span& s) {
-        const std::string& t = c.sources.text(s.file);
-        size_t line_begin = t.rfind('\n', s.begin == 0 ? 0 : s.begin - 1);
-        std::vector<std::string> lines;
-        while (line_begin != std::string::npos && line_begin > 0) {
-            size_t prev = t.rfind('\n', line_begin - 1);
-            size_t from = prev == std::string::npos ? 0 : prev + 1;
-            std::string line = t.substr(from, line_begin - from);
-            size_t first = line.find_first_not_of(" \t");
-            if (first == std::string::npos || line.compare(first, 3, "///") != 0) break;
-            std::string body = line.substr(first + 3);
-            if (!body.empty() && body[0] == ' ') body.erase(0, 1);
-            lines.insert(lines.begin(), body);
-            if (prev == std::string::npos) break;
-            line_begin = prev;
-        }
-        std::string out;
-        for (const auto& l : lines) out += l + "\n";
-        return out;
-    }
-
-    static std::string signature(const Compilation& c, const ast::ObjectDecl& o) {
-        std::string sig = (o.is_plant ? "plant " : "object ") + o.name.text;
-        if (!o.params.empty()) {
-            sig += "(";
-            for (size_t i = 0; i < o.params.size(); ++i) {
-                const auto& p = o.params[i];
-                sig += (i ? ", " : "") + p.name.text + ": " + p.type.text;
-                if (p.default_value) sig += " = " + slice(c, p.default_value->span);
-            }
-            sig += ")";
-        }
-        return sig;
-    }
-
-    static json markdown(const std::string& code, const std::string& text) {
-        return {{"contents", {{"kind", "markdown"}, {"value", "```plant\n" + code + "\n```" + (text.empty() ? "" : "\n\n" + text)}}}};
     }
 
     json definition(const Document& doc, size_t offset) {
         const sema::LoadedModule* m = module_of(doc);
         if (!m) return nullptr;
         const Compilation& c = *doc.parsed;
-        for (const auto& imp : m->ast.imports) {
+        for (const auto& imp : m->ast->imports) {
             if (!inside(imp.span, offset)) continue;
             std::string rel = imp.module;
             for (auto& ch : rel)
@@ -366,12 +298,14 @@ private:
                                                              : fs::path(doc.path).parent_path() / rel;
             return {{"uri", path_to_uri(canonical(file.string()))}, {"range", zero_range()}};
         }
-        for (const auto& o : m->ast.objects) {
+        for (const auto& o : m->ast->objects) {
             for (const ast::InstanceDecl* i : members_of(o).instances) {
                 if (!inside(i->type.span, offset) && !inside(i->name.span, offset)) continue;
                 if (const ast::ObjectDecl* t = find_type(c, i->type.text)) return location(c, t->name.span);
             }
         }
+        // A path's segment, a named argument, a parameter's, `let`'s or loop variable's use.
+        if (const std::optional<Target> t = target_at(c, *m, offset)) return declaration_of(c, *t);
         return nullptr;
     }
 
@@ -387,101 +321,6 @@ private:
         for (const auto& [uri, other] : docs_)
             if (other.parsed && &other != &doc) add_references(*other.parsed, *target, include_declaration, locations);
         return locations;
-    }
-
-    json hover(const Document& doc, size_t offset) {
-        const sema::LoadedModule* m = module_of(doc);
-        if (!m) return nullptr;
-        const Compilation& c = *doc.parsed;
-        for (const auto& o : m->ast.objects) {
-            const Members mine = members_of(o);
-            for (const ast::InstanceDecl* i : mine.instances) {
-                const ast::ObjectDecl* t = find_type(c, i->type.text);
-                if (!t) continue;
-                if (inside(i->type.span, offset) || inside(i->name.span, offset))
-                    return markdown(signature(c, *t), doc_comment(c, t->span));
-                for (const ast::Arg& a : i->args) {
-                    if (!a.name || !inside(a.name->span, offset)) continue;
-                    for (const ast::Param& p : t->params) {
-                        if (p.name.text != a.name->text) continue;
-                        std::string text = "parameter of " + t->name.text;
-                        if (auto dim = units::dim_of_type(p.type.text)) text += "; unit: " + units::si_unit(*dim);
-                        if (p.default_value) text += "; default: " + slice(c, p.default_value->span);
-                        return markdown(p.name.text + ": " + p.type.text, text);
-                    }
-                }
-            }
-            for (const ast::PortDecl* p : mine.ports)
-                if (inside(p->name.span, offset))
-                    return markdown((p->is_input ? "in " : "out ") + p->name.text + ": " + p->type.text,
-                                    p->is_input ? "input port" : "output port");
-            for (const ast::Param& p : o.params) {
-                if (!inside(p.name.span, offset)) continue;
-                std::string text = "parameter of " + o.name.text;
-                if (auto dim = units::dim_of_type(p.type.text)) text += "; unit: " + units::si_unit(*dim);
-                if (p.default_value) text += "; default: " + slice(c, p.default_value->span);
-                return markdown(p.name.text + ": " + p.type.text, text);
-            }
-            if (inside(o.name.span, offset)) return markdown(signature(c, o), doc_comment(c, o.span));
-        }
-        return nullptr;
-    }
-
-    json completion(const Document& doc, size_t offset) {
-        json items = json::array();
-        const std::string& t = doc.text;
-        auto ident = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
-        size_t start = std::min(offset, t.size());
-        while (start > 0 && ident(t[start - 1])) --start;
-        const size_t line_begin = start == 0 ? 0 : t.rfind('\n', start - 1) + 1;  // npos + 1 == 0
-        const std::string before = t.substr(line_begin, start - line_begin);
-        const sema::LoadedModule* m = module_of(doc);
-        if (start > 0 && t[start - 1] == '.') {
-            size_t name_end = start - 1, name_begin = name_end;
-            while (name_begin > 0 && ident(t[name_begin - 1])) --name_begin;
-            const std::string name = t.substr(name_begin, name_end - name_begin);
-            if (before.find("import") != std::string::npos || !m) return items;
-            const Compilation& c = *doc.parsed;
-            for (const auto& o : m->ast.objects) {
-                for (const ast::InstanceDecl* i : members_of(o).instances) {
-                    if (i->name.text != name) continue;
-                    const ast::ObjectDecl* type = find_type(c, i->type.text);
-                    if (!type) continue;
-                    const Members ms = members_of(*type);
-                    for (const ast::PortDecl* p : ms.ports)
-                        items.push_back({{"label", p->name.text}, {"kind", 5},
-                                         {"detail", (p->is_input ? "in " : "out ") + p->type.text}});
-                    for (const ast::InstanceDecl* x : ms.instances)
-                        items.push_back({{"label", x->name.text}, {"kind", 6}, {"detail", x->type.text}});
-                    for (const ast::ComponentDecl* x : ms.components)
-                        if (!x->name.text.empty())
-                            items.push_back({{"label", x->name.text}, {"kind", 10}, {"detail", x->kind.text}});
-                    return items;
-                }
-            }
-            return items;
-        }
-        const size_t first = before.find_first_not_of(" \t");
-        if (first != std::string::npos && before.compare(first, 6, "import") == 0) {
-            std::error_code ec;
-            std::vector<std::string> names;
-            for (const auto& e : fs::directory_iterator(stdlib_, ec))
-                if (e.path().extension() == ".plant") names.push_back("std." + e.path().stem().string());
-            std::sort(names.begin(), names.end());
-            for (const auto& n : names) items.push_back({{"label", n}, {"kind", 9}});
-            return items;
-        }
-        size_t k = before.size();
-        while (k > 0 && before[k - 1] == ' ') --k;
-        if (k > 0 && std::isdigit(static_cast<unsigned char>(before[k - 1]))) {
-            for (const auto& u : units::unit_atoms()) items.push_back({{"label", u}, {"kind", 11}});
-            return items;
-        }
-        if (doc.parsed)
-            for (const auto& mod : doc.parsed->program.modules)
-                for (const auto& o : mod.ast.objects)
-                    if (!o.is_plant) items.push_back({{"label", o.name.text}, {"kind", 7}, {"detail", signature(*doc.parsed, o)}});
-        return items;
     }
 
     void send(const json& msg) {

@@ -33,7 +33,7 @@ Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
     graph_file_of_.assign(static_cast<size_t>(sm.size()), -1);
     // Object types are one namespace; a duplicate is an error even across modules.
     for (size_t m = 0; m < prog.modules.size(); ++m)
-        for (const auto& o : prog.modules[m].ast.objects) {
+        for (const auto& o : prog.modules[m].ast->objects) {
             if (o.is_plant) continue;
             auto [it, fresh] = types_.try_emplace(o.name.text, static_cast<int>(m), &o);
             if (!fresh) {
@@ -70,7 +70,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
 
 graph::Graph Elaborator::run(bool require_plant) {
     if (prog_.root < 0) return std::move(g_);
-    const auto& root = prog_.modules[static_cast<size_t>(prog_.root)].ast;
+    const auto& root = *prog_.modules[static_cast<size_t>(prog_.root)].ast;
     const ast::ObjectDecl* plant = nullptr;
     for (const auto& o : root.objects) {
         if (!o.is_plant) continue;

@@ -23,8 +23,8 @@ constexpr std::uintmax_t kMaxModuleBytes = 16u << 20;
 
 class Loader {
 public:
-    Loader(std::string stdlib, SourceMap& sm, Sink& sink, const Overlay* overlay)
-        : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink), overlay_(overlay) {}
+    Loader(std::string stdlib, SourceMap& sm, Sink& sink, const Overlay* overlay, Reuse reuse)
+        : stdlib_(std::move(stdlib)), sm_(sm), sink_(sink), overlay_(overlay), reuse_(reuse) {}
 
     // Returns the module index, or -1 when it could not be loaded (already reported).
     int load(const fs::path& disk, const std::string& display, Span import_span) {
@@ -65,9 +65,16 @@ public:
         }
         LoadedModule mod;
         mod.key = key;
-        mod.ast = parse::parse_module(sm_, file, sink_);
+        if (const LoadedModule* same = reusable(key, file)) {
+            mod.ast = same->ast;
+            mod.clean = true;
+        } else {
+            const size_t before = sink_.all().size();
+            mod.ast = std::make_shared<const ast::Module>(parse::parse_module(sm_, file, sink_));
+            mod.clean = sink_.all().size() == before;
+        }
         stack_.push_back({key, display, import_span});
-        for (const auto& imp : mod.ast.imports) {
+        for (const auto& imp : mod.ast->imports) {
             auto [path, shown] = locate(imp.module, disk, display);
             int idx = load(path, shown, imp.span);
             if (idx >= 0) mod.imports.push_back(idx);
@@ -82,6 +89,20 @@ public:
     Program take() { return std::move(program_); }
 
 private:
+    // The earlier load's module `key`, when it can stand for file `file` as read now.
+    const LoadedModule* reusable(const std::string& key, int32_t file) const {
+        if (!reuse_.program || !reuse_.sources) return nullptr;
+        for (const LoadedModule& m : reuse_.program->modules) {
+            if (m.key != key) continue;
+            const int32_t was = m.ast->file;
+            if (m.clean && was == file && was < reuse_.sources->size() && reuse_.sources->text(was) == sm_.text(file) &&
+                reuse_.sources->name(was) == sm_.name(file))
+                return &m;
+            return nullptr;
+        }
+        return nullptr;
+    }
+
     std::pair<fs::path, std::string> locate(const std::string& dotted, const fs::path& from,
                                             const std::string& from_display) {
         std::string rel = dotted;
@@ -104,6 +125,7 @@ private:
     SourceMap& sm_;
     Sink& sink_;
     const Overlay* overlay_;
+    Reuse reuse_;
     Program program_;
     std::map<std::string, int> done_;
     std::vector<Open> stack_;
@@ -165,8 +187,8 @@ void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sin
 }
 
 static Program load_program_files(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                                  Sink& sink, const Overlay* overlay) {
-    Loader loader(stdlib_dir, sources, sink, overlay);
+                                  Sink& sink, const Overlay* overlay, Reuse reuse) {
+    Loader loader(stdlib_dir, sources, sink, overlay, reuse);
     fs::path p(root_path);
     int root = loader.load(p, p.lexically_normal().generic_string(), {});
     Program prog = loader.take();
@@ -175,8 +197,8 @@ static Program load_program_files(const std::string& root_path, const std::strin
 }
 
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink, const Overlay* overlay) {
-    Program p = load_program_files(root_path, stdlib_dir, sources, sink, overlay);
+                     Sink& sink, const Overlay* overlay, Reuse reuse) {
+    Program p = load_program_files(root_path, stdlib_dir, sources, sink, overlay, reuse);
     p.stdlib_dir = stdlib_dir;
     return p;
 }

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,8 +17,10 @@ namespace plant::sema {
 
 struct LoadedModule {
     std::string key;          // canonical path on disk, for identity
-    ast::Module ast;
+    // Never changed after parsing: a later load of the same text may share it (Reuse).
+    std::shared_ptr<const ast::Module> ast;
     std::vector<int> imports; // indices of directly imported modules
+    bool clean = false;       // parsed without a diagnostic
 };
 
 struct Program {
@@ -42,7 +45,15 @@ void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sin
 // Unsaved editor buffers by canonical path: a file found here is read from here, not from disk.
 using Overlay = std::map<std::string, std::string>;
 
+// An earlier load whose parsed modules a new load shares instead of parsing again (the
+// language server re-checks after every keystroke): a module is shared when it parsed
+// without a diagnostic and its text, display name and file number are the same again.
+struct Reuse {
+    const Program* program = nullptr;
+    const SourceMap* sources = nullptr;
+};
+
 Program load_program(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
-                     Sink& sink, const Overlay* overlay = nullptr);
+                     Sink& sink, const Overlay* overlay = nullptr, Reuse reuse = {});
 
 }  // namespace plant::sema

@@ -1,5 +1,7 @@
 #include "sema/schema.h"
 
+#include <utility>
+
 namespace plant::sema {
 namespace {
 
@@ -88,6 +90,23 @@ std::vector<KindSpec> make_kinds() {
     k.push_back(KindSpec{"label", CompKind::Label, {}, {
         {"value", T::String, {}, false, "the text, default empty"},
     }});
+    const std::pair<std::string_view, std::string_view> docs[] = {
+        {"graphics", "what the viewer draws: a model, its animations and variants, child graphics"},
+        {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
+        {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
+        {"constraint", "a joint between two bodies: fixed, a hinge or a slider"},
+        {"state", "a Petri net: places holding tokens and transitions that move them"},
+        {"trigger", "a box volume that reports objects entering, staying and leaving"},
+        {"timer", "ticks after a period, once or periodically"},
+        {"gripper", "holds the object its trigger caught, and lets it go"},
+        {"source", "issues objects of a type into the plant, from a pool built at compile time"},
+        {"exit", "takes the objects in its trigger out of the plant"},
+        {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
+        {"label", "a text the viewer shows"},
+    };
+    for (auto& spec : k)
+        for (const auto& [word, doc] : docs)
+            if (spec.word == word) spec.doc = doc;
     return k;
 }
 

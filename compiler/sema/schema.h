@@ -31,6 +31,7 @@ struct KindSpec {
     std::vector<PropSpec> props;
     bool shapes = false, animations = false, variants = false, places = false, routes = false,
          children = false, on = false;
+    std::string_view doc = {};  // one line: what the kind is (the language server's hover)
 };
 
 const KindSpec* find_kind(std::string_view word);

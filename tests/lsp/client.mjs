@@ -2,7 +2,20 @@
 // process, frames messages (Content-Length), and waits for answers. Every message the
 // server writes must be framed JSON; anything else on stdout fails the test.
 import { spawn } from 'node:child_process';
+import { readFileSync, realpathSync } from 'node:fs';
 import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+// A file of the repository as the tests use it: its URI, text and lines.
+export function readDoc(repo, rel) {
+  const file = realpathSync(path.join(repo, rel));
+  const text = readFileSync(file, 'utf8');
+  return { uri: pathToFileURL(file).href, text, lines: text.split('\n') };
+}
+
+// Whether the Location[] `got` holds exactly the ranges `want` ({uri, line, character, end}), in any order.
+const key = (l) => `${l.uri}:${l.line ?? l.range.start.line}:${l.character ?? l.range.start.character}:${l.end ?? l.range.end.character}`;
+export const sameLocations = (got, want) => JSON.stringify((got ?? []).map(key).sort()) === JSON.stringify(want.map(key).sort());
 
 let failures = 0;
 export function check(ok, what, detail) {

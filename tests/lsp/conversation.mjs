@@ -3,7 +3,9 @@
 // it and get an empty list, hover a belt's `speed`, go from a Switch instance to
 // stdlib/switch.plant, complete after `s1.`; format the document (`plant fmt`'s text as
 // one edit), and refuse to while it has a syntax error; then bad input: malformed JSON,
-// an unknown method, an unknown document. Usage: node conversation.mjs PLANT REPO_DIR
+// an unknown method, an unknown document, a request without a method or without a
+// position, a message that is not an object; the server still answers after them.
+// Usage: node conversation.mjs PLANT REPO_DIR
 import { spawnSync } from 'node:child_process';
 import { readFileSync, realpathSync } from 'node:fs';
 import path from 'node:path';
@@ -92,4 +94,14 @@ await converse(client, async () => {
   check(unknown.error?.code === -32601, 'unknown method: method not found', unknown);
   const nodoc = await request('textDocument/hover', { textDocument: { uri: 'file:///nowhere.plant' }, position: { line: 0, character: 0 } });
   check(nodoc.error?.code === -32602, 'unknown document: invalid params', nodoc);
+  send('{"jsonrpc": "2.0", "id": 98}');
+  const nomethod = await next((m) => m.id === 98);
+  check(nomethod.error?.code === -32600, 'a request without a method: invalid request', nomethod);
+  const noposition = await request('textDocument/hover', { textDocument: { uri } });
+  check(noposition.error?.code === -32602, 'a hover without a position: invalid params', noposition);
+  send('[1, 2]');
+  const notobject = await next((m) => m.error && m.id === null && m.error.code !== -32700);
+  check(notobject.error.code === -32600, 'a message that is not an object: invalid request', notobject);
+  const still = await request('textDocument/documentSymbol', { textDocument: { uri } });
+  check(Array.isArray(still.result) && still.result.length > 0, 'the server still answers after bad input', still);
 });

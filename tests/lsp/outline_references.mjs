@@ -6,17 +6,12 @@
 // declaration exactly when includeDeclaration says so; a type's references asked from the
 // stdlib file reach the open plant that uses it; std.bottle's Bottle and its port `code`
 // through casts, across the stdlib. Usage: node outline_references.mjs PLANT REPO_DIR
-import { readdirSync, readFileSync, realpathSync } from 'node:fs';
+import { readdirSync } from 'node:fs';
 import path from 'node:path';
-import { pathToFileURL } from 'node:url';
-import { check, converse, start } from './client.mjs';
+import { check, converse, readDoc, sameLocations, start } from './client.mjs';
 
 const [plant, repo] = process.argv.slice(2);
-const open = (rel) => {
-  const file = realpathSync(path.join(repo, rel));
-  const text = readFileSync(file, 'utf8');
-  return { uri: pathToFileURL(file).href, text, lines: text.split('\n') };
-};
+const open = (rel) => readDoc(repo, rel);
 const bottling = open('plants/bottling.plant');
 const storage = open('stdlib/storage.plant');
 const arm = open('stdlib/arm.plant');
@@ -33,8 +28,7 @@ function ranges(doc, re) {
   });
   return out;
 }
-const key = (l) => `${l.uri}:${l.line ?? l.range.start.line}:${l.character ?? l.range.start.character}:${l.end ?? l.range.end.character}`;
-const same = (got, want) => JSON.stringify((got ?? []).map(key).sort()) === JSON.stringify(want.map(key).sort());
+const same = sameLocations;
 
 const client = start(plant, repo);
 const { send, request, diagnosticsFor } = client;

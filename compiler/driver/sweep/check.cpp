@@ -50,7 +50,7 @@ bool check_spec(const Spec& spec, const std::string& stdlib, std::vector<SpecErr
     std::string list;
     const auto& p = base.program;
     if (p.root >= 0)
-        for (const auto& obj : p.modules[size_t(p.root)].ast.objects)
+        for (const auto& obj : p.modules[size_t(p.root)].ast->objects)
             if (obj.is_plant)
                 for (const auto& prm : obj.params) {
                     names.insert(prm.name.text);
