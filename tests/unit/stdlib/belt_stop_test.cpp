@@ -56,7 +56,7 @@ plant Stop {
         CHECK(rest_at[k] < 0.1);  // at rest within 0.1 s of the stop
         CHECK(std::abs(e.body_velocity(bottles[k])[0]) < 1e-3);
         CHECK(moved > 0);
-        CHECK(moved < 0.012);  // measured 7.6 mm (see the message)
+        CHECK(moved < 0.009);  // measured 7.1 mm at most (see the message); v²/(2·2F/M) = 8.3 mm
     }
     MESSAGE("stopped within " << longest * 1000 << " mm, worst tilt " << worst_tilt << " deg");
     CHECK(worst_tilt < 10);
