@@ -38,6 +38,7 @@ echo "|---|---|---|---|---|"
 # The largest plant again on one thread: what stepping the lines' regions on every core gives.
 (( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=3 --counts=1000 --threads=1
 "$b/plant_bench_compile" --rows "${compile[@]}"
+(( quick )) || bench/compile_lines.sh build/release/compiler/plant
 "$b/plant_bench_serve" --rows "${serve[@]}"
 # plant sweep: runs per minute with -j 1 and -j 2 (bench/sweep.sh).
 bench/sweep.sh build/release/compiler/plant "$( (( quick )) && echo 5s || echo 30s)"

@@ -135,12 +135,13 @@ unit     : unitAtom ({adjacent()}? unitOp=('*' | '/') {adjacent()}? unitAtom)* ;
 unitAtom : ID ({adjacent()}? '^' {adjacent()}? '-'? NUMBER)? ;
 
 NUMBER  : [0-9]+ ('.' [0-9]+)? ([eE] [+-]? [0-9]+)? ;
-STRING  : '"' (~["\\\r\n] | '\\' .)* '"' ;
+STRING  : '"' (~["\\\r\n] | '\\' ~[\r\n])* '"' ;   // a backslash escapes a character, never a line break
 ID      : [a-zA-Z_] [a-zA-Z_0-9]* ;
 
-DOC_COMMENT  : '///' ~[\r\n]* -> skip ;
-LINE_COMMENT : '//' ~[\r\n]* -> skip ;
-BLOCK_COMMENT: '/*' .*? '*/' -> skip ;
+// Comments are kept on the hidden channel: the parser never sees them, `plant fmt` does.
+DOC_COMMENT  : '///' ~[\r\n]* -> channel(HIDDEN) ;
+LINE_COMMENT : '//' ~[\r\n]* -> channel(HIDDEN) ;
+BLOCK_COMMENT: '/*' .*? '*/' -> channel(HIDDEN) ;
 WS           : [ \t\r\n]+ -> skip ;
 // Anything else is one bad token, so the parser reports it with a position.
 BAD_CHAR     : . ;

@@ -9,11 +9,17 @@
 // A file named fail_*.plant must produce errors, any other must not. Every graph must
 // round-trip (write -> load -> write is identical), and every registered diagnostic code
 // must appear in at least one .err file.
+// Cases under fmt/ are for the formatter (`plant fmt`), not compiled as above:
+//   fmt/NAME.plant  the input; fmt/NAME.fmt its formatted text, or fmt/NAME.err the
+//                   diagnostics (fail_NAME.plant: a syntax error, the file is refused).
+// Each must format idempotently and compile to the same graph and AST before and after.
 //
 //   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
 //   plant_golden --update DIR   rewrite the expected files; review with `git diff`
 #include "compiler.h"
 #include "engine/run.h"
+#include "fmt/formatter.h"
+#include "fmt_compare.h"
 #include "graph/text.h"
 
 #include <algorithm>
@@ -91,6 +97,39 @@ void expect_file(const fs::path& path, const std::string& actual, bool update, R
     }
 }
 
+// A formatter case: NAME.fmt (or NAME.err), idempotence, the same compiled form.
+void fmt_case(const fs::path& f, const fs::path& base, bool update, Result& r, bool& ok) {
+    const std::string text = read(f);
+    plant::SourceMap sources;
+    plant::Sink sink;
+    const auto formatted = plant::formatter::format_text(f.generic_string(), text, sources, sink);
+    const auto sorted = sink.sorted();
+    for (const auto& d : sorted) r.codes_seen.insert(std::string(plant::info(d.id).code));
+    const bool must_fail = f.filename().string().rfind("fail_", 0) == 0;
+    if (must_fail == formatted.has_value()) {
+        std::cout << "  " << f.generic_string() << ": " << (must_fail ? "formatted, expected a syntax error" : "refused") << "\n";
+        ok = false;
+    }
+    expect_file(base.string() + ".err", sorted.empty() ? "" : plant::render_all_text(sorted, sources), update, r, ok, "diagnostics");
+    expect_file(base.string() + ".fmt", formatted.value_or(""), update, r, ok, "formatted text");
+    if (!formatted) return;
+    plant::SourceMap again_sources;
+    plant::Sink again_sink;
+    if (plant::formatter::format_text("again", *formatted, again_sources, again_sink) != formatted) {
+        std::cout << "  " << f.generic_string() << ": formatting the formatted text changes it\n";
+        ok = false;
+    }
+    const plant::sema::Overlay overlay{{fs::weakly_canonical(f).string(), *formatted}};
+    if (plant::testing::compiled_form(f.generic_string(), nullptr) != plant::testing::compiled_form(f.generic_string(), &overlay)) {
+        std::cout << "  " << f.generic_string() << ": the formatted text compiles differently\n";
+        ok = false;
+    }
+    if (plant::testing::without_blanks(text) != plant::testing::without_blanks(*formatted)) {
+        std::cout << "  " << f.generic_string() << ": formatting changed more than blanks\n";
+        ok = false;
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,6 +169,15 @@ int main(int argc, char** argv) {
         if (f.generic_string().find("/lib/") != std::string::npos || f.generic_string().rfind("lib/", 0) == 0) continue;
         ++r.cases;
         bool ok = true;
+        if (sources.empty() && f.generic_string().rfind("fmt/", 0) == 0) {
+            fs::path base = f;
+            fmt_case(f, base.replace_extension(), update, r, ok);
+            if (!ok) {
+                ++r.failed;
+                std::cout << "FAIL " << f.generic_string() << "\n";
+            }
+            continue;
+        }
         // Goldens (and a case's .set and .run files) beside the case, or under DIR for --sources.
         fs::path base = sources.empty() ? f : out_dir / f;
         base.replace_extension();

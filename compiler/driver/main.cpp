@@ -4,6 +4,7 @@
 #include "compiler.h"
 #include "dot/dot.h"
 #include "graph/text.h"
+#include "driver/fmt.h"
 #include "driver/sweep/sweep.h"
 #include "lsp/lsp.h"
 
@@ -38,6 +39,8 @@ commands:
                         in full, with its slots, flows and Petri nets)
   info FILE...          compile and print what each plant holds (objects, slots, flows, ...)
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
+  fmt FILE...           format plant files in the canonical layout (--check: only report);
+                        `plant fmt --help`
   lsp                   a language server (LSP) on stdin/stdout for editors; docs/editors.md
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
                         controls, inspector); `plant serve --help`
@@ -403,6 +406,7 @@ int run_command(int argc, char** argv) {
     o.command = args[0];
     // `plant sweep` has options of its own (compiler/driver/sweep).
     if (o.command == "sweep") return plant::sweep::sweep_main({args.begin() + 1, args.end()}, std::cout, std::cerr);
+    if (o.command == "fmt") return plant::formatter::fmt_main({args.begin() + 1, args.end()}, std::cin, std::cout, std::cerr);
     if (o.command == "lsp") {  // a language server on stdin/stdout: docs/editors.md
         std::ios::sync_with_stdio(false);
         return plant::lsp::serve(std::cin, std::cout, args.size() > 2 && args[1] == "--stdlib" ? args[2]

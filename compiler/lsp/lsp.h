@@ -1,7 +1,7 @@
 // `plant lsp`: a Language Server Protocol server over stdio. Diagnostics as the user types
 // (the same codes, spans, messages and notes as `plant check`), with unsaved buffers read
 // before the files on disk; hover, definition, completion, the outline and references
-// (lsp/symbols.h). JSON-RPC framing with Content-Length headers; JSON from
+// (lsp/symbols.h), formatting (compiler/fmt). JSON-RPC framing with Content-Length headers; JSON from
 // nlohmann-json. Never writes anything but protocol messages to `out`.
 #pragma once
 

@@ -3,6 +3,7 @@
 #include "lsp/symbols.h"
 
 #include "compiler.h"
+#include "fmt/formatter.h"
 #include "units/units.h"
 
 #include <nlohmann/json.hpp>
@@ -33,6 +34,7 @@ constexpr int kInvalidRequest = -32600;
 constexpr int kMethodNotFound = -32601;
 constexpr int kInvalidParams = -32602;
 constexpr int kServerNotInitialized = -32002;
+constexpr int kRequestFailed = -32803;
 
 std::string canonical(const std::string& path) {
     std::error_code ec;
@@ -93,6 +95,7 @@ private:
                                                 {"documentSymbolProvider", true},
                                                 {"referencesProvider", true},
                                                 {"hoverProvider", true},
+                                                {"documentFormattingProvider", true},
                                                 {"completionProvider", {{"triggerCharacters", {"."}}}}}},
                              {"serverInfo", {{"name", "plant lsp"}}}});
         } else if (method == "initialized") {
@@ -112,16 +115,14 @@ private:
         } else if (method == "textDocument/didClose") {
             docs_.erase(params.at("textDocument").at("uri").get<std::string>());
             recheck();
+        } else if (method == "textDocument/formatting") {
+            if (const Document* doc = document(id, params)) format_document(id, *doc);
         } else if (method == "textDocument/definition" || method == "textDocument/hover" ||
                    method == "textDocument/completion" || method == "textDocument/documentSymbol" ||
                    method == "textDocument/references") {
-            const std::string uri = params.at("textDocument").at("uri");
-            auto it = docs_.find(uri);
-            if (it == docs_.end()) {
-                send_error(id, kInvalidParams, "unknown document '" + uri + "' (not opened)");
-                return;
-            }
-            const Document& doc = it->second;
+            const Document* found = document(id, params);
+            if (!found) return;
+            const Document& doc = *found;
             if (method == "textDocument/documentSymbol") {
                 const sema::LoadedModule* m = module_of(doc);
                 send_result(id, m ? document_symbols(*doc.parsed, *m) : json::array());
@@ -147,6 +148,35 @@ private:
         // definition and completion look at while the buffer has a syntax error.
         std::shared_ptr<Compilation> parsed;
     };
+
+    // The open document a request names; null after answering with an error.
+    const Document* document(const json& id, const json& params) {
+        const std::string uri = params.at("textDocument").at("uri");
+        auto it = docs_.find(uri);
+        if (it != docs_.end()) return &it->second;
+        send_error(id, kInvalidParams, "unknown document '" + uri + "' (not opened)");
+        return nullptr;
+    }
+
+    // `plant fmt` on the buffer: one edit replacing the whole text (none when it is
+    // formatted). The client's tab size and spaces option do not apply: the layout is fixed.
+    void format_document(const json& id, const Document& doc) {
+        SourceMap sources;
+        Sink sink;
+        const auto out = formatter::format_text(doc.path, doc.text, sources, sink);
+        if (!out) {
+            send_error(id, kRequestFailed, "not formatted: the document has syntax errors (see its diagnostics)");
+            return;
+        }
+        json edits = json::array();
+        if (*out != doc.text) {
+            const int32_t raw = sources.add(doc.path, doc.text);
+            json range = {{"start", {{"line", 0}, {"character", 0}}},
+                          {"end", position_of(sources, raw, static_cast<uint32_t>(doc.text.size()))}};
+            edits.push_back({{"range", range}, {"newText", *out}});
+        }
+        send_result(id, edits);
+    }
 
     void open(const std::string& uri, std::string text) {
         docs_[uri] = Document{canonical(uri_to_path(uri)), std::move(text), nullptr};

@@ -1,10 +1,13 @@
 // ANTLR parse tree -> our AST, one function per grammar rule. Compiled as C++17
 // because the generated code and the ANTLR headers do not build as C++20.
 #include "parse/parser.h"
+#include "parse/offsets.h"
 
 #include "PlantLexer.h"
 #include "PlantParser.h"
 #include "antlr4-runtime.h"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -18,26 +21,6 @@ namespace plant::parse {
 namespace {
 
 using P = plant_antlr::PlantParser;
-
-// Maps ANTLR's code-point indices to byte offsets (they differ only for non-ASCII text).
-class Offsets {
-public:
-    explicit Offsets(const std::string& text) {
-        bool ascii = std::all_of(text.begin(), text.end(),
-                                 [](char c) { return static_cast<unsigned char>(c) < 0x80; });
-        if (ascii) return;
-        for (uint32_t i = 0; i < text.size(); ++i)
-            if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) starts_.push_back(i);
-        starts_.push_back(static_cast<uint32_t>(text.size()));
-    }
-    uint32_t byte(size_t cp) const {
-        if (starts_.empty()) return static_cast<uint32_t>(cp);
-        return starts_[std::min(cp, starts_.size() - 1)];
-    }
-
-private:
-    std::vector<uint32_t> starts_;
-};
 
 // Words for tokens in "expected ..." messages.
 std::string token_words(const antlr4::dfa::Vocabulary& voc, size_t type, const std::string& eof) {
@@ -169,7 +152,8 @@ constexpr int kMaxExprDepth = 1000;  // operators on the way down one expression
 
 class Builder {
 public:
-    Builder(int32_t file, const Offsets& off, const std::string& text) : file_(file), off_(off), text_(text) {}
+    Builder(int32_t file, const Offsets& off, const std::string& text, Sink& sink)
+        : file_(file), off_(off), text_(text), sink_(sink) {}
 
     Span span(antlr4::ParserRuleContext* c) const {
         if (!c || !c->start) return Span{file_, 0, 0};
@@ -272,9 +256,22 @@ public:
                 d.from = path(paths[0]);
                 d.to = path(paths[1]);
             }
+            // Each option once: a second condition or 'once' would silently win or do nothing.
+            std::optional<Span> first_once;
             for (auto* opt : x->flowOption()) {
-                if (opt->ID()) d.condition = ident(opt->ID());
-                else d.once = true;
+                if (opt->ID() && d.condition) {
+                    auto& r = sink_.report(DiagId::DuplicateProperty, span(opt),
+                                           fmt::format("a flow takes one condition; it already has 'when {}'", d.condition->text));
+                    r.notes.push_back({d.condition->span, "the first condition"});
+                } else if (opt->ID()) {
+                    d.condition = ident(opt->ID());
+                } else if (first_once) {
+                    auto& r = sink_.report(DiagId::DuplicateProperty, span(opt), "'once' is given twice");
+                    r.notes.push_back({*first_once, "first given here"});
+                } else {
+                    first_once = span(opt);
+                    d.once = true;
+                }
             }
             d.span = span(x);
             out.emplace_back(std::move(d));
@@ -610,6 +607,7 @@ private:
     int32_t file_;
     const Offsets& off_;
     const std::string& text_;
+    Sink& sink_;
     int depth_ = 0;
     std::optional<Span> too_deep_;
 };
@@ -690,7 +688,7 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
         // The tree after recovery may be partial; only syntax errors are reported for this file.
         return empty_module(file);
     }
-    Builder builder(file, offsets, text);
+    Builder builder(file, offsets, text, sink);
     ast::Module m = builder.module(tree);
     if (builder.too_deep()) {
         sink.report(DiagId::NestingTooDeep, *builder.too_deep(),
@@ -707,7 +705,7 @@ std::optional<ast::Arg> parse_set(const SourceMap& sources, int32_t file, Sink& 
     const int before = sink.count(Severity::Error);
     auto* tree = p.parser.cliSet();
     if (sink.count(Severity::Error) > before) return std::nullopt;
-    Builder builder(file, offsets, text);
+    Builder builder(file, offsets, text, sink);
     return builder.cli_set(tree);
 }
 

@@ -14,7 +14,10 @@ namespace {
 using Count = int64_t;
 using Marking = std::vector<Count>;
 constexpr Count kOmega = -1;          // "any number of tokens" once a place is accelerated
-constexpr Count kRunaway = 1 << 24;   // stop before counts overflow in a net that never repeats
+// Stop before counts overflow in a net that never repeats: far above any start (at most
+// graph::kMaxInitialTokens per place) and far below int64 overflow with arcs of at most
+// graph::kMaxArcWeight, so that no start is runaway already.
+constexpr Count kRunaway = Count(1) << 40;
 constexpr int kAllSubsetsUpTo = 6;    // 2^6 environments per marking is still cheap
 constexpr size_t kMaxCombos = 256;    // concretisations of omega places per step
 constexpr int64_t kStepsPerMarking = 256;  // work budget, so omega branching stays bounded

@@ -1,6 +1,7 @@
 // Components: properties checked against the registry, slots created, kind tables filled.
 #include "sema/elaborator.h"
 
+#include "graph/hull.h"
 #include "graph/kinds.h"
 
 #include <algorithm>
@@ -269,6 +270,13 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 if (ok && sh.point_num < 4) {
                     sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
                     ok = false;
+                } else if (const auto flaw = ok ? graph::hull_flaw(&g_.points[size_t(sh.point_adr)], size_t(sh.point_num))
+                                                : graph::HullFlaw::None;
+                           flaw != graph::HullFlaw::None) {
+                    auto& d = sink_.report(DiagId::BadShape, sd.span,
+                                           fmt::format("this convex hull encloses no volume: {}", graph::hull_flaw_text(flaw)));
+                    d.notes.push_back({{}, "a hull needs four points not in one plane (points within 1 µm count as one)"});
+                    ok = false;
                 }
             } else {
                 auto& d = sink_.report(DiagId::BadShape, sd.kind.span, fmt::format("unknown shape '{}'", k));
@@ -380,11 +388,13 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             pl.src = src(p.name.span);
             if (p.initial) {
                 Value v = ev_.eval(*p.initial, env);
-                if (v.kind == Value::Kind::Num && v.dim.none() && std::floor(v.num) == v.num && v.num >= 0 && v.num < 1e9)
+                if (v.kind == Value::Kind::Num && v.dim.none() && std::floor(v.num) == v.num && v.num >= 0 &&
+                    v.num <= graph::kMaxInitialTokens)
                     pl.initial = static_cast<int32_t>(v.num);
                 else if (v.kind != Value::Kind::None)
                     sink_.report(DiagId::NegativeTokens, v.span,
-                                 fmt::format("initial tokens of '{}' must be a whole number >= 0, not {}", p.name.text,
+                                 fmt::format("initial tokens of '{}' must be a whole number from 0 to {}, not {}", p.name.text,
+                                             graph::kMaxInitialTokens,
                                              v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : "a " + describe(v)));
             }
             pl.put_slot = add_slot(comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
@@ -419,9 +429,10 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
                         continue;
                     }
-                    if (a.weight_written && (a.weight < 1 || std::floor(a.weight) != a.weight || a.weight > 1e6)) {
+                    if (a.weight_written && (a.weight < 1 || std::floor(a.weight) != a.weight || a.weight > graph::kMaxArcWeight)) {
                         sink_.report(DiagId::ArcBadWeight, a.weight_span,
-                                     fmt::format("arc weight {} is not a positive whole number", a.weight));
+                                     fmt::format("arc weight {} is not a whole number from 1 to {}", a.weight,
+                                                 graph::kMaxArcWeight));
                         continue;
                     }
                     g_.arcs.push_back({it->second, static_cast<int32_t>(a.weight)});

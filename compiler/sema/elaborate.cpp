@@ -212,11 +212,21 @@ bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
     return false;
 }
 
+// Members alone do not bound the work: nested loops with empty bodies produce none.
+bool Elaborator::iterate(Span at) {
+    if (expanded_ > kMaxExpanded) return false;  // the members' limit stopped it: reported once
+    if (++iterations_ <= kMaxExpanded) return true;
+    if (iterations_ == kMaxExpanded + 1)
+        sink_.report(DiagId::LoopTooLarge, at,
+                     fmt::format("loops run more than {} iterations in all (nested loops multiply)", kMaxExpanded));
+    return false;
+}
+
 void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                         std::vector<Item>& out, int depth) {
     for (const auto& m : members) {
         if (++expanded_ > kMaxExpanded) {
-            if (expanded_ == kMaxExpanded + 1)
+            if (expanded_ == kMaxExpanded + 1 && iterations_ <= kMaxExpanded)
                 sink_.report(DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
                              fmt::format("the plant expands to more than {} members", kMaxExpanded));
             return;
@@ -244,6 +254,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                     continue;
                 }
                 for (const Value& item : list.items) {
+                    if (!iterate(f.span)) break;
                     auto inner = std::make_shared<Env>(env);
                     inner->set(f.var.text, item);
                     expand(f.body, inner, out, depth + 1);
@@ -259,6 +270,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 continue;
             }
             for (long long i = static_cast<long long>(from.num); i < static_cast<long long>(to.num); ++i) {
+                if (!iterate(f.span)) break;
                 auto inner = std::make_shared<Env>(env);
                 Value iv = Value::number(static_cast<double>(i), {}, f.var.span);
                 iv.integer = true;
@@ -444,6 +456,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
     // Components first, so that one DO's components (and their slots) are contiguous.
     g_.dos[static_cast<size_t>(do_id)].comp_adr = static_cast<int32_t>(g_.comps.size());
     std::vector<std::pair<int32_t, const Item*>> made;
+    std::map<std::string, Span, std::less<>> settings_seen;  // each setting once: no silent "last wins"
     for (const auto& it : items) {
         Scope& s = scopes_[static_cast<size_t>(do_id)];
         if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
@@ -457,6 +470,12 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             if (!decl.is_plant) {
                 sink_.report(DiagId::UnknownProperty, st->name.span,
                              fmt::format("'{}' = ... is a plant setting; only a plant can set it", st->name.text));
+                continue;
+            }
+            if (auto [at, fresh] = settings_seen.emplace(st->name.text, st->name.span); !fresh) {
+                auto& d = sink_.report(DiagId::DuplicateProperty, st->name.span,
+                                       fmt::format("plant setting '{}' is set twice", st->name.text));
+                d.notes.push_back({at->second, "first set here"});
                 continue;
             }
             Value v = ev_.eval(*st->value, *it.env);

@@ -153,6 +153,8 @@ public:
     std::map<int32_t, Span> comp_spans_;
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
     long long expanded_ = 0;      // members produced by loops, against runaway loops
+    long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included
+    bool iterate(Span at);        // counts one; false past the limit (reported once)
     bool library_mode_ = false;  // checking one object type of a library
 };
 

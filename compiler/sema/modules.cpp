@@ -19,53 +19,7 @@ namespace {
 // it is read, not read until memory runs out.
 constexpr std::uintmax_t kMaxModuleBytes = 16u << 20;
 
-// Reads a regular file of at most kMaxModuleBytes; `why` says what is wrong otherwise.
-bool read_file(const fs::path& p, std::string& out, std::string& why) {
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) {
-        why = ": it is a directory";
-        return false;
-    }
-    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) {
-        why = ": not a regular file";
-        return false;
-    }
-    const std::uintmax_t size = fs::file_size(p, ec);
-    if (!ec && size > kMaxModuleBytes) {
-        why = fmt::format(": {} bytes, more than the limit of {} MiB", size, kMaxModuleBytes >> 20);
-        return false;
-    }
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return false;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    out = ss.str();
-    return true;
-}
 
-// The offset of the first byte that is not part of valid UTF-8, or npos.
-size_t invalid_utf8(std::string_view s) {
-    size_t i = 0;
-    while (i < s.size()) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        size_t n = 0;
-        uint32_t cp = 0, min = 0;
-        if (c < 0x80) n = 1;
-        else if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1F, min = 0x80;
-        else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0F, min = 0x800;
-        else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07, min = 0x10000;
-        else return i;
-        if (i + n > s.size()) return i;
-        for (size_t k = 1; k < n; ++k) {
-            const auto d = static_cast<unsigned char>(s[i + k]);
-            if ((d & 0xC0) != 0x80) return i;
-            cp = (cp << 6) | (d & 0x3F);
-        }
-        if (n > 1 && (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))) return i;
-        i += n;
-    }
-    return std::string_view::npos;
-}
 
 class Loader {
 public:
@@ -106,10 +60,7 @@ public:
         const size_t bad = invalid_utf8(text);
         int32_t file = sm_.add(display, std::move(text));
         if (bad != std::string_view::npos) {
-            const auto byte = static_cast<unsigned char>(sm_.text(file)[bad]);
-            auto& d = sink_.report(DiagId::InvalidText, Span{file, static_cast<uint32_t>(bad), static_cast<uint32_t>(bad + 1)},
-                                   fmt::format("this file is not valid UTF-8: byte 0x{:02X} here", byte));
-            d.notes.push_back({{}, "plant files are UTF-8 text; save it as UTF-8 (a Latin-1 'ä' is one such byte)"});
+            report_invalid_utf8(sm_, file, bad, sink_);
             return -1;
         }
         LoadedModule mod;
@@ -159,6 +110,59 @@ private:
 };
 
 }  // namespace
+
+bool read_file(const fs::path& p, std::string& out, std::string& why) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+        why = ": it is a directory";
+        return false;
+    }
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) {
+        why = ": not a regular file";
+        return false;
+    }
+    const std::uintmax_t size = fs::file_size(p, ec);
+    if (!ec && size > kMaxModuleBytes) {
+        why = fmt::format(": {} bytes, more than the limit of {} MiB", size, kMaxModuleBytes >> 20);
+        return false;
+    }
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return false;
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    out = ss.str();
+    return true;
+}
+
+size_t invalid_utf8(std::string_view s) {
+    size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        size_t n = 0;
+        uint32_t cp = 0, min = 0;
+        if (c < 0x80) n = 1;
+        else if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1F, min = 0x80;
+        else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0F, min = 0x800;
+        else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07, min = 0x10000;
+        else return i;
+        if (i + n > s.size()) return i;
+        for (size_t k = 1; k < n; ++k) {
+            const auto d = static_cast<unsigned char>(s[i + k]);
+            if ((d & 0xC0) != 0x80) return i;
+            cp = (cp << 6) | (d & 0x3F);
+        }
+        if (n > 1 && (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))) return i;
+        i += n;
+    }
+    return std::string_view::npos;
+}
+
+void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sink& sink) {
+    const auto byte = static_cast<unsigned char>(sources.text(file)[bad]);
+    auto& d = sink.report(DiagId::InvalidText, Span{file, static_cast<uint32_t>(bad), static_cast<uint32_t>(bad + 1)},
+                          fmt::format("this file is not valid UTF-8: byte 0x{:02X} here", byte));
+    d.notes.push_back({{}, "plant files are UTF-8 text; save it as UTF-8 (a Latin-1 'ä' is one such byte)"});
+}
 
 static Program load_program_files(const std::string& root_path, const std::string& stdlib_dir, SourceMap& sources,
                                   Sink& sink, const Overlay* overlay) {

@@ -6,8 +6,10 @@
 #include "ast/ast.h"
 #include "diag/diagnostic.h"
 
+#include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace plant::sema {
@@ -28,6 +30,15 @@ struct Program {
 // The standard-library module that declares object type `name` ("std.separator"), or ""
 // (the stdlib's files read as text: for "add `import std.x`" on an unknown type).
 std::string stdlib_module_declaring(const std::string& stdlib_dir, const std::string& name);
+// Reads a regular file of a module's size at most; `why` says what is wrong otherwise
+// (": it is a directory"), empty when it cannot be opened.
+bool read_file(const std::filesystem::path& p, std::string& out, std::string& why);
+
+// The offset of the first byte that is not part of valid UTF-8, or npos; and its error
+// (E0008), the one every reader of plant files reports.
+size_t invalid_utf8(std::string_view s);
+void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sink& sink);
+
 // Unsaved editor buffers by canonical path: a file found here is read from here, not from disk.
 using Overlay = std::map<std::string, std::string>;
 

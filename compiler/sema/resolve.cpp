@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 
 namespace plant::sema {
 
@@ -362,6 +363,19 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
 }
 
 void Elaborator::finish_accesses() {
+    // The objects of each type, and the targets of each (type, member) once: every access to
+    // the same member of the same type shares one range of access_targets, so the work and
+    // the table grow with the plant, not with accesses times objects.
+    std::vector<std::vector<int32_t>> dos_of_type(g_.do_types.size());
+    for (size_t d = 0; d < g_.dos.size(); ++d)
+        if (g_.dos[d].type >= 0) dos_of_type[static_cast<size_t>(g_.dos[d].type)].push_back(static_cast<int32_t>(d));
+    struct Targets {
+        bool ok;
+        int32_t adr, count;
+        SlotType type;
+        Dir dir;
+    };
+    std::map<std::pair<int32_t, std::string>, Targets> shared;
     for (auto& pf : pending_) {
         Endpoint* ends[2] = {&pf.from, &pf.to};
         int32_t access_ids[2] = {-1, -1};
@@ -379,6 +393,16 @@ void Elaborator::finish_accesses() {
             for (const auto& seg : e.access_path->segs) member += (member.empty() ? "" : ".") + seg.name.text;
             acc.member = name(member);
             acc.src = src(e.span);
+            auto known = shared.find({e.do_type, member});
+            if (known != shared.end() && known->second.ok && known->second.count > 0) {  // else: resolved (and reported) again here
+                acc.target_adr = known->second.adr;
+                acc.target_num = known->second.count;
+                types[k] = known->second.type;
+                dirs[k] = known->second.dir;
+                g_.accesses.push_back(acc);
+                access_ids[k] = static_cast<int32_t>(g_.accesses.size()) - 1;
+                continue;
+            }
             ast::Path sub;
             sub.span = e.span;
             for (const auto& seg : e.access_path->segs) {
@@ -388,8 +412,11 @@ void Elaborator::finish_accesses() {
             }
             bool first = true;
             int32_t count = 0;
-            for (size_t d = 0; d < g_.dos.size() && ok; ++d) {
-                if (g_.dos[d].type != e.do_type) continue;
+            const std::vector<int32_t> none;
+            const std::vector<int32_t>& candidates =
+                e.do_type >= 0 && static_cast<size_t>(e.do_type) < dos_of_type.size() ? dos_of_type[static_cast<size_t>(e.do_type)] : none;
+            for (int32_t dd : candidates) {
+                const size_t d = static_cast<size_t>(dd);
                 Endpoint m = resolve(static_cast<int32_t>(d), sub, Env{});
                 if (!m.ok || m.slots.size() != 1) {
                     if (m.ok) sink_.report(DiagId::NotAnObject, e.span, "a dynamic slot must name one slot");
@@ -433,6 +460,7 @@ void Elaborator::finish_accesses() {
                 }
             }
             acc.target_num = count;
+            shared[{e.do_type, member}] = Targets{ok, acc.target_adr, count, types[k], dirs[k]};
             if (ok) {
                 g_.accesses.push_back(acc);
                 access_ids[k] = static_cast<int32_t>(g_.accesses.size()) - 1;

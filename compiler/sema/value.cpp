@@ -6,6 +6,10 @@
 namespace plant::sema {
 
 using units::Dim;
+
+// A string built by '+' is at most this long (1 MiB): doubling one in a loop of lets
+// would otherwise exhaust memory.
+constexpr size_t kMaxString = size_t(1) << 20;
 using units::dim_name;
 
 std::string describe(const Value& v) {
@@ -109,7 +113,13 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
             return v;
         }
         std::string bad;
-        auto unit = units::parse_unit(e.text, &bad);
+        bool bad_exponent = false;
+        auto unit = units::parse_unit(e.text, &bad, &bad_exponent);
+        if (!unit && bad_exponent) {
+            sink_.report(DiagId::OutOfRange, e.unit_span,
+                         fmt::format("the unit '{}' has an exponent beyond ±{}", bad, units::kMaxExponent));
+            return {};
+        }
         if (!unit) {
             auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
             std::string hint = closest_name(bad, units::unit_atoms());
@@ -121,6 +131,10 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
         }
         v.num = unit->si(e.number);
         v.dim = unit->dim;
+        if (!std::isfinite(v.num)) {
+            sink_.report(DiagId::OutOfRange, e.span, "this number is too large in SI units");
+            return {};
+        }
         return v;
     }
     case K::String: {
@@ -296,6 +310,11 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                                  op, with_article(describe(x)), with_article(describe(y))));
         return Value{};
     };
+    auto exponent_overflow = [&] {
+        sink_.report(DiagId::OutOfRange, e.span,
+                     fmt::format("'{}' gives a dimension with an exponent beyond ±{}", op, units::kMaxExponent));
+        return Value{};
+    };
     if (report_name(sink_, a, fmt::format("'{}'", op)) || report_name(sink_, b, fmt::format("'{}'", op))) return {};
     if (op == "and" || op == "or") {
         if (!expect_bool(a, "left side of '" + op + "'") || !expect_bool(b, "right side of '" + op + "'")) return {};
@@ -320,6 +339,11 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
         return r;
     }
     if (a.kind == VK::Str && b.kind == VK::Str && op == "+") {
+        if (a.str.size() + b.str.size() > kMaxString) {
+            sink_.report(DiagId::OutOfRange, e.span,
+                         fmt::format("this string would be longer than {} bytes", kMaxString));
+            return {};
+        }
         Value r = a;
         r.str = a.str + b.str;
         return r;
@@ -353,7 +377,9 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
         }
         if (op == "*") {
             r.num = a.num * b.num;
-            r.dim = a.dim * b.dim;
+            const std::optional<Dim> dim = a.dim.times(b.dim);
+            if (!dim) return exponent_overflow();
+            r.dim = *dim;
             r.integer = a.integer && b.integer && is_whole(r.num);
             return r;
         }
@@ -363,7 +389,9 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
                 return {};
             }
             r.num = a.num / b.num;
-            r.dim = a.dim / b.dim;
+            const std::optional<Dim> dim = a.dim.over(b.dim);
+            if (!dim) return exponent_overflow();
+            r.dim = *dim;
             r.integer = a.integer && b.integer && std::fmod(a.num, b.num) == 0;
             return r;
         }
@@ -450,8 +478,14 @@ Value Evaluator::call(const ast::Expr& e, const Env& env) {
     if (f == "sqrt") {
         if (!arity(1) || !need_nums()) return {};
         Dim d = a[0].dim;
-        if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2 || a[0].num < 0) {
+        if (d.L % 2 || d.M % 2 || d.T % 2 || d.A % 2) {
             sink_.report(DiagId::ArithmeticError, e.span, fmt::format("cannot take the square root of {}", with_article(describe(a[0]))));
+            return {};
+        }
+        if (a[0].num < 0) {
+            sink_.report(DiagId::ArithmeticError, e.span,
+                         fmt::format("cannot take the square root of a negative value ({}{})", a[0].num,
+                                     d.none() ? "" : " " + units::si_unit(d)));
             return {};
         }
         return Value::number(std::sqrt(a[0].num), Dim{int8_t(d.L / 2), int8_t(d.M / 2), int8_t(d.T / 2), int8_t(d.A / 2)}, e.span);

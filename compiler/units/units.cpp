@@ -101,7 +101,12 @@ std::string si_unit(Dim d) {
     return quotient(d, {"m", "kg", "s", "rad"});
 }
 
-std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
+std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom, bool* bad_exponent) {
+    auto too_large = [&] {
+        if (bad_exponent) *bad_exponent = true;
+        if (bad_atom) *bad_atom = std::string(text);
+        return std::nullopt;
+    };
     Unit result{1.0, 1.0, dims::none};
     int sign = 1;  // +1 before the first '/', -1 after it
     size_t i = 0;
@@ -116,7 +121,10 @@ std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
             if (neg) ++k;
             int e = 0;
             size_t digits = k;
-            while (k < text.size() && text[k] >= '0' && text[k] <= '9') e = e * 10 + (text[k++] - '0');
+            while (k < text.size() && text[k] >= '0' && text[k] <= '9') {
+                e = e * 10 + (text[k++] - '0');
+                if (e > kMaxExponent) return too_large();  // before int overflows, too
+            }
             if (k == digits) {
                 if (bad_atom) *bad_atom = std::string(text);
                 return std::nullopt;
@@ -140,7 +148,10 @@ std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom) {
             result.mul *= std::pow(ad, -e);
             result.div *= std::pow(am, -e);
         }
-        result.dim = result.dim * atom->dim.pow(e);
+        const std::optional<Dim> power = atom->dim.power(e);
+        const std::optional<Dim> dim = power ? result.dim.times(*power) : std::nullopt;
+        if (!dim) return too_large();
+        result.dim = *dim;
         if (j < text.size()) {
             if (text[j] == '/') sign = -1;
             ++j;

@@ -4,12 +4,17 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace plant::units {
+
+// Each exponent lies within ±kMaxExponent (kept in 8 bits): the checked operations below
+// refuse a result outside it, where the plain ones would wrap.
+constexpr int kMaxExponent = 99;
 
 struct Dim {
     int8_t L = 0, M = 0, T = 0, A = 0;
@@ -22,6 +27,16 @@ struct Dim {
     }
     Dim pow(int n) const { return {int8_t(L * n), int8_t(M * n), int8_t(T * n), int8_t(A * n)}; }
     bool none() const { return L == 0 && M == 0 && T == 0 && A == 0; }
+
+    // The exponents given, or nothing when one leaves ±kMaxExponent.
+    static std::optional<Dim> of(long l, long m, long t, long a) {
+        for (long e : {l, m, t, a})
+            if (e < -kMaxExponent || e > kMaxExponent) return std::nullopt;
+        return Dim{int8_t(l), int8_t(m), int8_t(t), int8_t(a)};
+    }
+    std::optional<Dim> times(Dim o) const { return of(long(L) + o.L, long(M) + o.M, long(T) + o.T, long(A) + o.A); }
+    std::optional<Dim> over(Dim o) const { return of(long(L) - o.L, long(M) - o.M, long(T) - o.T, long(A) - o.A); }
+    std::optional<Dim> power(long n) const { return of(L * n, M * n, T * n, A * n); }
 };
 
 namespace dims {
@@ -54,8 +69,9 @@ struct Unit {
 };
 
 // Parses a unit written after a number: "cm", "cm/s", "m/s^2", "N*s/m", "deg/s".
-// Returns nothing for an unknown atom; `bad_atom` then names it.
-std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom = nullptr);
+// Returns nothing for an unknown atom, `bad_atom` then names it, or for an exponent outside
+// ±kMaxExponent (written, or reached by the unit's product), `bad_exponent` then says so.
+std::optional<Unit> parse_unit(std::string_view text, std::string* bad_atom = nullptr, bool* bad_exponent = nullptr);
 std::vector<std::string> unit_atoms();
 
 // Parameter type names that are dimensions: "length", "velocity", "gain", "real" ...

@@ -40,7 +40,10 @@
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <BulletCollision/CollisionShapes/btPolyhedralConvexShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 
 #include <cfloat>
 #include <new>
@@ -69,6 +72,7 @@ struct FaceAxis {
 
 struct Polytope {
     const btConvexPolyhedron* poly = nullptr;
+    bool solid = false;  // else the pair goes to GJK (see solid_polyhedron)
     std::vector<FaceAxis> axes;
     btVector3 mid, half;  // the vertices' bounding box: for a box shape, the box itself
 };
@@ -91,6 +95,8 @@ Interval vertex_extent(const btConvexPolyhedron& p, const btVector3& dir) {
 Polytope describe(const btConvexPolyhedron& p) {
     Polytope out;
     out.poly = &p;
+    out.solid = solid_polyhedron(p);
+    if (!out.solid) return out;
     btVector3 lo(FLT_MAX, FLT_MAX, FLT_MAX), hi = -lo;
     for (int i = 0; i < p.m_vertices.size(); ++i) {
         lo.setMin(p.m_vertices[i]);
@@ -274,6 +280,11 @@ public:
             own_ = true;
         }
         out->setPersistentManifold(manifold_);
+        if (!a_->solid || !b_->solid) {
+            closest_points(w0, w1, *out);
+            if (own_) out->refreshContactPoints();
+            return;
+        }
         const Side a{*a_, w0->getWorldTransform(), box_first_}, b{*b_, w1->getWorldTransform(), !box_first_};
         btVector3 normal;
         if (separating_axis(a, b, normal, *out)) {
@@ -297,6 +308,23 @@ public:
     }
 
 private:
+    // What Bullet does for convex shapes without polyhedral features: GJK and EPA on the
+    // shapes' support functions, which need no faces.
+    void closest_points(const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1, btManifoldResult& out) {
+        const auto* s0 = static_cast<const btConvexShape*>(w0->getCollisionShape());
+        const auto* s1 = static_cast<const btConvexShape*>(w1->getCollisionShape());
+        btVoronoiSimplexSolver simplex;
+        btGjkEpaPenetrationDepthSolver epa;
+        btGjkPairDetector gjk(s0, s1, &simplex, &epa);
+        btGjkPairDetector::ClosestPointInput input;
+        const btScalar reach = s0->getMargin() + s1->getMargin() + manifold_->getContactBreakingThreshold() +
+                               out.m_closestPointDistanceThreshold;
+        input.m_maximumDistanceSquared = reach * reach;
+        input.m_transformA = w0->getWorldTransform();
+        input.m_transformB = w1->getWorldTransform();
+        gjk.getClosestPoints(input, out, nullptr);
+    }
+
     btVertexArray verts1_, verts2_;  // clipping scratch, kept so that a step allocates nothing
     btPersistentManifold* manifold_;
     const Polytope* a_;
@@ -357,6 +385,18 @@ private:
 };
 
 }  // namespace
+
+bool solid_polyhedron(const btConvexPolyhedron& p) {
+    const int vertices = p.m_vertices.size();
+    if (vertices < 4 || p.m_faces.size() < 4 || p.m_uniqueEdges.size() < 1) return false;
+    for (int f = 0; f < p.m_faces.size(); ++f) {
+        const auto& indices = p.m_faces[f].m_indices;
+        if (indices.size() < 3) return false;
+        for (int i = 0; i < indices.size(); ++i)
+            if (indices[i] < 0 || indices[i] >= vertices) return false;
+    }
+    return true;
+}
 
 struct BoxHullContacts::State {
     Polytopes polytopes;

@@ -7,8 +7,15 @@
 class btCollisionConfiguration;
 class btCollisionDispatcher;
 class btCollisionShape;
+class btConvexPolyhedron;
 
 namespace plant::engine {
+
+// Whether a shape's polyhedral features describe a solid (4 or more vertices and faces, every
+// face a polygon over known vertices). Bullet's polyhedral contacts index a face that a
+// degenerate hull (its points on a line or in a plane) does not have: such a hull must be
+// left without polyhedral features, and the algorithm below does not use them.
+bool solid_polyhedron(const btConvexPolyhedron& p);
 
 // Owns what the dispatchers call and what the algorithms share (per-polyhedron data), so it
 // must outlive every algorithm a dispatcher it is attached to creates: create it before the

@@ -11,16 +11,19 @@ using namespace plant::graph;
 
 namespace {
 
-double step_of(const Graph& g, const Options& opt) {
-    if (opt.dt > 0) return opt.dt;
-    return 1.0 / (g.settings.rate > 0 ? g.settings.rate : 150.0);
+double rate_of(const Graph& g, const Options& opt) {
+    if (opt.dt > 0) return 1.0 / opt.dt;
+    if (opt.rate > 0) return opt.rate;
+    return g.settings.rate > 0 ? g.settings.rate : 150.0;
 }
+double step_of(const Graph& g, const Options& opt) { return opt.dt > 0 ? opt.dt : 1.0 / rate_of(g, opt); }
 
 }  // namespace
 
 Runtime::Runtime(const Graph& graph, const Options& opt)
     : g(graph),
       dt(step_of(graph, opt)),
+      rate(rate_of(graph, opt)),
       tab(graph),
       sched(build_schedule(graph, tab)),
       phys(graph, tab, opt.broadphase, opt.threads),
@@ -53,7 +56,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     for (size_t i = 0; i < g.timers.size(); ++i)
         emit(comp_slot(g.timers[i].comp, timerslot::running), st.timers[i].running ? 1 : 0);
     for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.places[p].tokens_slot >= 0) emit(g.places[p].tokens_slot, st.tokens[p]);
+        if (g.places[p].tokens_slot >= 0) emit(g.places[p].tokens_slot, double(st.tokens[p]));
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         int32_t v = st.variant[i];
         emit(comp_slot(g.graphics[i].comp, graphicsslot::shown),
@@ -105,6 +108,7 @@ void Engine::step() {
 double Engine::time() const { return rt_->st.time; }
 int64_t Engine::steps() const { return rt_->st.step; }
 double Engine::dt() const { return rt_->dt; }
+double Engine::rate() const { return rt_->rate; }
 const Graph& Engine::graph() const { return rt_->g; }
 
 void Engine::input(int32_t slot, std::span<const double> value) {
@@ -190,7 +194,7 @@ int32_t Engine::graphics_variant(int32_t gr) const {
 bool Engine::trigger_occupied(int32_t t) const { return rt_->st.triggers[t].num > 0; }
 bool Engine::field_on(int32_t f) const { return rt_->st.field_on[f] != 0; }
 double Engine::field_speed(int32_t f) const { return rt_->st.field_speed[f]; }
-int32_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
+int64_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
 Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }
 int64_t Engine::trigger_enters(int32_t t) const { return rt_->st.triggers[t].enters; }
 int64_t Engine::issued(int32_t src) const { return rt_->st.sources[src].issued; }

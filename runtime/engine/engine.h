@@ -23,7 +23,8 @@ namespace plant::engine {
 enum class Broadphase : uint8_t { Dbvt, Sap };
 
 struct Options {
-    double dt = 0;  // fixed physics step in s; 0: 1 / graph.settings.rate
+    double dt = 0;    // fixed physics step in s; 0: 1 / rate
+    double rate = 0;  // steps per second when dt is 0; 0: graph.settings.rate
     Broadphase broadphase = Broadphase::Dbvt;
     // Threads that step the physics of a plant in several regions (0: one per core). The
     // results do not depend on it.
@@ -61,6 +62,8 @@ public:
     double time() const;    // simulated seconds at the end of the last step
     int64_t steps() const;
     double dt() const;
+    // Steps per second: time() is steps() / rate() up to rounding; a trace prints the latter.
+    double rate() const;
     const graph::Graph& graph() const;
 
     // An external input (a timed event): the value (slot_width doubles, none for
@@ -95,7 +98,7 @@ public:
     bool trigger_occupied(int32_t trigger) const;   // an object inside now
     bool field_on(int32_t field) const;
     double field_speed(int32_t field) const;        // target speed now, m/s
-    int32_t tokens(int32_t place) const;
+    int64_t tokens(int32_t place) const;  // at most graph::kMaxTokens
     graph::Pose graphics_pose(int32_t graphics) const;
     int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far
     int64_t issued(int32_t source) const;           // objects a source issued so far

@@ -45,7 +45,7 @@ void phase_petri(Runtime& r) {
     for (int32_t x : s.in_list) {
         const int32_t p = r.tab.put_place[x];
         if (p < 0) continue;
-        s.tokens[p] += 1;
+        s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
         touch(s, p);
         s.net_live[r.tab.place_net[p]] = 1;
     }
@@ -85,11 +85,12 @@ void phase_petri(Runtime& r) {
     }
     for (size_t i = 0; i < s.places_touched.size(); ++i) {
         const int32_t p = s.places_touched[i];
-        const int32_t before = s.tokens[p] - (i < puts ? 1 : 0);
-        const int32_t after = std::max(0, s.tokens[p] - s.consume[p]) + s.produce[p];
+        const int64_t before = s.tokens[p] - (i < puts ? 1 : 0);
+        // A full place stays full (graph.h): the count never wraps, nor loses exactness.
+        const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - s.consume[p]) + s.produce[p], kMaxTokens);
         const int32_t entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
         if ((i < puts || s.produce[p] > 0) && entered >= 0) r.activate_out(entered);
-        if (after != before && tokens >= 0) r.emit(tokens, after);
+        if (after != before && tokens >= 0) r.emit(tokens, double(after));
         s.tokens[p] = after;
         s.consume[p] = s.produce[p] = 0;
         s.place_mark[p] = 0;

@@ -1,6 +1,7 @@
 #include "engine/run.h"
 
 #include "engine/engine.h"
+#include "engine/interrupt.h"
 #include "engine/run_args.h"
 #include "engine/trace.h"
 
@@ -321,7 +322,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
 
     Options eo;
-    eo.dt = o.rate > 0 ? 1.0 / o.rate : 0;
+    eo.rate = o.rate;
     eo.broadphase = o.broadphase;
     eo.threads = o.threads;
     Engine e(g, eo);
@@ -358,7 +359,15 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     double next_progress = 2.0;  // only runs longer than ~2 s of wall time report progress
     bool progressed = false;
     size_t next_event = 0;
+    InterruptGuard interrupt;
+    int stopped_by = 0;
     for (int64_t i = 0; i < steps; ++i) {
+        if ((stopped_by = InterruptGuard::requested())) {  // the step that ran last ends the run
+            if (i > 0) counts.finish(e);
+            if (trace && i > 0) trace->finish();
+            if (trace && e.steps() % every != 0) trace->row();
+            break;
+        }
         const double t_next = double(e.steps() + 1) * e.dt();
         for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event) {
             apply_event(e, o.events[next_event]);
@@ -386,14 +395,23 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         }
     }
     if (progressed) fmt::print(err, "\n");
-    if (trace) trace->flush();
+    if (trace) {
+        trace->flush();
+        if (!trace_file.flush()) {  // a full disk or /dev/full: the trace asked for is not there
+            fmt::print(err, "plant run: error: --trace: writing '{}' failed\n", o.trace);
+            return 1;
+        }
+    }
     if (observer && !observer->finished(e, counts, error)) {
         fmt::print(err, "plant run: error: {}\n", error);
         return 1;
     }
+    if (stopped_by)
+        fmt::print(out, "interrupted:      by {} after {:g} s of {:g} s\n", InterruptGuard::name(stopped_by), e.time(),
+                   o.duration);
     summary(e, tally, counts, wall(), out);
     forces.print(e, out);
-    return 0;
+    return stopped_by ? InterruptGuard::exit_code(stopped_by) : 0;
 }
 
 }  // namespace plant::engine

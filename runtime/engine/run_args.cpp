@@ -6,6 +6,7 @@
 #include <charconv>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 namespace plant::engine {
@@ -60,15 +61,24 @@ bool whole(double v) { return std::floor(v) == v && std::abs(v) < 9e15; }
 bool parse_duration(std::string_view text, double& seconds, std::string& error) {
     double v;
     std::string_view unit;
-    if (!number_unit(text, v, unit) || v < 0) {
-        error = fmt::format("'{}' is not a duration (e.g. 10s, 500ms, 2min)", text);
+    if (!number_unit(text, v, unit)) {
+        error = fmt::format("'{}' is not a duration (e.g. 10s, 500ms, 2min, 1h)", text);
+        return false;
+    }
+    if (unit.empty()) {
+        error = fmt::format("'{}': a duration needs a unit: s, ms, min or h", text);
         return false;
     }
     if (unit == "s") seconds = v;
     else if (unit == "ms") seconds = v / 1000;
     else if (unit == "min") seconds = v * 60;
+    else if (unit == "h") seconds = v * 3600;
     else {
-        error = fmt::format("'{}': a duration needs a unit: s, ms or min", text);
+        error = fmt::format("'{}': unknown unit '{}'; a duration takes s, ms, min or h", text, unit);
+        return false;
+    }
+    if (v < 0) {
+        error = fmt::format("'{}': a duration must not be negative", text);
         return false;
     }
     return true;
@@ -77,8 +87,17 @@ bool parse_duration(std::string_view text, double& seconds, std::string& error) 
 bool parse_frequency(std::string_view text, double& hz, std::string& error) {
     double v;
     std::string_view unit;
-    if (!number_unit(text, v, unit) || v <= 0 || (unit != "Hz" && unit != "kHz")) {
+    if (!number_unit(text, v, unit)) {
         error = fmt::format("'{}' is not a frequency (e.g. 150Hz)", text);
+        return false;
+    }
+    if (unit != "Hz" && unit != "kHz") {
+        error = unit.empty() ? fmt::format("'{}': a frequency needs a unit: Hz or kHz", text)
+                             : fmt::format("'{}': unknown unit '{}'; a frequency takes Hz or kHz", text, unit);
+        return false;
+    }
+    if (!(v > 0)) {
+        error = fmt::format("'{}': a frequency must be above 0", text);
         return false;
     }
     hz = unit == "kHz" ? v * 1000 : v;
@@ -326,6 +345,11 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
 
 bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,
                  std::vector<Event>& out, std::string& error) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        error = fmt::format("{}: is a folder, not an events file", path);
+        return false;
+    }
     std::ifstream in(path);
     if (!in) {
         error = fmt::format("{}: cannot open", path);
@@ -341,6 +365,10 @@ bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path
             return false;
         }
         out.push_back(std::move(ev));
+    }
+    if (in.bad()) {
+        error = fmt::format("{}: cannot read", path);
+        return false;
     }
     return true;
 }

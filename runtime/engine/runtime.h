@@ -18,6 +18,7 @@ namespace plant::engine {
 struct Runtime {
     const graph::Graph& g;
     double dt;
+    double rate;  // steps per second (Engine::rate)
     Tables tab;
     Schedule sched;
     State st;

@@ -1,5 +1,6 @@
 #include "engine/shapes.h"
 
+#include "engine/contact.h"
 #include "engine/pose.h"
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
@@ -108,13 +109,20 @@ btCollisionShape* ShapeCache::hull(const Graph& g, const Shape& s, const Pose& t
         key.insert(key.end(), to.q.begin(), to.q.end());
     }
     if (auto it = cache_.find(key); it != cache_.end()) return it->second;
-    auto h = std::make_unique<btConvexHullShape>();
     const btTransform t = to_bt(to);
-    for (int32_t i = 0; i < s.point_num; ++i) h->addPoint(t * to_bt(g.points[s.point_adr + i].p), false);
-    h->optimizeConvexHull();
-    h->setMargin(btScalar(kHullMargin));  // before the AABB: Bullet's default 4 cm outgrows a bottle
-    h->recalcLocalAabb();
+    auto make = [&] {
+        auto h = std::make_unique<btConvexHullShape>();
+        for (int32_t i = 0; i < s.point_num; ++i) h->addPoint(t * to_bt(g.points[s.point_adr + i].p), false);
+        h->optimizeConvexHull();
+        h->setMargin(btScalar(kHullMargin));  // before the AABB: Bullet's default 4 cm outgrows a bottle
+        h->recalcLocalAabb();
+        return h;
+    };
+    auto h = make();
     h->initializePolyhedralFeatures();
+    // A hull without volume (the loader refuses one; a hand-built graph may not) keeps no
+    // polyhedral features: Bullet's polyhedral contacts would index a face it lacks.
+    if (const btConvexPolyhedron* p = h->getConvexPolyhedron(); !p || !solid_polyhedron(*p)) h = make();
     btCollisionShape* raw = h.get();
     owned_.push_back(std::move(h));
     cache_.emplace(std::move(key), raw);

@@ -114,7 +114,8 @@ struct State {
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
 
     // Petri nets.
-    std::vector<int32_t> tokens, consume, produce, places_touched, fired;
+    std::vector<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
+    std::vector<int32_t> places_touched, fired;
     std::vector<uint8_t> place_mark, net_live;
 
     std::vector<TriggerState> triggers;

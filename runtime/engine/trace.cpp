@@ -99,8 +99,10 @@ void TraceWriter::header() {
 }
 
 void TraceWriter::row() {
-    // Shortest round-trip formatting: a trace compares bit for bit across runs.
-    fmt::format_to(std::back_inserter(buf_), "{}", e_.time());
+    // Shortest round-trip formatting: a trace compares bit for bit across runs. The time is
+    // the step count over the rate, one correctly rounded division: 18570 steps at 150 Hz
+    // print as 123.8, where steps × dt would print 123.80000000000001.
+    fmt::format_to(std::back_inserter(buf_), "{}", double(e_.steps()) / e_.rate());
     for (const TraceColumn& c : cols_) {
         buf_.push_back(',');
         switch (c.kind) {

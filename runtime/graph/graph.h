@@ -346,6 +346,11 @@ PLANT_GRAPH_TABLES(PLANT_DECLARE_RECORD)
 // The physics rates a plant may have: 1 Hz to 1 MHz (the compiler, `plant run --rate`
 // and the graph loader all hold to it).
 constexpr double kMinRate = 1.0, kMaxRate = 1e6;
+// Petri nets: a place starts with at most kMaxInitialTokens, an arc weighs at most
+// kMaxArcWeight (compiler and loader check both); while running, a place holds at most
+// kMaxTokens, the largest count a slot's number (a double) holds exactly, and stays there.
+constexpr int32_t kMaxInitialTokens = 1'000'000, kMaxArcWeight = 1'000'000;
+constexpr int64_t kMaxTokens = int64_t(1) << 53;
 
 struct Settings {
     double rate = 150.0;      // physics steps per second, kMinRate .. kMaxRate

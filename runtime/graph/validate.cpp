@@ -1,5 +1,6 @@
 #include "validate.h"
 
+#include "hull.h"
 #include "kinds.h"
 
 #include <fmt/format.h>
@@ -251,6 +252,9 @@ private:
                 !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
                 !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
                 return false;
+            // A flow drives inputs: written into an output, the value would be lost or clobbered.
+            if (!each_end(f.to, f.to_access, [&](int32_t s) { return g_.slots[size_t(s)].dir == Dir::In; }))
+                return fail("its target is not an input slot");
             // The runtime copies the target's width of values from the source.
             int width = -1;
             bool same = each_end(f.to, f.to_access, [&](int32_t s) {
@@ -284,6 +288,7 @@ private:
             return owner(b.comp, CompKind::Body, i) &&
                    range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") &&
                    check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
+                   check(b.shape_num > 0, "a body needs at least one shape") &&
                    check(b.mass >= 0, "field 'mass' is negative") &&
                    check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
                           "field 'inertia' must be above 0 on every axis") &&
@@ -306,6 +311,9 @@ private:
             case ShapeKind::Hull:
                 if (!check(s.point_num > 0, "a hull needs points")) return false;
                 if (!range("point_adr", s.point_adr, s.point_num, g_.points.size(), "points")) return false;
+                if (const HullFlaw flaw = hull_flaw(&g_.points[size_t(s.point_adr)], size_t(s.point_num));
+                    flaw != HullFlaw::None)
+                    return fail(fmt::format("a hull encloses no volume: {}", hull_flaw_text(flaw)));
                 break;
             }
             return check(ok, "field 'size' must be above 0 where the shape uses it");
@@ -334,7 +342,8 @@ private:
         if (!each("places", g_.places, [&](const Place& p, size_t) {
             return id("comp", p.comp, g_.comps.size(), "comps") &&
                    check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
-                   check(p.initial >= 0, "field 'initial' is negative") &&
+                   check(p.initial >= 0 && p.initial <= kMaxInitialTokens,
+                         fmt::format("field 'initial' must lie in [0, {}]", kMaxInitialTokens)) &&
                    slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) &&
                    slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) &&
                    slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true);
@@ -350,7 +359,8 @@ private:
             return false;
         return each("arcs", g_.arcs, [&](const auto& r, size_t) {
             return id("place", r.place, g_.places.size(), "places") &&
-                   check(r.weight >= 1, "field 'weight' must be 1 or more");
+                   check(r.weight >= 1 && r.weight <= kMaxArcWeight,
+                         fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
         });
     }
 

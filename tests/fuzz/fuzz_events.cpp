@@ -3,33 +3,15 @@
 // engine and its events-file line parsed back.
 // Invariant: no crash, no sanitizer report; a refused line says why; a parsed event
 // formats to a line that parses to the same slots and kind; applying it never breaks a step.
-#include "compiler.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
-#include "fuzz.h"
+#include "switch_fixture.h"
 
 #include <memory>
 #include <string>
 
-namespace {
-
-struct Fixture {
-    plant::Compilation c;
-    plant::engine::SlotIndex idx;
-    Fixture() {
-        plant::CompileOptions opts;
-        opts.stdlib_dir = PLANT_STDLIB_DIR;
-        plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/switch.plant", opts, c);
-        if (!c.ok()) plant::fuzz::broken("examples/switch.plant does not compile");
-        idx = plant::engine::slot_index(c.graph);
-    }
-};
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > 4096) return 0;
-    static const Fixture f;
+    static const plant::fuzz::SwitchFixture f;
     const plant::graph::Graph& g = f.c.graph;
     std::unique_ptr<plant::engine::Engine> e;
     std::string_view rest = plant::fuzz::text(data, size);

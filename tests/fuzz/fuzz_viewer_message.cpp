@@ -2,32 +2,14 @@
 // server"): the client-message decoder, then, for an event or a force, the input parser the
 // server hands it to (against the switch example's graph).
 // Invariant: no crash, no sanitizer report, no exception; a refused message says why.
-#include "compiler.h"
-#include "engine/run_args.h"
-#include "fuzz.h"
 #include "serve/protocol.h"
+#include "switch_fixture.h"
 
 #include <string>
 
-namespace {
-
-struct Fixture {
-    plant::Compilation c;
-    plant::engine::SlotIndex idx;
-    Fixture() {
-        plant::CompileOptions opts;
-        opts.stdlib_dir = PLANT_STDLIB_DIR;
-        plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/examples/switch.plant", opts, c);
-        if (!c.ok()) plant::fuzz::broken("examples/switch.plant does not compile");
-        idx = plant::engine::slot_index(c.graph);
-    }
-};
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > plant::view::kMaxClientMessage) return 0;
-    static const Fixture f;
+    static const plant::fuzz::SwitchFixture f;
     plant::view::ClientMessage m;
     std::string error;
     if (!plant::view::decode_client_message(plant::fuzz::text(data, size), m, error)) {

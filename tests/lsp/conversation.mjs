@@ -1,8 +1,10 @@
 // A scripted conversation with `plant lsp` as a child process (JSON-RPC over stdio):
 // open the bottling plant, misspell a slot and get its diagnostic (range and code), fix
 // it and get an empty list, hover a belt's `speed`, go from a Switch instance to
-// stdlib/switch.plant, complete after `s1.`; then bad input: malformed JSON, an unknown
-// method, an unknown document. Usage: node conversation.mjs PLANT REPO_DIR
+// stdlib/switch.plant, complete after `s1.`; format the document (`plant fmt`'s text as
+// one edit), and refuse to while it has a syntax error; then bad input: malformed JSON,
+// an unknown method, an unknown document. Usage: node conversation.mjs PLANT REPO_DIR
+import { spawnSync } from 'node:child_process';
 import { readFileSync, realpathSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
@@ -58,6 +60,16 @@ await converse(client, async () => {
   check(def.result?.uri === pathToFileURL(realpathSync(path.join(repo, 'stdlib/switch.plant'))).href,
         'definition of RoutedSwitch (a Switch with its control) is in stdlib/switch.plant', def);
 
+  // Formatting: one edit over the whole document whose text is what `plant fmt -` prints.
+  const fmt = await request('textDocument/formatting', { textDocument: { uri }, options: { tabSize: 2, insertSpaces: true } });
+  const want = spawnSync(plant, ['fmt', '-'], { input: text, encoding: 'utf8' }).stdout;
+  const edit = fmt.result?.[0];
+  check(fmt.result?.length === 1 && edit.newText === want && want.length > 0 && want !== text,
+        'formatting: one edit with the formatted text', fmt);
+  check(edit?.range?.start?.line === 0 && edit?.range?.start?.character === 0 &&
+        edit?.range?.end?.line === lines.length - 1 && edit?.range?.end?.character === lines[lines.length - 1].length,
+        'the edit replaces the whole document', edit?.range);
+
   // Complete after `s1.` on a new line at the end of the plant's body (a syntax error while typing).
   const close = lines.lastIndexOf('}');
   send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 4 },
@@ -68,6 +80,9 @@ await converse(client, async () => {
   const labels = (comp.result ?? []).map((i) => i.label);
   const ports = [...readFileSync(path.join(repo, 'stdlib/switch.plant'), 'utf8').matchAll(/^\s*(?:in|out) (\w+):/gm)].map((m) => m[1]);
   check(ports.length > 0 && ports.every((p) => labels.includes(p)), "completion after s1. lists the switch's ports", { labels, ports });
+
+  const broken = await request('textDocument/formatting', { textDocument: { uri }, options: { tabSize: 4, insertSpaces: true } });
+  check(broken.error?.code === -32803 && /syntax errors/.test(broken.error?.message), 'formatting with a syntax error: refused', broken);
 
   // Bad input: the server answers and carries on.
   send('{"jsonrpc": "2.0", "id": 99, "method": ');

@@ -78,8 +78,9 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t event = first(g.flows, [&](const Flow& f) {
         return f.from_access < 0 && f.to_access < 0 && g.slots[size_t(f.from)].type == SlotType::Void;
     });
-    const int32_t int_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Int; });
+    const int32_t vec_in = first(g.slots, [](const Slot& s) { return s.type == SlotType::Vec3 && s.dir == Dir::In; });
     const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
+    const int32_t void_out = first(g.slots, [](const Slot& s) { return s.type == SlotType::Void && s.dir == Dir::Out; });
     const int32_t body_comp = g.bodies[0].comp;
     const Access& a0 = g.accesses[0];
     const std::string n = std::to_string(g.do_types[size_t(a0.do_type)].instance_num - 1);
@@ -97,18 +98,23 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"comp", body_comp, "detail", "5000", "field 'detail' = 5000 is not a row of bodies (309 rows)"},
         {"slot", pose_slot, "value_adr", "13745", "a pose slot needs 7 values there, the graph has 13746"},
         {"flow", 0, "from", "99999", "field 'from' = 99999 is not a row of slots"},
-        {"flow", event, "to", std::to_string(int_slot), "its source is not 1 values wide, as its target is"},
+        {"flow", event, "to", std::to_string(vec_in), "its source is not 3 values wide, as its target is"},
         {"access", 0, "target_num", n, "its type has " + std::to_string(std::stoi(n) + 1) + " instances"},
         {"logic", 0, "out_slot", "-1", "field 'out_slot' = -1 is not a row of slots"},
         {"body", dyn, "mass", "0", "a dynamic body needs a mass above 0"},
+        {"body", dyn, "shape_num", "0", "a body needs at least one shape"},
+        {"flow", event, "to", std::to_string(void_out), "its target is not an input slot"},
+        {"place", place, "initial", "1000001", "field 'initial' must lie in [0, 1000000]"},
+        {"arc", 0, "weight", "2000000000", "field 'weight' must lie in [1, 1000000]"},
         {"body", 0, "friction", "-1", "friction and restitution must be 0 or more"},
         {"body", 0, "comp", std::to_string(g.bodies[1].comp), "that component is a body whose detail is 1, not this body"},
         {"shape", box, "size", "(0 1 1)", "field 'size' must be above 0 where the shape uses it"},
         {"shape", hull, "point_num", "0", "a hull needs points"},
+        {"shape", hull, "point_num", "1", "a hull encloses no volume: all its points coincide"},
         {"field", 0, "dir", "(0 0 0)", "field 'dir' is the zero vector"},
         {"joint", 0, "body_b", std::to_string(g.joints[0].body_a), "a joint joins two different bodies"},
         {"place", place, "tokens_slot", std::to_string(g.places[size_t(place)].put_slot), "expected int out"},
-        {"arc", 0, "weight", "0", "field 'weight' must be 1 or more"},
+        {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
         {"transition", 0, "in_adr", "100000", "fields 'in_adr' + num"},
         {"trigger", 0, "filter", "999", "field 'filter' = 999 is not -1 or a row of do_types"},
         {"timer", periodic, "period", "0", "field 'period' must be above 0"},
@@ -141,5 +147,49 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         // The form alone still reads.
         std::istringstream again(text);
         CHECK(read_text(again, out, error, Check::Form));
+    }
+}
+
+static std::string num(double v) {
+    std::ostringstream o;
+    o.precision(17);
+    o << v;
+    return o.str();
+}
+
+TEST_CASE("validate: a hull whose points lie on a line or in a plane encloses no volume") {
+    // The first hull of the bottling graph, its points moved onto a line, then into a plane.
+    std::string error;
+    Graph g;
+    {
+        std::istringstream in(bottling_text());
+        REQUIRE_MESSAGE(read_text(in, g, error), error);
+    }
+    int32_t hull = -1;
+    for (size_t i = 0; i < g.shapes.size() && hull < 0; ++i)
+        if (g.shapes[i].kind == ShapeKind::Hull) hull = int32_t(i);
+    REQUIRE(hull >= 0);
+    const Shape& s = g.shapes[size_t(hull)];
+    REQUIRE(s.point_num >= 4);
+    struct Flat {
+        const char* name;
+        std::string (*at)(int);  // the k-th point's new text
+        const char* says;
+    };
+    const Flat flats[] = {
+        {"line", [](int k) { return "(" + num(0.01 * k) + " 0 0)"; }, "its points lie on one line"},
+        {"plane", [](int k) { return "(" + num(0.01 * (k % 2)) + " " + num(0.01 * (k / 2)) + " 0.5)"; },
+         "its points lie in one plane"},
+        // Within the tolerance (1 um) of one point: merged.
+        {"one point", [](int k) { return "(0.1 0.1 " + num(1e-7 * k) + ")"; }, "all its points coincide"},
+    };
+    for (const Flat& f : flats) {
+        CAPTURE(f.name);
+        std::string text = bottling_text();
+        for (int k = 0; k < s.point_num; ++k) damage(text, {"point", s.point_adr + k, "p", f.at(k), ""});
+        std::istringstream in(text);
+        Graph out;
+        CHECK_FALSE(read_text(in, out, error));
+        CHECK_MESSAGE(error.find("shape " + std::to_string(hull) + ": a hull encloses no volume: " + f.says) != std::string::npos, error);
     }
 }

@@ -296,3 +296,41 @@ TEST_CASE("contact: a bottle against a rail far from the origin: Bullet's contac
     CHECK(tally.identical + ties == tally.poses);
     MESSAGE(tally.identical, " of ", tally.poses, " poses identical, ", ties, " tied");
 }
+
+TEST_CASE("contact: a hull without volume given polyhedral features gets GJK's contacts, no crash") {
+    // The loader refuses such hulls and the runtime builds them without polyhedral features;
+    // the algorithm still does not trust its input: a hull of points on a line or in a
+    // plane has no faces for Bullet's clipping to index.
+    const std::vector<std::vector<btVector3>> flat_hulls = {
+        {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}},
+        {{0, 0, 0}, {0.01f, 0, 0}, {0.02f, 0, 0}, {0.03f, 0, 0}},
+        {{0, 0, 0}, {0.02f, 0, 0}, {0, 0.02f, 0}, {0.02f, 0.02f, 0}},
+    };
+    for (const auto& points : flat_hulls) {
+        CAPTURE(points[1].x());
+        btConvexHullShape hull;
+        for (const btVector3& p : points) hull.addPoint(p, false);
+        hull.optimizeConvexHull();
+        hull.setMargin(0.001f);
+        hull.recalcLocalAabb();
+        hull.initializePolyhedralFeatures();
+        CHECK_FALSE(plant::engine::solid_polyhedron(*hull.getConvexPolyhedron()));
+        auto box = band_box();
+        btCollisionObject band, blob;
+        band.setCollisionShape(box.get());
+        blob.setCollisionShape(&hull);
+        for (bool box_first : {true, false}) {
+            CAPTURE(box_first);
+            Narrowphase np(true);
+            // Resting on the band's top (z = 0.005) with its margin sunk 0.5 mm into it.
+            blob.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.0055f)));
+            Pair pair(np, box_first ? band : blob, box_first ? blob : band);
+            const std::vector<Contact> touching = pair.step();
+            REQUIRE(!touching.empty());
+            CHECK(touching[0].distance < 0);  // about -0.5 mm
+            CHECK(touching[0].distance > -0.001f);
+            blob.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, 0.1f)));
+            CHECK(pair.step().empty());  // 9 cm apart
+        }
+    }
+}

@@ -109,3 +109,14 @@ TEST_CASE("runtime: the track switch net from the mission moves and drains surpl
     CHECK(e.tokens(p + 1) == 1);
     CHECK(e.tokens(p + 5) == 0);
 }
+
+TEST_CASE("runtime: a place counts past 32 bits exactly, never wraps") {
+    // A pump of the largest arc weight: 1,000,000 tokens a step, 2^31 passed after 2,148 steps
+    // (a 32-bit count wrapped to about -2.1e9 there).
+    SceneBuilder b;
+    int32_t p = b.net(0, "net", {{"run", 1}, {"count", 0}}, {{"pump", {{0, 1}}, {{0, 1}, {1, 1'000'000}}}});
+    Engine e(b.g);
+    for (int i = 0; i < 3000; ++i) e.step();
+    CHECK(e.tokens(p + 1) == int64_t(3000) * 1'000'000);
+    CHECK(e.tokens(p) == 1);
+}

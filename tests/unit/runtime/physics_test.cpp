@@ -213,3 +213,28 @@ TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body f
     CHECK(e.value(b.S(c, "position"))[0] == doctest::Approx(5));
     CHECK(e.body_pose(body).p[1] == doctest::Approx(0).epsilon(1e-6));
 }
+
+TEST_CASE("runtime: a hull without volume (the loader refuses it) neither crashes the contacts nor falls through") {
+    // A graph built by hand skips the loader's check (graph/hull.h): the contact routine must
+    // not trust the shape, and the body must still rest on the floor.
+    const std::vector<std::vector<Vec3>> flat_hulls = {
+        {{0, 0, 0}},                                                // one point
+        {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}},               // four identical points
+        {{0, 0, 0}, {0.01, 0, 0}, {0.02, 0, 0}, {0.03, 0, 0}},      // four on a line
+        {{0, 0, 0}, {0.02, 0, 0}, {0, 0.02, 0}, {0.02, 0.02, 0}},   // four in a plane
+    };
+    for (const auto& points : flat_hulls) {
+        CAPTURE(points.size());
+        CAPTURE(points[1][0]);
+        SceneBuilder b;
+        b.body(0, "floor", BodyMode::Static, {box({2, 2, 0.2})}, 0, at(0, 0, -0.1));
+        ShapeSpec hull{ShapeKind::Hull, {0, 0, 0}, {}, points};
+        const int32_t blob = b.body(b.dobj("blob"), "body", BodyMode::Dynamic, {hull}, 0.1, at(0, 0, 0.05));
+        Engine e(b.g);
+        for (int i = 0; i < 300; ++i) e.step();  // 2 s: long enough to fall 5 cm and settle
+        const double z = e.body_pose(blob).p[2];
+        CHECK(std::isfinite(z));
+        CHECK(z > -0.005);  // on the floor (its margin is 1 mm), not through it
+        CHECK(z < 0.01);
+    }
+}

@@ -5,6 +5,7 @@
 #include "../compiler/compile_helper.h"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <cstdio>
 #include <fstream>
@@ -50,6 +51,53 @@ TEST_CASE("runtime: durations and frequencies") {
     CHECK(v == 1000);
     CHECK_FALSE(parse_frequency("0Hz", v, err));
     CHECK_FALSE(parse_frequency("150", v, err));
+}
+
+TEST_CASE("runtime: duration and frequency errors say what is wrong") {
+    double v = 0;
+    std::string err;
+    CHECK(parse_duration("1h", v, err));
+    CHECK(v == 3600);
+    CHECK_FALSE(parse_duration("2d", v, err));
+    CHECK(err == "'2d': unknown unit 'd'; a duration takes s, ms, min or h");
+    CHECK_FALSE(parse_duration("10", v, err));
+    CHECK(err == "'10': a duration needs a unit: s, ms, min or h");
+    CHECK_FALSE(parse_duration("-1s", v, err));
+    CHECK(err == "'-1s': a duration must not be negative");
+    CHECK_FALSE(parse_frequency("0Hz", v, err));
+    CHECK(err == "'0Hz': a frequency must be above 0");
+    CHECK_FALSE(parse_frequency("150MHz", v, err));
+    CHECK(err == "'150MHz': unknown unit 'MHz'; a frequency takes Hz or kHz");
+    CHECK_FALSE(parse_frequency("150", v, err));
+    CHECK(err == "'150': a frequency needs a unit: Hz or kHz");
+}
+
+TEST_CASE("runtime: --events given a folder and a trace that cannot be written are errors") {
+    const Graph g = bottling_scene(2);
+    std::string out, err;
+    CHECK(run(g, {"--events", "/tmp", "--quiet"}, out, err) == 2);
+    CHECK(err.find("/tmp: is a folder, not an events file") != std::string::npos);
+    CHECK(run(g, {"--for", "0.1s", "--quiet", "--trace", "/dev/full"}, out, err) == 1);
+    CHECK(err.find("--trace: writing '/dev/full' failed") != std::string::npos);
+}
+
+TEST_CASE("runtime: a trace's time is the step count over the rate") {
+    const Graph g = bottling_scene(2);
+    const std::string path = "/tmp/plant_runtime_test_time.csv";
+    std::string out, err;
+    REQUIRE(run(g, {"--for", "2s", "--rate", "150Hz", "--trace", path, "--quiet"}, out, err) == 0);
+    std::istringstream lines(slurp(path));
+    std::string line;
+    std::getline(lines, line);  // the header
+    int k = 0, differs = 0;
+    for (; std::getline(lines, line); ++k) {
+        const std::string time = line.substr(0, line.find(','));
+        CHECK(time == fmt::format("{}", k / 150.0));
+        differs += fmt::format("{}", k * (1 / 150.0)) != time;  // steps x dt: 0.06000000000000001
+    }
+    CHECK(k == 301);
+    CHECK(differs > 0);
+    std::remove(path.c_str());
 }
 
 TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {

@@ -1,0 +1,125 @@
+// `plant fmt`: formats plant files in place, checks them (--check) or prints them.
+#include "driver/fmt.h"
+
+#include "diag/diagnostic.h"
+#include "fmt/formatter.h"
+#include "sema/modules.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace plant::formatter {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFmtHelp = R"(usage: plant fmt [--check] [--stdout] FILE...
+
+Formats plant files in one canonical layout: 4 spaces per brace, one space around
+operators, after `:` and `,`; consecutive ports, instances and transitions in columns;
+every comment kept where it is (docs/editors.md, "plant fmt"). Rewrites each FILE that
+changes in place. A file with syntax errors is left alone and its diagnostics printed.
+
+  --check     change nothing; name each file that would change, with its first
+              differing line; exit 1 if there is one
+  --stdout    print the formatted text instead of rewriting the files
+  -           as FILE: format standard input to standard output (for editors)
+Exit code: 0 done, 1 a file has errors, cannot be written or (--check) would change,
+2 bad usage.
+)";
+
+// "FILE:LINE: would change" and the line as written and as formatted.
+void report_change(const std::string& name, const std::string& was, const std::string& now, std::ostream& out) {
+    std::istringstream a(was), b(now);
+    std::string la, lb;
+    for (int line = 1;; ++line) {
+        const bool ea = !std::getline(a, la), eb = !std::getline(b, lb);
+        if (ea && eb) {
+            out << name << ": would change (the line end after the last line)\n";
+            return;
+        }
+        if (ea || eb || la != lb) {
+            // Differences that do not show when printed get named.
+            const bool cr = !ea && !eb && la == lb + "\r";
+            const bool bom = line == 1 && !ea && !eb && la == "\xEF\xBB\xBF" + lb;
+            out << name << ":" << line << ": would change" << (cr ? " (a \\r\\n line end)" : bom ? " (a byte-order mark)" : "") << "\n";
+            if (cr || bom) return;
+            if (!ea) out << "-" << la << "\n";
+            if (!eb) out << "+" << lb << "\n";
+            return;
+        }
+    }
+}
+
+// Writes beside the file, then renames: an interrupted run leaves the file as it was.
+bool replace_file(const std::string& path, const std::string& text) {
+    const fs::path tmp = fs::path(path).parent_path() / ("." + fs::path(path).filename().string() + ".fmt-" + std::to_string(::getpid()));
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        if (!f.flush()) return false;
+    }
+    std::error_code ec;
+    fs::permissions(tmp, fs::status(path, ec).permissions(), ec);
+    fs::rename(tmp, path, ec);
+    if (ec) fs::remove(tmp, ec);
+    return !ec;
+}
+
+}  // namespace
+
+int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostream& out, std::ostream& err) {
+    bool check = false, to_stdout = false;
+    std::vector<std::string> files;
+    for (const auto& a : args) {
+        if (a == "-h" || a == "--help") return out << kFmtHelp, 0;
+        if (a == "--check") check = true;
+        else if (a == "--stdout") to_stdout = true;
+        else if (a.size() > 1 && a[0] == '-') {
+            err << "plant fmt: error: unknown option '" << a << "'\n(see `plant fmt --help`)\n";
+            return 2;
+        } else files.push_back(a);
+    }
+    if (files.empty()) {
+        err << "plant fmt: error: no FILE given (`-` formats standard input)\n(see `plant fmt --help`)\n";
+        return 2;
+    }
+    int status = 0;
+    for (const auto& f : files) {
+        SourceMap sources;
+        Sink sink;
+        std::string text, why;
+        const bool piped = f == "-";
+        if (piped) {
+            std::ostringstream ss;
+            ss << in.rdbuf();
+            text = ss.str();
+        } else if (!sema::read_file(f, text, why)) {
+            sink.report(DiagId::FileUnreadable, {}, "cannot read '" + f + "'" + why);
+        }
+        std::optional<std::string> formatted;
+        if (!sink.has_errors()) formatted = format_text(piped ? "<stdin>" : f, text, sources, sink);
+        if (auto sorted = sink.sorted(); !sorted.empty()) err << render_all_text(sorted, sources);
+        if (!formatted) {
+            status = 1;
+            continue;
+        }
+        if (check) {
+            if (*formatted != text) {
+                report_change(piped ? "<stdin>" : f, text, *formatted, out);
+                status = 1;
+            }
+        } else if (piped || to_stdout) {
+            out << *formatted;
+        } else if (*formatted != text && !replace_file(f, *formatted)) {
+            err << "plant fmt: error: cannot write '" << f << "'\n";
+            status = 1;
+        }
+    }
+    return status;
+}
+
+}  // namespace plant::formatter

@@ -1,0 +1,25 @@
+// Whether a convex hull's points enclose a volume. Shared by the compiler (a diagnostic at
+// the shape) and the graph loader (validate.cpp), so both refuse the same hulls.
+#pragma once
+
+#include "graph/graph.h"
+
+#include <cstddef>
+#include <string_view>
+
+namespace plant::graph {
+
+// Points closer than this are one point; a hull must reach further than this out of the
+// line, and then out of the plane, of its other points (1 µm, in metres).
+constexpr double kHullTolerance = 1e-6;
+
+enum class HullFlaw : uint8_t { None, OnePoint, Line, Plane };
+
+// The first way the points fail to span a solid, or None: after merging points within
+// kHullTolerance, at least four must not lie in one plane.
+HullFlaw hull_flaw(const Point* points, size_t n);
+
+// "all its points coincide", "its points lie on one line", ...; empty for None.
+std::string_view hull_flaw_text(HullFlaw flaw);
+
+}  // namespace plant::graph
