@@ -322,6 +322,8 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         f.speed = num("speed", 0);
         f.gain = num("gain", 0);
         positive("gain");
+        f.max_force = num("max_force", 0);  // 0 in the graph: unlimited
+        positive("max_force");
         f.enabled = boolean("enabled", true);
         g_.fields.push_back(f);
         set_detail(g_.fields.size());

@@ -36,6 +36,7 @@ std::vector<KindSpec> make_kinds() {
         {"direction", T::Vec3, {}, false, "unit direction in the field's frame, default (1, 0, 0)"},
         {"speed", T::Number, d::velocity, false, "target speed, default 0"},
         {"gain", T::Number, d::gain, true, "k in kg/s (N per m/s)"},
+        {"max_force", T::Number, d::force, false, "slip limit: the most the field pulls one body with; default unlimited"},
         {"enabled", T::Bool, {}, false, "default true"},
     }};
     field.on = true;

@@ -34,61 +34,87 @@ double inv_stretch(double a) { return a > 1e-12 ? std::max(a / std::expm1(std::m
 
 }  // namespace
 
-// One body alone: (m/s + dt·K)·Δv = dt·F, applied as the force m·Δv/dt.
+// One body alone: (m/s + dt·K)·Δv = dt·F, applied as the force m·Δv/dt; past the
+// slip limit the band slips and pulls with the limit instead, in the same direction
+// (less than the exact step's force, so a free body cannot overshoot the belt speed).
 void integrate_single(Runtime& r, int32_t b) {
     State& s = r.st;
     const double m = r.phys.mass(b), dt = r.dt;
     const double inv_s = inv_stretch(s.body_k[b] * dt / m);
     const Mat3 lhs = m * inv_s * Mat3::Identity() + dt * eig(s.gain[b]);
     const Vec3d dv = lhs.inverse() * (dt * eig(s.force[b]));
-    r.phys.apply(b, bt(m * dv / dt), btVector3(0, 0, 0));
+    Vec3d F = m * dv / dt;
+    if (const double n = F.norm(); n > s.body_cap[b]) F *= s.body_cap[b] / n;
+    r.phys.apply(b, bt(F), btVector3(0, 0, 0));
 }
 
 // A rigid group: the same in 6 dof about the group's centre of mass. Each body's
 // point moves with J·x = Δv + Δω × r; the law's generalised stiffness is
 // A = Σ J^T K J and its generalised force Σ J^T F. Every member then gets the
 // force and torque that give it exactly the group's rigid velocity change.
+// Slip limit: a member whose law force over the step, s·(F − K·J·x), exceeds its limit
+// pulls with the limit instead (a constant force, no stiffness), and the group is solved
+// again until no further member saturates (at most once per member).
 void integrate_group(Runtime& r, int32_t grp) {
     State& s = r.st;
     const double dt = r.dt, mass = s.group_mass[grp];
     const int32_t* mem = s.group_list.data() + s.group_adr[grp];
     const int32_t n = s.group_num[grp];
-    Vec3d c = Vec3d::Zero(), p = Vec3d::Zero();
-    double k = 0;
-    for (int32_t i = 0; i < n; ++i) {
-        c += r.phys.mass(mem[i]) * eig(r.phys.com(mem[i]));
-        k += s.body_k[mem[i]];
-    }
+    Vec3d c = Vec3d::Zero();
+    for (int32_t i = 0; i < n; ++i) c += r.phys.mass(mem[i]) * eig(r.phys.com(mem[i]));
     c /= mass;
     Mat3 inertia = Mat3::Zero();
-    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
     for (int32_t i = 0; i < n; ++i) {
-        const double m = r.phys.mass(mem[i]);
         const Vec3d rel = eig(r.phys.com(mem[i])) - c;
-        inertia += eig(r.phys.inertia_world(mem[i])) + m * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
-        p += m * eig(r.phys.velocity(mem[i]));
-        if (s.body_k[mem[i]] == 0) continue;
-        const Mat3 K = eig(s.gain[mem[i]]), S = skew(rel);
-        A.block<3, 3>(0, 0) += K;
-        A.block<3, 3>(0, 3) -= K * S;
-        A.block<3, 3>(3, 0) += S * K;
-        A.block<3, 3>(3, 3) -= S * K * S;
-        const Vec3d F = eig(s.force[mem[i]]);
-        f.head<3>() += F;
-        f.tail<3>() += rel.cross(F);
+        inertia += eig(r.phys.inertia_world(mem[i])) + r.phys.mass(mem[i]) * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
     }
-    Eigen::Matrix<double, 6, 6> lhs = dt * A;
-    const double inv_s = inv_stretch(k * dt / mass);
-    lhs.block<3, 3>(0, 0) += mass * inv_s * Mat3::Identity();
-    lhs.block<3, 3>(3, 3) += inertia * inv_s;
-    const Eigen::Matrix<double, 6, 1> x = lhs.ldlt().solve(dt * f);
-    const Vec3d dv = x.head<3>(), dw = x.tail<3>();
+    Vec3d dv, dw;
+    for (int32_t pass = 0; pass <= n; ++pass) {
+        double k = 0;
+        for (int32_t i = 0; i < n; ++i) k += s.law_sat[mem[i]] ? 0 : s.body_k[mem[i]];
+        // The stretch s speeds up time for the law's stiff part only: a saturated member's
+        // constant force enters divided by s, so that it adds exactly dt·F to the momentum.
+        const double inv_s = inv_stretch(k * dt / mass);
+        Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+        Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
+        for (int32_t i = 0; i < n; ++i) {
+            if (s.body_k[mem[i]] == 0) continue;
+            const Vec3d rel = eig(r.phys.com(mem[i])) - c;
+            const Vec3d F = s.law_sat[mem[i]] ? Vec3d(inv_s * eig(s.sat_force[mem[i]])) : eig(s.force[mem[i]]);
+            f.head<3>() += F;
+            f.tail<3>() += rel.cross(F);
+            if (s.law_sat[mem[i]]) continue;
+            const Mat3 K = eig(s.gain[mem[i]]), S = skew(rel);
+            A.block<3, 3>(0, 0) += K;
+            A.block<3, 3>(0, 3) -= K * S;
+            A.block<3, 3>(3, 0) += S * K;
+            A.block<3, 3>(3, 3) -= S * K * S;
+        }
+        Eigen::Matrix<double, 6, 6> lhs = dt * A;
+        lhs.block<3, 3>(0, 0) += mass * inv_s * Mat3::Identity();
+        lhs.block<3, 3>(3, 3) += inertia * inv_s;
+        const Eigen::Matrix<double, 6, 1> x = lhs.ldlt().solve(dt * f);
+        dv = x.head<3>(), dw = x.tail<3>();
+        bool more = false;
+        for (int32_t i = 0; i < n; ++i) {
+            const int32_t b = mem[i];
+            if (s.body_k[b] == 0 || s.law_sat[b] || s.body_cap[b] == HUGE_VAL) continue;
+            const Vec3d rel = eig(r.phys.com(b)) - c;
+            const Vec3d G = (eig(s.force[b]) - eig(s.gain[b]) * (dv + dw.cross(rel))) / inv_s;
+            if (const double g = G.norm(); g > s.body_cap[b]) {
+                s.sat_force[b] = bt(G * (s.body_cap[b] / g));
+                s.law_sat[b] = 1;
+                more = true;
+            }
+        }
+        if (!more) break;
+    }
     for (int32_t i = 0; i < n; ++i) {
         const Vec3d rel = eig(r.phys.com(mem[i])) - c;
         const Mat3 I = eig(r.phys.inertia_world(mem[i]));
         r.phys.apply(mem[i], bt(r.phys.mass(mem[i]) * (dv + dw.cross(rel)) / dt), bt(I * dw / dt));
         r.phys.rb(mem[i]).activate();
+        s.law_sat[mem[i]] = 0;
     }
 }
 

@@ -4,7 +4,9 @@
 // of |d| so that a field pointing along −x drives towards −x. It is linear in v, and
 // stiff: explicit with k = 16 kg/s it diverges for a 20 g bottle at 150 Hz
 // (k·dt/m = 5.3 > 2). Its exact one-step solution for a free body is
-// e' = e·exp(−k·dt/m), and that is what we apply (see integrate_group).
+// e' = e·exp(−k·dt/m), and that is what we apply (see integrate_group). A field's
+// max_force caps the force on each body (the band slips under a held bottle); a body in
+// several fields has the largest of their limits.
 //
 // Bodies joined by enabled fixed joints form a rigid group and are integrated
 // together, translation and rotation (6 dof): the light foot of a bottle pulls as
@@ -163,6 +165,7 @@ bool gather_fields(Runtime& r, int32_t b) {
         const btVector3& gain = r.tab.field_gain[size_t(f)];
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[size_t(f)])));
         s.body_k[b] += gain[gain.maxAxis()];
+        s.body_cap[b] = std::max(s.body_cap[b], fd.max_force > 0 ? fd.max_force : HUGE_VAL);
         s.force[b] += R * (gain * (s.field_target[size_t(f)] - v * R));
         s.gain[b] += ff.K;
         any = true;
@@ -209,6 +212,7 @@ void fields_of_world(Runtime& r, int32_t w) {
         s.force[b].setZero();
         s.gain[b].setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
         s.body_k[b] = 0;
+        s.body_cap[b] = 0;
     }
 }
 

@@ -50,6 +50,9 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.group_list.assign(nb, 0);
     s.group_mark.assign(nb, 0);
     s.body_k.assign(nb, 0);
+    s.body_cap.assign(nb, 0);
+    s.law_sat.assign(nb, 0);
+    s.sat_force.assign(nb, btVector3(0, 0, 0));
     s.group_k.assign(nb, 0);
     s.group_mass.assign(nb, 0);
     s.group_of.resize(nb);

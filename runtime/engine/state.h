@@ -103,6 +103,12 @@ struct State {
     std::vector<btVector3> force;      // the law at the body's velocity, summed over fields
     std::vector<btMatrix3x3> gain;     // its gain matrices k·R·diag|d|·R^T, summed
     std::vector<double> body_k, group_k, group_mass;
+    // Slip limit: per body the largest max_force of the fields it is in (+inf: one is
+    // unlimited; 0: in none yet), and in a rigid group which members' law saturated and the
+    // constant force each then gets (conveyor.cpp).
+    std::vector<double> body_cap;
+    std::vector<uint8_t> law_sat;
+    std::vector<btVector3> sat_force;
     std::vector<int32_t> group_of, group_adr, group_num, group_list, touched;
     std::vector<uint8_t> group_mark;
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for

@@ -167,6 +167,7 @@ constexpr int slot_width(SlotType t) {
     F(Vec3, dir)         /* unit direction, in the field's local frame */           \
     F(double, speed)     /* target speed along dir, m/s */                          \
     F(double, gain)      /* k, kg/s (N per m/s of speed error) */                   \
+    F(double, max_force) /* slip limit per body, N; 0: unlimited */                 \
     F(bool, enabled)
 
 #define PLANT_FIELDS_JOINT(F)                                                    \

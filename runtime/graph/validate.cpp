@@ -325,7 +325,8 @@ private:
             const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
             return owner(f.comp, CompKind::Field, i) && id("body", f.body, g_.bodies.size(), "bodies", true) &&
                    check(f.extent[0] >= 0 && f.extent[1] >= 0 && f.extent[2] >= 0, "field 'extent' is negative") &&
-                   check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative");
+                   check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
+                   check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
         });
     }
 

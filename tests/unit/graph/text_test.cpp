@@ -197,7 +197,7 @@ TEST_CASE("the format, exactly") {
         "count points 0\n"
         "count fields 1\n"
         "field 0 comp=1 body=-1 extent=(2 0.5 0.1) pose=(0 0 0|0 0 0 1) dir=(1 0 0) speed=0.5 "
-        "gain=20 enabled=true\n"
+        "gain=20 max_force=0 enabled=true\n"
         "count joints 0\n"
         "count places 0\n"
         "count transitions 0\n"

@@ -96,7 +96,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"comp", body_comp, "slot_num", "3", "a body has 14 fixed slots, field 'slot_num' is 3"},
         {"comp", body_comp, "slot_adr", "0", "slot 0 in its slot range belongs to component"},
         {"comp", body_comp, "detail", "5000", "field 'detail' = 5000 is not a row of bodies (309 rows)"},
-        {"slot", pose_slot, "value_adr", "13709", "a pose slot needs 7 values there, the graph has 13710"},
+        {"slot", pose_slot, "value_adr", "13745", "a pose slot needs 7 values there, the graph has 13746"},
         {"flow", 0, "from", "99999", "field 'from' = 99999 is not a row of slots"},
         {"flow", event, "to", std::to_string(vec_in), "its source is not 3 values wide, as its target is"},
         {"access", 0, "target_num", n, "its type has " + std::to_string(std::stoi(n) + 1) + " instances"},

@@ -1,0 +1,69 @@
+// std.belts Belt's stop and go: a stopped belt brakes what rides on it to rest (its band
+// holds still and pulls with the slip limit), go runs it again.
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "lookup.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace plant::test;
+using plant::engine::Engine;
+
+TEST_CASE("std.belts: a stopped belt brakes its bottles to rest, go starts them again") {
+    plant::Compilation c;
+    compile_text(R"(
+import std.belts, std.bottle
+plant Stop {
+    belt: Belt(length = 4 m)
+    for i in 0 .. 5 { b[i]: Bottle at (20 cm + i * 20 cm, 0 m, -2 mm + (20 cm + i * 20 cm) / 4 m * 2 mm) }
+    timer halt: oneshot { period = 1 s; autostart = true }
+    timer restart: oneshot { period = 3 s; autostart = true }
+    flow halt.tick -> belt.stop
+    flow restart.tick -> belt.go
+}
+)",
+                 c, "belt_stop.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
+    REQUIRE(bottles.size() == 5);
+    Engine e(c.graph);
+    // The timers send stop at 1 s (every bottle rides at belt speed by then) and go at 3 s.
+    for (int i = 0; i < 150; ++i) e.step();
+    std::vector<double> at_stop;
+    for (int32_t b : bottles) {
+        CHECK(e.body_velocity(b)[0] == doctest::Approx(0.5).epsilon(0.01));
+        at_stop.push_back(e.body_com(b)[0]);
+    }
+    double worst_tilt = 0, longest = 0;
+    std::vector<double> rest_at(bottles.size(), -1);
+    for (int i = 0; i < 150 * 2; ++i) {
+        e.step();
+        for (size_t k = 0; k < bottles.size(); ++k) {
+            worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(bottles[k]).q));
+            if (rest_at[k] < 0 && std::abs(e.body_velocity(bottles[k])[0]) < 1e-3) rest_at[k] = e.time() - 1;
+        }
+    }
+    for (size_t k = 0; k < bottles.size(); ++k) {
+        CAPTURE(k);
+        const double moved = e.body_com(bottles[k])[0] - at_stop[k];
+        longest = std::max(longest, moved);
+        CHECK(rest_at[k] >= 0);
+        CHECK(rest_at[k] < 0.1);  // at rest within 0.1 s of the stop
+        CHECK(std::abs(e.body_velocity(bottles[k])[0]) < 1e-3);
+        CHECK(moved > 0);
+        CHECK(moved < 0.009);  // measured 7.1 mm at most (see the message); v²/(2·2F/M) = 8.3 mm
+    }
+    MESSAGE("stopped within " << longest * 1000 << " mm, worst tilt " << worst_tilt << " deg");
+    CHECK(worst_tilt < 10);
+    for (int i = 0; i < 150; ++i) e.step();
+    for (int32_t b : bottles) {
+        CHECK(e.body_velocity(b)[0] == doctest::Approx(0.5).epsilon(0.01));
+        CHECK(tilt_deg(e.body_pose(b).q) < 2);
+    }
+    CHECK(e.warnings().total() == 0);
+}
