@@ -55,7 +55,8 @@ TransferRun run_track(const Track& t, int mass_g, int count) {
     }
     TransferRun r;
     std::vector<double> arrived(size_t(count), -1);
-    for (int step = 1; step <= 150 * 5; ++step) {
+    // Until every bottle is done, before they ride off the end of the last belt.
+    for (int step = 1; step <= 150 * 5 && std::count(arrived.begin(), arrived.end(), -1.0) > 0; ++step) {
         e.step();
         for (size_t i = 0; i < mains.size(); ++i) {
             if (arrived[i] >= 0) continue;
