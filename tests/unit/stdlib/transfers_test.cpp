@@ -118,7 +118,7 @@ std::string turn_belt(const char* name, int speed, double side) {
 
 }  // namespace
 
-// Measured with the ci build, 20-80 g, one bottle or four touching, both sides: peak tilt
+// Measured (plant run, 150 Hz), 20-80 g, one bottle or four touching, both sides: peak tilt
 // 2.3° at 50 cm/s and 4.1° at 100 cm/s (20-40 g; the band's sudden sideways pull, the
 // same for end rails 2-8 cm high); bottom bodies at most 6.6 mm beyond 2 cm of a lane's
 // centre line (the 1 m/s impact on the end rail), inside the 4 cm half-width. Every bottle
