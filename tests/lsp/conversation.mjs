@@ -51,30 +51,37 @@ await converse(client, async () => {
   check(d.params.diagnostics.length === 0, 'the fix clears the diagnostics', d.params.diagnostics);
 
   // Hover `speed` in b1: Belt(length = 80 cm, speed = v).
-  const bl = lines.findIndex((l) => /^\s*b1: Belt\(/.test(l));
+  const bl = lines.findIndex((l) => /^\s*b1:\s+Belt\(/.test(l));
   const hover = await request('textDocument/hover', { textDocument: { uri }, position: { line: bl, character: lines[bl].indexOf('speed') + 2 } });
   const shown = hover.result?.contents?.value ?? '';
   check(/speed: velocity/.test(shown) && /unit: m\/s/.test(shown), "hover on a belt's speed: type and unit", hover);
 
   // From an instance of Switch to stdlib/switch.plant.
-  const sl = lines.findIndex((l) => /^\s*s1: RoutedSwitch\(/.test(l));
+  const sl = lines.findIndex((l) => /^\s*s1:\s+RoutedSwitch\(/.test(l));
   const def = await request('textDocument/definition', { textDocument: { uri }, position: { line: sl, character: lines[sl].indexOf('RoutedSwitch') + 1 } });
   check(def.result?.uri === pathToFileURL(realpathSync(path.join(repo, 'stdlib/switch.plant'))).href,
         'definition of RoutedSwitch (a Switch with its control) is in stdlib/switch.plant', def);
 
-  // Formatting: one edit over the whole document whose text is what `plant fmt -` prints.
+  // Formatting: a buffer out of the canonical layout (the shipped plant is in it) gets one
+  // edit over the whole document whose text is what `plant fmt -` prints.
+  const messy = text.replace(/^(\s*b1:)\s+/m, '$1 ');
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 4 }, contentChanges: [{ text: messy }] } });
+  await diagnosticsFor(uri);
   const fmt = await request('textDocument/formatting', { textDocument: { uri }, options: { tabSize: 2, insertSpaces: true } });
-  const want = spawnSync(plant, ['fmt', '-'], { input: text, encoding: 'utf8' }).stdout;
+  const want = spawnSync(plant, ['fmt', '-'], { input: messy, encoding: 'utf8' }).stdout;
   const edit = fmt.result?.[0];
-  check(fmt.result?.length === 1 && edit.newText === want && want.length > 0 && want !== text,
+  check(messy !== text && fmt.result?.length === 1 && edit.newText === want && want.length > 0 && want !== messy,
         'formatting: one edit with the formatted text', fmt);
+  check(want === text, 'formatting gives the shipped layout back', want.length);
   check(edit?.range?.start?.line === 0 && edit?.range?.start?.character === 0 &&
         edit?.range?.end?.line === lines.length - 1 && edit?.range?.end?.character === lines[lines.length - 1].length,
         'the edit replaces the whole document', edit?.range);
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 5 }, contentChanges: [{ text }] } });
+  await diagnosticsFor(uri);
 
   // Complete after `s1.` on a new line at the end of the plant's body (a syntax error while typing).
   const close = lines.lastIndexOf('}');
-  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 4 },
+  send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 6 },
     contentChanges: [{ range: { start: { line: close, character: 0 }, end: { line: close, character: 0 } }, text: '    flow s1.\n' }] } });
   d = await diagnosticsFor(uri);
   check(d.params.diagnostics.some((x) => x.code === 'E0001'), 'the half-typed line is a syntax error', d.params.diagnostics);

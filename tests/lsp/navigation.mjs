@@ -69,7 +69,7 @@ await converse(client, async () => {
         "hover on a parameter's use: type, unit and default", { h, param });
   // A let's use: its expression, dimension and value with the defaults.
   const speed = /belt_speed: velocity = (\d+) cm\/s/.exec(bottling.text);
-  h = await hover(bottling, at(bottling, /^\s*b1: Belt\(/, '= (v)\\)'));
+  h = await hover(bottling, at(bottling, /^\s*b1:\s+Belt\(/, '= (v)\\)'));
   check(speed && h.includes('let v = belt_speed') && /velocity \(m\/s\)/.test(h) &&
         h.includes(`: ${Number(speed[1]) / 100} m/s`), "hover on a let's use: expression, dimension, value", { h, speed });
   // An object type's /// documentation.
@@ -77,7 +77,7 @@ await converse(client, async () => {
   let top = first;
   while (top > 0 && switches.lines[top - 1].startsWith('///')) top--;
   const docLines = switches.lines.slice(top, first).map((l) => l.replace(/^\/\/\/ ?/, ''));
-  h = await hover(bottling, at(bottling, /^\s*s1: RoutedSwitch/, 'RoutedSwitch'));
+  h = await hover(bottling, at(bottling, /^\s*s1:\s+RoutedSwitch/, 'RoutedSwitch'));
   check(docLines.length > 2 && docLines.every((l) => h.includes(l)) && /object RoutedSwitch\(codes: list/.test(h),
         "hover on RoutedSwitch: its signature and /// documentation", { h, docLines });
   // A component kind and a property.
@@ -95,16 +95,16 @@ await converse(client, async () => {
   check(isAt(d, switches, at(switches, /^\s*(in|out)\s+to_working:/, 'to_working', 0, routed), 'to_working'.length),
         "definition of s1.to_working: RoutedSwitch's port in switch.plant", d);
   d = await definition(bottling, at(bottling, /record s1\.to_working/, '(s1)\\.'));
-  check(isAt(d, bottling, at(bottling, /^\s*s1: RoutedSwitch/, 's1'), 2), 'definition of s1 in a path: the instance', d);
+  check(isAt(d, bottling, at(bottling, /^\s*s1:\s+RoutedSwitch/, 's1'), 2), 'definition of s1 in a path: the instance', d);
   d = await definition(stations, at(stations, /flow eye\.on_enter -> net\.Arrived\.put/, 'net'));
   check(isAt(d, stations, at(stations, /^\s*state net \{/, 'net'), 3), "definition of `net` in a path: the component", d);
   d = await definition(stations, at(stations, /flow eye\.on_enter -> net\.Arrived\.put/, 'Arrived'));
   check(isAt(d, stations, at(stations, /^\s*place Idle = 1, Arrived/, 'Arrived'), 'Arrived'.length), "definition of net.Arrived: the place", d);
   d = await definition(stations, at(stations, /timer work: oneshot \{ period = process \}/, 'process'));
   check(isAt(d, stations, at(stations, /^object StationCore\(/, 'process'), 'process'.length), "definition of a parameter's use: the parameter", d);
-  d = await definition(bottling, at(bottling, /^\s*b1: Belt\(/, '= (v)\\)'));
+  d = await definition(bottling, at(bottling, /^\s*b1:\s+Belt\(/, '= (v)\\)'));
   check(isAt(d, bottling, at(bottling, /^\s*let v = /, 'v'), 1), "definition of a let's use: the let", d);
-  d = await definition(bottling, at(bottling, /^\s*b1: Belt\(/, '(speed) ='));
+  d = await definition(bottling, at(bottling, /^\s*b1:\s+Belt\(/, '(speed) ='));
   const beltFile = load('stdlib/belts.plant');
   check(isAt(d, beltFile, at(beltFile, /^object Belt\(/, '(speed):'), 'speed'.length), "definition of a named argument: Belt's parameter", d);
 
@@ -173,7 +173,7 @@ await converse(client, async () => {
   const broken = load('plants/bottling.plant');
   broken.uri = pathToFileURL(path.join(path.dirname(realpathSync(path.join(repo, 'plants/bottling.plant'))), 'broken_copy.plant')).href;
   const lines = broken.lines.slice();
-  const b3 = lines.findIndex((l) => /^\s*b3: Belt\(/.test(l));
+  const b3 = lines.findIndex((l) => /^\s*b3:\s+Belt\(/.test(l));
   lines.splice(b3, 0, '    b2x: Belt(length = , speed = ');
   const diags = await open(broken, lines.join('\n'));
   check(diags.params.diagnostics.some((x) => x.code === 'E0001'), 'the broken copy has a syntax error', diags.params.diagnostics);
@@ -184,5 +184,5 @@ await converse(client, async () => {
         'outline of the broken copy: both objects, members after the broken line', names);
   const b4 = b3 + 3;  // b4 in the copy (the broken line pushed it down)
   h = (await request('textDocument/hover', { textDocument: { uri: broken.uri }, position: { line: b4, character: lines[b4].indexOf('speed') + 1 } })).result?.contents?.value ?? '';
-  check(/^\s*b4: Belt/.test(lines[b4]) && /speed: velocity/.test(h), 'hover after the broken line', { line: lines[b4], h });
+  check(/^\s*b4:\s+Belt/.test(lines[b4]) && /speed: velocity/.test(h), 'hover after the broken line', { line: lines[b4], h });
 });

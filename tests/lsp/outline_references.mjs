@@ -50,7 +50,7 @@ await converse(client, async () => {
   const line = byName(outline, 'BottlingLine'), plantSym = byName(outline, 'Bottling');
   check(line?.kind === 5 && plantSym?.kind === 2, 'the outline: the object type (class) and the plant (module)', outline.map((s) => s.name));
   const b1 = byName(line?.children, 'b1');
-  const b1Line = bottling.lines.findIndex((l) => /^\s*b1: Belt\(/.test(l));
+  const b1Line = bottling.lines.findIndex((l) => /^\s*b1:\s+Belt\(/.test(l));
   check(b1?.detail === 'Belt' && b1?.selectionRange?.start?.line === b1Line &&
         b1.selectionRange.start.character === bottling.lines[b1Line].indexOf('b1'),
         'an instance, with its type and its name selected', b1);
@@ -70,7 +70,7 @@ await converse(client, async () => {
   check(outline.every(nested), 'every selection and every child lies inside its range', outline);
 
   // The references of a stdlib type, asked from an instance's type in the plant.
-  const useOfSwitch = ranges(bottling, /: (RoutedSwitch)\(/g);
+  const useOfSwitch = ranges(bottling, /:\s+(RoutedSwitch)\(/g);
   const declOfSwitch = ranges(switches, /^object (RoutedSwitch)\(/g);
   let got = (await references(bottling, useOfSwitch[0], false)).result;
   check(useOfSwitch.length === 5 && same(got, useOfSwitch), 'RoutedSwitch: its five uses', got);
@@ -103,7 +103,7 @@ await converse(client, async () => {
   await diagnosticsFor(storage.uri);
   const declOfStorage = ranges(storage, /^object (Storage)\(/g);
   got = (await references(storage, declOfStorage[0], false)).result;
-  check(same(got, ranges(bottling, /: (Storage)\(/g)), 'Storage from its declaration: the use in the open bottling plant', got);
+  check(same(got, ranges(bottling, /:\s+(Storage)\(/g)), 'Storage from its declaration: the use in the open bottling plant', got);
 
   // Bottle, from a source's `object` in std.storage: its declaration, triggers' filters,
   // casts and that `object`, everywhere in the stdlib outside comments. Then its port

@@ -90,7 +90,7 @@ double excess_turn(const plant::graph::Vec3& p, double side) {
 
 // The measured bounds, shared by every transfer: see the test cases.
 void check_bounds(const TransferRun& r, int speed) {
-    CHECK(r.peak_tilt < (speed == 50 ? 3.0 : 5.0));
+    CHECK(r.peak_tilt < (speed == 50 ? 4.5 : 10.0));
     CHECK(r.worst_out < 0.008);
     CHECK(r.last_arrival > 0);
     CHECK(r.last_arrival < (speed == 50 ? 2.5 : 1.3));
@@ -120,11 +120,13 @@ std::string turn_belt(const char* name, int speed, double side) {
 
 // Measured (plant run, 150 Hz), 20-80 g, one bottle or four touching, both sides: peak tilt
 // 2.3° at 50 cm/s and 4.1° at 100 cm/s (20-40 g; the band's sudden sideways pull, the
-// same for end rails 2-8 cm high); bottom bodies at most 6.6 mm beyond 2 cm of a lane's
+// same for end rails 2-8 cm high) with unlimited belts; with std.belts' slip limit
+// (0.3 N per body) on the belts before and after, 3.6° at 50 cm/s and 8.9° at 100 cm/s
+// (20 g; 40 g: 6.3°); bottom bodies at most 6.6 mm beyond 2 cm of a lane's
 // centre line (the 1 m/s impact on the end rail), inside the 4 cm half-width. Every bottle
 // is done (70 cm along the belt after the transfer) at most 2.3 s (50 cm/s) or 1.15 s
 // (100 cm/s) after starting 20 cm before it: nobody waits at the transfer. The bounds:
-// tilt 3° / 5°, 8 mm, 2.5 s / 1.3 s.
+// tilt 4.5° / 10°, 8 mm, 2.5 s / 1.3 s.
 
 TEST_CASE("std.transfers: 20-80 g bottles at 50 and 100 cm/s cross a left and a right Corner upright, inside the rails") {
     sweep([](int speed, double side) {
