@@ -1,6 +1,7 @@
 // Components: properties checked against the registry, slots created, kind tables filled.
 #include "sema/elaborator.h"
 
+#include "graph/build.h"
 #include "graph/hull.h"
 #include "graph/kinds.h"
 
@@ -34,22 +35,7 @@ struct Props {
 }  // namespace
 
 int32_t Elaborator::add_slot(int32_t comp, std::string_view n, SlotType t, Dir dir, Span span) {
-    graph::Slot s;
-    s.name = name(n);
-    s.type = t;
-    s.dir = dir;
-    s.comp = comp;
-    s.value_adr = -1;
-    if (int w = graph::slot_width(t); w > 0) {
-        s.value_adr = static_cast<int32_t>(g_.values.size());
-        for (int i = 0; i < w; ++i) g_.values.push_back({0.0});
-        // No object, no text: a string slot never written reads "" (not the first name).
-        if (t == SlotType::Ref || t == SlotType::String) g_.values.back().v = -1;
-        if (t == SlotType::Quat || t == SlotType::Pose) g_.values.back().v = 1;  // identity w
-    }
-    s.src = src(span);
-    g_.slots.push_back(s);
-    return static_cast<int32_t>(g_.slots.size()) - 1;
+    return graph::add_slot(g_, comp, n, t, dir, src(span));
 }
 
 int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
@@ -171,18 +157,10 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         sink_.report(DiagId::WrongComponentKind, c.on->span,
                      fmt::format("a {} component cannot be attached with 'on'", spec->word));
 
-    const int32_t comp = static_cast<int32_t>(g_.comps.size());
-    graph::Comp rec;
-    rec.name = name(cname);
-    rec.kind = spec->kind;
-    rec.owner = sc.do_id;
-    rec.detail = -1;
-    rec.src = src(c.name.span);
-    rec.slot_adr = static_cast<int32_t>(g_.slots.size());
-    g_.comps.push_back(rec);
+    const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
+    const graph::Comp rec = g_.comps[static_cast<size_t>(comp)];  // its name, kind and slot_adr
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
-    for (const auto& s : graph::fixed_slots(spec->kind)) add_slot(comp, s.name, s.type, s.dir, c.name.span);
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
     auto num = [&](const char* n, double def) { const Value* v = props.get(n); return v ? v->num : def; };
@@ -327,7 +305,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         f.enabled = boolean("enabled", true);
         g_.fields.push_back(f);
         set_detail(g_.fields.size());
-        g_.values[static_cast<size_t>(g_.slots[static_cast<size_t>(rec.slot_adr + graph::fieldslot::speed)].value_adr)].v = f.speed;
+        graph::slot_value(g_, rec.slot_adr + graph::fieldslot::speed) = f.speed;
         break;
     }
     case CompKind::Constraint: {
@@ -400,7 +378,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
             pl.put_slot = add_slot(comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
             pl.entered_slot = add_slot(comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span);
             pl.tokens_slot = add_slot(comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span);
-            g_.values[static_cast<size_t>(g_.slots[static_cast<size_t>(pl.tokens_slot)].value_adr)].v = pl.initial;
+            graph::slot_value(g_, pl.tokens_slot) = pl.initial;
             place_ids[p.name.text] = static_cast<int32_t>(g_.places.size());
             place_spans_[static_cast<int32_t>(g_.places.size())] = p.name.span;
             g_.places.push_back(pl);
@@ -557,7 +535,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         graph::Label l{comp, name(props.get("value") ? props.get("value")->str : "")};
         g_.labels.push_back(l);
         set_detail(g_.labels.size());
-        g_.values[static_cast<size_t>(g_.slots[static_cast<size_t>(rec.slot_adr + graph::labelslot::value)].value_adr)].v = l.value.id;
+        graph::slot_value(g_, rec.slot_adr + graph::labelslot::value) = l.value.id;
         break;
     }
     case CompKind::Graphics: {
@@ -669,7 +647,6 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     }
     case CompKind::Logic: break;
     }
-    g_.comps[static_cast<size_t>(comp)].slot_num = static_cast<int32_t>(g_.slots.size()) - rec.slot_adr;
 
     // Child graphics: their own components, named parent.child, posed relative to it.
     for (const auto& child : c.children) {
@@ -786,20 +763,13 @@ void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDec
 
 void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     if (!declare(sc, l.name.text, l.name.span)) return;
-    graph::Comp rec;
-    rec.name = name(l.name.text);
-    rec.kind = CompKind::Logic;
-    rec.owner = sc.do_id;
-    rec.src = src(l.name.span);
-    rec.slot_adr = static_cast<int32_t>(g_.slots.size());
-    const int32_t comp = static_cast<int32_t>(g_.comps.size());
-    g_.comps.push_back(rec);
+    const int32_t comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
     sc.comps[l.name.text] = comp;
     comp_spans_[comp] = l.name.span;
     graph::Logic lg;
     lg.comp = comp;
     lg.op = graph::LogicOp::And;
-    lg.out_slot = add_slot(comp, "out", SlotType::Void, Dir::Out, l.name.span);
+    lg.out_slot = g_.comps[static_cast<size_t>(comp)].slot_adr + graph::logicslot::out;
     for (size_t i = 0; i < l.ops.size(); ++i) {
         if (l.ops[i].text != l.ops[0].text) {
             sink_.report(DiagId::LogicMixedOps, l.ops[i].span,
@@ -815,7 +785,6 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     }
     lg.in_num = static_cast<int32_t>(l.terms.size());
     g_.comps[static_cast<size_t>(comp)].detail = static_cast<int32_t>(g_.logics.size());
-    g_.comps[static_cast<size_t>(comp)].slot_num = static_cast<int32_t>(g_.slots.size()) - rec.slot_adr;
     g_.logics.push_back(lg);
 }
 

@@ -1,6 +1,7 @@
 // Paths to slots, and the connections between them: ports, flows, connectors, records.
 #include "sema/elaborator.h"
 
+#include "graph/build.h"
 #include "graph/kinds.h"
 
 #include <fmt/format.h>
@@ -223,17 +224,7 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
                            int32_t to_access, graph::Cond cond, bool once, Span span) {
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
-        for (int32_t t : to) {
-            graph::Flow fl;
-            fl.from = f;
-            fl.to = t;
-            fl.from_access = from_access;
-            fl.to_access = to_access;
-            fl.cond = cond;
-            fl.once = once;
-            fl.src = src(span);
-            g_.flows.push_back(fl);
-        }
+        for (int32_t t : to) graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
 }
 
 // A flow runs from an output to an input of the same type; otherwise one diagnostic.
