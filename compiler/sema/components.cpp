@@ -182,7 +182,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     g_.comps.push_back(rec);
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
-    for (const auto& s : graph::fixed_slots(spec->kind)) add_slot(comp, s.name, s.type, s.dir, c.name.span);
+    for (const auto& s : kind_slots(*spec)) add_slot(comp, s.name, s.type, s.dir, c.name.span);
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
     auto num = [&](const char* n, double def) { const Value* v = props.get(n); return v ? v->num : def; };
@@ -553,6 +553,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         }
         break;
     }
+    case CompKind::Plugin: lower_plugin(comp, *spec->plugin, props.values); break;
     case CompKind::Label: {
         graph::Label l{comp, name(props.get("value") ? props.get("value")->str : "")};
         g_.labels.push_back(l);

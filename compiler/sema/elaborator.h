@@ -112,6 +112,9 @@ public:
     int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
                            const std::string& prefix);
     int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
+    // A plugin component's record: its checked properties as the descriptor's parameters.
+    void lower_plugin(int32_t comp, const graph::KindDesc& kind,
+                      const std::map<std::string, std::pair<const ast::Property*, Value>>& props);
     void link_component(Scope& s, int32_t comp, const ast::ComponentDecl& c, const Env& env);
     void make_logic(Scope& s, const ast::LogicDecl& l);
     void make_pools(int32_t do_id, const std::vector<Item>& items);
