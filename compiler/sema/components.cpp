@@ -35,7 +35,7 @@ void lower(Lowering& lw) {
     case CompKind::Router: return lower_router(lw);
     case CompKind::Label: return lower_label(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
-    default: return;  // a kind not listed here: plugin kinds hook in (lower_plugin)
+    case CompKind::Plugin: return lower_plugin(lw);
     }
 }
 
@@ -48,7 +48,7 @@ void link(Linking& lk) {
     case CompKind::Trigger: return link_trigger(lk);
     case CompKind::Gripper: return link_gripper(lk);
     case CompKind::Exit: return link_exit(lk);
-    default: return;  // nothing to link; plugin kinds hook in here too (link_plugin)
+    default: return;  // nothing to link (plugin kinds name no other component)
     }
 }
 
@@ -252,6 +252,8 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     check_sub_blocks(c, *spec);
 
     const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
+    if (spec->plugin)  // a plugin's slots are its descriptor's, not a fixed table's
+        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, comp, s.name, s.type, s.dir, src(c.name.span));
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
 

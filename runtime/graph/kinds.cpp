@@ -37,6 +37,7 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     case CompKind::Router: return kRouter;
     case CompKind::Logic: return kLogic;
     case CompKind::Label: return kLabel;
+    case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
     }
     return {};
 }

@@ -3,7 +3,7 @@
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. One file per family of kinds holds both:
-// physics.cpp, graphics.cpp, state.cpp, objects.cpp.
+// physics.cpp, graphics.cpp, state.cpp, objects.cpp; plugin.cpp lowers every plugin kind.
 #pragma once
 
 #include "sema/elaborator.h"
@@ -77,6 +77,8 @@ void lower_graphics(Lowering& lw);
 void link_graphics(Linking& lk);
 // state.cpp
 void lower_state(Lowering& lw);
+// plugin.cpp: any plugin kind (graph/plugin.h)
+void lower_plugin(Lowering& lw);
 // objects.cpp
 void lower_trigger(Lowering& lw);
 void lower_timer(Lowering& lw);

@@ -15,7 +15,7 @@ constexpr CompKind kAllKinds[] = {
     CompKind::Graphics, CompKind::Body,    CompKind::Field,  CompKind::Constraint,
     CompKind::State,    CompKind::Trigger, CompKind::Timer,  CompKind::Gripper,
     CompKind::Source,   CompKind::Exit,    CompKind::Router, CompKind::Logic,
-    CompKind::Label,
+    CompKind::Label,    CompKind::Plugin,
 };
 
 size_t slot_count(CompKind k) { return fixed_slots(k).size(); }
