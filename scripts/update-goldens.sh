@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Regenerates every golden file (compiled graphs, diagnostics, runtime traces, and the
-# compiled graphs of the shipped plants in tests/plants/) from the
-# current build. Review the result with `git diff tests/golden` before committing.
+# compiled graphs of the shipped plants in tests/plants/) and docs/language.md's slot
+# tables (from runtime/graph/kinds.h) from the current build. Review the result with
+# `git diff tests/golden docs` before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh ci >/dev/null
 build/ci/tests/plant_golden --update tests/golden
 mkdir -p tests/plants
 build/ci/tests/plant_golden --update --sources=plants tests/plants
-git --no-pager diff --stat -- tests/golden tests/plants || true
+build/ci/tests/plant_slot_docs --update docs/language.md
+git --no-pager diff --stat -- tests/golden tests/plants docs/language.md || true

@@ -29,3 +29,9 @@ if(DOT_TOOL)
              COMMAND bash -o pipefail -c "\"$<TARGET_FILE:plant>\" graph \"${example}\" | \"${DOT_TOOL}\" -Tsvg -o /dev/null")
   endforeach()
 endif()
+
+# docs/language.md's slot tables match the slot declarations (runtime/graph/kinds.h).
+add_executable(plant_slot_docs ${CMAKE_CURRENT_SOURCE_DIR}/slot_docs.cpp)
+target_compile_options(plant_slot_docs PRIVATE ${PLANT_WARNINGS})
+target_link_libraries(plant_slot_docs PRIVATE plant_compiler)
+add_test(NAME slot_tables_doc COMMAND plant_slot_docs ${CMAKE_SOURCE_DIR}/docs/language.md)

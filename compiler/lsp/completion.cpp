@@ -96,7 +96,7 @@ void add_type_members(const ast::ObjectDecl& type, json& items) {
 
 void add_slots(const ast::ComponentDecl& k, json& items) {
     if (const sema::KindSpec* spec = sema::find_kind(k.kind.text))
-        for (const graph::SlotSpec& s : graph::fixed_slots(spec->kind))
+        for (const graph::SlotSpec& s : sema::kind_slots(*spec))
             items.push_back({{"label", std::string(s.name)}, {"kind", kEvent},
                              {"detail", fmt::format("{} {}", graph::word(s.dir), graph::word(s.type))},
                              {"documentation", std::string(s.doc)}});

@@ -133,7 +133,7 @@ json describe_let(const Compilation& c, const ast::ObjectDecl& o, const ast::Let
 json describe_slot(const ast::ComponentDecl& k, const std::string& slot) {
     const std::string where = "of " + k.kind.text + " " + k.name.text;
     if (const sema::KindSpec* spec = sema::find_kind(k.kind.text))
-        for (const graph::SlotSpec& s : graph::fixed_slots(spec->kind))
+        for (const graph::SlotSpec& s : sema::kind_slots(*spec))
             if (s.name == slot)
                 return markdown(fmt::format("{} {}: {}", graph::word(s.dir), s.name, graph::word(s.type)),
                                 "slot " + where + (s.doc.empty() ? "" : "; " + std::string(s.doc)));

@@ -1,6 +1,8 @@
 // Instantiation: the plant object, then every instance inside it, depth first.
 #include "sema/elaborator.h"
 
+#include "graph/build.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -140,20 +142,11 @@ void Elaborator::emit_ports() {
 }
 
 int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
-    graph::Do d;
-    d.path = name(path);
-    d.parent = parent;
-    d.type = type;
-    d.ordinal = type >= 0 ? g_.do_types[static_cast<size_t>(type)].instance_num++ : 0;
-    d.pool = -1;
-    d.pose = f.pose();
-    d.src = src(s);
-    g_.dos.push_back(d);
     Scope sc;
-    sc.do_id = static_cast<int32_t>(g_.dos.size()) - 1;
+    sc.do_id = graph::add_do(g_, path, parent, type, f.pose(), src(s));
     sc.frame = f;
     scopes_.push_back(std::move(sc));
-    return static_cast<int32_t>(g_.dos.size()) - 1;
+    return scopes_.back().do_id;
 }
 
 int32_t Elaborator::do_type(const std::string& type_name, Span s) {

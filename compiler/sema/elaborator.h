@@ -75,6 +75,8 @@ struct Endpoint {
     Span span;
 };
 
+struct Props;  // sema/kinds/lowering.h
+
 struct PendingAccessFlow {
     const ast::FlowDecl* decl;
     Endpoint from, to;
@@ -108,7 +110,10 @@ public:
     graph::Src src(Span s);
     graph::Name name(std::string_view s) { return g_.intern(s); }
 
-    // components.cpp
+    // components.cpp (the generic part; each kind's in sema/kinds/)
+    std::string check_mode(const ast::ComponentDecl& c, const KindSpec& spec);
+    Props check_properties(const Scope& sc, const ast::ComponentDecl& c, const KindSpec& spec, const Env& env);
+    void check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& spec);
     int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
                            const std::string& prefix);
     int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);

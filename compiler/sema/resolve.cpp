@@ -1,6 +1,7 @@
 // Paths to slots, and the connections between them: ports, flows, connectors, records.
 #include "sema/elaborator.h"
 
+#include "graph/build.h"
 #include "graph/kinds.h"
 
 #include <fmt/format.h>
@@ -30,6 +31,11 @@ std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
 
 // The kind as written in plant files: a Body is declared with `physics`.
 std::string_view kind_word(graph::CompKind k) { return k == graph::CompKind::Body ? "physics" : graph::word(k); }
+// The word a plant file uses for a component's kind, a plugin's own among them.
+std::string_view kind_word(const graph::Graph& g, int32_t comp) {
+    if (const graph::KindDesc* d = graph::plugin_of(g, comp)) return d->word;
+    return kind_word(g.comps[static_cast<size_t>(comp)].kind);
+}
 
 }  // namespace
 
@@ -123,8 +129,8 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
                     names.emplace_back(g_.str(g_.slots[static_cast<size_t>(c.slot_adr + k)].name));
                 auto& d = sink_.report(DiagId::UnknownSlot, slot_name.empty() ? path.span : segs[after].name.span,
                                        slot_name.empty()
-                                           ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, kind_word(c.kind))
-                                           : fmt::format("{} component '{}' has no slot '{}'", kind_word(c.kind),
+                                           ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, kind_word(g_, comp))
+                                           : fmt::format("{} component '{}' has no slot '{}'", kind_word(g_, comp),
                                                          g_.str(c.name), slot_name));
                 if (auto hint = closest_name(slot_name, names); !hint.empty())
                     d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
@@ -217,15 +223,7 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
         for (int32_t t : to) {
-            graph::Flow fl;
-            fl.from = f;
-            fl.to = t;
-            fl.from_access = from_access;
-            fl.to_access = to_access;
-            fl.cond = cond;
-            fl.once = once;
-            fl.src = src(span);
-            g_.flows.push_back(fl);
+            graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
             flow_spans_.push_back(span);
         }
 }

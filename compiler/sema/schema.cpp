@@ -1,5 +1,7 @@
 #include "sema/schema.h"
 
+#include <deque>
+#include <mutex>
 #include <utility>
 
 namespace plant::sema {
@@ -116,18 +118,50 @@ const std::vector<KindSpec>& kinds() {
     return k;
 }
 
+// A plugin's parameters as properties: the generic checks of make_component then apply.
+KindSpec plugin_spec(const graph::KindDesc& d) {
+    KindSpec k{d.word, CompKind::Plugin, {}, {}};
+    for (const graph::ParamSpec& p : d.params) {
+        PropSpec ps{p.name, T::Number, {}, p.required, p.doc};
+        switch (p.type) {
+        case graph::ParamType::Number:
+            if (auto u = units::parse_unit(p.unit)) ps.dim = u->dim;
+            break;
+        case graph::ParamType::Int: ps.type = T::Int; break;
+        case graph::ParamType::Bool: ps.type = T::Bool; break;
+        case graph::ParamType::String: ps.type = T::String; break;
+        }
+        k.props.push_back(ps);
+    }
+    k.doc = d.doc;
+    k.plugin = &d;
+    return k;
+}
+
 }  // namespace
 
 const KindSpec* find_kind(std::string_view word) {
     for (const auto& k : kinds())
         if (k.word == word) return &k;
+    // Plugins register before any compile; their specs are made once, on first use.
+    static std::deque<KindSpec> plugin_specs;  // a deque: the specs handed out stay put
+    static std::mutex m;                       // compiles may run on several threads (sweeps)
+    std::lock_guard lock(m);
+    for (const auto& k : plugin_specs)
+        if (k.word == word) return &k;
+    if (const graph::KindDesc* d = graph::find_plugin(word)) return &plugin_specs.emplace_back(plugin_spec(*d));
     return nullptr;
 }
 
 std::vector<std::string> kind_words() {
     std::vector<std::string> out;
     for (const auto& k : kinds()) out.emplace_back(k.word);
+    for (const graph::KindDesc* d : graph::plugins()) out.emplace_back(d->word);
     return out;
+}
+
+std::span<const graph::SlotSpec> kind_slots(const KindSpec& k) {
+    return k.plugin ? k.plugin->slots : graph::fixed_slots(k.kind);
 }
 
 const PropSpec* find_prop(const KindSpec& k, std::string_view name) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "graph/graph.h"
+#include "graph/plugin.h"
 #include "units/units.h"
 
 #include <optional>
@@ -32,8 +33,13 @@ struct KindSpec {
     bool shapes = false, animations = false, variants = false, places = false, routes = false,
          children = false, on = false;
     std::string_view doc = {};  // one line: what the kind is (the language server's hover)
+    const graph::KindDesc* plugin = nullptr;  // a plugin kind (graph/plugin.h): its descriptor
 };
 
+// The slots a component of this kind starts with: the fixed slots, or a plugin's.
+std::span<const graph::SlotSpec> kind_slots(const KindSpec& k);
+
+// A built-in kind, or a registered plugin kind (its properties are its parameters).
 const KindSpec* find_kind(std::string_view word);
 std::vector<std::string> kind_words();
 const PropSpec* find_prop(const KindSpec& k, std::string_view name);

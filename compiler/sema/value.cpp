@@ -98,45 +98,48 @@ Value Evaluator::eval(const ast::Expr& e, const Env& env) {
     return {};
 }
 
+// A number literal with its unit, in SI units.
+Value Evaluator::number(const ast::Expr& e) {
+    if (!std::isfinite(e.number)) {
+        sink_.report(DiagId::OutOfRange, e.span, "this number is too large");
+        return {};
+    }
+    Value v = Value::number(e.number, {}, e.span);
+    if (e.text.empty()) {
+        v.integer = is_whole(e.number);
+        v.any_dim = e.number == 0;
+        return v;
+    }
+    std::string bad;
+    bool bad_exponent = false;
+    auto unit = units::parse_unit(e.text, &bad, &bad_exponent);
+    if (!unit && bad_exponent) {
+        sink_.report(DiagId::OutOfRange, e.unit_span,
+                     fmt::format("the unit '{}' has an exponent beyond ±{}", bad, units::kMaxExponent));
+        return {};
+    }
+    if (!unit) {
+        auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
+        std::string hint = closest_name(bad, units::unit_atoms());
+        if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        else d.notes.push_back({{}, fmt::format("units: {}", fmt::join(units::unit_atoms(), " "))});
+        if (e.text.find_first_of("*/") != std::string::npos)
+            d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
+        return {};
+    }
+    v.num = unit->si(e.number);
+    v.dim = unit->dim;
+    if (!std::isfinite(v.num)) {
+        sink_.report(DiagId::OutOfRange, e.span, "this number is too large in SI units");
+        return {};
+    }
+    return v;
+}
+
 Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
     using K = ast::ExprKind;
     switch (e.kind) {
-    case K::Number: {
-        if (!std::isfinite(e.number)) {
-            sink_.report(DiagId::OutOfRange, e.span, "this number is too large");
-            return {};
-        }
-        Value v = Value::number(e.number, {}, e.span);
-        if (e.text.empty()) {
-            v.integer = is_whole(e.number);
-            v.any_dim = e.number == 0;
-            return v;
-        }
-        std::string bad;
-        bool bad_exponent = false;
-        auto unit = units::parse_unit(e.text, &bad, &bad_exponent);
-        if (!unit && bad_exponent) {
-            sink_.report(DiagId::OutOfRange, e.unit_span,
-                         fmt::format("the unit '{}' has an exponent beyond ±{}", bad, units::kMaxExponent));
-            return {};
-        }
-        if (!unit) {
-            auto& d = sink_.report(DiagId::UnknownUnit, e.unit_span, fmt::format("unknown unit '{}'", bad));
-            std::string hint = closest_name(bad, units::unit_atoms());
-            if (!hint.empty()) d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
-            else d.notes.push_back({{}, fmt::format("units: {}", fmt::join(units::unit_atoms(), " "))});
-            if (e.text.find_first_of("*/") != std::string::npos)
-                d.notes.push_back({{}, "a unit follows its number directly; to divide by a parameter write (10 cm) / t"});
-            return {};
-        }
-        v.num = unit->si(e.number);
-        v.dim = unit->dim;
-        if (!std::isfinite(v.num)) {
-            sink_.report(DiagId::OutOfRange, e.span, "this number is too large in SI units");
-            return {};
-        }
-        return v;
-    }
+    case K::Number: return number(e);
     case K::String: {
         Value v;
         v.kind = Value::Kind::Str;

@@ -81,6 +81,7 @@ public:
 
 private:
     Value eval_raw(const ast::Expr& e, const Env& env);
+    Value number(const ast::Expr& e);
     Value binary(const ast::Expr& e, const Value& a, const Value& b);
     Value call(const ast::Expr& e, const Env& env);
     Sink& sink_;

@@ -111,6 +111,7 @@ void act_on(Runtime& r, int32_t comp) {
         if (a[gripperslot::release]) release(r, i);
         if (a[gripperslot::grip]) grip(r, i);
         break;
+    case CompKind::Plugin: act_plugin(r, i); break;
     default: break;  // state: phase 4; router, logic, label: phase 3; the rest has no inputs
     }
 }

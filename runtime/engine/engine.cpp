@@ -55,6 +55,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
         emit(comp_slot(g.graphics[i].comp, graphicsslot::shown),
              v >= 0 ? g.variants[v].name.id : g.graphics[i].model.id);
     }
+    start_plugins(*this);  // what they emit is published the same way
 }
 
 std::string_view Runtime::str(int32_t name) const {

@@ -62,7 +62,7 @@ struct Runtime {
 
 // The five phases of a step (docs/runtime.md), in this order.
 void phase_physics(Runtime& r);    // 1: kinematic moves, conveyor forces, Bullet step
-void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, timers, grippers, exits
+void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, timers, grippers, exits, plugins
 void phase_logic(Runtime& r);      // 3: external inputs, flows, connectors, routers, labels
 void phase_petri(Runtime& r);      // 4: clear outputs, puts, all enabled transitions fire
 void phase_actuators(Runtime& r);  // 5: components act on their active inputs
@@ -93,5 +93,9 @@ void issue(Runtime& r, int32_t source);
 void run_exits(Runtime& r);
 void take_body_out(Runtime& r, int32_t body);
 bool glob_match(std::string_view pattern, std::string_view text);
+// Plugin components (plugin.cpp): started once, sensing in phase 2, acting in phase 5.
+void start_plugins(Runtime& r);
+void sense_plugins(Runtime& r);
+void act_plugin(Runtime& r, int32_t plugin);
 
 }  // namespace plant::engine

@@ -114,6 +114,7 @@ void phase_sensors(Runtime& r) {
     run_timers(r);
     follow_grippers(r);
     run_exits(r);
+    sense_plugins(r);
 }
 
 }  // namespace plant::engine

@@ -7,6 +7,7 @@ namespace plant::engine {
 using namespace plant::graph;
 
 void init_state(State& s, const Graph& g, const Tables& t) {
+    s.plugin_state.assign(size_t(t.plugin_state_size), 0.0);
     const size_t ns = g.slots.size(), nb = g.bodies.size();
     s.values.resize(g.values.size());
     for (size_t i = 0; i < g.values.size(); ++i) s.values[i] = g.values[i].v;

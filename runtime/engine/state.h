@@ -135,6 +135,8 @@ struct State {
     std::vector<double> force_value, force_natural;
     std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
 
+    std::vector<double> plugin_state;  // Tables::plugin_run's state_adr into it
+
     Warnings warn;
 };
 

@@ -1,6 +1,9 @@
 #include "engine/tables.h"
 
+#include "engine/plugin.h"
 #include "graph/kinds.h"
+
+#include <stdexcept>
 
 #include <algorithm>
 #include <cmath>
@@ -49,7 +52,19 @@ Tables::Tables(const Graph& g) {
     for (size_t s = 0; s < g.slots.size(); ++s) {
         const CompKind k = g.comps[g.slots[s].comp].kind;
         slot_acts[s] = !slot_out[s] && k != CompKind::State && k != CompKind::Logic && k != CompKind::Router &&
-                       k != CompKind::Label;
+                       k != CompKind::Label &&
+                       (k != CompKind::Plugin || plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators);
+    }
+    // Plugin components: the loader checked their kinds are registered; a kind registered
+    // without its behaviour (graph::register_kind alone, as a compiler-only program may) is
+    // a program that cannot run it.
+    for (size_t i = 0; i < g.plugins.size(); ++i) {
+        const std::string_view word = g.str(g.plugins[i].kind);
+        const KindBehaviour* b = find_behaviour(word);
+        if (!b) throw std::runtime_error("component kind '" + std::string(word) + "' has no runtime in this program");
+        plugin_run.push_back({b, plugin_state_size});
+        plugin_state_size += b->state_size;
+        if (b->sense) sensing_plugins.push_back(int32_t(i));
     }
 
     slot_aux.assign(g.slots.size(), -1);

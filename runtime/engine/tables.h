@@ -21,6 +21,14 @@ struct Csr {
     const int32_t* end(int32_t i) const { return list.data() + adr[i] + num[i]; }
 };
 
+struct KindBehaviour;  // engine/plugin.h
+
+// A plugin component's behaviour and where its state is in State::plugin_state.
+struct PluginRun {
+    const KindBehaviour* behaviour = nullptr;
+    int32_t state_adr = 0;
+};
+
 struct Tables {
     std::vector<uint8_t> slot_out;  // 1 for outputs
     std::vector<int32_t> value_adr; // Slot::value_adr, packed: the hot lookup of every step
@@ -51,6 +59,10 @@ struct Tables {
     std::vector<btVector3> field_gain;      // the law's gain along the field's own axes: k·|d|
     std::vector<btTransform> trigger_local; // trigger box relative to its body frame
     std::vector<int32_t> rate_sources;
+
+    std::vector<PluginRun> plugin_run;      // per row of Graph::plugins
+    std::vector<int32_t> sensing_plugins;   // rows whose kind senses in phase 2
+    int32_t plugin_state_size = 0;
 
     explicit Tables(const graph::Graph& g);
 };

@@ -149,7 +149,7 @@ constexpr std::string_view kSlotType[] = {"void", "bool", "int", "real", "vec3",
 constexpr std::string_view kDir[] = {"in", "out"};
 constexpr std::string_view kCompKind[] = {"graphics", "body",    "field",  "constraint", "state",
                                           "trigger",  "timer",   "gripper", "source",    "exit",
-                                          "router",   "logic",   "label"};
+                                          "router",   "logic",   "label",   "plugin"};
 constexpr std::string_view kBodyMode[] = {"dynamic", "static", "kinematic"};
 constexpr std::string_view kShapeKind[] = {"box", "sphere", "cylinder", "capsule", "hull"};
 constexpr std::string_view kJointKind[] = {"fixed", "hinge", "slider"};
@@ -166,7 +166,7 @@ constexpr std::string_view kLogicOp[] = {"and", "or"};
 
 PLANT_ENUM_WORDS(SlotType, kSlotType, Ref)
 PLANT_ENUM_WORDS(Dir, kDir, Out)
-PLANT_ENUM_WORDS(CompKind, kCompKind, Label)
+PLANT_ENUM_WORDS(CompKind, kCompKind, Plugin)
 PLANT_ENUM_WORDS(BodyMode, kBodyMode, Kinematic)
 PLANT_ENUM_WORDS(ShapeKind, kShapeKind, Hull)
 PLANT_ENUM_WORDS(JointKind, kJointKind, Slider)

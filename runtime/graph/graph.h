@@ -49,7 +49,7 @@ enum class SlotType : uint8_t { Void, Bool, Int, Real, Vec3, Quat, Pose, String,
 enum class Dir : uint8_t { In, Out };
 enum class CompKind : uint8_t {
     Graphics, Body, Field, Constraint, State, Trigger, Timer, Gripper, Source, Exit, Router,
-    Logic, Label
+    Logic, Label, Plugin
 };
 enum class BodyMode : uint8_t { Dynamic, Static, Kinematic };
 enum class ShapeKind : uint8_t { Box, Sphere, Cylinder, Capsule, Hull };
@@ -296,6 +296,19 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, target_num)                                                    \
     F(Src, src)
 
+// A component of a plugin kind (graph/plugin.h): a kind registered by its descriptor,
+// not known to this header. Its parameters are stored in the order the descriptor
+// declares them: a number (SI) or a text, whichever the parameter's type is.
+#define PLANT_FIELDS_PLUGIN(F)                                                     \
+    F(int32_t, comp)                                                               \
+    F(Name, kind)          /* the kind's word, e.g. "counter" */                   \
+    F(int32_t, param_adr)  /* into plugin_params */                                \
+    F(int32_t, param_num)
+
+#define PLANT_FIELDS_PARAM(F) \
+    F(double, num)            \
+    F(Name, text)
+
 #define PLANT_FIELDS_POINT(F) F(Vec3, p)
 #define PLANT_FIELDS_VALUE(F) F(double, v)
 #define PLANT_FIELDS_INT(F) F(int32_t, v)
@@ -335,7 +348,15 @@ constexpr int slot_width(SlotType t) {
     X(labels, Label, label, PLANT_FIELDS_LABEL)                       \
     X(records, Record, record, PLANT_FIELDS_RECORD)                   \
     X(ports, Port, port, PLANT_FIELDS_PORT)                           \
-    X(port_targets, PortTarget, port_target, PLANT_FIELDS_INT)
+    X(port_targets, PortTarget, port_target, PLANT_FIELDS_INT)       \
+    X(plugins, Plugin, plugin, PLANT_FIELDS_PLUGIN)                  \
+    X(plugin_params, PluginParam, plugin_param, PLANT_FIELDS_PARAM)
+
+// Tables the text form leaves out when they are empty (the loader then reads them as
+// empty): a graph without plugin components reads and writes as before plugins existed.
+constexpr bool optional_table(std::string_view member) {
+    return member == "plugins" || member == "plugin_params";
+}
 
 #define PLANT_DECLARE_FIELD(type, field) type field{};
 #define PLANT_DECLARE_RECORD(member, Record, word, FIELDS) \

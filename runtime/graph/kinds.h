@@ -3,12 +3,95 @@
 // comp.slot_adr + its index here). Slots that depend on the component's content
 // (places, transitions, animations, variants, routes, connector inputs) follow the
 // fixed ones, in declaration order.
+//
+// Each kind's fixed slots are declared once, below, as a list
+//   S(index name, slot name, SlotType, Dir, documentation)
+// from which both the index constants (`timerslot::start`) and the table returned by
+// fixed_slots() are generated; docs/language.md's slot tables are checked against it.
 #pragma once
 
 #include "graph.h"
 
 #include <span>
 #include <string_view>
+
+// clang-format off
+#define PLANT_SLOTS_GRAPHICS(S) \
+    S(set_pose, "set_pose", Pose, In, "moves the graphics (and its children) to a pose") \
+    S(pose, "pose", Pose, Out, "the current world pose") \
+    S(shown, "shown", String, Out, "the name of the variant shown (the model's name while none is selected)")
+
+#define PLANT_SLOTS_BODY(S) \
+    S(set_pose, "set_pose", Pose, In, "teleports the body") \
+    S(set_position, "set_position", Vec3, In, "teleports the body's origin") \
+    S(set_orientation, "set_orientation", Quat, In, "sets the orientation") \
+    S(set_velocity, "set_velocity", Vec3, In, "sets the linear velocity") \
+    S(set_angular_velocity, "set_angular_velocity", Vec3, In, "sets the angular velocity") \
+    S(collision_on, "collision_on", Void, In, "the body collides again") \
+    S(collision_off, "collision_off", Void, In, "other bodies pass through it") \
+    S(dynamics_on, "dynamics_on", Void, In, "the body is simulated again") \
+    S(dynamics_off, "dynamics_off", Void, In, "taken out of the simulation, moved kinematically") \
+    S(pose, "pose", Pose, Out, "world pose") \
+    S(position, "position", Vec3, Out, "world position of the body frame") \
+    S(orientation, "orientation", Quat, Out, "world orientation") \
+    S(velocity, "velocity", Vec3, Out, "linear velocity") \
+    S(angular_velocity, "angular_velocity", Vec3, Out, "angular velocity")
+
+#define PLANT_SLOTS_FIELD(S) \
+    S(set_speed, "set_speed", Real, In, "target speed along the direction, m/s") \
+    S(enable, "enable", Void, In, "the field pushes") \
+    S(disable, "disable", Void, In, "the field stops pushing") \
+    S(speed, "speed", Real, Out, "the current target speed")
+
+#define PLANT_SLOTS_JOINT(S) \
+    S(enable, "enable", Void, In, "the constraint holds") \
+    S(disable, "disable", Void, In, "the constraint is released") \
+    S(enabled, "enabled", Bool, Out, "whether it holds")
+
+#define PLANT_SLOTS_TRIGGER(S) \
+    S(on_enter, "on_enter", Void, Out, "an object entered the volume this step") \
+    S(on_stay, "on_stay", Void, Out, "at least one object is inside") \
+    S(on_leave, "on_leave", Void, Out, "an object left the volume this step") \
+    S(object, "object", Ref, Out, "the object that last entered (or is inside)") \
+    S(count_inside, "count", Int, Out, "how many objects are inside")
+
+#define PLANT_SLOTS_TIMER(S) \
+    S(start, "start", Void, In, "starts (or restarts) the timer") \
+    S(stop, "stop", Void, In, "stops the timer") \
+    S(tick, "tick", Void, Out, "the period or delay elapsed") \
+    S(elapsed, "elapsed", Real, Out, "seconds since start") \
+    S(running, "running", Bool, Out, "whether the timer runs")
+
+#define PLANT_SLOTS_GRIPPER(S) \
+    S(grip, "grip", Void, In, "take the object in the gripper's trigger") \
+    S(release, "release", Void, In, "hand the object back to the dynamics") \
+    S(gripped, "gripped", Void, Out, "an object was taken") \
+    S(released, "released", Void, Out, "an object was handed back") \
+    S(object, "object", Ref, Out, "the object held (none: no object); typed by the trigger's `filter`")
+
+#define PLANT_SLOTS_SOURCE(S) \
+    S(issue, "issue", Void, In, "issue one object from the pool") \
+    S(issued, "issued", Void, Out, "an object was issued") \
+    S(object, "object", Ref, Out, "the object issued last; typed by `object`") \
+    S(id, "id", String, Out, "the bar code of the object issued last") \
+    S(issued_count, "count", Int, Out, "objects issued so far")
+
+#define PLANT_SLOTS_EXIT(S) \
+    S(taken, "taken", Void, Out, "an object was taken out of the world") \
+    S(object, "object", Ref, Out, "the object taken last (untyped)") \
+    S(id, "id", String, Out, "its bar code") \
+    S(taken_count, "count", Int, Out, "objects taken so far")
+
+#define PLANT_SLOTS_ROUTER(S) \
+    S(query, "query", String, In, "an ID to route; activates the first matching entry")
+
+#define PLANT_SLOTS_LOGIC(S) \
+    S(out, "out", Void, Out, "active in a step the operation is true")
+
+#define PLANT_SLOTS_LABEL(S) \
+    S(set, "set", String, In, "replaces the text") \
+    S(value, "value", String, Out, "the text")
+// clang-format on
 
 namespace plant::graph {
 
@@ -23,44 +106,20 @@ std::span<const SlotSpec> fixed_slots(CompKind kind);
 // Index of a fixed slot by name, -1 if none.
 int fixed_slot_index(CompKind kind, std::string_view name);
 
-// Fixed slot indices the runtime relies on (checked against the tables in a test).
-namespace bodyslot {
-enum : int { set_pose, set_position, set_orientation, set_velocity, set_angular_velocity,
-             collision_on, collision_off, dynamics_on, dynamics_off,
-             pose, position, orientation, velocity, angular_velocity, count };
-}
-namespace graphicsslot {
-enum : int { set_pose, pose, shown, count };
-}
-namespace fieldslot {
-enum : int { set_speed, enable, disable, speed, count };
-}
-namespace jointslot {
-enum : int { enable, disable, enabled, count };
-}
-namespace triggerslot {
-enum : int { on_enter, on_stay, on_leave, object, count_inside, count };
-}
-namespace timerslot {
-enum : int { start, stop, tick, elapsed, running, count };
-}
-namespace gripperslot {
-enum : int { grip, release, gripped, released, object, count };
-}
-namespace sourceslot {
-enum : int { issue, issued, object, id, issued_count, count };
-}
-namespace exitslot {
-enum : int { taken, object, id, taken_count, count };
-}
-namespace routerslot {
-enum : int { query, count };
-}
-namespace logicslot {
-enum : int { out, count };
-}
-namespace labelslot {
-enum : int { set, value, count };
-}
+// The fixed slot indices the runtime relies on, `count` last.
+#define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
+namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
+namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) count }; }
+namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
+namespace jointslot { enum : int { PLANT_SLOTS_JOINT(PLANT_SLOT_INDEX) count }; }
+namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
+namespace timerslot { enum : int { PLANT_SLOTS_TIMER(PLANT_SLOT_INDEX) count }; }
+namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
+namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }; }
+namespace exitslot { enum : int { PLANT_SLOTS_EXIT(PLANT_SLOT_INDEX) count }; }
+namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
+namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
+namespace labelslot { enum : int { PLANT_SLOTS_LABEL(PLANT_SLOT_INDEX) count }; }
+#undef PLANT_SLOT_INDEX
 
 }  // namespace plant::graph

@@ -87,6 +87,7 @@ public:
     template <class R, class F>
     void table(std::string_view member, std::string_view elem, const std::vector<R>& rows,
                F&& fields) {
+        if (rows.empty() && optional_table(member)) return;
         fmt::format_to(out(), "count {} {}\n", member, rows.size());
         for (size_t i = 0; i < rows.size(); ++i) {
             fmt::format_to(out(), "{} {}", elem, i);
@@ -198,7 +199,13 @@ private:
         rest_ = {};
         return false;
     }
-    bool next_line() { return advance() || fail("unexpected end of file"); }
+    bool next_line() {
+        if (held_) {
+            held_ = false;
+            return true;
+        }
+        return advance() || fail("unexpected end of file");
+    }
 
     // The next line, which must start with `keyword` as a whole word.
     bool line(std::string_view keyword) {
@@ -336,6 +343,10 @@ private:
         if (!next_line()) return false;
         std::string_view at = rest_;
         int32_t n = -1;
+        if (optional_table(member) && !at.starts_with(fmt::format("count {} ", member))) {
+            held_ = true;  // absent: empty, and this line is the next table's (or 'end')
+            return true;
+        }
         if (!(lit("count ") && lit(member) && lit(" ") && number(n) && rest_.empty() && n >= 0))
             return fail(fmt::format("expected 'count {} N', got '{}'", member, at.substr(0, 40)));
         std::vector<int>& lines = lines_[std::string(member)];
@@ -359,6 +370,7 @@ private:
     std::string line_;
     std::string_view rest_;  // the unread part of line_
     int line_no_ = 0;
+    bool held_ = false;  // the current line is to be read again (an absent optional table)
     std::string error_;
     std::map<std::string, std::vector<int>> lines_;
     int settings_line_ = 0;

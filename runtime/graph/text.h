@@ -15,7 +15,7 @@
 //   end
 //
 // Every table, in PLANT_GRAPH_TABLES order, is a `count <table> N` line followed by
-// N records `<element> <id> field=value ...` in field order. Names are written
+// N records (an optional_table() only when it has records; absent, it is empty) `<element> <id> field=value ...` in field order. Names are written
 // inline as quoted strings (`-` for none) and interned again when loading, so the
 // names table is not written and its order may change; Graph::same_as compares
 // names by text. Doubles use the shortest form that reads back exactly.

@@ -3,6 +3,7 @@
 #include "hull.h"
 #include "kinds.h"
 #include "network.h"
+#include "plugin.h"
 
 #include <fmt/format.h>
 
@@ -49,7 +50,7 @@ public:
         return numbers() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() && records() &&
-               ports();
+               ports() && plugin_records();
     }
 
 private:
@@ -174,6 +175,7 @@ private:
         case CompKind::Exit: n = g_.exits.size(), name = "exits"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Label: n = g_.labels.size(), name = "labels"; return true;
+        case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
         case CompKind::Router: return false;
         }
@@ -192,7 +194,13 @@ private:
             } else if (!check(cp.detail == -1, "field 'detail' must be -1 for this kind")) {
                 return false;
             }
-            const auto fixed = fixed_slots(cp.kind);
+            if (cp.kind == CompKind::Plugin && !find_plugin(g_.str(g_.plugins[size_t(cp.detail)].kind)))
+                return fail(fmt::format("a component of kind '{}', which this program does not have (a plugin it "
+                                        "was not built with)", plugin_word(cp)));
+            const auto fixed = cp.kind == CompKind::Plugin ? plugin_slots(cp) : fixed_slots(cp.kind);
+            if (cp.kind == CompKind::Plugin && cp.slot_num != int32_t(fixed.size()))
+                return fail(fmt::format("a {} has {} slots, field 'slot_num' is {}", plugin_word(cp), fixed.size(),
+                                        cp.slot_num));
             if (cp.slot_num < int32_t(fixed.size()))
                 return fail(fmt::format("a {} has {} fixed slots, field 'slot_num' is {}", word(cp.kind), fixed.size(),
                                         cp.slot_num));
@@ -204,6 +212,42 @@ private:
                     return fail(fmt::format("slot {} ('{}' of a {}) is {} {}, expected {} {}", cp.slot_adr + k,
                                             fixed[size_t(k)].name, word(cp.kind), word(s.type), word(s.dir),
                                             word(fixed[size_t(k)].type), word(fixed[size_t(k)].dir)));
+            }
+            return true;
+        });
+    }
+
+    // A plugin component's detail is checked by plugins(), after this.
+    std::span<const SlotSpec> plugin_slots(const Comp& cp) const {
+        if (cp.detail < 0 || size_t(cp.detail) >= g_.plugins.size()) return {};
+        const KindDesc* d = find_plugin(g_.str(g_.plugins[size_t(cp.detail)].kind));
+        return d ? d->slots : std::span<const SlotSpec>{};
+    }
+    std::string plugin_word(const Comp& cp) const {
+        return cp.detail >= 0 && size_t(cp.detail) < g_.plugins.size()
+                   ? std::string(g_.str(g_.plugins[size_t(cp.detail)].kind))
+                   : std::string("plugin");
+    }
+
+    // Plugin components: a kind this program registered, its parameters as its descriptor
+    // declares them.
+    bool plugin_records() {
+        return each("plugins", g_.plugins, [&](const Plugin& p, size_t i) {
+            if (!owner(p.comp, CompKind::Plugin, i)) return false;
+            const KindDesc* d = find_plugin(g_.str(p.kind));  // comps() found it
+            if (p.param_num != int32_t(d->params.size()))
+                return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
+                                        p.param_num));
+            if (!range("param_adr", p.param_adr, p.param_num, g_.plugin_params.size(), "plugin_params")) return false;
+            for (size_t k = 0; k < d->params.size(); ++k) {
+                const ParamSpec& ps = d->params[k];
+                const PluginParam& v = g_.plugin_params[size_t(p.param_adr) + k];
+                const bool ok = ps.type == ParamType::String ? v.text.id >= 0
+                                : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
+                                : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
+                                                             : true;
+                if (!ok)
+                    return fail(fmt::format("parameter '{}' of a {} is not a valid {}", ps.name, d->word, word(ps.type)));
             }
             return true;
         });

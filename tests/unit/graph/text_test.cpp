@@ -497,7 +497,7 @@ TEST_CASE("enum words") {
     check_words<SlotType>({"void", "bool", "int", "real", "vec3", "quat", "pose", "string", "ref"});
     check_words<Dir>({"in", "out"});
     check_words<CompKind>({"graphics", "body", "field", "constraint", "state", "trigger", "timer",
-                           "gripper", "source", "exit", "router", "logic", "label"});
+                           "gripper", "source", "exit", "router", "logic", "label", "plugin"});
     check_words<BodyMode>({"dynamic", "static", "kinematic"});
     check_words<ShapeKind>({"box", "sphere", "cylinder", "capsule", "hull"});
     check_words<JointKind>({"fixed", "hinge", "slider"});

@@ -1,8 +1,8 @@
 // Builds small plant graphs by hand for the runtime tests, laid out as the compiler
-// lays them out: a component's slots are contiguous (its kind's fixed slots, then its
-// dynamic ones), every non-void slot owns value_adr .. + slot_width in Graph::values.
+// lays them out (through graph/build.h, which the compiler uses too).
 #pragma once
 
+#include "graph/build.h"
 #include "graph/graph.h"
 #include "graph/kinds.h"
 
@@ -49,52 +49,18 @@ struct SceneBuilder {
     }
 
     int32_t dobj(std::string_view path, int32_t parent = 0, int32_t type = -1, Pose pose = {}) {
-        Do d;
-        d.path = name(path);
-        d.parent = parent;
-        d.type = type;
-        d.ordinal = 0;
-        if (type >= 0) d.ordinal = g.do_types[type].instance_num++;
-        d.comp_adr = int32_t(g.comps.size());
-        d.pool = -1;
-        d.pose = pose;
-        g.dos.push_back(d);
-        return int32_t(g.dos.size() - 1);
+        return add_do(g, path, parent, type, pose);
     }
 
-    // A component with its kind's fixed slots. DOs' comp lists are (adr, num): add a
-    // DO's components right after creating it.
+    // A component with its kind's fixed slots (graph/build.h): add a DO's components
+    // right after creating it.
     int32_t comp(int32_t owner, CompKind kind, std::string_view n, int32_t detail) {
-        Comp c;
-        c.name = name(n);
-        c.kind = kind;
-        c.owner = owner;
-        c.slot_adr = int32_t(g.slots.size());
-        c.detail = detail;
-        g.comps.push_back(c);
-        const int32_t id = int32_t(g.comps.size() - 1);
-        g.dos[owner].comp_num = id + 1 - g.dos[owner].comp_adr;
-        for (const SlotSpec& s : fixed_slots(kind)) slot(id, s.name, s.type, s.dir);
+        const int32_t id = add_comp(g, owner, kind, n);
+        g.comps[id].detail = detail;
         return id;
     }
 
-    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) {
-        Slot s;
-        s.name = name(n);
-        s.type = t;
-        s.dir = d;
-        s.comp = comp;
-        s.value_adr = -1;
-        if (int w = slot_width(t); w > 0) {
-            s.value_adr = int32_t(g.values.size());
-            for (int i = 0; i < w; ++i) g.values.push_back({0});
-            if (t == SlotType::Quat || t == SlotType::Pose) g.values.back().v = 1;  // identity w
-            if (t == SlotType::Ref) g.values.back().v = -1;
-        }
-        g.slots.push_back(s);
-        g.comps[comp].slot_num++;
-        return int32_t(g.slots.size() - 1);
-    }
+    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) { return add_slot(g, comp, n, t, d); }
 
     // Slot of a component by local name (fixed or dynamic).
     int32_t S(int32_t comp, std::string_view n) const {
@@ -198,7 +164,7 @@ struct SceneBuilder {
             p.put_slot = slot(c, pn + ".put", SlotType::Void, Dir::In);
             p.entered_slot = slot(c, pn + ".entered", SlotType::Void, Dir::Out);
             p.tokens_slot = slot(c, pn + ".tokens", SlotType::Int, Dir::Out);
-            g.values[g.slots[p.tokens_slot].value_adr].v = initial;
+            slot_value(g, p.tokens_slot) = initial;
             g.places.push_back(p);
         }
         for (const TransitionSpec& ts : transitions) {
@@ -249,7 +215,7 @@ struct SceneBuilder {
         Label l{};
         l.value = name(value);
         l.comp = comp(owner, CompKind::Label, n, int32_t(g.labels.size()));
-        g.values[g.slots[g.comps[l.comp].slot_adr + labelslot::value].value_adr].v = l.value.id;
+        slot_value(g, g.comps[l.comp].slot_adr + labelslot::value) = l.value.id;
         g.labels.push_back(l);
         return int32_t(g.labels.size() - 1);
     }
@@ -345,15 +311,7 @@ struct SceneBuilder {
 
     int32_t flow(int32_t from, int32_t to, Cond cond = Cond::Source, bool once = false, int32_t from_access = -1,
                  int32_t to_access = -1) {
-        Flow f{};
-        f.from = from;
-        f.to = to;
-        f.cond = cond;
-        f.once = once;
-        f.from_access = from_access;
-        f.to_access = to_access;
-        g.flows.push_back(f);
-        return int32_t(g.flows.size() - 1);
+        return add_flow(g, from, to, cond, once, from_access, to_access);
     }
 
     void record(int32_t slot, std::string_view column) { g.records.push_back({slot, name(column)}); }

@@ -1,0 +1,94 @@
+// Internal to compiler/sema: the kind-specific part of elaborating a component. The
+// generic part (components.cpp: kind word, mode, properties known, set once and typed,
+// sub-blocks allowed, the component and its fixed slots appended) hands each kind's
+// lowering a Lowering; once every component of the object exists, its late linking (the
+// references between components) gets a Linking. One file per family of kinds holds both:
+// physics.cpp, graphics.cpp, state.cpp, objects.cpp; plugin.cpp lowers every plugin kind.
+#pragma once
+
+#include "sema/elaborator.h"
+
+#include <map>
+#include <string>
+
+namespace plant::sema {
+
+inline graph::Vec3 vec(const Value& v) { return {v.items[0].num, v.items[1].num, v.items[2].num}; }
+
+// Properties of one component, looked up by name, checked once.
+struct Props {
+    std::map<std::string, std::pair<const ast::Property*, Value>> values;
+    const Value* get(const std::string& n) const {
+        auto it = values.find(n);
+        return it == values.end() || it->second.second.kind == Value::Kind::None ? nullptr : &it->second.second;
+    }
+    bool has(const std::string& n) const { return values.count(n) > 0; }
+};
+
+// A component being lowered: appended with its fixed slots (from slot_adr on); its kind's
+// record, detail and dynamic slots are the lowering's to add.
+struct Lowering {
+    Elaborator& el;
+    Scope& scope;
+    const ast::ComponentDecl& decl;
+    const Env& env;
+    const KindSpec& spec;
+    const Props& props;
+    std::string mode;         // the mode word, the kind's default when none is written
+    int32_t comp;             // its id
+    int32_t slot_adr;         // its first (fixed) slot
+    Frame frame;              // its world frame
+    int32_t parent_graphics;  // a child graphics: its parent's Graphics id, else -1
+
+    double num(const char* n, double def) const;
+    bool boolean(const char* n, bool def) const;
+    void positive(const char* n) const;      // reported when set and not > 0
+    void positive_vec(const char* n) const;  // reported when an item is not > 0
+    // The component's detail: the last row of its kind's table, now `size` long.
+    void set_detail(size_t size) const;
+};
+
+// A component whose object's components all exist: references between them resolved.
+struct Linking {
+    Elaborator& el;
+    Scope& scope;
+    const ast::ComponentDecl& decl;
+    const Env& env;
+    int32_t comp;
+    graph::Comp rec;
+    std::string on;  // the `on` path, "" for none
+
+    // The detail id of component `n` of this object, of kind `want`; -1 (reported) if none.
+    int32_t find(const std::string& n, Span span, graph::CompKind want, const char* what) const;
+    int32_t on_body() const { return find(on, decl.on->span, graph::CompKind::Body, "'on'"); }
+    const ast::Property* prop(const char* n) const;
+    // The component a reference property names, "" when it does not evaluate to a name.
+    std::string ref_name(const ast::Property& p) const;
+};
+
+// physics.cpp
+void lower_body(Lowering& lw);
+void lower_field(Lowering& lw);
+void lower_constraint(Lowering& lw);
+void link_field(Linking& lk);
+void link_constraint(Linking& lk);
+// graphics.cpp
+void lower_graphics(Lowering& lw);
+void link_graphics(Linking& lk);
+// state.cpp
+void lower_state(Lowering& lw);
+// plugin.cpp: any plugin kind (graph/plugin.h)
+void lower_plugin(Lowering& lw);
+// objects.cpp
+void lower_trigger(Lowering& lw);
+void lower_timer(Lowering& lw);
+void lower_gripper(Lowering& lw);
+void lower_source(Lowering& lw);
+void lower_exit(Lowering& lw);
+void lower_router(Lowering& lw);
+void lower_label(Lowering& lw);
+void link_trigger(Linking& lk);
+void link_gripper(Linking& lk);
+void link_exit(Linking& lk);
+
+}  // namespace plant::sema

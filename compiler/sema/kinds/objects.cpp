@@ -1,0 +1,176 @@
+// The kinds that sense, count and route objects: trigger, timer, gripper, source, exit,
+// router, label.
+#include "sema/kinds/lowering.h"
+
+#include "graph/build.h"
+#include "graph/kinds.h"
+
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+using graph::CompKind;
+using graph::Dir;
+using graph::SlotType;
+
+namespace {
+constexpr int32_t kMaxPool = 100000;
+}  // namespace
+
+void lower_trigger(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    graph::Trigger t;
+    t.comp = lw.comp;
+    t.body = -1;
+    if (const Value* e = lw.props.get("extent")) t.extent = vec(*e);
+    lw.positive_vec("extent");
+    t.pose = lw.frame.pose();
+    t.filter = -1;
+    if (const Value* f = lw.props.get("filter")) {
+        t.filter = el.do_type(f->str, f->span);
+        el.ref_types_[lw.slot_adr + graph::triggerslot::object] = t.filter;
+    }
+    g.triggers.push_back(t);
+    lw.set_detail(g.triggers.size());
+}
+
+void lower_timer(Lowering& lw) {
+    graph::Graph& g = lw.el.g_;
+    graph::Timer t;
+    t.comp = lw.comp;
+    t.period = lw.num("period", 0);
+    lw.positive("period");
+    t.periodic = lw.mode != "oneshot";
+    t.autostart = lw.boolean("autostart", false);
+    g.timers.push_back(t);
+    lw.set_detail(g.timers.size());
+}
+
+void lower_gripper(Lowering& lw) {
+    graph::Graph& g = lw.el.g_;
+    graph::Gripper gr;
+    gr.comp = lw.comp;
+    gr.trigger = gr.body = gr.graphics = -1;
+    g.grippers.push_back(gr);
+    lw.set_detail(g.grippers.size());
+}
+
+void lower_source(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    const ast::ComponentDecl& c = lw.decl;
+    graph::Source s;
+    s.comp = lw.comp;
+    s.do_type = -1;
+    s.pose = lw.frame.pose();
+    s.rate = lw.num("rate", 0);
+    if (const Value* r = lw.props.get("rate"); r && r->num < 0)
+        el.sink_.report(DiagId::OutOfRange, r->span, "'rate' cannot be negative");
+    int32_t pool = 0;
+    if (const Value* p = lw.props.get("pool")) {
+        if (p->num < 1 || p->num > kMaxPool)
+            el.sink_.report(p->num < 1 ? DiagId::NonPositive : DiagId::LoopTooLarge, p->span,
+                            fmt::format("'pool' must be between 1 and {}", kMaxPool));
+        else pool = static_cast<int32_t>(p->num);
+    }
+    s.pool_num = pool;  // the DOs are built by make_pools
+    s.pool_adr = -1;
+    if (const Value* t = lw.props.get("object")) {
+        s.do_type = el.do_type(t->str, t->span);
+        el.ref_types_[lw.slot_adr + graph::sourceslot::object] = s.do_type;
+    }
+    s.id_adr = static_cast<int32_t>(g.ids.size());
+    if (const Value* ids = lw.props.get("ids")) {
+        for (const auto& it : ids->items) g.ids.push_back({el.name(it.str)});
+        if (ids->items.empty()) el.sink_.report(DiagId::OutOfRange, ids->span, "'ids' is empty");
+    } else {
+        for (int32_t i = 1; i <= pool; ++i) g.ids.push_back({el.name(fmt::format("{}-{}", c.name.text, i))});
+    }
+    s.id_num = static_cast<int32_t>(g.ids.size()) - s.id_adr;
+    g.sources.push_back(s);
+    lw.set_detail(g.sources.size());
+}
+
+void lower_exit(Lowering& lw) {
+    graph::Graph& g = lw.el.g_;
+    g.exits.push_back({lw.comp, -1});
+    lw.set_detail(g.exits.size());
+}
+
+void lower_router(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    const ast::ComponentDecl& c = lw.decl;
+    const Env& env = lw.env;
+    std::map<std::string, int32_t> outs;
+    for (const auto& r : c.routes) {
+        auto it = outs.find(r.output.text);
+        if (it == outs.end()) {
+            if (graph::fixed_slot_index(CompKind::Router, r.output.text) >= 0) {
+                el.sink_.report(DiagId::DuplicateName, r.output.span,
+                                fmt::format("'{}' is the router's own input; name the entry otherwise", r.output.text));
+                continue;
+            }
+            it = outs.emplace(r.output.text, el.add_slot(lw.comp, r.output.text, SlotType::Void, Dir::Out, r.output.span)).first;
+        }
+        if (!r.pattern_expr) {
+            g.routes.push_back({lw.comp, el.name("*"), it->second});
+            continue;
+        }
+        // A string, or a list of strings (one entry each), from parameters and lets too.
+        Value v = el.ev_.eval(*r.pattern_expr, env);
+        if (v.kind == Value::Kind::None) continue;
+        std::vector<Value> patterns = v.kind == Value::Kind::List ? v.items : std::vector<Value>{v};
+        if (patterns.empty())
+            el.sink_.report(DiagId::ValueTypeMismatch, r.pattern_span,
+                            "a routing entry needs at least one pattern; this list is empty");
+        for (const Value& pv : patterns) {
+            if (!el.ev_.expect_string(pv, "a routing pattern")) break;
+            g.routes.push_back({lw.comp, el.name(pv.str), it->second});
+        }
+    }
+}
+
+void lower_label(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    graph::Label l{lw.comp, el.name(lw.props.get("value") ? lw.props.get("value")->str : "")};
+    g.labels.push_back(l);
+    lw.set_detail(g.labels.size());
+    graph::slot_value(g, lw.slot_adr + graph::labelslot::value) = l.value.id;
+}
+
+void link_trigger(Linking& lk) {
+    if (lk.decl.on) lk.el.g_.triggers[static_cast<size_t>(lk.rec.detail)].body = lk.on_body();
+}
+
+// A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
+void link_gripper(Linking& lk) {
+    graph::Graph& g = lk.el.g_;
+    auto& gr = g.grippers[static_cast<size_t>(lk.rec.detail)];
+    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
+        gr.trigger = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'");
+        if (gr.trigger >= 0) {
+            int32_t tslot = g.comps[static_cast<size_t>(g.triggers[static_cast<size_t>(gr.trigger)].comp)].slot_adr +
+                            graph::triggerslot::object;
+            if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
+                lk.el.ref_types_[lk.rec.slot_adr + graph::gripperslot::object] = it->second;
+        }
+    }
+    if (lk.decl.on) {
+        auto it = lk.scope.comps.find(lk.on);
+        if (it != lk.scope.comps.end() && g.comps[static_cast<size_t>(it->second)].kind == graph::CompKind::Graphics)
+            gr.graphics = g.comps[static_cast<size_t>(it->second)].detail;
+        else
+            gr.body = lk.on_body();
+    }
+}
+
+void link_exit(Linking& lk) {
+    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
+        lk.el.g_.exits[static_cast<size_t>(lk.rec.detail)].trigger =
+            lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'");
+}
+
+}  // namespace plant::sema

@@ -1,0 +1,240 @@
+// The physics kinds: `physics` (a rigid body and its shapes), `field` (the conveyor force
+// field), `constraint` (a joint between two bodies).
+#include "sema/kinds/lowering.h"
+
+#include "graph/build.h"
+#include "graph/hull.h"
+#include "graph/kinds.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+namespace plant::sema {
+
+using graph::CompKind;
+using graph::Dir;
+using graph::SlotType;
+
+namespace {
+
+// One shape of a body: its arguments checked, appended to Graph::shapes unless wrong.
+void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    const Env& env = lw.env;
+    graph::Shape sh;
+    sh.local = el.placement(sd.placement ? &*sd.placement : nullptr, env).pose();
+    std::vector<Value> a;
+    bool ok = true;
+    for (const auto& arg : sd.args) {
+        if (arg.name && ok)  // once per shape
+            el.sink_.report(DiagId::UnknownArgument, arg.name->span,
+                            fmt::format("shape arguments are given in order, without names: {}(...)", sd.kind.text));
+        ok = ok && !arg.name;
+        a.push_back(el.ev_.eval(*arg.value, env));
+        ok = ok && a.back().kind != Value::Kind::None;
+    }
+    if (!ok) return;
+    auto lengths = [&](size_t n, const char* form) {
+        if (a.size() != n) {
+            el.sink_.report(DiagId::BadShape, sd.span, fmt::format("{} takes {}", sd.kind.text, form));
+            return false;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            if (!el.ev_.expect_number(a[i], units::dims::length, fmt::format("{} size", sd.kind.text))) return false;
+            if (a[i].num <= 0) {
+                el.sink_.report(DiagId::NonPositive, a[i].span, fmt::format("{} sizes must be positive", sd.kind.text));
+                return false;
+            }
+            sh.size[i] = a[i].num;
+        }
+        return true;
+    };
+    const std::string& k = sd.kind.text;
+    if (k == "box") { sh.kind = graph::ShapeKind::Box; ok = lengths(3, "three full extents (x, y, z)"); }
+    else if (k == "sphere") { sh.kind = graph::ShapeKind::Sphere; ok = lengths(1, "a radius"); }
+    else if (k == "cylinder") { sh.kind = graph::ShapeKind::Cylinder; ok = lengths(2, "a radius and a height"); }
+    else if (k == "capsule") { sh.kind = graph::ShapeKind::Capsule; ok = lengths(2, "a radius and a height"); }
+    else if (k == "hull") {
+        sh.kind = graph::ShapeKind::Hull;
+        sh.point_adr = static_cast<int32_t>(g.points.size());
+        for (const auto& p : a) {
+            if (!el.ev_.expect_vec3(p, units::dims::length, "hull point")) { ok = false; break; }
+            g.points.push_back({vec(p)});
+        }
+        sh.point_num = static_cast<int32_t>(g.points.size()) - sh.point_adr;
+        if (ok && sh.point_num < 4) {
+            el.sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
+            ok = false;
+        } else if (const auto flaw = ok ? graph::hull_flaw(&g.points[size_t(sh.point_adr)], size_t(sh.point_num))
+                                        : graph::HullFlaw::None;
+                   flaw != graph::HullFlaw::None) {
+            auto& d = el.sink_.report(DiagId::BadShape, sd.span,
+                                      fmt::format("this convex hull encloses no volume: {}", graph::hull_flaw_text(flaw)));
+            d.notes.push_back({{}, "a hull needs four points not in one plane (points within 1 µm count as one)"});
+            ok = false;
+        }
+    } else {
+        auto& d = el.sink_.report(DiagId::BadShape, sd.kind.span, fmt::format("unknown shape '{}'", k));
+        if (auto hint = closest_name(k, {"box", "sphere", "cylinder", "capsule", "hull"}); !hint.empty())
+            d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+        else
+            d.notes.push_back({{}, "shapes: box, sphere, cylinder, capsule, hull"});
+        ok = false;
+    }
+    if (ok) g.shapes.push_back(sh);
+}
+
+}  // namespace
+
+void lower_body(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    const ast::ComponentDecl& c = lw.decl;
+    graph::Body b;
+    b.comp = lw.comp;
+    b.mode = lw.mode == "static" ? graph::BodyMode::Static
+           : lw.mode == "kinematic" ? graph::BodyMode::Kinematic : graph::BodyMode::Dynamic;
+    b.mass = lw.num("mass", 0);
+    if (b.mode == graph::BodyMode::Dynamic && !lw.props.has("mass"))
+        el.sink_.report(DiagId::MissingProperty, c.name.span,
+                        fmt::format("dynamic body '{}' needs a 'mass'", c.name.text));
+    lw.positive("mass");
+    if (const Value* in = lw.props.get("inertia")) {
+        b.inertia = vec(*in);
+        b.inertia_set = true;
+        lw.positive_vec("inertia");
+    }
+    b.friction = lw.num("friction", 0.5);
+    b.restitution = lw.num("restitution", 0);
+    b.linear_damping = lw.num("linear_damping", 0);
+    b.angular_damping = lw.num("angular_damping", 0);
+    for (const char* n : {"friction", "restitution", "linear_damping", "angular_damping"})
+        if (const Value* v = lw.props.get(n); v && v->num < 0)
+            el.sink_.report(DiagId::OutOfRange, v->span, fmt::format("'{}' cannot be negative", n));
+    b.collision = lw.boolean("collision", true);
+    b.dynamics = lw.boolean("dynamics", true);
+    b.pose = lw.frame.pose();
+    b.shape_adr = static_cast<int32_t>(g.shapes.size());
+    for (const auto& sd : c.shapes) lower_shape(lw, sd);
+    b.shape_num = static_cast<int32_t>(g.shapes.size()) - b.shape_adr;
+    if (c.shapes.empty())
+        el.sink_.report(DiagId::MissingProperty, c.name.span,
+                        fmt::format("body '{}' needs at least one shape, e.g. shape box(10 cm, 10 cm, 1 cm)", c.name.text));
+    g.bodies.push_back(b);
+    lw.set_detail(g.bodies.size());
+    // Output values start at the body's pose.
+    const auto& slots = g.slots;
+    auto put = [&](int idx, std::initializer_list<double> xs) {
+        int32_t adr = slots[static_cast<size_t>(lw.slot_adr + idx)].value_adr;
+        for (double x : xs) g.values[static_cast<size_t>(adr++)].v = x;
+    };
+    put(graph::bodyslot::pose, {b.pose.p[0], b.pose.p[1], b.pose.p[2], b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
+    put(graph::bodyslot::position, {b.pose.p[0], b.pose.p[1], b.pose.p[2]});
+    put(graph::bodyslot::orientation, {b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
+}
+
+void lower_field(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    graph::Field f;
+    f.comp = lw.comp;
+    f.body = -1;
+    if (const Value* e = lw.props.get("extent")) f.extent = vec(*e);
+    lw.positive_vec("extent");
+    f.pose = lw.frame.pose();
+    f.dir = {1, 0, 0};
+    if (const Value* dv = lw.props.get("direction")) {
+        Eigen::Vector3d d(dv->items[0].num, dv->items[1].num, dv->items[2].num);
+        if (d.norm() < 1e-12) el.sink_.report(DiagId::ZeroVector, dv->span, "'direction' is the zero vector");
+        else d.normalize();
+        f.dir = {d.x(), d.y(), d.z()};
+    }
+    f.speed = lw.num("speed", 0);
+    f.gain = lw.num("gain", 0);
+    lw.positive("gain");
+    f.max_force = lw.num("max_force", 0);  // 0 in the graph: unlimited
+    lw.positive("max_force");
+    f.enabled = lw.boolean("enabled", true);
+    g.fields.push_back(f);
+    lw.set_detail(g.fields.size());
+    graph::slot_value(g, lw.slot_adr + graph::fieldslot::speed) = f.speed;
+}
+
+void lower_constraint(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    const ast::ComponentDecl& c = lw.decl;
+    graph::Joint j;
+    j.comp = lw.comp;
+    j.kind = lw.mode == "hinge" ? graph::JointKind::Hinge : lw.mode == "slider" ? graph::JointKind::Slider : graph::JointKind::Fixed;
+    j.body_a = j.body_b = -1;
+    j.lower = 1;
+    j.upper = -1;  // free unless limited
+    units::Dim want = j.kind == graph::JointKind::Slider ? units::dims::length : units::dims::angle;
+    int limits = 0, written = 0;  // valid ones; written ones (a wrong one is reported once)
+    for (const char* n : {"lower", "upper"})
+        if (lw.props.has(n)) ++written;
+    for (const char* n : {"lower", "upper"})
+        if (const Value* v = lw.props.get(n)) {
+            if (j.kind == graph::JointKind::Fixed)
+                el.sink_.report(DiagId::UnknownProperty, v->span, fmt::format("a fixed constraint has no '{}' limit", n));
+            else if (el.ev_.expect_number(*v, want, fmt::format("'{}'", n)))
+                (std::string(n) == "lower" ? j.lower : j.upper) = v->num, ++limits;
+        }
+    if (written == 1 && j.kind != graph::JointKind::Fixed)
+        el.sink_.report(DiagId::LimitsIncomplete, c.name.span,
+                        fmt::format("constraint '{}' has one limit; give both 'lower' and 'upper', or neither for a free joint",
+                                    c.name.text));
+    else if (limits == 2 && j.lower > j.upper)
+        el.sink_.report(DiagId::LimitsIncomplete, lw.props.get("lower")->span,
+                        fmt::format("'lower' ({} {}) is above 'upper' ({} {})", j.lower, units::si_unit(want), j.upper,
+                                    units::si_unit(want)));
+    // The joint lw.frame: its z axis is the hinge axis, its x axis the slider axis.
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+    if (const Value* av = lw.props.get("axis")) {
+        axis = Eigen::Vector3d(av->items[0].num, av->items[1].num, av->items[2].num);
+        if (axis.norm() < 1e-12) {
+            el.sink_.report(DiagId::ZeroVector, av->span, "'axis' is the zero vector");
+            axis = Eigen::Vector3d::UnitZ();
+        }
+    }
+    Eigen::Vector3d base = j.kind == graph::JointKind::Slider ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
+    Frame jf = lw.frame;
+    jf.q = (lw.frame.q * Eigen::Quaterniond::FromTwoVectors(base, axis.normalized())).normalized();
+    j.frame_a = jf.pose();  // world for now; made relative in link_component
+    j.frame_b = jf.pose();
+    j.enabled = lw.boolean("enabled", true);
+    g.joints.push_back(j);
+    lw.set_detail(g.joints.size());
+}
+
+void link_field(Linking& lk) {
+    if (lk.decl.on) lk.el.g_.fields[static_cast<size_t>(lk.rec.detail)].body = lk.on_body();
+}
+
+// The joint frame, in world coordinates until now, becomes relative to each body.
+void link_constraint(Linking& lk) {
+    graph::Graph& g = lk.el.g_;
+    auto& j = g.joints[static_cast<size_t>(lk.rec.detail)];
+    auto body_frame = [&](int32_t body) {
+        const auto& p = g.bodies[static_cast<size_t>(body)].pose;
+        Frame f;
+        f.p = Eigen::Vector3d(p.p[0], p.p[1], p.p[2]);
+        f.q = Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]);
+        return f;
+    };
+    Frame world;
+    world.p = Eigen::Vector3d(j.frame_a.p[0], j.frame_a.p[1], j.frame_a.p[2]);
+    world.q = Eigen::Quaterniond(j.frame_a.q[3], j.frame_a.q[0], j.frame_a.q[1], j.frame_a.q[2]);
+    if (const auto* p = lk.prop("a"); p && !lk.ref_name(*p).empty())
+        j.body_a = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'a'");
+    if (const auto* p = lk.prop("b"); p && !lk.ref_name(*p).empty())
+        j.body_b = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'b'");
+    if (j.body_a >= 0) j.frame_a = (body_frame(j.body_a).inverse() * world).pose();
+    if (j.body_b >= 0) j.frame_b = (body_frame(j.body_b).inverse() * world).pose();
+    if (j.body_a >= 0 && j.body_a == j.body_b)
+        lk.el.sink_.report(DiagId::OutOfRange, lk.decl.name.span, "a constraint needs two different bodies");
+}
+
+}  // namespace plant::sema

@@ -1,0 +1,85 @@
+#include "engine/plugin.h"
+
+#include "engine/runtime.h"
+
+#include <utility>
+#include <vector>
+
+namespace plant::engine {
+namespace {
+
+std::vector<std::pair<std::string_view, const KindBehaviour*>>& behaviours() {
+    static std::vector<std::pair<std::string_view, const KindBehaviour*>> b;
+    return b;
+}
+
+}  // namespace
+
+bool register_plugin(const graph::KindDesc& desc, const KindBehaviour& behaviour) {
+    if ((desc.senses == graph::PluginPhase::Sensors) != (behaviour.sense != nullptr) ||
+        (desc.acts == graph::PluginPhase::Actuators) != (behaviour.act != nullptr) || behaviour.state_size < 0)
+        return false;
+    if (!graph::register_kind(desc)) return false;
+    behaviours().emplace_back(desc.word, &behaviour);
+    return true;
+}
+
+const KindBehaviour* find_behaviour(std::string_view word) {
+    for (const auto& [w, b] : behaviours())
+        if (w == word) return b;
+    return nullptr;
+}
+
+PluginCtx::PluginCtx(Runtime& r, int32_t plugin)
+    : r_(r), plugin_(plugin), slot_adr_(r.g.comps[r.g.plugins[plugin].comp].slot_adr) {}
+
+bool PluginCtx::active(int slot) const { return r_.st.act[slot_adr_ + slot] != 0; }
+double PluginCtx::value(int slot) const {
+    const int32_t adr = r_.tab.value_adr[slot_adr_ + slot];
+    return adr < 0 ? 0.0 : r_.st.values[adr];
+}
+std::span<const double> PluginCtx::values(int slot) const {
+    const int32_t s = slot_adr_ + slot;
+    const int32_t adr = r_.tab.value_adr[s];
+    if (adr < 0) return {};
+    return {r_.st.values.data() + adr, size_t(graph::slot_width(r_.g.slots[s].type))};
+}
+void PluginCtx::emit(int slot, double v) {
+    const int32_t s = slot_adr_ + slot;
+    if (r_.tab.value_adr[s] >= 0) *r_.val(s) = v;
+    r_.activate_out(s);
+}
+double PluginCtx::param(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].num; }
+std::string_view PluginCtx::text(int i) const {
+    return r_.g.str(r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].text);
+}
+std::span<double> PluginCtx::state() const {
+    const PluginRun& p = r_.tab.plugin_run[plugin_];
+    return {r_.st.plugin_state.data() + p.state_adr, size_t(p.behaviour->state_size)};
+}
+double PluginCtx::time() const { return r_.st.time; }
+double PluginCtx::dt() const { return r_.dt; }
+
+void start_plugins(Runtime& r) {
+    for (size_t i = 0; i < r.g.plugins.size(); ++i)
+        if (const auto* b = r.tab.plugin_run[i].behaviour; b->start) {
+            PluginCtx ctx(r, int32_t(i));
+            b->start(ctx);
+        }
+}
+
+void sense_plugins(Runtime& r) {
+    for (int32_t i : r.tab.sensing_plugins) {
+        PluginCtx ctx(r, i);
+        r.tab.plugin_run[i].behaviour->sense(ctx);
+    }
+}
+
+void act_plugin(Runtime& r, int32_t plugin) {
+    if (const auto* b = r.tab.plugin_run[plugin].behaviour; b->act) {
+        PluginCtx ctx(r, plugin);
+        b->act(ctx);
+    }
+}
+
+}  // namespace plant::engine

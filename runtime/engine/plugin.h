@@ -1,0 +1,54 @@
+// The runtime side of a plugin component kind (graph/plugin.h): its behaviour, as hooks
+// the step's phases call, and the narrow view of one component those hooks get. A kind
+// registers its descriptor and its behaviour together with register_plugin(), before
+// any plant is compiled or run (docs/architecture.md, "Adding a component kind").
+//
+// The hooks run inside the step: they must not allocate, block or keep pointers into
+// the view. What they emit goes the way every component output goes: an output emitted
+// in phase 2 is seen by this step's logic phase, one emitted in phase 5 by the next.
+#pragma once
+
+#include "graph/plugin.h"
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+namespace plant::engine {
+
+struct Runtime;
+
+// One plugin component while it runs. Slots are numbered as in the descriptor's table.
+class PluginCtx {
+public:
+    PluginCtx(Runtime& r, int32_t plugin);  // plugin: a row of Graph::plugins
+
+    bool active(int slot) const;  // an input activated this step, an output emitted
+    double value(int slot) const;  // the first (often only) number of the slot's value
+    std::span<const double> values(int slot) const;
+    void emit(int slot, double v);  // writes an output and makes it active
+    double param(int i) const;      // Number, Int, Bool (0/1) parameters, in declared order
+    std::string_view text(int i) const;  // a String parameter
+    std::span<double> state() const;     // KindBehaviour::state_size numbers, 0 at start
+    double time() const;  // simulated seconds at the start of this step
+    double dt() const;
+
+private:
+    Runtime& r_;
+    int32_t plugin_;
+    int32_t slot_adr_;
+};
+
+struct KindBehaviour {
+    int state_size = 0;                   // numbers of state per component
+    void (*start)(PluginCtx&) = nullptr;  // once per component, when the engine is built
+    void (*sense)(PluginCtx&) = nullptr;  // phase 2, every step (KindDesc::senses)
+    void (*act)(PluginCtx&) = nullptr;    // phase 5, in a step one of its inputs is active
+};
+
+// Registers the kind's descriptor (graph::register_kind) and its behaviour; false if the
+// descriptor is refused or a hook the descriptor's phases name is missing.
+bool register_plugin(const graph::KindDesc& desc, const KindBehaviour& behaviour);
+const KindBehaviour* find_behaviour(std::string_view word);
+
+}  // namespace plant::engine

@@ -1,0 +1,70 @@
+#include "plugin.h"
+
+#include <string>
+
+namespace plant::graph {
+namespace {
+
+std::vector<const KindDesc*>& registry() {
+    static std::vector<const KindDesc*> r;
+    return r;
+}
+
+template <class T>
+bool names_unique(std::span<const T> items) {
+    for (size_t i = 0; i < items.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (items[i].name == items[j].name) return false;
+    return true;
+}
+
+}  // namespace
+
+bool register_kind(const KindDesc& desc) {
+    CompKind builtin{};
+    // The words plant files use for the built-in kinds; a body is written `physics`.
+    if (desc.word.empty() || desc.word == "physics" || parse_word(desc.word, builtin) || find_plugin(desc.word) ||
+        !names_unique(desc.slots) || !names_unique(desc.params))
+        return false;
+    registry().push_back(&desc);
+    return true;
+}
+
+const KindDesc* find_plugin(std::string_view word) {
+    for (const KindDesc* d : registry())
+        if (d->word == word) return d;
+    return nullptr;
+}
+
+std::span<const KindDesc* const> plugins() { return registry(); }
+
+const KindDesc* plugin_of(const Graph& g, int32_t comp) {
+    if (comp < 0 || size_t(comp) >= g.comps.size()) return nullptr;
+    const Comp& c = g.comps[size_t(comp)];
+    if (c.kind != CompKind::Plugin || c.detail < 0 || size_t(c.detail) >= g.plugins.size()) return nullptr;
+    return find_plugin(g.str(g.plugins[size_t(c.detail)].kind));
+}
+
+std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp) {
+    if (const KindDesc* d = plugin_of(g, comp)) return d->slots;
+    if (comp < 0 || size_t(comp) >= g.comps.size()) return {};
+    return fixed_slots(g.comps[size_t(comp)].kind);
+}
+
+int param_index(const KindDesc& desc, std::string_view name) {
+    for (size_t i = 0; i < desc.params.size(); ++i)
+        if (desc.params[i].name == name) return int(i);
+    return -1;
+}
+
+std::string_view word(ParamType t) {
+    switch (t) {
+    case ParamType::Number: return "number";
+    case ParamType::Int: return "int";
+    case ParamType::Bool: return "bool";
+    case ParamType::String: return "string";
+    }
+    return "?";
+}
+
+}  // namespace plant::graph

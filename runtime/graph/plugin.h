@@ -1,0 +1,66 @@
+// Component kinds as plugins: a kind the core does not know, declared by one descriptor
+// that the compiler and the runtime share. The descriptor says what the kind is called in
+// plant files, its slots (the same SlotSpec table the built-in kinds have, graph/kinds.h),
+// its parameters and their documentation; the runtime adds the kind's behaviour
+// (engine/plugin.h). A new kind is therefore new files plus one registration line per side
+// (docs/architecture.md, "Adding a component kind").
+//
+// In the graph a plugin component is a Comp of kind CompKind::Plugin whose detail is a row
+// of `plugins` (its kind word and its parameters in `plugin_params`). Its slots are the
+// descriptor's, in order, at comp.slot_adr. The loader refuses a plugin component whose
+// kind this program has not registered, or whose slots or parameters differ from the
+// descriptor's.
+#pragma once
+
+#include "graph.h"
+#include "kinds.h"
+
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace plant::graph {
+
+enum class ParamType : uint8_t { Number, Int, Bool, String };
+
+struct ParamSpec {
+    std::string_view name;
+    ParamType type;
+    // Number: the SI unit its values are in ("m/s", "Hz"; "" for a plain number); the
+    // compiler checks a written value's dimension against it.
+    std::string_view unit;
+    bool required;
+    double default_num;  // Number, Int, Bool (0/1) when not required and not given
+    std::string_view doc;
+};
+
+// When the runtime calls the kind (docs/runtime.md, "The step").
+enum class PluginPhase : uint8_t { None, Sensors, Actuators };
+
+struct KindDesc {
+    std::string_view word;  // as written in plant files: `counter c { ... }`
+    std::string_view doc;   // one line: what the kind is
+    std::span<const SlotSpec> slots;
+    std::span<const ParamSpec> params;
+    PluginPhase senses = PluginPhase::None;  // Sensors: called every step in phase 2
+    PluginPhase acts = PluginPhase::None;    // Actuators: called in phase 5 when an input is active
+};
+
+// Registers a kind (before any plant is compiled or loaded); false if its word is taken by
+// a built-in kind or another plugin, or it declares a slot or parameter twice.
+bool register_kind(const KindDesc& desc);
+const KindDesc* find_plugin(std::string_view word);
+std::span<const KindDesc* const> plugins();
+
+// The descriptor of a plugin component, nullptr for a built-in kind or a broken graph.
+const KindDesc* plugin_of(const Graph& g, int32_t comp);
+// The slot table of any component: the fixed slots of a built-in kind, the descriptor's
+// slots of a plugin.
+std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp);
+
+// Where a parameter is in a component's `plugin_params`, -1 when the kind has none so named.
+int param_index(const KindDesc& desc, std::string_view name);
+
+std::string_view word(ParamType);
+
+}  // namespace plant::graph

@@ -1,0 +1,122 @@
+// graph/build.h: the layout rules the compiler and the runtime tests' SceneBuilder share.
+#include "graph/build.h"
+#include "graph/kinds.h"
+#include "graph/validate.h"
+
+#include <doctest/doctest.h>
+
+#include <vector>
+
+using namespace plant::graph;
+
+namespace {
+
+Graph plant_graph() {
+    Graph g;
+    g.settings.rate = 150;
+    g.plant = g.intern("Test");
+    add_do(g, "", -1, -1, {});
+    return g;
+}
+
+std::vector<double> values_of(const Graph& g, int32_t slot) {
+    const Slot& s = g.slots[size_t(slot)];
+    std::vector<double> out;
+    for (int i = 0; i < slot_width(s.type); ++i) out.push_back(g.values[size_t(s.value_adr + i)].v);
+    return out;
+}
+
+}  // namespace
+
+TEST_SUITE("graph build") {
+
+TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") {
+    Graph g = plant_graph();
+    const Src at{0, 3, 5};
+    const int32_t c = add_comp(g, 0, CompKind::Timer, "t", at);
+    const Comp& rec = g.comps[size_t(c)];
+    CHECK(g.str(rec.name) == "t");
+    CHECK(rec.kind == CompKind::Timer);
+    CHECK(rec.owner == 0);
+    CHECK(rec.detail == -1);
+    CHECK(rec.slot_adr == 0);
+    REQUIRE(rec.slot_num == int32_t(fixed_slots(CompKind::Timer).size()));
+    for (int32_t i = 0; i < rec.slot_num; ++i) {
+        const Slot& s = g.slots[size_t(rec.slot_adr + i)];
+        const SlotSpec& spec = fixed_slots(CompKind::Timer)[size_t(i)];
+        CAPTURE(spec.name);
+        CHECK(g.str(s.name) == spec.name);
+        CHECK(s.type == spec.type);
+        CHECK(s.dir == spec.dir);
+        CHECK(s.comp == c);
+        CHECK(s.src == at);
+    }
+    CHECK(g.str(g.slots[size_t(rec.slot_adr + timerslot::running)].name) == "running");
+}
+
+TEST_CASE("add_slot: after the fixed ones; value storage by type with its start value") {
+    Graph g = plant_graph();
+    const int32_t c = add_comp(g, 0, CompKind::Label, "l");
+    const int32_t fixed = g.comps[size_t(c)].slot_num;
+    const int32_t v = add_slot(g, c, "v", SlotType::Void, Dir::In);
+    const int32_t b = add_slot(g, c, "b", SlotType::Bool, Dir::Out);
+    const int32_t r = add_slot(g, c, "r", SlotType::Ref, Dir::Out);
+    const int32_t q = add_slot(g, c, "q", SlotType::Quat, Dir::Out);
+    const int32_t p = add_slot(g, c, "p", SlotType::Pose, Dir::Out);
+    CHECK(v == g.comps[size_t(c)].slot_adr + fixed);
+    CHECK(g.comps[size_t(c)].slot_num == fixed + 5);
+    CHECK(g.slots[size_t(v)].value_adr == -1);
+    CHECK(values_of(g, b) == std::vector<double>{0});
+    CHECK(values_of(g, r) == std::vector<double>{-1});  // no object
+    CHECK(values_of(g, q) == std::vector<double>{0, 0, 0, 1});
+    CHECK(values_of(g, p) == std::vector<double>{0, 0, 0, 0, 0, 0, 1});
+    // The label's fixed string slots read no text until written.
+    CHECK(values_of(g, g.comps[size_t(c)].slot_adr + labelslot::value) == std::vector<double>{-1});
+    slot_value(g, b) = 1;
+    CHECK(values_of(g, b) == std::vector<double>{1});
+    // Value storage is contiguous in slot order.
+    CHECK(g.slots[size_t(p)].value_adr + 7 == int32_t(g.values.size()));
+}
+
+TEST_CASE("add_do, add_comp: a DO's components are its range; ordinals count per type") {
+    Graph g = plant_graph();
+    g.do_types.push_back({g.intern("Box"), 0, {}});
+    const int32_t a = add_do(g, "a", 0, 0, {});
+    const int32_t c1 = add_comp(g, a, CompKind::Timer, "t1");
+    const int32_t c2 = add_comp(g, a, CompKind::Label, "l");
+    const int32_t empty = add_do(g, "e", 0, 0, {});
+    const int32_t b = add_do(g, "b", 0, -1, {});
+    add_comp(g, b, CompKind::Exit, "x");
+    CHECK(g.dos[size_t(a)].comp_adr == c1);
+    CHECK(g.dos[size_t(a)].comp_num == 2);
+    CHECK(c2 == c1 + 1);
+    CHECK(g.dos[size_t(empty)].comp_num == 0);
+    CHECK(g.dos[size_t(b)].comp_adr == c2 + 1);
+    CHECK(g.dos[size_t(b)].comp_num == 1);
+    CHECK(g.dos[size_t(a)].ordinal == 0);
+    CHECK(g.dos[size_t(empty)].ordinal == 1);
+    CHECK(g.do_types[0].instance_num == 2);
+    CHECK(g.dos[size_t(b)].ordinal == 0);
+    CHECK(g.dos[size_t(a)].pool == -1);
+}
+
+TEST_CASE("a graph built through the API keeps the loader's promises") {
+    Graph g = plant_graph();
+    const int32_t t = add_comp(g, 0, CompKind::Timer, "t");
+    g.timers.push_back({t, 0.5, true, true});
+    g.comps[size_t(t)].detail = 0;
+    const int32_t l = add_comp(g, 0, CompKind::Label, "l");
+    g.labels.push_back({l, g.intern("")});
+    g.comps[size_t(l)].detail = 0;
+    const int32_t tick = g.comps[size_t(t)].slot_adr + timerslot::tick;
+    const int32_t stop = g.comps[size_t(t)].slot_adr + timerslot::stop;
+    const int32_t f = add_flow(g, tick, stop, Cond::Source, true);
+    CHECK(g.flows[size_t(f)].from == tick);
+    CHECK(g.flows[size_t(f)].to == stop);
+    CHECK(g.flows[size_t(f)].once);
+    CHECK(g.flows[size_t(f)].from_access == -1);
+    GraphProblem problem;
+    CHECK_MESSAGE(validate(g, problem), problem.table << " " << problem.row << ": " << problem.message);
+}
+
+}  // TEST_SUITE

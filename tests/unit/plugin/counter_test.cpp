@@ -1,0 +1,139 @@
+// A plugin kind through the whole path: descriptor, compile (properties checked against
+// its parameters), graph text form and loader, runtime hooks in phases 2 and 5.
+#include "counter_kind.h"
+
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "graph/plugin.h"
+#include "graph/text.h"
+
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+using namespace plant;
+
+namespace {
+
+constexpr const char* kPlant = R"(plant Counting {
+    timer t: periodic { period = 100 ms; autostart = true }
+    counter c { start = 2; limit = 5; idle_after = 1 s }
+    flow t.tick -> c.add
+    flow c.reached -> t.stop
+}
+)";
+
+int32_t slot(const graph::Graph& g, std::string_view path) {
+    for (size_t s = 0; s < g.slots.size(); ++s)
+        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    FAIL("no slot " << path);
+    return -1;
+}
+
+std::string diagnostics(const std::string& text) {
+    Compilation c;
+    test::compile_text(text, c, "counter_bad.plant");
+    std::string out;
+    for (const auto& d : c.sink.all()) out += std::string(info(d.id).code) + " " + d.message + "\n";
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
+    test::register_counter_kind();
+    Compilation c;
+    test::compile_text(kPlant, c, "counter.plant");
+    REQUIRE(c.ok());
+    const graph::Graph& g = c.graph;
+    REQUIRE(g.plugins.size() == 1);
+    CHECK(g.str(g.plugins[0].kind) == "counter");
+    REQUIRE(g.plugins[0].param_num == 3);
+    CHECK(g.plugin_params[0].num == 2);   // start
+    CHECK(g.plugin_params[1].num == 5);   // limit
+    CHECK(g.plugin_params[2].num == 1.0);  // idle_after, in seconds
+
+    // The text form carries it, and reads back the same.
+    const std::string text = graph::to_text(g);
+    CHECK(text.find("count plugins 1\nplugin 0 comp=1 kind=\"counter\" param_adr=0 param_num=3\n") != std::string::npos);
+    graph::Graph loaded;
+    std::string error;
+    std::istringstream in(text);
+    REQUIRE_MESSAGE(graph::read_text(in, loaded, error), error);
+    CHECK(loaded.same_as(g));
+    CHECK(graph::to_text(loaded) == text);
+
+    // Runs: ticks at 0.1, 0.2, 0.3 s count 3, 4, 5; 5 is the limit, which stops the timer;
+    // a second after the last tick, idle.
+    engine::Engine e(loaded);
+    const int32_t value = slot(loaded, "c.value"), reached = slot(loaded, "c.reached"),
+                  idle = slot(loaded, "c.idle");
+    e.watch(value);
+    int reached_n = 0, idle_n = 0;
+    double idle_at = -1;
+    for (int i = 0; i < 2 * 150; ++i) {
+        e.step();
+        reached_n += e.active(reached);
+        if (e.active(idle)) idle_at = e.time(), ++idle_n;
+    }
+    CHECK(e.value(value)[0] == 5);
+    CHECK(reached_n == 1);
+    CHECK(idle_n == 1);
+    CHECK(idle_at == doctest::Approx(1.3).epsilon(0.02));
+    // An event reaches it like any input: reset, then one add.
+    e.input(slot(loaded, "c.reset"));
+    e.step();
+    CHECK(e.value(value)[0] == 2);
+}
+
+TEST_CASE("plugin kind: its properties are checked like a built-in kind's") {
+    test::register_counter_kind();
+    CHECK(diagnostics("plant P { counter c { start = 2 } }\n").find("E0304 counter 'c' needs the property 'limit'") !=
+          std::string::npos);
+    const std::string dim = diagnostics("plant P { counter c { limit = 3; idle_after = 2 m } }\n");
+    CHECK(dim.find("E0203") != std::string::npos);
+    CHECK(dim.find("idle_after") != std::string::npos);
+    CHECK(diagnostics("plant P { counter c { limit = 3; limt = 4 } }\n").find("E0106 counter has no property 'limt'") !=
+          std::string::npos);
+    CHECK(diagnostics("plant P { counter c { limit = 3; start = 1.5 } }\n").find("E0") != std::string::npos);
+    Compilation ms;
+    test::compile_text("plant P { counter c { limit = 3; idle_after = 500 ms } }\n", ms, "counter_ms.plant");
+    REQUIRE(ms.ok());
+    CHECK(ms.graph.plugin_params[2].num == 0.5);  // stored in the descriptor's unit, seconds
+    CHECK(diagnostics("plant P { countr c { limit = 3 } }\n").find("unknown component kind 'countr'") !=
+          std::string::npos);
+    const std::string slot_error = diagnostics("plant P { counter c { limit = 3 }\n flow c.value -> c.ad }\n");
+    CHECK(slot_error.find("counter component 'c' has no slot 'ad'") != std::string::npos);
+}
+
+TEST_CASE("plugin kind: the loader refuses what this program cannot run") {
+    test::register_counter_kind();
+    Compilation c;
+    test::compile_text(kPlant, c, "counter.plant");
+    REQUIRE(c.ok());
+    const std::string text = graph::to_text(c.graph);
+    auto load = [](std::string t) {
+        graph::Graph g;
+        std::string error;
+        std::istringstream in(t);
+        graph::read_text(in, g, error);
+        return error;
+    };
+    auto replaced = [&](std::string_view from, std::string_view to) {
+        std::string t = text;
+        const size_t at = t.find(from);
+        REQUIRE(at != std::string::npos);
+        return t.replace(at, from.size(), to);
+    };
+    CHECK(load(replaced("kind=\"counter\"", "kind=\"meter\"")).find("kind 'meter', which this program does not have") !=
+          std::string::npos);
+    CHECK(load(replaced("param_num=3", "param_num=2")).find("a counter has 3 parameters") != std::string::npos);
+    CHECK(load(replaced("plugin_param 1 num=5", "plugin_param 1 num=5.5")).find("'limit' of a counter is not a valid int") !=
+          std::string::npos);
+    // Built-in kinds' words are not for plugins, nor is a word twice.
+    static constexpr graph::KindDesc timer_again{"timer", "", {}, {}};
+    CHECK_FALSE(graph::register_kind(timer_again));
+    static constexpr graph::KindDesc physics_again{"physics", "", {}, {}};
+    CHECK_FALSE(graph::register_kind(physics_again));
+    CHECK_FALSE(graph::register_kind(*graph::find_plugin("counter")));
+}
