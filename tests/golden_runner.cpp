@@ -4,6 +4,8 @@
 //   NAME.err    the rendered diagnostics (present exactly when there are any)
 //   NAME.trace  the runtime trace (CSV), for a case that has a NAME.run file holding
 //               the `plant run` flags to use (e.g. `--for 2s --trace-rate 10Hz`)
+//   NAME.schedule the logic phase in order (`plant info --schedule`), for a case that
+//               has one (create it empty, then --update fills it)
 // A case with a NAME.set file is compiled with one `--set` per non-empty line of it
 // (`k=4 kg/s`), as `plant check --set k=4kg/s NAME.plant` would.
 // A file named fail_*.plant must produce errors, any other must not. Every graph must
@@ -20,6 +22,7 @@
 #include "engine/run.h"
 #include "fmt/formatter.h"
 #include "fmt_compare.h"
+#include "graph/network.h"
 #include "graph/text.h"
 
 #include <algorithm>
@@ -228,6 +231,10 @@ int main(int argc, char** argv) {
             fs::remove(tmp);
         }
         expect_file(base.string() + ".trace", trace, update, r, ok, "trace");
+        if (fs::exists(base.string() + ".schedule"))
+            expect_file(base.string() + ".schedule",
+                        c.ok() ? plant::graph::network_text(c.graph, plant::graph::analyse_network(c.graph)) : "", update,
+                        r, ok, "schedule");
         expect_file(base.string() + ".graph", graph, update, r, ok, "graph");
         expect_file(base.string() + ".err", err, update, r, ok, "diagnostics");
         if (!ok) {

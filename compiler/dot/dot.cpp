@@ -263,9 +263,8 @@ void Writer::edges() {
         if (in_range(g_.slots, li.slot)) negated[li.slot] = li.negated;
 
     for (const Flow& f : g_.flows) {
-        const int32_t from_slot = in_range(g_.accesses, f.from_access) ? g_.accesses[f.from_access].ref_slot : f.from;
-        const int32_t to_slot = in_range(g_.accesses, f.to_access) ? g_.accesses[f.to_access].ref_slot : f.to;
-        if (!slot_inside(from_slot) || !slot_inside(to_slot)) continue;
+        // A dynamic end is drawn at its reference slot, which from/to hold (the Flow contract).
+        if (!slot_inside(f.from) || !slot_inside(f.to)) continue;
         End from, to;
         if (in_range(g_.accesses, f.from_access)) from = {q("a" + std::to_string(f.from_access)), {}, {}};
         else if (in_range(ends_, f.from)) from = ends_[f.from];
@@ -349,8 +348,7 @@ public:
         // Flows bundled per (from node, to node).
         std::map<std::pair<std::string, std::string>, std::vector<std::string>> bundles;
         for (const Flow& fl : g_.flows) {
-            const int32_t a = in_range(g_.accesses, fl.from_access) ? g_.accesses[fl.from_access].ref_slot : fl.from;
-            const int32_t b = in_range(g_.accesses, fl.to_access) ? g_.accesses[fl.to_access].ref_slot : fl.to;
+            const int32_t a = fl.from, b = fl.to;  // a dynamic end: its reference slot
             const std::string from = node_of_slot(a), to = node_of_slot(b);
             if (from.empty() || to.empty() || from == to) continue;
             // The target slot names the flow well enough at this scale ("query", "MoveToBasePos.put").

@@ -3,6 +3,7 @@
 #include "ast/print.h"
 #include "compiler.h"
 #include "dot/dot.h"
+#include "graph/network.h"
 #include "graph/text.h"
 #include "driver/fmt.h"
 #include "driver/sweep/sweep.h"
@@ -83,13 +84,15 @@ tables of their slots, flows as edges, each Petri net as places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
-constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--stdlib DIR] [--set NAME=VALUE]... FILE...
+constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--schedule] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Compiles each FILE and prints one line of counts (objects, components, slots, flows,
 connectors, places, transitions, bodies, force fields, triggers, warnings), then the
 plant's parameters with their types and defaults (change them with --set NAME=VALUE).
 --slots also lists every input and output by its dotted path, direction and type: the
 objects' declared ports and the components' slots (the paths events address).
+--schedule also prints the logic phase as the runtime runs it: one line per flow,
+connector, router and label in order, then the flows delayed to cut a cycle (W0503).
 )";
 
 constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
@@ -149,6 +152,7 @@ struct Options {
     std::vector<std::string> rest;  // passed to `run`
     bool help = false;
     bool slots = false;  // info --slots
+    bool schedule = false;  // info --schedule
     bool full = false;   // graph --full
     std::string object;  // graph --object PATH
     bool has_object = false;
@@ -299,6 +303,10 @@ int cmd_info(const Options& o) {
             std::cout << "slots (direction, type, path; events address inputs by path):\n";
             print_slots(g, std::cout);
         }
+        if (o.schedule) {
+            std::cout << "logic phase (in order; a delayed flow acts in the next step):\n";
+            std::cout << plant::graph::network_text(g, plant::graph::analyse_network(g));
+        }
     }
     return ok ? 0 : 1;
 }
@@ -421,6 +429,7 @@ int run_command(int argc, char** argv) {
         };
         if (a == "-h" || a == "--help") o.help = true;
         else if (a == "--slots" && o.command == "info") o.slots = true;
+        else if (a == "--schedule" && o.command == "info") o.schedule = true;
         else if (a == "--full" && o.command == "graph") o.full = true;
         else if (a == "--object" && o.command == "graph") {
             if (i + 1 >= args.size()) return usage_error("--object needs an object's dotted path");

@@ -1,9 +1,10 @@
 // Whole-plant checks once every flow is known: Petri-net analysis, inputs nothing
-// drives and outputs that drive nothing, connector cycles. Warnings are reported per
+// drives and outputs that drive nothing, logic cycles. Warnings are reported per
 // declaration, so a type used many times warns once.
 #include "sema/elaborator.h"
 
 #include "graph/kinds.h"
+#include "graph/network.h"
 #include "petri/analysis.h"
 
 #include <fmt/format.h>
@@ -17,29 +18,13 @@ namespace {
 
 std::vector<bool> driven_inputs(const graph::Graph& g) {
     std::vector<bool> driven(g.slots.size(), false);
-    for (const auto& f : g.flows) {
-        if (f.to_access >= 0) {
-            const auto& a = g.accesses[static_cast<size_t>(f.to_access)];
-            for (int32_t i = 0; i < a.target_num; ++i)
-                driven[static_cast<size_t>(g.access_targets[static_cast<size_t>(a.target_adr + i)].v)] = true;
-        } else {
-            driven[static_cast<size_t>(f.to)] = true;
-        }
-    }
+    for (const auto& f : g.flows) graph::each_written_slot(g, f, [&](int32_t s) { driven[static_cast<size_t>(s)] = true; });
     return driven;
 }
 
 std::vector<bool> used_outputs(const graph::Graph& g) {
     std::vector<bool> used(g.slots.size(), false);
-    for (const auto& f : g.flows) {
-        if (f.from_access >= 0) {
-            const auto& a = g.accesses[static_cast<size_t>(f.from_access)];
-            for (int32_t i = 0; i < a.target_num; ++i)
-                used[static_cast<size_t>(g.access_targets[static_cast<size_t>(a.target_adr + i)].v)] = true;
-        } else {
-            used[static_cast<size_t>(f.from)] = true;
-        }
-    }
+    for (const auto& f : g.flows) graph::each_read_slot(g, f, [&](int32_t s) { used[static_cast<size_t>(s)] = true; });
     for (const auto& r : g.records) used[static_cast<size_t>(r.slot)] = true;
     return used;
 }
@@ -152,48 +137,18 @@ void Elaborator::check_unused() {
     }
 }
 
-// Connector -> flow -> connector chains that close on themselves.
+// Every cycle the runtime cuts (graph/network.h), at the flow it delays.
 void Elaborator::check_logic_cycles() {
-    const size_t n = g_.logics.size();
-    if (n == 0) return;
-    std::map<int32_t, int32_t> logic_of_input, logic_of_output;
-    for (size_t l = 0; l < n; ++l) {
-        const auto& lg = g_.logics[l];
-        logic_of_output[lg.out_slot] = static_cast<int32_t>(l);
-        for (int32_t i = 0; i < lg.in_num; ++i)
-            logic_of_input[g_.logic_inputs[static_cast<size_t>(lg.in_adr + i)].slot] = static_cast<int32_t>(l);
-    }
-    std::vector<std::vector<int32_t>> next(n);
-    for (const auto& f : g_.flows) {
-        if (f.from_access >= 0 || f.to_access >= 0) continue;
-        auto a = logic_of_output.find(f.from);
-        auto b = logic_of_input.find(f.to);
-        if (a != logic_of_output.end() && b != logic_of_input.end()) next[static_cast<size_t>(a->second)].push_back(b->second);
-    }
-    std::vector<int> state(n, 0);  // 0 new, 1 on stack, 2 done
-    for (size_t start = 0; start < n; ++start) {
-        if (state[start]) continue;
-        std::vector<std::pair<int32_t, size_t>> stack{{static_cast<int32_t>(start), 0}};
-        state[start] = 1;
-        while (!stack.empty()) {
-            auto& [v, i] = stack.back();
-            if (i < next[static_cast<size_t>(v)].size()) {
-                int32_t w = next[static_cast<size_t>(v)][i++];
-                if (state[static_cast<size_t>(w)] == 1) {
-                    int32_t comp = g_.logics[static_cast<size_t>(w)].comp;
-                    sink_.report(DiagId::LogicCycle, comp_spans_[comp],
-                                 fmt::format("connector '{}' feeds itself{}; the loop is evaluated with a one-step delay",
-                                             g_.str(g_.comps[static_cast<size_t>(comp)].name),
-                                             w == v ? "" : " through other connectors"));
-                } else if (state[static_cast<size_t>(w)] == 0) {
-                    state[static_cast<size_t>(w)] = 1;
-                    stack.push_back({w, 0});
-                }
-            } else {
-                state[static_cast<size_t>(v)] = 2;
-                stack.pop_back();
-            }
+    const graph::Network net = graph::analyse_network(g_);
+    for (size_t i = 0; i < net.delayed.size(); ++i) {
+        std::string through;
+        for (int32_t c : net.cycles[i]) {
+            const auto& comp = g_.comps[static_cast<size_t>(c)];
+            through += fmt::format("{}{} '{}'", through.empty() ? "" : ", ",
+                                   comp.kind == CompKind::Logic ? "connector" : graph::word(comp.kind), g_.str(comp.name));
         }
+        sink_.report(DiagId::LogicCycle, flow_spans_[static_cast<size_t>(net.delayed[i])],
+                     fmt::format("this flow closes a logic cycle through {}; it is evaluated with a one-step delay", through));
     }
 }
 

@@ -156,6 +156,7 @@ public:
     std::vector<PendingAccessFlow> pending_;
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
+    std::vector<Span> flow_spans_;  // by flow id (for warnings)
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
     long long expanded_ = 0;      // members produced by loops, against runaway loops
     long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included

@@ -174,16 +174,9 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
     PortInfo info;
     info.input = p.is_input;
     info.span = p.name.span;
-    static const std::vector<std::pair<std::string_view, SlotType>> kTypes = {
-        {"void", SlotType::Void}, {"bool", SlotType::Bool}, {"int", SlotType::Int},
-        {"real", SlotType::Real}, {"vec3", SlotType::Vec3}, {"quat", SlotType::Quat},
-        {"pose", SlotType::Pose}, {"string", SlotType::String}, {"ref", SlotType::Ref}};
-    bool known = false;
-    for (auto [w, t] : kTypes)
-        if (p.type.text == w) info.type = t, known = true;
-    if (!known) {
-        std::vector<std::string> words;
-        for (auto [w, t] : kTypes) words.emplace_back(w);
+    if (!graph::parse_word(p.type.text, info.type)) {
+        const auto all = graph::words<SlotType>();
+        const std::vector<std::string> words(all.begin(), all.end());
         auto& d = sink_.report(DiagId::UnknownType, p.type.span, fmt::format("unknown slot type '{}'", p.type.text));
         if (auto hint = closest_name(p.type.text, words); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
@@ -229,7 +222,10 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
                            int32_t to_access, graph::Cond cond, bool once, Span span) {
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
-        for (int32_t t : to) graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
+        for (int32_t t : to) {
+            graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
+            flow_spans_.push_back(span);
+        }
 }
 
 // A flow runs from an output to an input of the same type; otherwise one diagnostic.
@@ -259,8 +255,14 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
     if (f.condition && !graph::parse_word(f.condition->text, cond)) {
         auto& d = sink_.report(DiagId::BadCondition, f.condition->span,
                                fmt::format("unknown flow condition '{}'", f.condition->text));
-        d.notes.push_back({{}, "a flow runs `when source` (default), `when target`, `when both` or `when either`"});
-        if (auto hint = closest_name(f.condition->text, {"source", "target", "both", "either"}); !hint.empty())
+        const auto all = graph::words<graph::Cond>();
+        const std::vector<std::string> words(all.begin(), all.end());
+        std::string ways;
+        for (size_t i = 0; i < words.size(); ++i)
+            ways += fmt::format("{}`when {}`{}", i == 0 ? "" : i + 1 == words.size() ? " or " : ", ", words[i],
+                                i == 0 ? " (default)" : "");
+        d.notes.push_back({{}, "a flow runs " + ways});
+        if (auto hint = closest_name(f.condition->text, words); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
     }
     if (f.name) declare(scopes_[static_cast<size_t>(scope_do)], f.name->text, f.name->span);

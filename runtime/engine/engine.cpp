@@ -2,6 +2,7 @@
 
 #include "engine/runtime.h"
 #include "graph/kinds.h"
+#include "graph/network.h"
 
 #include <algorithm>
 
@@ -30,15 +31,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
       index(tab, graph.bodies.size()) {
     init_state(st, g, tab);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
-    for (const Flow& f : g.flows) {
-        if (f.from_access < 0) {
-            st.watched[f.from] = 1;
-            continue;
-        }
-        const Access& a = g.accesses[f.from_access];
-        st.watched[a.ref_slot] = 1;
-        for (int32_t i = 0; i < a.target_num; ++i) st.watched[g.access_targets[a.target_adr + i].v] = 1;
-    }
+    for (const Flow& f : g.flows) each_read_slot(g, f, [&](int32_t s) { st.watched[s] = 1; });
     for (const Record& rec : g.records) st.watched[rec.slot] = 1;
     refresh_observers();
 

@@ -1,12 +1,6 @@
 // The logic phase as a precomputed program: every flow, connector, router and label
-// once, in dependency order, so one step is a single pass without lookups.
-//
-// Order: a node that makes a slot active runs before the nodes that read that
-// activity (flows into a connector input before the connector, the connector before
-// flows from its output). A flow whose condition reads its target's activity runs
-// after the flows into that target whose condition does not. Ties go by node id.
-// A cycle is broken at its lowest-numbered flow, which becomes "delayed": it is
-// evaluated after all others and its effect lands in the next step (one step delay).
+// once, in the order and with the cycle cuts of the graph library's analysis
+// (graph/network.h), packed so one step is a single pass without lookups.
 #pragma once
 
 #include "engine/tables.h"

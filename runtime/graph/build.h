@@ -25,6 +25,7 @@ int32_t add_comp(Graph& g, int32_t owner, CompKind kind, std::string_view name, 
 // A dynamic slot of `comp`, which must be the last component added.
 int32_t add_slot(Graph& g, int32_t comp, std::string_view name, SlotType type, Dir dir, Src src = {});
 
+// A dynamic end (from_access/to_access >= 0) passes its access's ref_slot as from/to.
 int32_t add_flow(Graph& g, int32_t from, int32_t to, Cond cond, bool once, int32_t from_access = -1,
                  int32_t to_access = -1, Src src = {});
 

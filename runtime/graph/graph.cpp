@@ -174,4 +174,7 @@ PLANT_ENUM_WORDS(Cond, kCond, Either)
 PLANT_ENUM_WORDS(LogicOp, kLogicOp, Or)
 #undef PLANT_ENUM_WORDS
 
+template <> std::span<const std::string_view> words<SlotType>() { return kSlotType; }
+template <> std::span<const std::string_view> words<Cond>() { return kCond; }
+
 }  // namespace plant::graph

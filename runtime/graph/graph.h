@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -104,9 +105,11 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, value_adr) /* first double in Graph::values, -1 for void */          \
     F(Src, src)
 
+// A dynamic end (an Access) keeps its reference slot in from/to, so both always name a
+// slot; the slots the end may be are the access's targets (graph/network.h).
 #define PLANT_FIELDS_FLOW(F)                                                              \
-    F(int32_t, from)        /* output slot, or the ref slot when from_access >= 0 */      \
-    F(int32_t, to)          /* input slot */                                              \
+    F(int32_t, from)        /* output slot; the access's ref_slot when from_access >= 0 */ \
+    F(int32_t, to)          /* input slot; the access's ref_slot when to_access >= 0 */  \
     F(int32_t, from_access) /* Access id for a dynamically addressed source, -1 none */   \
     F(int32_t, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
     F(Cond, cond)                                                                         \
@@ -415,6 +418,11 @@ std::string_view word(ShapeKind);
 std::string_view word(JointKind);
 std::string_view word(Cond);
 std::string_view word(LogicOp);
+// Every word of an enum, in enumerator order (for "did you mean" and the lists in messages).
+template <class E>
+std::span<const std::string_view> words();
+template <> std::span<const std::string_view> words<SlotType>();
+template <> std::span<const std::string_view> words<Cond>();
 bool parse_word(std::string_view, SlotType&);
 bool parse_word(std::string_view, Dir&);
 bool parse_word(std::string_view, CompKind&);

@@ -2,6 +2,7 @@
 
 #include "hull.h"
 #include "kinds.h"
+#include "network.h"
 #include "plugin.h"
 
 #include <fmt/format.h>
@@ -264,16 +265,6 @@ private:
         });
     }
 
-    // The slots one end of a flow may be: the slot, or every target of its access.
-    template <class F>
-    bool each_end(int32_t slot, int32_t access, F&& f) {
-        if (access < 0) return f(slot);
-        const Access& a = g_.accesses[size_t(access)];
-        for (int32_t i = 0; i < a.target_num; ++i)
-            if (!f(g_.access_targets[size_t(a.target_adr + i)].v)) return false;
-        return true;
-    }
-
     // Accesses and their targets, then the flows whose ends go through them.
     bool flows() {
         if (!each("accesses", g_.accesses, [&](const Access& a, size_t) {
@@ -296,12 +287,19 @@ private:
                 !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
                 !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
                 return false;
+            // A dynamic end holds its access's reference slot: the one place the runtime reads it from.
+            if (f.from_access >= 0 && f.from != g_.accesses[size_t(f.from_access)].ref_slot)
+                return fail(fmt::format("field 'from' = {}: a dynamic source holds its access's ref_slot {}", f.from,
+                                        g_.accesses[size_t(f.from_access)].ref_slot));
+            if (f.to_access >= 0 && f.to != g_.accesses[size_t(f.to_access)].ref_slot)
+                return fail(fmt::format("field 'to' = {}: a dynamic target holds its access's ref_slot {}", f.to,
+                                        g_.accesses[size_t(f.to_access)].ref_slot));
             // A flow drives inputs: written into an output, the value would be lost or clobbered.
-            if (!each_end(f.to, f.to_access, [&](int32_t s) { return g_.slots[size_t(s)].dir == Dir::In; }))
+            if (!each_end_slot(g_, f.to, f.to_access, [&](int32_t s) { return g_.slots[size_t(s)].dir == Dir::In; }))
                 return fail("its target is not an input slot");
             // The runtime copies the target's width of values from the source.
             int width = -1;
-            bool same = each_end(f.to, f.to_access, [&](int32_t s) {
+            bool same = each_end_slot(g_, f.to, f.to_access, [&](int32_t s) {
                 const int w = slot_width(g_.slots[size_t(s)].type);
                 if (width >= 0 && w != width) return false;
                 width = w;
@@ -309,7 +307,7 @@ private:
             });
             if (!same) return fail("the slots its target may be differ in width");
             if (width <= 0) return true;
-            const bool fits = each_end(f.from, f.from_access,
+            const bool fits = each_end_slot(g_, f.from, f.from_access,
                                        [&](int32_t s) { return slot_width(g_.slots[size_t(s)].type) == width; });
             if (!fits) return fail(fmt::format("its source is not {} values wide, as its target is", width));
             return true;

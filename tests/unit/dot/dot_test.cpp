@@ -113,7 +113,7 @@ Graph sample() {
     g.accesses.push_back(a);
     f = Flow{};
     f.from = slot_of(g, body, "velocity");
-    f.to = -1;
+    f.to = a.ref_slot;  // a dynamic end holds its reference slot
     f.from_access = -1;
     f.to_access = 0;
     g.flows.push_back(f);  // 3: into the object the trigger sees

@@ -82,6 +82,11 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
     const int32_t void_out = first(g.slots, [](const Slot& s) { return s.type == SlotType::Void && s.dir == Dir::Out; });
     const int32_t body_comp = g.bodies[0].comp;
+    const int32_t dyn_from = first(g.flows, [](const Flow& f) { return f.from_access >= 0; });
+    const int32_t dyn_to = first(g.flows, [](const Flow& f) { return f.to_access >= 0; });
+    // A dynamic end holds its access's reference slot; any other slot is refused.
+    const std::string ref_from = std::to_string(g.accesses[size_t(g.flows[size_t(dyn_from)].from_access)].ref_slot);
+    const std::string ref_to = std::to_string(g.accesses[size_t(g.flows[size_t(dyn_to)].to_access)].ref_slot);
     const Access& a0 = g.accesses[0];
     const std::string n = std::to_string(g.do_types[size_t(a0.do_type)].instance_num - 1);
 
@@ -129,6 +134,10 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"variant", 0, "graphics", "-1", "field 'graphics' = -1 is not a row of graphics"},
         {"label", 0, "comp", std::to_string(body_comp), "that component is a body"},
         {"record", 0, "slot", "-2", "field 'slot' = -2 is not a row of slots"},
+        {"flow", dyn_from, "from", std::to_string(void_out),
+         "field 'from' = " + std::to_string(void_out) + ": a dynamic source holds its access's ref_slot " + ref_from},
+        {"flow", dyn_to, "to", std::to_string(vec_in),
+         "field 'to' = " + std::to_string(vec_in) + ": a dynamic target holds its access's ref_slot " + ref_to},
     };
     for (const Damage& d : cases) {
         CAPTURE(d.elem);

@@ -178,7 +178,7 @@ TEST_CASE("runtime: dynamic access flows address the slot of the object held in 
     const int32_t obj = b.S(trig, "object");
     int32_t to_set = b.access(obj, bottle, {b.S(l0, "set"), b.S(l1, "set")});
     int32_t from_value = b.access(obj, bottle, {b.S(l0, "value"), b.S(l1, "value")});
-    b.flow(b.S(text, "value"), b.S(l0, "set"), Cond::Source, false, -1, to_set);  // text -> object.code.set
+    b.flow(b.S(text, "value"), obj, Cond::Source, false, -1, to_set);  // text -> object.code.set
     b.flow(obj, b.S(sink, "set"), Cond::Source, false, from_value, -1);          // object.code.value -> sink
     Engine e(b.g);
     e.step();  // initial publication: the reference is still -1
