@@ -11,6 +11,9 @@
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
 #endif
+#ifdef PLANT_HAS_PLC
+#include "plc/run_link.h"
+#endif
 #ifdef PLANT_HAS_SERVE
 #include "serve/record.h"
 #include "serve/serve.h"
@@ -110,6 +113,10 @@ the real-time factor.
   --record FILE             write what the viewer needs (poses, graphics, status,
                             events) for `plant serve --replay FILE`
   --realtime                not faster than real time
+  --modbus-port N           serve the plant's PLC link over Modbus TCP on port N
+                            (0: a free port, printed; see docs/plc.md)
+  --modbus-host ADDR        the address it listens on (default 127.0.0.1)
+  --lockstep                step only as a Modbus client grants steps (docs/plc.md)
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
   --threads N               threads for a plant in several physics regions
                             (default: one per core; the results do not depend on it)
@@ -344,7 +351,19 @@ int cmd_run(const Options& o) {
         if (i + 1 >= o.rest.size()) return usage_error("--record needs a FILE");
         record = o.rest[++i];
     }
-    if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr);
+    plant::engine::RunLink* link = nullptr;
+#ifdef PLANT_HAS_PLC
+    plant::plc::LinkFlags link_flags;
+    std::string link_error;
+    if (!plant::plc::take_link_flags(rest, link_flags, link_error)) return usage_error(link_error);
+    std::unique_ptr<plant::plc::ServerLink> server;
+    if (link_flags.on && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
+        std::cerr << "plant run: error: " << link_error << "\n";
+        return 1;
+    }
+    link = server.get();
+#endif
+    if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr, nullptr, link);
 #ifdef PLANT_HAS_SERVE
     plant::view::ModelDirs dirs;
     dirs.plant_dir = std::filesystem::path(f).parent_path().string();
@@ -353,7 +372,7 @@ int cmd_run(const Options& o) {
         std::cerr << "plant run: error: --record: cannot write '" << record << "'\n";
         return 2;
     }
-    return plant::engine::run_main(g, rest, std::cout, std::cerr, &rec);
+    return plant::engine::run_main(g, rest, std::cout, std::cerr, &rec, link);
 #else
     return usage_error("this build has no viewer: --record is not available");
 #endif
@@ -444,7 +463,8 @@ int run_command(int argc, char** argv) {
             // Flags of `run` and `serve` that take a value.
             static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed",
                                                "--trace-rate", "--broadphase", "--threads", "--record",
-                                               "--port", "--host", "--viewer", "--models", "--speed"};
+                                               "--port", "--host", "--viewer", "--models", "--speed",
+                                               "--modbus-port", "--modbus-host"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");

@@ -59,8 +59,21 @@ public:
     virtual bool finished(const Engine& e, const RecordTally& tally, std::string& error) = 0;
 };
 
+// An external link that exchanges with the run only at step boundaries (the PLC link's
+// Modbus server, plc/server.h). Before each step: wait() (lock-step: until a client grants
+// the step; false with `error` ends the run, false without one: a SIGINT / SIGTERM came
+// while waiting) and before_step() (what its clients wrote,
+// through apply_event, after the step's timed events); after each step: after_step().
+class RunLink {
+public:
+    virtual ~RunLink() = default;
+    virtual bool wait(std::string& error) = 0;
+    virtual void before_step(Engine& e) = 0;
+    virtual void after_step(const Engine& e) = 0;
+};
+
 int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,
-             std::ostream& err, RunObserver* observer = nullptr);
+             std::ostream& err, RunObserver* observer = nullptr, RunLink* link = nullptr);
 
 // Objects with dynamic bodies: issued by sources, taken by exits, on the line, lost (left
 // the world), stalled over 30 s (the first few names of the last two).
