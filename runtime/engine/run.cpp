@@ -378,7 +378,13 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
             forces.applied(g, o.events[next_event], t_next);
             if (observer) observer->event(e, o.events[next_event]);
         }
-        if (link) link->before_step(e);
+        if (link) {
+            link->before_step(e);
+            for (const Event* ev : link->applied()) {
+                forces.applied(g, *ev, t_next);
+                if (observer) observer->event(e, *ev);
+            }
+        }
         e.step();
         if (link) link->after_step(e);
         counts.step(e);

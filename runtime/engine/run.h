@@ -22,6 +22,7 @@
 #include "graph/graph.h"
 
 #include <iosfwd>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,11 +65,14 @@ public:
 // the step; false with `error` ends the run, false without one: a SIGINT / SIGTERM came
 // while waiting) and before_step() (what its clients wrote,
 // through apply_event, after the step's timed events); after each step: after_step().
+// applied() lists the events the last before_step() applied: the run logs their forces in
+// its summary and hands them to its observer (a recording), as it does --event's.
 class RunLink {
 public:
     virtual ~RunLink() = default;
     virtual bool wait(std::string& error) = 0;
     virtual void before_step(Engine& e) = 0;
+    virtual std::span<const Event* const> applied() const = 0;
     virtual void after_step(const Engine& e) = 0;
 };
 

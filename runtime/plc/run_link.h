@@ -31,6 +31,7 @@ public:
     Server& server() { return server_; }
     bool wait(std::string& error) override { return !lockstep_ || server_.wait_for_step(error); }
     void before_step(engine::Engine& e) override { server_.before_step(e); }
+    std::span<const engine::Event* const> applied() const override { return server_.applied(); }
     void after_step(const engine::Engine& e) override { server_.after_step(e); }
     void set_lockstep(bool on) { lockstep_ = on; }
 

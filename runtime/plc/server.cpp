@@ -83,6 +83,7 @@ struct Server::Impl {
     std::vector<PendingFault> taken_faults;
     std::vector<int32_t> carry;         // void fires still to apply, one per step
     std::vector<engine::Event> events, force_events;
+    std::vector<const engine::Event*> applied_now;  // what the last before_step applied
     std::vector<uint8_t> applied_once;
     std::vector<double> last_value;
     std::vector<std::string> last_text;
@@ -126,6 +127,7 @@ struct Server::Impl {
         out.assign(size_t(regs), 0);
         snapshot.assign(size_t(regs), 0);
         status[kStatusLockstep - kStatusSteps] = opt.lockstep ? 1 : 0;  // before the first step too
+        applied_now.reserve(2 * n);
         clients.reserve(size_t(opt.max_clients));
         changes.reserve(256);
     }
@@ -356,7 +358,8 @@ struct Server::Impl {
                 }
             }
         }
-        int64_t applied = 0, rejected = 0;
+        int64_t rejected = 0;
+        applied_now.clear();
         for (size_t i = 0; i < taken.size(); ++i) {
             const Entry& en = map.entries[i];
             if (taken_faults[i].set) {
@@ -367,11 +370,11 @@ struct Server::Impl {
                 if (ev.mode == engine::ForceMode::Stuck && !std::isfinite(v)) {
                     ++rejected;
                 } else {
-                    ev.value[0] = en.type == SlotType::Int ? std::round(v) : en.type == SlotType::Real ? v : v != 0 ? 1 : 0;
-                    ev.value.resize(ev.mode == engine::ForceMode::Stuck ? 1 : 0);
+                    ev.value.resize(ev.mode == engine::ForceMode::Stuck ? 1 : 0);  // within its capacity
+                    if (!ev.value.empty())
+                        ev.value[0] = en.type == SlotType::Int ? std::round(v) : en.type == SlotType::Real ? v : v != 0 ? 1 : 0;
                     engine::apply_event(e, ev);
-                    ev.value.resize(1);
-                    ++applied;
+                    applied_now.push_back(&ev);
                 }
             }
             engine::Event& ev = events[i];
@@ -380,7 +383,7 @@ struct Server::Impl {
                     --carry[i];
                     ev.value.clear();
                     engine::apply_event(e, ev);
-                    ++applied;
+                    applied_now.push_back(&ev);
                 }
                 continue;
             }
@@ -400,11 +403,11 @@ struct Server::Impl {
             ev.value.assign(1, v);
             ev.text = taken[i].text;
             engine::apply_event(e, ev);
-            ++applied;
+            applied_now.push_back(&ev);
         }
-        if (applied || rejected) {
+        if (!applied_now.empty() || rejected) {
             std::lock_guard lock(mu);
-            stats.applied += applied;
+            stats.applied += int64_t(applied_now.size());
             stats.rejected += rejected;
         }
     }
@@ -455,6 +458,7 @@ bool Server::start(std::string& error) { return impl_->start(error); }
 int Server::port() const { return impl_->port; }
 void Server::stop() { impl_->shutdown(); }
 void Server::before_step(engine::Engine& e) { impl_->before_step(e); }
+std::span<const engine::Event* const> Server::applied() const { return impl_->applied_now; }
 void Server::after_step(const engine::Engine& e) { impl_->after_step(e); }
 bool Server::wait_for_step(std::string& error) { return impl_->wait_for_step(error); }
 const Map& Server::map() const { return impl_->map; }

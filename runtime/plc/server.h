@@ -11,11 +11,13 @@
 #pragma once
 
 #include "engine/engine.h"
+#include "engine/run_args.h"
 #include "graph/graph.h"
 #include "plc/map.h"
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace plant::plc {
@@ -56,6 +58,8 @@ public:
     void stop();
 
     void before_step(engine::Engine& e);
+    // The events the last before_step applied, in order (valid until the next one).
+    std::span<const engine::Event* const> applied() const;
     void after_step(const engine::Engine& e);
     // Lock-step: returns once a client has granted a step (holding register 60000); false
     // with `error` when none did within lockstep_timeout, or the server stopped; false

@@ -147,7 +147,12 @@ TEST_CASE("plc server: the fault block forces a mapped slot and releases it") {
     const int32_t on_stay = slot_of(g, "line[0].s2.sw.reader.volume.on_stay");
     REQUIRE(on_stay >= 0);
     REQUIRE(modbus_write_registers(c.ctx, plc::kFaultBase, 3, regs) == 3);
-    steps(s, e, 2);
+    s.before_step(e);  // the force, as the events file would say it (the run's summary lists it)
+    REQUIRE(s.applied().size() == 1);
+    CHECK(engine::format_event(g, *s.applied()[0]) == "0s force line[0].s2.sw.reader.volume.on_stay stuck on");
+    e.step();
+    s.after_step(e);
+    steps(s, e, 1);
     CHECK(e.forced(on_stay) == engine::ForceMode::Stuck);
     REQUIRE(modbus_read_input_bits(c.ctx, 0, 1, &bit) == 1);
     CHECK(bit == 1);
