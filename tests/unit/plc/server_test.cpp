@@ -26,6 +26,22 @@ void steps(plc::Server& s, engine::Engine& e, int n) {
     }
 }
 
+// The bottling plant, its server on bottling_map, a client connected.
+struct Served {
+    const graph::Graph& g = bottling_graph();
+    engine::Engine e{g};
+    plc::Server s{g, bottling_map(g)};
+    bool started = start(s);
+    PlcClient c{s.port()};
+    static bool start(plc::Server& server) {
+        std::string error;
+        const bool ok = server.start(error);
+        INFO(error);
+        REQUIRE(ok);
+        return ok;
+    }
+};
+
 int32_t field_named(const graph::Graph& g, const std::string& path) {
     for (size_t f = 0; f < g.fields.size(); ++f)
         if (g.comp_path(g.fields[f].comp) == path) return int32_t(f);
@@ -80,12 +96,10 @@ TEST_CASE("plc server: clients read outputs and drive inputs, exchanged only at 
 }
 
 TEST_CASE("plc server: requests outside the map or malformed get Modbus exceptions, and service goes on") {
-    const graph::Graph& g = bottling_graph();
-    engine::Engine e(g);
-    plc::Server s(g, bottling_map(g));
-    std::string error;
-    REQUIRE(s.start(error));
-    PlcClient c(s.port());
+    Served p;
+    engine::Engine& e = p.e;
+    plc::Server& s = p.s;
+    PlcClient& c = p.c;
     steps(s, e, 3);
     uint16_t r[16];
     uint8_t b[16];
@@ -131,12 +145,11 @@ TEST_CASE("plc server: requests outside the map or malformed get Modbus exceptio
 }
 
 TEST_CASE("plc server: the fault block forces a mapped slot and releases it") {
-    const graph::Graph& g = bottling_graph();
-    engine::Engine e(g);
-    plc::Server s(g, bottling_map(g));
-    std::string error;
-    REQUIRE(s.start(error));
-    PlcClient c(s.port());
+    Served p;
+    const graph::Graph& g = p.g;
+    engine::Engine& e = p.e;
+    plc::Server& s = p.s;
+    PlcClient& c = p.c;
     steps(s, e, 2);
     uint8_t bit = 1;
     REQUIRE(modbus_read_input_bits(c.ctx, 0, 1, &bit) == 1);
