@@ -86,13 +86,15 @@ tables of their slots, flows as edges, each Petri net as places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
-constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--stdlib DIR] [--set NAME=VALUE]... FILE...
+constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--modbus[=csv]] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Compiles each FILE and prints one line of counts (objects, components, slots, flows,
 connectors, places, transitions, bodies, force fields, triggers, warnings), then the
 plant's parameters with their types and defaults (change them with --set NAME=VALUE).
 --slots also lists every input and output by its dotted path, direction and type: the
 objects' declared ports and the components' slots (the paths events address).
+--modbus prints the plant's PLC link register map as a Markdown table (--modbus=csv: as
+CSV for a PLC project), then the link's control block (docs/plc.md).
 )";
 
 constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
@@ -156,6 +158,7 @@ struct Options {
     std::vector<std::string> rest;  // passed to `run`
     bool help = false;
     bool slots = false;  // info --slots
+    std::string modbus;  // info --modbus: "md" or "csv"
     bool full = false;   // graph --full
     std::string object;  // graph --object PATH
     bool has_object = false;
@@ -306,6 +309,16 @@ int cmd_info(const Options& o) {
             std::cout << "slots (direction, type, path; events address inputs by path):\n";
             print_slots(g, std::cout);
         }
+        if (!o.modbus.empty()) {
+#ifdef PLANT_HAS_PLC
+            const plant::plc::Map map = plant::plc::map_from_graph(g);
+            std::cout << "modbus (the PLC link's register map, docs/plc.md):\n"
+                      << plant::plc::format_map(map, g, o.modbus == "csv" ? plant::plc::MapFormat::Csv
+                                                                          : plant::plc::MapFormat::Markdown);
+#else
+            return usage_error("this build has no PLC link: --modbus is not available");
+#endif
+        }
     }
     return ok ? 0 : 1;
 }
@@ -440,6 +453,7 @@ int run_command(int argc, char** argv) {
         };
         if (a == "-h" || a == "--help") o.help = true;
         else if (a == "--slots" && o.command == "info") o.slots = true;
+        else if ((a == "--modbus" || a == "--modbus=csv") && o.command == "info") o.modbus = a == "--modbus" ? "md" : "csv";
         else if (a == "--full" && o.command == "graph") o.full = true;
         else if (a == "--object" && o.command == "graph") {
             if (i + 1 >= args.size()) return usage_error("--object needs an object's dotted path");

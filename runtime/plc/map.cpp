@@ -187,7 +187,7 @@ std::string format_map(const Map& map, const graph::Graph&, MapFormat format) {
                         fmt::format("{} {}", e.dir == Dir::In ? "in" : "out", type_name(e.type)),
                         std::string(encoding_name(e.encoding)), meaning(e)});
     }
-    rows.push_back({"holding register", fmt::format("{}", kAdvance), "(link) advance", "", "int16",
+    rows.push_back({"holding register", fmt::format("{}", kAdvance), "(link) advance", "", "uint16",
                     "lock-step: write N to run N more steps; reads the steps still to run"});
     rows.push_back({"input register", fmt::format("{}-{}", kStatusSteps, kStatusSteps + 1), "(link) steps", "", "uint32",
                     "steps run, high word first"});
