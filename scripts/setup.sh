@@ -12,6 +12,7 @@ PACKAGES=(
   libyaml-cpp-dev openmpi-bin libopenmpi-dev
   neovim
   clang libclang-rt-14-dev
+  libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.

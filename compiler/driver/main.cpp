@@ -12,6 +12,9 @@
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
 #endif
+#ifdef PLANT_HAS_PLC
+#include "plc/run_link.h"
+#endif
 #ifdef PLANT_HAS_SERVE
 #include "serve/record.h"
 #include "serve/serve.h"
@@ -84,7 +87,7 @@ tables of their slots, flows as edges, each Petri net as places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
-constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--schedule] [--stdlib DIR] [--set NAME=VALUE]... FILE...
+constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--schedule] [--modbus[=csv]] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Compiles each FILE and prints one line of counts (objects, components, slots, flows,
 connectors, places, transitions, bodies, force fields, triggers, warnings), then the
@@ -93,6 +96,8 @@ plant's parameters with their types and defaults (change them with --set NAME=VA
 objects' declared ports and the components' slots (the paths events address).
 --schedule also prints the logic phase as the runtime runs it: one line per flow,
 connector, router and label in order, then the flows delayed to cut a cycle (W0503).
+--modbus prints the plant's PLC link register map as a Markdown table (--modbus=csv: as
+CSV for a PLC project), then the link's control block (docs/plc.md).
 )";
 
 constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
@@ -113,6 +118,10 @@ the real-time factor.
   --record FILE             write what the viewer needs (poses, graphics, status,
                             events) for `plant serve --replay FILE`
   --realtime                not faster than real time
+  --modbus-port N           serve the plant's PLC link over Modbus TCP on port N
+                            (0: a free port, printed; see docs/plc.md)
+  --modbus-host ADDR        the address it listens on (default 127.0.0.1)
+  --lockstep                step only as a Modbus client grants steps (docs/plc.md)
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
   --threads N               threads for a plant in several physics regions
                             (default: one per core; the results do not depend on it)
@@ -153,6 +162,7 @@ struct Options {
     bool help = false;
     bool slots = false;  // info --slots
     bool schedule = false;  // info --schedule
+    std::string modbus;  // info --modbus: "md" or "csv"
     bool full = false;   // graph --full
     std::string object;  // graph --object PATH
     bool has_object = false;
@@ -307,6 +317,16 @@ int cmd_info(const Options& o) {
             std::cout << "logic phase (in order; a delayed flow acts in the next step):\n";
             std::cout << plant::graph::network_text(g, plant::graph::analyse_network(g));
         }
+        if (!o.modbus.empty()) {
+#ifdef PLANT_HAS_PLC
+            const plant::plc::Map map = plant::plc::map_from_graph(g);
+            std::cout << "modbus (the PLC link's register map, docs/plc.md):\n"
+                      << plant::plc::format_map(map, g, o.modbus == "csv" ? plant::plc::MapFormat::Csv
+                                                                          : plant::plc::MapFormat::Markdown);
+#else
+            return usage_error("this build has no PLC link: --modbus is not available");
+#endif
+        }
     }
     return ok ? 0 : 1;
 }
@@ -352,7 +372,19 @@ int cmd_run(const Options& o) {
         if (i + 1 >= o.rest.size()) return usage_error("--record needs a FILE");
         record = o.rest[++i];
     }
-    if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr);
+    plant::engine::RunLink* link = nullptr;
+#ifdef PLANT_HAS_PLC
+    plant::plc::LinkFlags link_flags;
+    std::string link_error;
+    if (!plant::plc::take_link_flags(rest, link_flags, link_error)) return usage_error(link_error);
+    std::unique_ptr<plant::plc::ServerLink> server;
+    if (link_flags.on && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
+        std::cerr << "plant run: error: " << link_error << "\n";
+        return 1;
+    }
+    link = server.get();
+#endif
+    if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr, nullptr, link);
 #ifdef PLANT_HAS_SERVE
     plant::view::ModelDirs dirs;
     dirs.plant_dir = std::filesystem::path(f).parent_path().string();
@@ -361,7 +393,7 @@ int cmd_run(const Options& o) {
         std::cerr << "plant run: error: --record: cannot write '" << record << "'\n";
         return 2;
     }
-    return plant::engine::run_main(g, rest, std::cout, std::cerr, &rec);
+    return plant::engine::run_main(g, rest, std::cout, std::cerr, &rec, link);
 #else
     return usage_error("this build has no viewer: --record is not available");
 #endif
@@ -430,6 +462,8 @@ int run_command(int argc, char** argv) {
         if (a == "-h" || a == "--help") o.help = true;
         else if (a == "--slots" && o.command == "info") o.slots = true;
         else if (a == "--schedule" && o.command == "info") o.schedule = true;
+        }
+        else if ((a == "--modbus" || a == "--modbus=csv") && o.command == "info") o.modbus = a == "--modbus" ? "md" : "csv";
         else if (a == "--full" && o.command == "graph") o.full = true;
         else if (a == "--object" && o.command == "graph") {
             if (i + 1 >= args.size()) return usage_error("--object needs an object's dotted path");
@@ -453,7 +487,8 @@ int run_command(int argc, char** argv) {
             // Flags of `run` and `serve` that take a value.
             static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed",
                                                "--trace-rate", "--broadphase", "--threads", "--record",
-                                               "--port", "--host", "--viewer", "--models", "--speed"};
+                                               "--port", "--host", "--viewer", "--models", "--speed",
+                                               "--modbus-port", "--modbus-host"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");

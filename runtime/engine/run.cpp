@@ -305,7 +305,7 @@ void summary(const Engine& e, const Tally& tally, const RecordTally& counts, dou
 }  // namespace
 
 int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
-             RunObserver* observer) {
+             RunObserver* observer, RunLink* link) {
     RunOptions o;
     std::string error;
     if (!parse_args(g, args, o, error)) {
@@ -361,8 +361,12 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     size_t next_event = 0;
     InterruptGuard interrupt;
     int stopped_by = 0;
+    std::string link_error;
     for (int64_t i = 0; i < steps; ++i) {
-        if ((stopped_by = InterruptGuard::requested())) {  // the step that ran last ends the run
+        stopped_by = InterruptGuard::requested();
+        const bool link_failed = !stopped_by && link && !link->wait(link_error);
+        if (link_failed && link_error.empty()) stopped_by = InterruptGuard::requested();  // while waiting
+        if (stopped_by || link_failed) {  // the step that ran last ends the run
             if (i > 0) counts.finish(e);
             if (trace && i > 0) trace->finish();
             if (trace && e.steps() % every != 0) trace->row();
@@ -374,7 +378,15 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
             forces.applied(g, o.events[next_event], t_next);
             if (observer) observer->event(e, o.events[next_event]);
         }
+        if (link) {
+            link->before_step(e);
+            for (const Event* ev : link->applied()) {
+                forces.applied(g, *ev, t_next);
+                if (observer) observer->event(e, *ev);
+            }
+        }
         e.step();
+        if (link) link->after_step(e);
         counts.step(e);
         if (trace) trace->step();
         if (i + 1 == steps) {  // what the last step produced after its logic phase counts too
@@ -411,6 +423,10 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
                    o.duration);
     summary(e, tally, counts, wall(), out);
     forces.print(e, out);
+    if (!link_error.empty()) {
+        fmt::print(err, "plant run: error: {}\n", link_error);
+        return 1;
+    }
     return stopped_by ? InterruptGuard::exit_code(stopped_by) : 0;
 }
 

@@ -22,6 +22,7 @@
 #include "graph/graph.h"
 
 #include <iosfwd>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,24 @@ public:
     virtual bool finished(const Engine& e, const RecordTally& tally, std::string& error) = 0;
 };
 
+// An external link that exchanges with the run only at step boundaries (the PLC link's
+// Modbus server, plc/server.h). Before each step: wait() (lock-step: until a client grants
+// the step; false with `error` ends the run, false without one: a SIGINT / SIGTERM came
+// while waiting) and before_step() (what its clients wrote,
+// through apply_event, after the step's timed events); after each step: after_step().
+// applied() lists the events the last before_step() applied: the run logs their forces in
+// its summary and hands them to its observer (a recording), as it does --event's.
+class RunLink {
+public:
+    virtual ~RunLink() = default;
+    virtual bool wait(std::string& error) = 0;
+    virtual void before_step(Engine& e) = 0;
+    virtual std::span<const Event* const> applied() const = 0;
+    virtual void after_step(const Engine& e) = 0;
+};
+
 int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,
-             std::ostream& err, RunObserver* observer = nullptr);
+             std::ostream& err, RunObserver* observer = nullptr, RunLink* link = nullptr);
 
 // Objects with dynamic bodies: issued by sources, taken by exits, on the line, lost (left
 // the world), stalled over 30 s (the first few names of the last two).

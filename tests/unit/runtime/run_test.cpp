@@ -240,3 +240,46 @@ TEST_CASE("runtime: an event after the end of the run is reported") {
     REQUIRE(run(g, {"--for", "1s", "--quiet", "--event", "5s line.state.other.put"}, out, err) >= 0);
     CHECK(err.find("after the end of the run") != std::string::npos);
 }
+
+namespace {
+
+// A link (engine::RunLink) that forces a slot before step `at` and grants `steps` steps.
+struct ScriptedLink : RunLink {
+    Event force;
+    int64_t at = 0, steps = 0, waits = 0;
+    std::vector<const Event*> now;
+    bool wait(std::string& error) override {
+        if (waits++ < steps) return true;
+        error = "no more steps granted";
+        return false;
+    }
+    void before_step(Engine& e) override {
+        now.clear();
+        if (e.steps() + 1 != at) return;
+        apply_event(e, force);
+        now.push_back(&force);
+    }
+    std::span<const Event* const> applied() const override { return now; }
+    void after_step(const Engine&) override {}
+};
+
+}  // namespace
+
+TEST_CASE("runtime: a link's forces are listed in the summary; a link that stops granting ends the run with its error") {
+    const Graph g = bottling_scene(2);
+    ScriptedLink link;
+    std::string error;
+    REQUIRE(parse_input(g, slot_index(g), "force line.reader.on_enter stuck on", link.force, error));
+    link.at = 50;
+    link.steps = 1000;
+    std::ostringstream out, err;
+    CHECK(run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out, err, nullptr, &link) == 0);
+    CHECK(out.str().find("forced:           1\n  line.reader.on_enter  stuck on        from 0.500 s to the end (1.000 s)") !=
+          std::string::npos);
+    link.steps = 30;
+    link.waits = 0;
+    std::ostringstream out2, err2;
+    CHECK(run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out2, err2, nullptr, &link) == 1);
+    CHECK(out2.str().find("steps:            30 at 100 Hz") != std::string::npos);
+    CHECK(err2.str() == "plant run: error: no more steps granted\n");
+}

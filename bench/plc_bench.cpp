@@ -1,0 +1,155 @@
+// plant_bench_plc: what a PLC polling the Modbus link costs the run.
+//
+// The bottling plant (one line) runs flat out with the link's server on a map of 100 input
+// registers (its first 100 int, real, bool and void outputs by path), once with no client
+// and once with one libmodbus client on its own thread reading all 100 registers every
+// 10 ms of wall time over loopback. The measured window is the wall time of the steps from
+// simulated time `warmup` to `warmup + window` (one line runs ~100x real time, so the
+// window is long enough for a few hundred reads); runs alternate, the ratio is that of the
+// medians: step time with the client / step time without. Target <= 1.05.
+//
+//   plant_bench_plc [--runs=3] [--warmup=60] [--window=240] [--rows]
+#include "compiler.h"
+#include "engine/engine.h"
+#include "engine/run_args.h"
+#include "plc/server.h"
+
+#include <modbus/modbus.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+struct Args {
+    int runs = 3;
+    double warmup = 60, window = 240;
+    bool rows = false;
+};
+
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+// 100 input registers: the plant's first int, real, bool and void outputs by path.
+plant::plc::Map hundred_registers(const plant::graph::Graph& g) {
+    using plant::graph::SlotType;
+    using plant::plc::Encoding;
+    const plant::engine::SlotIndex idx = plant::engine::slot_index(g);
+    std::vector<std::string> paths;
+    for (const auto& [path, t] : idx)
+        if (t.dir == plant::graph::Dir::Out && (t.type == SlotType::Int || t.type == SlotType::Real ||
+                                               t.type == SlotType::Bool || t.type == SlotType::Void))
+            paths.push_back(path);
+    std::sort(paths.begin(), paths.end());
+    plant::plc::Map m;
+    for (const std::string& p : paths) {
+        if (m.entries.size() == 100) break;
+        const SlotType type = idx.at(p).type;
+        const Encoding enc = type == SlotType::Int ? Encoding::Int16 : type == SlotType::Real ? Encoding::Scaled
+                             : type == SlotType::Bool ? Encoding::Bit : Encoding::Count;
+        plant::plc::Entry e;
+        std::string error;
+        plant::plc::make_entry(idx, {plant::plc::Table::InputRegister, int32_t(m.entries.size()), p, enc, 1000}, e, error);
+        m.entries.push_back(e);
+    }
+    return m;
+}
+
+// Wall seconds per simulated second over the window; the client's reads in it.
+double measure(const plant::graph::Graph& g, const plant::plc::Map& map, const Args& a, bool with_client, long& reads) {
+    plant::engine::Engine e(g);
+    plant::plc::Server server(g, map);
+    std::string error;
+    if (!server.start(error)) {
+        std::fprintf(stderr, "plc bench: %s\n", error.c_str());
+        std::exit(1);
+    }
+    std::atomic<bool> stop{false};
+    std::atomic<long> count{0};
+    std::thread client;
+    if (with_client)
+        client = std::thread([&] {
+            modbus_t* ctx = modbus_new_tcp("127.0.0.1", server.port());
+            if (!ctx || modbus_connect(ctx) != 0) {
+                std::fprintf(stderr, "plc bench: cannot connect\n");
+                std::exit(1);
+            }
+            uint16_t regs[100];
+            double next = now();
+            while (!stop) {
+                if (modbus_read_input_registers(ctx, 0, 100, regs) == 100) ++count;
+                next += 0.010;
+                const double wait = next - now();
+                if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+            }
+            modbus_close(ctx);
+            modbus_free(ctx);
+        });
+    auto step = [&] {
+        server.before_step(e);
+        e.step();
+        server.after_step(e);
+    };
+    while (e.time() < a.warmup) step();
+    const double t0 = now(), s0 = e.time();
+    const long r0 = count;
+    while (e.time() < s0 + a.window) step();
+    const double wall = now() - t0;
+    reads = count - r0;
+    stop = true;
+    if (client.joinable()) client.join();
+    return wall / (e.time() - s0);
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        const std::string s = argv[i];
+        auto val = [&](const char* k) { return s.rfind(k, 0) == 0 ? s.substr(std::string(k).size()) : std::string(); };
+        if (auto r = val("--runs="); !r.empty()) a.runs = std::max(1, std::atoi(r.c_str()));
+        else if (auto w = val("--warmup="); !w.empty()) a.warmup = std::atof(w.c_str());
+        else if (auto w2 = val("--window="); !w2.empty()) a.window = std::atof(w2.c_str());
+        else if (s == "--rows") a.rows = true;
+        else {
+            std::fprintf(stderr, "usage: plant_bench_plc [--runs=3] [--warmup=60] [--window=240] [--rows]\n");
+            return 2;
+        }
+    }
+    plant::Compilation c;
+    plant::CompileOptions opts;
+    opts.stdlib_dir = PLANT_SOURCE_DIR "/stdlib";
+    plant::compile_file(PLANT_SOURCE_DIR "/plants/bottling.plant", opts, c);
+    if (!c.ok()) {
+        std::fprintf(stderr, "plc bench: the bottling plant does not compile\n");
+        return 1;
+    }
+    const plant::plc::Map map = hundred_registers(c.graph);
+    std::vector<double> without, with;
+    long reads = 0;
+    for (int r = 0; r < a.runs; ++r) {
+        long none = 0, got = 0;
+        without.push_back(measure(c.graph, map, a, false, none));
+        with.push_back(measure(c.graph, map, a, true, got));
+        reads += got;
+        std::fprintf(stderr, "plc bench: run %d: %.4f vs %.4f wall s per simulated s (%ld reads)\n", r + 1, without.back(),
+                     with.back(), got);
+    }
+    const double ratio = median(with) / median(without);
+    if (!a.rows) std::printf("| area | case | measured | target | met |\n|---|---|---|---|---|\n");
+    std::printf("| plc link | step time, one Modbus client reading 100 registers every 10 ms / none (bottling, %zu entries; "
+                "%ld reads) | x%.3f | <= 1.05 | %s |\n",
+                map.entries.size(), reads / a.runs, ratio, ratio <= 1.05 ? "yes" : "no");
+    return 0;
+}

@@ -1,0 +1,49 @@
+// The PLC link in `plant run` (docs/plc.md): the flags that start the Modbus server and
+// the server as the run's engine::RunLink.
+//
+//   --modbus-port N      serve on port N (0: a free one, printed)
+//   --modbus-host ADDR   the IPv4 address to listen on (default 127.0.0.1)
+//   --lockstep           step only as clients grant steps (holding register 60000)
+#pragma once
+
+#include "engine/run.h"
+#include "plc/server.h"
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plant::plc {
+
+struct LinkFlags {
+    bool on = false;  // any of the flags given
+    ServerOptions server;
+};
+// Takes the link's flags out of `args` (the rest go to engine::run_main); false with
+// `error` for a flag without a value or a bad value.
+bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::string& error);
+
+class ServerLink : public engine::RunLink {
+public:
+    ServerLink(const graph::Graph& g, Map map, ServerOptions options) : server_(g, std::move(map), std::move(options)) {}
+    bool start(std::string& error) { return server_.start(error); }
+    Server& server() { return server_; }
+    bool wait(std::string& error) override { return !lockstep_ || server_.wait_for_step(error); }
+    void before_step(engine::Engine& e) override { server_.before_step(e); }
+    std::span<const engine::Event* const> applied() const override { return server_.applied(); }
+    void after_step(const engine::Engine& e) override { server_.after_step(e); }
+    void set_lockstep(bool on) { lockstep_ = on; }
+
+private:
+    Server server_;
+    bool lockstep_ = false;
+};
+
+// The link for a run of `g` with `flags`: its map from the graph (map_from_graph), checked,
+// the server started; one line on `err` says where it listens. Null with `error` when the
+// map has errors or the server cannot listen.
+std::unique_ptr<ServerLink> start_link(const graph::Graph& g, const LinkFlags& flags, std::ostream& err,
+                                       std::string& error);
+
+}  // namespace plant::plc
