@@ -40,6 +40,9 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
         for (int32_t i = 0; i < a.target_num; ++i) st.watched[g.access_targets[a.target_adr + i].v] = 1;
     }
     for (const Record& rec : g.records) st.watched[rec.slot] = 1;
+    for (const PluginEntry& e : g.plugin_entries)  // outputs a plugin component reads
+        for (int32_t k = 0; k < e.slot_num; ++k)
+            if (const int32_t s = g.plugin_entry_slots[e.slot_adr + k].v; g.slots[s].dir == Dir::Out) st.watched[s] = 1;
     refresh_observers();
 
     // References start empty.
