@@ -71,6 +71,7 @@ compItem
     | placeDecl ';'?
     | transitionDecl ';'?
     | routeDecl ';'?
+    | entryDecl ';'?
     | componentDecl
     ;
 
@@ -90,6 +91,9 @@ transitionDecl : 'transition' ID ':' arcList? '->' arcList? ;
 arcList        : arc ('+' arc)* ;
 arc            : (NUMBER '*'?)? ID ;
 routeDecl      : (expr | '*') '=>' ID ;   // a string, or a list of strings, or '*'
+// coil 3 => s1.to_working(pulse = 1): an entry of a plugin kind's table; the kind's
+// descriptor names the words it takes (docs/architecture.md)
+entryDecl      : ID expr '=>' path args? ;
 
 placement : 'at' expr rotation* | rotation+ ;
 rotation  : 'rotate' axis 'by' expr ;

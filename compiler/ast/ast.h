@@ -130,6 +130,16 @@ struct RouteDecl {
     Span span;
 };
 
+// `coil 3 => s1.to_working(pulse = 1)`: an entry of a plugin kind's table, whose
+// descriptor names the words it takes (graph/plugin.h: EntrySpec).
+struct EntryDecl {
+    Ident word;
+    ExprPtr key;
+    Path target;
+    std::vector<Arg> options;
+    Span span;
+};
+
 struct ComponentDecl {
     Ident kind;
     Ident name;
@@ -144,6 +154,7 @@ struct ComponentDecl {
     std::vector<TransitionDecl> transitions;
     std::vector<RouteDecl> routes;
     std::vector<ComponentDecl> children;  // child graphics
+    std::vector<EntryDecl> entries;       // plugin kinds' entries
     Span span;
 };
 

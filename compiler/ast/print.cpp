@@ -95,6 +95,14 @@ public:
         }
         for (const auto& r : c.routes)
             line(d + 1, fmt::format("route {} => {}", r.pattern_expr ? expr(r.pattern_expr.get()) : "*", r.output.text), r.span);
+        for (const auto& e : c.entries) {
+            std::string a;
+            for (size_t i = 0; i < e.options.size(); ++i)
+                a += (i ? ", " : "") + (e.options[i].name ? e.options[i].name->text + " = " : "") +
+                     expr(e.options[i].value.get());
+            line(d + 1, fmt::format("entry {} {} => {}{}", e.word.text, expr(e.key.get()), path(e.target),
+                                    a.empty() ? "" : " (" + a + ")"), e.span);
+        }
         for (const auto& ch : c.children) component(d + 1, ch);
     }
 

@@ -202,6 +202,11 @@ private:
         for (const auto& v : k.variants) expr(v.model.get());
         for (const auto& pl : k.places) expr(pl.initial.get());
         for (const auto& r : k.routes) expr(r.pattern_expr.get());
+        for (const auto& e : k.entries) {  // a plugin kind's: `coil 3 => s1.to_working (...)`
+            expr(e.key.get());
+            path(e.target, &o);
+            for (const auto& a : e.options) expr(a.value.get());
+        }
         for (const auto& p : k.properties)
             if ((p.name.text == "object" || p.name.text == "filter") && p.value &&
                 (p.value->kind == ast::ExprKind::Name || p.value->kind == ast::ExprKind::Call))

@@ -370,6 +370,14 @@ public:
                 r.output = ident(x->ID());
                 r.span = span(x);
                 d.routes.push_back(std::move(r));
+            } else if (auto* x = item->entryDecl()) {
+                ast::EntryDecl e;
+                e.word = ident(x->ID());
+                e.key = expr(x->expr());
+                e.target = path(x->path());
+                if (x->args()) e.options = args(x->args());
+                e.span = span(x);
+                d.entries.push_back(std::move(e));
             } else if (auto* x = item->componentDecl()) {
                 d.children.push_back(component(x));
             }

@@ -228,6 +228,7 @@ void Elaborator::check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& s
     misplaced(spec.places, c.transitions, "transitions");
     misplaced(spec.routes, c.routes, "routes");
     misplaced(spec.children, c.children, "child components");
+    misplaced(spec.plugin && !spec.plugin->entries.empty(), c.entries, "entries");
     if (c.on && !spec.on)
         sink_.report(DiagId::WrongComponentKind, c.on->span,
                      fmt::format("a {} component cannot be attached with 'on'", spec.word));

@@ -546,6 +546,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         else if (auto* f = std::get_if<ast::FlowDecl>(it.member)) add_flow(*f, *it.env, do_id);
         else if (auto* r = std::get_if<ast::RecordDecl>(it.member)) add_record(s, *r, *it.env);
     }
+    for (auto [comp, it] : made) add_entries(comp, std::get<ast::ComponentDecl>(*it->member), *it->env, do_id);
 }
 
 // Pooled objects of a source: built now, contiguous DO ids, outside the world until issued.

@@ -123,6 +123,10 @@ public:
 
     // resolve.cpp
     Endpoint resolve(int32_t scope_do, const ast::Path& path, const Env& env);
+    // A plugin component's entries (sema/kinds/plugin.cpp), with the flows of its scope.
+    void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do);
+    bool entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
+                       std::vector<graph::PluginParam>& out);
     void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
     void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);
     bool flow_ends_fit(const Endpoint& from, graph::Dir from_dir, graph::SlotType from_type, const Endpoint& to,

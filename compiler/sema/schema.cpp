@@ -124,9 +124,7 @@ KindSpec plugin_spec(const graph::KindDesc& d) {
     for (const graph::ParamSpec& p : d.params) {
         PropSpec ps{p.name, T::Number, {}, p.required, p.doc};
         switch (p.type) {
-        case graph::ParamType::Number:
-            if (auto u = units::parse_unit(p.unit)) ps.dim = u->dim;
-            break;
+        case graph::ParamType::Number: ps.dim = param_dim(p); break;
         case graph::ParamType::Int: ps.type = T::Int; break;
         case graph::ParamType::Bool: ps.type = T::Bool; break;
         case graph::ParamType::String: ps.type = T::String; break;
@@ -158,6 +156,12 @@ std::vector<std::string> kind_words() {
     for (const auto& k : kinds()) out.emplace_back(k.word);
     for (const graph::KindDesc* d : graph::plugins()) out.emplace_back(d->word);
     return out;
+}
+
+units::Dim param_dim(const graph::ParamSpec& p) {
+    if (p.type != graph::ParamType::Number || p.unit.empty()) return {};
+    auto u = units::parse_unit(p.unit);
+    return u ? u->dim : units::Dim{};
 }
 
 std::span<const graph::SlotSpec> kind_slots(const KindSpec& k) {

@@ -36,6 +36,9 @@ struct KindSpec {
     const graph::KindDesc* plugin = nullptr;  // a plugin kind (graph/plugin.h): its descriptor
 };
 
+// The dimension a plugin parameter's unit names (dimensionless when it names none).
+units::Dim param_dim(const graph::ParamSpec& p);
+
 // The slots a component of this kind starts with: the fixed slots, or a plugin's.
 std::span<const graph::SlotSpec> kind_slots(const KindSpec& k);
 

@@ -33,6 +33,9 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
     for (const Flow& f : g.flows) each_read_slot(g, f, [&](int32_t s) { st.watched[s] = 1; });
     for (const Record& rec : g.records) st.watched[rec.slot] = 1;
+    for (const PluginEntry& e : g.plugin_entries)  // outputs a plugin component reads
+        for (int32_t k = 0; k < e.slot_num; ++k)
+            if (const int32_t s = g.plugin_entry_slots[e.slot_adr + k].v; g.slots[s].dir == Dir::Out) st.watched[s] = 1;
     refresh_observers();
 
     // References start empty.

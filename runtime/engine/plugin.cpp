@@ -57,6 +57,24 @@ std::span<double> PluginCtx::state() const {
     const PluginRun& p = r_.tab.plugin_run[plugin_];
     return {r_.st.plugin_state.data() + p.state_adr, size_t(p.behaviour->state_size)};
 }
+int PluginCtx::entry_count() const { return r_.g.plugins[plugin_].entry_num; }
+std::string_view PluginCtx::entry_word(int e) const {
+    return r_.g.str(r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e].word);
+}
+int32_t PluginCtx::entry_key(int e) const { return r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e].key; }
+bool PluginCtx::entry_active(int e) const {
+    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
+    return r_.st.act[r_.g.plugin_entry_slots[x.slot_adr].v] != 0;
+}
+double PluginCtx::entry_value(int e) const {
+    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
+    const int32_t adr = r_.tab.value_adr[r_.g.plugin_entry_slots[x.slot_adr].v];
+    return adr < 0 ? 0.0 : r_.st.values[adr];
+}
+double PluginCtx::entry_option(int e, int k) const {
+    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
+    return r_.g.plugin_params[x.param_adr + k].num;
+}
 double PluginCtx::time() const { return r_.st.time; }
 double PluginCtx::dt() const { return r_.dt; }
 

@@ -30,6 +30,14 @@ public:
     double param(int i) const;      // Number, Int, Bool (0/1) parameters, in declared order
     std::string_view text(int i) const;  // a String parameter
     std::span<double> state() const;     // KindBehaviour::state_size numbers, 0 at start
+    // Its entries (graph/plugin.h: EntrySpec), in declaration order. An entry that reads an
+    // output: whether that output is active in this step, and its value.
+    int entry_count() const;
+    std::string_view entry_word(int e) const;
+    int32_t entry_key(int e) const;
+    bool entry_active(int e) const;
+    double entry_value(int e) const;
+    double entry_option(int e, int k) const;
     double time() const;  // simulated seconds at the start of this step
     double dt() const;
 

@@ -303,7 +303,21 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, comp)                                                               \
     F(Name, kind)          /* the kind's word, e.g. "counter" */                   \
     F(int32_t, param_adr)  /* into plugin_params */                                \
-    F(int32_t, param_num)
+    F(int32_t, param_num)                                                          \
+    F(int32_t, entry_adr)  /* into plugin_entries */                               \
+    F(int32_t, entry_num)
+
+// An entry of a plugin component's table (`coil 3 => s1.to_working(pulse = 1)`): its
+// word, its key, the slots its target names (an input port: every input it forwards to),
+// its options in the order the entry's spec declares them.
+#define PLANT_FIELDS_PLUGINENTRY(F)                                                \
+    F(Name, word)                                                                  \
+    F(int32_t, key)                                                                \
+    F(int32_t, slot_adr)   /* into plugin_entry_slots */                           \
+    F(int32_t, slot_num)                                                           \
+    F(int32_t, param_adr)  /* into plugin_params */                                \
+    F(int32_t, param_num)                                                          \
+    F(Src, src)
 
 #define PLANT_FIELDS_PARAM(F) \
     F(double, num)            \
@@ -350,12 +364,14 @@ constexpr int slot_width(SlotType t) {
     X(ports, Port, port, PLANT_FIELDS_PORT)                           \
     X(port_targets, PortTarget, port_target, PLANT_FIELDS_INT)       \
     X(plugins, Plugin, plugin, PLANT_FIELDS_PLUGIN)                  \
-    X(plugin_params, PluginParam, plugin_param, PLANT_FIELDS_PARAM)
+    X(plugin_params, PluginParam, plugin_param, PLANT_FIELDS_PARAM)  \
+    X(plugin_entries, PluginEntry, plugin_entry, PLANT_FIELDS_PLUGINENTRY) \
+    X(plugin_entry_slots, PluginEntrySlot, plugin_entry_slot, PLANT_FIELDS_INT)
 
 // Tables the text form leaves out when they are empty (the loader then reads them as
 // empty): a graph without plugin components reads and writes as before plugins existed.
 constexpr bool optional_table(std::string_view member) {
-    return member == "plugins" || member == "plugin_params";
+    return member.starts_with("plugin");
 }
 
 #define PLANT_DECLARE_FIELD(type, field) type field{};

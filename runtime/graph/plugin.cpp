@@ -26,6 +26,11 @@ bool register_kind(const KindDesc& desc) {
     if (desc.word.empty() || desc.word == "physics" || parse_word(desc.word, builtin) || find_plugin(desc.word) ||
         !names_unique(desc.slots) || !names_unique(desc.params))
         return false;
+    for (size_t i = 0; i < desc.entries.size(); ++i) {
+        if (!names_unique(desc.entries[i].options) || desc.entries[i].max_key < 0) return false;
+        for (size_t j = 0; j < i; ++j)
+            if (desc.entries[i].word == desc.entries[j].word) return false;
+    }
     registry().push_back(&desc);
     return true;
 }
@@ -55,6 +60,12 @@ int param_index(const KindDesc& desc, std::string_view name) {
     for (size_t i = 0; i < desc.params.size(); ++i)
         if (desc.params[i].name == name) return int(i);
     return -1;
+}
+
+const EntrySpec* find_entry(const KindDesc& desc, std::string_view word) {
+    for (const EntrySpec& e : desc.entries)
+        if (e.word == word) return &e;
+    return nullptr;
 }
 
 std::string_view word(ParamType t) {

@@ -34,6 +34,19 @@ struct ParamSpec {
     std::string_view doc;
 };
 
+// An entry a plugin kind's table takes: `WORD KEY => PATH (OPTION = VALUE, ...)`, e.g. a
+// Modbus link's `coil 3 => s1.to_working`. KEY is an integer from 0 to max_key; PATH names
+// a slot or port of the direction the entry takes (In: the entry drives inputs; Out: it
+// reads an output), of one of `types` (any when empty).
+struct EntrySpec {
+    std::string_view word;
+    std::string_view doc;
+    Dir target;
+    std::span<const SlotType> types;
+    std::span<const ParamSpec> options;
+    int32_t max_key = 65535;
+};
+
 // When the runtime calls the kind (docs/runtime.md, "The step").
 enum class PluginPhase : uint8_t { None, Sensors, Actuators };
 
@@ -42,6 +55,7 @@ struct KindDesc {
     std::string_view doc;   // one line: what the kind is
     std::span<const SlotSpec> slots;
     std::span<const ParamSpec> params;
+    std::span<const EntrySpec> entries = {};
     PluginPhase senses = PluginPhase::None;  // Sensors: called every step in phase 2
     PluginPhase acts = PluginPhase::None;    // Actuators: called in phase 5 when an input is active
 };
@@ -60,6 +74,7 @@ std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp);
 
 // Where a parameter is in a component's `plugin_params`, -1 when the kind has none so named.
 int param_index(const KindDesc& desc, std::string_view name);
+const EntrySpec* find_entry(const KindDesc& desc, std::string_view word);
 
 std::string_view word(ParamType);
 

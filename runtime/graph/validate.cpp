@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 #include <type_traits>
@@ -238,19 +239,57 @@ private:
             if (p.param_num != int32_t(d->params.size()))
                 return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
                                         p.param_num));
-            if (!range("param_adr", p.param_adr, p.param_num, g_.plugin_params.size(), "plugin_params")) return false;
-            for (size_t k = 0; k < d->params.size(); ++k) {
-                const ParamSpec& ps = d->params[k];
-                const PluginParam& v = g_.plugin_params[size_t(p.param_adr) + k];
-                const bool ok = ps.type == ParamType::String ? v.text.id >= 0
-                                : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
-                                : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
-                                                             : true;
-                if (!ok)
-                    return fail(fmt::format("parameter '{}' of a {} is not a valid {}", ps.name, d->word, word(ps.type)));
-            }
+            if (!range("param_adr", p.param_adr, p.param_num, g_.plugin_params.size(), "plugin_params") ||
+                !params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word)) ||
+                !range("entry_adr", p.entry_adr, p.entry_num, g_.plugin_entries.size(), "plugin_entries"))
+                return false;
+            for (int32_t k = 0; k < p.entry_num; ++k)
+                if (!plugin_entry(*d, g_.plugin_entries[size_t(p.entry_adr + k)], p.entry_adr + k)) return false;
             return true;
         });
+    }
+
+    // Parameters (or an entry's options) as their specs declare them.
+    bool params_valid(std::span<const ParamSpec> specs, int32_t adr, const std::string& of) {
+        for (size_t k = 0; k < specs.size(); ++k) {
+            const ParamSpec& ps = specs[k];
+            const PluginParam& v = g_.plugin_params[size_t(adr) + k];
+            const bool ok = ps.type == ParamType::String ? v.text.id >= 0
+                            : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
+                            : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
+                                                         : true;
+            if (!ok) return fail(fmt::format("parameter '{}' {} is not a valid {}", ps.name, of, word(ps.type)));
+        }
+        return true;
+    }
+
+    // An entry: a word of the kind, a key in range, its target slots of the entry's direction
+    // and types, its options.
+    bool plugin_entry(const KindDesc& d, const PluginEntry& e, int32_t row) {
+        const std::string where = fmt::format("plugin entry {}", row);
+        const EntrySpec* es = find_entry(d, g_.str(e.word));
+        if (!es) return fail(fmt::format("{}: a {} takes no entry '{}'", where, d.word, g_.str(e.word)));
+        if (e.key < 0 || e.key > es->max_key)
+            return fail(fmt::format("{}: key {} is not between 0 and {}", where, e.key, es->max_key));
+        if (e.slot_num < 1 || (es->target == Dir::Out && e.slot_num != 1))
+            return fail(fmt::format("{}: a '{}' entry names {} slot{}, {}", where, es->word,
+                                    es->target == Dir::Out ? "one" : "at least one", es->target == Dir::Out ? "" : "s",
+                                    fmt::format("field 'slot_num' is {}", e.slot_num)));
+        if (!range("slot_adr", e.slot_adr, e.slot_num, g_.plugin_entry_slots.size(), "plugin_entry_slots")) return false;
+        for (int32_t k = 0; k < e.slot_num; ++k) {
+            const int32_t s = g_.plugin_entry_slots[size_t(e.slot_adr + k)].v;
+            if (!id("slot", s, g_.slots.size(), "slots")) return false;
+            const Slot& sl = g_.slots[size_t(s)];
+            const bool type_ok = es->types.empty() || std::find(es->types.begin(), es->types.end(), sl.type) != es->types.end();
+            if (sl.dir != es->target || !type_ok)
+                return fail(fmt::format("{}: slot {} is {} {}, which a '{}' entry cannot name", where, s, word(sl.type),
+                                        word(sl.dir), es->word));
+        }
+        if (e.param_num != int32_t(es->options.size()))
+            return fail(fmt::format("{}: a '{}' entry has {} options, field 'param_num' is {}", where, es->word,
+                                    es->options.size(), e.param_num));
+        return range("param_adr", e.param_adr, e.param_num, g_.plugin_params.size(), "plugin_params") &&
+               params_valid(es->options, e.param_adr, fmt::format("of a '{}' entry", es->word));
     }
 
     bool slots() {

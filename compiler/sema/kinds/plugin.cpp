@@ -1,7 +1,12 @@
 // Lowering a component of a plugin kind (graph/plugin.h). The generic part has checked its
 // properties against the descriptor's parameters (type, dimension, required) and added
-// the descriptor's slots; what is left is storing the parameters in the declared order.
+// the descriptor's slots; what is left is storing the parameters in the declared order,
+// and later, with the flows of its scope, its entries.
 #include "sema/kinds/lowering.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
 
 namespace plant::sema {
 
@@ -23,6 +28,149 @@ void lower_plugin(Lowering& lw) {
     }
     g.plugins.push_back(rec);
     lw.set_detail(g.plugins.size());
+}
+
+}  // namespace plant::sema
+
+namespace plant::sema {
+namespace {
+
+std::string_view dir_text(graph::Dir d) { return d == graph::Dir::In ? "an input" : "an output"; }
+
+std::string types_text(std::span<const graph::SlotType> types) {
+    std::string s;
+    for (size_t i = 0; i < types.size(); ++i)
+        s += std::string(i == 0 ? "" : i + 1 == types.size() ? " or " : ", ") + std::string(graph::word(types[i]));
+    return s;
+}
+
+}  // namespace
+
+// The entries of a plugin component, once every slot of the plant can be named: the word
+// one the kind takes, the key an integer in range, the target a slot or port of the entry's
+// direction and types, the options known, set once and of their type and dimension.
+void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do) {
+    const graph::KindDesc* kind = graph::plugin_of(g_, comp);
+    if (!kind || c.entries.empty()) return;
+    const size_t plugin = static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail);
+    g_.plugins[plugin].entry_adr = static_cast<int32_t>(g_.plugin_entries.size());
+    for (const ast::EntryDecl& e : c.entries) {
+        const graph::EntrySpec* es = graph::find_entry(*kind, e.word.text);
+        if (!es) {
+            std::vector<std::string> words;
+            for (const auto& x : kind->entries) words.emplace_back(x.word);
+            auto& d = sink_.report(DiagId::UnknownProperty, e.word.span,
+                                   fmt::format("a {} takes no entry '{}'", kind->word, e.word.text));
+            if (auto hint = closest_name(e.word.text, words); !hint.empty())
+                d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+            else
+                d.notes.push_back({{}, fmt::format("its entries: {}", fmt::join(words, ", "))});
+            continue;
+        }
+        const Value key = ev_.eval(*e.key, env);
+        if (!ev_.expect_int(key, fmt::format("the key of a '{}' entry", es->word))) continue;
+        if (key.num < 0 || key.num > es->max_key) {
+            sink_.report(DiagId::OutOfRange, e.key->span,
+                         fmt::format("the key of a '{}' entry is between 0 and {}, not {}", es->word, es->max_key,
+                                     static_cast<long long>(key.num)));
+            continue;
+        }
+        const Endpoint end = resolve(scope_do, e.target, env);
+        if (!end.ok) continue;
+        if (end.ref_slot >= 0) {
+            sink_.report(DiagId::NotARef, e.target.span,
+                         fmt::format("an entry names a slot of a fixed object; '{}' belongs to whichever object the "
+                                     "reference holds at run time", end.text));
+            continue;
+        }
+        if (end.dir != es->target) {
+            sink_.report(DiagId::DirectionMismatch, e.target.span,
+                         fmt::format("a '{}' entry names {}, but '{}' is {}", es->word, dir_text(es->target), end.text,
+                                     dir_text(end.dir)));
+            continue;
+        }
+        if (!es->types.empty() && std::find(es->types.begin(), es->types.end(), end.type) == es->types.end()) {
+            sink_.report(DiagId::SlotTypeMismatch, e.target.span,
+                         fmt::format("a '{}' entry takes a {} slot, but '{}' is {}", es->word, types_text(es->types),
+                                     end.text, graph::word(end.type)));
+            continue;
+        }
+        std::vector<graph::PluginParam> options;
+        if (!entry_options(e, *es, env, options)) continue;
+        graph::PluginEntry rec;
+        rec.word = name(es->word);
+        rec.key = static_cast<int32_t>(key.num);
+        rec.slot_adr = static_cast<int32_t>(g_.plugin_entry_slots.size());
+        rec.slot_num = static_cast<int32_t>(end.slots.size());
+        for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({s});
+        rec.param_adr = static_cast<int32_t>(g_.plugin_params.size());
+        rec.param_num = static_cast<int32_t>(options.size());
+        g_.plugin_params.insert(g_.plugin_params.end(), options.begin(), options.end());
+        rec.src = src(e.span);
+        g_.plugin_entries.push_back(rec);
+    }
+    g_.plugins[plugin].entry_num = static_cast<int32_t>(g_.plugin_entries.size()) - g_.plugins[plugin].entry_adr;
+}
+
+// `(name = value, ...)` of an entry, in the order its spec declares them, defaults filled in.
+bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
+                               std::vector<graph::PluginParam>& out) {
+    std::vector<const Value*> given(es.options.size(), nullptr);
+    std::vector<Value> values(es.options.size());
+    bool ok = true;
+    for (const ast::Arg& a : e.options) {
+        if (!a.name) {
+            sink_.report(DiagId::UnknownArgument, a.span,
+                         fmt::format("an entry's options are named: `({} = ...)`",
+                                     es.options.empty() ? std::string("name") : std::string(es.options[0].name)));
+            ok = false;
+            continue;
+        }
+        auto it = std::find_if(es.options.begin(), es.options.end(), [&](const auto& o) { return o.name == a.name->text; });
+        if (it == es.options.end()) {
+            std::vector<std::string> names;
+            for (const auto& o : es.options) names.emplace_back(o.name);
+            auto& d = sink_.report(DiagId::UnknownArgument, a.name->span,
+                                   fmt::format("a '{}' entry has no option '{}'", es.word, a.name->text));
+            if (auto hint = closest_name(a.name->text, names); !hint.empty())
+                d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+            ok = false;
+            continue;
+        }
+        const size_t k = static_cast<size_t>(it - es.options.begin());
+        if (given[k]) {
+            sink_.report(DiagId::DuplicateProperty, a.name->span, fmt::format("option '{}' is given twice", a.name->text));
+            ok = false;
+            continue;
+        }
+        values[k] = ev_.eval(*a.value, env);
+        given[k] = &values[k];
+        const std::string what = fmt::format("option '{}'", it->name);
+        switch (it->type) {
+        case graph::ParamType::Number: ok = ev_.expect_number(values[k], param_dim(*it), what) && ok; break;
+        case graph::ParamType::Int: ok = ev_.expect_int(values[k], what) && ok; break;
+        case graph::ParamType::Bool: ok = ev_.expect_bool(values[k], what) && ok; break;
+        case graph::ParamType::String: ok = ev_.expect_string(values[k], what) && ok; break;
+        }
+    }
+    for (size_t k = 0; k < es.options.size(); ++k) {
+        const graph::ParamSpec& ps = es.options[k];
+        if (!given[k] && ps.required) {
+            sink_.report(DiagId::MissingProperty, e.span,
+                         fmt::format("a '{}' entry needs the option '{}' ({})", es.word, ps.name, ps.doc));
+            ok = false;
+        }
+        graph::PluginParam p{ps.default_num, graph::Name{}};
+        if (const Value* v = given[k]) {
+            if (ps.type == graph::ParamType::String) p.text = name(v->str);
+            else if (ps.type == graph::ParamType::Bool) p.num = v->boolean ? 1 : 0;
+            else p.num = v->num;
+        } else if (ps.type == graph::ParamType::String) {
+            p.text = name("");
+        }
+        out.push_back(p);
+    }
+    return ok;
 }
 
 }  // namespace plant::sema

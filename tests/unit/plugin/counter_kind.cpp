@@ -26,7 +26,15 @@ constexpr std::array kParams = {
     graph::ParamSpec{"limit", ParamType::Int, "", true, 0, "the count at which `reached` fires"},
     graph::ParamSpec{"idle_after", ParamType::Number, "s", false, 0, "time without `add` before `idle`; 0: never"},
 };
-constexpr graph::KindDesc kDesc{"counter", "counts pulses (a kind of the tests)", kSlots, kParams,
+constexpr std::array kTapTypes = {SlotType::Void};
+constexpr std::array kTapOptions = {
+    graph::ParamSpec{"weight", ParamType::Int, "", false, 1, "added per active step"},
+};
+constexpr std::array kEntries = {
+    graph::EntrySpec{"tap", "a void output whose activity counts", Dir::Out, kTapTypes, kTapOptions, 99},
+    graph::EntrySpec{"notify", "inputs a controller would drive", Dir::In, {}, {}, 99},
+};
+constexpr graph::KindDesc kDesc{"counter", "counts pulses (a kind of the tests)", kSlots, kParams, kEntries,
                                 graph::PluginPhase::Sensors, graph::PluginPhase::Actuators};
 
 // state: the count, the time of the last add, whether idle fired since.
@@ -48,6 +56,13 @@ void act_counter(engine::PluginCtx& c) {
 }
 void sense_counter(engine::PluginCtx& c) {
     auto s = c.state();
+    bool tapped = false;
+    for (int e = 0; e < c.entry_count(); ++e)
+        if (c.entry_word(e) == "tap" && c.entry_active(e)) {
+            s[0] += c.entry_option(e, 0);
+            tapped = true;
+        }
+    if (tapped) c.emit(value, s[0]);
     const double after = c.param(idle_after);
     if (after > 0 && s[2] == 0 && c.time() - s[1] >= after) {
         s[2] = 1;

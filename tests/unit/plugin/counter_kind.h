@@ -3,6 +3,9 @@
 // registration line. `counter c { start = 2; limit = 5; idle_after = 1 s }`:
 // `add` counts one up, `reset` goes back to `start`; `value` is the count, `reached`
 // fires when it gets to `limit`, `idle` once when nothing was added for `idle_after`.
+// Entries: `tap N => OUTPUT (weight = W)` adds W in every step the void output is active
+// (N only names the tap); `notify N => INPUT` names inputs a controller outside the step
+// would drive, as a PLC link does — the counter only lists them (a test of the compiler).
 #pragma once
 
 namespace plant::test {

@@ -55,7 +55,7 @@ TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
 
     // The text form carries it, and reads back the same.
     const std::string text = graph::to_text(g);
-    CHECK(text.find("count plugins 1\nplugin 0 comp=1 kind=\"counter\" param_adr=0 param_num=3\n") != std::string::npos);
+    CHECK(text.find("count plugins 1\nplugin 0 comp=1 kind=\"counter\" param_adr=0 param_num=3 entry_adr=0 entry_num=0\n") != std::string::npos);
     graph::Graph loaded;
     std::string error;
     std::istringstream in(text);
@@ -136,4 +136,96 @@ TEST_CASE("plugin kind: the loader refuses what this program cannot run") {
     static constexpr graph::KindDesc physics_again{"physics", "", {}, {}};
     CHECK_FALSE(graph::register_kind(physics_again));
     CHECK_FALSE(graph::register_kind(*graph::find_plugin("counter")));
+}
+
+TEST_CASE("plugin kind: entries name slots anywhere in the plant, checked and carried to the runtime") {
+    test::register_counter_kind();
+    constexpr const char* kTapped = R"(object Gate {
+    in open: void => t.start, t2.start
+    timer t: oneshot { period = 1 s }
+    timer t2: oneshot { period = 2 s }
+}
+plant Tapped {
+    timer fast: periodic { period = 100 ms; autostart = true }
+    timer slow: periodic { period = 250 ms; autostart = true }
+    g: Gate
+    counter c {
+        limit = 1000
+        tap 1 => fast.tick (weight = 2)
+        tap 2 => slow.tick
+        notify 7 => g.open
+    }
+}
+)";
+    Compilation c;
+    test::compile_text(kTapped, c, "tapped.plant");
+    REQUIRE(c.ok());
+    const graph::Graph& g = c.graph;
+    REQUIRE(g.plugin_entries.size() == 3);
+    CHECK(g.plugins[0].entry_num == 3);
+    CHECK(g.str(g.plugin_entries[0].word) == "tap");
+    CHECK(g.plugin_entries[1].key == 2);
+    CHECK(g.plugin_params[size_t(g.plugin_entries[0].param_adr)].num == 2);
+    CHECK(g.plugin_params[size_t(g.plugin_entries[1].param_adr)].num == 1);  // the default weight
+    // An input port stands for every input it forwards to.
+    const graph::PluginEntry& notify = g.plugin_entries[2];
+    REQUIRE(notify.slot_num == 2);
+    CHECK(g.slot_path(g.plugin_entry_slots[size_t(notify.slot_adr)].v) == "g.t.start");
+    CHECK(g.slot_path(g.plugin_entry_slots[size_t(notify.slot_adr + 1)].v) == "g.t2.start");
+
+    // Through the text form and the loader, then run for 1 s: fast ticks 10 times (x2), slow 4.
+    const std::string text = graph::to_text(g);
+    graph::Graph loaded;
+    std::string error;
+    std::istringstream in(text);
+    REQUIRE_MESSAGE(graph::read_text(in, loaded, error), error);
+    CHECK(loaded.same_as(g));
+    engine::Engine e(loaded);
+    const int32_t value = slot(loaded, "c.value");
+    e.watch(value);
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(e.value(value)[0] == 2 * 10 + 4);
+
+    // The loader checks entries as the compiler does.
+    auto load = [&](std::string_view from, std::string_view to) {
+        std::string t = text;
+        const size_t at = t.find(from);
+        REQUIRE(at != std::string::npos);
+        t.replace(at, from.size(), to);
+        graph::Graph g2;
+        std::string err;
+        std::istringstream in2(t);
+        graph::read_text(in2, g2, err);
+        return err;
+    };
+    CHECK(load("word=\"notify\"", "word=\"poke\"").find("a counter takes no entry 'poke'") != std::string::npos);
+    CHECK(load("key=7", "key=100").find("key 100 is not between 0 and 99") != std::string::npos);
+    CHECK(load("plugin_entry_slot 0 v=", "plugin_entry_slot 0 v=1").find("which a 'tap' entry cannot name") !=
+          std::string::npos);
+}
+
+TEST_CASE("plugin kind: bad entries get the diagnostics of their kind") {
+    test::register_counter_kind();
+    auto diag = [](const std::string& entry) {
+        return diagnostics("plant P {\n timer t: periodic { period = 1 s }\n counter c {\n limit = 3\n " + entry +
+                           "\n }\n}\n");
+    };
+    CHECK(diag("tapp 1 => t.tick").find("E0106 a counter takes no entry 'tapp'") != std::string::npos);
+    CHECK(diag("tap 100 => t.tick").find("E0308 the key of a 'tap' entry is between 0 and 99, not 100") !=
+          std::string::npos);
+    CHECK(diag("tap 1.5 => t.tick").find("E0204") != std::string::npos);
+    CHECK(diag("tap 1 => t.start").find("E0202 a 'tap' entry names an output, but 't.start' is an input") !=
+          std::string::npos);
+    CHECK(diag("tap 1 => t.elapsed").find("E0201 a 'tap' entry takes a void slot, but 't.elapsed' is real") !=
+          std::string::npos);
+    CHECK(diag("notify 1 => t.tick").find("E0202 a 'notify' entry names an input") != std::string::npos);
+    CHECK(diag("tap 1 => t.tick (wieght = 2)").find("E0303 a 'tap' entry has no option 'wieght'") != std::string::npos);
+    CHECK(diag("tap 1 => t.tick (weight = 2, weight = 3)").find("E0305 option 'weight' is given twice") !=
+          std::string::npos);
+    CHECK(diag("tap 1 => t.tick (weight = 2 s)").find("E0204") != std::string::npos);
+    CHECK(diag("tap 1 => t.tick (2)").find("E0303 an entry's options are named") != std::string::npos);
+    CHECK(diag("tap 1 => t.tock").find("E0104") != std::string::npos);
+    // A kind without entries holds none.
+    CHECK(diagnostics("plant P {\n timer t: periodic { period = 1 s\n tap 1 => t.tick }\n}\n").find("E0311") !=
+          std::string::npos);
 }
