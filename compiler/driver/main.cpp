@@ -462,7 +462,6 @@ int run_command(int argc, char** argv) {
         if (a == "-h" || a == "--help") o.help = true;
         else if (a == "--slots" && o.command == "info") o.slots = true;
         else if (a == "--schedule" && o.command == "info") o.schedule = true;
-        }
         else if ((a == "--modbus" || a == "--modbus=csv") && o.command == "info") o.modbus = a == "--modbus" ? "md" : "csv";
         else if (a == "--full" && o.command == "graph") o.full = true;
         else if (a == "--object" && o.command == "graph") {
