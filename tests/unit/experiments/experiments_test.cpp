@@ -331,3 +331,26 @@ TEST_CASE("tipping with std.belts' slip limit: at k = 16 kg/s the lighter the bo
     CHECK(peaks[0] > peaks[1]);
     CHECK(peaks[1] > peaks[2]);
 }
+
+TEST_CASE("tipping: pulled at its bottom body only, a bottle falls over: the pull on the main body holds it up") {
+    // tipping_bottom_pull.plant: the field reaches 1 cm above the band, so the law pulls only
+    // the bottom body. On frictionless contacts the base is dragged forward under the main body,
+    // which nothing pulls: every bottle falls on its back, at any k and mass (docs/experiments.md,
+    // "Why light bottles tip least at high k").
+    for (double k : {1.0, 16.0})
+        for (double m : {20.0, 80.0}) {
+            CAPTURE(k);
+            CAPTURE(m);
+            const BottleRun r = run_bottle("tipping_bottom_pull.plant", {k_set(k), mass_set(m)}, 1.5);
+            CHECK(r.bottle.k_main == 0);
+            CHECK(r.bottle.k_bottom == doctest::Approx(k));
+            CHECK(r.tilt.back() > 80);
+        }
+    // With the field as high as std.belts' (12 cm) it is tipping.plant, step for step.
+    const BottleRun probe = run_bottle("tipping_bottom_pull.plant", {k_set(16), mass_set(20), "reach=12 cm"}, 0.5);
+    const BottleRun plant = run_bottle("tipping.plant", {k_set(16), mass_set(20)}, 0.5);
+    REQUIRE(probe.pitch.size() == plant.pitch.size());
+    double worst = 0;
+    for (size_t i = 0; i < probe.pitch.size(); ++i) worst = std::max(worst, std::abs(probe.pitch[i] - plant.pitch[i]));
+    CHECK(worst < 0.01);
+}
