@@ -11,18 +11,23 @@
 #
 #   traction  a bottle let go on a belt at 50 cm/s, k = 1, 4, 16 kg/s          (1 s each;
 #             again at 600, 2400 and 9600 Hz for the step-by-step table and traction_rates.png)
-#   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16 and 0.5 kg/s (3 s each)
-#   spacing   two bottles 20 cm apart on a loop of 5 belts and 6 curves         (50 s)
+#   tipping   a bottle put on a belt at 100 cm/s, 20, 40, 80 g, k = 16, 4, 0.5 kg/s (3 s each)
+#   spacing   two bottles 20 cm apart on a loop of 5 belts, on right-angle Corners and
+#             on arcs, side by side                                           (50 s)
+#
+# Every experiment runs with the original, unlimited conveyor law (max_force = 1 kN, never
+# reached) and again with std.belts' slip limit (max_force = 0.3 N per body), side by side
+# in its summary; `--set max_force=0.3N` runs only the second.
 #
 # --set NAME=VALUE sets a plant parameter (a value with its unit: k=4kg/s, "mass=20 g",
 # speed=60cm/s) in every selected experiment whose plant declares NAME. For a parameter an
-# experiment sweeps (traction: k; tipping: k and mass) the values given replace its sweep:
+# experiment sweeps (traction: k; tipping: k and mass; all: max_force) the values given replace its sweep:
 # `--set k=2kg/s --set k=8kg/s` runs traction with k = 2 and 8 kg/s. Elsewhere the last
 # value given counts. --only NAME (repeatable) runs only those experiments.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; }
 
 out=out/experiments
 only=()
@@ -57,15 +62,20 @@ plant=build/release/compiler/plant
 analyse=build/release/tools/plant-analyse
 
 # The parameters a plant declares, from its syntax tree: "k mass speed ...".
+# (The tree is read whole first: a reader that stops early would kill the writer with SIGPIPE.)
 declared() {
-  "$plant" check --emit=ast "$1" | grep -m1 -E '^ *plant ' | grep -oE '[(,] *[A-Za-z_][A-Za-z_0-9]*:' | tr -d '(,: '
+  local ast
+  ast="$("$plant" check --emit=ast "$1")"
+  sed -n '/^ *plant /{p;q}' <<< "$ast" | grep -oE '[(,] *[A-Za-z_][A-Za-z_0-9]*:' | tr -d '(,: '
 }
 
 # Every --set name must be declared by at least one selected plant.
 for n in "${set_names[@]+"${set_names[@]}"}"; do
   found=0
   for name in "${only[@]}"; do
-    if declared "plants/experiments/$name.plant" | grep -qx "$n"; then found=1; fi
+    for p in $(plants_of "$name"); do
+      if declared "plants/experiments/$p.plant" | grep -qx "$n"; then found=1; fi
+    done
   done
   [ $found -eq 1 ] || { echo "experiments: no selected experiment has a parameter '$n'" >&2; exit 2; }
 done
@@ -77,48 +87,61 @@ values() {
   return 0
 }
 
+# The plants of an experiment: spacing runs on two loops, right angles (the original's
+# kind) and arcs, side by side.
+plants_of() {
+  case "$1" in
+    spacing) echo spacing_corners spacing ;;
+    *) echo "$1" ;;
+  esac
+}
+
 # run_experiment NAME SECONDS SWEPT_NAME:DEFAULTS...  (DEFAULTS separated by '|')
 run_experiment() {
   local name="$1" seconds="$2"; shift 2
-  local file="plants/experiments/$name.plant" dir="$out/$name"
-  local params; params="$(declared "$file")"
-  # Fixed values: the last value of every name this plant declares and does not sweep.
-  local fixed=() swept=() n
-  for spec in "$@"; do swept+=("${spec%%:*}"); done
-  for n in $(printf '%s\n' "${set_names[@]+"${set_names[@]}"}" | awk '!seen[$0]++'); do
-    echo "$params" | grep -qx "$n" || continue
-    printf '%s\n' "${swept[@]+"${swept[@]}"}" | grep -qx "$n" && continue
-    fixed+=(--set "$n=$(values "$n" | tail -n 1)")
-  done
-  # The sweep: the cartesian product of the swept names' values.
-  local combos=("")
-  for spec in "$@"; do
-    local sname="${spec%%:*}" defaults="${spec#*:}" list=() next=() c v
-    mapfile -t list < <(values "$sname")
-    [ ${#list[@]} -gt 0 ] || IFS='|' read -r -a list <<< "$defaults"
-    for c in "${combos[@]}"; do
-      for v in "${list[@]}"; do next+=("$c"$'\t'"$sname=$v"); done
-    done
-    combos=("${next[@]}")
-  done
+  local dir="$out/$name"
   rm -rf "$dir"
   mkdir -p "$dir/runs"
-  echo
-  echo "== $name (${#combos[@]} run(s), $seconds s each)"
-  local pairs=() combo tag sets
-  for combo in "${combos[@]}"; do
-    sets=()
-    tag="$name"
-    IFS=$'\t' read -r -a parts <<< "${combo#$'\t'}"
-    for p in "${parts[@]+"${parts[@]}"}"; do
-      [ -n "$p" ] || continue
-      sets+=(--set "$p")
-      tag+="_$(echo "$p" | tr -c 'A-Za-z0-9.=\n' '_' | tr '=' '-')"
+  local pairs=() plant_name
+  for plant_name in $(plants_of "$name"); do
+    local file="plants/experiments/$plant_name.plant"
+    local params; params="$(declared "$file")"
+    # Fixed values: the last value of every name this plant declares and does not sweep.
+    local fixed=() swept=() n
+    for spec in "$@"; do swept+=("${spec%%:*}"); done
+    for n in $(printf '%s\n' "${set_names[@]+"${set_names[@]}"}" | awk '!seen[$0]++'); do
+      echo "$params" | grep -qx "$n" || continue
+      printf '%s\n' "${swept[@]+"${swept[@]}"}" | grep -qx "$n" && continue
+      fixed+=(--set "$n=$(values "$n" | tail -n 1)")
     done
-    echo "   $plant run $file$(printf ' %q' "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" | sed 's/ '"''"'//g') --for ${seconds}s"
-    "$plant" build "$file" "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" -o "$dir/runs/$tag.graph"
-    "$plant" run "$dir/runs/$tag.graph" --for "${seconds}s" --trace "$dir/runs/$tag.csv" --quiet > "$dir/runs/$tag.summary"
-    pairs+=("$dir/runs/$tag.graph" "$dir/runs/$tag.csv")
+    # The sweep: the cartesian product of the swept names' values.
+    local combos=("")
+    for spec in "$@"; do
+      local sname="${spec%%:*}" defaults="${spec#*:}" list=() next=() c v
+      mapfile -t list < <(values "$sname")
+      [ ${#list[@]} -gt 0 ] || IFS='|' read -r -a list <<< "$defaults"
+      for c in "${combos[@]}"; do
+        for v in "${list[@]}"; do next+=("$c"$'\t'"$sname=$v"); done
+      done
+      combos=("${next[@]}")
+    done
+    echo
+    echo "== $name: $plant_name (${#combos[@]} run(s), $seconds s each)"
+    local combo tag sets
+    for combo in "${combos[@]}"; do
+      sets=()
+      tag="$plant_name"
+      IFS=$'\t' read -r -a parts <<< "${combo#$'\t'}"
+      for p in "${parts[@]+"${parts[@]}"}"; do
+        [ -n "$p" ] || continue
+        sets+=(--set "$p")
+        tag+="_$(echo "$p" | tr -c 'A-Za-z0-9.=\n' '_' | tr '=' '-')"
+      done
+      echo "   $plant run $file$(printf ' %q' "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" | sed 's/ '"''"'//g') --for ${seconds}s"
+      "$plant" build "$file" "${fixed[@]+"${fixed[@]}"}" "${sets[@]+"${sets[@]}"}" -o "$dir/runs/$tag.graph"
+      "$plant" run "$dir/runs/$tag.graph" --for "${seconds}s" --trace "$dir/runs/$tag.csv" --quiet > "$dir/runs/$tag.summary"
+      pairs+=("$dir/runs/$tag.graph" "$dir/runs/$tag.csv")
+    done
   done
   # Traction: the same runs at finer steps, for the summary's step-by-step table.
   if [ "$name" = traction ]; then
@@ -140,11 +163,14 @@ run_experiment() {
   echo "   wrote $dir/$name.csv, $name.png, $name.svg, summary.md"
 }
 
+# Every experiment runs twice: with the original, unlimited law (max_force = 1 kN, never
+# reached) and with std.belts' slip limit (0.3 N per body); `--set max_force=...` replaces the pair.
+limits="max_force:1 kN|0.3 N"
 for name in "${only[@]}"; do
   case "$name" in
-    traction) run_experiment traction 1 "k:1 kg/s|4 kg/s|16 kg/s" ;;
-    tipping)  run_experiment tipping 3 "k:16 kg/s|0.5 kg/s" "mass:20 g|40 g|80 g" ;;
-    spacing)  run_experiment spacing 50 ;;
+    traction) run_experiment traction 1 "k:1 kg/s|4 kg/s|16 kg/s" "$limits" ;;
+    tipping)  run_experiment tipping 3 "k:16 kg/s|4 kg/s|0.5 kg/s" "mass:20 g|40 g|80 g" "$limits" ;;
+    spacing)  run_experiment spacing 50 "$limits" ;;
   esac
 done
 

@@ -68,7 +68,7 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
             const graph::Field& fd = g.fields[i];
             if (fd.body >= 0 || !fd.enabled || !inside(fd, p)) continue;
             k += fd.gain;
-            if (body == b.main && b.field < 0) {
+            if (b.field < 0) {  // the main body's field, else the bottom body's
                 b.field = int32_t(i);
                 b.belt_speed = fd.speed;
                 b.belt_dir = rotate(fd.pose.q, fd.dir);
@@ -299,6 +299,75 @@ int laps(const std::vector<double>& x, const std::vector<double>& y, const Vec3&
         prev_s = s;
     }
     return count;
+}
+
+std::vector<double> track_gap(const std::vector<double>& ax, const std::vector<double>& ay,
+                              const std::vector<double>& bx, const std::vector<double>& by, double reach,
+                              double max_gap) {
+    const size_t n = std::min({ax.size(), ay.size(), bx.size(), by.size()});
+    std::vector<double> gap(n, std::nan(""));
+    if (n < 2) return gap;
+    std::vector<double> s(n, 0);  // b's path length
+    for (size_t j = 1; j < n; ++j) s[j] = s[j - 1] + std::hypot(bx[j] - bx[j - 1], by[j] - by[j - 1]);
+    constexpr double kHeadingBase = 0.01;  // m of a's path that give its heading
+    size_t back = 0, from = 0;
+    for (size_t i = 0; i < n; ++i) {
+        // a's heading: from the latest sample at least kHeadingBase behind it, else ahead.
+        while (back + 1 < i && std::hypot(ax[i] - ax[back + 1], ay[i] - ay[back + 1]) >= kHeadingBase) ++back;
+        double hx = ax[i] - ax[back], hy = ay[i] - ay[back];
+        if (std::hypot(hx, hy) < kHeadingBase) {
+            size_t k = i;
+            while (k + 1 < n && std::hypot(ax[k] - ax[i], ay[k] - ay[i]) < kHeadingBase) ++k;
+            hx = ax[k] - ax[i], hy = ay[k] - ay[i];
+        }
+        const double hl = std::hypot(hx, hy);
+        if (hl == 0) continue;
+        hx /= hl, hy /= hl;
+        auto ahead = [&](size_t j) { return (bx[j] - ax[i]) * hx + (by[j] - ay[i]) * hy; };
+        for (size_t j = std::max(from, i); j + 1 < n && s[j] - s[i] <= max_gap; ++j) {
+            const double p0 = ahead(j), p1 = ahead(j + 1);
+            if (p0 < 0 && p1 >= 0 && std::hypot(bx[j + 1] - ax[i], by[j + 1] - ay[i]) <= reach) {
+                const double f = -p0 / (p1 - p0);
+                gap[i] = s[j] + f * (s[j + 1] - s[j]) - s[i];
+                from = j;  // a moves on, so b's crossing for the next sample is not earlier
+                break;
+            }
+        }
+    }
+    return gap;
+}
+
+std::vector<Straight> straights(const graph::Graph& g) {
+    std::vector<Straight> out;
+    for (const graph::Field& f : g.fields) {
+        if (f.body >= 0 || !f.enabled || f.dir[0] < 0.999 || f.extent[0] < 2 * f.extent[1]) continue;
+        const std::string path = g.comp_path(f.comp);
+        Straight s;
+        s.name = path.substr(0, path.find('.'));
+        s.centre = f.pose.p;
+        s.dir = rotate(f.pose.q, f.dir);
+        s.length = f.extent[0];
+        s.width = f.extent[1];
+        s.speed = f.speed;
+        out.push_back(s);
+    }
+    return out;
+}
+
+std::vector<Crossing> crossings(const std::vector<double>& t, const std::vector<double>& x, const std::vector<double>& y,
+                                const Vec3& point, const Vec3& dir, double half_width) {
+    std::vector<Crossing> out;
+    const size_t n = std::min({t.size(), x.size(), y.size()});
+    auto along = [&](size_t i) { return (x[i] - point[0]) * dir[0] + (y[i] - point[1]) * dir[1]; };
+    auto across = [&](size_t i) { return dir[0] * (y[i] - point[1]) - dir[1] * (x[i] - point[0]); };
+    for (size_t i = 1; i < n; ++i) {
+        const double s0 = along(i - 1), s1 = along(i);
+        if (!(s0 < 0 && s1 >= 0)) continue;
+        const double f = -s0 / (s1 - s0);
+        const double lateral = across(i - 1) + f * (across(i) - across(i - 1));
+        if (std::abs(lateral) <= half_width) out.push_back({t[i - 1] + f * (t[i] - t[i - 1]), lateral});
+    }
+    return out;
 }
 
 const std::vector<double>* Table::col(std::string_view name) const {

@@ -29,7 +29,7 @@ struct Bottle {
     // Σ over the bottle's bodies of the gains of the fields their centres of mass start
     // in (kg/s): the law pulls each such body with k·(v_target − v), whatever its mass.
     double gain_sum = 0;
-    int32_t field = -1;              // the field the main body starts in
+    int32_t field = -1;              // the field the main body starts in (else the bottom body's)
     double belt_speed = 0;           // its target speed, m/s
     Vec3 belt_dir{1, 0, 0};          // its direction in the world
     // Each body's pull and lever, upright at the start: k_* the gain of the fields its
@@ -158,6 +158,34 @@ Stats stats(const std::vector<double>& x);
 // Laps completed: how often the path crosses, moving towards +`dir`, the line through
 // its first point perpendicular to `dir` (within `half_width` of that point).
 int laps(const std::vector<double>& x, const std::vector<double>& y, const Vec3& dir, double half_width);
+
+// The gap along the track between a bottle in front (a) and one behind (b), per sample i:
+// how far b travels along its own path (in the horizontal plane) from sample i until it
+// crosses the line through a's position at i perpendicular to a's heading there (a's
+// displacement over its last centimetre of path), within `reach` of that position. NaN
+// where b does not get there within `max_gap` of path (at the end of the series). On one
+// straight belt it is the distance between the two; around a corner it follows b's path.
+std::vector<double> track_gap(const std::vector<double>& ax, const std::vector<double>& ay,
+                              const std::vector<double>& bx, const std::vector<double>& by, double reach,
+                              double max_gap);
+
+// A straight belt of the track: a world-fixed field whose pull runs along the longer side
+// of its box, at least twice its width (not a corner's square band, not an arc's piece).
+struct Straight {
+    std::string name;  // its top-level component, e.g. "b1"
+    Vec3 centre{}, dir{};
+    double length = 0, width = 0, speed = 0;
+};
+std::vector<Straight> straights(const graph::Graph& g);
+
+// The moments a path crosses, moving along `dir`, the line through `point` across `dir`
+// (within `half_width` of `point`), with the path's offset along that line there (> 0 to
+// the left of `dir`), interpolated between the samples.
+struct Crossing {
+    double time = 0, lateral = 0;
+};
+std::vector<Crossing> crossings(const std::vector<double>& t, const std::vector<double>& x, const std::vector<double>& y,
+                                const Vec3& point, const Vec3& dir, double half_width);
 
 // ---- traces ----
 

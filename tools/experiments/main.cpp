@@ -3,7 +3,7 @@
 //
 //   plant-analyse traction OUTDIR GRAPH TRACE [GRAPH TRACE ...]
 //   plant-analyse tipping  OUTDIR GRAPH TRACE [GRAPH TRACE ...]
-//   plant-analyse spacing  OUTDIR GRAPH TRACE
+//   plant-analyse spacing  OUTDIR GRAPH TRACE [GRAPH TRACE ...]   (one run per loop and limit, side by side)
 //
 // GRAPH is the compiled plant of one run (`plant build ... -o run.graph`, with the run's
 // --set values) and TRACE its `plant run --trace` CSV. Masses, gains and belt speeds are
@@ -77,6 +77,14 @@ std::vector<double> bottle_speed(const Run& r) {
 }
 
 std::string num(double x) { return fmt::format("{:g}", x); }
+// A slip limit per body (N); 0 is none. The experiment plants' 1 kN is never reached: the
+// original, unlimited law.
+std::string limit_text(double f) {
+    if (f == 0) return "none";
+    return f >= 100 ? fmt::format("unlimited ({:g} N)", f) : fmt::format("{:g} N", f);
+}
+// The same as a legend entry.
+std::string limit_label(double f) { return f == 0 || f >= 100 ? "unlimited law" : fmt::format("slip limit {:g} N", f); }
 std::string fixed(double x, int digits) {
     if (std::isnan(x)) return "—";
     return fmt::format("{:.{}f}", x, digits);
@@ -101,6 +109,8 @@ void label_runs(std::vector<Run>& runs, const std::string& primary) {
     auto k = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].gain; };
     auto m = [](const Run& r) { return r.bottle.mass(); };
     auto v = [](const Run& r) { return r.bottle.belt_speed; };
+    auto f = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].max_force; };
+    const bool show_f = differs(f);
     const bool show_k = primary == "k" || differs(k), show_m = primary == "mass" || differs(m), show_v = differs(v);
     std::map<std::string, int> seen;
     for (Run& r : runs) {
@@ -108,6 +118,7 @@ void label_runs(std::vector<Run>& runs, const std::string& primary) {
         if (show_m) parts.push_back(fmt::format("{:g} g", m(r) * 1000)), tags.push_back(fmt::format("m{:g}", m(r) * 1000));
         if (show_k) parts.push_back(fmt::format("k = {:g} kg/s", k(r))), tags.push_back(fmt::format("k{:g}", k(r)));
         if (show_v) parts.push_back(fmt::format("{:g} m/s", v(r))), tags.push_back(fmt::format("v{:g}", v(r)));
+        if (show_f) parts.push_back(limit_label(f(r))), tags.push_back(fmt::format("f{:g}", f(r)));
         r.label = fmt::format("{}", fmt::join(parts, ", "));
         r.tag = fmt::format("{}", fmt::join(tags, "_"));
         if (int n = seen[r.tag]++; n > 0) {
@@ -372,6 +383,9 @@ int traction(const fs::path& out, std::vector<Run>& all) {
 
 // ---- tipping ----
 
+// The belts' slip limit a run's bottle starts under (N per body; 0: none).
+double slip_limit(const Run& r) { return r.g.fields[size_t(r.bottle.field)].max_force; }
+
 std::string swing_text(const Swing& s, const Swing& first) {
     if (!s.found) return "none";
     return fmt::format("{:.2f}° at {:.0f} ms, {}", s.peak, 1000 * s.time,
@@ -420,21 +434,35 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
         all.erase(std::unique(all.begin(), all.end()), all.end());
         return size_t(std::lower_bound(all.begin(), all.end(), x) - all.begin());
     };
-    auto panel = [&](const std::string& title, double x0, double x1) {
+    // A panel shows the runs on belts with slip limit `limit` (all runs when `limit` < 0).
+    auto panel = [&](const std::string& title, double x0, double x1, double limit) {
         std::string p = fmt::format("set title '{}'\nset xrange [{}:{}]\nplot ", title, num(x0), num(x1));
-        for (size_t k = 0; k < runs.size(); ++k)
+        bool first = true;
+        for (size_t k = 0; k < runs.size(); ++k) {
+            if (limit >= 0 && slip_limit(runs[k]) != limit) continue;
             p += fmt::format("{}'tipping.csv' skip 1 using 1:{} with lines lw 2 dt {} lc rgb '{}' title '{}'",
-                             k ? ", \\\n     " : "", 2 + 3 * k, 1 + rank(gains, gains[k]),
+                             first ? "" : ", \\\n     ", 2 + 3 * k, 1 + rank(gains, gains[k]),
                              colour(rank(masses, masses[k])), runs[k].label);
+            first = false;
+        }
         return p + "\n";
     };
     const double zoom = std::min(t.back(), 0.3);
+    // Runs with and without a slip limit side by side, else the first moments and the whole run.
+    std::vector<double> limits;
+    for (const Run& r : runs)
+        if (std::find(limits.begin(), limits.end(), slip_limit(r)) == limits.end()) limits.push_back(slip_limit(r));
+    std::string panels;
+    if (limits.size() > 1)
+        for (double f : limits) panels += panel(fmt::format("{}, first {} s", limit_label(f), num(zoom)), 0, zoom, f);
+    else
+        panels = panel(fmt::format("first {} s", num(zoom)), 0, zoom, -1) + panel("whole run", 0, t.back(), -1);
     std::string plot = fmt::format(
-        "set multiplot layout 1,2 title 'Tipping: a bottle put on a belt at {} m/s (physics at {} Hz)'\n"
+        "set multiplot layout 1,{} title 'Tipping: a bottle put on a belt at {} m/s (physics at {} Hz)'\n"
         "set xlabel 'time [s]'\nset ylabel 'angle between bottle axis and vertical [deg]'\n"
-        "set yrange [0:{}]\nset grid\nset key right top box opaque\n{}{}unset multiplot",
-        num(runs[0].bottle.belt_speed), num(rate_of(runs[0])), num(std::ceil(ymax * 1.15 * 2) / 2),
-        panel(fmt::format("first {} s", num(zoom)), 0, zoom), panel("whole run", 0, t.back()));
+        "set yrange [0:{}]\nset grid\nset key right top box opaque\n{}unset multiplot",
+        std::max<size_t>(2, limits.size()), num(runs[0].bottle.belt_speed), num(rate_of(runs[0])),
+        num(std::ceil(ymax * 1.15 * 2) / 2), panels);
     write_file(out / "tipping.gp", terminals("tipping", plot));
 
     std::string md = "# Tipping\n\n";
@@ -445,16 +473,56 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
         "A swing is an excursion of the bottle's lean along the belt beyond {}° (the contact jitter of a bottle "
         "riding a belt stays below that); the second swing is the largest one after the first has ended.\n\n",
         num(kThreshold));
-    md += "| run | bottle mass (g) | k (kg/s) | belt speed (m/s) | peak tilt (°) | at (ms) | first swing | second swing | "
-          "largest tilt after the first swing (°) | tilt at the end (°) | speed at the end (m/s) |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    auto gain = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].gain; };
+    std::vector<double> t95(runs.size());
+    for (size_t k = 0; k < runs.size(); ++k) t95[k] = time_to_fraction(t, speed[k], runs[k].bottle.belt_speed, 0.95);
+    md += "| run | bottle mass (g) | k (kg/s) | slip limit per body | belt speed (m/s) | time to 95 % of belt speed (ms) | "
+          "peak tilt (°) | at (ms) | first swing | second swing | largest tilt after the first swing (°) | "
+          "tilt at the end (°) | speed at the end (m/s) |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (size_t k = 0; k < runs.size(); ++k) {
         const Run& r = runs[k];
         const Tipping& x = res[k];
-        md += fmt::format("| {} | {} | {} | {} | {:.2f} | {:.0f} | {} | {} | {:.2f} | {:.2f} | {:.4f} |\n", r.label,
-                          num(r.bottle.mass() * 1000), num(r.g.fields[size_t(r.bottle.field)].gain),
-                          num(r.bottle.belt_speed), x.peak_tilt, 1000 * x.peak_time, swing_text(x.first, x.first),
-                          swing_text(x.second, x.first), x.later_max, x.final_tilt, x.final_speed);
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} | {:.0f} | {} | {} | {:.2f} | {:.2f} | {:.4f} |\n",
+                          r.label, num(r.bottle.mass() * 1000), num(gain(r)), limit_text(slip_limit(r)),
+                          num(r.bottle.belt_speed), fixed(1000 * t95[k], 1), x.peak_tilt, 1000 * x.peak_time,
+                          swing_text(x.first, x.first), swing_text(x.second, x.first), x.later_max, x.final_tilt,
+                          x.final_speed);
+    }
+    // The trade-off: one row per belt (gain and slip limit), one column per mass.
+    std::vector<std::pair<double, double>> belts;
+    std::vector<double> masses_sorted;
+    for (const Run& r : runs) {
+        if (std::find(belts.begin(), belts.end(), std::pair{gain(r), slip_limit(r)}) == belts.end())
+            belts.emplace_back(gain(r), slip_limit(r));
+        if (std::find(masses_sorted.begin(), masses_sorted.end(), r.bottle.mass()) == masses_sorted.end())
+            masses_sorted.push_back(r.bottle.mass());
+    }
+    std::sort(masses_sorted.begin(), masses_sorted.end());
+    md += "\n## Gain × mass\n\nPer belt and bottle: time to 95 % of belt speed / peak tilt / second swing. "
+          "\"lighter tips more\" when the peak tilt strictly decreases from the lightest to the heaviest bottle.\n\n"
+          "| k (kg/s) | slip limit per body |";
+    for (double m : masses_sorted) md += fmt::format(" {:g} g |", m * 1000);
+    md += " lighter tips more |\n|---|---|";
+    for (size_t i = 0; i <= masses_sorted.size(); ++i) md += "---|";
+    md += "\n";
+    for (const auto& [kb, fb] : belts) {
+        md += fmt::format("| {} | {} |", num(kb), limit_text(fb));
+        bool decreasing = true;
+        double previous = INFINITY;
+        for (double m : masses_sorted) {
+            std::string cell = " — |";
+            for (size_t k = 0; k < runs.size(); ++k) {
+                const Run& r = runs[k];
+                if (gain(r) != kb || slip_limit(r) != fb || r.bottle.mass() != m) continue;
+                cell = fmt::format(" {} ms / {:.2f}° / {} |", fixed(1000 * t95[k], 1), res[k].peak_tilt,
+                                   res[k].second.found ? fmt::format("{:.2f}°", res[k].second.peak) : "none");
+                decreasing = decreasing && res[k].peak_tilt < previous;
+                previous = res[k].peak_tilt;
+            }
+            md += cell;
+        }
+        md += decreasing ? " yes |\n" : " no |\n";
     }
     md += "\nFiles: tipping.csv (per run: tilt_TAG and the signed lean pitch_TAG in degrees, > 0 forwards; v_TAG "
           "the speed along the belt in m/s), tipping.png, tipping.svg.\n";
@@ -464,69 +532,212 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
 
 // ---- spacing ----
 
-int spacing(const fs::path& out, std::vector<Run>& runs) {
-    if (runs.size() != 1) fail("spacing takes one run");
-    Run& r = runs[0];
-    Bottle a, b;
-    std::string err;
-    if (!find_bottle(r.g, "a", a, err) || !find_bottle(r.g, "b", b, err)) fail(r.graph_path + ": " + err);
-    const std::vector<double>& t = *r.trace.col("time");
-    std::vector<double> ax(t.size()), ay(t.size()), bx(t.size()), by(t.size()), d(t.size());
-    size_t off_track = 0;
-    double worst_tilt = 0;
-    for (size_t i = 0; i < t.size(); ++i) {
-        const Vec3 pa = vec_at(r, "a.p", i), pb = vec_at(r, "b.p", i);
-        ax[i] = pa[0], ay[i] = pa[1], bx[i] = pb[0], by[i] = pb[1];
-        d[i] = std::abs(pa[0] - pb[0]) + std::abs(pa[1] - pb[1]);
-        if (!in_some_field(r.g, pa) || !in_some_field(r.g, pb)) ++off_track;
-        worst_tilt = std::max({worst_tilt, tilt_deg(quat_at(r, "a.q", i)), tilt_deg(quat_at(r, "b.q", i))});
-    }
-    const Stats s = stats(d);
-    const int laps_a = laps(ax, ay, a.belt_dir, 0.1), laps_b = laps(bx, by, b.belt_dir, 0.1);
 
-    std::string csv = "time,a_x,a_y,b_x,b_y,manhattan\n";
-    for (size_t i = 0; i < t.size(); ++i)
-        csv += fmt::format("{},{},{},{},{},{}\n", num(t[i]), ax[i], ay[i], bx[i], by[i], d[i]);
+// One spacing run: both bottles' paths, the Manhattan distance and the gap along the track.
+struct SpacingRun {
+    Bottle a, b;
+    std::vector<double> ax, ay, bx, by, manhattan, gap;
+    Stats d, g;
+    int laps_a = 0, laps_b = 0;
+    size_t off_track = 0;
+    double worst_tilt = 0, gap_end = 0;
+    // The gap where both bottles cross the middle of a straight belt, and again 3 cm before
+    // its end: the belt's speed times how much later b crosses than a. Then per transfer
+    // (from one belt's end to the next belt's middle) the change, and the bottles' lanes as
+    // they reach the transfer: u, the offset across the incoming belt towards the side the
+    // track turns to (for a right turn, the right), a's minus b's.
+    struct Passage {
+        std::string belt;
+        double time = 0;           // a at the belt's middle, s
+        double gap_mid = 0, gap_end = 0;  // m
+        double lateral_a = 0, lateral_b = 0;  // across the belt 3 cm before its end, > 0 left, m
+        Vec3 dir{};
+    };
+    std::vector<Passage> passages;  // in the order a rode them
+    struct Transfer {
+        std::string from, to;
+        int turn = 0;  // +1 left, -1 right, 0 a U-turn (two corners) or straight on
+        std::vector<double> change, lane;  // gap change and u_a − u_b, m
+    };
+    std::vector<Transfer> transfers;
+    double belt_change = 0;  // largest |gap change| from a belt's middle to its end, m
+};
+
+SpacingRun analyse_spacing_run(Run& r) {
+    SpacingRun x;
+    std::string err;
+    if (!find_bottle(r.g, "a", x.a, err) || !find_bottle(r.g, "b", x.b, err)) fail(r.graph_path + ": " + err);
+    r.bottle = x.a;
+    const std::vector<double>& t = *r.trace.col("time");
+    const size_t n = t.size();
+    x.ax.resize(n), x.ay.resize(n), x.bx.resize(n), x.by.resize(n), x.manhattan.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 pa = vec_at(r, "a.p", i), pb = vec_at(r, "b.p", i);
+        x.ax[i] = pa[0], x.ay[i] = pa[1], x.bx[i] = pb[0], x.by[i] = pb[1];
+        x.manhattan[i] = std::abs(pa[0] - pb[0]) + std::abs(pa[1] - pb[1]);
+        if (!in_some_field(r.g, pa) || !in_some_field(r.g, pb)) ++x.off_track;
+        x.worst_tilt = std::max({x.worst_tilt, tilt_deg(quat_at(r, "a.q", i)), tilt_deg(quat_at(r, "b.q", i))});
+    }
+    // b must reach a's point within 5 times the starting distance, and pass within 10 cm of it
+    // (the width of a belt with its rails).
+    x.gap = track_gap(x.ax, x.ay, x.bx, x.by, 0.1, 5 * x.manhattan[0]);
+    std::vector<double> known;
+    for (double v : x.gap)
+        if (!std::isnan(v)) known.push_back(v), x.gap_end = v;
+    x.d = stats(x.manhattan);
+    x.g = stats(known);
+    x.laps_a = laps(x.ax, x.ay, x.a.belt_dir, 0.1), x.laps_b = laps(x.bx, x.by, x.b.belt_dir, 0.1);
+
+    for (const Straight& s : straights(r.g)) {
+        const Vec3 end{s.centre[0] + s.dir[0] * (s.length / 2 - 0.03), s.centre[1] + s.dir[1] * (s.length / 2 - 0.03), 0};
+        const double w = s.width / 2;
+        const auto ma = crossings(t, x.ax, x.ay, s.centre, s.dir, w), mb = crossings(t, x.bx, x.by, s.centre, s.dir, w);
+        const auto ea = crossings(t, x.ax, x.ay, end, s.dir, w), eb = crossings(t, x.bx, x.by, end, s.dir, w);
+        const size_t k_end = std::min({ma.size(), mb.size(), ea.size(), eb.size()});
+        for (size_t k = 0; k < k_end; ++k)
+            x.passages.push_back({s.name, ma[k].time, s.speed * (mb[k].time - ma[k].time),
+                                  s.speed * (eb[k].time - ea[k].time), ea[k].lateral, eb[k].lateral, s.dir});
+    }
+    std::sort(x.passages.begin(), x.passages.end(), [](const auto& p, const auto& q) { return p.time < q.time; });
+    for (size_t k = 0; k < x.passages.size(); ++k) {
+        const SpacingRun::Passage& p = x.passages[k];
+        x.belt_change = std::max(x.belt_change, std::abs(p.gap_end - p.gap_mid));
+        if (k + 1 == x.passages.size()) break;
+        const SpacingRun::Passage& q = x.passages[k + 1];
+        const double z = p.dir[0] * q.dir[1] - p.dir[1] * q.dir[0];
+        const int turn = z > 0.5 ? 1 : z < -0.5 ? -1 : 0;
+        auto it = std::find_if(x.transfers.begin(), x.transfers.end(),
+                               [&](const SpacingRun::Transfer& tr) { return tr.from == p.belt && tr.to == q.belt; });
+        if (it == x.transfers.end()) it = x.transfers.insert(x.transfers.end(), {p.belt, q.belt, turn, {}, {}});
+        it->change.push_back(q.gap_mid - p.gap_end);
+        it->lane.push_back(turn * (p.lateral_a - p.lateral_b));
+    }
+    return x;
+}
+
+int spacing(const fs::path& out, std::vector<Run>& runs) {
+    std::vector<SpacingRun> res;
+    for (Run& r : runs) res.push_back(analyse_spacing_run(r));
+    const std::vector<double>& t = *runs[0].trace.col("time");
+    for (const Run& r : runs)
+        if (*r.trace.col("time") != t)
+            fail(r.trace_path + ": its times differ from " + runs[0].trace_path + "'s (use the same --for and rate)");
+    // Labels: the plant, and the slip limit where the runs differ in it.
+    const bool show_limit = std::any_of(runs.begin(), runs.end(), [&](const Run& r) { return slip_limit(r) != slip_limit(runs[0]); });
+    for (Run& r : runs) {
+        r.label = r.g.str(r.g.plant);
+        r.tag = r.label;
+        if (show_limit) {
+            r.label += ", " + limit_label(slip_limit(r));
+            r.tag += fmt::format("_f{:g}", slip_limit(r));
+        }
+    }
+
+    std::string csv = "time";
+    for (const Run& r : runs) csv += fmt::format(",a_x_{0},a_y_{0},b_x_{0},b_y_{0},manhattan_{0},gap_{0}", r.tag);
+    csv += "\n";
+    for (size_t i = 0; i < t.size(); ++i) {
+        csv += num(t[i]);
+        for (const SpacingRun& x : res)
+            csv += fmt::format(",{},{},{},{},{},{}", x.ax[i], x.ay[i], x.bx[i], x.by[i], x.manhattan[i],
+                               std::isnan(x.gap[i]) ? std::string("NaN") : fmt::format("{}", x.gap[i]));
+        csv += "\n";
+    }
     write_file(out / "spacing.csv", csv);
 
+    std::string manhattan_plot, gap_plot, path_plot;
+    for (size_t k = 0; k < runs.size(); ++k) {
+        const std::string sep = k ? ", \\\n     " : "";
+        const int c = 2 + 6 * int(k);
+        manhattan_plot += fmt::format("{}'spacing.csv' skip 1 using 1:(${}*100) with lines lw 1.2 lc rgb '{}' title '{}'",
+                                      sep, c + 4, colour(k), runs[k].label);
+        gap_plot += fmt::format("{}'spacing.csv' skip 1 using 1:(${}*100) with lines lw 1.5 lc rgb '{}' title '{}'", sep,
+                                c + 5, colour(k), runs[k].label);
+        path_plot += fmt::format("{}'spacing.csv' skip 1 using {}:{} with lines lw 1 lc rgb '{}' title '{} (a)'", sep, c,
+                                 c + 1, colour(k), runs[k].label);
+    }
     const std::string plot = fmt::format(
         "set multiplot title 'Spacing: two bottles on a closed loop at {} m/s (physics at {} Hz)'\n"
-        "set origin 0,0\nset size 0.62,0.95\n"
-        "set title 'Manhattan distance between the bottles'\nset xlabel 'time [s]'\n"
-        "set ylabel 'distance |Δx| + |Δy| [cm]'\nset grid\nset key below horizontal\nset xrange [0:{}]\n"
-        "plot 'spacing.csv' skip 1 using 1:($6*100) with lines lw 1.5 lc rgb '{}' title 'distance', \\\n"
-        "     {} with lines dt 2 lw 1.5 lc rgb '#555555' title 'mean {:.1f} cm', \\\n"
-        "     {} with lines lw 1 lc rgb '#d62728' title 'min {:.1f} cm', \\\n"
-        "     {} with lines lw 1 lc rgb '#2ca02c' title 'max {:.1f} cm'\n"
-        "set origin 0.62,0\nset size 0.38,0.95\n"
-        "set title 'The loop: paths of the two bottles'\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-        "set size ratio -1\nset autoscale\nset key below horizontal\n"
-        "plot 'spacing.csv' skip 1 using 2:3 with lines lw 1.5 lc rgb '{}' title 'bottle a (in front)', \\\n"
-        "     'spacing.csv' skip 1 using 4:5 with lines lw 1 dt 2 lc rgb '{}' title 'bottle b'\n"
+        "set grid\nset key below horizontal\nset xrange [0:{}]\nset xlabel 'time [s]'\n"
+        "set origin 0,0.5\nset size 0.62,0.48\nset title 'Manhattan distance |Δx| + |Δy|'\nset ylabel 'distance [cm]'\n"
+        "plot {}\n"
+        "set origin 0,0\nset size 0.62,0.48\nset title 'gap along the track (b to where a was)'\nset ylabel 'gap [cm]'\n"
+        "plot {}\n"
+        "set origin 0.62,0\nset size 0.38,0.95\nset title 'The loops: paths of bottle a'\nset xlabel 'x [m]'\n"
+        "set ylabel 'y [m]'\nset size ratio -1\nset autoscale\nplot {}\n"
         "unset multiplot",
-        num(a.belt_speed), num(rate_of(r)), num(t.back()), colour(0), num(s.mean * 100), s.mean * 100,
-        num(s.min * 100), s.min * 100, num(s.max * 100), s.max * 100, colour(0), colour(1));
+        num(res[0].a.belt_speed), num(rate_of(runs[0])), num(t.back()), manhattan_plot, gap_plot, path_plot);
     write_file(out / "spacing.gp", terminals("spacing", plot));
 
     std::string md = "# Spacing\n\n";
-    md += "Two bottles ride a closed loop of 5 straight belts and 6 curves (1 left, 5 right); the Manhattan distance "
-          "|Δx| + |Δy| between their centres of mass over time.\n\n";
-    md += plant_line(r) + "\n\n";
-    md += fmt::format(
-        "| quantity | value |\n|---|---|\n"
-        "| run | {:g} s, {} samples |\n"
-        "| belt speed | {} m/s |\n"
-        "| distance at the start | {:.2f} cm |\n"
-        "| minimum | {:.2f} cm |\n| maximum | {:.2f} cm |\n| mean | {:.2f} cm |\n"
-        "| variance | {:.2f} cm² |\n| standard deviation | {:.2f} cm |\n"
-        "| laps completed (a, b) | {}, {} |\n"
-        "| samples with a bottle off the belts | {} |\n"
-        "| largest tilt of either bottle | {:.2f}° |\n",
-        t.back(), s.n, num(a.belt_speed), d[0] * 100, s.min * 100, s.max * 100, s.mean * 100, s.variance * 1e4,
-        std::sqrt(s.variance) * 100, laps_a, laps_b, off_track, worst_tilt);
-    md += "\nStatistics over every sample (one per step), the variance over the samples (population). A bottle is "
-          "on the belts while its centre of mass is inside a belt's force field. A lap is counted when a bottle "
-          "passes its start position again. Files: spacing.csv, spacing.png, spacing.svg.\n";
+    md += "Two bottles ride a closed loop of 5 straight belts, 1 left and 5 right turns; the Manhattan distance "
+          "|Δx| + |Δy| between their centres of mass over time, and the gap along the track: how far the bottle "
+          "behind (b) travels along its own path until it passes where the one in front (a) was.\n\n";
+    md += plant_line(runs[0]) + "\n\n| quantity |";
+    for (const Run& r : runs) md += " " + r.label + " |";
+    md += "\n|---|";
+    for (size_t k = 0; k < runs.size(); ++k) md += "---|";
+    md += "\n";
+    auto row = [&](const std::string& what, auto cell) {
+        md += "| " + what + " |";
+        for (size_t k = 0; k < runs.size(); ++k) md += " " + cell(runs[k], res[k]) + " |";
+        md += "\n";
+    };
+    auto cm = [](double v) { return fmt::format("{:.2f}", v * 100); };
+    row("run", [&](const Run&, const SpacingRun& x) { return fmt::format("{:g} s, {} samples", t.back(), x.d.n); });
+    row("belt speed (m/s)", [](const Run&, const SpacingRun& x) { return num(x.a.belt_speed); });
+    row("belts' slip limit per body", [](const Run& r, const SpacingRun&) { return limit_text(slip_limit(r)); });
+    row("distance at the start (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.manhattan[0]); });
+    row("Manhattan: minimum (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.d.min); });
+    row("Manhattan: maximum (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.d.max); });
+    row("Manhattan: mean (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.d.mean); });
+    row("Manhattan: variance (cm²)", [](const Run&, const SpacingRun& x) { return fmt::format("{:.2f}", x.d.variance * 1e4); });
+    row("along the track: minimum (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.g.min); });
+    row("along the track: maximum (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.g.max); });
+    row("along the track: mean (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.g.mean); });
+    row("along the track: variance (cm²)", [](const Run&, const SpacingRun& x) { return fmt::format("{:.2f}", x.g.variance * 1e4); });
+    row("along the track: last (cm)", [&](const Run&, const SpacingRun& x) { return cm(x.gap_end); });
+    row("laps completed (a, b)", [](const Run&, const SpacingRun& x) { return fmt::format("{}, {}", x.laps_a, x.laps_b); });
+    row("samples with a bottle off the belts", [](const Run&, const SpacingRun& x) { return fmt::format("{}", x.off_track); });
+    row("largest tilt of either bottle (°)", [](const Run&, const SpacingRun& x) { return fmt::format("{:.2f}", x.worst_tilt); });
+    md += "\nStatistics over every sample (one per step; the gap along the track over the samples where b has "
+          "reached a's point by the end), the variance over the samples (population). A bottle is on the belts "
+          "while its centre of mass is inside a belt's force field. A lap is counted when a bottle passes its "
+          "start position again.\n";
+
+    md += "\n## Where the gap changes\n\nThe gap where both bottles cross the middle of a straight belt, and 3 cm "
+          "before its end: the belt speed times how much later b crosses than a. Along a belt it does not change "
+          "(largest change from the middle to the end, below). Per transfer (from the end of one belt to the "
+          "middle of the next): the change of the gap, and u_a − u_b, how much further than b bottle a rode "
+          "towards the side the track turns to (right for a right turn), across the incoming belt 3 cm before "
+          "its end. A bottle nearer that side has less way to go through a right angle, by just that offset: "
+          "the gap would change by u_a − u_b.\n";
+    for (size_t k = 0; k < runs.size(); ++k) {
+        const SpacingRun& x = res[k];
+        md += fmt::format("\n{}: largest change along a belt {:.2f} cm.\n\n| from | to | turn | passages | gap change: "
+                          "mean (cm) | min (cm) | max (cm) | u_a − u_b: min (cm) | max (cm) | correlation | "
+                          "largest |change − (u_a − u_b)| (cm) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+                          runs[k].label, x.belt_change * 100);
+        for (const SpacingRun::Transfer& tr : x.transfers) {
+            const Stats c = stats(tr.change), u = stats(tr.lane);
+            double cov = 0, residual = 0;
+            for (size_t i = 0; i < tr.change.size(); ++i) {
+                cov += (tr.change[i] - c.mean) * (tr.lane[i] - u.mean) / double(c.n);
+                residual = std::max(residual, std::abs(tr.change[i] - tr.lane[i]));
+            }
+            const bool turns = tr.turn != 0;
+            const std::string corr = turns && c.n > 2 && c.variance > 0 && u.variance > 0
+                                         ? fmt::format("{:+.2f}", cov / std::sqrt(c.variance * u.variance))
+                                         : "—";
+            md += fmt::format("| {} | {} | {} | {} | {:+.2f} | {:+.2f} | {:+.2f} | {} | {} | {} | {} |\n", tr.from, tr.to,
+                              tr.turn > 0 ? "left" : tr.turn < 0 ? "right" : "U-turn or none", c.n, c.mean * 100,
+                              c.min * 100, c.max * 100, turns ? fmt::format("{:+.2f}", u.min * 100) : "—",
+                              turns ? fmt::format("{:+.2f}", u.max * 100) : "—", corr,
+                              turns ? fmt::format("{:.2f}", residual * 100) : "—");
+        }
+    }
+    md += "\nFiles: spacing.csv (per run TAG: both bottles' x and y, manhattan_TAG and gap_TAG in m), spacing.png, "
+          "spacing.svg.\n";
     write_file(out / "summary.md", md);
     return 0;
 }

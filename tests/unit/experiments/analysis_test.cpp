@@ -182,6 +182,45 @@ TEST_CASE("experiments: statistics and laps") {
     CHECK(laps(x, y, {-1, 0, 0}, 0.1) == 0);  // never passes the gate the other way
 }
 
+TEST_CASE("experiments: the gap along the track, on a straight line and around a right angle") {
+    // b follows a's path 0.2 m behind, both at 0.01 m per sample: along +x to (1, 0), then −y.
+    auto path = [](double s, double& x, double& y) {
+        if (s <= 1) x = s, y = 0;
+        else x = 1, y = -(s - 1);
+    };
+    std::vector<double> ax, ay, bx, by;
+    for (int i = 0; i <= 300; ++i) {
+        double x, y;
+        path(0.2 + 0.01 * i, x, y);
+        ax.push_back(x), ay.push_back(y);
+        path(0.01 * i, x, y);
+        bx.push_back(x), by.push_back(y);
+    }
+    const std::vector<double> gap = track_gap(ax, ay, bx, by, 0.1, 1.0);
+    REQUIRE(gap.size() == ax.size());
+    // Along the track the gap is 0.2 m everywhere, though the Manhattan distance around the
+    // corner is too and the straight one is less; at the end b has not got there yet.
+    for (size_t i = 0; i + 21 < gap.size(); ++i) {  // the last 20 samples: b reaches a's point at the end or not at all
+        CAPTURE(i);
+        CHECK(gap[i] == doctest::Approx(0.2).epsilon(1e-9));
+    }
+    CHECK(std::isnan(gap.back()));
+    // b at half speed on the outgoing leg from sample 110: the gap grows.
+    std::vector<double> slow_bx = bx, slow_by = by;
+    for (size_t i = 0; i < slow_bx.size(); ++i) {
+        double x, y;
+        path(i <= 110 ? 0.01 * double(i) : 1.1 + 0.005 * double(i - 110), x, y);
+        slow_bx[i] = x, slow_by[i] = y;
+    }
+    const std::vector<double> slow = track_gap(ax, ay, slow_bx, slow_by, 0.1, 1.0);
+    CHECK(slow[90] == doctest::Approx(0.2));   // b reaches a's point at sample 110, before it slows
+    CHECK(slow[120] == doctest::Approx(0.25)); // a at 1.4 m of path, b at 1.15 m
+    // A path that never passes a's point within reach has no gap.
+    std::vector<double> far_by(by.size(), 0.5);
+    const std::vector<double> none = track_gap(ax, ay, bx, far_by, 0.1, 1.0);
+    CHECK(std::isnan(none[0]));
+}
+
 TEST_CASE("experiments: reading a trace") {
     std::istringstream good("time,a.x,a.y\n0,1,2\n0.5,3,4e-3\n");
     Table t;
