@@ -29,10 +29,9 @@ cmake --build build/fuzz -j "${JOBS:-$(nproc)}" --target $(printf 'fuzz_%s ' "${
 
 seeds() {  # the seed corpus of a target, as files
   case "$1" in
-    compile) find stdlib examples plants tests/golden -name '*.plant' ;;
-    graph) find tests/golden -name '*.graph' ;;
-    events) find tests/fuzz/corpus/events -type f ;;
-    viewer_message) find tests/fuzz/corpus/viewer_message -type f ;;
+    compile) find stdlib examples plants tests/golden -type f -name '*.plant' ;;
+    graph) find tests/golden -type f -name '*.graph' ;;
+    *) [ -d "tests/fuzz/corpus/$1" ] && find "tests/fuzz/corpus/$1" -type f || true ;;
   esac
   [ -d "tests/fuzz/regressions/$1" ] && find "tests/fuzz/regressions/$1" -type f || true
 }
