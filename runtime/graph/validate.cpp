@@ -405,7 +405,7 @@ private:
         return each("fields", g_.fields, [&](const Field& f, size_t i) {
             const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
             return owner(f.comp, CompKind::Field, i) && id("body", f.body, g_.bodies.size(), "bodies", true) &&
-                   check(f.extent[0] >= 0 && f.extent[1] >= 0 && f.extent[2] >= 0, "field 'extent' is negative") &&
+                   check(f.extent[0] > 0 && f.extent[1] > 0 && f.extent[2] > 0, "field 'extent' must be above 0") &&
                    check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
                    check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
         });
@@ -433,6 +433,7 @@ private:
         if (!each("transitions", g_.transitions, [&](const Transition& t, size_t) {
             return id("comp", t.comp, g_.comps.size(), "comps") &&
                    check(g_.comps[size_t(t.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
+                   check(t.in_num > 0, "a transition needs an input place (it would fire in every step)") &&
                    range("in_adr", t.in_adr, t.in_num, g_.arcs.size(), "arcs") &&
                    range("out_adr", t.out_adr, t.out_num, g_.arcs.size(), "arcs") &&
                    slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out, true);
@@ -448,7 +449,7 @@ private:
     bool triggers() {
         return each("triggers", g_.triggers, [&](const Trigger& t, size_t i) {
             return owner(t.comp, CompKind::Trigger, i) && id("body", t.body, g_.bodies.size(), "bodies", true) &&
-                   check(t.extent[0] >= 0 && t.extent[1] >= 0 && t.extent[2] >= 0, "field 'extent' is negative") &&
+                   check(t.extent[0] > 0 && t.extent[1] > 0 && t.extent[2] > 0, "field 'extent' must be above 0") &&
                    id("filter", t.filter, g_.do_types.size(), "do_types", true);
         });
     }
@@ -456,8 +457,7 @@ private:
     bool timers() {
         return each("timers", g_.timers, [&](const Timer& t, size_t i) {
             return owner(t.comp, CompKind::Timer, i) &&
-                   check(t.periodic ? t.period > 0 : t.period >= 0,
-                         "field 'period' must be above 0 (0 or more for a one-shot)");
+                   check(t.period > 0, "field 'period' must be above 0");
         });
     }
 

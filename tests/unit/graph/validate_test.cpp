@@ -1,11 +1,14 @@
 // validate(): a damaged .graph file fails to load with the record at fault and its line,
-// one case per kind of check; the graph the compiler wrote for the bottling plant passes.
+// one case per kind of check; the graph the compiler wrote for the bottling plant passes;
+// every golden graph, damaged in each way the compiler guards, is refused.
 #include "graph/text.h"
 #include "graph/validate.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -201,4 +204,94 @@ TEST_CASE("validate: a hull whose points lie on a line or in a plane encloses no
         CHECK_FALSE(read_text(in, out, error));
         CHECK_MESSAGE(error.find("shape " + std::to_string(hull) + ": a hull encloses no volume: " + f.says) != std::string::npos, error);
     }
+}
+
+// The loader refuses what the compiler refuses, on every graph the suite holds: each golden
+// graph passes, then each of its records is damaged in each way the compiler guards (a value
+// out of its range, a broken structure), one damage at a time, and validate() must refuse it.
+TEST_CASE("validate: every golden graph, damaged in each way the compiler guards, is refused") {
+    std::vector<std::string> files;
+    for (const char* dir : {"/tests/golden", "/tests/plants"})
+        for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(PLANT_SOURCE_DIR) + dir))
+            if (e.is_regular_file() && e.path().extension() == ".graph") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    REQUIRE(files.size() > 50);
+    size_t tried = 0;
+    for (const std::string& file : files) {
+        CAPTURE(file);
+        Graph good;
+        std::string error;
+        if (!load_text_file(file, good, error)) continue;  // a golden of a refused graph
+        // One damage: change a copy, and the loader's check must refuse it.
+        auto refused = [&](const std::string what, auto&& change) {
+            Graph g = good;
+            change(g);
+            GraphProblem p;
+            ++tried;
+            CHECK_MESSAGE(!validate(g, p), file << ": " << what);
+        };
+        refused("rate below 1 Hz", [](Graph& g) { g.settings.rate = 0.5; });
+        refused("rate above 1 MHz", [](Graph& g) { g.settings.rate = 2e6; });
+        refused("gravity not finite", [](Graph& g) { g.settings.gravity[2] = std::nan(""); });
+        for (size_t i = 0; i < good.bodies.size(); ++i) {
+            if (good.bodies[i].mode == BodyMode::Dynamic) {
+                refused("a dynamic body's mass 0", [&](Graph& g) { g.bodies[i].mass = 0; });
+                refused("a dynamic body without shapes", [&](Graph& g) { g.bodies[i].shape_num = 0; });
+            }
+            if (good.bodies[i].inertia_set) refused("inertia 0", [&](Graph& g) { g.bodies[i].inertia[0] = 0; });
+            refused("friction below 0", [&](Graph& g) { g.bodies[i].friction = -0.1; });
+            refused("restitution below 0", [&](Graph& g) { g.bodies[i].restitution = -0.1; });
+            refused("linear damping above 1", [&](Graph& g) { g.bodies[i].linear_damping = 1.5; });
+            refused("angular damping below 0", [&](Graph& g) { g.bodies[i].angular_damping = -1; });
+        }
+        for (size_t i = 0; i < good.shapes.size(); ++i) {
+            if (good.shapes[i].kind != ShapeKind::Hull)
+                refused("a shape of size 0", [&](Graph& g) { g.shapes[i].size[0] = 0; });
+            else
+                refused("a hull whose points coincide", [&](Graph& g) {
+                    for (int32_t k = 1; k < g.shapes[i].point_num; ++k)
+                        g.points[size_t(g.shapes[i].point_adr + k)] = g.points[size_t(g.shapes[i].point_adr)];
+                });
+        }
+        for (size_t i = 0; i < good.fields.size(); ++i) {
+            refused("a field's extent 0", [&](Graph& g) { g.fields[i].extent[1] = 0; });
+            refused("a field's gain below 0", [&](Graph& g) { g.fields[i].gain = -1; });
+            refused("a field's direction zero", [&](Graph& g) { g.fields[i].dir = {0, 0, 0}; });
+            refused("a field's max_force below 0", [&](Graph& g) { g.fields[i].max_force = -1; });
+        }
+        for (size_t i = 0; i < good.joints.size(); ++i) {
+            refused("a joint on one body", [&](Graph& g) { g.joints[i].body_b = g.joints[i].body_a; });
+            if (good.joints[i].kind != JointKind::Fixed && good.joints[i].lower <= good.joints[i].upper)
+                refused("a joint's limits not finite", [&](Graph& g) { g.joints[i].upper = std::nan(""); });
+        }
+        for (size_t i = 0; i < good.places.size(); ++i) {
+            refused("tokens below 0", [&](Graph& g) { g.places[i].initial = -1; });
+            refused("tokens above the limit", [&](Graph& g) { g.places[i].initial = kMaxInitialTokens + 1; });
+        }
+        for (size_t i = 0; i < good.arcs.size(); ++i) {
+            refused("an arc's weight 0", [&](Graph& g) { g.arcs[i].weight = 0; });
+            refused("an arc's weight above the limit", [&](Graph& g) { g.arcs[i].weight = kMaxArcWeight + 1; });
+        }
+        for (size_t i = 0; i < good.transitions.size(); ++i)
+            refused("a transition without input places", [&](Graph& g) { g.transitions[i].in_num = 0; });
+        for (size_t i = 0; i < good.triggers.size(); ++i)
+            refused("a trigger's extent 0", [&](Graph& g) { g.triggers[i].extent[2] = 0; });
+        for (size_t i = 0; i < good.timers.size(); ++i)
+            refused("a timer's period 0", [&](Graph& g) { g.timers[i].period = 0; });
+        for (size_t i = 0; i < good.sources.size(); ++i)
+            refused("a source's rate below 0", [&](Graph& g) { g.sources[i].rate = -1; });
+        for (size_t i = 0; i < good.flows.size(); ++i) {
+            const Flow& f = good.flows[i];
+            if (f.to_access >= 0) continue;
+            // Into an output: the flow's own source will do, when the source is static.
+            if (f.from_access < 0) refused("a flow into an output", [&](Graph& g) { g.flows[i].to = g.flows[i].from; });
+        }
+        for (size_t i = 0; i < good.slots.size(); ++i)
+            if (good.slots[i].value_adr >= 0) {
+                refused("a slot's values beyond the table", [&](Graph& g) { g.slots[i].value_adr = int32_t(g.values.size()); });
+                break;
+            }
+    }
+    MESSAGE(tried << " damages over " << files.size() << " graphs");
+    CHECK(tried > 500);
 }
