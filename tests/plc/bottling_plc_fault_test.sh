@@ -8,18 +8,11 @@
 #   tests/plc/bottling_plc_fault_test.sh PLANT SOURCE_DIR
 set -euo pipefail
 plant="$1" src="$2"
-work=$(mktemp -d)
+work=$(mktemp -d) pid=""
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
-"$plant" run "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 150s \
-  --trace "$work/t.csv" --trace-rate 1Hz > "$work/out" 2> "$work/err" &
-pid=$!
-port=""
-for _ in $(seq 150); do
-  port=$(sed -n 's/.*Modbus TCP on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/err")
-  [ -n "$port" ] && break
-  sleep 0.2
-done
-[ -n "$port" ] || { echo "plant run did not start its Modbus server"; cat "$work/err"; exit 1; }
+. "$(dirname "$0")/start_plant.sh"
+start_plant "" "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 150s \
+  --trace "$work/t.csv" --trace-rate 1Hz
 timeout 300 /usr/bin/python3 "$src/examples/plc/router.py" "$port" --lockstep 22500 --fault 1 3000 15000 \
   > "$work/router" || { echo "FAIL: the controller"; tail -5 "$work/router"; exit 1; }
 wait "$pid"

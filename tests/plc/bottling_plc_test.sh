@@ -6,19 +6,11 @@
 #   tests/plc/bottling_plc_test.sh PLANT SOURCE_DIR
 set -euo pipefail
 plant="$1" src="$2"
-work=$(mktemp -d)
+work=$(mktemp -d) pid=""
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
+. "$(dirname "$0")/start_plant.sh"
 run() {
-  "$plant" run "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 120s \
-    --trace "$work/trace$1.csv" > "$work/out$1" 2> "$work/err$1" &
-  pid=$!
-  local port=""
-  for _ in $(seq 150); do
-    port=$(sed -n 's/.*Modbus TCP on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/err$1")
-    [ -n "$port" ] && break
-    sleep 0.2
-  done
-  [ -n "$port" ] || { echo "plant run did not start its Modbus server"; cat "$work/err$1"; exit 1; }
+  start_plant "$1" "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 120s --trace "$work/trace$1.csv"
   timeout 300 /usr/bin/python3 "$src/examples/plc/router.py" "$port" --lockstep 18000 > "$work/router$1" ||
     { echo "FAIL: the controller"; tail -5 "$work/router$1"; exit 1; }
   wait "$pid"

@@ -6,17 +6,10 @@
 # Every wait is bounded; the plant runs 40 s of real time at most.
 set -euo pipefail
 plant="$1" src="$2"
-work=$(mktemp -d)
+work=$(mktemp -d) pid=""
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
-"$plant" run "$src/plants/bottling_plc.plant" --realtime --for 40s --modbus-port 0 > "$work/out" 2> "$work/err" &
-pid=$!
-port=""
-for _ in $(seq 100); do
-  port=$(sed -n 's/.*Modbus TCP on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/err")
-  [ -n "$port" ] && break
-  sleep 0.2
-done
-[ -n "$port" ] || { echo "plant run did not start serving"; cat "$work/err"; exit 1; }
+. "$(dirname "$0")/start_plant.sh"
+start_plant "" "$src/plants/bottling_plc.plant" --realtime --for 40s --modbus-port 0
 
 # Poll discrete input 0 every 10 ms (mbpoll's fastest) for at most 30 s, until it reads 1:
 # a bottle in S2's ID reader. (No controller: every bottle passes S2 straight on.)
