@@ -3,18 +3,19 @@
 # S2's ID reader as a discrete input while a bottle passes it, and writing a coil stops
 # belt B1 (the plant's record of b1.stop counts one).
 #   tests/plc/mbpoll_test.sh PLANT SOURCE_DIR
-# Every wait is bounded; the plant runs 40 s of real time at most.
+# Every wait is bounded; the plant runs 90 s of real time at most (the first bottle reaches
+# S2 after about 25 s: it goes round the stations first).
 set -euo pipefail
 plant="$1" src="$2"
 work=$(mktemp -d) pid=""
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
 . "$(dirname "$0")/start_plant.sh"
-start_plant "" "$src/plants/bottling_plc.plant" --realtime --for 40s --modbus-port 0
+start_plant "" "$src/plants/bottling_plc.plant" --realtime --for 90s --modbus-port 0
 
-# Poll discrete input 0 every 10 ms (mbpoll's fastest) for at most 30 s, until it reads 1:
+# Poll discrete input 0 every 10 ms (mbpoll's fastest) for at most 75 s, until it reads 1:
 # a bottle in S2's ID reader. (No controller: every bottle passes S2 straight on.)
 set +o pipefail
-timeout 30 stdbuf -oL mbpoll -m tcp -p "$port" -0 -t 1 -r 0 -c 1 -l 10 -o 2 127.0.0.1 2>&1 |
+timeout 75 stdbuf -oL mbpoll -m tcp -p "$port" -0 -t 1 -r 0 -c 1 -l 10 -o 2 127.0.0.1 2>&1 |
   tee "$work/poll" | grep -q -m1 '^\[0\]:[[:space:]]*1' ||
   { echo "mbpoll never saw a bottle at S2's reader"; tail -5 "$work/poll"; exit 1; }
 set -o pipefail
