@@ -18,6 +18,7 @@
 //
 //   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
 //   plant_golden --update DIR   rewrite the expected files; review with `git diff`
+#include "plc/kind.h"
 #include "compiler.h"
 #include "engine/run.h"
 #include "fmt/formatter.h"
@@ -136,6 +137,7 @@ void fmt_case(const fs::path& f, const fs::path& base, bool update, Result& r, b
 }  // namespace
 
 int main(int argc, char** argv) {
+    plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
     bool update = false;
     std::string dir, sources;
     for (int i = 1; i < argc; ++i) {

@@ -13,6 +13,7 @@
 #include "engine/run.h"
 #endif
 #ifdef PLANT_HAS_PLC
+#include "plc/kind.h"
 #include "plc/run_link.h"
 #endif
 #ifdef PLANT_HAS_SERVE
@@ -378,7 +379,7 @@ int cmd_run(const Options& o) {
     std::string link_error;
     if (!plant::plc::take_link_flags(rest, link_flags, link_error)) return usage_error(link_error);
     std::unique_ptr<plant::plc::ServerLink> server;
-    if (link_flags.on && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
+    if ((link_flags.on || plant::plc::declares_link(g)) && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
         std::cerr << "plant run: error: " << link_error << "\n";
         return 1;
     }
@@ -433,6 +434,9 @@ int main(int argc, char** argv) {
 }
 
 int run_command(int argc, char** argv) {
+#ifdef PLANT_HAS_PLC
+    plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+#endif
     std::vector<std::string> args(argv + 1, argv + argc);
     Options o;
     if (args.empty()) {

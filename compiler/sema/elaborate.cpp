@@ -66,6 +66,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     type_stack_.push_back(o.name.text);
     elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}));
     finish_accesses();
+    check_plugins();
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
 }
@@ -112,6 +113,7 @@ graph::Graph Elaborator::run(bool require_plant) {
     elaborate_do(root_do, *plant, prog_.root, bind_args(*plant, prog_.overrides, plant->name.span, Env{}));
     finish_accesses();
     emit_ports();
+    check_plugins();
     // The whole-plant warnings assume every flow was made: after an error, a failed flow
     // would show up as an input nothing drives or a place nothing feeds.
     if (!sink_.has_errors()) {

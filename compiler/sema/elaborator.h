@@ -125,6 +125,8 @@ public:
     Endpoint resolve(int32_t scope_do, const ast::Path& path, const Env& env);
     // A plugin component's entries (sema/kinds/plugin.cpp), with the flows of its scope.
     void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do);
+    // The kinds' own checks (graph::KindDesc::check) over every plugin component.
+    void check_plugins();
     bool entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
                        std::vector<graph::PluginParam>& out);
     void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
@@ -161,6 +163,8 @@ public:
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
     std::vector<Span> flow_spans_;  // by flow id (for warnings)
+    std::vector<Span> plugin_spans_;  // by plugin row: the component's name
+    std::vector<Span> entry_spans_;   // by plugin entry row
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
     long long expanded_ = 0;      // members produced by loops, against runaway loops
     long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included

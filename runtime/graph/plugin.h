@@ -16,6 +16,7 @@
 #include "kinds.h"
 
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -47,6 +48,13 @@ struct EntrySpec {
     int32_t max_key = 65535;
 };
 
+// What a kind's own check (KindDesc::check) finds wrong with one of its components: the
+// entry (a row index into its entries, from 0; -1: the component as a whole) and why.
+struct PluginProblem {
+    int32_t entry = -1;
+    std::string message;
+};
+
 // When the runtime calls the kind (docs/runtime.md, "The step").
 enum class PluginPhase : uint8_t { None, Sensors, Actuators };
 
@@ -58,6 +66,10 @@ struct KindDesc {
     std::span<const EntrySpec> entries = {};
     PluginPhase senses = PluginPhase::None;  // Sensors: called every step in phase 2
     PluginPhase acts = PluginPhase::None;    // Actuators: called in phase 5 when an input is active
+    // Checks across a component's entries, or across components of the kind (two Modbus
+    // links on one port), once the whole graph is built: the compiler reports a problem at
+    // the entry (or the component), the loader refuses the graph. nullptr: nothing to check.
+    bool (*check)(const Graph& g, int32_t plugin, PluginProblem& problem) = nullptr;
 };
 
 // Registers a kind (before any plant is compiled or loaded); false if its word is taken by

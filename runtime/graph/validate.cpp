@@ -246,6 +246,13 @@ private:
             for (int32_t k = 0; k < p.entry_num; ++k)
                 if (!plugin_entry(*d, g_.plugin_entries[size_t(p.entry_adr + k)], p.entry_adr + k)) return false;
             return true;
+        }) && each("plugins", g_.plugins, [&](const Plugin& p, size_t i) {
+            // The kind's own check, once every component's records are sound.
+            const KindDesc* d = find_plugin(g_.str(p.kind));
+            PluginProblem problem;
+            if (!d->check || d->check(g_, int32_t(i), problem)) return true;
+            return fail(problem.entry < 0 ? fmt::format("a {}: {}", d->word, problem.message)
+                                          : fmt::format("plugin entry {}: {}", p.entry_adr + problem.entry, problem.message));
         });
     }
 

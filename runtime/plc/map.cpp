@@ -221,6 +221,4 @@ std::string format_map(const Map& map, const graph::Graph&, MapFormat format) {
     return out;
 }
 
-Map map_from_graph(const graph::Graph&) { return {}; }
-
 }  // namespace plant::plc

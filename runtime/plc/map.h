@@ -45,6 +45,8 @@ struct Entry {
 
 struct Map {
     std::vector<Entry> entries;
+    int port = 0;      // the port the link declares (0: none; --modbus-port or a free one)
+    std::string host;  // the address it declares ("": --modbus-host or 127.0.0.1)
 };
 
 // Addresses an entry takes in its table (1, 2 or its string length).
@@ -93,8 +95,8 @@ enum class MapFormat : uint8_t { Markdown, Csv };
 // table and address order, then the control block.
 std::string format_map(const Map& map, const graph::Graph& g, MapFormat format = MapFormat::Markdown);
 
-// The map of the plant's link component. Until the link kind lands (docs/plc.md,
-// "Declaring the link in a plant") every plant has an empty map.
-Map map_from_graph(const graph::Graph& g);
+// The map of the plant's link component (kind.h; docs/plc.md, "Declaring the link in a
+// plant"): empty for a plant without one. `links` (when given) gets how many it declares.
+Map map_from_graph(const graph::Graph& g, int* links = nullptr);
 
 }  // namespace plant::plc

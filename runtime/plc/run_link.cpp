@@ -28,6 +28,7 @@ bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::stri
         const std::string& v = args[++i];
         if (a == "--modbus-host") {
             flags.server.host = v;
+            flags.host_given = true;
             continue;
         }
         char* end = nullptr;
@@ -37,24 +38,39 @@ bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::stri
             return false;
         }
         flags.server.port = int(port);
+        flags.port_given = true;
     }
     args = std::move(rest);
     return true;
 }
 
+bool declares_link(const graph::Graph& g) {
+    int links = 0;
+    map_from_graph(g, &links);
+    return links > 0;
+}
+
 std::unique_ptr<ServerLink> start_link(const graph::Graph& g, const LinkFlags& flags, std::ostream& err,
                                        std::string& error) {
-    Map map = map_from_graph(g);
+    int links = 0;
+    Map map = map_from_graph(g, &links);
+    if (links > 1) {
+        error = fmt::format("the plant declares {} Modbus links; plant run serves one", links);
+        return nullptr;
+    }
     const std::vector<MapError> problems = check_map(map, g);
     if (!problems.empty()) {
         error = fmt::format("the Modbus map: {}", problems.front().message);
         return nullptr;
     }
+    ServerOptions options = flags.server;
+    if (!flags.port_given && map.port != 0) options.port = map.port;
+    if (!flags.host_given && !map.host.empty()) options.host = map.host;
     const size_t entries = map.entries.size();
-    auto link = std::make_unique<ServerLink>(g, std::move(map), flags.server);
+    auto link = std::make_unique<ServerLink>(g, std::move(map), options);
     link->set_lockstep(flags.server.lockstep);
     if (!link->start(error)) return nullptr;
-    fmt::print(err, "plant run: Modbus TCP on {}:{} ({} mapped entr{}{})\n", flags.server.host, link->server().port(),
+    fmt::print(err, "plant run: Modbus TCP on {}:{} ({} mapped entr{}{})\n", options.host, link->server().port(),
                entries, entries == 1 ? "y" : "ies",
                flags.server.lockstep ? "; lock-step: write N to holding register 60000 to run N steps" : "");
     err.flush();

@@ -18,6 +18,7 @@ namespace plant::plc {
 
 struct LinkFlags {
     bool on = false;  // any of the flags given
+    bool port_given = false, host_given = false;  // over what the plant's link declares
     ServerOptions server;
 };
 // Takes the link's flags out of `args` (the rest go to engine::run_main); false with
@@ -40,8 +41,11 @@ private:
     bool lockstep_ = false;
 };
 
+// Whether the plant declares a link (a `modbus` component): `plant run` then serves it.
+bool declares_link(const graph::Graph& g);
+
 // The link for a run of `g` with `flags`: its map from the graph (map_from_graph), checked,
-// the server started; one line on `err` says where it listens. Null with `error` when the
+// on the plant's port and host unless the flags give them, the server started; one line on `err` says where it listens. Null with `error` when the
 // map has errors or the server cannot listen.
 std::unique_ptr<ServerLink> start_link(const graph::Graph& g, const LinkFlags& flags, std::ostream& err,
                                        std::string& error);

@@ -51,8 +51,11 @@ std::string types_text(std::span<const graph::SlotType> types) {
 // direction and types, the options known, set once and of their type and dimension.
 void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do) {
     const graph::KindDesc* kind = graph::plugin_of(g_, comp);
-    if (!kind || c.entries.empty()) return;
+    if (!kind) return;
     const size_t plugin = static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail);
+    if (plugin_spans_.size() <= plugin) plugin_spans_.resize(plugin + 1);
+    plugin_spans_[plugin] = c.name.span;
+    if (c.entries.empty()) return;
     g_.plugins[plugin].entry_adr = static_cast<int32_t>(g_.plugin_entries.size());
     for (const ast::EntryDecl& e : c.entries) {
         const graph::EntrySpec* es = graph::find_entry(*kind, e.word.text);
@@ -108,8 +111,25 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
         g_.plugin_params.insert(g_.plugin_params.end(), options.begin(), options.end());
         rec.src = src(e.span);
         g_.plugin_entries.push_back(rec);
+        entry_spans_.resize(g_.plugin_entries.size());
+        entry_spans_.back() = e.span;
     }
     g_.plugins[plugin].entry_num = static_cast<int32_t>(g_.plugin_entries.size()) - g_.plugins[plugin].entry_adr;
+}
+
+// Checks a kind makes across entries or components (a Modbus link's overlapping
+// addresses, two links on one port), reported at the entry or the component.
+void Elaborator::check_plugins() {
+    for (size_t p = 0; p < g_.plugins.size(); ++p) {
+        const graph::KindDesc* kind = graph::plugin_of(g_, g_.plugins[p].comp);
+        graph::PluginProblem problem;
+        if (!kind || !kind->check || kind->check(g_, static_cast<int32_t>(p), problem)) continue;
+        const size_t row = static_cast<size_t>(g_.plugins[p].entry_adr + problem.entry);
+        const Span at = problem.entry >= 0 && row < entry_spans_.size() ? entry_spans_[row]
+                        : p < plugin_spans_.size()                      ? plugin_spans_[p]
+                                                                        : Span{};
+        sink_.report(DiagId::KindCheck, at, problem.message);
+    }
 }
 
 // `(name = value, ...)` of an entry, in the order its spec declares them, defaults filled in.

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Issue #15 §3 through the declared link: the example controller (examples/plc/router.py)
+# forces map entry 1 of plants/bottling_plc.plant — S2's ID reader (`line[0].s2.seen`) —
+# open circuit through the link's fault block from 20 s to 100 s. While it is open the
+# controller sees no bottle at S2, so none goes into lane B (every one passes S2); the
+# summary lists the forced slot (from 20.007 s: a write between steps applies in the next
+# step); after the release routing into lane B resumes.
+#   tests/plc/bottling_plc_fault_test.sh PLANT SOURCE_DIR
+set -euo pipefail
+plant="$1" src="$2"
+work=$(mktemp -d) pid=""
+trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
+. "$(dirname "$0")/start_plant.sh"
+start_plant "" "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 150s \
+  --trace "$work/t.csv" --trace-rate 1Hz
+timeout 300 /usr/bin/python3 "$src/examples/plc/router.py" "$port" --lockstep 22500 --fault 1 3000 15000 \
+  > "$work/router" || { echo "FAIL: the controller"; tail -5 "$work/router"; exit 1; }
+wait "$pid"
+grep -q '^  line\[0\]\.s2\.seen  open  *from 20\.007 s to 100\.007 s$' "$work/out" ||
+  { echo "FAIL: the summary does not list the forced slot"; cat "$work/out"; exit 1; }
+awk -F, '
+  NR == 1 { for (i = 1; i <= NF; i++) if ($i == "s2 to lane B") lane = i; next }
+  { t = $1 + 0; if (t > 20.5 && t < 99.5) during += $lane; else if (t >= 99.5) after += $lane; else before += $lane }
+  END {
+    if (!lane) { print "FAIL: no column \"s2 to lane B\""; exit 1 }
+    printf "into lane B: %d before 20 s, %d while S2'"'"'s reader is open, %d after its release\n", before, during, after
+    if (during != 0) { print "FAIL: bottles went into lane B while the reader was open"; exit 1 }
+    if (after < 1) { print "FAIL: routing into lane B did not resume"; exit 1 }
+    print "bottling_plc fault: ok" }' "$work/t.csv"
