@@ -83,12 +83,16 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     const btScalar cell = std::max(btScalar(1), 4 * h);
     std::vector<std::pair<uint64_t, int32_t>> filed;
     std::vector<int32_t> big;
-    auto idx = [cell](btScalar v) { return int64_t(std::floor(v / cell)); };
+    // A graph may place a body anywhere finite (1e19 m, say): cell indices are clamped so that
+    // they stay far inside int64_t, and a box that far out covers more cells than any other.
+    auto idx = [cell](btScalar v) {
+        return int64_t(std::clamp(std::floor(v / cell), btScalar(-1e12), btScalar(1e12)));
+    };
     for (int32_t i : ids) {
         const Box& b = boxes[size_t(i)];
         const int64_t x0 = idx(b.lo.x() - h), x1 = idx(b.hi.x() + h), y0 = idx(b.lo.y() - h), y1 = idx(b.hi.y() + h),
                       z0 = idx(b.lo.z() - h), z1 = idx(b.hi.z() + h);
-        if ((x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > 4096) {
+        if (double(x1 - x0 + 1) * double(y1 - y0 + 1) * double(z1 - z0 + 1) > 4096) {
             big.push_back(i);
             continue;
         }

@@ -1,6 +1,7 @@
 // Physics regions (runtime/engine/regions.cpp): a Bullet world per group of static bodies far
 // from the others, bodies moving between them, and results that do not depend on the threads.
 #include "engine/engine.h"
+#include "graph/text.h"
 #include "engine/runtime.h"
 #include "engine/trace.h"
 #include "bottling_scene.h"
@@ -8,6 +9,9 @@
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
 
 
 using namespace plant::test;
@@ -156,4 +160,23 @@ TEST_CASE("runtime: with sweep-and-prune a plant of lines far apart keeps one Bu
     CHECK(e.internals().phys.worlds() == 1);
     for (int i = 0; i < 300; ++i) e.step();
     CHECK(e.warnings().total() == 0);
+}
+
+// Found by the graph target's libFuzzer campaign (tests/fuzz/regressions/graph/): a static box
+// whose shape sits 1e19 m out overflowed the region finder's cell index (undefined behaviour,
+// caught by UBSan). A graph may place a body anywhere finite; the engine is built and steps.
+TEST_CASE("runtime: a static body 1e19 m out is filed into regions without overflow") {
+    plant::graph::Graph g;
+    std::string error;
+    REQUIRE_MESSAGE(plant::graph::load_text_file(std::string(PLANT_SOURCE_DIR) +
+                                                     "/tests/fuzz/regressions/graph/static_box_at_1e19.graph",
+                                                 g, error),
+                    error);
+    bool far = false;
+    for (const auto& s : g.shapes) far = far || std::abs(s.local.p[0]) > 1e18;
+    REQUIRE(far);
+    plant::engine::Engine e(g);
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(e.steps() == 10);
+    CHECK(e.regions() >= 1);
 }
