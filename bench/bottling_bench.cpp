@@ -25,6 +25,8 @@
 #include "compiler.h"
 #include "engine/engine.h"
 
+#include "median.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,6 +44,8 @@
 // ---- The counting allocator: counts while `g_counting` is set. -------------------------
 
 namespace {
+
+using plant::bench::median;
 bool g_counting = false;
 long g_allocs = 0;
 
@@ -173,13 +177,6 @@ Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, 
     waitpid(pid, &status, 0);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) s.ok = false;
     return s;
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 bool parse(int argc, char** argv, Args& a) {

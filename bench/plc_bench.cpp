@@ -14,6 +14,8 @@
 #include "engine/run_args.h"
 #include "plc/server.h"
 
+#include "median.h"
+
 #include <modbus/modbus.h>
 
 #include <algorithm>
@@ -26,6 +28,8 @@
 #include <vector>
 
 namespace {
+
+using plant::bench::median;
 
 struct Args {
     int runs = 3;
@@ -104,11 +108,6 @@ double measure(const plant::graph::Graph& g, const plant::plc::Map& map, const A
     stop = true;
     if (client.joinable()) client.join();
     return wall / (e.time() - s0);
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace

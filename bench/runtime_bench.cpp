@@ -9,6 +9,8 @@
 #include "engine/engine.h"
 #include "graph/graph.h"
 
+#include "median.h"
+
 #include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -38,6 +40,8 @@
 #include <vector>
 
 namespace {
+
+using plant::bench::median;
 
 namespace fs = std::filesystem;
 using plant::engine::Broadphase;
@@ -211,13 +215,6 @@ struct Timing {
 Timing since(const Clock& c) {
     Clock e = Clock::now();
     return {std::chrono::duration<double, std::milli>(e.wall - c.wall).count(), (e.cpu - c.cpu) * 1e3};
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 // What a run leaves behind for the sanity check.

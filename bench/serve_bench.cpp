@@ -13,6 +13,8 @@
 #include "serve/player.h"
 #include "serve/server.h"
 
+#include "median.h"
+
 #include <utility>  // before Boost 1.74's asio (std::exchange)
 
 #include <boost/asio/ip/tcp.hpp>
@@ -30,6 +32,8 @@
 #include <vector>
 
 namespace {
+
+using plant::bench::median;
 
 namespace beast = boost::beast;
 namespace net = boost::asio;
@@ -104,11 +108,6 @@ double measure(const plant::graph::Graph& g, const Args& a, bool with_page, long
     page.stop = true;
     if (page.thread.joinable()) page.thread.join();
     return wall / simulated;  // wall seconds per simulated second
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace

@@ -448,8 +448,8 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
     std::vector<Item> items;
     expand(decl.members, env, items, 0);
 
-    // Components first, so that one DO's components (and their slots) are contiguous.
-    g_.dos[static_cast<size_t>(do_id)].comp_adr = static_cast<int32_t>(g_.comps.size());
+    // Components first, so that one DO's components (and their slots) are contiguous
+    // (graph::add_comp keeps the DO's range).
     std::vector<std::pair<int32_t, const Item*>> made;
     std::map<std::string, Span, std::less<>> settings_seen;  // each setting once: no silent "last wins"
     for (const auto& it : items) {
@@ -493,8 +493,6 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             }
         }
     }
-    g_.dos[static_cast<size_t>(do_id)].comp_num =
-        static_cast<int32_t>(g_.comps.size()) - g_.dos[static_cast<size_t>(do_id)].comp_adr;
     for (auto [comp, it] : made)
         link_component(scopes_[static_cast<size_t>(do_id)], comp, std::get<ast::ComponentDecl>(*it->member), *it->env);
 

@@ -34,49 +34,24 @@ PluginCtx::PluginCtx(Runtime& r, int32_t plugin)
     : r_(r), plugin_(plugin), slot_adr_(r.g.comps[r.g.plugins[plugin].comp].slot_adr) {}
 
 bool PluginCtx::active(int slot) const { return r_.st.act[slot_adr_ + slot] != 0; }
-double PluginCtx::value(int slot) const {
-    const int32_t adr = r_.tab.value_adr[slot_adr_ + slot];
-    return adr < 0 ? 0.0 : r_.st.values[adr];
-}
-std::span<const double> PluginCtx::values(int slot) const {
-    const int32_t s = slot_adr_ + slot;
-    const int32_t adr = r_.tab.value_adr[s];
-    if (adr < 0) return {};
-    return {r_.st.values.data() + adr, size_t(graph::slot_width(r_.g.slots[s].type))};
-}
 void PluginCtx::emit(int slot, double v) {
     const int32_t s = slot_adr_ + slot;
     if (r_.tab.value_adr[s] >= 0) *r_.val(s) = v;
     r_.activate_out(s);
 }
 double PluginCtx::param(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].num; }
-std::string_view PluginCtx::text(int i) const {
-    return r_.g.str(r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].text);
-}
 std::span<double> PluginCtx::state() const {
     const PluginRun& p = r_.tab.plugin_run[plugin_];
     return {r_.st.plugin_state.data() + p.state_adr, size_t(p.behaviour->state_size)};
 }
 int PluginCtx::entry_count() const { return r_.g.plugins[plugin_].entry_num; }
-std::string_view PluginCtx::entry_word(int e) const {
-    return r_.g.str(r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e].word);
+const graph::PluginEntry& PluginCtx::entry(int e) const {
+    return r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
 }
-int32_t PluginCtx::entry_key(int e) const { return r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e].key; }
-bool PluginCtx::entry_active(int e) const {
-    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
-    return r_.st.act[r_.g.plugin_entry_slots[x.slot_adr].v] != 0;
-}
-double PluginCtx::entry_value(int e) const {
-    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
-    const int32_t adr = r_.tab.value_adr[r_.g.plugin_entry_slots[x.slot_adr].v];
-    return adr < 0 ? 0.0 : r_.st.values[adr];
-}
-double PluginCtx::entry_option(int e, int k) const {
-    const graph::PluginEntry& x = r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
-    return r_.g.plugin_params[x.param_adr + k].num;
-}
+std::string_view PluginCtx::entry_word(int e) const { return r_.g.str(entry(e).word); }
+bool PluginCtx::entry_active(int e) const { return r_.st.act[r_.g.plugin_entry_slots[entry(e).slot_adr].v] != 0; }
+double PluginCtx::entry_option(int e, int k) const { return r_.g.plugin_params[entry(e).param_adr + k].num; }
 double PluginCtx::time() const { return r_.st.time; }
-double PluginCtx::dt() const { return r_.dt; }
 
 void start_plugins(Runtime& r) {
     for (size_t i = 0; i < r.g.plugins.size(); ++i)

@@ -23,25 +23,22 @@ class PluginCtx {
 public:
     PluginCtx(Runtime& r, int32_t plugin);  // plugin: a row of Graph::plugins
 
-    bool active(int slot) const;  // an input activated this step, an output emitted
-    double value(int slot) const;  // the first (often only) number of the slot's value
-    std::span<const double> values(int slot) const;
-    void emit(int slot, double v);  // writes an output and makes it active
-    double param(int i) const;      // Number, Int, Bool (0/1) parameters, in declared order
-    std::string_view text(int i) const;  // a String parameter
-    std::span<double> state() const;     // KindBehaviour::state_size numbers, 0 at start
-    // Its entries (graph/plugin.h: EntrySpec), in declaration order. An entry that reads an
-    // output: whether that output is active in this step, and its value.
+    // What the kinds so far use; a kind that needs more (an input's value, a text parameter)
+    // adds its accessor here, with a test.
+    bool active(int slot) const;     // an input activated this step, an output emitted
+    void emit(int slot, double v);   // writes an output and makes it active
+    double param(int i) const;       // Number, Int, Bool (0/1) parameters, in declared order
+    std::span<double> state() const;  // KindBehaviour::state_size numbers, 0 at start
+    // Its entries (graph/plugin.h: EntrySpec), in declaration order; for an entry that reads
+    // an output, whether that output is active in this step.
     int entry_count() const;
     std::string_view entry_word(int e) const;
-    int32_t entry_key(int e) const;
     bool entry_active(int e) const;
-    double entry_value(int e) const;
     double entry_option(int e, int k) const;
     double time() const;  // simulated seconds at the start of this step
-    double dt() const;
 
 private:
+    const graph::PluginEntry& entry(int e) const;
     Runtime& r_;
     int32_t plugin_;
     int32_t slot_adr_;

@@ -56,12 +56,6 @@ std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp) {
     return fixed_slots(g.comps[size_t(comp)].kind);
 }
 
-int param_index(const KindDesc& desc, std::string_view name) {
-    for (size_t i = 0; i < desc.params.size(); ++i)
-        if (desc.params[i].name == name) return int(i);
-    return -1;
-}
-
 const EntrySpec* find_entry(const KindDesc& desc, std::string_view word) {
     for (const EntrySpec& e : desc.entries)
         if (e.word == word) return &e;

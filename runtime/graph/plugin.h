@@ -84,8 +84,6 @@ const KindDesc* plugin_of(const Graph& g, int32_t comp);
 // slots of a plugin.
 std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp);
 
-// Where a parameter is in a component's `plugin_params`, -1 when the kind has none so named.
-int param_index(const KindDesc& desc, std::string_view name);
 const EntrySpec* find_entry(const KindDesc& desc, std::string_view word);
 
 std::string_view word(ParamType);

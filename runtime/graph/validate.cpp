@@ -195,12 +195,14 @@ private:
             } else if (!check(cp.detail == -1, "field 'detail' must be -1 for this kind")) {
                 return false;
             }
-            if (cp.kind == CompKind::Plugin && !find_plugin(g_.str(g_.plugins[size_t(cp.detail)].kind)))
+            // A plugin's detail is a row of `plugins` by now; plugin_records() checks the rest.
+            const KindDesc* plugin = cp.kind == CompKind::Plugin ? plugin_of(g_, int32_t(c)) : nullptr;
+            if (cp.kind == CompKind::Plugin && !plugin)
                 return fail(fmt::format("a component of kind '{}', which this program does not have (a plugin it "
-                                        "was not built with)", plugin_word(cp)));
-            const auto fixed = cp.kind == CompKind::Plugin ? plugin_slots(cp) : fixed_slots(cp.kind);
-            if (cp.kind == CompKind::Plugin && cp.slot_num != int32_t(fixed.size()))
-                return fail(fmt::format("a {} has {} slots, field 'slot_num' is {}", plugin_word(cp), fixed.size(),
+                                        "was not built with)", g_.str(g_.plugins[size_t(cp.detail)].kind)));
+            const auto fixed = slots_of(g_, int32_t(c));
+            if (plugin && cp.slot_num != int32_t(fixed.size()))
+                return fail(fmt::format("a {} has {} slots, field 'slot_num' is {}", plugin->word, fixed.size(),
                                         cp.slot_num));
             if (cp.slot_num < int32_t(fixed.size()))
                 return fail(fmt::format("a {} has {} fixed slots, field 'slot_num' is {}", word(cp.kind), fixed.size(),
@@ -216,18 +218,6 @@ private:
             }
             return true;
         });
-    }
-
-    // A plugin component's detail is checked by plugins(), after this.
-    std::span<const SlotSpec> plugin_slots(const Comp& cp) const {
-        if (cp.detail < 0 || size_t(cp.detail) >= g_.plugins.size()) return {};
-        const KindDesc* d = find_plugin(g_.str(g_.plugins[size_t(cp.detail)].kind));
-        return d ? d->slots : std::span<const SlotSpec>{};
-    }
-    std::string plugin_word(const Comp& cp) const {
-        return cp.detail >= 0 && size_t(cp.detail) < g_.plugins.size()
-                   ? std::string(g_.str(g_.plugins[size_t(cp.detail)].kind))
-                   : std::string("plugin");
     }
 
     // Plugin components: a kind this program registered, its parameters as its descriptor

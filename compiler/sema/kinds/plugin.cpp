@@ -9,6 +9,18 @@
 #include <algorithm>
 
 namespace plant::sema {
+namespace {
+
+// A parameter's (or an entry option's) stored form: the checked value, or its default.
+graph::PluginParam stored(Elaborator& el, const graph::ParamSpec& ps, const Value* v) {
+    graph::PluginParam p{ps.default_num, graph::Name{}};
+    if (ps.type == graph::ParamType::String) p.text = el.name(v ? std::string_view(v->str) : std::string_view());
+    else if (ps.type == graph::ParamType::Bool && v) p.num = v->boolean ? 1 : 0;
+    else if (v) p.num = v->num;
+    return p;
+}
+
+}  // namespace
 
 void lower_plugin(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
@@ -18,14 +30,8 @@ void lower_plugin(Lowering& lw) {
     rec.kind = lw.el.name(kind.word);
     rec.param_adr = static_cast<int32_t>(g.plugin_params.size());
     rec.param_num = static_cast<int32_t>(kind.params.size());
-    for (const graph::ParamSpec& ps : kind.params) {
-        graph::PluginParam p{ps.default_num, graph::Name{}};
-        const Value* v = lw.props.get(std::string(ps.name));
-        if (ps.type == graph::ParamType::String) p.text = lw.el.name(v ? std::string_view(v->str) : std::string_view());
-        else if (ps.type == graph::ParamType::Bool && v) p.num = v->boolean ? 1 : 0;
-        else if (v) p.num = v->num;
-        g.plugin_params.push_back(p);
-    }
+    for (const graph::ParamSpec& ps : kind.params)
+        g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
     g.plugins.push_back(rec);
     lw.set_detail(g.plugins.size());
 }
@@ -135,7 +141,7 @@ void Elaborator::check_plugins() {
 // `(name = value, ...)` of an entry, in the order its spec declares them, defaults filled in.
 bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
                                std::vector<graph::PluginParam>& out) {
-    std::vector<const Value*> given(es.options.size(), nullptr);
+    std::vector<uint8_t> given(es.options.size(), 0);
     std::vector<Value> values(es.options.size());
     bool ok = true;
     for (const ast::Arg& a : e.options) {
@@ -164,7 +170,7 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
             continue;
         }
         values[k] = ev_.eval(*a.value, env);
-        given[k] = &values[k];
+        given[k] = 1;
         const std::string what = fmt::format("option '{}'", it->name);
         switch (it->type) {
         case graph::ParamType::Number: ok = ev_.expect_number(values[k], param_dim(*it), what) && ok; break;
@@ -180,15 +186,7 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
                          fmt::format("a '{}' entry needs the option '{}' ({})", es.word, ps.name, ps.doc));
             ok = false;
         }
-        graph::PluginParam p{ps.default_num, graph::Name{}};
-        if (const Value* v = given[k]) {
-            if (ps.type == graph::ParamType::String) p.text = name(v->str);
-            else if (ps.type == graph::ParamType::Bool) p.num = v->boolean ? 1 : 0;
-            else p.num = v->num;
-        } else if (ps.type == graph::ParamType::String) {
-            p.text = name("");
-        }
-        out.push_back(p);
+        out.push_back(stored(*this, ps, given[k] ? &values[k] : nullptr));
     }
     return ok;
 }
