@@ -18,6 +18,7 @@ void lower_plugin(Lowering& lw) {
     rec.kind = lw.el.name(kind.word);
     rec.param_adr = graph::next_adr(g.plugin_params);
     rec.param_num = static_cast<int32_t>(kind.params.size());
+    rec.entry_adr = graph::Adr<graph::PluginEntry>(0);  // set when it has entries
     for (const graph::ParamSpec& ps : kind.params) {
         graph::PluginParam p{ps.default_num, graph::Name{}};
         const Value* v = lw.props.get(std::string(ps.name));
