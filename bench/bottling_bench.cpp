@@ -117,8 +117,8 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     for (const auto& src : g.sources) s.pool += src.pool_num;
     auto circulating = [&] {
         long n = 0;
-        for (size_t i = 0; i < g.sources.size(); ++i) n += long(e.issued(int32_t(i)));
-        for (size_t i = 0; i < g.exits.size(); ++i) n -= long(e.taken(int32_t(i)));
+        for (size_t i = 0; i < g.sources.size(); ++i) n += long(e.issued(plant::graph::SourceId(int32_t(i))));
+        for (size_t i = 0; i < g.exits.size(); ++i) n -= long(e.taken(plant::graph::ExitId(int32_t(i))));
         return n;
     };
     const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
@@ -149,7 +149,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.steps = steps;
     s.mean = samples ? sum / double(samples) : 0;
     for (size_t d = 0; d < g.dos.size(); ++d)
-        if (e.lost_at(int32_t(d)) >= 0) ++s.lost;
+        if (e.lost_at(plant::graph::DoId(int32_t(d))) >= 0) ++s.lost;
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
     s.rss_kib = ru.ru_maxrss;

@@ -253,9 +253,9 @@ Result run_ours(const plant::graph::Graph& g, const std::vector<int32_t>& bottle
     r.t = since(c);
     std::vector<btVector3> vel, com, axis;
     for (int32_t b : bottles) {
-        auto v = e.body_velocity(b);
-        auto p = e.body_com(b);
-        auto q = e.body_pose(b).q;
+        auto v = e.body_velocity(plant::graph::BodyId(b));
+        auto p = e.body_com(plant::graph::BodyId(b));
+        auto q = e.body_pose(plant::graph::BodyId(b)).q;
         const btQuaternion bq{btScalar(q[0]), btScalar(q[1]), btScalar(q[2]), btScalar(q[3])};
         vel.emplace_back(btScalar(v[0]), btScalar(v[1]), btScalar(v[2]));
         com.emplace_back(btScalar(p[0]), btScalar(p[1]), btScalar(p[2]));

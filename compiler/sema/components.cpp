@@ -293,9 +293,9 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     sc.comps[l.name.text] = comp;
     comp_spans_[comp] = l.name.span;
     graph::Logic lg;
-    lg.comp = comp;
+    lg.comp = graph::CompId(comp);
     lg.op = graph::LogicOp::And;
-    lg.out_slot = g_.comps[static_cast<size_t>(comp)].slot_adr + graph::logicslot::out;
+    lg.out_slot = graph::SlotId(g_.comps[static_cast<size_t>(comp)].slot_adr + graph::logicslot::out);
     for (size_t i = 0; i < l.ops.size(); ++i) {
         if (l.ops[i].text != l.ops[0].text) {
             sink_.report(DiagId::LogicMixedOps, l.ops[i].span,
@@ -304,10 +304,10 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
         }
     }
     if (!l.ops.empty() && l.ops[0].text == "or") lg.op = graph::LogicOp::Or;
-    lg.in_adr = static_cast<int32_t>(g_.logic_inputs.size());
+    lg.in_adr = graph::next_adr(g_.logic_inputs);
     for (size_t i = 0; i < l.terms.size(); ++i) {
         int32_t s = add_slot(comp, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
-        g_.logic_inputs.push_back({s, l.terms[i].negated});
+        g_.logic_inputs.push_back({graph::SlotId(s), l.terms[i].negated});
     }
     lg.in_num = static_cast<int32_t>(l.terms.size());
     g_.comps[static_cast<size_t>(comp)].detail = static_cast<int32_t>(g_.logics.size());

@@ -131,14 +131,14 @@ void Elaborator::emit_ports() {
         for (const auto& [port_name, info] : scopes_[d].ports) {
             if (info.slots.empty()) continue;
             graph::Port p;
-            p.owner = static_cast<int32_t>(d);
+            p.owner = graph::DoId(static_cast<int32_t>(d));
             p.name = name(port_name);
             p.type = info.type;
             p.dir = info.input ? graph::Dir::In : graph::Dir::Out;
-            p.target_adr = static_cast<int32_t>(g_.port_targets.size());
+            p.target_adr = graph::next_adr(g_.port_targets);
             p.target_num = static_cast<int32_t>(info.slots.size());
             p.src = src(info.span);
-            for (int32_t sl : info.slots) g_.port_targets.push_back({sl});
+            for (int32_t sl : info.slots) g_.port_targets.push_back({graph::SlotId(sl)});
             g_.ports.push_back(p);
         }
 }
@@ -587,11 +587,11 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
             std::string iname = fmt::format("{}[{}]", c->name.text, i);
             std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
             int32_t d = new_do(path, do_id, tid, at, c->name.span);
-            g_.dos[static_cast<size_t>(d)].pool = comp;
+            g_.dos[static_cast<size_t>(d)].pool = graph::CompId(comp);
             scopes_[static_cast<size_t>(do_id)].children[iname] = d;
             made.push_back(d);
         }
-        g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)].pool_adr = made.front();
+        g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)].pool_adr = graph::Adr<graph::Do>(made.front());
         type_stack_.push_back(type->name.text);
         for (int32_t d : made) elaborate_do(d, *type, type_module, env);
         type_stack_.pop_back();

@@ -329,7 +329,7 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
             }
         }
     }
-    g_.records.push_back({e.slots[0], name(column)});
+    g_.records.push_back({graph::SlotId(e.slots[0]), name(column)});
 }
 
 // Every flow through `(ref as Type).member`: the member is resolved in each object of
@@ -384,16 +384,16 @@ void Elaborator::finish_accesses() {
             Endpoint& e = *ends[k];
             if (e.ref_slot < 0) continue;
             graph::Access acc;
-            acc.ref_slot = e.ref_slot;
-            acc.do_type = e.do_type;
-            acc.target_adr = static_cast<int32_t>(g_.access_targets.size());
+            acc.ref_slot = graph::SlotId(e.ref_slot);
+            acc.do_type = graph::DoTypeId(e.do_type);
+            acc.target_adr = graph::next_adr(g_.access_targets);
             std::string member;
             for (const auto& seg : e.access_path->segs) member += (member.empty() ? "" : ".") + seg.name.text;
             acc.member = name(member);
             acc.src = src(e.span);
             auto known = shared.find({e.do_type, member});
             if (known != shared.end() && known->second.ok && known->second.count > 0) {  // else: resolved (and reported) again here
-                acc.target_adr = known->second.adr;
+                acc.target_adr = graph::Adr<graph::AccessTarget>(known->second.adr);
                 acc.target_num = known->second.count;
                 types[k] = known->second.type;
                 dirs[k] = known->second.dir;
@@ -436,7 +436,7 @@ void Elaborator::finish_accesses() {
                     ok = false;
                     break;
                 }
-                g_.access_targets.push_back({m.slots[0]});
+                g_.access_targets.push_back({graph::SlotId(m.slots[0])});
                 ++count;
             }
             if (ok && count == 0) {

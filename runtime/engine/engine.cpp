@@ -108,7 +108,7 @@ double Engine::dt() const { return rt_->dt; }
 double Engine::rate() const { return rt_->rate; }
 const Graph& Engine::graph() const { return rt_->g; }
 
-void Engine::input(int32_t slot, std::span<const double> value) {
+void Engine::input(graph::SlotId slot, std::span<const double> value) {
     Runtime& r = *rt_;
     const Slot& s = r.g.slots[slot];
     int w = slot_width(s.type);
@@ -116,7 +116,7 @@ void Engine::input(int32_t slot, std::span<const double> value) {
     r.st.pending.push_back(slot);
 }
 
-void Engine::force(int32_t slot, ForceMode mode, std::span<const double> value) {
+void Engine::force(graph::SlotId slot, ForceMode mode, std::span<const double> value) {
     Runtime& r = *rt_;
     State& s = r.st;
     if (s.force_mode.empty()) {  // the first force: sized here, not in the step
@@ -144,7 +144,7 @@ void Engine::force(int32_t slot, ForceMode mode, std::span<const double> value) 
         for (int i = 0; i < w && size_t(i) < value.size(); ++i) s.force_value[size_t(r.tab.value_adr[slot] + i)] = value[size_t(i)];
 }
 
-ForceMode Engine::forced(int32_t slot) const {
+ForceMode Engine::forced(graph::SlotId slot) const {
     const State& s = rt_->st;
     return s.force_mode.empty() ? ForceMode::None : ForceMode(s.force_mode[slot]);
 }
@@ -161,43 +161,43 @@ int32_t Engine::intern(std::string_view s) {
 
 std::string_view Engine::str(int32_t name) const { return rt_->str(name); }
 
-void Engine::watch(int32_t slot) {
+void Engine::watch(graph::SlotId slot) {
     rt_->st.watched[slot] = 1;
     rt_->refresh_observers();
 }
 
-std::span<const double> Engine::value(int32_t slot) const {
+std::span<const double> Engine::value(graph::SlotId slot) const {
     const Slot& s = rt_->g.slots[slot];
     if (s.value_adr < 0) return {};
     return {rt_->val(slot), size_t(slot_width(s.type))};
 }
 
-bool Engine::active(int32_t slot) const {
+bool Engine::active(graph::SlotId slot) const {
     return rt_->tab.slot_out[slot] ? rt_->st.seen[slot] : rt_->st.act[slot];
 }
 
-bool Engine::emitted(int32_t slot) const { return rt_->tab.slot_out[slot] && rt_->st.act[slot]; }
+bool Engine::emitted(graph::SlotId slot) const { return rt_->tab.slot_out[slot] && rt_->st.act[slot]; }
 
-Pose Engine::body_pose(int32_t b) const { return rt_->phys.pose(b); }
-Vec3 Engine::body_com(int32_t b) const { return from_bt(rt_->phys.com(b)); }
-Vec3 Engine::body_velocity(int32_t b) const { return from_bt(rt_->phys.velocity(b)); }
-Vec3 Engine::body_angular_velocity(int32_t b) const { return from_bt(rt_->phys.angular_velocity(b)); }
-bool Engine::body_in_world(int32_t b) const { return rt_->phys.in_world(b); }
-bool Engine::body_collision(int32_t b) const { return rt_->phys.collision_on(b); }
-int32_t Engine::graphics_variant(int32_t gr) const {
+Pose Engine::body_pose(graph::BodyId b) const { return rt_->phys.pose(b); }
+Vec3 Engine::body_com(graph::BodyId b) const { return from_bt(rt_->phys.com(b)); }
+Vec3 Engine::body_velocity(graph::BodyId b) const { return from_bt(rt_->phys.velocity(b)); }
+Vec3 Engine::body_angular_velocity(graph::BodyId b) const { return from_bt(rt_->phys.angular_velocity(b)); }
+bool Engine::body_in_world(graph::BodyId b) const { return rt_->phys.in_world(b); }
+bool Engine::body_collision(graph::BodyId b) const { return rt_->phys.collision_on(b); }
+int32_t Engine::graphics_variant(graph::GraphicsId gr) const {
     const int32_t v = rt_->st.variant[gr];
     return v < 0 ? -1 : v - rt_->g.graphics[gr].variant_adr;
 }
-bool Engine::trigger_occupied(int32_t t) const { return rt_->st.triggers[t].num > 0; }
-bool Engine::field_on(int32_t f) const { return rt_->st.field_on[f] != 0; }
-double Engine::field_speed(int32_t f) const { return rt_->st.field_speed[f]; }
-int64_t Engine::tokens(int32_t place) const { return rt_->st.tokens[place]; }
-Pose Engine::graphics_pose(int32_t gr) const { return rt_->st.graphics[gr].pose; }
-int64_t Engine::trigger_enters(int32_t t) const { return rt_->st.triggers[t].enters; }
-int64_t Engine::issued(int32_t src) const { return rt_->st.sources[src].issued; }
-int64_t Engine::taken(int32_t exit) const { return rt_->st.exit_count[exit]; }
-double Engine::lost_at(int32_t object) const { return rt_->st.lost_at[object]; }
-double Engine::stalled_for(int32_t b) const {
+bool Engine::trigger_occupied(graph::TriggerId t) const { return rt_->st.triggers[t].num > 0; }
+bool Engine::field_on(graph::FieldId f) const { return rt_->st.field_on[f] != 0; }
+double Engine::field_speed(graph::FieldId f) const { return rt_->st.field_speed[f]; }
+int64_t Engine::tokens(graph::PlaceId place) const { return rt_->st.tokens[place]; }
+Pose Engine::graphics_pose(graph::GraphicsId gr) const { return rt_->st.graphics[gr].pose; }
+int64_t Engine::trigger_enters(graph::TriggerId t) const { return rt_->st.triggers[t].enters; }
+int64_t Engine::issued(graph::SourceId src) const { return rt_->st.sources[src].issued; }
+int64_t Engine::taken(graph::ExitId exit) const { return rt_->st.exit_count[exit]; }
+double Engine::lost_at(graph::DoId object) const { return rt_->st.lost_at[object]; }
+double Engine::stalled_for(graph::BodyId b) const {
     const State& s = rt_->st;
     return s.slow_step[b] + 1 >= s.step ? s.time - s.stall_since[b] : 0.0;
 }

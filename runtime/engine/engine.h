@@ -68,45 +68,45 @@ public:
 
     // An external input (a timed event): the value (slot_width doubles, none for
     // void) is written now, the slot becomes active in the logic phase of the next step.
-    void input(int32_t slot, std::span<const double> value = {});
+    void input(graph::SlotId slot, std::span<const double> value = {});
     // Forces a slot (or releases it with ForceMode::None) from the next step on; `value`
     // is the stuck value (slot_width doubles; void: {1} on, {0} off). Like input(), called
     // between steps only: the one way in is engine::apply_event.
-    void force(int32_t slot, ForceMode mode, std::span<const double> value = {});
-    ForceMode forced(int32_t slot) const;
+    void force(graph::SlotId slot, ForceMode mode, std::span<const double> value = {});
+    ForceMode forced(graph::SlotId slot) const;
 
     // Strings for string slots: the graph's names, then any interned here.
     int32_t intern(std::string_view s);
     std::string_view str(int32_t name) const;
 
     // Refresh a slot's value every step even though no flow reads it (traces, tests).
-    void watch(int32_t slot);
-    std::span<const double> value(int32_t slot) const;
+    void watch(graph::SlotId slot);
+    std::span<const double> value(graph::SlotId slot) const;
     // Outputs: active in the logic phase of the last step. Inputs: activated by it.
-    bool active(int32_t slot) const;
+    bool active(graph::SlotId slot) const;
     // An output produced after the last logic phase (in phases 4 and 5: a place entered,
     // an object issued), which the next step's logic phase will see active.
-    bool emitted(int32_t slot) const;
+    bool emitted(graph::SlotId slot) const;
 
-    graph::Pose body_pose(int32_t body) const;  // the body frame, in the world
-    graph::Vec3 body_com(int32_t body) const;   // centre of mass, in the world
-    graph::Vec3 body_velocity(int32_t body) const;
-    graph::Vec3 body_angular_velocity(int32_t body) const;
-    bool body_in_world(int32_t body) const;
-    bool body_collision(int32_t body) const;        // collision on now
-    int32_t graphics_variant(int32_t graphics) const;  // among its own variants, -1: its model
-    bool trigger_occupied(int32_t trigger) const;   // an object inside now
-    bool field_on(int32_t field) const;
-    double field_speed(int32_t field) const;        // target speed now, m/s
-    int64_t tokens(int32_t place) const;  // at most graph::kMaxTokens
-    graph::Pose graphics_pose(int32_t graphics) const;
-    int64_t trigger_enters(int32_t trigger) const;  // objects that entered so far
-    int64_t issued(int32_t source) const;           // objects a source issued so far
-    int64_t taken(int32_t exit) const;              // objects an exit took so far
-    double lost_at(int32_t object) const;           // when the object left the world; -1: never
+    graph::Pose body_pose(graph::BodyId body) const;  // the body frame, in the world
+    graph::Vec3 body_com(graph::BodyId body) const;   // centre of mass, in the world
+    graph::Vec3 body_velocity(graph::BodyId body) const;
+    graph::Vec3 body_angular_velocity(graph::BodyId body) const;
+    bool body_in_world(graph::BodyId body) const;
+    bool body_collision(graph::BodyId body) const;        // collision on now
+    int32_t graphics_variant(graph::GraphicsId graphics) const;  // among its own variants, -1: its model
+    bool trigger_occupied(graph::TriggerId trigger) const;   // an object inside now
+    bool field_on(graph::FieldId field) const;
+    double field_speed(graph::FieldId field) const;        // target speed now, m/s
+    int64_t tokens(graph::PlaceId place) const;  // at most graph::kMaxTokens
+    graph::Pose graphics_pose(graph::GraphicsId graphics) const;
+    int64_t trigger_enters(graph::TriggerId trigger) const;  // objects that entered so far
+    int64_t issued(graph::SourceId source) const;           // objects a source issued so far
+    int64_t taken(graph::ExitId exit) const;              // objects an exit took so far
+    double lost_at(graph::DoId object) const;           // when the object left the world; -1: never
     // Seconds since a dynamic body was last moving: at least a tenth of the speed of the
     // running conveyor field it is in, or in no running field at all (0 then).
-    double stalled_for(int32_t body) const;
+    double stalled_for(graph::BodyId body) const;
     const Warnings& warnings() const;
     int regions() const;  // physics regions: Bullet worlds of static bodies (physics.h)
     int threads() const;  // threads that step them

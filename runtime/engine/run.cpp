@@ -143,7 +143,7 @@ public:
                 continue;
             }
             double sum = 0;
-            for (int32_t x : c.slots) sum += e.value(x)[0];
+            for (int32_t x : c.slots) sum += e.value(SlotId(x))[0];
             fmt::print(out, "  {:<{}}  {:g}{}\n", c.name, width, sum, c.slots.size() > 1 ? " (sum)" : "");
         }
     }
@@ -223,7 +223,7 @@ std::vector<double> RecordTally::values(const Engine& e) const {
         const int32_t sl = g_.records[r].slot;
         const SlotType t = g_.slots[size_t(sl)].type;
         if (t == SlotType::Void) v[r] = double(count_[r]);
-        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(sl)[0];
+        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(SlotId(sl))[0];
     }
     return v;
 }
@@ -240,17 +240,17 @@ MaterialCounts material_counts(const Engine& e) {
         if (g.bodies[b].mode != BodyMode::Dynamic) continue;
         const int32_t d = g.comps[g.bodies[b].comp].owner;
         if (counted[d]) continue;
-        if (e.lost_at(d) >= 0) {
+        if (e.lost_at(DoId(d)) >= 0) {
             counted[d] = 1;
             name(m.lost_names, ++m.lost, d);
-        } else if (e.body_in_world(int32_t(b))) {
+        } else if (e.body_in_world(BodyId(int32_t(b)))) {
             counted[d] = 1;
             ++m.on_line;
-            if (e.stalled_for(int32_t(b)) > 30) name(m.stalled_names, ++m.stalled, d);
+            if (e.stalled_for(BodyId(int32_t(b))) > 30) name(m.stalled_names, ++m.stalled, d);
         }
     }
-    for (size_t s = 0; s < g.sources.size(); ++s) m.issued += e.issued(int32_t(s));
-    for (size_t x = 0; x < g.exits.size(); ++x) m.taken += e.taken(int32_t(x));
+    for (size_t s = 0; s < g.sources.size(); ++s) m.issued += e.issued(SourceId(int32_t(s)));
+    for (size_t x = 0; x < g.exits.size(); ++x) m.taken += e.taken(ExitId(int32_t(x)));
     return m;
 }
 
@@ -274,7 +274,7 @@ void summary(const Engine& e, const Tally& tally, const RecordTally& counts, dou
     const Warnings& w = e.warnings();
     std::vector<std::string> silent;
     for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (e.trigger_enters(int32_t(t)) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
+        if (e.trigger_enters(TriggerId(int32_t(t))) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
     fmt::print(out, "simulated time:   {:g} s\n", e.time());
     fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
     if (e.regions() > 1)

@@ -190,8 +190,8 @@ void apply_event(Engine& e, const Event& ev) {
         value = name;
     }
     for (int32_t s : ev.slots) {
-        if (ev.force) e.force(s, ev.mode, value);
-        else e.input(s, value);
+        if (ev.force) e.force(SlotId(s), ev.mode, value);
+        else e.input(SlotId(s), value);
     }
 }
 

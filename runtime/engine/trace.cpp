@@ -83,7 +83,7 @@ TraceWriter::TraceWriter(Engine& e, std::vector<TraceColumn> columns, std::ostre
     : e_(e), cols_(std::move(columns)), counts_(cols_.size(), 0), out_(out) {
     for (size_t i = 0; i < cols_.size(); ++i) {
         const TraceColumn& c = cols_[i];
-        if (c.kind == Kind::Value || c.kind == Kind::Text) e_.watch(c.id);
+        if (c.kind == Kind::Value || c.kind == Kind::Text) e_.watch(c.slot());
         if (c.kind == Kind::Activity) activity_.push_back(i);
     }
 }
@@ -106,24 +106,24 @@ void TraceWriter::row() {
     for (const TraceColumn& c : cols_) {
         buf_.push_back(',');
         switch (c.kind) {
-        case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.id)[size_t(c.index)]); break;
-        case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.id)[0]))); break;
+        case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.slot())[size_t(c.index)]); break;
+        case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.slot())[0]))); break;
         case Kind::Activity: fmt::format_to(std::back_inserter(buf_), "{}", counts_[size_t(&c - cols_.data())]); break;
         // A parked body (a pooled object not in the world) has empty cells, not the pool's pose.
         case Kind::BodyAxis:
-            if (!e_.body_in_world(c.id)) break;
-            fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.id)[size_t(c.index)]); break;
+            if (!e_.body_in_world(c.body())) break;
+            fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.body())[size_t(c.index)]); break;
         case Kind::BodySpeed: {
-            if (!e_.body_in_world(c.id)) break;
-            Vec3 v = e_.body_velocity(c.id);
+            if (!e_.body_in_world(c.body())) break;
+            Vec3 v = e_.body_velocity(c.body());
             fmt::format_to(std::back_inserter(buf_), "{}", std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
             break;
         }
-        case Kind::Tokens: fmt::format_to(std::back_inserter(buf_), "{}", e_.tokens(c.id)); break;
+        case Kind::Tokens: fmt::format_to(std::back_inserter(buf_), "{}", e_.tokens(c.place())); break;
         case Kind::Forced: {
             std::string cell;
             for (int32_t s : c.slots) {
-                const ForceMode m = e_.forced(s);
+                const ForceMode m = e_.forced(SlotId(s));
                 if (m == ForceMode::None) continue;
                 cell += fmt::format("{}{}={}", cell.empty() ? "" : ";", e_.graph().slot_path(s),
                                     m == ForceMode::Stuck ? "stuck" : m == ForceMode::Open ? "open" : "invert");
@@ -139,11 +139,11 @@ void TraceWriter::row() {
 }
 
 void TraceWriter::step() {
-    for (size_t i : activity_) counts_[i] += e_.active(cols_[i].id) ? 1 : 0;
+    for (size_t i : activity_) counts_[i] += e_.active(cols_[i].slot()) ? 1 : 0;
 }
 
 void TraceWriter::finish() {
-    for (size_t i : activity_) counts_[i] += e_.emitted(cols_[i].id) ? 1 : 0;
+    for (size_t i : activity_) counts_[i] += e_.emitted(cols_[i].slot()) ? 1 : 0;
 }
 
 void TraceWriter::flush() {

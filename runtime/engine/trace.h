@@ -30,6 +30,10 @@ struct TraceColumn {
     int32_t index;  // component of a value, axis of a body
     std::string name;
     std::vector<int32_t> slots = {};  // Forced: the slots that may be forced
+
+    graph::SlotId slot() const { return graph::SlotId(id); }
+    graph::BodyId body() const { return graph::BodyId(id); }
+    graph::PlaceId place() const { return graph::PlaceId(id); }
 };
 
 struct TraceSelect {

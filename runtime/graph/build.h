@@ -16,17 +16,17 @@
 namespace plant::graph {
 
 // A DO with no components yet; its ordinal counts the DOs of its type so far.
-int32_t add_do(Graph& g, std::string_view path, int32_t parent, int32_t type, const Pose& pose, Src src = {});
+DoId add_do(Graph& g, std::string_view path, int32_t parent, int32_t type, const Pose& pose, Src src = {});
 
 // A component of DO `owner` with its kind's fixed slots (their src is the component's),
 // detail -1. Extends the owner's component range.
-int32_t add_comp(Graph& g, int32_t owner, CompKind kind, std::string_view name, Src src = {});
+CompId add_comp(Graph& g, int32_t owner, CompKind kind, std::string_view name, Src src = {});
 
 // A dynamic slot of `comp`, which must be the last component added.
-int32_t add_slot(Graph& g, int32_t comp, std::string_view name, SlotType type, Dir dir, Src src = {});
+SlotId add_slot(Graph& g, int32_t comp, std::string_view name, SlotType type, Dir dir, Src src = {});
 
 // A dynamic end (from_access/to_access >= 0) passes its access's ref_slot as from/to.
-int32_t add_flow(Graph& g, int32_t from, int32_t to, Cond cond, bool once, int32_t from_access = -1,
+FlowId add_flow(Graph& g, int32_t from, int32_t to, Cond cond, bool once, int32_t from_access = -1,
                  int32_t to_access = -1, Src src = {});
 
 // The first value of a non-void slot (its start value, as the loader reads it).

@@ -2,7 +2,8 @@
 //
 // A constant, flat model in the spirit of MuJoCo's mjModel: one table per kind of
 // element, each a std::vector of small records indexed by a 32-bit id, references as
-// ids with -1 for none, child lists as an (adr, num) pair into another table, every
+// typed ids (ids.h: SlotId, CompId, ...) with -1 for none, child lists as an (adr, num)
+// pair into another table (adr an Adr<Record> of the table it indexes), every
 // name interned once in `names`. All quantities are SI (m, kg, s, rad, N).
 //
 // The field list of every record is an X-macro (PLANT_GRAPH_TABLES below). It drives
@@ -10,7 +11,10 @@
 // added here is saved, loaded and compared without further code.
 #pragma once
 
+#include "ids.h"
+
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -79,20 +83,20 @@ constexpr int slot_width(SlotType t) {
 
 #define PLANT_FIELDS_DO(F)                                                            \
     F(Name, path)          /* dotted path from the plant root, e.g. "s1.blade" */     \
-    F(int32_t, parent)     /* DO id, -1 for the root */                               \
-    F(int32_t, type)       /* DoType id, -1 for the plant itself */                   \
+    F(DoId, parent)     /* DO id, -1 for the root */                               \
+    F(DoTypeId, type)       /* DoType id, -1 for the plant itself */                   \
     F(int32_t, ordinal)    /* index among the DOs of the same type */                 \
-    F(int32_t, comp_adr)                                                              \
+    F(Adr<Comp>, comp_adr)                                                              \
     F(int32_t, comp_num)                                                              \
-    F(int32_t, pool)       /* Source component that owns this DO, -1 if not pooled */ \
+    F(CompId, pool)       /* Source component that owns this DO, -1 if not pooled */ \
     F(Pose, pose)          /* world pose at start */                                  \
     F(Src, src)
 
 #define PLANT_FIELDS_COMP(F)                                                  \
     F(Name, name)       /* local name inside its DO */                        \
     F(CompKind, kind)                                                         \
-    F(int32_t, owner)   /* DO id */                                           \
-    F(int32_t, slot_adr)                                                      \
+    F(DoId, owner)   /* DO id */                                           \
+    F(Adr<Slot>, slot_adr)                                                      \
     F(int32_t, slot_num)                                                      \
     F(int32_t, detail)  /* index into the table of its kind, -1 for none */   \
     F(Src, src)
@@ -101,17 +105,17 @@ constexpr int slot_width(SlotType t) {
     F(Name, name)       /* local name inside its component, e.g. "swing_out.play" */ \
     F(SlotType, type)                                                               \
     F(Dir, dir)                                                                     \
-    F(int32_t, comp)                                                                \
+    F(CompId, comp)                                                                \
     F(int32_t, value_adr) /* first double in Graph::values, -1 for void */          \
     F(Src, src)
 
 // A dynamic end (an Access) keeps its reference slot in from/to, so both always name a
 // slot; the slots the end may be are the access's targets (graph/network.h).
 #define PLANT_FIELDS_FLOW(F)                                                              \
-    F(int32_t, from)        /* output slot; the access's ref_slot when from_access >= 0 */ \
-    F(int32_t, to)          /* input slot; the access's ref_slot when to_access >= 0 */  \
-    F(int32_t, from_access) /* Access id for a dynamically addressed source, -1 none */   \
-    F(int32_t, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
+    F(SlotId, from)        /* output slot; the access's ref_slot when from_access >= 0 */ \
+    F(SlotId, to)          /* input slot; the access's ref_slot when to_access >= 0 */  \
+    F(AccessId, from_access) /* Access id for a dynamically addressed source, -1 none */   \
+    F(AccessId, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
     F(Cond, cond)                                                                         \
     F(bool, once)           /* singular: runs once, re-armed by a step where its condition fails */  \
     F(Src, src)
@@ -120,26 +124,26 @@ constexpr int slot_width(SlotType t) {
 // (a DO id), which the compiler proved is of type `do_type`; the slot to use is
 // targets[target_adr + ordinal of that DO among its type].
 #define PLANT_FIELDS_ACCESS(F) \
-    F(int32_t, ref_slot)       \
-    F(int32_t, do_type)        \
-    F(int32_t, target_adr)     \
+    F(SlotId, ref_slot)       \
+    F(DoTypeId, do_type)        \
+    F(Adr<AccessTarget>, target_adr)     \
     F(int32_t, target_num)     \
     F(Name, member)            \
     F(Src, src)
 
 #define PLANT_FIELDS_LOGIC(F)                                     \
-    F(int32_t, comp)                                              \
+    F(CompId, comp)                                              \
     F(LogicOp, op)                                                \
-    F(int32_t, in_adr) /* into logic_inputs */                    \
+    F(Adr<LogicIn>, in_adr) /* into logic_inputs */                    \
     F(int32_t, in_num)                                            \
-    F(int32_t, out_slot)
+    F(SlotId, out_slot)
 
 #define PLANT_FIELDS_LOGICIN(F) \
-    F(int32_t, slot)  /* the connector's own void input slot */ \
+    F(SlotId, slot)  /* the connector's own void input slot */ \
     F(bool, negated)
 
 #define PLANT_FIELDS_BODY(F)                                                             \
-    F(int32_t, comp)                                                                     \
+    F(CompId, comp)                                                                     \
     F(BodyMode, mode)                                                                    \
     F(double, mass)                                                                      \
     F(Vec3, inertia)        /* principal moments; used when inertia_set */               \
@@ -150,7 +154,7 @@ constexpr int slot_width(SlotType t) {
     F(double, angular_damping)                                                           \
     F(bool, collision)      /* initial collision on/off */                               \
     F(bool, dynamics)       /* initial dynamics on/off */                                \
-    F(int32_t, shape_adr)                                                                \
+    F(Adr<Shape>, shape_adr)                                                                \
     F(int32_t, shape_num)                                                                \
     F(Pose, pose)           /* world pose of the body frame at start */                  \
     F(Pose, com)            /* centre of mass relative to the body frame */
@@ -158,13 +162,13 @@ constexpr int slot_width(SlotType t) {
 #define PLANT_FIELDS_SHAPE(F)                                                        \
     F(ShapeKind, kind)                                                              \
     F(Vec3, size)        /* box: full extents; sphere: r,-,-; cylinder/capsule: r,h,- (axis z) */ \
-    F(int32_t, point_adr) /* hull: into points */                                   \
+    F(Adr<Point>, point_adr) /* hull: into points */                                   \
     F(int32_t, point_num)                                                           \
     F(Pose, local)       /* relative to the body frame */
 
 #define PLANT_FIELDS_FIELD(F)                                                       \
-    F(int32_t, comp)                                                                \
-    F(int32_t, body)     /* Body id the field is attached to, -1 for none */        \
+    F(CompId, comp)                                                                \
+    F(BodyId, body)     /* Body id the field is attached to, -1 for none */        \
     F(Vec3, extent)      /* full extents of the box volume */                       \
     F(Pose, pose)        /* world pose of the box centre */                         \
     F(Vec3, dir)         /* unit direction, in the field's local frame */           \
@@ -174,10 +178,10 @@ constexpr int slot_width(SlotType t) {
     F(bool, enabled)
 
 #define PLANT_FIELDS_JOINT(F)                                                    \
-    F(int32_t, comp)                                                             \
+    F(CompId, comp)                                                             \
     F(JointKind, kind)                                                           \
-    F(int32_t, body_a)                                                           \
-    F(int32_t, body_b)                                                           \
+    F(BodyId, body_a)                                                           \
+    F(BodyId, body_b)                                                           \
     F(Pose, frame_a)     /* joint frame relative to body a */                    \
     F(Pose, frame_b)     /* joint frame relative to body b */                    \
     F(double, lower)     /* hinge: rad, slider: m; lower > upper means free */   \
@@ -185,114 +189,114 @@ constexpr int slot_width(SlotType t) {
     F(bool, enabled)
 
 #define PLANT_FIELDS_PLACE(F)  \
-    F(int32_t, comp)           \
+    F(CompId, comp)           \
     F(Name, name)              \
     F(int32_t, initial)        \
-    F(int32_t, put_slot)       /* void in: adds one token */ \
-    F(int32_t, entered_slot)   /* void out: active in a step a token was put */ \
-    F(int32_t, tokens_slot)    /* int out: the marking */ \
+    F(SlotId, put_slot)       /* void in: adds one token */ \
+    F(SlotId, entered_slot)   /* void out: active in a step a token was put */ \
+    F(SlotId, tokens_slot)    /* int out: the marking */ \
     F(Src, src)
 
 #define PLANT_FIELDS_TRANSITION(F) \
-    F(int32_t, comp)               \
+    F(CompId, comp)               \
     F(Name, name)                  \
-    F(int32_t, in_adr)  /* into arcs: consumed */ \
+    F(Adr<Arc>, in_adr)  /* into arcs: consumed */ \
     F(int32_t, in_num)             \
-    F(int32_t, out_adr) /* into arcs: produced */ \
+    F(Adr<Arc>, out_adr) /* into arcs: produced */ \
     F(int32_t, out_num)            \
-    F(int32_t, fired_slot) /* void out */ \
+    F(SlotId, fired_slot) /* void out */ \
     F(Src, src)
 
 #define PLANT_FIELDS_ARC(F) \
-    F(int32_t, place)       \
+    F(PlaceId, place)       \
     F(int32_t, weight)
 
 #define PLANT_FIELDS_TRIGGER(F)                                                \
-    F(int32_t, comp)                                                           \
-    F(int32_t, body)       /* Body the volume moves with, -1 for fixed */      \
+    F(CompId, comp)                                                           \
+    F(BodyId, body)       /* Body the volume moves with, -1 for fixed */      \
     F(Vec3, extent)                                                            \
     F(Pose, pose)          /* world pose of the box centre at start */         \
-    F(int32_t, filter)     /* DoType whose bodies it reacts to, -1 for any */
+    F(DoTypeId, filter)     /* DoType whose bodies it reacts to, -1 for any */
 
 #define PLANT_FIELDS_TIMER(F)    \
-    F(int32_t, comp)             \
+    F(CompId, comp)             \
     F(double, period)            \
     F(bool, periodic)            \
     F(bool, autostart)
 
 #define PLANT_FIELDS_GRIPPER(F)                                  \
-    F(int32_t, comp)                                             \
-    F(int32_t, trigger)  /* Trigger that catches objects */     \
-    F(int32_t, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
-    F(int32_t, graphics) /* Graphics whose pose it follows when body is -1 */
+    F(CompId, comp)                                             \
+    F(TriggerId, trigger)  /* Trigger that catches objects */     \
+    F(BodyId, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
+    F(GraphicsId, graphics) /* Graphics whose pose it follows when body is -1 */
 
 #define PLANT_FIELDS_SOURCE(F)                                                   \
-    F(int32_t, do_type)                                                          \
-    F(int32_t, comp)                                                             \
-    F(int32_t, pool_adr)  /* first pooled DO id (pooled DOs are contiguous) */    \
+    F(DoTypeId, do_type)                                                          \
+    F(CompId, comp)                                                             \
+    F(Adr<Do>, pool_adr)  /* first pooled DO id (pooled DOs are contiguous) */    \
     F(int32_t, pool_num)                                                         \
     F(double, rate)       /* issues per second, 0: only on the issue input */    \
     F(Pose, pose)         /* world pose where objects are issued */              \
-    F(int32_t, id_adr)    /* into ids: bar codes handed out in turn */           \
+    F(Adr<IdEntry>, id_adr)    /* into ids: bar codes handed out in turn */           \
     F(int32_t, id_num)
 
 #define PLANT_FIELDS_EXIT(F) \
-    F(int32_t, comp)         \
-    F(int32_t, trigger)
+    F(CompId, comp)         \
+    F(TriggerId, trigger)
 
 #define PLANT_FIELDS_ROUTE(F)                                         \
-    F(int32_t, comp)                                                  \
+    F(CompId, comp)                                                  \
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \
-    F(int32_t, out_slot)
+    F(SlotId, out_slot)
 
 #define PLANT_FIELDS_GRAPHICS(F)                           \
-    F(int32_t, comp)                                       \
-    F(int32_t, parent)    /* parent Graphics, -1 */        \
+    F(CompId, comp)                                       \
+    F(GraphicsId, parent)    /* parent Graphics, -1 */        \
     F(Name, model)                                         \
     F(Pose, pose)         /* world pose at start */        \
-    F(int32_t, body)      /* Body it is attached to, -1 */ \
-    F(int32_t, anim_adr)                                   \
+    F(BodyId, body)      /* Body it is attached to, -1 */ \
+    F(Adr<Animation>, anim_adr)                                   \
     F(int32_t, anim_num)                                   \
-    F(int32_t, variant_adr)                                \
+    F(Adr<Variant>, variant_adr)                                \
     F(int32_t, variant_num)                                \
     F(int32_t, variant)   /* initial variant, among its own (variant_adr + variant), -1: model */
 
 #define PLANT_FIELDS_ANIMATION(F)                            \
-    F(int32_t, graphics)                                     \
+    F(GraphicsId, graphics)                                     \
     F(Name, name)                                            \
     F(double, duration)                                      \
-    F(int32_t, key_adr)                                      \
+    F(Adr<Key>, key_adr)                                      \
     F(int32_t, key_num)                                      \
-    F(int32_t, play_slot)                                    \
-    F(int32_t, finished_slot)
+    F(SlotId, play_slot)                                    \
+    F(SlotId, finished_slot)
 
 #define PLANT_FIELDS_KEY(F) \
     F(double, t)            \
     F(Pose, pose)           /* relative to the graphics' start pose */
 
 #define PLANT_FIELDS_VARIANT(F) \
-    F(int32_t, graphics)        \
+    F(GraphicsId, graphics)        \
     F(Name, name)               \
     F(Name, model)              \
-    F(int32_t, select_slot)
+    F(SlotId, select_slot)
 
 #define PLANT_FIELDS_LABEL(F) \
-    F(int32_t, comp)          \
+    F(CompId, comp)          \
     F(Name, value)
 
 #define PLANT_FIELDS_RECORD(F)                                  \
-    F(int32_t, slot)     /* slot whose value/activity is traced */ \
+    F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)
 
 // A port an object type declares (`in to_working: void => net.MoveToWorkingPos.put`):
 // no run-time existence, but addressable by its dotted path in events, the viewer and
 // `plant info --slots`. Inputs forward to every target, outputs name the one output.
 #define PLANT_FIELDS_PORT(F)                                                  \
-    F(int32_t, owner)      /* DO id */                                        \
+    F(DoId, owner)      /* DO id */                                        \
     F(Name, name)                                                             \
     F(SlotType, type)                                                         \
     F(Dir, dir)                                                               \
-    F(int32_t, target_adr) /* into port_targets: slot ids */                  \
+    F(Adr<PortTarget>, target_adr) /* into port_targets: slot ids */                  \
     F(int32_t, target_num)                                                    \
     F(Src, src)
 
@@ -300,11 +304,11 @@ constexpr int slot_width(SlotType t) {
 // not known to this header. Its parameters are stored in the order the descriptor
 // declares them: a number (SI) or a text, whichever the parameter's type is.
 #define PLANT_FIELDS_PLUGIN(F)                                                     \
-    F(int32_t, comp)                                                               \
+    F(CompId, comp)                                                               \
     F(Name, kind)          /* the kind's word, e.g. "counter" */                   \
-    F(int32_t, param_adr)  /* into plugin_params */                                \
+    F(Adr<PluginParam>, param_adr)  /* into plugin_params */                                \
     F(int32_t, param_num)                                                          \
-    F(int32_t, entry_adr)  /* into plugin_entries */                               \
+    F(Adr<PluginEntry>, entry_adr)  /* into plugin_entries */                               \
     F(int32_t, entry_num)
 
 // An entry of a plugin component's table (`coil 3 => s1.to_working(pulse = 1)`): its
@@ -313,9 +317,9 @@ constexpr int slot_width(SlotType t) {
 #define PLANT_FIELDS_PLUGINENTRY(F)                                                \
     F(Name, word)                                                                  \
     F(int32_t, key)                                                                \
-    F(int32_t, slot_adr)   /* into plugin_entry_slots */                           \
+    F(Adr<PluginEntrySlot>, slot_adr)   /* into plugin_entry_slots */                           \
     F(int32_t, slot_num)                                                           \
-    F(int32_t, param_adr)  /* into plugin_params */                                \
+    F(Adr<PluginParam>, param_adr)  /* into plugin_params */                                \
     F(int32_t, param_num)                                                          \
     F(Src, src)
 
@@ -326,6 +330,7 @@ constexpr int slot_width(SlotType t) {
 #define PLANT_FIELDS_POINT(F) F(Vec3, p)
 #define PLANT_FIELDS_VALUE(F) F(double, v)
 #define PLANT_FIELDS_INT(F) F(int32_t, v)
+#define PLANT_FIELDS_SLOTREF(F) F(SlotId, v)
 #define PLANT_FIELDS_NAMEREF(F) F(Name, v)
 
 // X(member, Record, word, FIELDS)
@@ -337,7 +342,7 @@ constexpr int slot_width(SlotType t) {
     X(values, Value, value, PLANT_FIELDS_VALUE)                       \
     X(flows, Flow, flow, PLANT_FIELDS_FLOW)                           \
     X(accesses, Access, access, PLANT_FIELDS_ACCESS)                  \
-    X(access_targets, AccessTarget, access_target, PLANT_FIELDS_INT)  \
+    X(access_targets, AccessTarget, access_target, PLANT_FIELDS_SLOTREF)  \
     X(logics, Logic, logic, PLANT_FIELDS_LOGIC)                       \
     X(logic_inputs, LogicIn, logic_input, PLANT_FIELDS_LOGICIN)       \
     X(bodies, Body, body, PLANT_FIELDS_BODY)                          \
@@ -362,11 +367,27 @@ constexpr int slot_width(SlotType t) {
     X(labels, Label, label, PLANT_FIELDS_LABEL)                       \
     X(records, Record, record, PLANT_FIELDS_RECORD)                   \
     X(ports, Port, port, PLANT_FIELDS_PORT)                           \
-    X(port_targets, PortTarget, port_target, PLANT_FIELDS_INT)       \
+    X(port_targets, PortTarget, port_target, PLANT_FIELDS_SLOTREF)       \
     X(plugins, Plugin, plugin, PLANT_FIELDS_PLUGIN)                  \
     X(plugin_params, PluginParam, plugin_param, PLANT_FIELDS_PARAM)  \
     X(plugin_entries, PluginEntry, plugin_entry, PLANT_FIELDS_PLUGINENTRY) \
-    X(plugin_entry_slots, PluginEntrySlot, plugin_entry_slot, PLANT_FIELDS_INT)
+    X(plugin_entry_slots, PluginEntrySlot, plugin_entry_slot, PLANT_FIELDS_SLOTREF)
+
+// The id fields that may be -1 ("none"): every other Id<R> field of a record names a row
+// of R's table, which the loader checks from the field types (validate.cpp).
+constexpr std::string_view kOptionalIds[] = {
+    "dos.parent",      "dos.type",         "dos.pool",           "flows.from_access",
+    "flows.to_access", "fields.body",      "joints.body_b",      "places.put_slot",
+    "places.entered_slot", "places.tokens_slot", "transitions.fired_slot", "triggers.body",
+    "triggers.filter", "grippers.body",    "grippers.graphics",  "graphics.parent",
+    "graphics.body"};
+constexpr bool optional_id(std::string_view table, std::string_view field) {
+    for (std::string_view q : kOptionalIds)
+        if (q.size() == table.size() + 1 + field.size() && q.starts_with(table) && q[table.size()] == '.' &&
+            q.ends_with(field))
+            return true;
+    return false;
+}
 
 // Tables the text form leaves out when they are empty (the loader then reads them as
 // empty): a graph without plugin components reads and writes as before plugins existed.
@@ -408,6 +429,24 @@ struct Graph {
     PLANT_GRAPH_TABLES(PLANT_DECLARE_TABLE)
 #undef PLANT_DECLARE_TABLE
 
+    // A row by its typed id: g[SlotId{3}] is g.slots[3], asserted in range in debug
+    // builds (the step's accessor); at() throws std::out_of_range.
+#define PLANT_DECLARE_ACCESS(member, Record, word, FIELDS)                                        \
+    const Record& operator[](Id<Record> i) const {                                               \
+        assert(size_t(i.v) < member.size());                                                     \
+        return member[size_t(i.v)];                                                              \
+    }                                                                                            \
+    Record& operator[](Id<Record> i) {                                                           \
+        assert(size_t(i.v) < member.size());                                                     \
+        return member[size_t(i.v)];                                                              \
+    }                                                                                            \
+    const Record& at(Id<Record> i) const { return member.at(size_t(i.v)); }
+    PLANT_GRAPH_TABLES(PLANT_DECLARE_ACCESS)
+#undef PLANT_DECLARE_ACCESS
+    // The table of a record type: g.rows<Slot>() is g.slots.
+    template <class R>
+    const std::vector<R>& rows() const;
+
     // Interning: returns the existing id for an equal string.
     Name intern(std::string_view s);
     std::string_view str(Name n) const { return n.id < 0 ? std::string_view{} : names[n.id]; }
@@ -424,6 +463,17 @@ struct Graph {
 private:
     std::unordered_map<std::string, int32_t> index_;  // rebuilt when names grew elsewhere
 };
+
+// The table of a record type and its name in the text form ("slots").
+template <class R>
+constexpr std::string_view table_name();
+#define PLANT_DEFINE_ROWS(member, Record, word, FIELDS)                                  \
+    template <>                                                                         \
+    inline const std::vector<Record>& Graph::rows<Record>() const { return member; }    \
+    template <>                                                                         \
+    constexpr std::string_view table_name<Record>() { return #member; }
+PLANT_GRAPH_TABLES(PLANT_DEFINE_ROWS)
+#undef PLANT_DEFINE_ROWS
 
 // Word of an enum value in the text form, and the reverse (false if unknown).
 std::string_view word(SlotType);

@@ -35,6 +35,8 @@ public:
     }
 
     void put(int32_t v) { fmt::format_to(out(), "{}", v); }
+    template <class R, IdRole Role>
+    void put(TypedId<R, Role> id) { put(id.v); }
     void put(double v) { fmt::format_to(out(), "{}", v); }  // shortest round-trip form
     void put(bool v) { o_ += v ? "true" : "false"; }
     template <class E>
@@ -123,6 +125,8 @@ std::string_view element_word(std::string_view member) {
 
 // What a value was expected to be, for messages.
 constexpr std::string_view what(int32_t) { return "integer"; }
+template <class R, IdRole Role>
+constexpr std::string_view what(TypedId<R, Role>) { return "integer"; }
 constexpr std::string_view what(double) { return "number"; }
 constexpr std::string_view what(bool) { return "bool"; }
 template <class E>
@@ -266,6 +270,8 @@ private:
     }
 
     bool get(int32_t& v) { return number(v); }
+    template <class R, IdRole Role>
+    bool get(TypedId<R, Role>& id) { return number(id.v); }
     bool get(double& v) { return number(v); }
     bool get(bool& v) {
         if (lit("true")) v = true;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 namespace plant::graph {
 
@@ -48,9 +49,9 @@ public:
         if (!(finite(g_.settings.rate) && g_.settings.rate >= kMinRate && g_.settings.rate <= kMaxRate))
             return fail_at("", -1, fmt::format("settings: rate {} is not between 1 Hz and 1 MHz", g_.settings.rate));
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
-        return numbers() && dos() && comps() && slots() && flows() && logics() && bodies() &&
+        return every_field() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
-               exits() && routes() && graphics() && animations() && variants() && labels() && records() &&
+               exits() && routes() && graphics() && animations() && variants() && labels() &&
                ports() && plugin_records();
     }
 
@@ -90,9 +91,8 @@ private:
         return fail(fmt::format("fields '{}' + num ({} + {}) are not a range of {} ({} rows)", adr_field, adr, num,
                                 target, n));
     }
-    // A slot of the given type and direction.
-    bool slot(std::string_view field, int32_t s, SlotType type, Dir dir, bool none = false) {
-        if (!id(field, s, g_.slots.size(), "slots", none)) return false;
+    // A slot of the given type and direction (every_field() checked it is one, or -1).
+    bool slot(std::string_view field, int32_t s, SlotType type, Dir dir) {
         if (s < 0) return true;
         const Slot& sl = g_.slots[size_t(s)];
         if (sl.type != type || sl.dir != dir)
@@ -103,7 +103,6 @@ private:
     bool check(bool ok, std::string_view what) { return ok || fail(std::string(what)); }
     // The component `c` is of `kind` and its detail is this record.
     bool owner(int32_t c, CompKind kind, size_t self) {
-        if (!id("comp", c, g_.comps.size(), "comps")) return false;
         const Comp& cp = g_.comps[size_t(c)];
         if (cp.kind != kind || cp.detail != int32_t(self))
             return fail(fmt::format("field 'comp' = {}: that component is a {} whose detail is {}, not this {}", c,
@@ -112,12 +111,14 @@ private:
     }
 
     // Every double finite, every written rotation a unit quaternion, every source
-    // position in a known file.
-    bool numbers() {
+    // position in a known file; every Id<R> field a row of R's table (or -1 where graph.h's
+    // kOptionalIds allows it), every Adr<R> field and the `_num` after it a range of R's table.
+    bool every_field() {
 #define PLANT_CHECK_FIELD(T_, f_)                                                         \
     if (!finite(r.f_)) return fail(fmt::format("field '{}' is not a finite number", #f_)); \
     if (!unit_quats(r.f_)) return fail(fmt::format("field '{}' has a rotation that is not a unit quaternion", #f_)); \
-    if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size()));
+    if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size())); \
+    if (!reference(#f_, r.f_)) return false;
 #define PLANT_CHECK_TABLE(member, Record, elem, FIELDS)     \
     for (size_t i = 0; i < g_.member.size(); ++i) {         \
         at(#member, i);                                     \
@@ -127,6 +128,21 @@ private:
         PLANT_GRAPH_TABLES(PLANT_CHECK_TABLE)
 #undef PLANT_CHECK_TABLE
 #undef PLANT_CHECK_FIELD
+        return true;
+    }
+    template <class T>
+    bool reference(std::string_view field, const T& v) {
+        if constexpr (is_typed_id<T>) {
+            using R = typename T::record;
+            if constexpr (T::role == IdRole::Row)
+                return id(field, v.v, g_.rows<R>().size(), table_name<R>(), optional_id(table_, field));
+            adr_ = {field, v.v, g_.rows<R>().size(), table_name<R>()};
+        } else if constexpr (std::is_same_v<T, int32_t>) {
+            if (!adr_.table.empty() && field.ends_with("_num")) {
+                const Pending a = std::exchange(adr_, {});
+                return range(a.field, a.adr, v, a.rows, a.table);
+            }
+        }
         return true;
     }
     template <class T>
@@ -146,12 +162,7 @@ private:
         }))
             return false;
         return each("dos", g_.dos, [&](const Do& d, size_t i) {
-            if (!check(d.parent < int32_t(i), "field 'parent' must name an earlier DO (or be -1)") ||
-                !id("parent", d.parent, g_.dos.size(), "dos", true) ||
-                !id("type", d.type, g_.do_types.size(), "do_types", true) ||
-                !range("comp_adr", d.comp_adr, d.comp_num, g_.comps.size(), "comps") ||
-                !id("pool", d.pool, g_.comps.size(), "comps", true))
-                return false;
+            if (!check(d.parent < int32_t(i), "field 'parent' must name an earlier DO (or be -1)")) return false;
             if (d.type >= 0 && !(d.ordinal >= 0 && d.ordinal < g_.do_types[size_t(d.type)].instance_num))
                 return fail(fmt::format("field 'ordinal' = {} is not below its type's instance_num {}", d.ordinal,
                                         g_.do_types[size_t(d.type)].instance_num));
@@ -185,9 +196,6 @@ private:
 
     bool comps() {
         return each("comps", g_.comps, [&](const Comp& cp, size_t c) {
-            if (!id("owner", cp.owner, g_.dos.size(), "dos") ||
-                !range("slot_adr", cp.slot_adr, cp.slot_num, g_.slots.size(), "slots"))
-                return false;
             size_t n = 0;
             std::string_view table;
             if (detail_table(cp.kind, n, table)) {
@@ -229,10 +237,7 @@ private:
             if (p.param_num != int32_t(d->params.size()))
                 return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
                                         p.param_num));
-            if (!range("param_adr", p.param_adr, p.param_num, g_.plugin_params.size(), "plugin_params") ||
-                !params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word)) ||
-                !range("entry_adr", p.entry_adr, p.entry_num, g_.plugin_entries.size(), "plugin_entries"))
-                return false;
+            if (!params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word))) return false;
             for (int32_t k = 0; k < p.entry_num; ++k)
                 if (!plugin_entry(*d, g_.plugin_entries[size_t(p.entry_adr + k)], p.entry_adr + k)) return false;
             return true;
@@ -272,10 +277,8 @@ private:
             return fail(fmt::format("{}: a '{}' entry names {} slot{}, {}", where, es->word,
                                     es->target == Dir::Out ? "one" : "at least one", es->target == Dir::Out ? "" : "s",
                                     fmt::format("field 'slot_num' is {}", e.slot_num)));
-        if (!range("slot_adr", e.slot_adr, e.slot_num, g_.plugin_entry_slots.size(), "plugin_entry_slots")) return false;
         for (int32_t k = 0; k < e.slot_num; ++k) {
             const int32_t s = g_.plugin_entry_slots[size_t(e.slot_adr + k)].v;
-            if (!id("slot", s, g_.slots.size(), "slots")) return false;
             const Slot& sl = g_.slots[size_t(s)];
             const bool type_ok = es->types.empty() || std::find(es->types.begin(), es->types.end(), sl.type) != es->types.end();
             if (sl.dir != es->target || !type_ok)
@@ -285,13 +288,11 @@ private:
         if (e.param_num != int32_t(es->options.size()))
             return fail(fmt::format("{}: a '{}' entry has {} options, field 'param_num' is {}", where, es->word,
                                     es->options.size(), e.param_num));
-        return range("param_adr", e.param_adr, e.param_num, g_.plugin_params.size(), "plugin_params") &&
-               params_valid(es->options, e.param_adr, fmt::format("of a '{}' entry", es->word));
+        return params_valid(es->options, e.param_adr, fmt::format("of a '{}' entry", es->word));
     }
 
     bool slots() {
         return each("slots", g_.slots, [&](const Slot& sl, size_t) {
-            if (!id("comp", sl.comp, g_.comps.size(), "comps")) return false;
             const int w = slot_width(sl.type);
             if (w == 0) return true;
             if (sl.value_adr < 0 || size_t(sl.value_adr) + size_t(w) > g_.values.size())
@@ -304,25 +305,14 @@ private:
     // Accesses and their targets, then the flows whose ends go through them.
     bool flows() {
         if (!each("accesses", g_.accesses, [&](const Access& a, size_t) {
-            if (!slot("ref_slot", a.ref_slot, SlotType::Ref, Dir::Out) ||
-                !id("do_type", a.do_type, g_.do_types.size(), "do_types") ||
-                !range("target_adr", a.target_adr, a.target_num, g_.access_targets.size(), "access_targets"))
-                return false;
+            if (!slot("ref_slot", a.ref_slot, SlotType::Ref, Dir::Out)) return false;
             if (a.target_num != g_.do_types[size_t(a.do_type)].instance_num)
                 return fail(fmt::format("field 'target_num' = {}: its type has {} instances", a.target_num,
                                         g_.do_types[size_t(a.do_type)].instance_num));
             return true;
         }))
             return false;
-        if (!each("access_targets", g_.access_targets, [&](const auto& r, size_t) {
-            return id("v", r.v, g_.slots.size(), "slots");
-        }))
-            return false;
         return each("flows", g_.flows, [&](const Flow& f, size_t) {
-            if (!id("from", f.from, g_.slots.size(), "slots") || !id("to", f.to, g_.slots.size(), "slots") ||
-                !id("from_access", f.from_access, g_.accesses.size(), "accesses", true) ||
-                !id("to_access", f.to_access, g_.accesses.size(), "accesses", true))
-                return false;
             // A dynamic end holds its access's reference slot: the one place the runtime reads it from.
             if (f.from_access >= 0 && f.from != g_.accesses[size_t(f.from_access)].ref_slot)
                 return fail(fmt::format("field 'from' = {}: a dynamic source holds its access's ref_slot {}", f.from,
@@ -350,21 +340,14 @@ private:
         });
     }
     bool logics() {
-        if (!each("logics", g_.logics, [&](const Logic& l, size_t i) {
-            return owner(l.comp, CompKind::Logic, i) &&
-                   range("in_adr", l.in_adr, l.in_num, g_.logic_inputs.size(), "logic_inputs") &&
-                   id("out_slot", l.out_slot, g_.slots.size(), "slots");
-        }))
-            return false;
-        return each("logic_inputs", g_.logic_inputs, [&](const auto& r, size_t) {
-            return id("slot", r.slot, g_.slots.size(), "slots");
+        return each("logics", g_.logics, [&](const Logic& l, size_t i) {
+            return owner(l.comp, CompKind::Logic, i);
         });
     }
 
     bool bodies() {
         return each("bodies", g_.bodies, [&](const Body& b, size_t i) {
             return owner(b.comp, CompKind::Body, i) &&
-                   range("shape_adr", b.shape_adr, b.shape_num, g_.shapes.size(), "shapes") &&
                    check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
                    check(b.shape_num > 0, "a body needs at least one shape") &&
                    check(b.mass >= 0, "field 'mass' is negative") &&
@@ -388,7 +371,6 @@ private:
             case ShapeKind::Capsule: ok = z[0] > 0 && z[1] > 0; break;
             case ShapeKind::Hull:
                 if (!check(s.point_num > 0, "a hull needs points")) return false;
-                if (!range("point_adr", s.point_adr, s.point_num, g_.points.size(), "points")) return false;
                 if (const HullFlaw flaw = hull_flaw(&g_.points[size_t(s.point_adr)], size_t(s.point_num));
                     flaw != HullFlaw::None)
                     return fail(fmt::format("a hull encloses no volume: {}", hull_flaw_text(flaw)));
@@ -401,7 +383,7 @@ private:
     bool fields() {
         return each("fields", g_.fields, [&](const Field& f, size_t i) {
             const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
-            return owner(f.comp, CompKind::Field, i) && id("body", f.body, g_.bodies.size(), "bodies", true) &&
+            return owner(f.comp, CompKind::Field, i) &&
                    check(f.extent[0] > 0 && f.extent[1] > 0 && f.extent[2] > 0, "field 'extent' must be above 0") &&
                    check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
                    check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
@@ -410,44 +392,37 @@ private:
 
     bool joints() {
         return each("joints", g_.joints, [&](const Joint& j, size_t i) {
-            return owner(j.comp, CompKind::Constraint, i) && id("body_a", j.body_a, g_.bodies.size(), "bodies") &&
-                   id("body_b", j.body_b, g_.bodies.size(), "bodies", true) &&
+            return owner(j.comp, CompKind::Constraint, i) &&
                    check(j.body_a != j.body_b, "a joint joins two different bodies");
         });
     }
 
     bool nets() {
         if (!each("places", g_.places, [&](const Place& p, size_t) {
-            return id("comp", p.comp, g_.comps.size(), "comps") &&
-                   check(g_.comps[size_t(p.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
+            return check(g_[p.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
                    check(p.initial >= 0 && p.initial <= kMaxInitialTokens,
                          fmt::format("field 'initial' must lie in [0, {}]", kMaxInitialTokens)) &&
-                   slot("put_slot", p.put_slot, SlotType::Void, Dir::In, true) &&
-                   slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out, true) &&
-                   slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out, true);
+                   slot("put_slot", p.put_slot, SlotType::Void, Dir::In) &&
+                   slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out) &&
+                   slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out);
         }))
             return false;
         if (!each("transitions", g_.transitions, [&](const Transition& t, size_t) {
-            return id("comp", t.comp, g_.comps.size(), "comps") &&
-                   check(g_.comps[size_t(t.comp)].kind == CompKind::State, "field 'comp' is not a state component") &&
+            return check(g_[t.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
                    check(t.in_num > 0, "a transition needs an input place (it would fire in every step)") &&
-                   range("in_adr", t.in_adr, t.in_num, g_.arcs.size(), "arcs") &&
-                   range("out_adr", t.out_adr, t.out_num, g_.arcs.size(), "arcs") &&
-                   slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out, true);
+                   slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out);
         }))
             return false;
         return each("arcs", g_.arcs, [&](const auto& r, size_t) {
-            return id("place", r.place, g_.places.size(), "places") &&
-                   check(r.weight >= 1 && r.weight <= kMaxArcWeight,
+            return check(r.weight >= 1 && r.weight <= kMaxArcWeight,
                          fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
         });
     }
 
     bool triggers() {
         return each("triggers", g_.triggers, [&](const Trigger& t, size_t i) {
-            return owner(t.comp, CompKind::Trigger, i) && id("body", t.body, g_.bodies.size(), "bodies", true) &&
-                   check(t.extent[0] > 0 && t.extent[1] > 0 && t.extent[2] > 0, "field 'extent' must be above 0") &&
-                   id("filter", t.filter, g_.do_types.size(), "do_types", true);
+            return owner(t.comp, CompKind::Trigger, i) &&
+                   check(t.extent[0] > 0 && t.extent[1] > 0 && t.extent[2] > 0, "field 'extent' must be above 0");
         });
     }
 
@@ -460,19 +435,13 @@ private:
 
     bool grippers() {
         return each("grippers", g_.grippers, [&](const Gripper& gr, size_t i) {
-            return owner(gr.comp, CompKind::Gripper, i) && id("trigger", gr.trigger, g_.triggers.size(), "triggers") &&
-                   id("body", gr.body, g_.bodies.size(), "bodies", true) &&
-                   id("graphics", gr.graphics, g_.graphics.size(), "graphics", true);
+            return owner(gr.comp, CompKind::Gripper, i);
         });
     }
 
     bool sources() {
         return each("sources", g_.sources, [&](const Source& s, size_t i) {
-            if (!owner(s.comp, CompKind::Source, i) || !id("do_type", s.do_type, g_.do_types.size(), "do_types") ||
-                !range("pool_adr", s.pool_adr, s.pool_num, g_.dos.size(), "dos") ||
-                !check(s.rate >= 0, "field 'rate' is negative") ||
-                !range("id_adr", s.id_adr, s.id_num, g_.ids.size(), "ids"))
-                return false;
+            if (!owner(s.comp, CompKind::Source, i) || !check(s.rate >= 0, "field 'rate' is negative")) return false;
             for (int32_t k = 0; k < s.pool_num; ++k) {
                 const Do& d = g_.dos[size_t(s.pool_adr + k)];
                 if (d.pool != s.comp || d.type != s.do_type)
@@ -485,15 +454,13 @@ private:
 
     bool exits() {
         return each("exits", g_.exits, [&](const auto& r, size_t i) {
-            return owner(r.comp, CompKind::Exit, i) &&
-                   id("trigger", r.trigger, g_.triggers.size(), "triggers");
+            return owner(r.comp, CompKind::Exit, i);
         });
     }
 
     bool routes() {
         return each("routes", g_.routes, [&](const Route& r, size_t) {
-            return id("comp", r.comp, g_.comps.size(), "comps") &&
-                   check(g_.comps[size_t(r.comp)].kind == CompKind::Router, "field 'comp' is not a router") &&
+            return check(g_[r.comp].kind == CompKind::Router, "field 'comp' is not a router") &&
                    slot("out_slot", r.out_slot, SlotType::Void, Dir::Out);
         });
     }
@@ -501,11 +468,7 @@ private:
     bool graphics() {
         return each("graphics", g_.graphics, [&](const Graphics& gr, size_t i) {
             if (!owner(gr.comp, CompKind::Graphics, i) ||
-                !check(gr.parent < int32_t(i), "field 'parent' must name an earlier graphics (or be -1)") ||
-                !id("parent", gr.parent, g_.graphics.size(), "graphics", true) ||
-                !id("body", gr.body, g_.bodies.size(), "bodies", true) ||
-                !range("anim_adr", gr.anim_adr, gr.anim_num, g_.animations.size(), "animations") ||
-                !range("variant_adr", gr.variant_adr, gr.variant_num, g_.variants.size(), "variants"))
+                !check(gr.parent < int32_t(i), "field 'parent' must name an earlier graphics (or be -1)"))
                 return false;
             if (gr.variant < -1 || gr.variant >= gr.variant_num)
                 return fail(fmt::format("field 'variant' = {} is not -1 or the index of one of its {} variants",
@@ -516,10 +479,8 @@ private:
 
     bool animations() {
         return each("animations", g_.animations, [&](const Animation& a, size_t i) {
-            if (!id("graphics", a.graphics, g_.graphics.size(), "graphics") ||
-                !check(a.duration >= 0, "field 'duration' is negative") ||
+            if (!check(a.duration >= 0, "field 'duration' is negative") ||
                 !check(a.key_num > 0, "an animation needs keys") ||
-                !range("key_adr", a.key_adr, a.key_num, g_.keys.size(), "keys") ||
                 !slot("play_slot", a.play_slot, SlotType::Void, Dir::In) ||
                 !slot("finished_slot", a.finished_slot, SlotType::Void, Dir::Out))
                 return false;
@@ -537,8 +498,7 @@ private:
 
     bool variants() {
         return each("variants", g_.variants, [&](const Variant& v, size_t) {
-            return id("graphics", v.graphics, g_.graphics.size(), "graphics") &&
-                   slot("select_slot", v.select_slot, SlotType::Void, Dir::In);
+            return slot("select_slot", v.select_slot, SlotType::Void, Dir::In);
         });
     }
 
@@ -548,17 +508,8 @@ private:
         });
     }
 
-    bool records() {
-        return each("records", g_.records, [&](const auto& r, size_t) {
-            return id("slot", r.slot, g_.slots.size(), "slots");
-        });
-    }
-
     bool ports() {
         return each("ports", g_.ports, [&](const Port& p, size_t) {
-            if (!id("owner", p.owner, g_.dos.size(), "dos") ||
-                !range("target_adr", p.target_adr, p.target_num, g_.port_targets.size(), "port_targets"))
-                return false;
             if (p.target_num < 1 || (p.dir == Dir::Out && p.target_num != 1))
                 return fail(fmt::format("a port forwards to {} slots ({} port)", p.target_num, word(p.dir)));
             for (int32_t k = 0; k < p.target_num; ++k)
@@ -567,8 +518,17 @@ private:
         });
     }
 
+    // An Adr field waiting for its num.
+    struct Pending {
+        std::string_view field;
+        int32_t adr = -1;
+        size_t rows = 0;
+        std::string_view table;
+    };
+
     const Graph& g_;
     GraphProblem& p_;
+    Pending adr_;
     std::string_view table_;
     int32_t row_ = -1;
 };

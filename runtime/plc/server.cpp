@@ -334,7 +334,7 @@ struct Server::Impl {
 
     void watch(engine::Engine& e) {
         for (size_t i = 0; i < map.entries.size(); ++i)
-            if (offset[i] >= 0) e.watch(map.entries[i].slots[0]);
+            if (offset[i] >= 0) e.watch(graph::SlotId(map.entries[i].slots[0]));
         watched = true;
     }
 
@@ -416,7 +416,7 @@ struct Server::Impl {
         for (size_t i = 0; i < map.entries.size(); ++i) {
             if (offset[i] < 0) continue;
             const Entry& en = map.entries[i];
-            const int32_t s = en.slots[0];
+            const graph::SlotId s(en.slots[0]);
             const bool active = e.active(s);
             active_count[i] += active ? 1 : 0;
             const std::span<const double> v = en.type == SlotType::Void ? std::span<const double>{} : e.value(s);

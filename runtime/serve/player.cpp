@@ -265,7 +265,7 @@ private:
         watched_version_ = inspected_version();
         for (const std::string& p : inspected())
             if (watched_.insert(p).second)
-                for (int32_t sl : object_slots(g_, p)) engine_->watch(sl);
+                for (int32_t sl : object_slots(g_, p)) engine_->watch(graph::SlotId(sl));
     }
 
     void publish_frame() override {

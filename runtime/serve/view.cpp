@@ -222,12 +222,12 @@ uint64_t FrameTracker::take(const engine::Engine& e) {
     std::swap(now_, prev_);
     now_.time = e.time();
     now_.step = e.steps();
-    for (int32_t b : movable_) store_pose(&now_.body_pose[7 * size_t(b)], e.body_pose(b));
+    for (int32_t b : movable_) store_pose(&now_.body_pose[7 * size_t(b)], e.body_pose(BodyId(b)));
     for (size_t b = 0; b < g_.bodies.size(); ++b)
-        now_.body_state[b] = uint8_t((e.body_in_world(int32_t(b)) ? 1 : 0) | (e.body_collision(int32_t(b)) ? 2 : 0));
+        now_.body_state[b] = uint8_t((e.body_in_world(BodyId(int32_t(b))) ? 1 : 0) | (e.body_collision(BodyId(int32_t(b))) ? 2 : 0));
     for (size_t i = 0; i < g_.graphics.size(); ++i) {
-        store_pose(&now_.gfx_pose[7 * i], e.graphics_pose(int32_t(i)));
-        now_.gfx_variant[i] = e.graphics_variant(int32_t(i));
+        store_pose(&now_.gfx_pose[7 * i], e.graphics_pose(GraphicsId(int32_t(i))));
+        now_.gfx_variant[i] = e.graphics_variant(GraphicsId(int32_t(i)));
     }
     return commit();
 }
@@ -344,11 +344,11 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
            {"records", tally.values(e)}};
     json occupied = json::array();
     for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (e.trigger_occupied(int32_t(t))) occupied.push_back(t);
+        if (e.trigger_occupied(TriggerId(int32_t(t)))) occupied.push_back(t);
     s["occupied"] = std::move(occupied);
     json fields = json::array();
     for (size_t f = 0; f < g.fields.size(); ++f)
-        fields.push_back(json::array({e.field_on(int32_t(f)) ? 1 : 0, e.field_speed(int32_t(f))}));
+        fields.push_back(json::array({e.field_on(FieldId(int32_t(f))) ? 1 : 0, e.field_speed(FieldId(int32_t(f)))}));
     s["fields"] = std::move(fields);
     return s.dump(-1, ' ', false, json::error_handler_t::replace);
 }
@@ -361,7 +361,7 @@ int32_t find_do(const Graph& g, std::string_view path) {
     return -1;
 }
 
-json slot_value(const engine::Engine& e, int32_t sl) {
+json slot_value(const engine::Engine& e, SlotId sl) {
     const Graph& g = e.graph();
     const SlotType t = g.slots[size_t(sl)].type;
     const auto v = e.value(sl);
@@ -401,7 +401,7 @@ std::vector<int32_t> object_slots(const Graph& g, std::string_view path) {
 namespace {
 
 // A slot's force for the inspector: "stuck", "open", "invert", or null.
-json force_word(const engine::Engine& e, int32_t slot) {
+json force_word(const engine::Engine& e, SlotId slot) {
     switch (e.forced(slot)) {
     case engine::ForceMode::Stuck: return "stuck";
     case engine::ForceMode::Open: return "open";
@@ -422,7 +422,7 @@ std::string inspect_json(const engine::Engine& e, std::string_view path) {
     for (size_t p = 0; p < g.ports.size(); ++p) {
         const Port& pt = g.ports[p];
         if (pt.owner != d) continue;
-        const int32_t first = g.port_targets[size_t(pt.target_adr)].v;
+        const SlotId first = g.port_targets[size_t(pt.target_adr)].v;
         slots.push_back({{"path", g.port_path(int32_t(p))},
                          {"value", pt.dir == Dir::Out ? slot_value(e, first) : json(nullptr)},
                          {"active", e.active(first)},
@@ -431,13 +431,13 @@ std::string inspect_json(const engine::Engine& e, std::string_view path) {
     json places = json::array();
     for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
         const Comp& cp = g.comps[size_t(c)];
-        for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl)
+        for (SlotId sl(cp.slot_adr); sl < cp.slot_adr + cp.slot_num; ++sl)
             slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)},
                              {"forced", force_word(e, sl)}});
     }
     for (size_t p = 0; p < g.places.size(); ++p)
         if (g.comps[size_t(g.places[p].comp)].owner == d)
-            places.push_back({{"id", p}, {"tokens", e.tokens(int32_t(p))}});
+            places.push_back({{"id", p}, {"tokens", e.tokens(PlaceId(int32_t(p)))}});
     json j{{"path", path}, {"slots", std::move(slots)}, {"places", std::move(places)}};
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }

@@ -95,6 +95,6 @@ int main(int argc, char** argv) {
                 "events applied: %lld\nline[0].b1.drive: %s\n",
                 (long long)e.steps(), (long long)s.requests, (long long)s.exceptions, (long long)s.accepted,
                 (long long)s.left, (long long)s.dropped, (long long)s.applied,
-                drive >= 0 && e.field_on(drive) ? "on" : "off");
+                drive >= 0 && e.field_on(plant::graph::FieldId(drive)) ? "on" : "off");
     return rc;
 }

@@ -22,9 +22,9 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
     graph::Graph& g = lw.el.g_;
     const Env& env = lw.env;
     graph::Animation an;
-    an.graphics = gid;
+    an.graphics = graph::GraphicsId(gid);
     an.name = el.name(a.name.text);
-    an.key_adr = static_cast<int32_t>(g.keys.size());
+    an.key_adr = graph::next_adr(g.keys);
     double duration = -1;
     for (const auto& p : a.properties) {
         Value v = el.ev_.eval(*p.value, env);
@@ -86,8 +86,8 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
     }
     an.duration = duration;
     an.key_num = static_cast<int32_t>(g.keys.size()) - an.key_adr;
-    an.play_slot = el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span);
-    an.finished_slot = el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span);
+    an.play_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span));
+    an.finished_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span));
     g.animations.push_back(an);
 }
 
@@ -99,22 +99,22 @@ void lower_graphics(Lowering& lw) {
     const ast::ComponentDecl& c = lw.decl;
     const Env& env = lw.env;
     graph::Graphics gr;
-    gr.comp = lw.comp;
-    gr.parent = lw.parent_graphics;
-    gr.body = -1;
+    gr.comp = graph::CompId(lw.comp);
+    gr.parent = graph::GraphicsId(lw.parent_graphics);
+    gr.body = {};
     gr.model = el.name(lw.props.get("model") ? lw.props.get("model")->str : "");
     gr.pose = lw.frame.pose();
     gr.variant = -1;
-    gr.anim_adr = static_cast<int32_t>(g.animations.size());
+    gr.anim_adr = graph::next_adr(g.animations);
     const int32_t gid = static_cast<int32_t>(g.graphics.size());
     for (const auto& a : c.animations) lower_animation(lw, a, gid);
     gr.anim_num = static_cast<int32_t>(g.animations.size()) - gr.anim_adr;
-    gr.variant_adr = static_cast<int32_t>(g.variants.size());
+    gr.variant_adr = graph::next_adr(g.variants);
     for (const auto& v : c.variants) {
         Value m = el.ev_.eval(*v.model, env);
         if (!el.ev_.expect_string(m, "variant model")) continue;
         int32_t sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
-        g.variants.push_back({gid, el.name(v.name.text), el.name(m.str), sel});
+        g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), graph::SlotId(sel)});
     }
     gr.variant_num = static_cast<int32_t>(g.variants.size()) - gr.variant_adr;
     if (const Value* v = lw.props.get("show")) {
@@ -136,7 +136,7 @@ void lower_graphics(Lowering& lw) {
 }
 
 void link_graphics(Linking& lk) {
-    if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[static_cast<size_t>(lk.rec.detail)].body = lk.on_body();
+    if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

@@ -21,14 +21,14 @@ void lower_trigger(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     graph::Trigger t;
-    t.comp = lw.comp;
-    t.body = -1;
+    t.comp = graph::CompId(lw.comp);
+    t.body = {};
     if (const Value* e = lw.props.get("extent")) t.extent = vec(*e);
     lw.positive_vec("extent");
     t.pose = lw.frame.pose();
-    t.filter = -1;
+    t.filter = {};
     if (const Value* f = lw.props.get("filter")) {
-        t.filter = el.do_type(f->str, f->span);
+        t.filter = graph::DoTypeId(el.do_type(f->str, f->span));
         el.ref_types_[lw.slot_adr + graph::triggerslot::object] = t.filter;
     }
     g.triggers.push_back(t);
@@ -38,7 +38,7 @@ void lower_trigger(Lowering& lw) {
 void lower_timer(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     graph::Timer t;
-    t.comp = lw.comp;
+    t.comp = graph::CompId(lw.comp);
     t.period = lw.num("period", 0);
     lw.positive("period");
     t.periodic = lw.mode != "oneshot";
@@ -50,8 +50,10 @@ void lower_timer(Lowering& lw) {
 void lower_gripper(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     graph::Gripper gr;
-    gr.comp = lw.comp;
-    gr.trigger = gr.body = gr.graphics = -1;
+    gr.comp = graph::CompId(lw.comp);
+    gr.trigger = {};
+    gr.body = {};
+    gr.graphics = {};
     g.grippers.push_back(gr);
     lw.set_detail(g.grippers.size());
 }
@@ -61,8 +63,8 @@ void lower_source(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Source s;
-    s.comp = lw.comp;
-    s.do_type = -1;
+    s.comp = graph::CompId(lw.comp);
+    s.do_type = {};
     s.pose = lw.frame.pose();
     s.rate = lw.num("rate", 0);
     if (const Value* r = lw.props.get("rate"); r && r->num < 0)
@@ -75,12 +77,12 @@ void lower_source(Lowering& lw) {
         else pool = static_cast<int32_t>(p->num);
     }
     s.pool_num = pool;  // the DOs are built by make_pools
-    s.pool_adr = -1;
+    s.pool_adr = {};
     if (const Value* t = lw.props.get("object")) {
-        s.do_type = el.do_type(t->str, t->span);
+        s.do_type = graph::DoTypeId(el.do_type(t->str, t->span));
         el.ref_types_[lw.slot_adr + graph::sourceslot::object] = s.do_type;
     }
-    s.id_adr = static_cast<int32_t>(g.ids.size());
+    s.id_adr = graph::next_adr(g.ids);
     if (const Value* ids = lw.props.get("ids")) {
         for (const auto& it : ids->items) g.ids.push_back({el.name(it.str)});
         if (ids->items.empty()) el.sink_.report(DiagId::OutOfRange, ids->span, "'ids' is empty");
@@ -94,7 +96,7 @@ void lower_source(Lowering& lw) {
 
 void lower_exit(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
-    g.exits.push_back({lw.comp, -1});
+    g.exits.push_back({graph::CompId(lw.comp), {}});
     lw.set_detail(g.exits.size());
 }
 
@@ -115,7 +117,7 @@ void lower_router(Lowering& lw) {
             it = outs.emplace(r.output.text, el.add_slot(lw.comp, r.output.text, SlotType::Void, Dir::Out, r.output.span)).first;
         }
         if (!r.pattern_expr) {
-            g.routes.push_back({lw.comp, el.name("*"), it->second});
+            g.routes.push_back({graph::CompId(lw.comp), el.name("*"), graph::SlotId(it->second)});
             continue;
         }
         // A string, or a list of strings (one entry each), from parameters and lets too.
@@ -127,7 +129,7 @@ void lower_router(Lowering& lw) {
                             "a routing entry needs at least one pattern; this list is empty");
         for (const Value& pv : patterns) {
             if (!el.ev_.expect_string(pv, "a routing pattern")) break;
-            g.routes.push_back({lw.comp, el.name(pv.str), it->second});
+            g.routes.push_back({graph::CompId(lw.comp), el.name(pv.str), graph::SlotId(it->second)});
         }
     }
 }
@@ -135,14 +137,14 @@ void lower_router(Lowering& lw) {
 void lower_label(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
-    graph::Label l{lw.comp, el.name(lw.props.get("value") ? lw.props.get("value")->str : "")};
+    graph::Label l{graph::CompId(lw.comp), el.name(lw.props.get("value") ? lw.props.get("value")->str : "")};
     g.labels.push_back(l);
     lw.set_detail(g.labels.size());
     graph::slot_value(g, lw.slot_adr + graph::labelslot::value) = l.value.id;
 }
 
 void link_trigger(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.triggers[static_cast<size_t>(lk.rec.detail)].body = lk.on_body();
+    if (lk.decl.on) lk.el.g_.triggers[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
 }
 
 // A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
@@ -150,7 +152,7 @@ void link_gripper(Linking& lk) {
     graph::Graph& g = lk.el.g_;
     auto& gr = g.grippers[static_cast<size_t>(lk.rec.detail)];
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
-        gr.trigger = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'");
+        gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
         if (gr.trigger >= 0) {
             int32_t tslot = g.comps[static_cast<size_t>(g.triggers[static_cast<size_t>(gr.trigger)].comp)].slot_adr +
                             graph::triggerslot::object;
@@ -161,16 +163,16 @@ void link_gripper(Linking& lk) {
     if (lk.decl.on) {
         auto it = lk.scope.comps.find(lk.on);
         if (it != lk.scope.comps.end() && g.comps[static_cast<size_t>(it->second)].kind == graph::CompKind::Graphics)
-            gr.graphics = g.comps[static_cast<size_t>(it->second)].detail;
+            gr.graphics = graph::GraphicsId(g.comps[static_cast<size_t>(it->second)].detail);
         else
-            gr.body = lk.on_body();
+            gr.body = graph::BodyId(lk.on_body());
     }
 }
 
 void link_exit(Linking& lk) {
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
         lk.el.g_.exits[static_cast<size_t>(lk.rec.detail)].trigger =
-            lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'");
+            graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
 }
 
 }  // namespace plant::sema

@@ -23,6 +23,7 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
     graph::Graph& g = lw.el.g_;
     const Env& env = lw.env;
     graph::Shape sh;
+    sh.point_adr = graph::Adr<graph::Point>(0);  // no points but a hull's: 0, as the text form has always had it
     sh.local = el.placement(sd.placement ? &*sd.placement : nullptr, env).pose();
     std::vector<Value> a;
     bool ok = true;
@@ -57,7 +58,7 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
     else if (k == "capsule") { sh.kind = graph::ShapeKind::Capsule; ok = lengths(2, "a radius and a height"); }
     else if (k == "hull") {
         sh.kind = graph::ShapeKind::Hull;
-        sh.point_adr = static_cast<int32_t>(g.points.size());
+        sh.point_adr = graph::next_adr(g.points);
         for (const auto& p : a) {
             if (!el.ev_.expect_vec3(p, units::dims::length, "hull point")) { ok = false; break; }
             g.points.push_back({vec(p)});
@@ -92,7 +93,7 @@ void lower_body(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Body b;
-    b.comp = lw.comp;
+    b.comp = graph::CompId(lw.comp);
     b.mode = lw.mode == "static" ? graph::BodyMode::Static
            : lw.mode == "kinematic" ? graph::BodyMode::Kinematic : graph::BodyMode::Dynamic;
     b.mass = lw.num("mass", 0);
@@ -115,7 +116,7 @@ void lower_body(Lowering& lw) {
     b.collision = lw.boolean("collision", true);
     b.dynamics = lw.boolean("dynamics", true);
     b.pose = lw.frame.pose();
-    b.shape_adr = static_cast<int32_t>(g.shapes.size());
+    b.shape_adr = graph::next_adr(g.shapes);
     for (const auto& sd : c.shapes) lower_shape(lw, sd);
     b.shape_num = static_cast<int32_t>(g.shapes.size()) - b.shape_adr;
     if (c.shapes.empty())
@@ -138,8 +139,8 @@ void lower_field(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     graph::Field f;
-    f.comp = lw.comp;
-    f.body = -1;
+    f.comp = graph::CompId(lw.comp);
+    f.body = {};
     if (const Value* e = lw.props.get("extent")) f.extent = vec(*e);
     lw.positive_vec("extent");
     f.pose = lw.frame.pose();
@@ -166,9 +167,9 @@ void lower_constraint(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Joint j;
-    j.comp = lw.comp;
+    j.comp = graph::CompId(lw.comp);
     j.kind = lw.mode == "hinge" ? graph::JointKind::Hinge : lw.mode == "slider" ? graph::JointKind::Slider : graph::JointKind::Fixed;
-    j.body_a = j.body_b = -1;
+    j.body_a = j.body_b = {};
     j.lower = 1;
     j.upper = -1;  // free unless limited
     units::Dim want = j.kind == graph::JointKind::Slider ? units::dims::length : units::dims::angle;
@@ -210,7 +211,7 @@ void lower_constraint(Lowering& lw) {
 }
 
 void link_field(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.fields[static_cast<size_t>(lk.rec.detail)].body = lk.on_body();
+    if (lk.decl.on) lk.el.g_.fields[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
 }
 
 // The joint frame, in world coordinates until now, becomes relative to each body.
@@ -228,9 +229,9 @@ void link_constraint(Linking& lk) {
     world.p = Eigen::Vector3d(j.frame_a.p[0], j.frame_a.p[1], j.frame_a.p[2]);
     world.q = Eigen::Quaterniond(j.frame_a.q[3], j.frame_a.q[0], j.frame_a.q[1], j.frame_a.q[2]);
     if (const auto* p = lk.prop("a"); p && !lk.ref_name(*p).empty())
-        j.body_a = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'a'");
+        j.body_a = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'a'"));
     if (const auto* p = lk.prop("b"); p && !lk.ref_name(*p).empty())
-        j.body_b = lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'b'");
+        j.body_b = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'b'"));
     if (j.body_a >= 0) j.frame_a = (body_frame(j.body_a).inverse() * world).pose();
     if (j.body_b >= 0) j.frame_b = (body_frame(j.body_b).inverse() * world).pose();
     if (j.body_a >= 0 && j.body_a == j.body_b)

@@ -26,10 +26,11 @@ void lower_plugin(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const graph::KindDesc& kind = *lw.spec.plugin;
     graph::Plugin rec;
-    rec.comp = lw.comp;
+    rec.comp = graph::CompId(lw.comp);
     rec.kind = lw.el.name(kind.word);
-    rec.param_adr = static_cast<int32_t>(g.plugin_params.size());
+    rec.param_adr = graph::next_adr(g.plugin_params);
     rec.param_num = static_cast<int32_t>(kind.params.size());
+    rec.entry_adr = graph::Adr<graph::PluginEntry>(0);  // set when it has entries
     for (const graph::ParamSpec& ps : kind.params)
         g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
     g.plugins.push_back(rec);
@@ -62,7 +63,7 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
     if (plugin_spans_.size() <= plugin) plugin_spans_.resize(plugin + 1);
     plugin_spans_[plugin] = c.name.span;
     if (c.entries.empty()) return;
-    g_.plugins[plugin].entry_adr = static_cast<int32_t>(g_.plugin_entries.size());
+    g_.plugins[plugin].entry_adr = graph::next_adr(g_.plugin_entries);
     for (const ast::EntryDecl& e : c.entries) {
         const graph::EntrySpec* es = graph::find_entry(*kind, e.word.text);
         if (!es) {
@@ -109,10 +110,10 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
         graph::PluginEntry rec;
         rec.word = name(es->word);
         rec.key = static_cast<int32_t>(key.num);
-        rec.slot_adr = static_cast<int32_t>(g_.plugin_entry_slots.size());
+        rec.slot_adr = graph::next_adr(g_.plugin_entry_slots);
         rec.slot_num = static_cast<int32_t>(end.slots.size());
-        for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({s});
-        rec.param_adr = static_cast<int32_t>(g_.plugin_params.size());
+        for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({graph::SlotId(s)});
+        rec.param_adr = graph::next_adr(g_.plugin_params);
         rec.param_num = static_cast<int32_t>(options.size());
         g_.plugin_params.insert(g_.plugin_params.end(), options.begin(), options.end());
         rec.src = src(e.span);

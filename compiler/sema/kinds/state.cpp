@@ -25,7 +25,7 @@ void lower_state(Lowering& lw) {
             continue;
         }
         graph::Place pl;
-        pl.comp = lw.comp;
+        pl.comp = graph::CompId(lw.comp);
         pl.name = el.name(p.name.text);
         pl.src = el.src(p.name.span);
         if (p.initial) {
@@ -39,9 +39,9 @@ void lower_state(Lowering& lw) {
                                             graph::kMaxInitialTokens,
                                             v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : "a " + describe(v)));
         }
-        pl.put_slot = el.add_slot(lw.comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
-        pl.entered_slot = el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span);
-        pl.tokens_slot = el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span);
+        pl.put_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span));
+        pl.entered_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span));
+        pl.tokens_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span));
         graph::slot_value(g, pl.tokens_slot) = pl.initial;
         place_ids[p.name.text] = static_cast<int32_t>(g.places.size());
         el.place_spans_[static_cast<int32_t>(g.places.size())] = p.name.span;
@@ -56,11 +56,11 @@ void lower_state(Lowering& lw) {
             continue;
         }
         graph::Transition tr;
-        tr.comp = lw.comp;
+        tr.comp = graph::CompId(lw.comp);
         tr.name = el.name(t.name.text);
         tr.src = el.src(t.name.span);
-        auto arcs = [&](const std::vector<ast::ArcDecl>& list, int32_t& adr, int32_t& n) {
-            adr = static_cast<int32_t>(g.arcs.size());
+        auto arcs = [&](const std::vector<ast::ArcDecl>& list, graph::Adr<graph::Arc>& adr, int32_t& n) {
+            adr = graph::next_adr(g.arcs);
             for (const auto& a : list) {
                 auto it = place_ids.find(a.place.text);
                 if (it == place_ids.end()) {
@@ -77,7 +77,7 @@ void lower_state(Lowering& lw) {
                                                 graph::kMaxArcWeight));
                     continue;
                 }
-                g.arcs.push_back({it->second, static_cast<int32_t>(a.weight)});
+                g.arcs.push_back({graph::PlaceId(it->second), static_cast<int32_t>(a.weight)});
             }
             n = static_cast<int32_t>(g.arcs.size()) - adr;
         };
@@ -86,7 +86,7 @@ void lower_state(Lowering& lw) {
         if (t.inputs.empty())
             el.sink_.report(DiagId::EmptyTransition, t.name.span,
                             fmt::format("transition '{}' has no input place, so it would fire in every step", t.name.text));
-        tr.fired_slot = el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span);
+        tr.fired_slot = graph::SlotId(el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span));
         el.transition_spans_[static_cast<int32_t>(g.transitions.size())] = t.name.span;
         g.transitions.push_back(tr);
     }

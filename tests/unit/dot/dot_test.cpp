@@ -19,7 +19,7 @@ int add_slot(Graph& g, int comp, std::string_view name, SlotType type, Dir dir) 
     s.name = g.intern(name);
     s.type = type;
     s.dir = dir;
-    s.comp = comp;
+    s.comp = CompId(comp);
     g.slots.push_back(s);
     g.comps[comp].slot_num++;
     return static_cast<int>(g.slots.size()) - 1;
@@ -29,8 +29,8 @@ int add_comp(Graph& g, int owner, CompKind kind, std::string_view name, int deta
     Comp c;
     c.name = g.intern(name);
     c.kind = kind;
-    c.owner = owner;
-    c.slot_adr = static_cast<int32_t>(g.slots.size());
+    c.owner = DoId(owner);
+    c.slot_adr = next_adr(g.slots);
     c.detail = detail;
     g.comps.push_back(c);
     int id = static_cast<int>(g.comps.size()) - 1;
@@ -52,11 +52,11 @@ Graph sample() {
     g.plant = g.intern("Demo");
     Do root;
     root.path = g.intern("");
-    root.parent = -1;
+    root.parent = {};
     g.dos.push_back(root);
     Do sw;
     sw.path = g.intern("sw.\"a\"[1]");
-    sw.parent = 0;
+    sw.parent = DoId(0);
     g.dos.push_back(sw);
     g.do_types.push_back({g.intern("Bottle"), 1, {}});
 
@@ -65,57 +65,57 @@ Graph sample() {
     int net = add_comp(g, 1, CompKind::State, "net");
     for (std::string_view place : {"Base", "Work\\"}) {
         Place p;
-        p.comp = net;
+        p.comp = CompId(net);
         p.name = g.intern(place);
         p.initial = place == "Base" ? 1 : 0;
         std::string n(place);
-        p.put_slot = add_slot(g, net, n + ".put", SlotType::Void, Dir::In);
-        p.entered_slot = add_slot(g, net, n + ".entered", SlotType::Void, Dir::Out);
-        p.tokens_slot = add_slot(g, net, n + ".tokens", SlotType::Int, Dir::Out);
+        p.put_slot = SlotId(add_slot(g, net, n + ".put", SlotType::Void, Dir::In));
+        p.entered_slot = SlotId(add_slot(g, net, n + ".entered", SlotType::Void, Dir::Out));
+        p.tokens_slot = SlotId(add_slot(g, net, n + ".tokens", SlotType::Int, Dir::Out));
         g.places.push_back(p);
     }
-    g.arcs.push_back({0, 2});
-    g.arcs.push_back({1, 1});
+    g.arcs.push_back({PlaceId(0), 2});
+    g.arcs.push_back({PlaceId(1), 1});
     Transition t;
-    t.comp = net;
+    t.comp = CompId(net);
     t.name = g.intern("tw");
-    t.in_adr = 0;
+    t.in_adr = Adr<Arc>(0);
     t.in_num = 1;
-    t.out_adr = 1;
+    t.out_adr = Adr<Arc>(1);
     t.out_num = 1;
-    t.fired_slot = add_slot(g, net, "tw.fired", SlotType::Void, Dir::Out);
+    t.fired_slot = SlotId(add_slot(g, net, "tw.fired", SlotType::Void, Dir::Out));
     g.transitions.push_back(t);
 
     int go = add_comp(g, 0, CompKind::Logic, "go", 0);
     int in0 = add_slot(g, go, "in0", SlotType::Void, Dir::In);
     int in1 = add_slot(g, go, "in1", SlotType::Void, Dir::In);
-    g.logic_inputs.push_back({in0, false});
-    g.logic_inputs.push_back({in1, true});
-    g.logics.push_back({go, LogicOp::And, 0, 2, slot_of(g, go, "out")});
+    g.logic_inputs.push_back({SlotId(in0), false});
+    g.logic_inputs.push_back({SlotId(in1), true});
+    g.logics.push_back({CompId(go), LogicOp::And, Adr<LogicIn>(0), 2, SlotId(slot_of(g, go, "out"))});
 
     Flow f;
-    f.from = slot_of(g, eye, "on_enter");
-    f.to = in1;
-    f.from_access = f.to_access = -1;
+    f.from = SlotId(slot_of(g, eye, "on_enter"));
+    f.to = SlotId(in1);
+    f.from_access = f.to_access = AccessId{};
     g.flows.push_back(f);  // 0: into the negated input
-    f.from = slot_of(g, go, "out");
+    f.from = SlotId(slot_of(g, go, "out"));
     f.to = g.places[1].put_slot;
     g.flows.push_back(f);  // 1: connector puts a token
     f.from = g.places[1].entered_slot;
-    f.to = slot_of(g, body, "collision_on");
+    f.to = SlotId(slot_of(g, body, "collision_on"));
     f.cond = Cond::Both;
     f.once = true;
     g.flows.push_back(f);  // 2: non-default condition, singular
     Access a;
-    a.ref_slot = slot_of(g, eye, "object");
-    a.do_type = 0;
+    a.ref_slot = SlotId(slot_of(g, eye, "object"));
+    a.do_type = DoTypeId(0);
     a.member = g.intern("body.set_velocity");
     g.accesses.push_back(a);
     f = Flow{};
-    f.from = slot_of(g, body, "velocity");
+    f.from = SlotId(slot_of(g, body, "velocity"));
     f.to = a.ref_slot;  // a dynamic end holds its reference slot
-    f.from_access = -1;
-    f.to_access = 0;
+    f.from_access = {};
+    f.to_access = AccessId(0);
     g.flows.push_back(f);  // 3: into the object the trigger sees
     return g;
 }

@@ -15,6 +15,7 @@
 
 using namespace plant::experiments;
 using plant::engine::Engine;
+using plant::graph::BodyId;
 
 namespace {
 
@@ -51,11 +52,11 @@ BottleRun run_bottle(const std::string& plant, std::vector<std::string> sets, do
     r.dt = 1 / c->graph.settings.rate;
     const Bottle& b = r.bottle;
     auto sample = [&] {
-        const auto vm = e.body_velocity(b.main), vb = e.body_velocity(b.bottom);
+        const auto vm = e.body_velocity(BodyId(b.main)), vb = e.body_velocity(BodyId(b.bottom));
         auto along = [&](const plant::graph::Vec3& v) {
             return v[0] * b.belt_dir[0] + v[1] * b.belt_dir[1] + v[2] * b.belt_dir[2];
         };
-        const auto q = e.body_pose(b.main).q;
+        const auto q = e.body_pose(BodyId(b.main)).q;
         r.t.push_back(e.time());
         r.v.push_back((b.m_main * along(vm) + b.m_bottom * along(vb)) / b.mass());
         r.v_main.push_back(along(vm));
@@ -98,11 +99,12 @@ LoopRun run_loop(const std::string& plant, double seconds) {
     const int steps = int(std::lround(seconds * c->graph.settings.rate));
     for (int i = 0; i <= steps; ++i) {
         if (i > 0) e.step();
-        const auto pa = e.body_com(r.a.main), pb = e.body_com(r.b.main);
+        const auto pa = e.body_com(BodyId(r.a.main)), pb = e.body_com(BodyId(r.b.main));
         r.ax.push_back(pa[0]), r.ay.push_back(pa[1]), r.bx.push_back(pb[0]), r.by.push_back(pb[1]);
         r.manhattan.push_back(std::abs(pa[0] - pb[0]) + std::abs(pa[1] - pb[1]));
         if (!in_some_field(c->graph, pa) || !in_some_field(c->graph, pb)) ++r.off;
-        r.worst_tilt = std::max({r.worst_tilt, tilt_deg(e.body_pose(r.a.main).q), tilt_deg(e.body_pose(r.b.main).q)});
+        r.worst_tilt = std::max(
+            {r.worst_tilt, tilt_deg(e.body_pose(BodyId(r.a.main)).q), tilt_deg(e.body_pose(BodyId(r.b.main)).q)});
     }
     CHECK(e.warnings().total() == 0);
     return r;

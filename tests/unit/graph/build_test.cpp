@@ -103,10 +103,10 @@ TEST_CASE("add_do, add_comp: a DO's components are its range; ordinals count per
 TEST_CASE("a graph built through the API keeps the loader's promises") {
     Graph g = plant_graph();
     const int32_t t = add_comp(g, 0, CompKind::Timer, "t");
-    g.timers.push_back({t, 0.5, true, true});
+    g.timers.push_back({CompId(t), 0.5, true, true});
     g.comps[size_t(t)].detail = 0;
     const int32_t l = add_comp(g, 0, CompKind::Label, "l");
-    g.labels.push_back({l, g.intern("")});
+    g.labels.push_back({CompId(l), g.intern("")});
     g.comps[size_t(l)].detail = 0;
     const int32_t tick = g.comps[size_t(t)].slot_adr + timerslot::tick;
     const int32_t stop = g.comps[size_t(t)].slot_adr + timerslot::stop;

@@ -51,6 +51,8 @@ struct Filler {
     const T& pick(const T (&a)[N]) { return a[k++ % N]; }
 
     void operator()(int32_t& v) { v = pick(kInts); }
+    template <class R, IdRole Role>
+    void operator()(TypedId<R, Role>& id) { (*this)(id.v); }
     void operator()(double& v) { v = pick(kDoubles); }
     void operator()(bool& v) { v = flips++ % 2 == 0; }
     template <class E>
@@ -77,23 +79,23 @@ Graph tiny_graph() {
     g.plant = g.intern("Line");
     g.files = {"examples/belt.plant"};
     g.do_types.push_back({.name = g.intern("Belt"), .instance_num = 1, .src = {0, 3, 1}});
-    g.dos.push_back({.path = g.intern(""), .parent = -1, .type = -1, .ordinal = 0, .comp_adr = 0,
-                     .comp_num = 1, .pool = -1});
-    g.dos.push_back({.path = g.intern("belt1"), .parent = 0, .type = 0, .ordinal = 0,
-                     .comp_adr = 1, .comp_num = 1, .pool = -1,
+    g.dos.push_back({.path = g.intern(""), .parent = DoId{}, .type = DoTypeId{}, .ordinal = 0,
+                     .comp_adr = Adr<Comp>(0), .comp_num = 1, .pool = CompId{}});
+    g.dos.push_back({.path = g.intern("belt1"), .parent = DoId(0), .type = DoTypeId(0), .ordinal = 0,
+                     .comp_adr = Adr<Comp>(1), .comp_num = 1, .pool = CompId{},
                      .pose = {{1, 0.1, 0}, {0, 0, 0, 1}}, .src = {0, 12, 3}});
-    g.comps.push_back({.name = g.intern("clock"), .kind = CompKind::Timer, .owner = 0,
-                       .slot_adr = 0, .slot_num = 1, .detail = 0, .src = {0, 20, 5}});
-    g.comps.push_back({.name = g.intern("conveyor"), .kind = CompKind::Field, .owner = 1,
-                       .slot_adr = 1, .slot_num = 1, .detail = 0, .src = {0, 13, 5}});
+    g.comps.push_back({.name = g.intern("clock"), .kind = CompKind::Timer, .owner = DoId(0),
+                       .slot_adr = Adr<Slot>(0), .slot_num = 1, .detail = 0, .src = {0, 20, 5}});
+    g.comps.push_back({.name = g.intern("conveyor"), .kind = CompKind::Field, .owner = DoId(1),
+                       .slot_adr = Adr<Slot>(1), .slot_num = 1, .detail = 0, .src = {0, 13, 5}});
     g.slots.push_back({.name = g.intern("tick"), .type = SlotType::Void, .dir = Dir::Out,
-                       .comp = 0, .value_adr = -1, .src = {0, 20, 5}});
+                       .comp = CompId(0), .value_adr = -1, .src = {0, 20, 5}});
     g.slots.push_back({.name = g.intern("set_speed"), .type = SlotType::Real, .dir = Dir::In,
-                       .comp = 1, .value_adr = 0, .src = {0, 13, 5}});
+                       .comp = CompId(1), .value_adr = 0, .src = {0, 13, 5}});
     g.values.push_back({.v = 0.5});
-    g.fields.push_back({.comp = 1, .body = -1, .extent = {2, 0.5, 0.1}, .pose = {},
+    g.fields.push_back({.comp = CompId(1), .body = BodyId{}, .extent = {2, 0.5, 0.1}, .pose = {},
                         .dir = {1, 0, 0}, .speed = 0.5, .gain = 20, .enabled = true});
-    g.timers.push_back({.comp = 0, .period = 0.1, .periodic = true, .autostart = true});
+    g.timers.push_back({.comp = CompId(0), .period = 0.1, .periodic = true, .autostart = true});
     return g;
 }
 
@@ -150,6 +152,8 @@ void replace(std::string& s, std::string_view from, std::string_view to) {
 
 // Changes a value so that it differs from what it was.
 void bump(Graph&, int32_t& v) { v = v == 1 ? 2 : 1; }
+template <class R, IdRole Role>
+void bump(Graph& g, TypedId<R, Role>& id) { bump(g, id.v); }
 void bump(Graph&, double& v) { v = v == 1.5 ? 2.5 : 1.5; }
 void bump(Graph&, bool& v) { v = !v; }
 template <class E>
@@ -249,7 +253,7 @@ TEST_CASE("awkward values survive exactly") {
     g.bodies[1].mass = 1e-300;
     g.bodies[2].mass = -0.0;
     g.bodies[3].mass = 5e-324;
-    g.labels.push_back({.comp = 0, .value = g.intern("say \"hi\"\nback\\slash")});
+    g.labels.push_back({.comp = CompId(0), .value = g.intern("say \"hi\"\nback\\slash")});
     std::string text = to_text(g);
     CHECK(text.find("mass=0.1 ") != std::string::npos);
     CHECK(text.find("mass=1e-300 ") != std::string::npos);

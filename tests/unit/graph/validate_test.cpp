@@ -13,6 +13,8 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
 
 using namespace plant::graph;
@@ -294,4 +296,66 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
     }
     MESSAGE(tried << " damages over " << files.size() << " graphs");
     CHECK(tried > 500);
+}
+
+// The reference checks follow from the field types (graph/ids.h): every Id<R> field of
+// every table is refused one past the end of R's table, and -1 unless graph.h lists it as
+// optional; every Adr<R> list is refused when it runs past R's table.
+TEST_CASE("validate: every typed id field is checked against the table its type names") {
+    const std::string good = bottling_text();
+    Graph g;
+    std::string error;
+    {
+        std::istringstream in(good);
+        REQUIRE_MESSAGE(read_text(in, g, error), error);
+    }
+    int checked = 0;
+    auto expect = [&](const std::string& elem, const std::string& field, const std::string& value,
+                      const std::string& says) {
+        CAPTURE(elem);
+        CAPTURE(field);
+        CAPTURE(value);
+        std::string text = good;
+        const int line = damage(text, {elem, 0, field, value, says});
+        std::istringstream in(text);
+        Graph out;
+        CHECK_FALSE(read_text(in, out, error));
+        CHECK_MESSAGE(error.starts_with(fmt_line(line) + elem + " 0: "), error);
+        CHECK_MESSAGE(error.find(says) != std::string::npos, error);
+        ++checked;
+    };
+    struct Pending {
+        std::string field, rows;
+    } adr;  // an Adr field waiting for its num, the field after it
+    auto visit = [&]<class T>(std::string_view table, const std::string& elem, const std::string& field, const T& v) {
+        if constexpr (is_typed_id<T>) {
+            using R = typename T::record;
+            const std::string rows = std::to_string(g.rows<R>().size());
+            if constexpr (T::role == IdRole::Adr) {
+                adr = {field, rows};
+            } else {
+                const std::string target(table_name<R>());
+                const bool optional = optional_id(table, field);
+                expect(elem, field, rows,
+                       "field '" + field + "' = " + rows + " is not " + (optional ? "-1 or " : "") + "a row of " +
+                           target + " (" + rows + " rows)");
+                if (!optional) expect(elem, field, "-1", "field '" + field + "' = -1 is not a row of " + target);
+            }
+        } else if constexpr (std::is_same_v<T, int32_t>) {
+            if (!adr.field.empty() && v > 0)
+                expect(elem, adr.field, adr.rows, "fields '" + adr.field + "' + num (" + adr.rows + " + ");
+            adr = {};
+        }
+    };
+#define CHECK_FIELD(T_, f_) visit(member_, word_, #f_, r.f_);
+#define CHECK_TABLE(member, Record, word, FIELDS)   \
+    if (!g.member.empty()) {                       \
+        const Record& r = g.member[0];             \
+        auto visit_row = [&](std::string_view member_, const std::string& word_) { FIELDS(CHECK_FIELD) }; \
+        visit_row(#member, #word);                 \
+    }
+    PLANT_GRAPH_TABLES(CHECK_TABLE)
+#undef CHECK_TABLE
+#undef CHECK_FIELD
+    CHECK(checked > 60);
 }

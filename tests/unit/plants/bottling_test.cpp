@@ -55,28 +55,28 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     for (int step = 0; step < 150 * 120; ++step) {
         e.step();
         for (auto& [lane, ex] : exits) {
-            if (!e.active(ex.first)) continue;
+            if (!e.active(plant::graph::SlotId(ex.first))) continue;
             ++taken;
-            const std::string id(e.str(int32_t(e.value(ex.second)[0])));
+            const std::string id(e.str(int32_t(e.value(plant::graph::SlotId(ex.second))[0])));
             if (id.empty() || id[0] != lane) ++wrong_lane;
         }
-        fills += e.active(filled);
-        caps += e.active(capped);
-        for (int32_t p : requests) piled += e.tokens(p) > 1;
+        fills += e.active(plant::graph::SlotId(filled));
+        caps += e.active(plant::graph::SlotId(capped));
+        for (int32_t p : requests) piled += e.tokens(plant::graph::PlaceId(p)) > 1;
         for (const Section& s : sections) {
             int in = 0;
             for (int32_t b : mains) {
-                if (!e.body_in_world(b)) continue;
-                const auto p = e.body_com(b);
+                if (!e.body_in_world(plant::graph::BodyId(b))) continue;
+                const auto p = e.body_com(plant::graph::BodyId(b));
                 in += p[0] > s.from && p[0] < s.to && std::abs(p[1] - top) < 0.05;
             }
             crowded += in > 1;
         }
     }
     int on_line = 0;
-    for (int32_t b : mains) on_line += e.body_in_world(b);
+    for (int32_t b : mains) on_line += e.body_in_world(plant::graph::BodyId(b));
     int64_t issued = 0;
-    for (size_t s = 0; s < g.sources.size(); ++s) issued += e.issued(int32_t(s));
+    for (size_t s = 0; s < g.sources.size(); ++s) issued += e.issued(plant::graph::SourceId(int32_t(s)));
 
     CHECK(e.warnings().left_world == 0);     // no bottle lost
     CHECK(e.warnings().total() == 0);
@@ -88,5 +88,5 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     CHECK(crowded == 0);                     // one bottle at a time behind each separator
     CHECK(piled == 0);                       // the switches never accumulate requests
     for (int32_t b : mains)
-        if (e.body_in_world(b)) CHECK(e.stalled_for(b) < 30);  // nothing jammed
+        if (e.body_in_world(plant::graph::BodyId(b))) CHECK(e.stalled_for(plant::graph::BodyId(b)) < 30);  // nothing jammed
 }

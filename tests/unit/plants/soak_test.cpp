@@ -42,15 +42,15 @@ TEST_CASE("soak: the bottling plant for a simulated hour" * doctest::skip(PLANT_
         REQUIRE(exits[char(lane - 'a' + 'A')].first >= 0);
     }
     plant::engine::Engine e(g);
-    for (const auto& [lane, s] : exits) e.watch(s.second);
+    for (const auto& [lane, s] : exits) e.watch(plant::graph::SlotId(s.second));
     const int64_t minute = int64_t(60 / e.dt() + 0.5), hour = 60 * minute;
     long rss_minute = 0;
     int64_t commissioned = 0, wrong = 0;
     for (int64_t i = 1; i <= hour; ++i) {
         e.step();
         for (const auto& [lane, s] : exits) {
-            if (!e.active(s.first)) continue;
-            const std::string id(e.str(int32_t(e.value(s.second)[0])));
+            if (!e.active(plant::graph::SlotId(s.first))) continue;
+            const std::string id(e.str(int32_t(e.value(plant::graph::SlotId(s.second))[0])));
             ++commissioned;
             if (id.empty() || id[0] != lane) {
                 ++wrong;
@@ -65,11 +65,11 @@ TEST_CASE("soak: the bottling plant for a simulated hour" * doctest::skip(PLANT_
     CHECK(wrong == 0);
     CHECK(commissioned >= 600);  // about 13 a minute once the line is full
     int lost = 0;
-    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(int32_t(d)) >= 0 ? 1 : 0;
+    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(plant::graph::DoId(int32_t(d))) >= 0 ? 1 : 0;
     CHECK(lost == 0);
     int stalled = 0;
     for (size_t b = 0; b < g.bodies.size(); ++b)
-        stalled += e.body_in_world(int32_t(b)) && e.stalled_for(int32_t(b)) > 30 ? 1 : 0;
+        stalled += e.body_in_world(plant::graph::BodyId(int32_t(b))) && e.stalled_for(plant::graph::BodyId(int32_t(b))) > 30 ? 1 : 0;
     CHECK(stalled == 0);
     CHECK(e.warnings().nan_state == 0);
     CHECK(e.warnings().total() == 0);

@@ -81,13 +81,13 @@ TEST_CASE("plc server: clients read outputs and drive inputs, exchanged only at 
 
     const int32_t drive = field_named(g, "line[0].b1.drive");
     REQUIRE(drive >= 0);
-    CHECK(e.field_on(drive));
+    CHECK(e.field_on(plant::graph::FieldId(drive)));
     REQUIRE(modbus_write_bit(c.ctx, 0, 1) == 1);  // coil 0: b1.stop
     steps(s, e, 2);
-    CHECK_FALSE(e.field_on(drive));
+    CHECK_FALSE(e.field_on(plant::graph::FieldId(drive)));
     REQUIRE(modbus_write_bit(c.ctx, 1, 1) == 1);  // coil 1: b1.go
     steps(s, e, 2);
-    CHECK(e.field_on(drive));
+    CHECK(e.field_on(plant::graph::FieldId(drive)));
     uint8_t coils[2] = {};
     REQUIRE(modbus_read_bits(c.ctx, 0, 2, coils) == 2);  // coils read back as written
     CHECK(coils[0] == 1);
@@ -166,13 +166,13 @@ TEST_CASE("plc server: the fault block forces a mapped slot and releases it") {
     e.step();
     s.after_step(e);
     steps(s, e, 1);
-    CHECK(e.forced(on_stay) == engine::ForceMode::Stuck);
+    CHECK(e.forced(plant::graph::SlotId(on_stay)) == engine::ForceMode::Stuck);
     REQUIRE(modbus_read_input_bits(c.ctx, 0, 1, &bit) == 1);
     CHECK(bit == 1);
     CHECK(c.ir(1) == 0);  // S2's `seen` (on_enter) is another slot: not forced
     REQUIRE(modbus_write_register(c.ctx, plc::kFaultBase, 0) == 1);  // release
     steps(s, e, 2);
-    CHECK(e.forced(on_stay) == engine::ForceMode::None);
+    CHECK(e.forced(plant::graph::SlotId(on_stay)) == engine::ForceMode::None);
     REQUIRE(modbus_read_input_bits(c.ctx, 0, 1, &bit) == 1);
     CHECK(bit == 0);
 }
@@ -198,10 +198,10 @@ std::vector<double> lockstep_run() {
             s.before_step(e);
             e.step();
             s.after_step(e);
-            double sum = e.field_speed(0);
+            double sum = e.field_speed(plant::graph::FieldId(0));
             for (size_t b = 0; b < g.bodies.size(); ++b)
-                if (g.bodies[b].mode == graph::BodyMode::Dynamic && e.body_in_world(int32_t(b))) {
-                    const graph::Vec3 p = e.body_com(int32_t(b));
+                if (g.bodies[b].mode == graph::BodyMode::Dynamic && e.body_in_world(plant::graph::BodyId(int32_t(b)))) {
+                    const graph::Vec3 p = e.body_com(plant::graph::BodyId(int32_t(b)));
                     sum += p[0] + 2 * p[1] + 3 * p[2];
                 }
             trace.push_back(sum);

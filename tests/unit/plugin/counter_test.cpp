@@ -68,22 +68,22 @@ TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
     engine::Engine e(loaded);
     const int32_t value = slot(loaded, "c.value"), reached = slot(loaded, "c.reached"),
                   idle = slot(loaded, "c.idle");
-    e.watch(value);
+    e.watch(plant::graph::SlotId(value));
     int reached_n = 0, idle_n = 0;
     double idle_at = -1;
     for (int i = 0; i < 2 * 150; ++i) {
         e.step();
-        reached_n += e.active(reached);
-        if (e.active(idle)) idle_at = e.time(), ++idle_n;
+        reached_n += e.active(plant::graph::SlotId(reached));
+        if (e.active(plant::graph::SlotId(idle))) idle_at = e.time(), ++idle_n;
     }
-    CHECK(e.value(value)[0] == 5);
+    CHECK(e.value(plant::graph::SlotId(value))[0] == 5);
     CHECK(reached_n == 1);
     CHECK(idle_n == 1);
     CHECK(idle_at == doctest::Approx(1.3).epsilon(0.02));
     // An event reaches it like any input: reset, then one add.
-    e.input(slot(loaded, "c.reset"));
+    e.input(plant::graph::SlotId(slot(loaded, "c.reset")));
     e.step();
-    CHECK(e.value(value)[0] == 2);
+    CHECK(e.value(plant::graph::SlotId(value))[0] == 2);
 }
 
 TEST_CASE("plugin kind: its properties are checked like a built-in kind's") {
@@ -182,9 +182,9 @@ plant Tapped {
     CHECK(loaded.same_as(g));
     engine::Engine e(loaded);
     const int32_t value = slot(loaded, "c.value");
-    e.watch(value);
+    e.watch(plant::graph::SlotId(value));
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.value(value)[0] == 2 * 10 + 4);
+    CHECK(e.value(plant::graph::SlotId(value))[0] == 2 * 10 + 4);
 
     // The loader checks entries as the compiler does.
     auto load = [&](std::string_view from, std::string_view to) {

@@ -25,10 +25,10 @@ TEST_CASE("runtime: an event on an object's port drives what the port forwards t
     REQUIRE(working >= 0);
     engine::Engine e(g);
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.tokens(working) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(working)) == 0);
     engine::apply_event(e, ev);
     for (int i = 0; i < 3; ++i) e.step();
-    CHECK(e.tokens(working) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(working)) == 1);
     // The logged line replays it.
     ev.time = 0.5;
     CHECK(engine::format_event(g, ev) == "0.5s sw.to_working");

@@ -59,18 +59,18 @@ TEST_CASE("forces: the reader's output cut open sends every bottle straight on; 
     {  // unforced: the F bottles go aside
         engine::Engine e(s.g());
         s.run(e, 15);
-        CHECK(e.taken(aside) >= 2);
-        CHECK(e.taken(ahead) >= 2);
+        CHECK(e.taken(plant::graph::ExitId(aside)) >= 2);
+        CHECK(e.taken(plant::graph::ExitId(ahead)) >= 2);
     }
     engine::Engine e(s.g());
     s.run(e, 15, {s.event("0s force sw.id open")});
-    CHECK(e.taken(aside) == 0);
-    CHECK(e.taken(ahead) >= 6);
-    CHECK(e.forced(s.slot_of("sw.id")) == engine::ForceMode::Open);
-    const int64_t before = e.taken(aside);
+    CHECK(e.taken(plant::graph::ExitId(aside)) == 0);
+    CHECK(e.taken(plant::graph::ExitId(ahead)) >= 6);
+    CHECK(e.forced(plant::graph::SlotId(s.slot_of("sw.id"))) == engine::ForceMode::Open);
+    const int64_t before = e.taken(plant::graph::ExitId(aside));
     s.run(e, 15, {s.event("0s release sw.id")});
-    CHECK(e.forced(s.slot_of("sw.id")) == engine::ForceMode::None);
-    CHECK(e.taken(aside) > before);
+    CHECK(e.forced(plant::graph::SlotId(s.slot_of("sw.id"))) == engine::ForceMode::None);
+    CHECK(e.taken(plant::graph::ExitId(aside)) > before);
 }
 
 TEST_CASE("forces: a switch held in its working position sends every bottle aside") {
@@ -79,8 +79,8 @@ TEST_CASE("forces: a switch held in its working position sends every bottle asid
     engine::Engine e(s.g());
     // The control's "back to base" wire cut, then the switch sent to working once.
     s.run(e, 15, {s.event("0s force sw.to_base open"), s.event("0s sw.to_working")});
-    CHECK(e.taken(ahead) == 0);
-    CHECK(e.taken(aside) >= 6);
+    CHECK(e.taken(plant::graph::ExitId(ahead)) == 0);
+    CHECK(e.taken(plant::graph::ExitId(aside)) >= 6);
 }
 
 TEST_CASE("forces: a string output stuck at a value is what the logic reads; the component goes on underneath") {
@@ -89,12 +89,12 @@ TEST_CASE("forces: a string output stuck at a value is what the logic reads; the
     const int32_t id = s.slot_of("sw.id");
     engine::Engine e(s.g());
     s.run(e, 15, {s.event("0s force sw.id stuck \"F-99\"")});
-    CHECK(e.str(int32_t(e.value(id)[0])) == "F-99");  // readers after the step see it too
-    CHECK(e.taken(ahead) == 0);
-    CHECK(e.taken(aside) >= 6);
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])) == "F-99");  // readers after the step see it too
+    CHECK(e.taken(plant::graph::ExitId(ahead)) == 0);
+    CHECK(e.taken(plant::graph::ExitId(aside)) >= 6);
     // Released: the reader's own last value shows again (a bar code of this run).
     s.run(e, 0.1, {s.event("0s release sw.id")});
-    const std::string natural(e.str(int32_t(e.value(id)[0])));
+    const std::string natural(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])));
     CHECK(natural != "F-99");
     CHECK(natural.size() == 3);
 }
@@ -104,14 +104,14 @@ TEST_CASE("forces: a void output stuck on is active every step; invert negates a
     const int32_t seen = s.slot_of("ahead_end.seen");
     engine::Engine e(s.g());
     s.run(e, 0.5, {s.event("0s force ahead_end.seen stuck on")});
-    CHECK(e.active(seen));
+    CHECK(e.active(plant::graph::SlotId(seen)));
     s.run(e, 0.1);
-    CHECK(e.active(seen));
+    CHECK(e.active(plant::graph::SlotId(seen)));
     s.run(e, 0.1, {s.event("0s force ahead_end.seen stuck off")});
-    CHECK_FALSE(e.active(seen));
-    CHECK(e.forced(seen) == engine::ForceMode::Open);  // stuck off is kept as open
+    CHECK_FALSE(e.active(plant::graph::SlotId(seen)));
+    CHECK(e.forced(plant::graph::SlotId(seen)) == engine::ForceMode::Open);  // stuck off is kept as open
     s.run(e, 0.1, {s.event("0s release ahead_end.seen")});
-    CHECK(e.forced(seen) == engine::ForceMode::None);
+    CHECK(e.forced(plant::graph::SlotId(seen)) == engine::ForceMode::None);
 
     // A bool output inverted reads the negation of the component's value.
     int32_t occupied = -1;
@@ -121,11 +121,11 @@ TEST_CASE("forces: a void output stuck on is active every step; invert negates a
     const std::string path = s.g().slot_path(occupied);
     engine::Engine f(s.g());
     s.run(f, 1);
-    const double natural = f.value(occupied)[0];
+    const double natural = f.value(plant::graph::SlotId(occupied))[0];
     s.run(f, 0.01, {s.event("0s force " + path + " invert")});
-    CHECK(f.value(occupied)[0] == (natural != 0 ? 0 : 1));
+    CHECK(f.value(plant::graph::SlotId(occupied))[0] == (natural != 0 ? 0 : 1));
     s.run(f, 0.01, {s.event("0s release " + path)});
-    CHECK(f.value(occupied)[0] == natural);
+    CHECK(f.value(plant::graph::SlotId(occupied))[0] == natural);
 }
 
 TEST_CASE("forces: the events-file lines replay as they went out; bad forces are refused") {

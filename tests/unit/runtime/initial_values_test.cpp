@@ -45,8 +45,8 @@ plant Sorter {
         if (g.slot_path(int32_t(s)) == "store.object") object_slot = int32_t(s);
     }
     REQUIRE(id_slot >= 0);
-    e.watch(id_slot);
+    e.watch(plant::graph::SlotId(id_slot));
     for (int i = 0; i < 10; ++i) e.step();
-    CHECK(e.str(int32_t(e.value(id_slot)[0])).empty());
-    CHECK(e.value(object_slot)[0] == -1);
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(id_slot))[0])).empty());
+    CHECK(e.value(plant::graph::SlotId(object_slot))[0] == -1);
 }

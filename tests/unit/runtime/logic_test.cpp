@@ -31,10 +31,10 @@ struct CondScene {
 double run_cond(Cond cond, bool source, bool target) {
     CondScene s(cond);
     Engine e(s.b.g);
-    if (source) e.input(s.b.S(s.t1, "count"));
-    if (target) e.input(s.b.S(s.t3, "count"));
+    if (source) e.input(plant::graph::SlotId(s.b.S(s.t1, "count")));
+    if (target) e.input(plant::graph::SlotId(s.b.S(s.t3, "count")));
     e.step();
-    return e.value(s.b.S(s.f2, "set_speed"))[0];
+    return e.value(plant::graph::SlotId(s.b.S(s.f2, "set_speed")))[0];
 }
 
 }  // namespace
@@ -66,10 +66,10 @@ TEST_CASE("runtime: a continuous flow runs every step, a singular one once until
         Engine e(b.g);
         // Source active in steps 1-3, idle in 4, active in 5.
         for (int step = 1; step <= 5; ++step) {
-            if (step != 4) e.input(b.S(trig, "on_enter"));
+            if (step != 4) e.input(plant::graph::SlotId(b.S(trig, "on_enter")));
             e.step();
         }
-        CHECK(e.tokens(p) == (once ? 2 : 4));
+        CHECK(e.tokens(plant::graph::PlaceId(p)) == (once ? 2 : 4));
     }
 }
 
@@ -92,7 +92,7 @@ TEST_CASE("runtime: connector truth tables with negation") {
                 CAPTURE(int(op));
                 CAPTURE(neg);
                 CAPTURE(in);
-                CHECK(e.tokens(p) == (want ? 1 : 0));
+                CHECK(e.tokens(plant::graph::PlaceId(p)) == (want ? 1 : 0));
                 CHECK(e.active(b.g.logics[l].out_slot) == want);
             }
 }
@@ -108,9 +108,9 @@ TEST_CASE("runtime: flows into a connector run before it, flows from it after it
     b.flow(b.g.logics[l1].out_slot, b.g.logic_inputs[size_t(b.g.logics[l2].in_adr)].slot);
     b.flow(b.S(t1, "on_enter"), b.g.logic_inputs[size_t(b.g.logics[l1].in_adr)].slot);
     Engine e(b.g);
-    e.input(b.S(t1, "on_enter"));
+    e.input(plant::graph::SlotId(b.S(t1, "on_enter")));
     e.step();
-    CHECK(e.tokens(p) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 1);
 }
 
 TEST_CASE("runtime: a cycle of flows and connectors is broken with one step delay") {
@@ -125,9 +125,9 @@ TEST_CASE("runtime: a cycle of flows and connectors is broken with one step dela
     b.flow(b.g.logics[l].out_slot, in1);  // the back edge
     b.flow(b.g.logics[l].out_slot, b.put(p));
     Engine e(b.g);
-    e.input(b.S(t1, "on_enter"));
+    e.input(plant::graph::SlotId(b.S(t1, "on_enter")));
     for (int i = 0; i < 5; ++i) e.step();
-    CHECK(e.tokens(p) == 5);  // latched: active in every step after the first
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 5);  // latched: active in every step after the first
 }
 
 TEST_CASE("runtime: router activates the first route whose glob matches") {
@@ -138,7 +138,7 @@ TEST_CASE("runtime: router activates the first route whose glob matches") {
     Engine e(b.g);
     auto query = [&](const char* id) {
         const std::array<double, 1> v{double(e.intern(id))};
-        e.input(b.S(r, "query"), v);
+        e.input(plant::graph::SlotId(b.S(r, "query")), v);
         e.step();
     };
     query("F-0012");
@@ -146,9 +146,9 @@ TEST_CASE("runtime: router activates the first route whose glob matches") {
     query("C-77");
     query("X");
     query("F-");
-    CHECK(e.tokens(p) == 2);
-    CHECK(e.tokens(p + 1) == 1);
-    CHECK(e.tokens(p + 2) == 2);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 2);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 2);
 }
 
 TEST_CASE("runtime: label set passes its text on within the step") {
@@ -158,8 +158,8 @@ TEST_CASE("runtime: label set passes its text on within the step") {
     b.flow(b.S(src, "value"), b.S(dst, "set"));
     Engine e(b.g);
     e.step();  // the initial publication of "hello"
-    CHECK(e.str(int32_t(e.value(b.S(dst, "value"))[0])) == "hello");
-    CHECK(e.active(b.S(dst, "value")));
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(dst, "value")))[0])) == "hello");
+    CHECK(e.active(plant::graph::SlotId(b.S(dst, "value"))));
 }
 
 TEST_CASE("runtime: dynamic access flows address the slot of the object held in a reference") {
@@ -185,17 +185,17 @@ TEST_CASE("runtime: dynamic access flows address the slot of the object held in 
     CHECK(e.warnings().access_null == 1);  // the text flow would have run without an object
 
     const std::array<double, 1> ref1{double(d1)};
-    e.input(obj, ref1);
-    e.input(b.S(text, "value"));
+    e.input(plant::graph::SlotId(obj), ref1);
+    e.input(plant::graph::SlotId(b.S(text, "value")));
     e.step();
-    CHECK(e.str(int32_t(e.value(b.S(l1, "value"))[0])) == "FILLED");
-    CHECK(e.str(int32_t(e.value(b.S(l0, "value"))[0])) == "A");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(l1, "value")))[0])) == "FILLED");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(l0, "value")))[0])) == "A");
     // The reference was published this step: its object's label value reached the sink.
-    CHECK(e.str(int32_t(e.value(b.S(sink, "value"))[0])) == "FILLED");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(sink, "value")))[0])) == "FILLED");
 
     const std::array<double, 1> refx{double(dx)};
-    e.input(obj, refx);
-    e.input(b.S(text, "value"));
+    e.input(plant::graph::SlotId(obj), refx);
+    e.input(plant::graph::SlotId(b.S(text, "value")));
     e.step();
     // Both flows would run (the reference was published this step): two warnings.
     CHECK(e.warnings().access_type == 2);
@@ -205,11 +205,11 @@ TEST_CASE("runtime: external inputs on outputs and inputs arrive in the next log
     SceneBuilder b;
     int32_t p = b.net(0, "net", {{"p", 0}}, {});
     Engine e(b.g);
-    e.input(b.put(p));
-    CHECK(e.tokens(p) == 0);
+    e.input(plant::graph::SlotId(b.put(p)));
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 0);
     e.step();
-    CHECK(e.tokens(p) == 1);
-    CHECK(e.active(b.put(p)));
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 1);
+    CHECK(e.active(plant::graph::SlotId(b.put(p))));
     e.step();
-    CHECK_FALSE(e.active(b.put(p)));
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.put(p))));
 }

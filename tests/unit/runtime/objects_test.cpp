@@ -21,25 +21,25 @@ TEST_CASE("runtime: a gripper carries a body kinematically and releases it with 
     const int32_t gcomp = b.g.grippers.back().comp;
     Engine e(b.g);
     for (int i = 0; i < 10; ++i) e.step();
-    e.input(b.S(gcomp, "grip"));
+    e.input(plant::graph::SlotId(b.S(gcomp, "grip")));
     e.step();
-    CHECK(e.value(b.S(gcomp, "object"))[0] == b.g.comps[size_t(b.body_comp(part))].owner);
-    const double dz = e.body_pose(hand).p[2] - e.body_pose(part).p[2];
+    CHECK(e.value(plant::graph::SlotId(b.S(gcomp, "object")))[0] == b.g.comps[size_t(b.body_comp(part))].owner);
+    const double dz = e.body_pose(plant::graph::BodyId(hand)).p[2] - e.body_pose(plant::graph::BodyId(part)).p[2];
     const std::array<double, 3> up{0, 0, 0.5};
-    e.input(b.S(b.body_comp(hand), "set_velocity"), up);
+    e.input(plant::graph::SlotId(b.S(b.body_comp(hand), "set_velocity")), up);
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.active(b.S(gcomp, "gripped")) == false);
-    CHECK(e.body_pose(hand).p[2] == doctest::Approx(0.6).epsilon(0.01));
+    CHECK(e.active(plant::graph::SlotId(b.S(gcomp, "gripped"))) == false);
+    CHECK(e.body_pose(plant::graph::BodyId(hand)).p[2] == doctest::Approx(0.6).epsilon(0.01));
     // Follows one step behind its gripper (carried in phase 2, the hand moves in phase 1).
-    CHECK(e.body_pose(hand).p[2] - e.body_pose(part).p[2] == doctest::Approx(dz + 0.5 / 150).epsilon(0.01));
-    e.input(b.S(gcomp, "release"));
+    CHECK(e.body_pose(plant::graph::BodyId(hand)).p[2] - e.body_pose(plant::graph::BodyId(part)).p[2] == doctest::Approx(dz + 0.5 / 150).epsilon(0.01));
+    e.input(plant::graph::SlotId(b.S(gcomp, "release")));
     e.step();
-    CHECK(e.body_velocity(part)[2] == doctest::Approx(0.5).epsilon(0.02));
-    CHECK(e.value(b.S(gcomp, "object"))[0] == -1);
+    CHECK(e.body_velocity(plant::graph::BodyId(part))[2] == doctest::Approx(0.5).epsilon(0.02));
+    CHECK(e.value(plant::graph::SlotId(b.S(gcomp, "object")))[0] == -1);
     e.step();
-    CHECK(e.active(b.S(gcomp, "released")));
+    CHECK(e.active(plant::graph::SlotId(b.S(gcomp, "released"))));
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.body_pose(part).p[2] == doctest::Approx(0.025).epsilon(0.05));  // fell back to the floor
+    CHECK(e.body_pose(plant::graph::BodyId(part)).p[2] == doctest::Approx(0.025).epsilon(0.05));  // fell back to the floor
     (void)gc;
 }
 
@@ -62,40 +62,40 @@ TEST_CASE("runtime: sources issue pooled objects with bar codes; exits return th
     int32_t t = b.trigger(plant_do, "end", {0.2, 1, 1}, at(1, 0, 0), bottle);
     const int32_t ec = b.g.exits[size_t(b.exit(plant_do, "out", t))].comp;
     Engine e(b.g);
-    CHECK_FALSE(e.body_in_world(bodies[0]));  // pooled objects start outside the world
+    CHECK_FALSE(e.body_in_world(plant::graph::BodyId(bodies[0])));  // pooled objects start outside the world
     e.step();
-    CHECK(e.body_com(bodies[0])[1] == 10);  // untouched: not simulated
+    CHECK(e.body_com(plant::graph::BodyId(bodies[0]))[1] == 10);  // untouched: not simulated
 
     auto issue = [&] {
-        e.input(b.S(sc, "issue"));
+        e.input(plant::graph::SlotId(b.S(sc, "issue")));
         e.step();
     };
     issue();
-    CHECK(e.body_in_world(bodies[0]));
-    CHECK(e.value(b.S(sc, "object"))[0] == pool);
-    CHECK(e.str(int32_t(e.value(b.S(sc, "id"))[0])) == "F-1");
+    CHECK(e.body_in_world(plant::graph::BodyId(bodies[0])));
+    CHECK(e.value(plant::graph::SlotId(b.S(sc, "object")))[0] == pool);
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(sc, "id")))[0])) == "F-1");
     e.step();
-    CHECK(e.active(b.S(sc, "issued")));
+    CHECK(e.active(plant::graph::SlotId(b.S(sc, "issued"))));
     issue();
     issue();  // the pool is empty: a warning, nothing issued
     CHECK(e.warnings().pool_empty == 1);
-    CHECK(e.value(b.S(sc, "count"))[0] == 2);
+    CHECK(e.value(plant::graph::SlotId(b.S(sc, "count")))[0] == 2);
     // The label of the second bottle carries its bar code.
-    CHECK(e.str(int32_t(e.value(b.S(b.g.labels[1].comp, "value"))[0])) == "C-2");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.labels[1].comp, "value")))[0])) == "C-2");
 
     int taken = 0;
     for (int i = 0; i < 150; ++i) {
         e.step();
-        if (e.active(b.S(ec, "taken"))) ++taken;
+        if (e.active(plant::graph::SlotId(b.S(ec, "taken")))) ++taken;
     }
     CHECK(taken == 2);
-    CHECK(e.value(b.S(ec, "count"))[0] == 2);
-    CHECK_FALSE(e.body_in_world(bodies[0]));
-    CHECK_FALSE(e.body_in_world(bodies[1]));
+    CHECK(e.value(plant::graph::SlotId(b.S(ec, "count")))[0] == 2);
+    CHECK_FALSE(e.body_in_world(plant::graph::BodyId(bodies[0])));
+    CHECK_FALSE(e.body_in_world(plant::graph::BodyId(bodies[1])));
     issue();  // back in the pool: issued again (first returned first), with the next code
-    CHECK(e.body_in_world(bodies[0]));
-    CHECK(e.str(int32_t(e.value(b.S(sc, "id"))[0])) == "F-3");
-    CHECK(e.body_com(bodies[0])[0] < 0.1);
+    CHECK(e.body_in_world(plant::graph::BodyId(bodies[0])));
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(sc, "id")))[0])) == "F-3");
+    CHECK(e.body_com(plant::graph::BodyId(bodies[0]))[0] < 0.1);
 }
 
 TEST_CASE("runtime: a source with a rate issues on its own") {
@@ -110,9 +110,9 @@ TEST_CASE("runtime: a source with a rate issues on its own") {
     Engine e(b.g);
     // 2 per second: in the steps at or just past 0 s, 0.5 s and 1 s (the 150th step).
     for (int i = 0; i < 149; ++i) e.step();
-    CHECK(e.value(b.S(b.g.sources[size_t(src)].comp, "count"))[0] == 2);
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[size_t(src)].comp, "count")))[0] == 2);
     e.step();
-    CHECK(e.value(b.S(b.g.sources[size_t(src)].comp, "count"))[0] == 3);
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[size_t(src)].comp, "count")))[0] == 3);
     // Without bar codes, an object's id is its path.
-    CHECK(e.str(int32_t(e.value(b.S(b.g.sources[size_t(src)].comp, "id"))[0])) == "p2");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.sources[size_t(src)].comp, "id")))[0])) == "p2");
 }

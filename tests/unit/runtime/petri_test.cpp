@@ -13,12 +13,12 @@ TEST_CASE("runtime: forward conflict: both transitions fire on one token") {
                       {{"t1", {{0, 1}}, {{1, 1}}}, {"t2", {{0, 1}}, {{2, 1}}}});
     Engine e(b.g);
     e.step();
-    CHECK(e.tokens(p) == 0);
-    CHECK(e.tokens(p + 1) == 1);
-    CHECK(e.tokens(p + 2) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);
     e.step();  // nothing enabled any more
-    CHECK(e.tokens(p + 1) == 1);
-    CHECK(e.tokens(p + 2) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);
 }
 
 TEST_CASE("runtime: arc weights and the clamped marking") {
@@ -28,19 +28,19 @@ TEST_CASE("runtime: arc weights and the clamped marking") {
                       {{"t1", {{0, 2}}, {{1, 3}}}, {"t2", {{0, 1}}, {{2, 1}}}});
     Engine e(b.g);
     e.step();
-    CHECK(e.tokens(p) == 0);
-    CHECK(e.tokens(p + 1) == 3);
-    CHECK(e.tokens(p + 2) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 3);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);
 
     SceneBuilder b2;  // weight above the marking: not enabled
     int32_t q = b2.net(0, "net", {{"a", 1}, {"b", 0}}, {{"t", {{0, 2}}, {{1, 1}}}});
     Engine e2(b2.g);
     e2.step();
-    CHECK(e2.tokens(q) == 1);
-    e2.input(b2.put(q));
+    CHECK(e2.tokens(plant::graph::PlaceId(q)) == 1);
+    e2.input(plant::graph::SlotId(b2.put(q)));
     e2.step();  // the put comes first, then t fires in the same step
-    CHECK(e2.tokens(q) == 0);
-    CHECK(e2.tokens(q + 1) == 1);
+    CHECK(e2.tokens(plant::graph::PlaceId(q)) == 0);
+    CHECK(e2.tokens(plant::graph::PlaceId(q + 1)) == 1);
 }
 
 TEST_CASE("runtime: tokens put by flows are added before firing; entered is seen next step") {
@@ -49,21 +49,21 @@ TEST_CASE("runtime: tokens put by flows are added before firing; entered is seen
     int32_t p = b.net(0, "net", {{"in", 0}, {"out", 0}, {"echo", 0}}, {{"move", {{0, 1}}, {{1, 1}}}}, &tr);
     b.flow(b.entered(p + 1), b.put(p + 2));  // out.entered -> echo.put
     Engine e(b.g);
-    e.input(b.put(p));
+    e.input(plant::graph::SlotId(b.put(p)));
     e.step();  // put on `in`, `move` fires at once
-    CHECK(e.tokens(p) == 0);
-    CHECK(e.tokens(p + 1) == 1);
-    CHECK(e.tokens(p + 2) == 0);
-    CHECK_FALSE(e.active(b.entered(p + 1)));  // produced in phase 4: not yet seen by logic
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 0);
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.entered(p + 1))));  // produced in phase 4: not yet seen by logic
     e.step();
-    CHECK(e.active(b.entered(p + 1)));
-    CHECK(e.active(b.entered(p)));  // the put of step 1 made `in` entered too
+    CHECK(e.active(plant::graph::SlotId(b.entered(p + 1))));
+    CHECK(e.active(plant::graph::SlotId(b.entered(p))));  // the put of step 1 made `in` entered too
     CHECK(e.active(b.g.transitions[size_t(tr[0])].fired_slot));
-    CHECK(e.tokens(p + 2) == 1);  // the flow ran in this step's logic phase
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);  // the flow ran in this step's logic phase
     e.step();
-    CHECK_FALSE(e.active(b.entered(p + 1)));
-    CHECK(e.active(b.entered(p + 2)));
-    CHECK(e.tokens(p + 2) == 1);
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.entered(p + 1))));
+    CHECK(e.active(plant::graph::SlotId(b.entered(p + 2))));
+    CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);
 }
 
 TEST_CASE("runtime: two puts in one step add one token; a transition without inputs fires every step") {
@@ -74,11 +74,11 @@ TEST_CASE("runtime: two puts in one step add one token; a transition without inp
     b.flow(b.S(t1, "on_enter"), b.put(p));
     b.flow(b.S(t2, "on_enter"), b.put(p));
     Engine e(b.g);
-    e.input(b.S(t1, "on_enter"));
-    e.input(b.S(t2, "on_enter"));
+    e.input(plant::graph::SlotId(b.S(t1, "on_enter")));
+    e.input(plant::graph::SlotId(b.S(t2, "on_enter")));
     for (int i = 0; i < 4; ++i) e.step();
-    CHECK(e.tokens(p) == 1);
-    CHECK(e.tokens(p + 1) == 4);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 4);
 }
 
 TEST_CASE("runtime: the track switch net from the mission moves and drains surplus requests") {
@@ -96,18 +96,18 @@ TEST_CASE("runtime: the track switch net from the mission moves and drains surpl
                        {"aw", {{5, 1}}, {}},
                        {"ab", {{4, 1}}, {}}});
     Engine e(b.g);
-    e.input(b.put(p + 3));
+    e.input(plant::graph::SlotId(b.put(p + 3)));
     e.step();
-    CHECK(e.tokens(p + 1) == 1);  // WorkingPos
-    CHECK(e.tokens(p + 0) == 0);
-    CHECK(e.tokens(p + 5) == 1);  // the start-animation token, drained next step
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);  // WorkingPos
+    CHECK(e.tokens(plant::graph::PlaceId(p + 0)) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 5)) == 1);  // the start-animation token, drained next step
     e.step();
-    CHECK(e.tokens(p + 5) == 0);
-    e.input(b.put(p + 3));  // already working: tcw drains the request
+    CHECK(e.tokens(plant::graph::PlaceId(p + 5)) == 0);
+    e.input(plant::graph::SlotId(b.put(p + 3)));  // already working: tcw drains the request
     e.step();
-    CHECK(e.tokens(p + 3) == 0);
-    CHECK(e.tokens(p + 1) == 1);
-    CHECK(e.tokens(p + 5) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 3)) == 0);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 5)) == 0);
 }
 
 TEST_CASE("runtime: a place counts past 32 bits exactly, never wraps") {
@@ -117,6 +117,6 @@ TEST_CASE("runtime: a place counts past 32 bits exactly, never wraps") {
     int32_t p = b.net(0, "net", {{"run", 1}, {"count", 0}}, {{"pump", {{0, 1}}, {{0, 1}, {1, 1'000'000}}}});
     Engine e(b.g);
     for (int i = 0; i < 3000; ++i) e.step();
-    CHECK(e.tokens(p + 1) == int64_t(3000) * 1'000'000);
-    CHECK(e.tokens(p) == 1);
+    CHECK(e.tokens(plant::graph::PlaceId(p + 1)) == int64_t(3000) * 1'000'000);
+    CHECK(e.tokens(plant::graph::PlaceId(p)) == 1);
 }

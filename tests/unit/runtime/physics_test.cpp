@@ -52,12 +52,12 @@ TEST_CASE("runtime: conveyor law against its analytic solution on a frictionless
         for (int i = 0; i < 300; ++i) {
             e.step();
             const double want = 0.5 * (1 - std::exp(-gain * e.time() / mass));
-            worst = std::max(worst, std::abs(e.body_velocity(cube)[0] - want) / 0.5);
+            worst = std::max(worst, std::abs(e.body_velocity(plant::graph::BodyId(cube))[0] - want) / 0.5);
         }
         CAPTURE(mass);
         CAPTURE(gain);
         CHECK(worst < 0.01);  // within 1 % of the target speed at every step
-        CHECK(std::abs(e.body_velocity(cube)[1]) < 1e-6);
+        CHECK(std::abs(e.body_velocity(plant::graph::BodyId(cube))[1]) < 1e-6);
     }
 }
 
@@ -71,9 +71,9 @@ TEST_CASE("runtime: a field rotated in the world pushes along its own direction,
     int32_t out = b.body(b.dobj("out"), "body", BodyMode::Dynamic, {sphere(0.02)}, 0.05, at(3, 0, 0));
     Engine e(b.g);
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.body_velocity(in)[1] == doctest::Approx(0.3).epsilon(0.01));
-    CHECK(std::abs(e.body_velocity(in)[0]) < 1e-6);
-    CHECK(e.body_velocity(out)[0] == 0);
+    CHECK(e.body_velocity(plant::graph::BodyId(in))[1] == doctest::Approx(0.3).epsilon(0.01));
+    CHECK(std::abs(e.body_velocity(plant::graph::BodyId(in))[0]) < 1e-6);
+    CHECK(e.body_velocity(plant::graph::BodyId(out))[0] == 0);
 }
 
 TEST_CASE("runtime: a light bottle with a bottom body stays stable on a fast belt at 150 Hz") {
@@ -84,12 +84,12 @@ TEST_CASE("runtime: a light bottle with a bottom body stays stable on a fast bel
     double peak = 0;
     for (int i = 0; i < 150; ++i) {
         e.step();
-        peak = std::max(peak, tilt(e.body_pose(main).q));
+        peak = std::max(peak, tilt(e.body_pose(plant::graph::BodyId(main)).q));
     }
-    CHECK(std::isfinite(e.body_com(main)[0]));
+    CHECK(std::isfinite(e.body_com(plant::graph::BodyId(main))[0]));
     CHECK(e.warnings().total() == 0);
     CHECK(peak > 0.01);  // the foot pulls at the bottom: the bottle tips
-    const auto v = e.body_velocity(main);
+    const auto v = e.body_velocity(plant::graph::BodyId(main));
     CHECK(std::abs(v[0]) < 2.0);
 }
 
@@ -102,13 +102,14 @@ TEST_CASE("runtime: a bottom body without collisions rides welded to its main bo
     double peak = 0;
     for (int i = 0; i < 150; ++i) {
         e.step();
-        peak = std::max(peak, tilt(e.body_pose(main).q));
+        peak = std::max(peak, tilt(e.body_pose(plant::graph::BodyId(main)).q));
         // The foot is where the joint holds it and moves with the main body's rigid motion.
-        const Pose want = plant::engine::pmul(e.body_pose(main), b.g.joints[size_t(j)].frame_a);
-        const auto vm = e.body_velocity(main), vf = e.body_velocity(foot), w = e.body_angular_velocity(main);
-        const Vec3 r = plant::engine::sub(e.body_com(foot), e.body_com(main));
+        const Pose want = plant::engine::pmul(e.body_pose(plant::graph::BodyId(main)), b.g.joints[size_t(j)].frame_a);
+        const auto vm = e.body_velocity(plant::graph::BodyId(main)), vf = e.body_velocity(plant::graph::BodyId(foot)),
+                   w = e.body_angular_velocity(plant::graph::BodyId(main));
+        const Vec3 r = plant::engine::sub(e.body_com(plant::graph::BodyId(foot)), e.body_com(plant::graph::BodyId(main)));
         for (int k = 0; k < 3; ++k) {
-            REQUIRE(e.body_pose(foot).p[k] == doctest::Approx(want.p[k]).epsilon(1e-5));
+            REQUIRE(e.body_pose(plant::graph::BodyId(foot)).p[k] == doctest::Approx(want.p[k]).epsilon(1e-5));
             const double cross = w[(k + 1) % 3] * r[(k + 2) % 3] - w[(k + 2) % 3] * r[(k + 1) % 3];
             REQUIRE(vf[k] == doctest::Approx(vm[k] + cross).epsilon(1e-5));
         }
@@ -118,17 +119,17 @@ TEST_CASE("runtime: a bottom body without collisions rides welded to its main bo
     CHECK(phys.world().getNumCollisionObjects() == 2);  // the floor and the bottle: one Bullet body
     CHECK(phys.world().getNumConstraints() == 0);
     CHECK(peak > 0.01);  // the belt still pulls at the foot: the bottle tips
-    CHECK(e.body_velocity(main)[0] == doctest::Approx(1.0).epsilon(0.01));
-    CHECK(e.body_velocity(foot)[0] == doctest::Approx(1.0).epsilon(0.01));
+    CHECK(e.body_velocity(plant::graph::BodyId(main))[0] == doctest::Approx(1.0).epsilon(0.01));
+    CHECK(e.body_velocity(plant::graph::BodyId(foot))[0] == doctest::Approx(1.0).epsilon(0.01));
     // The bottle's mass is both bodies': the belt pulls it to speed with M/(2k), not m/k.
     CHECK(phys.rb(main).getMass() == doctest::Approx(0.040));
-    e.input(b.S(b.g.joints[size_t(j)].comp, "disable"));
+    e.input(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "disable")));
     for (int i = 0; i < 60; ++i) e.step();
     CHECK_FALSE(phys.welded(foot));
     CHECK(phys.world().getNumCollisionObjects() == 3);
     CHECK(phys.rb(main).getMass() == doctest::Approx(0.036));
-    CHECK(e.body_com(foot)[2] < -0.2);                    // no collisions: it falls through the floor
-    CHECK(e.body_com(main)[2] == doctest::Approx(0.0505).epsilon(0.01));  // the main body stands
+    CHECK(e.body_com(plant::graph::BodyId(foot))[2] < -0.2);                    // no collisions: it falls through the floor
+    CHECK(e.body_com(plant::graph::BodyId(main))[2] == doctest::Approx(0.0505).epsilon(0.01));  // the main body stands
 }
 
 TEST_CASE("runtime: collision_off lets a blocked body through, collision_on blocks again") {
@@ -139,11 +140,11 @@ TEST_CASE("runtime: collision_off lets a blocked body through, collision_on bloc
     b.field(0, "push", {10, 10, 10}, at(0, 0, 0), {1, 0, 0}, 1.0, 5);
     Engine e(b.g);
     for (int i = 0; i < 300; ++i) e.step();
-    CHECK(e.body_com(ball)[0] < 0.95);  // blocked in front of the wall
-    CHECK(e.body_com(ball)[0] > 0.85);
-    e.input(b.S(b.body_comp(wall), "collision_off"));
+    CHECK(e.body_com(plant::graph::BodyId(ball))[0] < 0.95);  // blocked in front of the wall
+    CHECK(e.body_com(plant::graph::BodyId(ball))[0] > 0.85);
+    e.input(plant::graph::SlotId(b.S(b.body_comp(wall), "collision_off")));
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.body_com(ball)[0] > 1.2);  // passed through
+    CHECK(e.body_com(plant::graph::BodyId(ball))[0] > 1.2);  // passed through
     (void)wall;
 }
 
@@ -155,12 +156,12 @@ TEST_CASE("runtime: a fixed constraint holds a heavy body under gravity, and let
     int32_t j = b.joint(d, "hold", JointKind::Fixed, anchor, load, at(0, 0, -0.2), at(0, 0, 0));
     Engine e(b.g);
     for (int i = 0; i < 300; ++i) e.step();
-    CHECK(std::abs(e.body_com(load)[2] - 0.8) < 0.005);
-    e.input(b.S(b.g.joints[size_t(j)].comp, "disable"));
+    CHECK(std::abs(e.body_com(plant::graph::BodyId(load))[2] - 0.8) < 0.005);
+    e.input(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "disable")));
     for (int i = 0; i < 90; ++i) e.step();
-    CHECK(e.body_com(load)[2] < 0.0);  // free fall: 0.8 m in 0.4 s
-    CHECK_FALSE(e.active(b.S(b.g.joints[size_t(j)].comp, "enabled")));
-    CHECK(e.value(b.S(b.g.joints[size_t(j)].comp, "enabled"))[0] == 0);
+    CHECK(e.body_com(plant::graph::BodyId(load))[2] < 0.0);  // free fall: 0.8 m in 0.4 s
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "enabled"))));
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "enabled")))[0] == 0);
 }
 
 TEST_CASE("runtime: dynamics_off takes a body out of the simulation; set_velocity then moves it") {
@@ -168,17 +169,17 @@ TEST_CASE("runtime: dynamics_off takes a body out of the simulation; set_velocit
     int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
     const int32_t c = b.body_comp(body);
     Engine e(b.g);
-    e.input(b.S(c, "dynamics_off"));
+    e.input(plant::graph::SlotId(b.S(c, "dynamics_off")));
     e.step();
-    const double z = e.body_com(body)[2];
+    const double z = e.body_com(plant::graph::BodyId(body))[2];
     const std::array<double, 3> v{1, 0, 0};
-    e.input(b.S(c, "set_velocity"), v);
+    e.input(plant::graph::SlotId(b.S(c, "set_velocity")), v);
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.body_com(body)[2] == doctest::Approx(z));
-    CHECK(e.body_com(body)[0] == doctest::Approx(1.0).epsilon(0.01));
-    e.input(b.S(c, "dynamics_on"));
+    CHECK(e.body_com(plant::graph::BodyId(body))[2] == doctest::Approx(z));
+    CHECK(e.body_com(plant::graph::BodyId(body))[0] == doctest::Approx(1.0).epsilon(0.01));
+    e.input(plant::graph::SlotId(b.S(c, "dynamics_on")));
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.body_com(body)[2] < z - 0.1);  // falls again
+    CHECK(e.body_com(plant::graph::BodyId(body))[2] < z - 0.1);  // falls again
 }
 
 TEST_CASE("runtime: a body declared with dynamics off starts still and falls after dynamics_on") {
@@ -188,10 +189,10 @@ TEST_CASE("runtime: a body declared with dynamics off starts still and falls aft
     const int32_t c = b.body_comp(body);
     Engine e(b.g);
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.body_com(body)[2] == doctest::Approx(1.0));
-    e.input(b.S(c, "dynamics_on"));
+    CHECK(e.body_com(plant::graph::BodyId(body))[2] == doctest::Approx(1.0));
+    e.input(plant::graph::SlotId(b.S(c, "dynamics_on")));
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.body_com(body)[2] < 0.9);  // 0.2 s of free fall: 0.2 m
+    CHECK(e.body_com(plant::graph::BodyId(body))[2] < 0.9);  // 0.2 s of free fall: 0.2 m
 }
 
 TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body frame") {
@@ -204,14 +205,14 @@ TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body f
     b.record(b.S(c, "position"), "p");
     Engine e(b.g);
     e.step();
-    CHECK(e.value(b.S(c, "position"))[0] == doctest::Approx(1));
-    CHECK(e.body_com(body)[0] == doctest::Approx(1.05));
+    CHECK(e.value(plant::graph::SlotId(b.S(c, "position")))[0] == doctest::Approx(1));
+    CHECK(e.body_com(plant::graph::BodyId(body))[0] == doctest::Approx(1.05));
     const std::array<double, 7> pose{5, 0, 0, 0, 0, 0, 1};
-    e.input(b.S(c, "set_pose"), pose);
+    e.input(plant::graph::SlotId(b.S(c, "set_pose")), pose);
     e.step();  // written in phase 5
     e.step();
-    CHECK(e.value(b.S(c, "position"))[0] == doctest::Approx(5));
-    CHECK(e.body_pose(body).p[1] == doctest::Approx(0).epsilon(1e-6));
+    CHECK(e.value(plant::graph::SlotId(b.S(c, "position")))[0] == doctest::Approx(5));
+    CHECK(e.body_pose(plant::graph::BodyId(body)).p[1] == doctest::Approx(0).epsilon(1e-6));
 }
 
 TEST_CASE("runtime: a hull without volume (the loader refuses it) neither crashes the contacts nor falls through") {
@@ -232,7 +233,7 @@ TEST_CASE("runtime: a hull without volume (the loader refuses it) neither crashe
         const int32_t blob = b.body(b.dobj("blob"), "body", BodyMode::Dynamic, {hull}, 0.1, at(0, 0, 0.05));
         Engine e(b.g);
         for (int i = 0; i < 300; ++i) e.step();  // 2 s: long enough to fall 5 cm and settle
-        const double z = e.body_pose(blob).p[2];
+        const double z = e.body_pose(plant::graph::BodyId(blob)).p[2];
         CHECK(std::isfinite(z));
         CHECK(z > -0.005);  // on the floor (its margin is 1 mm), not through it
         CHECK(z < 0.01);

@@ -71,7 +71,7 @@ TEST_CASE("runtime: lines far apart are physics regions, a Bullet world each, an
             ++parked;
             continue;
         }
-        const double y = e.body_pose(int32_t(b)).p[1];
+        const double y = e.body_pose(plant::graph::BodyId(int32_t(b))).p[1];
         const int32_t floor = y < 10 ? f0 : y < 30 ? f1 : f2;
         CHECK(w == phys.world_of(floor));
         ++on_lines;
@@ -109,7 +109,7 @@ TEST_CASE("runtime: a body thrown from one region over the void lands on the oth
     }
     CHECK(crossed_void);
     CHECK(phys.world_of(cube) == phys.world_of(1));
-    const auto p = e.body_pose(cube).p;
+    const auto p = e.body_pose(plant::graph::BodyId(cube)).p;
     CHECK(p[0] > 3.4);
     CHECK(p[0] < 4.6);
     CHECK(p[2] == doctest::Approx(0.05).epsilon(0.05));  // resting on floor b, not fallen through
@@ -130,7 +130,7 @@ TEST_CASE("runtime: a body in the void collides with a body of a region that rea
     for (int i = 0; i < 300; ++i) e.step();
     CHECK(phys.world_of(ball) == phys.world_of(plank));
     CHECK(phys.world_of(plank) == phys.world_of(0));
-    CHECK(e.body_pose(ball).p[2] > 0.05);  // on the plank, not fallen past it
+    CHECK(e.body_pose(plant::graph::BodyId(ball)).p[2] > 0.05);  // on the plank, not fallen past it
     CHECK(e.warnings().missed_contacts == 0);
 }
 
@@ -147,7 +147,7 @@ TEST_CASE("runtime: a static body placed outside its region's box merges every w
     CHECK(e.regions() == 1);
     CHECK(phys.worlds() == 1);
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(e.body_pose(cube).p[2] == doctest::Approx(0.05).epsilon(0.05));  // caught by floor b
+    CHECK(e.body_pose(plant::graph::BodyId(cube)).p[2] == doctest::Approx(0.05).epsilon(0.05));  // caught by floor b
     CHECK(phys.world(0).getNumCollisionObjects() == 3);
 }
 

@@ -78,7 +78,7 @@ struct SceneBuilder {
         b.friction = friction;
         b.collision = true;
         b.dynamics = true;
-        b.shape_adr = int32_t(g.shapes.size());
+        b.shape_adr = next_adr(g.shapes);
         b.shape_num = int32_t(shapes.size());
         b.pose = pose;
         b.com = Pose{com, {0, 0, 0, 1}};
@@ -87,12 +87,12 @@ struct SceneBuilder {
             sh.kind = s.kind;
             sh.size = s.size;
             sh.local = s.local;
-            sh.point_adr = int32_t(g.points.size());
+            sh.point_adr = next_adr(g.points);
             sh.point_num = int32_t(s.points.size());
             for (const Vec3& p : s.points) g.points.push_back({p});
             g.shapes.push_back(sh);
         }
-        b.comp = comp(owner, CompKind::Body, n, int32_t(g.bodies.size()));
+        b.comp = CompId(comp(owner, CompKind::Body, n, int32_t(g.bodies.size())));
         g.bodies.push_back(b);
         return int32_t(g.bodies.size() - 1);
     }
@@ -101,14 +101,14 @@ struct SceneBuilder {
     int32_t field(int32_t owner, std::string_view n, Vec3 extent, Pose pose, Vec3 dir, double speed,
                   double gain, int32_t on_body = -1) {
         Field f{};
-        f.body = on_body;
+        f.body = BodyId(on_body);
         f.extent = extent;
         f.pose = pose;
         f.dir = dir;
         f.speed = speed;
         f.gain = gain;
         f.enabled = true;
-        f.comp = comp(owner, CompKind::Field, n, int32_t(g.fields.size()));
+        f.comp = CompId(comp(owner, CompKind::Field, n, int32_t(g.fields.size())));
         g.fields.push_back(f);
         return int32_t(g.fields.size() - 1);
     }
@@ -116,14 +116,14 @@ struct SceneBuilder {
     int32_t joint(int32_t owner, std::string_view n, JointKind kind, int32_t a, int32_t b, Pose fa, Pose fb) {
         Joint j{};
         j.kind = kind;
-        j.body_a = a;
-        j.body_b = b;
+        j.body_a = BodyId(a);
+        j.body_b = BodyId(b);
         j.frame_a = fa;
         j.frame_b = fb;
         j.lower = 1;
         j.upper = -1;
         j.enabled = true;
-        j.comp = comp(owner, CompKind::Constraint, n, int32_t(g.joints.size()));
+        j.comp = CompId(comp(owner, CompKind::Constraint, n, int32_t(g.joints.size())));
         g.joints.push_back(j);
         return int32_t(g.joints.size() - 1);
     }
@@ -131,11 +131,11 @@ struct SceneBuilder {
     int32_t trigger(int32_t owner, std::string_view n, Vec3 extent, Pose pose, int32_t filter = -1,
                     int32_t on_body = -1) {
         Trigger t{};
-        t.body = on_body;
+        t.body = BodyId(on_body);
         t.extent = extent;
         t.pose = pose;
-        t.filter = filter;
-        t.comp = comp(owner, CompKind::Trigger, n, int32_t(g.triggers.size()));
+        t.filter = DoTypeId(filter);
+        t.comp = CompId(comp(owner, CompKind::Trigger, n, int32_t(g.triggers.size())));
         g.triggers.push_back(t);
         return int32_t(g.triggers.size() - 1);
     }
@@ -145,7 +145,7 @@ struct SceneBuilder {
         t.period = period;
         t.periodic = periodic;
         t.autostart = autostart;
-        t.comp = comp(owner, CompKind::Timer, n, int32_t(g.timers.size()));
+        t.comp = CompId(comp(owner, CompKind::Timer, n, int32_t(g.timers.size())));
         g.timers.push_back(t);
         return int32_t(g.timers.size() - 1);
     }
@@ -158,26 +158,26 @@ struct SceneBuilder {
         const int32_t first = int32_t(g.places.size());
         for (auto& [pn, initial] : places) {
             Place p{};
-            p.comp = c;
+            p.comp = CompId(c);
             p.name = name(pn);
             p.initial = initial;
-            p.put_slot = slot(c, pn + ".put", SlotType::Void, Dir::In);
-            p.entered_slot = slot(c, pn + ".entered", SlotType::Void, Dir::Out);
-            p.tokens_slot = slot(c, pn + ".tokens", SlotType::Int, Dir::Out);
+            p.put_slot = SlotId(slot(c, pn + ".put", SlotType::Void, Dir::In));
+            p.entered_slot = SlotId(slot(c, pn + ".entered", SlotType::Void, Dir::Out));
+            p.tokens_slot = SlotId(slot(c, pn + ".tokens", SlotType::Int, Dir::Out));
             slot_value(g, p.tokens_slot) = initial;
             g.places.push_back(p);
         }
         for (const TransitionSpec& ts : transitions) {
             Transition t{};
-            t.comp = c;
+            t.comp = CompId(c);
             t.name = name(ts.name);
-            t.in_adr = int32_t(g.arcs.size());
+            t.in_adr = next_adr(g.arcs);
             t.in_num = int32_t(ts.in.size());
-            for (auto [p, w] : ts.in) g.arcs.push_back({first + p, w});
-            t.out_adr = int32_t(g.arcs.size());
+            for (auto [p, w] : ts.in) g.arcs.push_back({PlaceId(first + p), w});
+            t.out_adr = next_adr(g.arcs);
             t.out_num = int32_t(ts.out.size());
-            for (auto [p, w] : ts.out) g.arcs.push_back({first + p, w});
-            t.fired_slot = slot(c, ts.name + ".fired", SlotType::Void, Dir::Out);
+            for (auto [p, w] : ts.out) g.arcs.push_back({PlaceId(first + p), w});
+            t.fired_slot = SlotId(slot(c, ts.name + ".fired", SlotType::Void, Dir::Out));
             g.transitions.push_back(t);
             if (tr) tr->push_back(int32_t(g.transitions.size() - 1));
         }
@@ -189,12 +189,12 @@ struct SceneBuilder {
     int32_t logic(int32_t owner, std::string_view n, LogicOp op, const std::vector<bool>& negated) {
         Logic l{};
         l.op = op;
-        l.comp = comp(owner, CompKind::Logic, n, int32_t(g.logics.size()));
-        l.out_slot = g.comps[l.comp].slot_adr + logicslot::out;
-        l.in_adr = int32_t(g.logic_inputs.size());
+        l.comp = CompId(comp(owner, CompKind::Logic, n, int32_t(g.logics.size())));
+        l.out_slot = SlotId(g.comps[l.comp].slot_adr + logicslot::out);
+        l.in_adr = next_adr(g.logic_inputs);
         l.in_num = int32_t(negated.size());
         for (size_t i = 0; i < negated.size(); ++i)
-            g.logic_inputs.push_back({slot(l.comp, "in" + std::to_string(i), SlotType::Void, Dir::In), negated[i]});
+            g.logic_inputs.push_back({SlotId(slot(l.comp, "in" + std::to_string(i), SlotType::Void, Dir::In)), negated[i]});
         g.logics.push_back(l);
         return int32_t(g.logics.size() - 1);
     }
@@ -203,9 +203,9 @@ struct SceneBuilder {
         const int32_t c = comp(owner, CompKind::Router, n, -1);
         for (size_t i = 0; i < patterns.size(); ++i) {
             Route r{};
-            r.comp = c;
+            r.comp = CompId(c);
             r.pattern = name(patterns[i]);
-            r.out_slot = slot(c, "r" + std::to_string(i), SlotType::Void, Dir::Out);
+            r.out_slot = SlotId(slot(c, "r" + std::to_string(i), SlotType::Void, Dir::Out));
             g.routes.push_back(r);
         }
         return c;
@@ -214,7 +214,7 @@ struct SceneBuilder {
     int32_t label(int32_t owner, std::string_view n, std::string_view value) {
         Label l{};
         l.value = name(value);
-        l.comp = comp(owner, CompKind::Label, n, int32_t(g.labels.size()));
+        l.comp = CompId(comp(owner, CompKind::Label, n, int32_t(g.labels.size())));
         slot_value(g, g.comps[l.comp].slot_adr + labelslot::value) = l.value.id;
         g.labels.push_back(l);
         return int32_t(g.labels.size() - 1);
@@ -223,15 +223,15 @@ struct SceneBuilder {
     int32_t source(int32_t owner, std::string_view n, int32_t do_type, int32_t pool_adr, int32_t pool_num,
                    double rate, Pose pose, const std::vector<std::string>& ids) {
         Source s{};
-        s.do_type = do_type;
-        s.pool_adr = pool_adr;
+        s.do_type = DoTypeId(do_type);
+        s.pool_adr = Adr<Do>(pool_adr);
         s.pool_num = pool_num;
         s.rate = rate;
         s.pose = pose;
-        s.id_adr = int32_t(g.ids.size());
+        s.id_adr = next_adr(g.ids);
         s.id_num = int32_t(ids.size());
         for (const std::string& id : ids) g.ids.push_back({name(id)});
-        s.comp = comp(owner, CompKind::Source, n, int32_t(g.sources.size()));
+        s.comp = CompId(comp(owner, CompKind::Source, n, int32_t(g.sources.size())));
         for (int32_t d = pool_adr; d < pool_adr + pool_num; ++d) g.dos[d].pool = s.comp;
         g.sources.push_back(s);
         return int32_t(g.sources.size() - 1);
@@ -239,18 +239,18 @@ struct SceneBuilder {
 
     int32_t exit(int32_t owner, std::string_view n, int32_t trig) {
         Exit e{};
-        e.trigger = trig;
-        e.comp = comp(owner, CompKind::Exit, n, int32_t(g.exits.size()));
+        e.trigger = TriggerId(trig);
+        e.comp = CompId(comp(owner, CompKind::Exit, n, int32_t(g.exits.size())));
         g.exits.push_back(e);
         return int32_t(g.exits.size() - 1);
     }
 
     int32_t gripper(int32_t owner, std::string_view n, int32_t trig, int32_t on_body, int32_t gfx = -1) {
         Gripper gr{};
-        gr.trigger = trig;
-        gr.body = on_body;
-        gr.graphics = gfx;
-        gr.comp = comp(owner, CompKind::Gripper, n, int32_t(g.grippers.size()));
+        gr.trigger = TriggerId(trig);
+        gr.body = BodyId(on_body);
+        gr.graphics = GraphicsId(gfx);
+        gr.comp = CompId(comp(owner, CompKind::Gripper, n, int32_t(g.grippers.size())));
         g.grippers.push_back(gr);
         return int32_t(g.grippers.size() - 1);
     }
@@ -263,35 +263,35 @@ struct SceneBuilder {
     int32_t graphics(int32_t owner, std::string_view n, Pose pose, int32_t on_body = -1,
                      const std::vector<AnimSpec>& anims = {}, const std::vector<std::string>& variants = {}) {
         Graphics gr{};
-        gr.parent = -1;
+        gr.parent = {};
         gr.model = name("model.glb");
         gr.pose = pose;
-        gr.body = on_body;
+        gr.body = BodyId(on_body);
         gr.variant = -1;
-        gr.comp = comp(owner, CompKind::Graphics, n, int32_t(g.graphics.size()));
+        gr.comp = CompId(comp(owner, CompKind::Graphics, n, int32_t(g.graphics.size())));
         const int32_t gi = int32_t(g.graphics.size());
-        gr.anim_adr = int32_t(g.animations.size());
+        gr.anim_adr = next_adr(g.animations);
         gr.anim_num = int32_t(anims.size());
         for (const AnimSpec& a : anims) {
             Animation an{};
-            an.graphics = gi;
+            an.graphics = GraphicsId(gi);
             an.name = name(a.name);
             an.duration = a.duration;
-            an.key_adr = int32_t(g.keys.size());
+            an.key_adr = next_adr(g.keys);
             an.key_num = int32_t(a.keys.size());
             for (const Key& k : a.keys) g.keys.push_back(k);
-            an.play_slot = slot(gr.comp, a.name + ".play", SlotType::Void, Dir::In);
-            an.finished_slot = slot(gr.comp, a.name + ".finished", SlotType::Void, Dir::Out);
+            an.play_slot = SlotId(slot(gr.comp, a.name + ".play", SlotType::Void, Dir::In));
+            an.finished_slot = SlotId(slot(gr.comp, a.name + ".finished", SlotType::Void, Dir::Out));
             g.animations.push_back(an);
         }
-        gr.variant_adr = int32_t(g.variants.size());
+        gr.variant_adr = next_adr(g.variants);
         gr.variant_num = int32_t(variants.size());
         for (const std::string& v : variants) {
             Variant var{};
-            var.graphics = gi;
+            var.graphics = GraphicsId(gi);
             var.name = name(v);
             var.model = name(v + ".glb");
-            var.select_slot = slot(gr.comp, v + ".select", SlotType::Void, Dir::In);
+            var.select_slot = SlotId(slot(gr.comp, v + ".select", SlotType::Void, Dir::In));
             g.variants.push_back(var);
         }
         g.graphics.push_back(gr);
@@ -300,11 +300,11 @@ struct SceneBuilder {
 
     int32_t access(int32_t ref_slot, int32_t do_type, const std::vector<int32_t>& targets) {
         Access a{};
-        a.ref_slot = ref_slot;
-        a.do_type = do_type;
-        a.target_adr = int32_t(g.access_targets.size());
+        a.ref_slot = SlotId(ref_slot);
+        a.do_type = DoTypeId(do_type);
+        a.target_adr = next_adr(g.access_targets);
         a.target_num = int32_t(targets.size());
-        for (int32_t t : targets) g.access_targets.push_back({t});
+        for (int32_t t : targets) g.access_targets.push_back({SlotId(t)});
         g.accesses.push_back(a);
         return int32_t(g.accesses.size() - 1);
     }
@@ -314,7 +314,7 @@ struct SceneBuilder {
         return add_flow(g, from, to, cond, once, from_access, to_access);
     }
 
-    void record(int32_t slot, std::string_view column) { g.records.push_back({slot, name(column)}); }
+    void record(int32_t slot, std::string_view column) { g.records.push_back({SlotId(slot), name(column)}); }
 };
 
 }  // namespace plant::test

@@ -32,6 +32,6 @@ TEST_CASE("runtime: the bottling scene file loads as the graph it was written fr
         b.step();
     }
     for (size_t body = 0; body < built.bodies.size(); ++body)
-        CHECK(a.body_com(int32_t(body)) == b.body_com(int32_t(body)));
+        CHECK(a.body_com(plant::graph::BodyId(int32_t(body))) == b.body_com(plant::graph::BodyId(int32_t(body))));
     CHECK(a.warnings().total() == 0);
 }

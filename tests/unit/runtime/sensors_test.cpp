@@ -26,23 +26,23 @@ TEST_CASE("runtime: trigger enter/stay/leave with two objects, and its type filt
     const int32_t tc = b.g.triggers[size_t(t)].comp;
     Engine e(b.g);
     const std::array<double, 3> v{1.5, 0, 0};
-    for (int32_t body : {ba, bc, bx}) e.input(b.S(b.body_comp(body), "set_velocity"), v);
+    for (int32_t body : {ba, bc, bx}) e.input(plant::graph::SlotId(b.S(b.body_comp(body), "set_velocity")), v);
 
     // Record the sequence of events as they happen.
     std::string seq;
     int max_count = 0;
     for (int i = 0; i < 150; ++i) {
         e.step();
-        const int n = int(e.value(b.S(tc, "count"))[0]);
+        const int n = int(e.value(plant::graph::SlotId(b.S(tc, "count")))[0]);
         max_count = std::max(max_count, n);
-        if (e.active(b.S(tc, "on_enter"))) seq += "E" + std::to_string(int(e.value(b.S(tc, "object"))[0]));
-        if (e.active(b.S(tc, "on_leave"))) seq += "L";
-        if (e.active(b.S(tc, "on_stay")) != (n > 0)) seq += "!";
+        if (e.active(plant::graph::SlotId(b.S(tc, "on_enter")))) seq += "E" + std::to_string(int(e.value(plant::graph::SlotId(b.S(tc, "object")))[0]));
+        if (e.active(plant::graph::SlotId(b.S(tc, "on_leave")))) seq += "L";
+        if (e.active(plant::graph::SlotId(b.S(tc, "on_stay"))) != (n > 0)) seq += "!";
     }
     // a enters, then c; a leaves, then c; the crate x is filtered out.
     CHECK(seq == "E" + std::to_string(a) + "E" + std::to_string(c) + "LL");
     CHECK(max_count == 2);
-    CHECK(e.trigger_enters(t) == 2);
+    CHECK(e.trigger_enters(plant::graph::TriggerId(t)) == 2);
 }
 
 TEST_CASE("runtime: two objects entering in the same step: one on_enter, count 2, lowest id reported") {
@@ -55,12 +55,12 @@ TEST_CASE("runtime: two objects entering in the same step: one on_enter, count 2
     const int32_t tc = b.g.triggers[size_t(b.trigger(0, "t", {1, 1, 1}, at(0, 0, 0)))].comp;
     Engine e(b.g);
     e.step();
-    CHECK(e.active(b.S(tc, "on_enter")));
-    CHECK(e.value(b.S(tc, "count"))[0] == 2);
-    CHECK(e.value(b.S(tc, "object"))[0] == d1);
+    CHECK(e.active(plant::graph::SlotId(b.S(tc, "on_enter"))));
+    CHECK(e.value(plant::graph::SlotId(b.S(tc, "count")))[0] == 2);
+    CHECK(e.value(plant::graph::SlotId(b.S(tc, "object")))[0] == d1);
     e.step();
-    CHECK_FALSE(e.active(b.S(tc, "on_enter")));
-    CHECK(e.active(b.S(tc, "on_stay")));
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(tc, "on_enter"))));
+    CHECK(e.active(plant::graph::SlotId(b.S(tc, "on_stay"))));
 }
 
 TEST_CASE("runtime: periodic and one-shot timers") {
@@ -69,19 +69,19 @@ TEST_CASE("runtime: periodic and one-shot timers") {
     const int32_t once = b.g.timers[size_t(b.timer(0, "delay", 0.25, false, false))].comp;
     Engine e(b.g);
     std::vector<int> ticks, shots;
-    e.input(b.S(once, "start"));  // starts in step 1's phase 5
+    e.input(plant::graph::SlotId(b.S(once, "start")));  // starts in step 1's phase 5
     for (int i = 1; i <= 100; ++i) {
         e.step();
-        if (e.active(b.S(periodic, "tick"))) ticks.push_back(i);
-        if (e.active(b.S(once, "tick"))) shots.push_back(i);
+        if (e.active(plant::graph::SlotId(b.S(periodic, "tick")))) ticks.push_back(i);
+        if (e.active(plant::graph::SlotId(b.S(once, "tick")))) shots.push_back(i);
     }
     CHECK(ticks == std::vector<int>{10, 20, 30, 40, 50, 60, 70, 80, 90, 100});
     CHECK(shots == std::vector<int>{26});  // started after step 1: 25 steps later
-    CHECK(e.value(b.S(once, "running"))[0] == 0);
-    e.input(b.S(periodic, "stop"));
+    CHECK(e.value(plant::graph::SlotId(b.S(once, "running")))[0] == 0);
+    e.input(plant::graph::SlotId(b.S(periodic, "stop")));
     for (int i = 0; i < 20; ++i) e.step();
-    CHECK_FALSE(e.active(b.S(periodic, "tick")));
-    CHECK(e.value(b.S(periodic, "running"))[0] == 0);
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(periodic, "tick"))));
+    CHECK(e.value(plant::graph::SlotId(b.S(periodic, "running")))[0] == 0);
 }
 
 TEST_CASE("runtime: graphics animations play relative to the start pose and report finished") {
@@ -94,27 +94,27 @@ TEST_CASE("runtime: graphics animations play relative to the start pose and repo
                             {"empty", "filled"});
     const int32_t gc = b.g.graphics[size_t(gi)].comp;
     Engine e(b.g);
-    e.watch(b.S(gc, "pose"));
-    e.input(b.S(gc, "swing.play"));
+    e.watch(plant::graph::SlotId(b.S(gc, "pose")));
+    e.input(plant::graph::SlotId(b.S(gc, "swing.play")));
     int finished_at = -1;
     for (int i = 1; i <= 80; ++i) {
         e.step();
         if (i == 26) {  // halfway (started in step 1's phase 5, advancing from step 2)
-            const auto q = e.graphics_pose(gi).q;
+            const auto q = e.graphics_pose(plant::graph::GraphicsId(gi)).q;
             CHECK(2 * std::atan2(q[2], q[3]) == doctest::Approx(M_PI / 8).epsilon(0.001));
         }
-        if (e.active(b.S(gc, "swing.finished"))) finished_at = i;
+        if (e.active(plant::graph::SlotId(b.S(gc, "swing.finished")))) finished_at = i;
     }
     CHECK(finished_at == 51);
-    const auto q = e.graphics_pose(gi).q;
+    const auto q = e.graphics_pose(plant::graph::GraphicsId(gi)).q;
     CHECK(2 * std::atan2(q[2], q[3]) == doctest::Approx(M_PI / 4));  // holds the last key
-    CHECK(e.graphics_pose(gi).p[0] == doctest::Approx(2));
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(gi)).p[0] == doctest::Approx(2));
 
-    e.input(b.S(gc, "filled.select"));
+    e.input(plant::graph::SlotId(b.S(gc, "filled.select")));
     e.step();
     e.step();
-    CHECK(e.str(int32_t(e.value(b.S(gc, "shown"))[0])) == "filled");
-    CHECK(e.active(b.S(gc, "shown")));
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(gc, "shown")))[0])) == "filled");
+    CHECK(e.active(plant::graph::SlotId(b.S(gc, "shown"))));
 }
 
 TEST_CASE("runtime: each graphics starts with the variant its `show` names") {
@@ -133,7 +133,7 @@ plant P {
     Engine e(c.graph);
     auto shown = [&](const char* path) {
         for (size_t s = 0; s < c.graph.slots.size(); ++s)
-            if (c.graph.slot_path(int32_t(s)) == path) return std::string(e.str(int32_t(e.value(int32_t(s))[0])));
+            if (c.graph.slot_path(int32_t(s)) == path) return std::string(e.str(int32_t(e.value(plant::graph::SlotId(int32_t(s)))[0])));
         FAIL("no slot " << path);
         return std::string();
     };
@@ -150,5 +150,5 @@ TEST_CASE("runtime: graphics attached to a body track it") {
     int32_t gi = b.graphics(d, "look", at(0, 0, 1.2), body);
     Engine e(b.g);
     for (int i = 0; i < 30; ++i) e.step();
-    CHECK(e.graphics_pose(gi).p[2] == doctest::Approx(e.body_pose(body).p[2] + 0.2));
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(gi)).p[2] == doctest::Approx(e.body_pose(plant::graph::BodyId(body)).p[2] + 0.2));
 }

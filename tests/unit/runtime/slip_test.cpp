@@ -37,7 +37,7 @@ TEST_CASE("runtime: past the slip limit a body gets exactly the limit, and still
     int saturated = 0;
     for (int i = 0; i < 150; ++i) {
         e.step();
-        const double v = e.body_velocity(cube)[0];
+        const double v = e.body_velocity(plant::graph::BodyId(cube))[0];
         // While the exact step's force m·e·(1 − exp(−k·dt/m))/dt exceeds the limit, the law
         // saturates: Δv = cap·dt/m every step.
         if (mass * (speed - last) * -std::expm1(-gain * dt / mass) / dt > cap * 1.01) {
@@ -66,7 +66,7 @@ TEST_CASE("runtime: the slip limit acts per member of a rigid group") {
     b.joint(d, "weld", JointKind::Fixed, m1, m2, at(0, 0.03, 0), at(0, -0.03, 0));
     Engine e(b.g);
     for (int i = 0; i < 15; ++i) e.step();  // 0.1 s: 0.25 m/s at 2·cap/M, far from saturation's end
-    const double p = 0.03 * e.body_velocity(m1)[0] + 0.01 * e.body_velocity(m2)[0];
+    const double p = 0.03 * e.body_velocity(plant::graph::BodyId(m1))[0] + 0.01 * e.body_velocity(plant::graph::BodyId(m2))[0];
     CHECK(p == doctest::Approx(2 * cap * e.time()).epsilon(0.02));
     CHECK(e.warnings().total() == 0);
 }
@@ -79,7 +79,7 @@ TEST_CASE("runtime: a body held against a wall presses on it with the slip limit
     const int32_t cube = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.05, 0.05, 0.05})}, 0.04, at(0, 0, 0.025));
     Engine e(b.g);
     for (int i = 0; i < 150; ++i) e.step();
-    CHECK(std::abs(e.body_velocity(cube)[0]) < 1e-3);
+    CHECK(std::abs(e.body_velocity(plant::graph::BodyId(cube))[0]) < 1e-3);
     // The wall's contact impulses over one step, along x, are the limit times dt.
     e.step();
     auto& phys = e.internals().phys;

@@ -264,9 +264,9 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     int moving = 0;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
         if (g.bodies[b].mode == graph::BodyMode::Static) continue;
-        const graph::Pose p = e.body_pose(int32_t(b));
+        const graph::Pose p = e.body_pose(plant::graph::BodyId(int32_t(b)));
         for (int k = 0; k < 3; ++k) CHECK(float(p.p[size_t(k)]) == last.body_pose[7 * b + size_t(k)]);
-        moving += e.body_in_world(int32_t(b)) ? 1 : 0;
+        moving += e.body_in_world(plant::graph::BodyId(int32_t(b))) ? 1 : 0;
     }
     CHECK(moving > 0);
 }

@@ -36,25 +36,25 @@ plant Stop {
     for (int i = 0; i < 150; ++i) e.step();
     std::vector<double> at_stop;
     for (int32_t b : bottles) {
-        CHECK(e.body_velocity(b)[0] == doctest::Approx(0.5).epsilon(0.01));
-        at_stop.push_back(e.body_com(b)[0]);
+        CHECK(e.body_velocity(plant::graph::BodyId(b))[0] == doctest::Approx(0.5).epsilon(0.01));
+        at_stop.push_back(e.body_com(plant::graph::BodyId(b))[0]);
     }
     double worst_tilt = 0, longest = 0;
     std::vector<double> rest_at(bottles.size(), -1);
     for (int i = 0; i < 150 * 2; ++i) {
         e.step();
         for (size_t k = 0; k < bottles.size(); ++k) {
-            worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(bottles[k]).q));
-            if (rest_at[k] < 0 && std::abs(e.body_velocity(bottles[k])[0]) < 1e-3) rest_at[k] = e.time() - 1;
+            worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(bottles[k])).q));
+            if (rest_at[k] < 0 && std::abs(e.body_velocity(plant::graph::BodyId(bottles[k]))[0]) < 1e-3) rest_at[k] = e.time() - 1;
         }
     }
     for (size_t k = 0; k < bottles.size(); ++k) {
         CAPTURE(k);
-        const double moved = e.body_com(bottles[k])[0] - at_stop[k];
+        const double moved = e.body_com(plant::graph::BodyId(bottles[k]))[0] - at_stop[k];
         longest = std::max(longest, moved);
         CHECK(rest_at[k] >= 0);
         CHECK(rest_at[k] < 0.1);  // at rest within 0.1 s of the stop
-        CHECK(std::abs(e.body_velocity(bottles[k])[0]) < 1e-3);
+        CHECK(std::abs(e.body_velocity(plant::graph::BodyId(bottles[k]))[0]) < 1e-3);
         CHECK(moved > 0);
         CHECK(moved < 0.009);  // measured 7.1 mm at most (see the message); v²/(2·2F/M) = 8.3 mm
     }
@@ -62,8 +62,8 @@ plant Stop {
     CHECK(worst_tilt < 10);
     for (int i = 0; i < 150; ++i) e.step();
     for (int32_t b : bottles) {
-        CHECK(e.body_velocity(b)[0] == doctest::Approx(0.5).epsilon(0.01));
-        CHECK(tilt_deg(e.body_pose(b).q) < 2);
+        CHECK(e.body_velocity(plant::graph::BodyId(b))[0] == doctest::Approx(0.5).epsilon(0.01));
+        CHECK(tilt_deg(e.body_pose(plant::graph::BodyId(b)).q) < 2);
     }
     CHECK(e.warnings().total() == 0);
 }

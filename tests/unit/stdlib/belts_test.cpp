@@ -42,14 +42,14 @@ plant Track {
     double worst_tilt = 0;
     for (int i = 0; i < 150 * 7; ++i) {  // 7 s: every bottle is on b3 by then
         e.step();
-        for (int32_t b : bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+        for (int32_t b : bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(b)).q));
     }
     CHECK(worst_tilt < 5);
     CHECK(e.warnings().total() == 0);
     for (int32_t b : bottles) {
         CAPTURE(b);
-        const auto p = e.body_pose(b).p;
-        const auto v = e.body_velocity(b);
+        const auto p = e.body_pose(plant::graph::BodyId(b)).p;
+        const auto v = e.body_velocity(plant::graph::BodyId(b));
         // On b3, between its rails (centre line y = 1.6 m, 8 cm wide), at belt speed.
         CHECK(p[0] > 1.6);
         CHECK(p[0] < 3.6);

@@ -31,18 +31,18 @@ TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped an
     }
     Engine e(g);
     for (int32_t s : shown_of)
-        if (s >= 0) e.watch(s);
+        if (s >= 0) e.watch(plant::graph::SlotId(s));
     int n_placed = 0, n_filled = 0, n_capped = 0, n_taken = 0, unfinished = 0;
     for (int i = 0; i < 150 * 40; ++i) {
         e.step();
-        n_placed += e.active(placed);
-        n_filled += e.active(filled);
-        n_capped += e.active(capped);
-        if (e.active(taken)) {
+        n_placed += e.active(plant::graph::SlotId(placed));
+        n_filled += e.active(plant::graph::SlotId(filled));
+        n_capped += e.active(plant::graph::SlotId(capped));
+        if (e.active(plant::graph::SlotId(taken))) {
             ++n_taken;
-            const int32_t d = int32_t(e.value(taken_obj)[0]);
+            const int32_t d = int32_t(e.value(plant::graph::SlotId(taken_obj))[0]);
             REQUIRE(d >= 0);
-            unfinished += e.str(int32_t(e.value(shown_of[size_t(d)])[0])) != "filled_capped";
+            unfinished += e.str(int32_t(e.value(plant::graph::SlotId(shown_of[size_t(d)]))[0])) != "filled_capped";
         }
     }
     CHECK(n_taken >= 5);

@@ -49,7 +49,7 @@ plant LongQueue {
     REQUIRE(free >= 0);
 
     Engine e(g);
-    e.input(hold);
+    e.input(plant::graph::SlotId(hold));
     // The foot's centre rests 3 mm above the band's top (z = −2 mm … 0 mm along the belt),
     // so at most 3 mm; a bottle leaning 10° on its bottom edge lifts it 3.5 mm more; one
     // climbing onto its neighbour lifts it by centimetres. Every foot stays below 6.5 mm.
@@ -58,10 +58,10 @@ plant LongQueue {
     int releases = 0;
     for (int i = 0; i < 150 * 120; ++i) {
         e.step();
-        releases += e.active(released);
+        releases += e.active(plant::graph::SlotId(released));
         for (int k = 0; k < n; ++k) {
-            highest = std::max(highest, e.body_com(feet[size_t(k)])[2]);
-            worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(mains[size_t(k)]).q));
+            highest = std::max(highest, e.body_com(plant::graph::BodyId(feet[size_t(k)]))[2]);
+            worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(mains[size_t(k)])).q));
         }
     }
     MESSAGE("held 120 s: highest foot at " << highest * 1000 << " mm, worst tilt " << worst_tilt << " deg");
@@ -70,28 +70,28 @@ plant LongQueue {
     CHECK(worst_tilt < 10);
     // All waiting behind WP (its face at wp_x − 3 mm), the first at it. (In the guides'
     // funnel and on the wider belt behind it they stand zigzag, so x order is not queue order.)
-    CHECK(e.body_com(mains[0])[0] < wp_x - 0.02);
-    CHECK(e.body_com(mains[0])[0] > wp_x - 0.03);
-    for (int k = 1; k < n; ++k) CHECK(e.body_com(mains[size_t(k)])[0] < e.body_com(mains[0])[0] - 0.03);
+    CHECK(e.body_com(plant::graph::BodyId(mains[0]))[0] < wp_x - 0.02);
+    CHECK(e.body_com(plant::graph::BodyId(mains[0]))[0] > wp_x - 0.03);
+    for (int k = 1; k < n; ++k) CHECK(e.body_com(plant::graph::BodyId(mains[size_t(k)]))[0] < e.body_com(plant::graph::BodyId(mains[0]))[0] - 0.03);
 
     // Let them go: one bottle past WP per cycle; the exit at 5.8 m takes them off the belt.
-    e.input(free);
+    e.input(plant::graph::SlotId(free));
     std::vector<int> passed_at_release;
     std::vector<double> passed_at(n, -1);
     for (int i = 0; i < 150 * 25; ++i) {
         e.step();
         int passed = 0;
         for (int k = 0; k < n; ++k) {
-            const auto p = e.body_com(mains[size_t(k)]);
+            const auto p = e.body_com(plant::graph::BodyId(mains[size_t(k)]));
             if (passed_at[size_t(k)] < 0 && p[0] > wp_x + 0.03) passed_at[size_t(k)] = e.time();
             passed += passed_at[size_t(k)] >= 0 ? 1 : 0;
-            highest = std::max(highest, e.body_com(feet[size_t(k)])[2]);
+            highest = std::max(highest, e.body_com(plant::graph::BodyId(feet[size_t(k)]))[2]);
         }
-        if (e.active(released)) passed_at_release.push_back(passed);
+        if (e.active(plant::graph::SlotId(released))) passed_at_release.push_back(passed);
     }
     REQUIRE(passed_at_release.size() == n);
     for (int k = 0; k < n; ++k) CHECK(passed_at_release[size_t(k)] == k);
     CHECK(highest < foot_top);
-    for (size_t d = 0; d < g.dos.size(); ++d) CHECK(e.lost_at(int32_t(d)) < 0);
+    for (size_t d = 0; d < g.dos.size(); ++d) CHECK(e.lost_at(plant::graph::DoId(int32_t(d))) < 0);
     CHECK(e.warnings().total() == 0);
 }

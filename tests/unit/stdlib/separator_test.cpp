@@ -69,13 +69,13 @@ TEST_CASE("std.separator: a queue of touching bottles on a running belt leaves o
     double worst_tilt = 0;
     for (int i = 0; i < 150 * 9; ++i) {
         e.step();
-        if (e.active(q.released)) {
+        if (e.active(plant::graph::SlotId(q.released))) {
             release_times.push_back(e.time());
-            b327_at_release.push_back(e.trigger_enters(q.b327));
+            b327_at_release.push_back(e.trigger_enters(plant::graph::TriggerId(q.b327)));
             passed_at_release.push_back(int(std::count_if(passed_at.begin(), passed_at.end(), [](double t) { return t >= 0; })));
         }
         for (size_t k = 0; k < 4; ++k) {
-            const auto pose = e.body_pose(q.bottles[k]);
+            const auto pose = e.body_pose(plant::graph::BodyId(q.bottles[k]));
             worst_tilt = std::max(worst_tilt, tilt_deg(pose.q));
             if (passed_at[k] < 0 && pose.p[0] > wp_x + 0.03) passed_at[k] = e.time();
         }
@@ -95,15 +95,15 @@ TEST_CASE("std.separator: a queue of touching bottles on a running belt leaves o
     }
     // Cycles are paced: settle (0.1 s) + BP in (0.1 s) + pitch (0.6 s) and the move-up.
     for (size_t k = 1; k < 4; ++k) CHECK(release_times[k] - release_times[k - 1] > 0.75);
-    CHECK(e.trigger_enters(q.b327) == 4);
+    CHECK(e.trigger_enters(plant::graph::TriggerId(q.b327)) == 4);
     CHECK(worst_tilt < 10);
     CHECK(e.warnings().total() == 0);
     // All downstream, on the belt's centre line, at belt speed.
     for (int32_t b : q.bottles) {
-        const auto p = e.body_pose(b).p;
+        const auto p = e.body_pose(plant::graph::BodyId(b)).p;
         CHECK(p[0] > wp_x + 0.5);
         CHECK(std::abs(p[1]) < 0.021);
-        CHECK(std::abs(e.body_velocity(b)[0] - 0.5) < 0.01);
+        CHECK(std::abs(e.body_velocity(plant::graph::BodyId(b))[0] - 0.5) < 0.01);
     }
 }
 
@@ -112,28 +112,28 @@ TEST_CASE("std.separator: hold keeps it closed, free lets the queue go") {
     Engine e(q.c.graph);
     int releases = 0;
     double worst_tilt = 0;
-    e.input(q.hold);
+    e.input(plant::graph::SlotId(q.hold));
     for (int i = 0; i < 150 * 3; ++i) {  // 3 s held: the queue arrives and waits
         e.step();
-        releases += e.active(q.released);
-        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+        releases += e.active(plant::graph::SlotId(q.released));
+        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(b)).q));
     }
     CHECK(releases == 0);
     // The first bottle waits at WP (its face at x = wp_x - 3 mm), the others behind it.
-    const double first = e.body_pose(q.bottles[0]).p[0];
+    const double first = e.body_pose(plant::graph::BodyId(q.bottles[0])).p[0];
     CHECK(first < wp_x - 0.02);
     CHECK(first > wp_x - 0.03);
-    for (size_t k = 1; k < 4; ++k) CHECK(e.body_pose(q.bottles[k]).p[0] < e.body_pose(q.bottles[k - 1]).p[0] - 0.03);
-    CHECK(std::abs(e.body_velocity(q.bottles[3])[0]) < 0.02);
+    for (size_t k = 1; k < 4; ++k) CHECK(e.body_pose(plant::graph::BodyId(q.bottles[k])).p[0] < e.body_pose(plant::graph::BodyId(q.bottles[k - 1])).p[0] - 0.03);
+    CHECK(std::abs(e.body_velocity(plant::graph::BodyId(q.bottles[3]))[0]) < 0.02);
 
-    e.input(q.free);
+    e.input(plant::graph::SlotId(q.free));
     for (int i = 0; i < 150 * 5; ++i) {
         e.step();
-        releases += e.active(q.released);
-        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(b).q));
+        releases += e.active(plant::graph::SlotId(q.released));
+        for (int32_t b : q.bottles) worst_tilt = std::max(worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(b)).q));
     }
     CHECK(releases == 4);
-    CHECK(e.trigger_enters(q.b327) == 4);
+    CHECK(e.trigger_enters(plant::graph::TriggerId(q.b327)) == 4);
     CHECK(worst_tilt < 10);
     MESSAGE("held queue: worst tilt " << worst_tilt << " deg");
 }
@@ -150,17 +150,17 @@ TEST_CASE("std.separator: a gate's pin graphics goes up on open and back down to
     REQUIRE(close >= 0);
     Engine e(c.graph);
     e.step();
-    const double z0 = e.graphics_pose(look).p[2];
+    const double z0 = e.graphics_pose(plant::graph::GraphicsId(look)).p[2];
     auto run = [&](int steps) {
         for (int i = 0; i < steps; ++i) e.step();
     };
-    e.input(open);
+    e.input(plant::graph::SlotId(open));
     run(30);
-    CHECK(e.graphics_pose(look).p[2] == doctest::Approx(z0 + 0.06));
-    e.input(close);
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(look)).p[2] == doctest::Approx(z0 + 0.06));
+    e.input(plant::graph::SlotId(close));
     run(8);  // about halfway down
-    CHECK(e.graphics_pose(look).p[2] > z0 + 0.01);
-    CHECK(e.graphics_pose(look).p[2] < z0 + 0.05);
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(look)).p[2] > z0 + 0.01);
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(look)).p[2] < z0 + 0.05);
     run(30);
-    CHECK(e.graphics_pose(look).p[2] == doctest::Approx(z0));
+    CHECK(e.graphics_pose(plant::graph::GraphicsId(look)).p[2] == doctest::Approx(z0));
 }

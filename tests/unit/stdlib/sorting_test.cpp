@@ -25,14 +25,14 @@ TEST_CASE("stdlib: a sorting line of RoutedSwitches sends every bottle into the 
     };
     const Lane lanes[] = {{"lane_end[0]", 'A'}, {"lane_end[1]", 'B'}, {"lane_end[2]", 'C'}, {"line_end", 0}};
     engine::Engine e(g);
-    for (const Lane& l : lanes) e.watch(slot.at(l.exit + ".away.id"));
+    for (const Lane& l : lanes) e.watch(plant::graph::SlotId(slot.at(l.exit + ".away.id")));
     std::map<char, int> sorted;
     int wrong = 0;
     for (int i = 0; i < 90 * 150; ++i) {
         e.step();
         for (const Lane& l : lanes) {
-            if (!e.active(slot.at(l.exit + ".away.taken"))) continue;
-            const std::string id(e.str(int32_t(e.value(slot.at(l.exit + ".away.id"))[0])));
+            if (!e.active(plant::graph::SlotId(slot.at(l.exit + ".away.taken")))) continue;
+            const std::string id(e.str(int32_t(e.value(plant::graph::SlotId(slot.at(l.exit + ".away.id")))[0])));
             const char first = id.empty() ? '?' : id[0];
             const bool right = l.code ? first == l.code : (first != 'A' && first != 'B' && first != 'C');
             CHECK_MESSAGE(right, "bottle " << id << " left by " << l.exit << " at " << e.time() << " s");
@@ -43,7 +43,7 @@ TEST_CASE("stdlib: a sorting line of RoutedSwitches sends every bottle into the 
     CHECK(wrong == 0);
     for (char k : {'A', 'B', 'C', 'X'}) CHECK_MESSAGE(sorted[k] >= 10, k << ": " << sorted[k]);
     int lost = 0;
-    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(int32_t(d)) >= 0 ? 1 : 0;
+    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(plant::graph::DoId(int32_t(d))) >= 0 ? 1 : 0;
     CHECK(lost == 0);
     CHECK(e.warnings().pool_empty == 0);
 }
@@ -86,13 +86,13 @@ plant Overfed {
     int filled = 0, taken = 0;
     for (int i = 0; i < 600 * 150; ++i) {
         e.step();
-        filled += e.active(slot.at("fill.core.work.tick"));
+        filled += e.active(plant::graph::SlotId(slot.at("fill.core.work.tick")));
         for (const char* exit : {"lane_end[0]", "lane_end[1]", "lane_end[2]", "line_end"})
-            taken += e.active(slot.at(std::string(exit) + ".away.taken"));
+            taken += e.active(plant::graph::SlotId(slot.at(std::string(exit) + ".away.taken")));
     }
-    const int64_t issued = e.issued(0);
+    const int64_t issued = e.issued(plant::graph::SourceId(0));
     int lost = 0;
-    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(int32_t(d)) >= 0 ? 1 : 0;
+    for (size_t d = 0; d < g.dos.size(); ++d) lost += e.lost_at(plant::graph::DoId(int32_t(d))) >= 0 ? 1 : 0;
     MESSAGE("600 s: " << issued << " issued, " << filled << " filled (" << 600.0 / std::max(filled, 1)
                       << " s per bottle at the station), " << taken << " taken by the exits, " << lost << " lost");
     CHECK(lost == 0);

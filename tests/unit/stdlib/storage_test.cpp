@@ -32,25 +32,25 @@ plant Store {
     const int32_t issued = slot.at("store.store.issued"), id = slot.at("store.store.id"),
                   bottle = slot.at("store.store.object"), taken = slot.at("done.away.taken");
     engine::Engine e(g);
-    e.watch(id);
-    e.watch(bottle);
-    for (const char* label : {"store.store[0].label.value", "store.store[1].label.value"}) e.watch(slot.at(label));
+    e.watch(plant::graph::SlotId(id));
+    e.watch(plant::graph::SlotId(bottle));
+    for (const char* label : {"store.store[0].label.value", "store.store[1].label.value"}) e.watch(plant::graph::SlotId(slot.at(label)));
     std::vector<std::string> got;
     std::set<std::string> bottles;
     int n_taken = 0;
     for (int i = 0; i < 12 * 150; ++i) {
         e.step();
-        n_taken += e.active(taken);
-        if (!e.active(issued)) continue;
-        const std::string code(e.str(int32_t(e.value(id)[0])));
-        const int32_t d = int32_t(e.value(bottle)[0]);
+        n_taken += e.active(plant::graph::SlotId(taken));
+        if (!e.active(plant::graph::SlotId(issued))) continue;
+        const std::string code(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])));
+        const int32_t d = int32_t(e.value(plant::graph::SlotId(bottle))[0]);
         REQUIRE(d >= 0);
         const std::string path(g.str(g.dos[size_t(d)].path));
         bottles.insert(path);
         // The code is in the bottle's label too, where readers and routers look.
         INFO("issue " << got.size() << " on " << path << " at " << e.time() << " s");
         CHECK(code == codes[got.size() % codes.size()]);
-        CHECK(e.str(int32_t(e.value(slot.at(path + ".label.value"))[0])) == code);
+        CHECK(e.str(int32_t(e.value(plant::graph::SlotId(slot.at(path + ".label.value")))[0])) == code);
         got.push_back(code);
     }
     CHECK(got.size() >= 10);  // every code twice: the list starts again after its last

@@ -61,23 +61,23 @@ Run run_line(const plant::graph::Graph& g, double belt_speed, double switch_at, 
     const int64_t send = std::lround(switch_at / e.dt());
     const int64_t steps = std::lround(seconds / e.dt());
     for (int64_t i = 0; i < steps; ++i) {
-        if (i == send || i == send + 2) e.input(to_working);
+        if (i == send || i == send + 2) e.input(plant::graph::SlotId(to_working));
         e.step();
         if (i == send + 4) {
-            r.move_to_working = e.tokens(place_named(g, "sw.net", "MoveToWorkingPos"));
-            r.working = e.tokens(place_named(g, "sw.net", "WorkingPos"));
-            r.base = e.tokens(place_named(g, "sw.net", "BasePos"));
+            r.move_to_working = e.tokens(plant::graph::PlaceId(place_named(g, "sw.net", "MoveToWorkingPos")));
+            r.working = e.tokens(plant::graph::PlaceId(place_named(g, "sw.net", "WorkingPos")));
+            r.base = e.tokens(plant::graph::PlaceId(place_named(g, "sw.net", "BasePos")));
         }
-        for (int32_t b : bottles) r.worst_tilt = std::max(r.worst_tilt, tilt_deg(e.body_pose(b).q));
+        for (int32_t b : bottles) r.worst_tilt = std::max(r.worst_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(b)).q));
     }
-    r.straight = e.trigger_enters(ahead_eye);
-    r.branch = e.trigger_enters(aside_eye);
+    r.straight = e.trigger_enters(plant::graph::TriggerId(ahead_eye));
+    r.branch = e.trigger_enters(plant::graph::TriggerId(aside_eye));
     CHECK(e.warnings().total() == 0);
 
     // Where every bottle is at the end, and that it still moves at belt speed.
     for (size_t k = 0; k < bottles.size(); ++k) {
-        const auto p = e.body_pose(bottles[k]).p;
-        const auto v = e.body_velocity(bottles[k]);
+        const auto p = e.body_pose(plant::graph::BodyId(bottles[k])).p;
+        const auto v = e.body_velocity(plant::graph::BodyId(bottles[k]));
         CAPTURE(k);
         CAPTURE(p[0]);
         CAPTURE(p[1]);
@@ -131,10 +131,10 @@ TEST_CASE("std.switch: without a request every bottle runs straight on") {
     double worst = 0;
     for (int i = 0; i < 150 * 9; ++i) {
         e.step();
-        for (int32_t b : bottles) worst = std::max(worst, tilt_deg(e.body_pose(b).q));
+        for (int32_t b : bottles) worst = std::max(worst, tilt_deg(e.body_pose(plant::graph::BodyId(b)).q));
     }
-    CHECK(e.trigger_enters(ahead_eye) == 8);
-    CHECK(e.trigger_enters(aside_eye) == 0);
+    CHECK(e.trigger_enters(plant::graph::TriggerId(ahead_eye)) == 8);
+    CHECK(e.trigger_enters(plant::graph::TriggerId(aside_eye)) == 0);
     CHECK(worst < 6);
     CHECK(e.warnings().total() == 0);
     MESSAGE("base position: worst tilt " << worst << " deg");
@@ -154,8 +154,8 @@ TEST_CASE("std.switch: the blade's graphics swings out to the working position a
     REQUIRE(to_base >= 0);
     Engine e(c.graph);
     e.step();
-    const plant::graph::Quat q0 = e.graphics_pose(look).q;
-    const plant::graph::Vec3 p0 = e.graphics_pose(look).p;  // the blade turns about its own origin
+    const plant::graph::Quat q0 = e.graphics_pose(plant::graph::GraphicsId(look)).q;
+    const plant::graph::Vec3 p0 = e.graphics_pose(plant::graph::GraphicsId(look)).p;  // the blade turns about its own origin
     // The angle about z between the start pose and q (both rotations about z only).
     auto turned_deg = [&](const plant::graph::Quat& q) {
         const double a0 = 2 * std::atan2(q0[2], q0[3]), a = 2 * std::atan2(q[2], q[3]);
@@ -167,19 +167,19 @@ TEST_CASE("std.switch: the blade's graphics swings out to the working position a
     auto run = [&](double seconds) {
         for (int i = 0; i < int(seconds * 150); ++i) e.step();
     };
-    e.input(to_working);
+    e.input(plant::graph::SlotId(to_working));
     run(0.1);
-    const double halfway = turned_deg(e.graphics_pose(look).q);
+    const double halfway = turned_deg(e.graphics_pose(plant::graph::GraphicsId(look)).q);
     run(0.4);
-    CHECK(turned_deg(e.graphics_pose(look).q) == doctest::Approx(-20).epsilon(1e-6));  // side −1: turned by −20°
+    CHECK(turned_deg(e.graphics_pose(plant::graph::GraphicsId(look)).q) == doctest::Approx(-20).epsilon(1e-6));  // side −1: turned by −20°
     CHECK(halfway < -1);
     CHECK(halfway > -19);
-    e.input(to_base);
+    e.input(plant::graph::SlotId(to_base));
     run(0.1);
-    const double back_halfway = turned_deg(e.graphics_pose(look).q);
+    const double back_halfway = turned_deg(e.graphics_pose(plant::graph::GraphicsId(look)).q);
     run(0.4);
     CHECK(back_halfway < -1);  // on its way back from the working position
     CHECK(back_halfway > -19);
-    CHECK(std::abs(turned_deg(e.graphics_pose(look).q)) < 1e-6);  // back at the start pose
-    for (int i = 0; i < 3; ++i) CHECK(e.graphics_pose(look).p[size_t(i)] == doctest::Approx(p0[size_t(i)]));
+    CHECK(std::abs(turned_deg(e.graphics_pose(plant::graph::GraphicsId(look)).q)) < 1e-6);  // back at the start pose
+    for (int i = 0; i < 3; ++i) CHECK(e.graphics_pose(plant::graph::GraphicsId(look)).p[size_t(i)] == doctest::Approx(p0[size_t(i)]));
 }

@@ -51,7 +51,7 @@ TransferRun run_track(const Track& t, int mass_g, int count) {
     if (!t.input.empty()) {
         const int32_t slot = slot_named(c.graph, t.input);
         REQUIRE(slot >= 0);
-        e.input(slot);
+        e.input(plant::graph::SlotId(slot));
     }
     TransferRun r;
     std::vector<double> arrived(size_t(count), -1);
@@ -60,8 +60,8 @@ TransferRun run_track(const Track& t, int mass_g, int count) {
         e.step();
         for (size_t i = 0; i < mains.size(); ++i) {
             if (arrived[i] >= 0) continue;
-            r.peak_tilt = std::max(r.peak_tilt, tilt_deg(e.body_pose(mains[i]).q));
-            const auto p = e.body_pose(bottoms[i]).p;
+            r.peak_tilt = std::max(r.peak_tilt, tilt_deg(e.body_pose(plant::graph::BodyId(mains[i])).q));
+            const auto p = e.body_pose(plant::graph::BodyId(bottoms[i])).p;
             r.worst_out = std::max(r.worst_out, t.excess(p));
             CHECK(p[2] > -0.01);  // still on the band
             if (t.done(p)) arrived[i] = step / 150.0;
