@@ -19,7 +19,8 @@ void compile_file(const std::string& path, const CompileOptions& options, Compil
     }
     // Name resolution needs every module; a syntax error anywhere stops here.
     if (out.sink.has_errors()) return;
-    out.graph = sema::elaborate(out.program, out.sources, out.sink, options.require_plant);
+    out.graph = sema::elaborate(out.program, out.sources, out.sink, options.require_plant,
+                                 options.max_members);
 }
 
 std::string default_stdlib_dir() {

@@ -4,6 +4,7 @@
 #include "ast/ast.h"
 #include "diag/diagnostic.h"
 #include "graph/graph.h"
+#include "sema/elaborate.h"
 #include "sema/modules.h"
 
 #include <string>
@@ -19,6 +20,7 @@ struct CompileOptions {
     std::vector<std::string> overrides;
     const sema::Overlay* overlay = nullptr;  // unsaved editor buffers (plant lsp)
     sema::Reuse reuse;                       // an earlier compilation's parsed modules (plant lsp)
+    long long max_members = sema::kMaxMembers;  // loops beyond it are an error (the fuzzer lowers it)
 };
 
 struct Compilation {

@@ -5,8 +5,8 @@
 # Builds build/fuzz (clang, -DPLANT_FUZZ=ON), then runs each target for --time seconds on a
 # working corpus in build/fuzz/corpus/TARGET (seeded from the tree's own files: the seed
 # corpus of tests/fuzz/CMakeLists.txt) with the language's dictionary (tests/fuzz/plant.dict).
-# A crash, sanitizer report or hang (30 s per input: the largest loops the language allows take
-# about 10 s in this instrumented build on a loaded machine) stops it: the input is in
+# A crash, sanitizer report or hang (30 s per input; the compile target lowers the loop limit
+# to 20,000 so that loops at the limit take milliseconds) stops it: the input is in
 # build/fuzz/crashes/TARGET/; add it to tests/fuzz/regressions/TARGET/ (the test suite runs
 # every file there) and fix the bug. Exit 1 if any target found one. docs/testing.md.
 set -euo pipefail

@@ -10,7 +10,6 @@
 namespace plant::sema {
 
 namespace {
-constexpr long long kMaxExpanded = 2'000'000;  // members produced by loops in one compile
 constexpr int kMaxDepth = 64;                  // nesting of loops/conditions
 
 template <class T> Span span_of(const T& member) { return member.span; }
@@ -103,6 +102,7 @@ graph::Graph Elaborator::run(bool require_plant) {
             bool defaults = std::all_of(o.params.begin(), o.params.end(), [](const ast::Param& p) { return p.default_value != nullptr; });
             if (!defaults) continue;
             Elaborator one(prog_, sm_, sink_);
+            one.max_expanded_ = max_expanded_;
             one.check_object(o);
         }
         return std::move(g_);
@@ -209,21 +209,21 @@ bool Elaborator::declare(Scope& s, const std::string& n, Span span) {
 
 // Members alone do not bound the work: nested loops with empty bodies produce none.
 bool Elaborator::iterate(Span at) {
-    if (expanded_ > kMaxExpanded) return false;  // the members' limit stopped it: reported once
-    if (++iterations_ <= kMaxExpanded) return true;
-    if (iterations_ == kMaxExpanded + 1)
+    if (expanded_ > max_expanded_) return false;  // the members' limit stopped it: reported once
+    if (++iterations_ <= max_expanded_) return true;
+    if (iterations_ == max_expanded_ + 1)
         sink_.report(DiagId::LoopTooLarge, at,
-                     fmt::format("loops run more than {} iterations in all (nested loops multiply)", kMaxExpanded));
+                     fmt::format("loops run more than {} iterations in all (nested loops multiply)", max_expanded_));
     return false;
 }
 
 void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr<const Env> env,
                         std::vector<Item>& out, int depth) {
     for (const auto& m : members) {
-        if (++expanded_ > kMaxExpanded) {
-            if (expanded_ == kMaxExpanded + 1 && iterations_ <= kMaxExpanded)
+        if (++expanded_ > max_expanded_) {
+            if (expanded_ == max_expanded_ + 1 && iterations_ <= max_expanded_)
                 sink_.report(DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
-                             fmt::format("the plant expands to more than {} members", kMaxExpanded));
+                             fmt::format("the plant expands to more than {} members", max_expanded_));
             return;
         }
         if (depth >= kMaxDepth && (std::holds_alternative<std::unique_ptr<ast::ForDecl>>(m) ||
@@ -259,9 +259,9 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
             Value from = ev_.eval(*f.from, *env);
             Value to = ev_.eval(*f.to, *env);
             if (!ev_.expect_int(from, "loop start") || !ev_.expect_int(to, "loop end")) continue;
-            if (to.num - from.num > static_cast<double>(kMaxExpanded)) {
+            if (to.num - from.num > static_cast<double>(max_expanded_)) {
                 sink_.report(DiagId::LoopTooLarge, f.span,
-                             fmt::format("loop of {} iterations; the limit is {}", to.num - from.num, kMaxExpanded));
+                             fmt::format("loop of {} iterations; the limit is {}", to.num - from.num, max_expanded_));
                 continue;
             }
             for (long long i = static_cast<long long>(from.num); i < static_cast<long long>(to.num); ++i) {
@@ -598,8 +598,10 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
     }
 }
 
-graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink, bool require_plant) {
+graph::Graph elaborate(const Program& prog, const SourceMap& sources, Sink& sink, bool require_plant,
+                       long long max_members) {
     Elaborator e(prog, sources, sink);
+    e.max_expanded_ = max_members;
     return e.run(require_plant);
 }
 

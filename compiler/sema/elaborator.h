@@ -166,6 +166,7 @@ public:
     std::vector<Span> plugin_spans_;  // by plugin row: the component's name
     std::vector<Span> entry_spans_;   // by plugin entry row
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
+    long long max_expanded_ = kMaxMembers;  // the limit on both counts below
     long long expanded_ = 0;      // members produced by loops, against runaway loops
     long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included
     bool iterate(Span at);        // counts one; false past the limit (reported once)

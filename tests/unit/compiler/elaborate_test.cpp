@@ -202,3 +202,23 @@ TEST_CASE("elaborate: every bundled example compiles and its graph text round-tr
     }
     CHECK(seen >= 6);
 }
+
+// The loop limit is an option (the compile fuzzer lowers it); both counts obey it: members
+// produced, and iterations of loops whose bodies produce nothing.
+TEST_CASE("elaborate: the loop limit is CompileOptions::max_members") {
+    const std::string members = "object T { label tag { value = \"x\" } }\n"
+                                "plant p { for i in 0..300 { t[i]: T() } }\n";
+    const std::string empty = "plant p { for i in 0..20 { for j in 0..20 { } } }\n";
+    for (const std::string& text : {members, empty}) {
+        CAPTURE(text);
+        CompileOptions opts;
+        opts.stdlib_dir = PLANT_STDLIB_DIR;
+        Compilation wide;
+        compile_file(plant::test::temp_plant("limit.plant", text), opts, wide);
+        CHECK_FALSE(has_code(wide, "E0310"));
+        opts.max_members = 250;
+        Compilation narrow;
+        compile_file(plant::test::temp_plant("limit.plant", text), opts, narrow);
+        CHECK(has_code(narrow, "E0310"));
+    }
+}
