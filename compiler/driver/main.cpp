@@ -12,6 +12,9 @@
 #ifdef PLANT_HAS_RUNTIME
 #include "engine/run.h"
 #endif
+#ifdef PLANT_HAS_FAULTS
+#include "faults/kind.h"
+#endif
 #ifdef PLANT_HAS_PLC
 #include "plc/kind.h"
 #include "plc/run_link.h"
@@ -436,6 +439,9 @@ int main(int argc, char** argv) {
 int run_command(int argc, char** argv) {
 #ifdef PLANT_HAS_PLC
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+#endif
+#ifdef PLANT_HAS_FAULTS
+    plant::faults::register_faults_kind();
 #endif
     std::vector<std::string> args(argv + 1, argv + argc);
     Options o;

@@ -127,7 +127,8 @@ public:
     void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do);
     // The kinds' own checks (graph::KindDesc::check) over every plugin component.
     void check_plugins();
-    bool entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
+    bool expect_slot_value(const Value& v, graph::SlotType t, const std::string& what);
+    bool entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, graph::SlotType target, const Env& env,
                        std::vector<graph::PluginParam>& out);
     void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
     void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);

@@ -128,6 +128,7 @@ KindSpec plugin_spec(const graph::KindDesc& d) {
         case graph::ParamType::Int: ps.type = T::Int; break;
         case graph::ParamType::Bool: ps.type = T::Bool; break;
         case graph::ParamType::String: ps.type = T::String; break;
+        case graph::ParamType::Value: break;  // entry options only (graph::register_kind)
         }
         k.props.push_back(ps);
     }

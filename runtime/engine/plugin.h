@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 namespace plant::engine {
 
@@ -44,11 +45,17 @@ private:
     int32_t slot_adr_;
 };
 
+struct Event;  // engine/run_args.h
+
 struct KindBehaviour {
     int state_size = 0;                   // numbers of state per component
     void (*start)(PluginCtx&) = nullptr;  // once per component, when the engine is built
     void (*sense)(PluginCtx&) = nullptr;  // phase 2, every step (KindDesc::senses)
     void (*act)(PluginCtx&) = nullptr;    // phase 5, in a step one of its inputs is active
+    // Timed inputs the component declares (a fault scheduled in the plant file): appended to
+    // `out` before a run starts, they are applied like --event's, by apply_event
+    // (plant_events in engine/run_args.h). Outside the step: may allocate.
+    void (*schedule)(const graph::Graph& g, int32_t plugin, std::vector<Event>& out) = nullptr;
 };
 
 // Registers the kind's descriptor (graph::register_kind) and its behaviour; false if the

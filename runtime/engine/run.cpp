@@ -104,7 +104,10 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
             return false;
         }
     }
-    // Events at equal times keep their command-line order.
+    // The plant file's own timed inputs first: at equal times the command line's come after
+    // them (a later force of the same slot wins), in their command-line order.
+    std::vector<Event> planned = plant_events(g);
+    o.events.insert(o.events.begin(), std::make_move_iterator(planned.begin()), std::make_move_iterator(planned.end()));
     std::stable_sort(o.events.begin(), o.events.end(),
                      [](const Event& x, const Event& y) { return x.time < y.time; });
     return true;
@@ -162,11 +165,15 @@ private:
 // trace's `forced` column: each force with the step time it took effect and its end.
 class ForceLog {
 public:
-    explicit ForceLog(const std::vector<Event>& events) {
+    // `events`' forces and `more` slots (a link's) may force.
+    ForceLog(const std::vector<Event>& events, const std::vector<int32_t>& more) {
+        auto add = [&](int32_t s) {
+            if (std::find(slots_.begin(), slots_.end(), s) == slots_.end()) slots_.push_back(s);
+        };
         for (const Event& ev : events)
             if (ev.force)
-                for (int32_t s : ev.slots)
-                    if (std::find(slots_.begin(), slots_.end(), s) == slots_.end()) slots_.push_back(s);
+                for (int32_t s : ev.slots) add(s);
+        for (int32_t s : more) add(s);
     }
     const std::vector<int32_t>& slots() const { return slots_; }
     void applied(const graph::Graph& g, const Event& ev, double at) {
@@ -329,7 +336,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     Tally tally(g);
     RecordTally counts(g);
 
-    ForceLog forces(o.events);
+    ForceLog forces(o.events, link ? link->forceable() : std::vector<int32_t>{});
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
         std::vector<TraceColumn> columns = trace_columns(g, o.select);
@@ -345,7 +352,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
     const int64_t steps = int64_t(step_count);
     for (const Event& ev : o.events)
-        if (ev.time > double(steps) * e.dt() + 1e-9)
+        if (!ev.planned && ev.time > double(steps) * e.dt() + 1e-9)  // the plant's own: a shorter run is fine
             fmt::print(err, "plant run: warning: the event '{}' is after the end of the run ({:g} s): it is never applied\n",
                        format_event(g, ev), double(steps) * e.dt());
     if (observer) observer->started(e);

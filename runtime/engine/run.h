@@ -74,6 +74,9 @@ public:
     virtual void before_step(Engine& e) = 0;
     virtual std::span<const Event* const> applied() const = 0;
     virtual void after_step(const Engine& e) = 0;
+    // The slots its clients can force (the PLC link's fault block): the trace's `forced`
+    // column watches them from the start.
+    virtual std::vector<int32_t> forceable() const { return {}; }
 };
 
 int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,

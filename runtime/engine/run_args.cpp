@@ -1,5 +1,7 @@
 #include "engine/run_args.h"
 
+#include "engine/plugin.h"
+
 #include <fmt/format.h>
 
 #include <cctype>
@@ -371,6 +373,23 @@ bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path
         return false;
     }
     return true;
+}
+
+std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which) {
+    std::string best;
+    for (const auto& [path, target] : slots)
+        if (target.slots == which && (best.empty() || path.size() < best.size() || (path.size() == best.size() && path < best)))
+            best = path;
+    return best;
+}
+
+std::vector<Event> plant_events(const Graph& g) {
+    std::vector<Event> out;
+    for (size_t p = 0; p < g.plugins.size(); ++p)
+        if (const KindBehaviour* b = find_behaviour(g.str(g.plugins[p].kind)); b && b->schedule)
+            b->schedule(g, int32_t(p), out);
+    std::stable_sort(out.begin(), out.end(), [](const Event& x, const Event& y) { return x.time < y.time; });
+    return out;
 }
 
 }  // namespace plant::engine

@@ -30,6 +30,7 @@ struct Event {
     // ("release PATH"): outputs and inputs alike (docs/runtime.md, "Forced slots").
     bool force = false;
     ForceMode mode = ForceMode::None;
+    bool planned = false;  // declared in the plant file (plant_events), not given to the run
 };
 
 // Every addressable input and output by its dotted path: component slots and ports.
@@ -41,6 +42,9 @@ struct SlotTarget {
 };
 using SlotIndex = std::unordered_map<std::string, SlotTarget>;
 SlotIndex slot_index(const graph::Graph& g);
+// The dotted path that names exactly `slots` (a slot, or a port forwarding to them all):
+// the shortest ("" when none does).
+std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which);
 // The closest path in the index to a misspelt one ("" when nothing is close).
 std::string closest_path(const SlotIndex& slots, std::string_view path);
 
@@ -56,6 +60,11 @@ bool parse_event(const graph::Graph& g, const SlotIndex& slots, std::string_view
 // viewer's and the PLC link's inputs).
 bool parse_input(const graph::Graph& g, const SlotIndex& slots, std::string_view text, Event& ev,
                  std::string& error);
+// The timed inputs the plant file itself declares (its plugin components' schedule hooks,
+// engine/plugin.h: a `faults` component's entries), sorted by time; a run applies them
+// before the command line's events of the same step.
+std::vector<Event> plant_events(const graph::Graph& g);
+
 // One event per line; blank lines and lines starting with '#' are skipped.
 bool load_events(const graph::Graph& g, const SlotIndex& slots, const std::string& path,
                  std::vector<Event>& out, std::string& error);

@@ -312,11 +312,11 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, entry_num)
 
 // An entry of a plugin component's table (`coil 3 => s1.to_working(pulse = 1)`): its
-// word, its key, the slots its target names (an input port: every input it forwards to),
+// word, its key (an index, or a time in s: graph/plugin.h, EntryKey), the slots its target names (an input port: every input it forwards to),
 // its options in the order the entry's spec declares them.
 #define PLANT_FIELDS_PLUGINENTRY(F)                                                \
     F(Name, word)                                                                  \
-    F(int32_t, key)                                                                \
+    F(double, key)                                                                 \
     F(Adr<PluginEntrySlot>, slot_adr)   /* into plugin_entry_slots */                           \
     F(int32_t, slot_num)                                                           \
     F(Adr<PluginParam>, param_adr)  /* into plugin_params */                                \

@@ -26,6 +26,8 @@ bool register_kind(const KindDesc& desc) {
     if (desc.word.empty() || desc.word == "physics" || parse_word(desc.word, builtin) || find_plugin(desc.word) ||
         !names_unique(desc.slots) || !names_unique(desc.params))
         return false;
+    for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from
+        if (p.type == ParamType::Value) return false;
     for (size_t i = 0; i < desc.entries.size(); ++i) {
         if (!names_unique(desc.entries[i].options) || desc.entries[i].max_key < 0) return false;
         for (size_t j = 0; j < i; ++j)
@@ -68,6 +70,7 @@ std::string_view word(ParamType t) {
     case ParamType::Int: return "int";
     case ParamType::Bool: return "bool";
     case ParamType::String: return "string";
+    case ParamType::Value: return "value";
     }
     return "?";
 }

@@ -22,7 +22,9 @@
 
 namespace plant::graph {
 
-enum class ParamType : uint8_t { Number, Int, Bool, String };
+// Value: an entry option whose type is the entry's slot's (void and bool: true or false;
+// int; real: a number in SI units; string), stored as a number or a text accordingly.
+enum class ParamType : uint8_t { Number, Int, Bool, String, Value };
 
 struct ParamSpec {
     std::string_view name;
@@ -35,10 +37,14 @@ struct ParamSpec {
     std::string_view doc;
 };
 
+// What an entry's KEY is: an index from 0 to max_key (a register address), or a time in
+// seconds, 0 or more (when a scheduled fault begins).
+enum class EntryKey : uint8_t { Index, Time };
+
 // An entry a plugin kind's table takes: `WORD KEY => PATH (OPTION = VALUE, ...)`, e.g. a
-// Modbus link's `coil 3 => s1.to_working`. KEY is an integer from 0 to max_key; PATH names
-// a slot or port of the direction the entry takes (In: the entry drives inputs; Out: it
-// reads an output), of one of `types` (any when empty).
+// Modbus link's `coil 3 => s1.to_working`. PATH names a slot or port of the direction the
+// entry takes (In: the entry drives inputs; Out: it reads an output; either when any_dir),
+// of one of `types` (any when empty).
 struct EntrySpec {
     std::string_view word;
     std::string_view doc;
@@ -46,6 +52,8 @@ struct EntrySpec {
     std::span<const SlotType> types;
     std::span<const ParamSpec> options;
     int32_t max_key = 65535;
+    EntryKey key = EntryKey::Index;
+    bool any_dir = false;
 };
 
 // What a kind's own check (KindDesc::check) finds wrong with one of its components: the

@@ -259,7 +259,7 @@ private:
             const bool ok = ps.type == ParamType::String ? v.text.id >= 0
                             : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
                             : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
-                                                         : true;
+                                                         : std::isfinite(v.num);  // Number; Value: the kind checks
             if (!ok) return fail(fmt::format("parameter '{}' {} is not a valid {}", ps.name, of, word(ps.type)));
         }
         return true;
@@ -271,17 +271,20 @@ private:
         const std::string where = fmt::format("plugin entry {}", row);
         const EntrySpec* es = find_entry(d, g_.str(e.word));
         if (!es) return fail(fmt::format("{}: a {} takes no entry '{}'", where, d.word, g_.str(e.word)));
-        if (e.key < 0 || e.key > es->max_key)
-            return fail(fmt::format("{}: key {} is not between 0 and {}", where, e.key, es->max_key));
-        if (e.slot_num < 1 || (es->target == Dir::Out && e.slot_num != 1))
-            return fail(fmt::format("{}: a '{}' entry names {} slot{}, {}", where, es->word,
-                                    es->target == Dir::Out ? "one" : "at least one", es->target == Dir::Out ? "" : "s",
-                                    fmt::format("field 'slot_num' is {}", e.slot_num)));
+        if (es->key == EntryKey::Time ? !(e.key >= 0 && std::isfinite(e.key))
+                                      : !(e.key >= 0 && e.key <= es->max_key && e.key == std::floor(e.key)))
+            return fail(es->key == EntryKey::Time
+                            ? fmt::format("{}: key {} is not a time of 0 s or more", where, e.key)
+                            : fmt::format("{}: key {} is not a whole number between 0 and {}", where, e.key, es->max_key));
+        const bool one = es->target == Dir::Out && !es->any_dir;
+        if (e.slot_num < 1 || (one && e.slot_num != 1))
+            return fail(fmt::format("{}: a '{}' entry names {} slot{}, {}", where, es->word, one ? "one" : "at least one",
+                                    one ? "" : "s", fmt::format("field 'slot_num' is {}", e.slot_num)));
         for (int32_t k = 0; k < e.slot_num; ++k) {
             const int32_t s = g_.plugin_entry_slots[size_t(e.slot_adr + k)].v;
             const Slot& sl = g_.slots[size_t(s)];
             const bool type_ok = es->types.empty() || std::find(es->types.begin(), es->types.end(), sl.type) != es->types.end();
-            if (sl.dir != es->target || !type_ok)
+            if ((sl.dir != es->target && !es->any_dir) || !type_ok)
                 return fail(fmt::format("{}: slot {} is {} {}, which a '{}' entry cannot name", where, s, word(sl.type),
                                         word(sl.dir), es->word));
         }

@@ -72,16 +72,6 @@ Encoding default_encoding(const Entry& e, bool scaled) {
     }
 }
 
-// The dotted path that names exactly `slots` (a slot, or a port forwarding to them all):
-// the shortest, for the map's table.
-std::string path_of(const engine::SlotIndex& index, const std::vector<int32_t>& slots) {
-    std::string best;
-    for (const auto& [path, target] : index)
-        if (target.slots == slots && (best.empty() || path.size() < best.size() || (path.size() == best.size() && path < best)))
-            best = path;
-    return best;
-}
-
 bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
     Map m;
     if (!link_map(g, plugin, m, problem)) return false;
@@ -116,12 +106,12 @@ bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProb
         };
         Entry e;
         e.table = table_of(g.str(pe.word));
-        e.address = pe.key;
+        e.address = int32_t(pe.key);
         for (int32_t s = 0; s < pe.slot_num; ++s) e.slots.push_back(g.plugin_entry_slots[size_t(pe.slot_adr + s)].v);
         if (e.slots.empty()) return fail("an entry that names no slot");
         e.type = g.slots[size_t(e.slots[0])].type;
         e.dir = g.slots[size_t(e.slots[0])].dir;
-        e.path = path_of(index, e.slots);
+        e.path = engine::path_of(index, e.slots);
         if (e.path.empty()) e.path = std::string(g.str(g.slots[size_t(e.slots[0])].name));
         e.encoding = default_encoding(e, false);
         if (pe.param_num == int32_t(kRegisterOptions.size())) {

@@ -27,16 +27,24 @@ bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::stri
 
 class ServerLink : public engine::RunLink {
 public:
-    ServerLink(const graph::Graph& g, Map map, ServerOptions options) : server_(g, std::move(map), std::move(options)) {}
+    ServerLink(const graph::Graph& g, Map map, ServerOptions options) : forceable_(mapped_slots(map)),
+        server_(g, std::move(map), std::move(options)) {}
     bool start(std::string& error) { return server_.start(error); }
     Server& server() { return server_; }
     bool wait(std::string& error) override { return !lockstep_ || server_.wait_for_step(error); }
     void before_step(engine::Engine& e) override { server_.before_step(e); }
     std::span<const engine::Event* const> applied() const override { return server_.applied(); }
     void after_step(const engine::Engine& e) override { server_.after_step(e); }
+    std::vector<int32_t> forceable() const override { return forceable_; }  // the fault block's reach
     void set_lockstep(bool on) { lockstep_ = on; }
 
 private:
+    static std::vector<int32_t> mapped_slots(const Map& m) {
+        std::vector<int32_t> out;
+        for (const Entry& e : m.entries) out.insert(out.end(), e.slots.begin(), e.slots.end());
+        return out;
+    }
+    std::vector<int32_t> forceable_;
     Server server_;
     bool lockstep_ = false;
 };

@@ -209,6 +209,8 @@ public:
 private:
     void restart() {
         engine_ = std::make_unique<engine::Engine>(g_, opt_);
+        planned_ = engine::plant_events(g_);
+        next_planned_ = 0;
         tally_.reset();
         pending_.clear();
         watched_.clear();
@@ -243,6 +245,11 @@ private:
             step = engine_->time() + engine_->dt() <= paced_target(now) + 1e-12;
         }
         if (!step) return false;
+        // The plant file's own timed inputs (its scheduled faults), as `plant run` applies
+        // them: not logged, since replaying the plant applies them again.
+        const double t_next = double(engine_->steps() + 1) * engine_->dt();
+        for (; next_planned_ < planned_.size() && planned_[next_planned_].time <= t_next + 1e-9; ++next_planned_)
+            engine::apply_event(*engine_, planned_[next_planned_]);
         // Events are applied before the step they feed, at the time that step ends:
         // exactly what `plant run --events` does with the logged line.
         for (auto& [ev, client] : pending_) {
@@ -290,6 +297,8 @@ private:
     FrameTracker tracker_;
     engine::RecordTally tally_;
     std::vector<std::pair<engine::Event, int>> pending_;
+    std::vector<engine::Event> planned_;  // engine::plant_events, by time
+    size_t next_planned_ = 0;
     std::set<std::string> watched_;
     uint64_t watched_version_ = ~uint64_t(0);
     double wall_started_ = -1, sim_started_ = 0;

@@ -1,9 +1,11 @@
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>
 
+#include "faults/kind.h"
 #include "plc/kind.h"
 
 int main(int argc, char** argv) {
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+    plant::faults::register_faults_kind();
     return doctest::Context(argc, argv).run();
 }

@@ -14,8 +14,9 @@ namespace {
 // A parameter's (or an entry option's) stored form: the checked value, or its default.
 graph::PluginParam stored(Elaborator& el, const graph::ParamSpec& ps, const Value* v) {
     graph::PluginParam p{ps.default_num, graph::Name{}};
-    if (ps.type == graph::ParamType::String) p.text = el.name(v ? std::string_view(v->str) : std::string_view());
-    else if (ps.type == graph::ParamType::Bool && v) p.num = v->boolean ? 1 : 0;
+    const bool text = ps.type == graph::ParamType::String || (ps.type == graph::ParamType::Value && v && v->kind == Value::Kind::Str);
+    if (text) p.text = el.name(v ? std::string_view(v->str) : std::string_view());
+    else if (v && v->kind == Value::Kind::Bool) p.num = v->boolean ? 1 : 0;
     else if (v) p.num = v->num;
     return p;
 }
@@ -42,6 +43,11 @@ void lower_plugin(Lowering& lw) {
 namespace plant::sema {
 namespace {
 
+// "a 'coil'", "an 'invert'": an entry's word with its article.
+std::string quoted_word(std::string_view w) {
+    const bool vowel = !w.empty() && std::string_view("aeiou").find(w[0]) != std::string_view::npos;
+    return fmt::format("{} '{}'", vowel ? "an" : "a", w);
+}
 std::string_view dir_text(graph::Dir d) { return d == graph::Dir::In ? "an input" : "an output"; }
 
 std::string types_text(std::span<const graph::SlotType> types) {
@@ -78,10 +84,18 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
             continue;
         }
         const Value key = ev_.eval(*e.key, env);
-        if (!ev_.expect_int(key, fmt::format("the key of a '{}' entry", es->word))) continue;
-        if (key.num < 0 || key.num > es->max_key) {
+        if (es->key == graph::EntryKey::Time) {
+            if (!ev_.expect_number(key, units::dims::time, fmt::format("the time of {} entry", quoted_word(es->word)))) continue;
+            if (!(key.num >= 0)) {
+                sink_.report(DiagId::OutOfRange, e.key->span,
+                             fmt::format("the time of {} entry is 0 s or later, not {} s", quoted_word(es->word), key.num));
+                continue;
+            }
+        } else if (!ev_.expect_int(key, fmt::format("the key of {} entry", quoted_word(es->word)))) {
+            continue;
+        } else if (key.num < 0 || key.num > es->max_key) {
             sink_.report(DiagId::OutOfRange, e.key->span,
-                         fmt::format("the key of a '{}' entry is between 0 and {}, not {}", es->word, es->max_key,
+                         fmt::format("the key of {} entry is between 0 and {}, not {}", quoted_word(es->word), es->max_key,
                                      static_cast<long long>(key.num)));
             continue;
         }
@@ -93,23 +107,23 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
                                      "reference holds at run time", end.text));
             continue;
         }
-        if (end.dir != es->target) {
+        if (end.dir != es->target && !es->any_dir) {
             sink_.report(DiagId::DirectionMismatch, e.target.span,
-                         fmt::format("a '{}' entry names {}, but '{}' is {}", es->word, dir_text(es->target), end.text,
+                         fmt::format("{} entry names {}, but '{}' is {}", quoted_word(es->word), dir_text(es->target), end.text,
                                      dir_text(end.dir)));
             continue;
         }
         if (!es->types.empty() && std::find(es->types.begin(), es->types.end(), end.type) == es->types.end()) {
             sink_.report(DiagId::SlotTypeMismatch, e.target.span,
-                         fmt::format("a '{}' entry takes a {} slot, but '{}' is {}", es->word, types_text(es->types),
+                         fmt::format("{} entry takes a {} slot, but '{}' is {}", quoted_word(es->word), types_text(es->types),
                                      end.text, graph::word(end.type)));
             continue;
         }
         std::vector<graph::PluginParam> options;
-        if (!entry_options(e, *es, env, options)) continue;
+        if (!entry_options(e, *es, end.type, env, options)) continue;
         graph::PluginEntry rec;
         rec.word = name(es->word);
-        rec.key = static_cast<int32_t>(key.num);
+        rec.key = key.num;
         rec.slot_adr = graph::next_adr(g_.plugin_entry_slots);
         rec.slot_num = static_cast<int32_t>(end.slots.size());
         for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({graph::SlotId(s)});
@@ -140,8 +154,9 @@ void Elaborator::check_plugins() {
 }
 
 // `(name = value, ...)` of an entry, in the order its spec declares them, defaults filled in.
-bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, const Env& env,
-                               std::vector<graph::PluginParam>& out) {
+// A Value option takes the type of the entry's slot (`target`).
+bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, graph::SlotType target,
+                               const Env& env, std::vector<graph::PluginParam>& out) {
     std::vector<uint8_t> given(es.options.size(), 0);
     std::vector<Value> values(es.options.size());
     bool ok = true;
@@ -158,7 +173,7 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
             std::vector<std::string> names;
             for (const auto& o : es.options) names.emplace_back(o.name);
             auto& d = sink_.report(DiagId::UnknownArgument, a.name->span,
-                                   fmt::format("a '{}' entry has no option '{}'", es.word, a.name->text));
+                                   fmt::format("{} entry has no option '{}'", quoted_word(es.word), a.name->text));
             if (auto hint = closest_name(a.name->text, names); !hint.empty())
                 d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
             ok = false;
@@ -178,18 +193,37 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
         case graph::ParamType::Int: ok = ev_.expect_int(values[k], what) && ok; break;
         case graph::ParamType::Bool: ok = ev_.expect_bool(values[k], what) && ok; break;
         case graph::ParamType::String: ok = ev_.expect_string(values[k], what) && ok; break;
+        case graph::ParamType::Value: ok = expect_slot_value(values[k], target, what) && ok; break;
         }
     }
     for (size_t k = 0; k < es.options.size(); ++k) {
         const graph::ParamSpec& ps = es.options[k];
         if (!given[k] && ps.required) {
             sink_.report(DiagId::MissingProperty, e.span,
-                         fmt::format("a '{}' entry needs the option '{}' ({})", es.word, ps.name, ps.doc));
+                         fmt::format("{} entry needs the option '{}' ({})", quoted_word(es.word), ps.name, ps.doc));
             ok = false;
         }
         out.push_back(stored(*this, ps, given[k] ? &values[k] : nullptr));
     }
     return ok;
+}
+
+// A value for a slot of type `t`: void and bool take true or false (a void slot: on or
+// off), int a whole number, real a number of any unit (stored in SI), string a text.
+bool Elaborator::expect_slot_value(const Value& v, graph::SlotType t, const std::string& what) {
+    switch (t) {
+    case graph::SlotType::Void:
+    case graph::SlotType::Bool: return ev_.expect_bool(v, what + " (of a " + std::string(graph::word(t)) + " slot)");
+    case graph::SlotType::Int: return ev_.expect_int(v, what + " (of an int slot)");
+    case graph::SlotType::String: return ev_.expect_string(v, what + " (of a string slot)");
+    case graph::SlotType::Real:
+        if (v.kind == Value::Kind::Num) return true;
+        return ev_.expect_number(v, units::Dim{}, what + " (of a real slot)");
+    default: break;  // the entry's types exclude the rest
+    }
+    sink_.report(DiagId::SlotTypeMismatch, v.span,
+                 fmt::format("{}: a {} slot takes no value here", what, graph::word(t)));
+    return false;
 }
 
 }  // namespace plant::sema

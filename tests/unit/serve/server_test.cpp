@@ -407,3 +407,51 @@ TEST_CASE("serve: a replay shows the bottles where the trace of the same run has
         CHECK(compared > 3);
     }
 }
+
+// The plant's own scheduled faults (a `faults` component) apply in a live session as in
+// `plant run`: the paused frame is the headless run's with engine::plant_events, not the
+// one without them; and they are not logged as a client's events.
+TEST_CASE("serve: a plant's scheduled faults apply as plant run applies them") {
+    const graph::Graph g = compile_ok("plants/bottling_faults.plant");
+    Served s(view::make_live_player(g, {}, {}, false, 0));  // as fast as possible
+    view::Frame f = sized_frame(g);
+    Page page(s.port, &f);
+    json scene;
+    REQUIRE(page.wait_json("scene", scene));
+    // Past 45 s: S2's reader has been cut since 20 s, and bottles for lane B passed it.
+    for (int i = 0; i < 100000 && f.step < 45 * 150; ++i) REQUIRE(page.wait_frame());
+    page.send(R"({"type":"control","action":"pause"})");
+    json st;
+    for (int i = 0; i < 100; ++i) {
+        REQUIRE(page.wait_json("status", st));
+        if (st["paused"] == true) break;
+    }
+    REQUIRE(st["paused"] == true);
+    const int64_t paused_at = st["step"].get<int64_t>();
+    for (int i = 0; i < 100 && f.step != paused_at; ++i) REQUIRE(page.wait_frame());
+    REQUIRE(f.step == paused_at);
+    std::string events;
+    REQUIRE(http_get(s.port, "/events", &events) == 200);
+    CHECK(events.find("force") == std::string::npos);
+    // The same steps headless, with and without the plant's events.
+    auto differing = [&](std::vector<engine::Event> evs) {
+        engine::Engine e(g);
+        size_t next = 0;
+        while (e.steps() < paused_at) {
+            const double t_next = double(e.steps() + 1) * e.dt();
+            for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
+            e.step();
+        }
+        int differ = 0;
+        for (size_t b = 0; b < g.bodies.size(); ++b) {
+            if (g.bodies[b].mode == graph::BodyMode::Static) continue;
+            const graph::Pose p = e.body_pose(plant::graph::BodyId(int32_t(b)));
+            for (int k = 0; k < 3; ++k) differ += float(p.p[size_t(k)]) != f.body_pose[7 * b + size_t(k)] ? 1 : 0;
+        }
+        return differ;
+    };
+    const std::vector<engine::Event> planned = engine::plant_events(g);
+    REQUIRE(planned.size() == 2);
+    CHECK(differing(planned) == 0);
+    CHECK(differing({}) > 0);
+}

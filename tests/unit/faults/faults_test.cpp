@@ -1,0 +1,135 @@
+// Faults scheduled in the plant file (runtime/faults, docs/plc.md "Faults from the plant
+// file"): each entry is the event an events file would give, applied the same way.
+#include "../compiler/compile_helper.h"
+#include "engine/run.h"
+#include "engine/run_args.h"
+#include "graph/text.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+using namespace plant;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// The summary's `forced:` section (wall time differs from run to run; this does not).
+std::string forced_section(const std::string& summary) {
+    const size_t at = summary.find("forced:");
+    return at == std::string::npos ? "" : summary.substr(at);
+}
+
+}  // namespace
+
+TEST_CASE("faults: each entry is the event its events-file line gives") {
+    Compilation c;
+    test::compile_repo_file("tests/golden/faults/drill.plant", c);
+    REQUIRE(c.ok());
+    const std::vector<engine::Event> planned = engine::plant_events(c.graph);
+    // In time order; a force with `until` is followed (in time) by its release.
+    const std::vector<std::string> lines = {
+        "0s force t.running invert",  "1.5s force b1.stop stuck on",       "2s force sw.seen open",
+        "3s release b1.stop",         "4s release sw.seen",                "5s force b1.set_speed stuck 0.2",
+        "6s force sw.id stuck B-7",   "7s force sw.working stuck 2",       "8s release t.running",
+    };
+    REQUIRE(planned.size() == lines.size());
+    const engine::SlotIndex index = engine::slot_index(c.graph);
+    for (size_t i = 0; i < lines.size(); ++i) {
+        CAPTURE(lines[i]);
+        engine::Event given;
+        std::string error;
+        REQUIRE_MESSAGE(engine::parse_event(c.graph, index, lines[i], given, error), error);
+        const engine::Event& p = planned[i];
+        CHECK(p.planned);
+        CHECK(p.time == given.time);
+        CHECK(p.path == given.path);
+        CHECK(p.slots == given.slots);
+        CHECK(p.force == given.force);
+        CHECK(p.mode == given.mode);
+        CHECK(p.value == given.value);
+        CHECK(p.text == given.text);
+    }
+}
+
+TEST_CASE("faults: the loader runs the kind's check on a graph written by hand") {
+    Compilation c;
+    test::compile_repo_file("tests/golden/faults/drill.plant", c);
+    REQUIRE(c.ok());
+    std::string text = graph::to_text(c.graph);
+    // Entry 0 is `open 2 s => sw.seen(until = 4 s)`: its `until` (plugin_param 0) before it.
+    const std::string until = "plugin_param 0 num=4 ";
+    const size_t at = text.find(until);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, until.size(), "plugin_param 0 num=1 ");
+    std::istringstream in(text);
+    graph::Graph g;
+    std::string error;
+    CHECK_FALSE(graph::read_text(in, g, error));
+    CHECK_MESSAGE(error.find("until = 1 s is not after it") != std::string::npos, error);
+}
+
+// The drill of plants/bottling_faults.plant, and the same line without it but with the
+// two --event lines it stands for: the same trace, bit for bit (one way in), and the same
+// forces in the summary. And what the fault does: S2's reader cut, no bottle goes into
+// lane B from 20 s to 100 s; after the release some do again.
+TEST_CASE("faults: a drill in the plant file runs as its --event lines do") {
+    const std::string dir = test::scratch_dir().string();
+    auto run = [&](const std::vector<std::string>& sets, std::vector<std::string> extra, const std::string& trace,
+                   std::string& summary) {
+        CompileOptions opts;
+        opts.stdlib_dir = PLANT_STDLIB_DIR;
+        opts.overrides = sets;
+        Compilation c;
+        compile_file(std::string(PLANT_SOURCE_DIR) + "/plants/bottling_faults.plant", opts, c);
+        REQUIRE(c.ok());
+        std::vector<std::string> args = {"--for", "130s", "--quiet", "--trace", trace, "--trace-rate", "10Hz"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        std::ostringstream out, err;
+        REQUIRE_MESSAGE(engine::run_main(c.graph, args, out, err) == 0, err.str());
+        summary = out.str();
+    };
+    std::string with_drill, with_events;
+    run({}, {}, dir + "/drill.csv", with_drill);
+    run({"drill=false"}, {"--event", "20s force line[0].s2.bottle open", "--event", "100s release line[0].s2.bottle"},
+        dir + "/events.csv", with_events);
+    const std::string trace = read_file(dir + "/drill.csv");
+    REQUIRE(trace.size() > 1000);
+    CHECK(trace == read_file(dir + "/events.csv"));
+    CHECK(forced_section(with_drill) == forced_section(with_events));
+    CHECK(forced_section(with_drill).find("line[0].s2.bottle  open            from 20.000 s to 100.000 s") !=
+          std::string::npos);
+
+    std::istringstream rows(trace);
+    std::string line;
+    std::getline(rows, line);
+    std::vector<std::string> head;
+    for (std::istringstream h(line); std::getline(h, line, ',');) head.push_back(line);
+    const auto col = std::find(head.begin(), head.end(), std::string("s2 to lane B")) - head.begin();
+    const auto forced = std::find(head.begin(), head.end(), std::string("forced")) - head.begin();
+    REQUIRE(size_t(col) < head.size());
+    REQUIRE(size_t(forced) < head.size());
+    double before = 0, during = 0, after = 0;
+    int marked = 0;
+    while (std::getline(rows, line)) {
+        std::vector<std::string> cells;
+        for (std::istringstream r(line); std::getline(r, line, ',');) cells.push_back(line);
+        if (cells.size() <= size_t(col)) continue;
+        const double t = std::stod(cells[0]), n = std::stod(cells[size_t(col)]);
+        (t <= 20 ? before : t <= 100.05 ? during : after) += n;
+        if (t > 20.05 && t < 100 && size_t(forced) < cells.size() && cells[size_t(forced)].find("open") != std::string::npos)
+            ++marked;
+    }
+    MESSAGE("into lane B: ", before, " before 20 s, ", during, " while cut, ", after, " after the release");
+    CHECK(during == 0);
+    CHECK(after >= 1);
+    CHECK(marked >= 790);  // every 10 Hz row in the window marks the force
+}
