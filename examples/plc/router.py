@@ -26,7 +26,7 @@ import sys
 import time
 
 from pymodbus.client import ModbusTcpClient
-from pymodbus.exceptions import ModbusException
+from pymodbus.exceptions import ModbusException, ModbusIOException
 
 SEEN, IDS, EXIT_COUNT, EXIT_IDS = 0, 10, 50, 60
 TO_LANE, STRAIGHT = 0, 10
@@ -53,6 +53,8 @@ class Router:
 
     def read(self, address, count):
         r = self.client.read_input_registers(address, count)
+        if isinstance(r, ModbusIOException):
+            raise r  # the connection is gone (the plant's run ended): main() stops there
         if r.isError():
             sys.exit(f"router: reading input registers {address}..{address + count - 1}: {r}")
         return r.registers

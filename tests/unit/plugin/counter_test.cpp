@@ -199,7 +199,7 @@ plant Tapped {
         return err;
     };
     CHECK(load("word=\"notify\"", "word=\"poke\"").find("a counter takes no entry 'poke'") != std::string::npos);
-    CHECK(load("key=7", "key=100").find("key 100 is not between 0 and 99") != std::string::npos);
+    CHECK(load("key=7", "key=100").find("key 100 is not a whole number between 0 and 99") != std::string::npos);
     CHECK(load("plugin_entry_slot 0 v=", "plugin_entry_slot 0 v=1").find("which a 'tap' entry cannot name") !=
           std::string::npos);
 }
