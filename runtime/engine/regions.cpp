@@ -90,6 +90,12 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     };
     for (int32_t i : ids) {
         const Box& b = boxes[size_t(i)];
+        // A box Bullet computed as NaN (a centre of mass 1e32 m off its body, say) has no cells:
+        // it is compared with every box, and overlaps none.
+        if (std::isnan(b.lo.x() + b.lo.y() + b.lo.z() + b.hi.x() + b.hi.y() + b.hi.z())) {
+            big.push_back(i);
+            continue;
+        }
         const int64_t x0 = idx(b.lo.x() - h), x1 = idx(b.hi.x() + h), y0 = idx(b.lo.y() - h), y1 = idx(b.hi.y() + h),
                       z0 = idx(b.lo.z() - h), z1 = idx(b.hi.z() + h);
         if (double(x1 - x0 + 1) * double(y1 - y0 + 1) * double(z1 - z0 + 1) > 4096) {
@@ -174,7 +180,10 @@ void Physics::find_regions(bool split) {
         }
         s = std::max(s, size);
     }
-    const btScalar h = s + kGrow;
+    // A body whose centre of mass lies absurdly far off (1e32 m) has an infinite bounding
+    // sphere: then every region is one (a margin that covers the plant), and no box is grown
+    // by infinity (inf - inf is NaN).
+    const btScalar h = std::isfinite(s) ? s + kGrow : btScalar(1e30);
 
     // Regions: the anchored groups' bodies, clustered.
     std::vector<Box> boxes(nb);

@@ -180,3 +180,22 @@ TEST_CASE("runtime: a static body 1e19 m out is filed into regions without overf
     CHECK(e.steps() == 10);
     CHECK(e.regions() >= 1);
 }
+
+// Found by the graph target's second campaign: a kinematic body whose centre of mass lies
+// 1e32 m off has an infinite bounding sphere, and the region finder grew boxes by that
+// infinity (inf - inf: a NaN cell index, undefined behaviour). Its margin is now finite.
+TEST_CASE("runtime: a centre of mass 1e32 m off its body is filed into regions without NaN") {
+    plant::graph::Graph g;
+    std::string error;
+    REQUIRE_MESSAGE(plant::graph::load_text_file(std::string(PLANT_SOURCE_DIR) +
+                                                     "/tests/fuzz/regressions/graph/kinematic_com_at_1e32.graph",
+                                                 g, error),
+                    error);
+    bool far = false;
+    for (const auto& b : g.bodies) far = far || std::abs(b.com.p[0]) > 1e31;
+    REQUIRE(far);
+    plant::engine::Engine e(g);
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(e.steps() == 10);
+    CHECK(e.regions() >= 1);
+}
