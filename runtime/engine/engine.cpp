@@ -38,26 +38,17 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
             if (const int32_t s = g.plugin_entry_slots[e.slot_adr + k].v; g.slots[s].dir == Dir::Out) st.watched[s] = 1;
     refresh_observers();
 
-    // References start empty.
-    for (const Trigger& t : g.triggers) *val(comp_slot(t.comp, triggerslot::object)) = -1;
-    for (const Gripper& gr : g.grippers) *val(comp_slot(gr.comp, gripperslot::object)) = -1;
-    for (const Source& s : g.sources) *val(comp_slot(s.comp, sourceslot::object)) = -1;
-    for (const Exit& e : g.exits) *val(comp_slot(e.comp, exitslot::object)) = -1;
-
-    // Initial publication: state outputs are active in the first logic phase, so flows
-    // conditioned on their source see the start values once.
-    for (const Label& l : g.labels) emit(comp_slot(l.comp, labelslot::value), l.value.id);
-    for (size_t f = 0; f < g.fields.size(); ++f) emit(comp_slot(g.fields[f].comp, fieldslot::speed), g.fields[f].speed);
-    for (const Joint& j : g.joints) emit(comp_slot(j.comp, jointslot::enabled), j.enabled ? 1 : 0);
-    for (size_t i = 0; i < g.timers.size(); ++i)
-        emit(comp_slot(g.timers[i].comp, timerslot::running), st.timers[i].running ? 1 : 0);
-    for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.places[p].tokens_slot >= 0) emit(g.places[p].tokens_slot, double(st.tokens[p]));
-    for (size_t i = 0; i < g.graphics.size(); ++i) {
-        int32_t v = st.variant[i];
-        emit(comp_slot(g.graphics[i].comp, graphicsslot::shown),
-             v >= 0 ? g.variants[v].name.id : g.graphics[i].model.id);
-    }
+    // Each kind's start (runtime.h): references start empty; state outputs are published,
+    // so they are active in the first logic phase and flows conditioned on their source
+    // see the start values once.
+    start_triggers(*this);
+    start_objects(*this);
+    start_labels(*this);
+    start_fields(*this);
+    start_joints(*this);
+    start_timers(*this);
+    start_places(*this);
+    start_graphics(*this);
     start_plugins(*this);  // what they emit is published the same way
 }
 

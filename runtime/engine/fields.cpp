@@ -14,6 +14,7 @@
 // bottle, but the torque this creates is integrated implicitly too, so the
 // bottle's rotation stays stable however light it is.
 #include "engine/runtime.h"
+#include "graph/kinds.h"
 #include "engine/workers.h"
 
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
@@ -281,6 +282,22 @@ void phase_physics(Runtime& r) {
     r.st.warn.missed_contacts = r.phys.missed_contacts();
     r.st.step++;
     r.st.time = double(r.st.step) * r.dt;  // no accumulated rounding
+}
+
+// A field's speed is published once at the start.
+void start_fields(Runtime& r) {
+    for (size_t f = 0; f < r.g.fields.size(); ++f)
+        r.emit(r.comp_slot(r.g.fields[f].comp, fieldslot::speed), r.g.fields[f].speed);
+}
+
+void act_field(Runtime& r, const Comp& c, int32_t i) {
+    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    if (a[fieldslot::disable]) r.st.field_on[i] = 0;
+    if (a[fieldslot::enable]) r.st.field_on[i] = 1;
+    if (a[fieldslot::set_speed]) {
+        r.st.field_speed[i] = *r.val(c.slot_adr + fieldslot::set_speed);
+        r.emit(c.slot_adr + fieldslot::speed, r.st.field_speed[i]);
+    }
 }
 
 }  // namespace plant::engine

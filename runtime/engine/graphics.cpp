@@ -86,4 +86,28 @@ void select_variant(Runtime& r, int32_t v) {
     r.emit(r.comp_slot(r.g.graphics[var.graphics].comp, graphicsslot::shown), var.name.id);
 }
 
+// What each graphics shows (its variant's name, or its model) is published once at the start.
+void start_graphics(Runtime& r) {
+    for (size_t i = 0; i < r.g.graphics.size(); ++i) {
+        const int32_t v = r.st.variant[i];
+        r.emit(r.comp_slot(r.g.graphics[i].comp, graphicsslot::shown),
+               v >= 0 ? r.g.variants[v].name.id : r.g.graphics[i].model.id);
+    }
+}
+
+void act_graphics(Runtime& r, const Comp& c, int32_t i) {
+    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    if (a[graphicsslot::set_pose]) {
+        const double* v = r.val(c.slot_adr + graphicsslot::set_pose);
+        r.st.graphics[i].base = Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
+        r.st.graphics[i].base_fresh = false;
+    }
+    for (int32_t x = c.slot_adr + graphicsslot::count; x < c.slot_adr + c.slot_num; ++x) {
+        const int32_t aux = r.tab.slot_aux[x];
+        if (!r.st.act[x] || aux < 0) continue;
+        if (size_t(aux) < r.g.animations.size() && r.g.animations[aux].play_slot == x) play_animation(r, aux);
+        else if (size_t(aux) < r.g.variants.size() && r.g.variants[aux].select_slot == x) select_variant(r, aux);
+    }
+}
+
 }  // namespace plant::engine

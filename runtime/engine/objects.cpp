@@ -167,4 +167,21 @@ void run_exits(Runtime& r) {
     }
 }
 
+// The references grippers, sources and exits hold start empty.
+void start_objects(Runtime& r) {
+    for (const Gripper& gr : r.g.grippers) *r.val(r.comp_slot(gr.comp, gripperslot::object)) = -1;
+    for (const Source& s : r.g.sources) *r.val(r.comp_slot(s.comp, sourceslot::object)) = -1;
+    for (const Exit& e : r.g.exits) *r.val(r.comp_slot(e.comp, exitslot::object)) = -1;
+}
+
+void act_source(Runtime& r, const Comp& c, int32_t i) {
+    if (r.st.act[c.slot_adr + sourceslot::issue]) issue(r, i);
+}
+
+void act_gripper(Runtime& r, const Comp& c, int32_t i) {
+    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    if (a[gripperslot::release]) release(r, i);
+    if (a[gripperslot::grip]) grip(r, i);
+}
+
 }  // namespace plant::engine

@@ -9,6 +9,7 @@
 // marking activates `tokens`; a fired transition activates `fired`. These outputs
 // are active in the next step's logic phase.
 #include "engine/runtime.h"
+#include "graph/kinds.h"
 
 #include <algorithm>
 
@@ -96,6 +97,12 @@ void phase_petri(Runtime& r) {
         s.place_mark[p] = 0;
     }
     s.places_touched.clear();
+}
+
+// Each place's tokens are published once at the start.
+void start_places(Runtime& r) {
+    for (size_t p = 0; p < r.g.places.size(); ++p)
+        if (r.g.places[p].tokens_slot >= 0) r.emit(r.g.places[p].tokens_slot, double(r.st.tokens[p]));
 }
 
 }  // namespace plant::engine

@@ -78,20 +78,40 @@ void forces_logic_end(Runtime& r);
 void force_again(Runtime& r, int32_t slot);
 void forces_step_end(Runtime& r);
 
-// Pieces the phases share.
+// Each built-in kind's behaviour, in its own file: `start_*` once when the engine is built
+// (in the order Runtime's constructor calls them), `sense_*` in phase 2, `act_*` in phase 5
+// for a component with an active input (`c` the component, `i` its detail row).
+void check_bodies(Runtime& r);  // bodies.cpp: what left the world is taken out
+void sense_bodies(Runtime& r);
+void act_body(Runtime& r, const graph::Comp& c, int32_t i);
+void take_body_out(Runtime& r, int32_t body);
+void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
+void act_field(Runtime& r, const graph::Comp& c, int32_t i);
 void apply_fields(Runtime& r);
 void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
 void integrate_group(Runtime& r, int32_t group);
+void start_joints(Runtime& r);  // joints.cpp
+void act_joint(Runtime& r, const graph::Comp& c, int32_t i);
+void start_timers(Runtime& r);  // timers.cpp
+void sense_timers(Runtime& r);
+void act_timer(Runtime& r, const graph::Comp& c, int32_t i);
+void start_triggers(Runtime& r);  // triggers.cpp
 void sense_triggers(Runtime& r);
+void start_graphics(Runtime& r);  // graphics.cpp
 void advance_graphics(Runtime& r);
+void act_graphics(Runtime& r, const graph::Comp& c, int32_t i);
 void play_animation(Runtime& r, int32_t anim);
 void select_variant(Runtime& r, int32_t variant);
+void start_objects(Runtime& r);  // objects.cpp: grippers, sources, exits
 void follow_grippers(Runtime& r);
+void run_exits(Runtime& r);
+void act_gripper(Runtime& r, const graph::Comp& c, int32_t i);
+void act_source(Runtime& r, const graph::Comp& c, int32_t i);
 void grip(Runtime& r, int32_t gripper);
 void release(Runtime& r, int32_t gripper);
 void issue(Runtime& r, int32_t source);
-void run_exits(Runtime& r);
-void take_body_out(Runtime& r, int32_t body);
+void start_labels(Runtime& r);  // logic.cpp: labels, routers and connectors act in phase 3
+void start_places(Runtime& r);  // petri.cpp: state acts in phase 4
 bool glob_match(std::string_view pattern, std::string_view text);
 // Plugin components (plugin.cpp): started once, sensing in phase 2, acting in phase 5.
 void start_plugins(Runtime& r);

@@ -80,9 +80,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.inside.reserve(pairs);
     s.inside_prev.reserve(pairs);
 
-    s.timers.resize(g.timers.size());
-    for (size_t i = 0; i < g.timers.size(); ++i)
-        if (g.timers[i].autostart) s.timers[i] = {true, 0, g.timers[i].period};
+    // Timers: start_timers (timers.cpp).
 
     s.gripper_held.assign(g.grippers.size(), -1);
 

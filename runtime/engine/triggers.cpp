@@ -111,4 +111,9 @@ void sense_triggers(Runtime& r) {
     }
 }
 
+// The object a trigger last saw starts empty.
+void start_triggers(Runtime& r) {
+    for (const Trigger& t : r.g.triggers) *r.val(r.comp_slot(t.comp, triggerslot::object)) = -1;
+}
+
 }  // namespace plant::engine

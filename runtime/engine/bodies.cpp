@@ -1,0 +1,133 @@
+// A body's behaviour (docs/runtime.md): in phase 2 what left the world is taken out and
+// the outputs read this step are refreshed; in phase 5 it acts on its inputs.
+#include "engine/runtime.h"
+
+#include "graph/kinds.h"
+
+#include <cmath>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+namespace {
+
+bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+}  // namespace
+
+// An object that falls off the plant or blows up is taken out, all its bodies, once,
+// with one warning.
+void check_bodies(Runtime& r) {
+    for (int32_t b : r.tab.dyn_bodies) {
+        if (!r.phys.in_world(b) || r.st.gone[b]) continue;
+        const btRigidBody& rb = r.phys.rb(b);
+        const btVector3& p = rb.getWorldTransform().getOrigin();
+        const bool nan = !finite(p) || !finite(rb.getLinearVelocity()) || !finite(rb.getAngularVelocity());
+        if (!nan && p.z() >= -10 && p.length2() <= 1e6) continue;
+        (nan ? r.st.warn.nan_state : r.st.warn.left_world)++;
+        const int32_t d = r.tab.body_do[b];
+        if (r.st.lost_at[d] < 0) r.st.lost_at[d] = r.st.time;
+        for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
+            if (r.st.gone[*x]) continue;
+            r.st.gone[*x] = 1;
+            if (r.phys.in_world(*x)) take_body_out(r, *x);
+        }
+    }
+}
+
+void sense_bodies(Runtime& r) {
+    for (int32_t b : r.st.observed_bodies) {
+        if (!r.phys.in_world(b)) continue;
+        const uint8_t bits = r.st.body_outputs[b];
+        const int32_t s0 = r.comp_slot(r.g.bodies[b].comp, bodyslot::pose);
+        if (bits & 7) {
+            const Pose p = r.phys.pose(b);
+            if (bits & 1) r.emit_pose(s0, p);
+            if (bits & 2) {
+                double* v = r.val(s0 + 1);
+                for (int i = 0; i < 3; ++i) v[i] = p.p[i];
+                r.activate(s0 + 1);
+            }
+            if (bits & 4) {
+                double* v = r.val(s0 + 2);
+                for (int i = 0; i < 4; ++i) v[i] = p.q[i];
+                r.activate(s0 + 2);
+            }
+        }
+        for (int k = 3; k < 5; ++k) {
+            if (!(bits & (1u << k))) continue;
+            const btVector3 v = k == 3 ? r.phys.velocity(b) : r.phys.angular_velocity(b);
+            double* out = r.val(s0 + k);
+            out[0] = v.x();
+            out[1] = v.y();
+            out[2] = v.z();
+            r.activate(s0 + k);
+        }
+    }
+}
+
+void act_body(Runtime& r, const Comp& c, int32_t b) {
+    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    Physics& ph = r.phys;
+    const bool held = r.st.held_by[b] >= 0;  // a gripper owns its mode and pose
+    if (a[bodyslot::collision_off]) ph.set_collision(b, false);
+    if (a[bodyslot::collision_on]) ph.set_collision(b, true);
+    if (!held && a[bodyslot::dynamics_off]) ph.set_dynamics(b, false);
+    if (!held && a[bodyslot::dynamics_on]) ph.set_dynamics(b, true);
+    if (!held && (a[bodyslot::set_pose] || a[bodyslot::set_position] || a[bodyslot::set_orientation])) {
+        btTransform f = ph.frame(b);
+        if (a[bodyslot::set_pose]) {
+            const double* v = r.val(c.slot_adr + bodyslot::set_pose);
+            f = to_bt(Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})});
+        }
+        if (a[bodyslot::set_position]) {
+            const double* v = r.val(c.slot_adr + bodyslot::set_position);
+            f.setOrigin(to_bt(Vec3{v[0], v[1], v[2]}));
+        }
+        if (a[bodyslot::set_orientation]) {
+            const double* v = r.val(c.slot_adr + bodyslot::set_orientation);
+            f.setRotation(to_bt(qnormalized({v[0], v[1], v[2], v[3]})));
+        }
+        // Dynamic and static bodies jump; a kinematic one travels there during the
+        // next physics step, so what it pushes sees its speed.
+        if (ph.declared_dynamic(b) ? ph.dynamics_on(b) : r.g.bodies[b].mode == BodyMode::Static) ph.place(b, f);
+        else ph.move(b, f);
+        ph.rb(b).activate();
+    }
+    for (int k = 0; k < 2; ++k) {
+        const int slot = k == 0 ? bodyslot::set_velocity : bodyslot::set_angular_velocity;
+        if (held || !a[slot]) continue;
+        const double* v = r.val(c.slot_adr + slot);
+        const Vec3 vel{v[0], v[1], v[2]};
+        if (ph.dynamic_now(b)) {
+            btRigidBody& rb = ph.write(b);
+            if (k == 0) rb.setLinearVelocity(to_bt(vel));
+            else rb.setAngularVelocity(to_bt(vel));
+            rb.activate();
+        } else {
+            (k == 0 ? r.st.cmd_lin : r.st.cmd_ang)[b] = vel;  // kinematic: we move it
+            if (!r.st.is_commanded[b]) {
+                r.st.is_commanded[b] = 1;
+                r.st.commanded.push_back(b);
+            }
+        }
+    }
+}
+
+void take_body_out(Runtime& r, int32_t b) {
+    int32_t gr = r.st.held_by[b];
+    r.st.held_by[b] = -1;
+    if (gr >= 0) {  // a gripper loses what it held when it is taken away
+        bool any = false;
+        for (const int32_t* x = r.tab.do_bodies.begin(r.st.gripper_held[gr]);
+             x != r.tab.do_bodies.end(r.st.gripper_held[gr]); ++x)
+            any = any || r.st.held_by[*x] == gr;
+        if (!any) r.st.gripper_held[gr] = -1;
+    }
+    r.st.cmd_lin[b] = Vec3{0, 0, 0};
+    r.st.cmd_ang[b] = Vec3{0, 0, 0};
+    r.phys.take_out(b);
+}
+
+}  // namespace plant::engine
