@@ -54,7 +54,7 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
     CHECK(g.str(g.slots[size_t(rec.slot_adr + timerslot::running)].name) == "running");
 }
 
-TEST_CASE("add_slot: after the fixed ones; value storage by type with its start value") {
+TEST_CASE("add_slot: after the fixed ones, value storage by type with its start value") {
     Graph g = plant_graph();
     const int32_t c = add_comp(g, 0, CompKind::Label, "l");
     const int32_t fixed = g.comps[size_t(c)].slot_num;
@@ -78,7 +78,7 @@ TEST_CASE("add_slot: after the fixed ones; value storage by type with its start 
     CHECK(g.slots[size_t(p)].value_adr + 7 == int32_t(g.values.size()));
 }
 
-TEST_CASE("add_do, add_comp: a DO's components are its range; ordinals count per type") {
+TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per type") {
     Graph g = plant_graph();
     g.do_types.push_back({g.intern("Box"), 0, {}});
     const int32_t a = add_do(g, "a", 0, 0, {});

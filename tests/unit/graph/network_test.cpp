@@ -28,7 +28,7 @@ std::vector<std::string> paths(const Graph& g, const std::vector<int32_t>& slots
 
 }  // namespace
 
-TEST_CASE("network: a dynamic end is every access target; a dynamic source also reads its reference") {
+TEST_CASE("network: a dynamic end is every access target, a dynamic source also reads its reference") {
     plant::Compilation c;
     plant::test::compile_repo_file("tests/golden/lower/dynamic_access.plant", c);
     REQUIRE(c.ok());

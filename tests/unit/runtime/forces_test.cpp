@@ -53,7 +53,7 @@ struct SwitchRun {
 
 }  // namespace
 
-TEST_CASE("forces: the reader's output cut open sends every bottle straight on; released, routing resumes") {
+TEST_CASE("forces: the reader's output cut open sends every bottle straight on, released, routing resumes") {
     SwitchRun s;
     const int32_t aside = s.exit_of("aside_exit"), ahead = s.exit_of("ahead_exit");
     {  // unforced: the F bottles go aside
@@ -83,7 +83,7 @@ TEST_CASE("forces: a switch held in its working position sends every bottle asid
     CHECK(e.taken(plant::graph::ExitId(aside)) >= 6);
 }
 
-TEST_CASE("forces: a string output stuck at a value is what the logic reads; the component goes on underneath") {
+TEST_CASE("forces: a string output stuck at a value is what the logic reads, the component goes on underneath") {
     SwitchRun s;
     const int32_t aside = s.exit_of("aside_exit"), ahead = s.exit_of("ahead_exit");
     const int32_t id = s.slot_of("sw.id");
@@ -99,7 +99,7 @@ TEST_CASE("forces: a string output stuck at a value is what the logic reads; the
     CHECK(natural.size() == 3);
 }
 
-TEST_CASE("forces: a void output stuck on is active every step; invert negates a bool") {
+TEST_CASE("forces: a void output stuck on is active every step, invert negates a bool") {
     SwitchRun s;
     const int32_t seen = s.slot_of("ahead_end.seen");
     engine::Engine e(s.g());
@@ -128,7 +128,7 @@ TEST_CASE("forces: a void output stuck on is active every step; invert negates a
     CHECK(f.value(plant::graph::SlotId(occupied))[0] == natural);
 }
 
-TEST_CASE("forces: the events-file lines replay as they went out; bad forces are refused") {
+TEST_CASE("forces: the events-file lines replay as they went out, bad forces are refused") {
     SwitchRun s;
     for (const char* line : {"1s force sw.id open", "2s release sw.id", "3s force sw.id stuck \"F-1\"",
                              "4s force ahead_end.seen stuck on", "5s force feed.set_speed stuck 0.25",

@@ -43,7 +43,7 @@ TEST_CASE("runtime: a gripper carries a body kinematically and releases it with 
     (void)gc;
 }
 
-TEST_CASE("runtime: sources issue pooled objects with bar codes; exits return them to the pool") {
+TEST_CASE("runtime: sources issue pooled objects with bar codes, exits return them to the pool") {
     SceneBuilder b;
     b.g.settings.gravity = {0, 0, 0};
     int32_t bottle = b.type("Bottle");

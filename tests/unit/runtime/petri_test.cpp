@@ -43,7 +43,7 @@ TEST_CASE("runtime: arc weights and the clamped marking") {
     CHECK(e2.tokens(plant::graph::PlaceId(q + 1)) == 1);
 }
 
-TEST_CASE("runtime: tokens put by flows are added before firing; entered is seen next step") {
+TEST_CASE("runtime: tokens put by flows are added before firing, entered is seen next step") {
     SceneBuilder b;
     std::vector<int32_t> tr;
     int32_t p = b.net(0, "net", {{"in", 0}, {"out", 0}, {"echo", 0}}, {{"move", {{0, 1}}, {{1, 1}}}}, &tr);
@@ -66,7 +66,7 @@ TEST_CASE("runtime: tokens put by flows are added before firing; entered is seen
     CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);
 }
 
-TEST_CASE("runtime: two puts in one step add one token; a transition without inputs fires every step") {
+TEST_CASE("runtime: two puts in one step add one token, a transition without inputs fires every step") {
     SceneBuilder b;
     int32_t t1 = b.g.triggers[b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50))].comp;
     int32_t t2 = b.g.triggers[b.trigger(0, "t2", {1, 1, 1}, at(0, 0, 50))].comp;

@@ -164,7 +164,7 @@ TEST_CASE("runtime: a fixed constraint holds a heavy body under gravity, and let
     CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "enabled")))[0] == 0);
 }
 
-TEST_CASE("runtime: dynamics_off takes a body out of the simulation; set_velocity then moves it") {
+TEST_CASE("runtime: dynamics_off takes a body out of the simulation, set_velocity then moves it") {
     SceneBuilder b;
     int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
     const int32_t c = b.body_comp(body);
@@ -195,7 +195,7 @@ TEST_CASE("runtime: a body declared with dynamics off starts still and falls aft
     CHECK(e.body_com(plant::graph::BodyId(body))[2] < 0.9);  // 0.2 s of free fall: 0.2 m
 }
 
-TEST_CASE("runtime: set_pose teleports a dynamic body; outputs report the body frame") {
+TEST_CASE("runtime: set_pose teleports a dynamic body, outputs report the body frame") {
     SceneBuilder b;
     b.g.settings.gravity = {0, 0, 0};
     // Centre of mass off the body frame, two shapes: a compound.

@@ -168,7 +168,7 @@ TEST_CASE("runtime: run_main runs, traces and summarises") {
     std::remove(path.c_str());
 }
 
-TEST_CASE("runtime: records choose the trace columns; --trace-places selects a default group") {
+TEST_CASE("runtime: records choose the trace columns, --trace-places selects a default group") {
     SceneBuilder b;
     const int32_t p = b.net(0, "net", {{"p", 2}}, {});
     const int32_t t = b.g.timers[size_t(b.timer(0, "clock", 0.1, true, true))].comp;
@@ -188,7 +188,7 @@ TEST_CASE("runtime: records choose the trace columns; --trace-places selects a d
 
 // #19 §3b: a sampled trace never hides an event, and the summary's records count what the
 // last step produced.
-TEST_CASE("runtime: a 10 Hz trace counts a 30 Hz timer's ticks; records agree with the sources' count") {
+TEST_CASE("runtime: a 10 Hz trace counts a 30 Hz timer's ticks, records agree with the sources' count") {
     plant::Compilation c;
     plant::test::compile_text(R"(import std.bottle
 plant Ticks {
@@ -265,7 +265,7 @@ struct ScriptedLink : RunLink {
 
 }  // namespace
 
-TEST_CASE("runtime: a link's forces are listed in the summary; a link that stops granting ends the run with its error") {
+TEST_CASE("runtime: a link's forces are listed in the summary, a link that stops granting ends the run with its error") {
     const Graph g = bottling_scene(2);
     ScriptedLink link;
     std::string error;

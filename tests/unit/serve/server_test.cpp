@@ -139,6 +139,31 @@ int http_get(uint16_t port, const std::string& target, std::string* body = nullp
     return int(res.result_int());
 }
 
+// Pauses the session: the status says at which step, then a frame of that step (in `f`).
+int64_t pause(Page& page, view::Frame& f) {
+    page.send(R"({"type":"control","action":"pause"})");
+    json st;
+    for (int i = 0; i < 100; ++i) {
+        REQUIRE(page.wait_json("status", st));
+        if (st["paused"] == true) break;
+    }
+    REQUIRE(st["paused"] == true);
+    const int64_t paused_at = st["step"].get<int64_t>();
+    for (int i = 0; i < 100 && f.step != paused_at; ++i) REQUIRE(page.wait_frame());
+    REQUIRE(f.step == paused_at);
+    return paused_at;
+}
+
+// `evs` applied headless as `plant run` applies them, to step `until`.
+void replay(engine::Engine& e, const std::vector<engine::Event>& evs, int64_t until) {
+    size_t next = 0;
+    while (e.steps() < until) {
+        const double t_next = double(e.steps() + 1) * e.dt();
+        for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
+        e.step();
+    }
+}
+
 struct Served {
     std::unique_ptr<view::Player> player;
     std::unique_ptr<view::Server> server;
@@ -232,17 +257,7 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     page.send(R"({"type":"force","path":"line[0].s1.sw.to_base","mode":"open"})");
     REQUIRE(page.wait_json("event", ev));
     CHECK(ev["line"].get<std::string>().find("s force line[0].s1.sw.to_base open") != std::string::npos);
-    page.send(R"({"type":"control","action":"pause"})");
-    // The paused state: the status says at which step, then a frame of that step.
-    json st;
-    for (int i = 0; i < 100; ++i) {
-        REQUIRE(page.wait_json("status", st));
-        if (st["paused"] == true) break;
-    }
-    REQUIRE(st["paused"] == true);
-    const int64_t paused_at = st["step"].get<int64_t>();
-    for (int i = 0; i < 100 && f.step != paused_at; ++i) REQUIRE(page.wait_frame());
-    REQUIRE(f.step == paused_at);
+    pause(page, f);
     const view::Frame& last = f;
     std::string events;
     REQUIRE(http_get(s.port, "/events", &events) == 200);
@@ -254,13 +269,8 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     REQUIRE(evs.size() == 3);
     CHECK(evs[0].slots.size() == 1);
     CHECK(evs[2].force);
-    size_t next = 0;
-    while (e.steps() < last.step) {
-        const double t_next = double(e.steps() + 1) * e.dt();
-        for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
-        e.step();
-    }
-    CHECK(next == evs.size());
+    replay(e, evs, last.step);
+    CHECK(evs.back().time <= e.time() + 1e-9);  // every event was applied
     int moving = 0;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
         if (g.bodies[b].mode == graph::BodyMode::Static) continue;
@@ -271,7 +281,7 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     CHECK(moving > 0);
 }
 
-TEST_CASE("serve: bad pages get errors; the run and the other pages go on") {
+TEST_CASE("serve: bad pages get errors, the run and the other pages go on") {
     const graph::Graph g = compile_ok("examples/switch.plant");
     Served s(view::make_live_player(g, {}, {}, false, 1));
     view::Frame f = sized_frame(g);
@@ -292,15 +302,21 @@ TEST_CASE("serve: bad pages get errors; the run and the other pages go on") {
     CHECK(typo.find("did you mean 'sw.to_working'") != std::string::npos);
     CHECK(error_for(R"({"type":"event","path":"sw.net.BasePos.tokens"})").find("output") != std::string::npos);
     // A value of the wrong type.
+    // The scene lists each object's slots as [name, type, dir, port] in scene.slot_lists.
     bool has_real = false;
-    for (const auto& sl : m["slots"])
-        if (sl["type"] == "real" && sl["dir"] == "in") {
-            has_real = true;
-            const std::string bad_value = error_for(
-                json{{"type", "event"}, {"path", sl["path"]}, {"value", "fast"}}.dump());
-            CHECK(bad_value.find("not a real value") != std::string::npos);
-            break;
-        }
+    for (const auto& o : m["dos"]) {
+        for (const auto& sl : m["slot_lists"][o["slots"].get<size_t>()])
+            if (sl[1] == "real" && sl[2] == "in") {
+                has_real = true;
+                const std::string prefix = o["path"].get<std::string>();
+                const std::string path = (prefix.empty() ? "" : prefix + ".") + sl[0].get<std::string>();
+                const std::string bad_value =
+                    error_for(json{{"type", "event"}, {"path", path}, {"value", "fast"}}.dump());
+                CHECK_MESSAGE(bad_value.find("not a real value") != std::string::npos, bad_value);
+                break;
+            }
+        if (has_real) break;
+    }
     CHECK(has_real);
     // A burst: 10,000 messages, most of them garbage.
     for (int i = 0; i < 10000; ++i) bad.send(i % 2 ? "{\"type\":\"hello\",\"fps\":30}" : "garbage");
@@ -420,28 +436,14 @@ TEST_CASE("serve: a plant's scheduled faults apply as plant run applies them") {
     REQUIRE(page.wait_json("scene", scene));
     // Past 45 s: S2's reader has been cut since 20 s, and bottles for lane B passed it.
     for (int i = 0; i < 100000 && f.step < 45 * 150; ++i) REQUIRE(page.wait_frame());
-    page.send(R"({"type":"control","action":"pause"})");
-    json st;
-    for (int i = 0; i < 100; ++i) {
-        REQUIRE(page.wait_json("status", st));
-        if (st["paused"] == true) break;
-    }
-    REQUIRE(st["paused"] == true);
-    const int64_t paused_at = st["step"].get<int64_t>();
-    for (int i = 0; i < 100 && f.step != paused_at; ++i) REQUIRE(page.wait_frame());
-    REQUIRE(f.step == paused_at);
+    const int64_t paused_at = pause(page, f);
     std::string events;
     REQUIRE(http_get(s.port, "/events", &events) == 200);
     CHECK(events.find("force") == std::string::npos);
     // The same steps headless, with and without the plant's events.
     auto differing = [&](std::vector<engine::Event> evs) {
         engine::Engine e(g);
-        size_t next = 0;
-        while (e.steps() < paused_at) {
-            const double t_next = double(e.steps() + 1) * e.dt();
-            for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
-            e.step();
-        }
+        replay(e, evs, paused_at);
         int differ = 0;
         for (size_t b = 0; b < g.bodies.size(); ++b) {
             if (g.bodies[b].mode == graph::BodyMode::Static) continue;
