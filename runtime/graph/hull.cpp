@@ -30,6 +30,9 @@ size_t farthest(const Point* points, size_t n, F&& distance, double& best) {
 // it, the farthest from their line, the farthest from their plane.
 HullFlaw hull_flaw(const Point* points, size_t n) {
     if (n == 0) return HullFlaw::OnePoint;
+    for (size_t i = 0; i < n; ++i)
+        for (const double x : points[i].p)
+            if (!(std::abs(x) <= kMaxHullReach)) return HullFlaw::TooFar;
     double d = 0;
     const Vec3 a = points[farthest(points, n, [&](const Vec3& p) { return norm(sub(p, points[0].p)); }, d)].p;
     const Vec3 b = points[farthest(points, n, [&](const Vec3& p) { return norm(sub(p, a)); }, d)].p;
@@ -51,6 +54,7 @@ std::string_view hull_flaw_text(HullFlaw flaw) {
     case HullFlaw::OnePoint: return "all its points coincide";
     case HullFlaw::Line: return "its points lie on one line";
     case HullFlaw::Plane: return "its points lie in one plane";
+    case HullFlaw::TooFar: return "a point lies more than 100 km from the shape's origin";
     }
     return "";
 }

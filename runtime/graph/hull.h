@@ -13,10 +13,16 @@ namespace plant::graph {
 // line, and then out of the plane, of its other points (1 µm, in metres).
 constexpr double kHullTolerance = 1e-6;
 
-enum class HullFlaw : uint8_t { None, OnePoint, Line, Plane };
+// No hull point lies further than this from its shape's origin (100 km, in metres): the
+// physics is single precision, and Bullet's hull builder does not return from a point
+// beyond float's range (found by the graph fuzz campaign).
+constexpr double kMaxHullReach = 1e5;
 
-// The first way the points fail to span a solid, or None: after merging points within
-// kHullTolerance, at least four must not lie in one plane.
+enum class HullFlaw : uint8_t { None, OnePoint, Line, Plane, TooFar };
+
+// The first way the points fail to span a solid, or None: every coordinate within
+// kMaxHullReach, and after merging points within kHullTolerance, at least four must not lie
+// in one plane.
 HullFlaw hull_flaw(const Point* points, size_t n);
 
 // "all its points coincide", "its points lie on one line", ...; empty for None.

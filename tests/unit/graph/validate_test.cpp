@@ -247,13 +247,15 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("angular damping below 0", [&](Graph& g) { g.bodies[i].angular_damping = -1; });
         }
         for (size_t i = 0; i < good.shapes.size(); ++i) {
-            if (good.shapes[i].kind != ShapeKind::Hull)
+            if (good.shapes[i].kind != ShapeKind::Hull) {
                 refused("a shape of size 0", [&](Graph& g) { g.shapes[i].size[0] = 0; });
-            else
-                refused("a hull whose points coincide", [&](Graph& g) {
-                    for (int32_t k = 1; k < g.shapes[i].point_num; ++k)
-                        g.points[size_t(g.shapes[i].point_adr + k)] = g.points[size_t(g.shapes[i].point_adr)];
-                });
+                continue;
+            }
+            refused("a hull whose points coincide", [&](Graph& g) {
+                for (int32_t k = 1; k < g.shapes[i].point_num; ++k)
+                    g.points[size_t(g.shapes[i].point_adr + k)] = g.points[size_t(g.shapes[i].point_adr)];
+            });
+            refused("a hull point beyond 100 km", [&](Graph& g) { g.points[size_t(g.shapes[i].point_adr)].p[2] = -1e40; });
         }
         for (size_t i = 0; i < good.fields.size(); ++i) {
             refused("a field's extent 0", [&](Graph& g) { g.fields[i].extent[1] = 0; });
