@@ -90,12 +90,6 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     };
     for (int32_t i : ids) {
         const Box& b = boxes[size_t(i)];
-        // A box Bullet computed as NaN (a centre of mass 1e32 m off its body, say) has no cells:
-        // it is compared with every box, and overlaps none.
-        if (std::isnan(b.lo.x() + b.lo.y() + b.lo.z() + b.hi.x() + b.hi.y() + b.hi.z())) {
-            big.push_back(i);
-            continue;
-        }
         const int64_t x0 = idx(b.lo.x() - h), x1 = idx(b.hi.x() + h), y0 = idx(b.lo.y() - h), y1 = idx(b.hi.y() + h),
                       z0 = idx(b.lo.z() - h), z1 = idx(b.hi.z() + h);
         if (double(x1 - x0 + 1) * double(y1 - y0 + 1) * double(z1 - z0 + 1) > 4096) {

@@ -380,7 +380,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
             break;
         }
         const double t_next = double(e.steps() + 1) * e.dt();
-        for (; next_event < o.events.size() && o.events[next_event].time <= t_next + 1e-9; ++next_event) {
+        for (; next_event < o.events.size() && due(e, o.events[next_event]); ++next_event) {
             apply_event(e, o.events[next_event]);
             forces.applied(g, o.events[next_event], t_next);
             if (observer) observer->event(e, o.events[next_event]);

@@ -50,6 +50,9 @@ std::string closest_path(const SlotIndex& slots, std::string_view path);
 
 // The events-file line that replays `ev` ("12.5s s1.to_working", "3s b1.drive.set_speed 0.25").
 std::string format_event(const graph::Graph& g, const Event& ev);
+// Whether `ev` is applied before the engine's next step: its time is at or before the end
+// of that step (the rule `plant run`, `plant serve` and the replays share).
+inline bool due(const Engine& e, const Event& ev) { return ev.time <= double(e.steps() + 1) * e.dt() + 1e-9; }
 // Writes the event's value into the engine (strings interned) and activates its slots,
 // for the next step: the one way external inputs reach a running plant.
 void apply_event(Engine& e, const Event& ev);

@@ -80,7 +80,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.inside.reserve(pairs);
     s.inside_prev.reserve(pairs);
 
-    // Timers: start_timers (timers.cpp).
+    s.timers.resize(g.timers.size());  // running from the start: start_timers (timers.cpp)
 
     s.gripper_held.assign(g.grippers.size(), -1);
 

@@ -10,7 +10,6 @@ using namespace plant::graph;
 
 // Autostarting timers run from the first step; `running` is published once.
 void start_timers(Runtime& r) {
-    r.st.timers.resize(r.g.timers.size());
     for (size_t i = 0; i < r.g.timers.size(); ++i) {
         if (r.g.timers[i].autostart) r.st.timers[i] = {true, 0, r.g.timers[i].period};
         r.emit(r.comp_slot(r.g.timers[i].comp, timerslot::running), r.st.timers[i].running ? 1 : 0);

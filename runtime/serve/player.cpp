@@ -247,8 +247,7 @@ private:
         if (!step) return false;
         // The plant file's own timed inputs (its scheduled faults), as `plant run` applies
         // them: not logged, since replaying the plant applies them again.
-        const double t_next = double(engine_->steps() + 1) * engine_->dt();
-        for (; next_planned_ < planned_.size() && planned_[next_planned_].time <= t_next + 1e-9; ++next_planned_)
+        for (; next_planned_ < planned_.size() && engine::due(*engine_, planned_[next_planned_]); ++next_planned_)
             engine::apply_event(*engine_, planned_[next_planned_]);
         // Events are applied before the step they feed, at the time that step ends:
         // exactly what `plant run --events` does with the logged line.

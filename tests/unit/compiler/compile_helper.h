@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,12 @@ inline void compile_text(const std::string& text, Compilation& c, const std::str
     opts.stdlib_dir = PLANT_STDLIB_DIR;
     opts.overrides = overrides;
     compile_file(temp_plant(name, text), opts, c);
+}
+
+// A file's whole content ("" when it cannot be read).
+inline std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 inline bool has_code(const Compilation& c, std::string_view code) {

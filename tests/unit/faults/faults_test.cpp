@@ -8,19 +8,11 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <fstream>
 #include <sstream>
 
 using namespace plant;
 
 namespace {
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 // The summary's `forced:` section (wall time differs from run to run; this does not).
 std::string forced_section(const std::string& summary) {
@@ -64,17 +56,25 @@ TEST_CASE("faults: the loader runs the kind's check on a graph written by hand")
     Compilation c;
     test::compile_repo_file("tests/golden/faults/drill.plant", c);
     REQUIRE(c.ok());
-    std::string text = graph::to_text(c.graph);
+    const std::string good = graph::to_text(c.graph);
+    // The loader's error for `good` with `from` replaced by `to`.
+    auto refused = [&](const std::string& from, const std::string& to) {
+        std::string text = good;
+        const size_t at = text.find(from);
+        REQUIRE(at != std::string::npos);
+        text.replace(at, from.size(), to);
+        std::istringstream in(text);
+        graph::Graph g;
+        std::string error;
+        CHECK_FALSE(graph::read_text(in, g, error));
+        return error;
+    };
     // Entry 0 is `open 2 s => sw.seen(until = 4 s)`: its `until` (plugin_param 0) before it.
-    const std::string until = "plugin_param 0 num=4 ";
-    const size_t at = text.find(until);
-    REQUIRE(at != std::string::npos);
-    text.replace(at, until.size(), "plugin_param 0 num=1 ");
-    std::istringstream in(text);
-    graph::Graph g;
-    std::string error;
-    CHECK_FALSE(graph::read_text(in, g, error));
-    CHECK_MESSAGE(error.find("until = 1 s is not after it") != std::string::npos, error);
+    const std::string early = refused("plugin_param 0 num=4 ", "plugin_param 0 num=1 ");
+    CHECK_MESSAGE(early.find("until = 1 s is not after it") != std::string::npos, early);
+    // A time key below 0.
+    const std::string negative = refused("word=\"open\" key=2 ", "word=\"open\" key=-2 ");
+    CHECK_MESSAGE(negative.find("key -2 is not a time of 0 s or more") != std::string::npos, negative);
 }
 
 // The drill of plants/bottling_faults.plant, and the same line without it but with the
@@ -101,9 +101,9 @@ TEST_CASE("faults: a drill in the plant file runs as its --event lines do") {
     run({}, {}, dir + "/drill.csv", with_drill);
     run({"drill=false"}, {"--event", "20s force line[0].s2.bottle open", "--event", "100s release line[0].s2.bottle"},
         dir + "/events.csv", with_events);
-    const std::string trace = read_file(dir + "/drill.csv");
+    const std::string trace = test::slurp(dir + "/drill.csv");
     REQUIRE(trace.size() > 1000);
-    CHECK(trace == read_file(dir + "/events.csv"));
+    CHECK(trace == test::slurp(dir + "/events.csv"));
     CHECK(forced_section(with_drill) == forced_section(with_events));
     CHECK(forced_section(with_drill).find("line[0].s2.bottle  open            from 20.000 s to 100.000 s") !=
           std::string::npos);

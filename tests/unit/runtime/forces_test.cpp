@@ -44,8 +44,7 @@ struct SwitchRun {
         size_t next = 0;
         const int64_t steps = int64_t(seconds / e.dt() + 0.5);
         for (int64_t i = 0; i < steps; ++i) {
-            const double t_next = double(e.steps() + 1) * e.dt();
-            for (; next < events.size() && events[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, events[next]);
+            for (; next < events.size() && engine::due(e, events[next]); ++next) engine::apply_event(e, events[next]);
             e.step();
         }
     }

@@ -162,40 +162,45 @@ TEST_CASE("runtime: with sweep-and-prune a plant of lines far apart keeps one Bu
     CHECK(e.warnings().total() == 0);
 }
 
-// Found by the graph target's libFuzzer campaign (tests/fuzz/regressions/graph/): a static box
-// whose shape sits 1e19 m out overflowed the region finder's cell index (undefined behaviour,
-// caught by UBSan). A graph may place a body anywhere finite; the engine is built and steps.
-TEST_CASE("runtime: a static body 1e19 m out is filed into regions without overflow") {
+namespace {
+
+// An input of tests/fuzz/regressions/graph/ (found by the graph target's libFuzzer campaigns).
+plant::graph::Graph regression_graph(const std::string& name) {
     plant::graph::Graph g;
     std::string error;
-    REQUIRE_MESSAGE(plant::graph::load_text_file(std::string(PLANT_SOURCE_DIR) +
-                                                     "/tests/fuzz/regressions/graph/static_box_at_1e19.graph",
+    REQUIRE_MESSAGE(plant::graph::load_text_file(std::string(PLANT_SOURCE_DIR) + "/tests/fuzz/regressions/graph/" + name,
                                                  g, error),
                     error);
-    bool far = false;
-    for (const auto& s : g.shapes) far = far || std::abs(s.local.p[0]) > 1e18;
-    REQUIRE(far);
+    return g;
+}
+
+// The engine is built from `g` and steps.
+void builds_and_steps(const plant::graph::Graph& g) {
     plant::engine::Engine e(g);
     for (int i = 0; i < 10; ++i) e.step();
     CHECK(e.steps() == 10);
     CHECK(e.regions() >= 1);
 }
 
-// Found by the graph target's second campaign: a kinematic body whose centre of mass lies
-// 1e32 m off has an infinite bounding sphere, and the region finder grew boxes by that
-// infinity (inf - inf: a NaN cell index, undefined behaviour). Its margin is now finite.
+}  // namespace
+
+// A static box whose shape sits 1e19 m out overflowed the region finder's cell index
+// (undefined behaviour, caught by UBSan). A graph may place a body anywhere finite.
+TEST_CASE("runtime: a static body 1e19 m out is filed into regions without overflow") {
+    const plant::graph::Graph g = regression_graph("static_box_at_1e19.graph");
+    bool far = false;
+    for (const auto& s : g.shapes) far = far || std::abs(s.local.p[0]) > 1e18;
+    REQUIRE(far);
+    builds_and_steps(g);
+}
+
+// A kinematic body whose centre of mass lies 1e32 m off has an infinite bounding sphere,
+// and the region finder grew boxes by that infinity (inf - inf: a NaN cell index, undefined
+// behaviour). Its margin is now finite.
 TEST_CASE("runtime: a centre of mass 1e32 m off its body is filed into regions without NaN") {
-    plant::graph::Graph g;
-    std::string error;
-    REQUIRE_MESSAGE(plant::graph::load_text_file(std::string(PLANT_SOURCE_DIR) +
-                                                     "/tests/fuzz/regressions/graph/kinematic_com_at_1e32.graph",
-                                                 g, error),
-                    error);
+    const plant::graph::Graph g = regression_graph("kinematic_com_at_1e32.graph");
     bool far = false;
     for (const auto& b : g.bodies) far = far || std::abs(b.com.p[0]) > 1e31;
     REQUIRE(far);
-    plant::engine::Engine e(g);
-    for (int i = 0; i < 10; ++i) e.step();
-    CHECK(e.steps() == 10);
-    CHECK(e.regions() >= 1);
+    builds_and_steps(g);
 }

@@ -24,12 +24,6 @@ int run(const Graph& g, std::vector<std::string> args, std::string& out, std::st
     return rc;
 }
 
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 }  // namespace
 

@@ -158,8 +158,7 @@ int64_t pause(Page& page, view::Frame& f) {
 void replay(engine::Engine& e, const std::vector<engine::Event>& evs, int64_t until) {
     size_t next = 0;
     while (e.steps() < until) {
-        const double t_next = double(e.steps() + 1) * e.dt();
-        for (; next < evs.size() && evs[next].time <= t_next + 1e-9; ++next) engine::apply_event(e, evs[next]);
+        for (; next < evs.size() && engine::due(e, evs[next]); ++next) engine::apply_event(e, evs[next]);
         e.step();
     }
 }
