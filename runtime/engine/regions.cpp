@@ -90,6 +90,13 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     };
     for (int32_t i : ids) {
         const Box& b = boxes[size_t(i)];
+        // A box Bullet computed as infinite or NaN (a centre of mass 1e308 m off its body, beyond
+        // float's range, say) has no cells: it is compared with every box (and a NaN box
+        // overlaps none). Only finite numbers reach idx.
+        if (!std::isfinite(b.lo.x() + b.lo.y() + b.lo.z() + b.hi.x() + b.hi.y() + b.hi.z() + h)) {
+            big.push_back(i);
+            continue;
+        }
         const int64_t x0 = idx(b.lo.x() - h), x1 = idx(b.hi.x() + h), y0 = idx(b.lo.y() - h), y1 = idx(b.hi.y() + h),
                       z0 = idx(b.lo.z() - h), z1 = idx(b.hi.z() + h);
         if (double(x1 - x0 + 1) * double(y1 - y0 + 1) * double(z1 - z0 + 1) > 4096) {
