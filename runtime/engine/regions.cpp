@@ -93,7 +93,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
         // A box Bullet computed as infinite or NaN (a centre of mass 1e308 m off its body, beyond
         // float's range, say) has no cells: it is compared with every box (and a NaN box
         // overlaps none). Only finite numbers reach idx.
-        if (!std::isfinite(b.lo.x() + b.lo.y() + b.lo.z() + b.hi.x() + b.hi.y() + b.hi.z() + h)) {
+        if (!std::isfinite(b.lo.x() + b.lo.y() + b.lo.z() + b.hi.x() + b.hi.y() + b.hi.z())) {
             big.push_back(i);
             continue;
         }

@@ -51,10 +51,10 @@ HullFlaw hull_flaw(const Point* points, size_t n) {
 std::string_view hull_flaw_text(HullFlaw flaw) {
     switch (flaw) {
     case HullFlaw::None: return "";
-    case HullFlaw::OnePoint: return "all its points coincide";
-    case HullFlaw::Line: return "its points lie on one line";
-    case HullFlaw::Plane: return "its points lie in one plane";
-    case HullFlaw::TooFar: return "a point lies more than 100 km from the shape's origin";
+    case HullFlaw::OnePoint: return "encloses no volume: all its points coincide";
+    case HullFlaw::Line: return "encloses no volume: its points lie on one line";
+    case HullFlaw::Plane: return "encloses no volume: its points lie in one plane";
+    case HullFlaw::TooFar: return "is too large: a point lies more than 100 km from the shape's origin";
     }
     return "";
 }

@@ -25,7 +25,8 @@ enum class HullFlaw : uint8_t { None, OnePoint, Line, Plane, TooFar };
 // in one plane.
 HullFlaw hull_flaw(const Point* points, size_t n);
 
-// "all its points coincide", "its points lie on one line", ...; empty for None.
+// What is wrong with the hull, to follow "this hull ": "encloses no volume: all its points
+// coincide", "is too large: a point lies more than 100 km ..."; empty for None.
 std::string_view hull_flaw_text(HullFlaw flaw);
 
 }  // namespace plant::graph

@@ -376,8 +376,7 @@ private:
                 if (!check(s.point_num > 0, "a hull needs points")) return false;
                 if (const HullFlaw flaw = hull_flaw(&g_.points[size_t(s.point_adr)], size_t(s.point_num));
                     flaw != HullFlaw::None)
-                    return fail(fmt::format("a hull {}: {}", flaw == HullFlaw::TooFar ? "is too large" : "encloses no volume",
-                                            hull_flaw_text(flaw)));
+                    return fail(fmt::format("a hull {}", hull_flaw_text(flaw)));
                 break;
             }
             return check(ok, "field 'size' must be above 0 where the shape uses it");

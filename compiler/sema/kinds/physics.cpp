@@ -70,11 +70,9 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
         } else if (const auto flaw = ok ? graph::hull_flaw(&g.points[size_t(sh.point_adr)], size_t(sh.point_num))
                                         : graph::HullFlaw::None;
                    flaw != graph::HullFlaw::None) {
-            const bool far = flaw == graph::HullFlaw::TooFar;
-            auto& d = el.sink_.report(DiagId::BadShape, sd.span,
-                                      fmt::format("this convex hull {}: {}", far ? "is too large" : "encloses no volume",
-                                                  graph::hull_flaw_text(flaw)));
-            d.notes.push_back({{}, far ? "the physics is single precision: model the plant within 100 km"
+            auto& d = el.sink_.report(DiagId::BadShape, sd.span, fmt::format("this convex hull {}", graph::hull_flaw_text(flaw)));
+            d.notes.push_back({{}, flaw == graph::HullFlaw::TooFar
+                                       ? "the physics is single precision: model the plant within 100 km"
                                        : "a hull needs four points not in one plane (points within 1 µm count as one)"});
             ok = false;
         }
