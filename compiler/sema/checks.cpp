@@ -5,6 +5,7 @@
 
 #include "graph/kinds.h"
 #include "graph/network.h"
+#include "graph/range.h"
 #include "petri/analysis.h"
 
 #include <fmt/format.h>
@@ -149,6 +150,73 @@ void Elaborator::check_logic_cycles() {
         }
         sink_.report(DiagId::LogicCycle, flow_spans_[static_cast<size_t>(net.delayed[i])],
                      fmt::format("this flow closes a logic cycle through {}; it is evaluated with a one-step delay", through));
+    }
+}
+
+// Places, sizes and masses within graph/range.h's bounds, the loader's: one error per
+// declaration, and none for what an object placed out of range holds (its own error says it).
+void Elaborator::check_ranges() {
+    const std::vector<graph::RangeFlaw> flaws = graph::range_flaws(g_);
+    if (flaws.empty()) return;
+    // Where each flawed record was declared: a DO, or a component with the DO that owns it.
+    std::vector<int32_t> body_of_shape(g_.shapes.size(), -1), graphics_of_key(g_.keys.size(), -1);
+    for (size_t b = 0; b < g_.bodies.size(); ++b)
+        for (int32_t i = 0; i < g_.bodies[b].shape_num; ++i)
+            body_of_shape[static_cast<size_t>(g_.bodies[b].shape_adr + i)] = static_cast<int32_t>(b);
+    for (const auto& a : g_.animations)
+        for (int32_t i = 0; i < a.key_num; ++i) graphics_of_key[static_cast<size_t>(a.key_adr + i)] = a.graphics;
+    auto comp_of = [&](const graph::RangeFlaw& f) -> int32_t {
+        const auto row = static_cast<size_t>(f.row);
+        if (f.table == "bodies") return g_.bodies[row].comp;
+        if (f.table == "shapes") return body_of_shape[row] < 0 ? -1 : g_.bodies[static_cast<size_t>(body_of_shape[row])].comp;
+        if (f.table == "fields") return g_.fields[row].comp;
+        if (f.table == "joints") return g_.joints[row].comp;
+        if (f.table == "triggers") return g_.triggers[row].comp;
+        if (f.table == "sources") return g_.sources[row].comp;
+        if (f.table == "graphics") return g_.graphics[row].comp;
+        if (f.table == "keys") return graphics_of_key[row] < 0 ? -1 : g_.graphics[static_cast<size_t>(graphics_of_key[row])].comp;
+        return -1;
+    };
+    static const std::map<std::string_view, std::string_view> words = {
+        {"pose", "place"}, {"com", "centre of mass"}, {"local", "offset of a shape"}, {"size", "size of a shape"},
+        {"extent", "size"}, {"frame_a", "frame on body a"}, {"frame_b", "frame on body b"}, {"mass", "mass"},
+        {"inertia", "inertia"}};
+    std::vector<bool> do_done(g_.dos.size(), false);
+    std::set<int32_t> comp_done, in_done;  // components of the plant; the objects of others
+    auto within_done = [&](int32_t d) {
+        for (; d >= 0; d = g_.dos[static_cast<size_t>(d)].parent)
+            if (do_done[static_cast<size_t>(d)]) return true;
+        return false;
+    };
+    for (const graph::RangeFlaw& f : flaws) {
+        std::string_view word = words.count(f.field) ? words.at(f.field) : f.field;
+        if (f.table == "keys") word = "key frame";
+        Span at;
+        std::string who;
+        int32_t in = -1;  // the object a component belongs to (not the plant)
+        if (f.table == "dos") {
+            const auto& d = g_.dos[static_cast<size_t>(f.row)];
+            if (within_done(d.parent)) continue;
+            do_done[static_cast<size_t>(f.row)] = true;
+            const auto a = do_at_spans_.find(f.row);
+            at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
+            who = d.parent < 0 ? g_.names[static_cast<size_t>(g_.plant.id)] : g_.names[static_cast<size_t>(d.path.id)];
+        } else {
+            const int32_t c = comp_of(f);
+            if (c < 0 || comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
+            comp_done.insert(c);
+            at = comp_spans_[c];
+            if (const int32_t o = g_.comps[static_cast<size_t>(c)].owner; g_.dos[static_cast<size_t>(o)].parent >= 0) {
+                if (!in_done.insert(o).second) continue;  // one error per object: its arguments, most likely
+                in = o;
+            }
+            who = g_.names[static_cast<size_t>(g_.comps[static_cast<size_t>(c)].name.id)];
+        }
+        auto& d = sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", word, who, f.text));
+        if (in >= 0)
+            d.notes.push_back({do_spans_[static_cast<size_t>(in)],
+                               fmt::format("in '{}'", g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(in)].path.id)])});
+        d.notes.push_back({{}, "the physics is single precision: model the plant within 100 km, of bodies up to 1,000 t"});
     }
 }
 

@@ -68,6 +68,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     check_plugins();
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
+    check_ranges();
 }
 
 graph::Graph Elaborator::run(bool require_plant) {
@@ -121,6 +122,7 @@ graph::Graph Elaborator::run(bool require_plant) {
         check_unused();
     }
     check_logic_cycles();
+    check_ranges();
     return std::move(g_);
 }
 
@@ -146,6 +148,8 @@ void Elaborator::emit_ports() {
 int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
     Scope sc;
     sc.do_id = graph::add_do(g_, path, parent, type, f.pose(), src(s));
+    do_spans_.resize(static_cast<size_t>(sc.do_id) + 1);
+    do_spans_[static_cast<size_t>(sc.do_id)] = s;
     sc.frame = f;
     scopes_.push_back(std::move(sc));
     return scopes_.back().do_id;
@@ -528,6 +532,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         const std::string& parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
         std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
         int32_t child = new_do(path, do_id, do_type(type->name.text, type->name.span), f, inst->span);
+        if (inst->placement && inst->placement->at) do_at_spans_[child] = inst->placement->at->span;
         scopes_[static_cast<size_t>(do_id)].children[iname] = child;
         type_stack_.push_back(type->name.text);
         elaborate_do(child, *type, type_module, child_env);

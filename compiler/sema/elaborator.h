@@ -149,6 +149,7 @@ public:
     void check_unused();
     std::vector<bool> driven_or_exposed() const;
     void check_logic_cycles();
+    void check_ranges();
 
     const Program& prog_;
     const SourceMap& sm_;
@@ -163,6 +164,8 @@ public:
     std::vector<PendingAccessFlow> pending_;
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
+    std::vector<Span> do_spans_;          // by DO id: its declaration
+    std::map<int32_t, Span> do_at_spans_;  // DO id -> the position its placement gives (`at (...)`)
     std::vector<Span> flow_spans_;  // by flow id (for warnings)
     std::vector<Span> plugin_spans_;  // by plugin row: the component's name
     std::vector<Span> entry_spans_;   // by plugin entry row

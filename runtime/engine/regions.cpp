@@ -83,8 +83,9 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     const btScalar cell = std::max(btScalar(1), 4 * h);
     std::vector<std::pair<uint64_t, int32_t>> filed;
     std::vector<int32_t> big;
-    // A graph may place a body anywhere finite (1e19 m, say): cell indices are clamped so that
-    // they stay far inside int64_t, and a box that far out covers more cells than any other.
+    // The loader keeps places within 100 km (graph/range.h), but a run can take a body anywhere
+    // finite (1e19 m, say): cell indices are clamped so that they stay far inside int64_t, and a
+    // box that far out covers more cells than any other.
     auto idx = [cell](btScalar v) {
         return int64_t(std::clamp(std::floor(v / cell), btScalar(-1e12), btScalar(1e12)));
     };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "graph/graph.h"
+#include "graph/range.h"
 
 #include <cstddef>
 #include <string_view>
@@ -13,10 +14,10 @@ namespace plant::graph {
 // line, and then out of the plane, of its other points (1 µm, in metres).
 constexpr double kHullTolerance = 1e-6;
 
-// No hull point lies further than this from its shape's origin (100 km, in metres): the
+// No hull point lies further than this from its shape's origin (100 km, range.h): the
 // physics is single precision, and Bullet's hull builder does not return from a point
 // beyond float's range (found by the graph fuzz campaign).
-constexpr double kMaxHullReach = 1e5;
+constexpr double kMaxHullReach = kMaxLength;
 
 enum class HullFlaw : uint8_t { None, OnePoint, Line, Plane, TooFar };
 

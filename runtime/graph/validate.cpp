@@ -4,6 +4,7 @@
 #include "kinds.h"
 #include "network.h"
 #include "plugin.h"
+#include "range.h"
 
 #include <fmt/format.h>
 
@@ -49,7 +50,7 @@ public:
         if (!(finite(g_.settings.rate) && g_.settings.rate >= kMinRate && g_.settings.rate <= kMaxRate))
             return fail_at("", -1, fmt::format("settings: rate {} is not between 1 Hz and 1 MHz", g_.settings.rate));
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
-        return every_field() && dos() && comps() && slots() && flows() && logics() && bodies() &&
+        return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() &&
                ports() && plugin_records();
@@ -154,6 +155,14 @@ private:
     int32_t src_file(const T& s) {
         if constexpr (std::is_same_v<T, Src>) return s.file;
         return 0;
+    }
+
+    // Places, sizes and masses within range.h's bounds (the first out of range).
+    bool ranges() {
+        const std::vector<RangeFlaw> flaws = range_flaws(g_);
+        if (flaws.empty()) return true;
+        const RangeFlaw& f = flaws.front();
+        return fail_at(f.table, f.row, fmt::format("field '{}' {}", f.field, f.text));
     }
 
     bool dos() {

@@ -87,6 +87,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
     const int32_t void_out = first(g.slots, [](const Slot& s) { return s.type == SlotType::Void && s.dir == Dir::Out; });
     const int32_t body_comp = g.bodies[0].comp;
+    const int32_t inertial = first(g.bodies, [](const Body& b) { return b.inertia_set; });
     const int32_t dyn_from = first(g.flows, [](const Flow& f) { return f.from_access >= 0; });
     const int32_t dyn_to = first(g.flows, [](const Flow& f) { return f.to_access >= 0; });
     // A dynamic end holds its access's reference slot; any other slot is refused.
@@ -122,6 +123,14 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"shape", hull, "point_num", "0", "a hull needs points"},
         {"shape", hull, "point_num", "1", "a hull encloses no volume: all its points coincide"},
         {"field", 0, "dir", "(0 0 0)", "field 'dir' is the zero vector"},
+        {"do", 1, "pose", "(2e5 0 0|0 0 0 1)", "field 'pose' is 200000 m out along x, beyond 100 km"},
+        {"body", dyn, "com", "(0 0 -3e5|0 0 0 1)", "field 'com' is -300000 m along z, beyond 100 km"},
+        {"body", dyn, "mass", "2e6", "field 'mass' is 2e+06 kg, above 1,000 t"},
+        {"body", inertial, "inertia", "(1 2e16 1)", "field 'inertia' has a moment of 2e+16 kg·m², above 1e16 kg·m²"},
+        {"shape", box, "size", "(1 2e5 1)", "field 'size' is 200000 m, beyond 100 km"},
+        {"field", 0, "extent", "(1 1 1e6)", "field 'extent' is 1e+06 m, beyond 100 km"},
+        {"joint", 0, "frame_b", "(0 1e9 0|0 0 0 1)", "field 'frame_b' is 1e+09 m along y, beyond 100 km"},
+        {"trigger", 0, "pose", "(0 0 -1e300|0 0 0 1)", "field 'pose' is -1e+300 m out along z, beyond 100 km"},
         {"joint", 0, "body_b", std::to_string(g.joints[0].body_a), "a joint joins two different bodies"},
         {"place", place, "tokens_slot", std::to_string(g.places[size_t(place)].put_slot), "expected int out"},
         {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
@@ -245,10 +254,17 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("restitution below 0", [&](Graph& g) { g.bodies[i].restitution = -0.1; });
             refused("linear damping above 1", [&](Graph& g) { g.bodies[i].linear_damping = 1.5; });
             refused("angular damping below 0", [&](Graph& g) { g.bodies[i].angular_damping = -1; });
+            refused("a body placed beyond 100 km", [&](Graph& g) { g.bodies[i].pose.p[1] = -1.5e5; });
+            refused("a centre of mass beyond 100 km", [&](Graph& g) { g.bodies[i].com.p[2] = 1e308; });
+            refused("a mass above 1,000 t", [&](Graph& g) { g.bodies[i].mass = 2e6; });
         }
+        for (size_t i = 1; i < good.dos.size(); ++i)
+            refused("an object placed beyond 100 km", [&](Graph& g) { g.dos[i].pose.p[0] = 1e19; });
         for (size_t i = 0; i < good.shapes.size(); ++i) {
             if (good.shapes[i].kind != ShapeKind::Hull) {
                 refused("a shape of size 0", [&](Graph& g) { g.shapes[i].size[0] = 0; });
+                refused("a shape larger than 100 km", [&](Graph& g) { g.shapes[i].size[0] = 2e5; });
+                refused("a shape offset beyond 100 km", [&](Graph& g) { g.shapes[i].local.p[0] = 2e5; });
                 continue;
             }
             refused("a hull whose points coincide", [&](Graph& g) {
@@ -262,6 +278,8 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("a field's gain below 0", [&](Graph& g) { g.fields[i].gain = -1; });
             refused("a field's direction zero", [&](Graph& g) { g.fields[i].dir = {0, 0, 0}; });
             refused("a field's max_force below 0", [&](Graph& g) { g.fields[i].max_force = -1; });
+            refused("a field placed beyond 100 km", [&](Graph& g) { g.fields[i].pose.p[2] = -2e5; });
+            refused("a field longer than 100 km", [&](Graph& g) { g.fields[i].extent[0] = 2e5; });
         }
         for (size_t i = 0; i < good.joints.size(); ++i) {
             refused("a joint on one body", [&](Graph& g) { g.joints[i].body_b = g.joints[i].body_a; });
