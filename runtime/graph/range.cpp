@@ -27,6 +27,12 @@ public:
         if (const double d = largest(v); d > kMaxLength)
             add(table, row, field, fmt::format("is {:g} m, beyond 100 km", d));
     }
+    // A box volume (a field's, a trigger's): its extents, then its place.
+    template <class V>
+    void volume(std::string_view table, size_t row, const V& v) {
+        size(table, row, "extent", v.extent);
+        place(table, row, "pose", v.pose);
+    }
     void mass(size_t row, double m) {
         if (m > kMaxMass) add("bodies", row, "mass", fmt::format("is {:g} kg, above 1,000 t", m));
     }
@@ -68,18 +74,12 @@ std::vector<RangeFlaw> range_flaws(const Graph& g) {
         r.offset("shapes", i, "local", g.shapes[i].local);
         r.size("shapes", i, "size", g.shapes[i].size);
     }
-    for (size_t i = 0; i < g.fields.size(); ++i) {
-        r.size("fields", i, "extent", g.fields[i].extent);
-        r.place("fields", i, "pose", g.fields[i].pose);
-    }
+    for (size_t i = 0; i < g.fields.size(); ++i) r.volume("fields", i, g.fields[i]);
     for (size_t i = 0; i < g.joints.size(); ++i) {
         r.offset("joints", i, "frame_a", g.joints[i].frame_a);
         r.offset("joints", i, "frame_b", g.joints[i].frame_b);
     }
-    for (size_t i = 0; i < g.triggers.size(); ++i) {
-        r.size("triggers", i, "extent", g.triggers[i].extent);
-        r.place("triggers", i, "pose", g.triggers[i].pose);
-    }
+    for (size_t i = 0; i < g.triggers.size(); ++i) r.volume("triggers", i, g.triggers[i]);
     for (size_t i = 0; i < g.sources.size(); ++i) r.place("sources", i, "pose", g.sources[i].pose);
     for (size_t i = 0; i < g.graphics.size(); ++i) r.place("graphics", i, "pose", g.graphics[i].pose);
     for (size_t i = 0; i < g.keys.size(); ++i) r.offset("keys", i, "pose", g.keys[i].pose);
