@@ -160,11 +160,16 @@ void Elaborator::check_ranges() {
     if (flaws.empty()) return;
     // Where each flawed record was declared: a DO, or a component with the DO that owns it.
     std::vector<int32_t> body_of_shape(g_.shapes.size(), -1), graphics_of_key(g_.keys.size(), -1);
+    // (After other errors a record may be half made: every index is checked.)
+    auto mark = [](std::vector<int32_t>& of, int32_t adr, int32_t num, int32_t owner) {
+        for (int32_t i = 0; i < num; ++i)
+            if (adr + i >= 0 && static_cast<size_t>(adr + i) < of.size()) of[static_cast<size_t>(adr + i)] = owner;
+    };
     for (size_t b = 0; b < g_.bodies.size(); ++b)
-        for (int32_t i = 0; i < g_.bodies[b].shape_num; ++i)
-            body_of_shape[static_cast<size_t>(g_.bodies[b].shape_adr + i)] = static_cast<int32_t>(b);
+        mark(body_of_shape, g_.bodies[b].shape_adr, g_.bodies[b].shape_num, static_cast<int32_t>(b));
     for (const auto& a : g_.animations)
-        for (int32_t i = 0; i < a.key_num; ++i) graphics_of_key[static_cast<size_t>(a.key_adr + i)] = a.graphics;
+        if (a.graphics >= 0 && static_cast<size_t>(a.graphics) < g_.graphics.size())
+            mark(graphics_of_key, a.key_adr, a.key_num, a.graphics);
     auto comp_of = [&](const graph::RangeFlaw& f) -> int32_t {
         const auto row = static_cast<size_t>(f.row);
         if (f.table == "bodies") return g_.bodies[row].comp;
