@@ -1,6 +1,7 @@
 #include "engine/run_args.h"
 
 #include "engine/plugin.h"
+#include "graph/range.h"
 
 #include <fmt/format.h>
 
@@ -227,7 +228,10 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
     case SlotType::Real: ok = numbers(value, ev.value, 1); break;
     case SlotType::Vec3: ok = numbers(value, ev.value, 3); break;
     case SlotType::Quat: ok = numbers(value, ev.value, 4) && unit_rotation(&ev.value[0]); break;
-    case SlotType::Pose: ok = numbers(value, ev.value, 7) && unit_rotation(&ev.value[3]); break;
+    case SlotType::Pose:  // a place, within the range a plant lies in (graph/range.h)
+        ok = numbers(value, ev.value, 7) && unit_rotation(&ev.value[3]) &&
+             std::abs(ev.value[0]) <= kMaxLength && std::abs(ev.value[1]) <= kMaxLength && std::abs(ev.value[2]) <= kMaxLength;
+        break;
     case SlotType::String:
         ev.text = std::string(value.size() >= 2 && value.front() == '"' && value.back() == '"'
                                   ? value.substr(1, value.size() - 2) : value);
@@ -249,7 +253,8 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
         error = value.empty() && type != SlotType::Void
                     ? fmt::format("'{}' ({}) needs a value", path, word(type))
                     : fmt::format("'{}' is not a {} value for '{}'{}", value, word(type), path,
-                                  type == SlotType::Quat || type == SlotType::Pose ? " (finite numbers, a unit quaternion x y z w)"
+                                  type == SlotType::Quat ? " (finite numbers, a unit quaternion x y z w)"
+                                  : type == SlotType::Pose ? " (a place within 100 km, a unit quaternion x y z w)"
                                   : type == SlotType::Ref ? " (a DO path, or its id)" : "");
     }
     return ok;

@@ -121,11 +121,15 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(err.find("more than 1e18 steps") != std::string::npos);
     out.clear();
     CHECK(run(g, {"--for", "0.1s", "--quiet", "--trace-rate", "1e-300Hz"}, out, err) == 0);  // a row at the start and the end
-    // Event values: finite numbers; rotations unit quaternions (to a typed precision).
+    // Event values: finite numbers; rotations unit quaternions (to a typed precision); places within 100 km.
     CHECK(run(g, {"--event", "0.05s bottle0.main.set_velocity (nan 0 0)"}, out, err) == 2);
     CHECK(err.find("is not a vec3 value for 'bottle0.main.set_velocity'") != std::string::npos);
     CHECK(run(g, {"--event", "0.05s bottle0.main.set_pose (0 0 0.1|0 0 0 0)"}, out, err) == 2);
     CHECK(err.find("a unit quaternion") != std::string::npos);
+    // A place as far as a plant may lie (graph/range.h), not further.
+    CHECK(run(g, {"--event", "0.05s bottle0.main.set_pose (0 -2e5 0.1|0 0 0 1)"}, out, err) == 2);
+    CHECK(err.find("is not a pose value for 'bottle0.main.set_pose' (a place within 100 km") != std::string::npos);
+    CHECK(run(g, {"--event", "0.05s bottle0.main.set_pose (0 -1e5 0.1|0 0 0 1)", "--for", "0.1s", "--quiet"}, out, err) == 0);
     CHECK(run(g, {"--event", "0.05s bottle0.main.set_orientation (0 0 0.7071 0.7071)", "--for", "0.1s", "--quiet"},
               out, err) == 0);
 }
