@@ -153,8 +153,11 @@ void Elaborator::check_logic_cycles() {
     }
 }
 
-// Places, sizes and masses within graph/range.h's bounds, the loader's: one error per
-// declaration, and none for what an object placed out of range holds (its own error says it).
+constexpr const char* kRangeNote = "the physics is single precision: model the plant within 100 km, of bodies up to 1,000 t";
+
+// Places, sizes and masses within graph/range.h's bounds, the loader's. One error per
+// declaration of the plant: at an object placed out of range (and none for what it holds), at
+// a component of its own, or at an object whose parts its arguments put out of range.
 void Elaborator::check_ranges() {
     const std::vector<graph::RangeFlaw> flaws = graph::range_flaws(g_);
     if (flaws.empty()) return;
@@ -187,41 +190,46 @@ void Elaborator::check_ranges() {
         {"extent", "size"}, {"frame_a", "frame on body a"}, {"frame_b", "frame on body b"}, {"mass", "mass"},
         {"inertia", "inertia"}};
     std::vector<bool> do_done(g_.dos.size(), false);
-    std::set<int32_t> comp_done, in_done;  // components of the plant; the objects of others
+    std::set<int32_t> comp_done, top_done;  // components of the plant itself; the objects it makes
     auto within_done = [&](int32_t d) {
         for (; d >= 0; d = g_.dos[static_cast<size_t>(d)].parent)
             if (do_done[static_cast<size_t>(d)]) return true;
         return false;
     };
+    auto path = [&](int32_t d) { return g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(d)].path.id)]; };
     for (const graph::RangeFlaw& f : flaws) {
         std::string_view word = words.count(f.field) ? words.at(f.field) : f.field;
         if (f.table == "keys") word = "key frame";
-        Span at;
-        std::string who;
-        int32_t in = -1;  // the object a component belongs to (not the plant)
         if (f.table == "dos") {
             const auto& d = g_.dos[static_cast<size_t>(f.row)];
             if (within_done(d.parent)) continue;
             do_done[static_cast<size_t>(f.row)] = true;
             const auto a = do_at_spans_.find(f.row);
-            at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
-            who = d.parent < 0 ? g_.names[static_cast<size_t>(g_.plant.id)] : g_.names[static_cast<size_t>(d.path.id)];
-        } else {
-            const int32_t c = comp_of(f);
-            if (c < 0 || comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
-            comp_done.insert(c);
-            at = comp_spans_[c];
-            if (const int32_t o = g_.comps[static_cast<size_t>(c)].owner; g_.dos[static_cast<size_t>(o)].parent >= 0) {
-                if (!in_done.insert(o).second) continue;  // one error per object: its arguments, most likely
-                in = o;
-            }
-            who = g_.names[static_cast<size_t>(g_.comps[static_cast<size_t>(c)].name.id)];
+            const Span at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
+            sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", word, path(f.row), f.text))
+                .notes.push_back({{}, kRangeNote});
+            continue;
         }
-        auto& d = sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", word, who, f.text));
-        if (in >= 0)
-            d.notes.push_back({do_spans_[static_cast<size_t>(in)],
-                               fmt::format("in '{}'", g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(in)].path.id)])});
-        d.notes.push_back({{}, "the physics is single precision: model the plant within 100 km, of bodies up to 1,000 t"});
+        const int32_t c = comp_of(f);
+        if (c < 0 || comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
+        comp_done.insert(c);
+        const std::string& who = g_.names[static_cast<size_t>(g_.comps[static_cast<size_t>(c)].name.id)];
+        const int32_t owner = g_.comps[static_cast<size_t>(c)].owner;
+        if (g_.dos[static_cast<size_t>(owner)].parent < 0) {  // the plant's own component
+            sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", word, who, f.text))
+                .notes.push_back({{}, kRangeNote});
+            continue;
+        }
+        // A part of an object the plant makes: at that object, where its arguments are (most
+        // likely what put the part out of range), once per object, with the part's declaration.
+        int32_t top = owner;
+        while (g_.dos[static_cast<size_t>(g_.dos[static_cast<size_t>(top)].parent)].parent >= 0)
+            top = g_.dos[static_cast<size_t>(top)].parent;
+        if (!top_done.insert(top).second) continue;
+        auto& d = sink_.report(DiagId::OutOfRange, do_spans_[static_cast<size_t>(top)],
+                               fmt::format("the {} of '{}' in '{}' {}", word, who, path(owner), f.text));
+        d.notes.push_back({comp_spans_[c], fmt::format("'{}' is declared here", who)});
+        d.notes.push_back({{}, kRangeNote});
     }
 }
 
