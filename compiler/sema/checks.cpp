@@ -161,34 +161,6 @@ constexpr const char* kRangeNote = "the physics is single precision: model the p
 void Elaborator::check_ranges() {
     const std::vector<graph::RangeFlaw> flaws = graph::range_flaws(g_);
     if (flaws.empty()) return;
-    // Where each flawed record was declared: a DO, or a component with the DO that owns it.
-    std::vector<int32_t> body_of_shape(g_.shapes.size(), -1), graphics_of_key(g_.keys.size(), -1);
-    // (After other errors a record may be half made: every index is checked.)
-    auto mark = [](std::vector<int32_t>& of, int32_t adr, int32_t num, int32_t owner) {
-        for (int32_t i = 0; i < num; ++i)
-            if (adr + i >= 0 && static_cast<size_t>(adr + i) < of.size()) of[static_cast<size_t>(adr + i)] = owner;
-    };
-    for (size_t b = 0; b < g_.bodies.size(); ++b)
-        mark(body_of_shape, g_.bodies[b].shape_adr, g_.bodies[b].shape_num, static_cast<int32_t>(b));
-    for (const auto& a : g_.animations)
-        if (a.graphics >= 0 && static_cast<size_t>(a.graphics) < g_.graphics.size())
-            mark(graphics_of_key, a.key_adr, a.key_num, a.graphics);
-    auto comp_of = [&](const graph::RangeFlaw& f) -> int32_t {
-        const auto row = static_cast<size_t>(f.row);
-        if (f.table == "bodies") return g_.bodies[row].comp;
-        if (f.table == "shapes") return body_of_shape[row] < 0 ? -1 : g_.bodies[static_cast<size_t>(body_of_shape[row])].comp;
-        if (f.table == "fields") return g_.fields[row].comp;
-        if (f.table == "joints") return g_.joints[row].comp;
-        if (f.table == "triggers") return g_.triggers[row].comp;
-        if (f.table == "sources") return g_.sources[row].comp;
-        if (f.table == "graphics") return g_.graphics[row].comp;
-        if (f.table == "keys") return graphics_of_key[row] < 0 ? -1 : g_.graphics[static_cast<size_t>(graphics_of_key[row])].comp;
-        return -1;
-    };
-    static const std::map<std::string_view, std::string_view> words = {
-        {"pose", "place"}, {"com", "centre of mass"}, {"local", "offset of a shape"}, {"size", "size of a shape"},
-        {"extent", "size"}, {"frame_a", "frame on body a"}, {"frame_b", "frame on body b"}, {"mass", "mass"},
-        {"inertia", "inertia"}};
     std::vector<bool> do_done(g_.dos.size(), false);
     std::set<int32_t> comp_done, top_done;  // components of the plant itself; the objects it makes
     auto within_done = [&](int32_t d) {
@@ -198,25 +170,23 @@ void Elaborator::check_ranges() {
     };
     auto path = [&](int32_t d) { return g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(d)].path.id)]; };
     for (const graph::RangeFlaw& f : flaws) {
-        std::string_view word = words.count(f.field) ? words.at(f.field) : f.field;
-        if (f.table == "keys") word = "key frame";
-        if (f.table == "dos") {
+        if (f.comp < 0) {  // a DO
             const auto& d = g_.dos[static_cast<size_t>(f.row)];
             if (within_done(d.parent)) continue;
             do_done[static_cast<size_t>(f.row)] = true;
             const auto a = do_at_spans_.find(f.row);
             const Span at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
-            sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", word, path(f.row), f.text))
+            sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", f.what, path(f.row), f.text))
                 .notes.push_back({{}, kRangeNote});
             continue;
         }
-        const int32_t c = comp_of(f);
-        if (c < 0 || comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
+        const int32_t c = f.comp;
+        if (comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
         comp_done.insert(c);
         const std::string& who = g_.names[static_cast<size_t>(g_.comps[static_cast<size_t>(c)].name.id)];
         const int32_t owner = g_.comps[static_cast<size_t>(c)].owner;
         if (g_.dos[static_cast<size_t>(owner)].parent < 0) {  // the plant's own component
-            sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", word, who, f.text))
+            sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", f.what, who, f.text))
                 .notes.push_back({{}, kRangeNote});
             continue;
         }
@@ -227,7 +197,7 @@ void Elaborator::check_ranges() {
             top = g_.dos[static_cast<size_t>(top)].parent;
         if (!top_done.insert(top).second) continue;
         auto& d = sink_.report(DiagId::OutOfRange, do_spans_[static_cast<size_t>(top)],
-                               fmt::format("the {} of '{}' in '{}' {}", word, who, path(owner), f.text));
+                               fmt::format("the {} of '{}' in '{}' {}", f.what, who, path(owner), f.text));
         d.notes.push_back({comp_spans_[c], fmt::format("'{}' is declared here", who)});
         d.notes.push_back({{}, kRangeNote});
     }

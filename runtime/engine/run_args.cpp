@@ -229,8 +229,7 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
     case SlotType::Vec3: ok = numbers(value, ev.value, 3); break;
     case SlotType::Quat: ok = numbers(value, ev.value, 4) && unit_rotation(&ev.value[0]); break;
     case SlotType::Pose:  // a place, within the range a plant lies in (graph/range.h)
-        ok = numbers(value, ev.value, 7) && unit_rotation(&ev.value[3]) &&
-             std::abs(ev.value[0]) <= kMaxLength && std::abs(ev.value[1]) <= kMaxLength && std::abs(ev.value[2]) <= kMaxLength;
+        ok = numbers(value, ev.value, 7) && unit_rotation(&ev.value[3]) && place_in_range(ev.value.data());
         break;
     case SlotType::String:
         ev.text = std::string(value.size() >= 2 && value.front() == '"' && value.back() == '"'

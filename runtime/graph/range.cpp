@@ -9,36 +9,43 @@ namespace plant::graph {
 
 namespace {
 
-double largest(const Vec3& v) { return std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])}); }
+double largest(const double* v) { return std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])}); }
 
 class Ranges {
 public:
     explicit Ranges(std::vector<RangeFlaw>& out) : out_(out) {}
 
+    // The record the checks that follow are of, and the component it belongs to (-1: a DO).
+    void at(std::string_view table, size_t row, int32_t comp) {
+        table_ = table;
+        row_ = int32_t(row);
+        comp_ = comp;
+    }
     // A world pose at start: every coordinate within kMaxLength of the origin.
-    void place(std::string_view table, size_t row, std::string_view field, const Pose& p) {
-        if (largest(p.p) > kMaxLength) add(table, row, field, fmt::format("is {} out along {}, beyond 100 km", along(p.p), axis(p.p)));
+    void place(std::string_view field, std::string_view what, const Pose& p) {
+        if (!place_in_range(p.p.data()))
+            add(field, what, fmt::format("is {} out along {}, beyond 100 km", along(p.p), axis(p.p)));
     }
     // An offset from another frame.
-    void offset(std::string_view table, size_t row, std::string_view field, const Pose& p) {
-        if (largest(p.p) > kMaxLength) add(table, row, field, fmt::format("is {} along {}, beyond 100 km", along(p.p), axis(p.p)));
+    void offset(std::string_view field, std::string_view what, const Pose& p) {
+        if (!place_in_range(p.p.data()))
+            add(field, what, fmt::format("is {} along {}, beyond 100 km", along(p.p), axis(p.p)));
     }
-    void size(std::string_view table, size_t row, std::string_view field, const Vec3& v) {
-        if (const double d = largest(v); d > kMaxLength)
-            add(table, row, field, fmt::format("is {:g} m, beyond 100 km", d));
+    void size(std::string_view field, std::string_view what, const Vec3& v) {
+        if (const double d = largest(v.data()); d > kMaxLength) add(field, what, fmt::format("is {:g} m, beyond 100 km", d));
     }
     // A box volume (a field's, a trigger's): its extents, then its place.
     template <class V>
-    void volume(std::string_view table, size_t row, const V& v) {
-        size(table, row, "extent", v.extent);
-        place(table, row, "pose", v.pose);
+    void volume(const V& v) {
+        size("extent", "size", v.extent);
+        place("pose", "place", v.pose);
     }
-    void mass(size_t row, double m) {
-        if (m > kMaxMass) add("bodies", row, "mass", fmt::format("is {:g} kg, above 1,000 t", m));
+    void mass(double m) {
+        if (m > kMaxMass) add("mass", "mass", fmt::format("is {:g} kg, above 1,000 t", m));
     }
-    void inertia(size_t row, const Vec3& i) {
-        if (const double d = largest(i); d > kMaxMass * kMaxLength * kMaxLength)
-            add("bodies", row, "inertia", fmt::format("has a moment of {:g} kg·m², above 1e16 kg·m² (1,000 t at 100 km)", d));
+    void inertia(const Vec3& i) {
+        if (const double d = largest(i.data()); d > kMaxMass * kMaxLength * kMaxLength)
+            add("inertia", "inertia", fmt::format("has a moment of {:g} kg·m², above 1e16 kg·m² (1,000 t at 100 km)", d));
     }
 
 private:
@@ -51,38 +58,66 @@ private:
     }
     static std::string along(const Vec3& v) { return fmt::format("{:g} m", v[index(v)]); }
     static char axis(const Vec3& v) { return "xyz"[index(v)]; }
-    void add(std::string_view table, size_t row, std::string_view field, std::string text) {
-        out_.push_back({table, int32_t(row), field, std::move(text)});
+    void add(std::string_view field, std::string_view what, std::string text) {
+        out_.push_back({table_, row_, field, what, comp_, std::move(text)});
     }
     std::vector<RangeFlaw>& out_;
+    std::string_view table_;
+    int32_t row_ = -1, comp_ = -1;
 };
 
 }  // namespace
 
+bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
+
 std::vector<RangeFlaw> range_flaws(const Graph& g) {
     std::vector<RangeFlaw> out;
     Ranges r(out);
-    for (size_t i = 0; i < g.dos.size(); ++i) r.place("dos", i, "pose", g.dos[i].pose);
+    for (size_t i = 0; i < g.dos.size(); ++i) {
+        r.at("dos", i, -1);
+        r.place("pose", "place", g.dos[i].pose);
+    }
     for (size_t i = 0; i < g.bodies.size(); ++i) {
         const Body& b = g.bodies[i];
-        r.place("bodies", i, "pose", b.pose);
-        r.offset("bodies", i, "com", b.com);
-        r.mass(i, b.mass);
-        if (b.inertia_set) r.inertia(i, b.inertia);
+        r.at("bodies", i, b.comp);
+        r.place("pose", "place", b.pose);
+        r.offset("com", "centre of mass", b.com);
+        r.mass(b.mass);
+        if (b.inertia_set) r.inertia(b.inertia);
+        for (int32_t k = 0; k < b.shape_num; ++k) {
+            const auto s = size_t(b.shape_adr + k);
+            r.at("shapes", s, b.comp);
+            r.offset("local", "offset of a shape", g.shapes[s].local);
+            r.size("size", "size of a shape", g.shapes[s].size);
+        }
     }
-    for (size_t i = 0; i < g.shapes.size(); ++i) {
-        r.offset("shapes", i, "local", g.shapes[i].local);
-        r.size("shapes", i, "size", g.shapes[i].size);
+    for (size_t i = 0; i < g.fields.size(); ++i) {
+        r.at("fields", i, g.fields[i].comp);
+        r.volume(g.fields[i]);
     }
-    for (size_t i = 0; i < g.fields.size(); ++i) r.volume("fields", i, g.fields[i]);
     for (size_t i = 0; i < g.joints.size(); ++i) {
-        r.offset("joints", i, "frame_a", g.joints[i].frame_a);
-        r.offset("joints", i, "frame_b", g.joints[i].frame_b);
+        r.at("joints", i, g.joints[i].comp);
+        r.offset("frame_a", "frame on body a", g.joints[i].frame_a);
+        r.offset("frame_b", "frame on body b", g.joints[i].frame_b);
     }
-    for (size_t i = 0; i < g.triggers.size(); ++i) r.volume("triggers", i, g.triggers[i]);
-    for (size_t i = 0; i < g.sources.size(); ++i) r.place("sources", i, "pose", g.sources[i].pose);
-    for (size_t i = 0; i < g.graphics.size(); ++i) r.place("graphics", i, "pose", g.graphics[i].pose);
-    for (size_t i = 0; i < g.keys.size(); ++i) r.offset("keys", i, "pose", g.keys[i].pose);
+    for (size_t i = 0; i < g.triggers.size(); ++i) {
+        r.at("triggers", i, g.triggers[i].comp);
+        r.volume(g.triggers[i]);
+    }
+    for (size_t i = 0; i < g.sources.size(); ++i) {
+        r.at("sources", i, g.sources[i].comp);
+        r.place("pose", "place", g.sources[i].pose);
+    }
+    for (size_t i = 0; i < g.graphics.size(); ++i) {
+        r.at("graphics", i, g.graphics[i].comp);
+        r.place("pose", "place", g.graphics[i].pose);
+    }
+    for (const Animation& a : g.animations)
+        for (int32_t k = 0; k < a.key_num; ++k) {
+            const auto key = size_t(a.key_adr + k);
+            r.at("keys", key, g.graphics[size_t(a.graphics)].comp);
+            r.offset("pose", "key frame", g.keys[key].pose);
+        }
     return out;
 }
 

@@ -20,16 +20,22 @@ constexpr double kMaxLength = 1e5;
 // at most kMaxMass · kMaxLength².
 constexpr double kMaxMass = 1e6;
 
+// Whether a place or an offset (x, y, z in metres) lies within kMaxLength on every axis.
+bool place_in_range(const double* p);
+
 struct RangeFlaw {
     std::string_view table;  // as in the text form's tables: "dos", "bodies", ...
     int32_t row = -1;
     std::string_view field;
-    std::string text;  // to follow the field: "is 200000 m out along x, beyond 100 km"
+    std::string_view what;  // the field in words: "place", "size of a shape", "key frame", ...
+    int32_t comp = -1;      // the component the record belongs to; -1 for a DO
+    std::string text;       // to follow the field: "is 200000 m out along x, beyond 100 km"
 };
 
-// Every field of `g` out of range, table by table in the order of graph.h (so a DO comes
-// before what it holds), row by row. Assumes every number is finite (validate.h checks that
-// first); hull points are hull.h's.
+// Every field of `g` out of range: the DOs first (so an object comes before what it holds),
+// then each component's records, a body's shapes after the body and an animation's keys with
+// their graphics. Assumes every number finite and every list inside its table (validate.h
+// checks both first); hull points are hull.h's.
 std::vector<RangeFlaw> range_flaws(const Graph& g);
 
 }  // namespace plant::graph
