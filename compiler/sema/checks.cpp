@@ -153,7 +153,18 @@ void Elaborator::check_logic_cycles() {
     }
 }
 
-constexpr const char* kRangeNote = "the physics is single precision: model the plant within 100 km, of bodies up to 1,000 t";
+namespace {
+
+// Why the bound: the one that applies to the flaw's field (language.md §6, "Range").
+std::string range_note(const graph::RangeFlaw& f) {
+    if (f.field == "speed" || f.field == "gain")
+        return "a belt's speed is at most 100 km/s and its gain at most 1e12 kg/s: beyond, its law leaves the "
+               "physics' range";
+    return "the physics is single precision: model the plant within 100 km, with sizes from 0.1 mm and "
+           "bodies from 1 mg to 1,000 t";
+}
+
+}  // namespace
 
 // Places, sizes and masses within graph/range.h's bounds, the loader's. One error per
 // declaration of the plant: at an object placed out of range (and none for what it holds), at
@@ -177,7 +188,7 @@ void Elaborator::check_ranges() {
             const auto a = do_at_spans_.find(f.row);
             const Span at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
             sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", f.what, path(f.row), f.text))
-                .notes.push_back({{}, kRangeNote});
+                .notes.push_back({{}, range_note(f)});
             continue;
         }
         const int32_t c = f.comp;
@@ -187,7 +198,7 @@ void Elaborator::check_ranges() {
         const int32_t owner = g_.comps[static_cast<size_t>(c)].owner;
         if (g_.dos[static_cast<size_t>(owner)].parent < 0) {  // the plant's own component
             sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", f.what, who, f.text))
-                .notes.push_back({{}, kRangeNote});
+                .notes.push_back({{}, range_note(f)});
             continue;
         }
         // A part of an object the plant makes: at that object, where its arguments are (most
@@ -199,7 +210,7 @@ void Elaborator::check_ranges() {
         auto& d = sink_.report(DiagId::OutOfRange, do_spans_[static_cast<size_t>(top)],
                                fmt::format("the {} of '{}' in '{}' {}", f.what, who, path(owner), f.text));
         d.notes.push_back({comp_spans_[c], fmt::format("'{}' is declared here", who)});
-        d.notes.push_back({{}, kRangeNote});
+        d.notes.push_back({{}, range_note(f)});
     }
 }
 

@@ -2,6 +2,7 @@
 #include "sema/elaborator.h"
 
 #include "graph/build.h"
+#include "graph/range.h"
 
 #include <algorithm>
 #include <cmath>
@@ -487,8 +488,14 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
                     else g_.settings.rate = v.num;
                 }
             } else if (st->name.text == "gravity") {
-                if (ev_.expect_vec3(v, units::dims::acceleration, "gravity"))
-                    g_.settings.gravity = {v.items[0].num, v.items[1].num, v.items[2].num};
+                if (ev_.expect_vec3(v, units::dims::acceleration, "gravity")) {
+                    const graph::Vec3 grav{v.items[0].num, v.items[1].num, v.items[2].num};
+                    if (graph::gravity_in_range(grav.data())) g_.settings.gravity = grav;
+                    else
+                        sink_.report(DiagId::OutOfRange, v.span,
+                                     fmt::format("gravity must lie within 1 km/s² along each axis, not ({:g}, {:g}, {:g}) m/s²",
+                                                 grav[0], grav[1], grav[2]));
+                }
             } else {
                 auto& d = sink_.report(DiagId::UnknownProperty, st->name.span,
                                        fmt::format("unknown plant setting '{}'", st->name.text));

@@ -31,8 +31,13 @@ public:
         if (!place_in_range(p.p.data()))
             add(field, what, fmt::format("is {} along {}, beyond 100 km", along(p.p), axis(p.p)));
     }
-    void size(std::string_view field, std::string_view what, const Vec3& v) {
-        if (const double d = largest(v.data()); d > kMaxLength) add(field, what, fmt::format("is {:g} m, beyond 100 km", d));
+    // The first `used` components of a size (a sphere uses one, a cylinder two, a box three).
+    void size(std::string_view field, std::string_view what, const Vec3& v, int used = 3) {
+        const double* end = v.data() + used;
+        if (const double d = *std::max_element(v.data(), end); d > kMaxLength)
+            add(field, what, fmt::format("is {:g} m, beyond 100 km", d));
+        else if (const double e = *std::min_element(v.data(), end); e > 0 && e < kMinLength)  // 0: validate.h's
+            add(field, what, fmt::format("is {:g} m, below 0.1 mm", e));
     }
     // A box volume (a field's, a trigger's): its extents, then its place.
     template <class V>
@@ -40,12 +45,20 @@ public:
         size("extent", "size", v.extent);
         place("pose", "place", v.pose);
     }
-    void mass(double m) {
-        if (m > kMaxMass) add("mass", "mass", fmt::format("is {:g} kg, above 1,000 t", m));
+    void mass(const Body& b) {
+        if (b.mass > kMaxMass) add("mass", "mass", fmt::format("is {:g} kg, above 1,000 t", b.mass));
+        else if (b.mode == BodyMode::Dynamic && b.mass > 0 && b.mass < kMinMass)
+            add("mass", "mass", fmt::format("is {:g} kg, below 1 mg", b.mass));
     }
     void inertia(const Vec3& i) {
         if (const double d = largest(i.data()); d > kMaxMass * kMaxLength * kMaxLength)
             add("inertia", "inertia", fmt::format("has a moment of {:g} kg·m², above 1e16 kg·m² (1,000 t at 100 km)", d));
+        else if (const double e = std::min({i[0], i[1], i[2]}); e > 0 && e < kMinInertia)
+            add("inertia", "inertia", fmt::format("has a moment of {:g} kg·m², below 1e-14 kg·m² (1 mg at 0.1 mm)", e));
+    }
+    void belt(const Field& f) {
+        if (std::abs(f.speed) > kMaxSpeed) add("speed", "speed", fmt::format("is {:g} m/s, beyond 100 km/s", f.speed));
+        if (f.gain > kMaxGain) add("gain", "gain", fmt::format("is {:g} kg/s, above 1e12 kg/s", f.gain));
     }
 
 private:
@@ -69,6 +82,7 @@ private:
 }  // namespace
 
 bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
+bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
 
 std::vector<RangeFlaw> range_flaws(const Graph& g) {
     std::vector<RangeFlaw> out;
@@ -82,18 +96,21 @@ std::vector<RangeFlaw> range_flaws(const Graph& g) {
         r.at("bodies", i, b.comp);
         r.place("pose", "place", b.pose);
         r.offset("com", "centre of mass", b.com);
-        r.mass(b.mass);
+        r.mass(b);
         if (b.inertia_set) r.inertia(b.inertia);
         for (int32_t k = 0; k < b.shape_num; ++k) {
             const auto s = size_t(b.shape_adr + k);
             r.at("shapes", s, b.comp);
             r.offset("local", "offset of a shape", g.shapes[s].local);
-            r.size("size", "size of a shape", g.shapes[s].size);
+            if (const Shape& sh = g.shapes[s]; sh.kind != ShapeKind::Hull)
+                r.size("size", "size of a shape", sh.size,
+                       sh.kind == ShapeKind::Sphere ? 1 : sh.kind == ShapeKind::Box ? 3 : 2);
         }
     }
     for (size_t i = 0; i < g.fields.size(); ++i) {
         r.at("fields", i, g.fields[i].comp);
         r.volume(g.fields[i]);
+        r.belt(g.fields[i]);
     }
     for (size_t i = 0; i < g.joints.size(); ++i) {
         r.at("joints", i, g.joints[i].comp);

@@ -1,7 +1,8 @@
-// The range a plant's places, sizes and masses lie in. Shared by the compiler (E0308 at the
-// declaration that puts a value out of range) and the graph loader (validate.cpp), so both
-// refuse the same graphs. The physics is single precision: far out, or far too large, a
-// number is rounded beyond use (at 100 km a float's step is 8 mm) or overflows to infinity.
+// The range a plant's places, sizes, masses and belts lie in. Shared by the compiler (E0308
+// at the declaration that puts a value out of range) and the graph loader (validate.cpp), so
+// both refuse the same graphs. The physics is single precision: far out, or far too large, a
+// number is rounded beyond use (at 100 km a float's step is 8 mm) or overflows to infinity;
+// far too small, it rounds to zero (a mass of 1e-300 kg is a float 0: a static body).
 #pragma once
 
 #include "graph/graph.h"
@@ -16,12 +17,31 @@ namespace plant::graph {
 // Every coordinate of a place (a world pose at start, or an offset from a body, a graphics
 // or a shape's origin) and every size lies within this (100 km, in metres).
 constexpr double kMaxLength = 1e5;
+// Every size (each extent of a box, field or trigger; a sphere's radius; a cylinder's or a
+// capsule's radius and height) is at least this (0.1 mm): below it Bullet's contact margins
+// and a float's rounding leave no shape.
+constexpr double kMinLength = 1e-4;
 // Every body's mass is at most this (1,000 t, in kg), and every principal moment of inertia
 // at most kMaxMass · kMaxLength².
 constexpr double kMaxMass = 1e6;
+// A dynamic body's mass is at least this (1 mg), and every principal moment of inertia set at
+// least kMinInertia (kMinMass · kMinLength², written out: the product rounds above it).
+constexpr double kMinMass = 1e-6;
+constexpr double kMinInertia = 1e-14;
+// A field's target speed is at most this (100 km/s, in m/s: a body at it leaves the world
+// within a second) ...
+constexpr double kMaxSpeed = 1e5;
+// ... and its gain at most this (kg/s, kMaxMass · kMaxRate): at it the speed error of even
+// the heaviest body at the fastest step rate shrinks e-fold in each step, of any lighter one
+// faster; beyond, k · speed leaves the range of the law's arithmetic.
+constexpr double kMaxGain = 1e12;
+// Every component of the plant's gravity is at most this (1 km/s², about 100 g).
+constexpr double kMaxGravity = 1e3;
 
 // Whether a place or an offset (x, y, z in metres) lies within kMaxLength on every axis.
 bool place_in_range(const double* p);
+// Whether a gravity (m/s²) lies within kMaxGravity on every axis.
+bool gravity_in_range(const double* g);
 
 struct RangeFlaw {
     std::string_view table;  // as in the text form's tables: "dos", "bodies", ...

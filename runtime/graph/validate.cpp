@@ -50,6 +50,8 @@ public:
         if (!(finite(g_.settings.rate) && g_.settings.rate >= kMinRate && g_.settings.rate <= kMaxRate))
             return fail_at("", -1, fmt::format("settings: rate {} is not between 1 Hz and 1 MHz", g_.settings.rate));
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
+        if (!gravity_in_range(g_.settings.gravity.data()))
+            return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() &&

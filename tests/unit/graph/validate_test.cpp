@@ -131,6 +131,12 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"field", 0, "extent", "(1 1 1e6)", "field 'extent' is 1e+06 m, beyond 100 km"},
         {"joint", 0, "frame_b", "(0 1e9 0|0 0 0 1)", "field 'frame_b' is 1e+09 m along y, beyond 100 km"},
         {"trigger", 0, "pose", "(0 0 -1e300|0 0 0 1)", "field 'pose' is -1e+300 m out along z, beyond 100 km"},
+        {"body", dyn, "mass", "1e-300", "field 'mass' is 1e-300 kg, below 1 mg"},
+        {"body", inertial, "inertia", "(1 1e-300 1)", "field 'inertia' has a moment of 1e-300 kg·m², below 1e-14 kg·m²"},
+        {"shape", box, "size", "(1 1 5e-5)", "field 'size' is 5e-05 m, below 0.1 mm"},
+        {"field", 0, "speed", "-2e5", "field 'speed' is -200000 m/s, beyond 100 km/s"},
+        {"field", 0, "gain", "1e300", "field 'gain' is 1e+300 kg/s, above 1e12 kg/s"},
+        {"settings", 0, "gravity", "(0 0 -1e4)", "settings: gravity is beyond 1 km/s² along an axis"},
         {"joint", 0, "body_b", std::to_string(g.joints[0].body_a), "a joint joins two different bodies"},
         {"place", place, "tokens_slot", std::to_string(g.places[size_t(place)].put_slot), "expected int out"},
         {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
@@ -244,6 +250,7 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
         refused("rate below 1 Hz", [](Graph& g) { g.settings.rate = 0.5; });
         refused("rate above 1 MHz", [](Graph& g) { g.settings.rate = 2e6; });
         refused("gravity not finite", [](Graph& g) { g.settings.gravity[2] = std::nan(""); });
+        refused("gravity beyond 1 km/s²", [](Graph& g) { g.settings.gravity[0] = 1001; });
         for (size_t i = 0; i < good.bodies.size(); ++i) {
             if (good.bodies[i].mode == BodyMode::Dynamic) {
                 refused("a dynamic body's mass 0", [&](Graph& g) { g.bodies[i].mass = 0; });
@@ -257,6 +264,9 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("a body placed beyond 100 km", [&](Graph& g) { g.bodies[i].pose.p[1] = -1.5e5; });
             refused("a centre of mass beyond 100 km", [&](Graph& g) { g.bodies[i].com.p[2] = 1e308; });
             refused("a mass above 1,000 t", [&](Graph& g) { g.bodies[i].mass = 2e6; });
+            if (good.bodies[i].mode == BodyMode::Dynamic)
+                refused("a mass below 1 mg", [&](Graph& g) { g.bodies[i].mass = 9e-7; });
+            if (good.bodies[i].inertia_set) refused("inertia below 1e-14", [&](Graph& g) { g.bodies[i].inertia[2] = 1e-15; });
         }
         for (size_t i = 1; i < good.dos.size(); ++i)
             refused("an object placed beyond 100 km", [&](Graph& g) { g.dos[i].pose.p[0] = 1e19; });
@@ -264,6 +274,7 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             if (good.shapes[i].kind != ShapeKind::Hull) {
                 refused("a shape of size 0", [&](Graph& g) { g.shapes[i].size[0] = 0; });
                 refused("a shape larger than 100 km", [&](Graph& g) { g.shapes[i].size[0] = 2e5; });
+                refused("a shape smaller than 0.1 mm", [&](Graph& g) { g.shapes[i].size[0] = 9e-5; });
                 refused("a shape offset beyond 100 km", [&](Graph& g) { g.shapes[i].local.p[0] = 2e5; });
                 continue;
             }
@@ -280,6 +291,9 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("a field's max_force below 0", [&](Graph& g) { g.fields[i].max_force = -1; });
             refused("a field placed beyond 100 km", [&](Graph& g) { g.fields[i].pose.p[2] = -2e5; });
             refused("a field longer than 100 km", [&](Graph& g) { g.fields[i].extent[0] = 2e5; });
+            refused("a field thinner than 0.1 mm", [&](Graph& g) { g.fields[i].extent[2] = 1e-300; });
+            refused("a field faster than 100 km/s", [&](Graph& g) { g.fields[i].speed = -1.5e5; });
+            refused("a field's gain above 1e12 kg/s", [&](Graph& g) { g.fields[i].gain = 2e12; });
         }
         for (size_t i = 0; i < good.joints.size(); ++i) {
             refused("a joint on one body", [&](Graph& g) { g.joints[i].body_b = g.joints[i].body_a; });
