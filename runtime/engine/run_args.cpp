@@ -178,7 +178,7 @@ std::string format_event(const Graph& g, const Event& ev) {
                     : fmt::format(" {}", d);
         break;
     }
-    default: line += " " + number_text(ev.value); break;
+    default: line += fmt::format(" {}", number_text(ev.value)); break;
     }
     return line;
 }
