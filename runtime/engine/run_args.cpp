@@ -259,6 +259,18 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
     return ok;
 }
 
+// A well-formed value that would put the physics out of its range (graph/range.h: a place
+// beyond 100 km, a speed beyond 100 km/s, ...) is refused like a malformed one, whichever way
+// in it takes (--event, an events file, a forced value, the viewer).
+bool in_range(const Graph& g, const Event& ev, std::string_view value, std::string& error) {
+    for (int32_t s : ev.slots)
+        if (const std::string_view r = input_range(g, s, ev.value.data()); !r.empty()) {
+            error = fmt::format("'{}' is out of range for '{}': it takes {}", value, ev.path, r);
+            return false;
+        }
+    return true;
+}
+
 // The slot (or port) at `path`; false with a "did you mean" error.
 const SlotTarget* find_target(const SlotIndex& slots, const std::string& path, std::string& error) {
     auto it = slots.find(path);
@@ -326,7 +338,7 @@ bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::stri
         }
         return true;
     }
-    return parse_value(g, type, path, value, ev, error);
+    return parse_value(g, type, path, value, ev, error) && in_range(g, ev, value, error);
 }
 
 }  // namespace
@@ -346,7 +358,7 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
     ev.path = path;
     ev.slots = t->slots;
     ev.force = false;
-    return parse_value(g, t->type, path, value, ev, error);
+    return parse_value(g, t->type, path, value, ev, error) && in_range(g, ev, value, error);
 }
 
 bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,

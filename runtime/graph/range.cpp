@@ -1,5 +1,7 @@
 #include "range.h"
 
+#include "kinds.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -83,6 +85,21 @@ private:
 
 bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
 bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
+
+std::string_view input_range(const Graph& g, int32_t slot, const double* v) {
+    const Slot& s = g.slots[size_t(slot)];
+    const Comp& c = g[s.comp];
+    const int32_t i = slot - int32_t(c.slot_adr);
+    const bool body = c.kind == CompKind::Body, field = c.kind == CompKind::Field;
+    if ((body && (i == bodyslot::set_pose || i == bodyslot::set_position)) ||
+        (c.kind == CompKind::Graphics && i == graphicsslot::set_pose))
+        return place_in_range(v) ? "" : "a place within 100 km";
+    if (body && i == bodyslot::set_velocity) return largest(v) <= kMaxSpeed ? "" : "a velocity within 100 km/s on each axis";
+    if (body && i == bodyslot::set_angular_velocity)
+        return largest(v) <= kMaxTurnRate ? "" : "an angular velocity within 1e6 rad/s on each axis";
+    if (field && i == fieldslot::set_speed) return std::abs(v[0]) <= kMaxSpeed ? "" : "a speed within 100 km/s";
+    return "";
+}
 
 std::vector<RangeFlaw> range_flaws(const Graph& g) {
     std::vector<RangeFlaw> out;

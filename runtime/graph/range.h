@@ -37,11 +37,20 @@ constexpr double kMaxSpeed = 1e5;
 constexpr double kMaxGain = 1e12;
 // Every component of the plant's gravity is at most this (1 km/s², about 100 g).
 constexpr double kMaxGravity = 1e3;
+// A body's angular velocity set from outside is at most this on each axis (rad/s): Bullet
+// turns a body by at most a quarter turn a step, which at the fastest rate is 1.6e6 rad/s.
+constexpr double kMaxTurnRate = 1e6;
 
 // Whether a place or an offset (x, y, z in metres) lies within kMaxLength on every axis.
 bool place_in_range(const double* p);
 // Whether a gravity (m/s²) lies within kMaxGravity on every axis.
 bool gravity_in_range(const double* g);
+// What a value put into `slot` from outside (an event, a forced value, a PLC write) must lie
+// in where the slot moves the physics: a body's or a graphics' set_pose and a body's
+// set_position a place within kMaxLength, a body's set_velocity kMaxSpeed and
+// set_angular_velocity kMaxTurnRate on each axis, a field's set_speed kMaxSpeed. Empty when
+// `v` (the slot's width of finite values) is in range; else the range, in words.
+std::string_view input_range(const Graph& g, int32_t slot, const double* v);
 
 struct RangeFlaw {
     std::string_view table;  // as in the text form's tables: "dos", "bodies", ...

@@ -2,6 +2,7 @@
 
 #include "engine/interrupt.h"
 #include "engine/run_args.h"
+#include "graph/range.h"
 #include "plc/codec.h"
 #include "plc/frames.h"
 
@@ -51,6 +52,14 @@ struct Client {
     std::vector<uint8_t> buf;
     Clock::time_point partial_since{};
 };
+
+// Whether a written value stays within the range of the physics it moves (graph/range.h: a
+// belt's speed within 100 km/s): out of it, it is refused like a value that is not finite.
+bool in_range(const engine::Engine& e, const engine::Event& ev, double v) {
+    for (int32_t s : ev.slots)
+        if (!graph::input_range(e.graph(), s, &v).empty()) return false;
+    return true;
+}
 
 }  // namespace
 
@@ -367,7 +376,7 @@ struct Server::Impl {
                 engine::Event& ev = force_events[i];
                 ev.mode = taken_faults[i].mode;
                 const double v = taken_faults[i].value;
-                if (ev.mode == engine::ForceMode::Stuck && !std::isfinite(v)) {
+                if (ev.mode == engine::ForceMode::Stuck && (!std::isfinite(v) || !in_range(e, ev, v))) {
                     ++rejected;
                 } else {
                     ev.value.resize(ev.mode == engine::ForceMode::Stuck ? 1 : 0);  // within its capacity
@@ -391,7 +400,7 @@ struct Server::Impl {
             taken[i].set = false;
             const double v = en.type == SlotType::Bool ? (taken[i].value != 0 ? 1 : 0)
                               : en.type == SlotType::Int ? std::round(taken[i].value) : taken[i].value;
-            if (!std::isfinite(v)) {
+            if (!std::isfinite(v) || !in_range(e, ev, v)) {
                 ++rejected;
                 continue;
             }

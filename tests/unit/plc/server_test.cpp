@@ -270,3 +270,30 @@ TEST_CASE("plc server: a bad host or a port in use is refused with a message") {
     CHECK_FALSE(second.start(error));
     CHECK(error.find("cannot listen on 127.0.0.1:") == 0 + std::string("modbus: ").size());
 }
+
+TEST_CASE("plc server: a written value beyond the physics' range is rejected like one that is not finite") {
+    const graph::Graph& g = bottling_graph();
+    engine::Engine e(g);
+    plc::Map m = bottling_map(g);  // and the belt's speed as a float32 in HR 20-21
+    m.entries.push_back(plc_entry(engine::slot_index(g), plc::Table::HoldingRegister, 20, "line[0].b1.set_speed",
+                                  plc::Encoding::Float32));
+    REQUIRE(plc::check_map(m, g).empty());
+    plc::Server s(g, m);
+    std::string error;
+    REQUIRE(s.start(error));
+    PlcClient c(s.port());
+    steps(s, e, 2);
+    uint16_t regs[2];
+    plc::put_float(1e30f, regs);  // finite, but a belt at 1e30 m/s is past graph/range.h's 100 km/s
+    REQUIRE(modbus_write_registers(c.ctx, 20, 2, regs) == 2);
+    steps(s, e, 2);
+    CHECK(s.stats().rejected == 1);
+    CHECK(s.stats().applied == 0);
+    CHECK(c.ir(2) == 500);  // still 0.5 m/s
+    plc::put_float(2.0f, regs);
+    REQUIRE(modbus_write_registers(c.ctx, 20, 2, regs) == 2);
+    steps(s, e, 2);
+    CHECK(s.stats().rejected == 1);
+    CHECK(s.stats().applied == 1);
+    CHECK(c.ir(2) == 2000);
+}

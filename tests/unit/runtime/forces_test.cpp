@@ -149,4 +149,7 @@ TEST_CASE("forces: the events-file lines replay as they went out, bad forces are
     refused("1s release sw.id now", "unexpected 'now'");
     refused("1s force ahead_end.seen stuck maybe", "stuck on or off");
     refused("1s force feed.set_speed stuck fast", "is not a real value");
+    // Forced like an event: within the range of the physics it moves (graph/range.h).
+    refused("1s force feed.set_speed stuck 2e5", "'2e5' is out of range for 'feed.set_speed': it takes a speed within 100 km/s");
+    CHECK(engine::parse_event(s.g(), s.idx, "1s force feed.set_speed stuck -1e5", ev, err));
 }

@@ -132,6 +132,23 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(run(g, {"--event", "0.05s bottle0.main.set_pose (0 -1e5 0.1|0 0 0 1)", "--for", "0.1s", "--quiet"}, out, err) == 0);
     CHECK(run(g, {"--event", "0.05s bottle0.main.set_orientation (0 0 0.7071 0.7071)", "--for", "0.1s", "--quiet"},
               out, err) == 0);
+    // Whatever else moves the physics stays in its range too: a place set alone, velocities, a belt's speed.
+    const std::pair<const char*, const char*> far[] = {
+        {"0.05s bottle0.main.set_position (0 0 1e300)", "it takes a place within 100 km"},
+        {"0.05s bottle0.main.set_velocity (-2e5 0 0)", "it takes a velocity within 100 km/s on each axis"},
+        {"0.05s bottle0.main.set_angular_velocity (0 2e6 0)", "it takes an angular velocity within 1e6 rad/s"},
+        {"0.05s line.belt.set_speed 1e300", "'1e300' is out of range for 'line.belt.set_speed': it takes a speed"},
+    };
+    for (const auto& [event, words] : far) {
+        CAPTURE(event);
+        CHECK(run(g, {"--event", event}, out, err) == 2);
+        CHECK_MESSAGE(err.find(words) != std::string::npos, err);
+    }
+    for (const char* event : {"0.05s bottle0.main.set_position (0 0 1e5)", "0.05s bottle0.main.set_velocity (-1e5 0 0)",
+                              "0.05s bottle0.main.set_angular_velocity (0 1e6 0)", "0.05s line.belt.set_speed -1e5"}) {
+        CAPTURE(event);
+        CHECK(run(g, {"--event", event, "--for", "0.1s", "--quiet"}, out, err) == 0);
+    }
 }
 
 TEST_CASE("runtime: run_main names the physics regions and their threads in the summary") {
