@@ -3,6 +3,7 @@
 #include "engine/runtime.h"
 
 #include "graph/kinds.h"
+#include "graph/range.h"
 
 #include <cmath>
 
@@ -67,6 +68,13 @@ void sense_bodies(Runtime& r) {
     }
 }
 
+// Only the plant's logic can send a value out of range: events are refused when read.
+bool input_in_range(Runtime& r, int32_t slot) {
+    if (graph::input_range(r.g, slot, r.val(slot)).empty()) return true;
+    ++r.st.warn.out_of_range;
+    return false;
+}
+
 void act_body(Runtime& r, const Comp& c, int32_t b) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     Physics& ph = r.phys;
@@ -75,7 +83,11 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
     if (a[bodyslot::collision_on]) ph.set_collision(b, true);
     if (!held && a[bodyslot::dynamics_off]) ph.set_dynamics(b, false);
     if (!held && a[bodyslot::dynamics_on]) ph.set_dynamics(b, true);
-    if (!held && (a[bodyslot::set_pose] || a[bodyslot::set_position] || a[bodyslot::set_orientation])) {
+    const int32_t s0 = c.slot_adr;
+    const bool pose_in = !a[bodyslot::set_pose] || input_in_range(r, s0 + bodyslot::set_pose);
+    const bool position_in = !a[bodyslot::set_position] || input_in_range(r, s0 + bodyslot::set_position);
+    const bool pose_ok = pose_in && position_in;  // a move out of range is not made at all
+    if (!held && pose_ok && (a[bodyslot::set_pose] || a[bodyslot::set_position] || a[bodyslot::set_orientation])) {
         btTransform f = ph.frame(b);
         if (a[bodyslot::set_pose]) {
             const double* v = r.val(c.slot_adr + bodyslot::set_pose);
@@ -97,7 +109,7 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
     }
     for (int k = 0; k < 2; ++k) {
         const int slot = k == 0 ? bodyslot::set_velocity : bodyslot::set_angular_velocity;
-        if (held || !a[slot]) continue;
+        if (held || !a[slot] || !input_in_range(r, s0 + slot)) continue;
         const double* v = r.val(c.slot_adr + slot);
         const Vec3 vel{v[0], v[1], v[2]};
         if (ph.dynamic_now(b)) {

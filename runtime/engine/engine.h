@@ -39,7 +39,11 @@ struct Warnings {
     int64_t access_type = 0;   // ... held an object of another type (or out of its range)
     int64_t pool_empty = 0;    // a source was asked to issue with an empty pool
     int64_t missed_contacts = 0;  // bodies of two physics regions met (see docs/runtime.md)
-    int64_t total() const { return left_world + nan_state + access_null + access_type + pool_empty + missed_contacts; }
+    int64_t out_of_range = 0;  // the plant's logic set a place, velocity or belt speed out of
+                               // graph/range.h's range (or not finite): not applied
+    int64_t total() const {
+        return left_world + nan_state + access_null + access_type + pool_empty + missed_contacts + out_of_range;
+    }
 };
 
 struct Runtime;  // the internals (engine/runtime.h)

@@ -294,7 +294,7 @@ void act_field(Runtime& r, const Comp& c, int32_t i) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     if (a[fieldslot::disable]) r.st.field_on[i] = 0;
     if (a[fieldslot::enable]) r.st.field_on[i] = 1;
-    if (a[fieldslot::set_speed]) {
+    if (a[fieldslot::set_speed] && input_in_range(r, c.slot_adr + fieldslot::set_speed)) {
         r.st.field_speed[i] = *r.val(c.slot_adr + fieldslot::set_speed);
         r.emit(c.slot_adr + fieldslot::speed, r.st.field_speed[i]);
     }

@@ -97,7 +97,7 @@ void start_graphics(Runtime& r) {
 
 void act_graphics(Runtime& r, const Comp& c, int32_t i) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
-    if (a[graphicsslot::set_pose]) {
+    if (a[graphicsslot::set_pose] && input_in_range(r, c.slot_adr + graphicsslot::set_pose)) {
         const double* v = r.val(c.slot_adr + graphicsslot::set_pose);
         r.st.graphics[i].base = Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
         r.st.graphics[i].base_fresh = false;

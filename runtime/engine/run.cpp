@@ -301,6 +301,7 @@ void summary(const Engine& e, const Tally& tally, const RecordTally& counts, dou
     line("dynamic flows with an object of another type", w.access_type);
     line("issues from an empty pool", w.pool_empty);
     line("contacts between physics regions not simulated", w.missed_contacts);
+    line("places, velocities or belt speeds out of range, not applied", w.out_of_range);
     if (!silent.empty()) {
         std::string names;
         for (size_t i = 0; i < silent.size() && i < 5; ++i) names += (i ? ", " : "") + silent[i];

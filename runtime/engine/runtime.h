@@ -84,6 +84,9 @@ void forces_step_end(Runtime& r);
 void check_bodies(Runtime& r);  // bodies.cpp: what left the world is taken out
 void sense_bodies(Runtime& r);
 void act_body(Runtime& r, const graph::Comp& c, int32_t i);
+// Whether the value of an active input that moves the physics may be applied (bodies.cpp):
+// one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
+bool input_in_range(Runtime& r, int32_t slot);
 void take_body_out(Runtime& r, int32_t body);
 void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
 void act_field(Runtime& r, const graph::Comp& c, int32_t i);

@@ -91,13 +91,19 @@ std::string_view input_range(const Graph& g, int32_t slot, const double* v) {
     const Comp& c = g[s.comp];
     const int32_t i = slot - int32_t(c.slot_adr);
     const bool body = c.kind == CompKind::Body, field = c.kind == CompKind::Field;
+    // Each axis within `limit`; NaN is never (a value the plant's logic computed may be one).
+    auto within = [v](int n, double limit) {
+        for (int k = 0; k < n; ++k)
+            if (!(std::abs(v[k]) <= limit)) return false;
+        return true;
+    };
     if ((body && (i == bodyslot::set_pose || i == bodyslot::set_position)) ||
         (c.kind == CompKind::Graphics && i == graphicsslot::set_pose))
-        return place_in_range(v) ? "" : "a place within 100 km";
-    if (body && i == bodyslot::set_velocity) return largest(v) <= kMaxSpeed ? "" : "a velocity within 100 km/s on each axis";
+        return within(3, kMaxLength) ? "" : "a place within 100 km";
+    if (body && i == bodyslot::set_velocity) return within(3, kMaxSpeed) ? "" : "a velocity within 100 km/s on each axis";
     if (body && i == bodyslot::set_angular_velocity)
-        return largest(v) <= kMaxTurnRate ? "" : "an angular velocity within 1e6 rad/s on each axis";
-    if (field && i == fieldslot::set_speed) return std::abs(v[0]) <= kMaxSpeed ? "" : "a speed within 100 km/s";
+        return within(3, kMaxTurnRate) ? "" : "an angular velocity within 1e6 rad/s on each axis";
+    if (field && i == fieldslot::set_speed) return within(1, kMaxSpeed) ? "" : "a speed within 100 km/s";
     return "";
 }
 

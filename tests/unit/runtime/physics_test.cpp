@@ -239,3 +239,45 @@ TEST_CASE("runtime: a hull without volume (the loader refuses it) neither crashe
         CHECK(z < 0.01);
     }
 }
+
+TEST_CASE("runtime: a place, velocity or belt speed out of range reaching an input is not applied, and counted") {
+    // Events are refused when read (run_args); what else reaches these inputs (the plant's own
+    // logic, a caller of Engine::input) is checked where they act, against graph/range.h.
+    SceneBuilder b;
+    const int32_t belt = floor_and_belt(b, 0.5, 16);
+    const int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.05, 0.05, 0.05})}, 0.1, at(0, 0, 0.025));
+    const int32_t c = b.body_comp(body), fc = b.field_comp(belt);
+    Engine e(b.g);
+    e.step();
+    const double nan = std::nan("");
+    const std::array<double, 7> far_pose{0, 2e5, 0, 0, 0, 0, 1};
+    const std::array<double, 3> far{0, 0, 1e300}, fast{-2e5, 0, 0}, spin{0, 0, 2e6}, broken{0, nan, 0};
+    const std::array<double, 1> speed{1e300}, speed_nan{nan};
+    e.input(plant::graph::SlotId(b.S(c, "set_pose")), far_pose);
+    e.input(plant::graph::SlotId(b.S(c, "set_position")), far);
+    e.input(plant::graph::SlotId(b.S(fc, "set_speed")), speed);
+    e.step();
+    CHECK(e.warnings().out_of_range == 3);
+    e.input(plant::graph::SlotId(b.S(c, "set_velocity")), fast);
+    e.input(plant::graph::SlotId(b.S(c, "set_angular_velocity")), spin);
+    e.step();
+    e.input(plant::graph::SlotId(b.S(c, "set_velocity")), broken);
+    e.input(plant::graph::SlotId(b.S(fc, "set_speed")), speed_nan);
+    e.step();
+    CHECK(e.warnings().out_of_range == 7);
+    CHECK(e.field_speed(plant::graph::FieldId(belt)) == 0.5);
+    const plant::graph::Vec3 p = e.body_com(plant::graph::BodyId(body));
+    CHECK(std::abs(p[0]) < 0.1);
+    CHECK(std::abs(p[1]) < 1e-3);
+    CHECK(std::abs(e.body_velocity(plant::graph::BodyId(body))[0]) < 0.6);
+    // In range, the same inputs apply.
+    const std::array<double, 1> slower{0.25};
+    e.input(plant::graph::SlotId(b.S(fc, "set_speed")), slower);
+    const std::array<double, 3> near{0, 1e5 - 1, 0.025};
+    e.input(plant::graph::SlotId(b.S(c, "set_position")), near);
+    e.step();
+    e.step();
+    CHECK(e.warnings().out_of_range == 7);
+    CHECK(e.field_speed(plant::graph::FieldId(belt)) == 0.25);
+    CHECK(e.body_com(plant::graph::BodyId(body))[1] == doctest::Approx(1e5 - 1).epsilon(1e-6));
+}

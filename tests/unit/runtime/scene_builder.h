@@ -97,6 +97,7 @@ struct SceneBuilder {
         return int32_t(g.bodies.size() - 1);
     }
     int32_t body_comp(int32_t b) const { return g.bodies[b].comp; }
+    int32_t field_comp(int32_t f) const { return g.fields[size_t(f)].comp; }
 
     int32_t field(int32_t owner, std::string_view n, Vec3 extent, Pose pose, Vec3 dir, double speed,
                   double gain, int32_t on_body = -1) {
