@@ -93,3 +93,24 @@ plant Summary {
     CHECK(s.find("  at the wall  1\n") != std::string::npos);
     CHECK(s.find("  objects that left the world: 1\n") != std::string::npos);
 }
+
+TEST_CASE("std.belts and std.transfers: a gain of 0 is refused at the instance that gives it, not inside the library") {
+    // A field's gain must be positive (E0306); the belts say so in their own parameters
+    // (`where k > 0`), so the error points at the user's argument (E0314), with a note at the
+    // library's constraint. Before, k >= 0 let 0 through to the field: two errors in
+    // std/belts.plant and none in the user's file.
+    for (const char* type : {"Belt", "Curve", "Corner", "TJunction"}) {
+        CAPTURE(type);
+        plant::Compilation c;
+        compile_text(std::string("import std.belts\nimport std.transfers\nplant P {\n    b: ") + type + "(k = 0 kg/s)\n}\n",
+                     c, "zero_gain.plant");
+        CHECK_FALSE(c.ok());
+        INFO(plant::render_all_text(c.sink.all(), c.sources));
+        CHECK(c.sink.all().size() == 1);
+        CHECK(has_code(c, "E0314"));
+        for (const auto& d : c.sink.all()) {
+            CHECK(c.sources.name(d.span.file).ends_with("zero_gain.plant"));
+            CHECK(c.sources.line_col(d.span.file, d.span.begin).line == 4);
+        }
+    }
+}
