@@ -679,8 +679,8 @@ int spacing(const fs::path& out, std::vector<Run>& runs) {
     for (size_t k = 0; k < runs.size(); ++k) md += "---|";
     md += "\n";
     auto row = [&](const std::string& what, auto cell) {
-        md += "| " + what + " |";
-        for (size_t k = 0; k < runs.size(); ++k) md += " " + cell(runs[k], res[k]) + " |";
+        md += fmt::format("| {} |", what);
+        for (size_t k = 0; k < runs.size(); ++k) md += fmt::format(" {} |", cell(runs[k], res[k]));
         md += "\n";
     };
     auto cm = [](double v) { return fmt::format("{:.2f}", v * 100); };
