@@ -40,13 +40,32 @@ bool inside(const graph::Field& f, const Vec3& p) {
     return true;
 }
 
+}  // namespace
+
 int32_t body_named(const graph::Graph& g, const std::string& path) {
     for (size_t b = 0; b < g.bodies.size(); ++b)
         if (g.comp_path(g.bodies[b].comp) == path) return int32_t(b);
     return -1;
 }
 
-}  // namespace
+int32_t field_at(const graph::Graph& g, const Vec3& p) {
+    for (size_t i = 0; i < g.fields.size(); ++i)
+        if (g.fields[i].body < 0 && g.fields[i].enabled && inside(g.fields[i], p)) return int32_t(i);
+    return -1;
+}
+
+Rebound analyse_rebound(const std::vector<double>& t, const std::vector<double>& pitch) {
+    Rebound r;
+    for (size_t i = 0; i < pitch.size() && i < t.size(); ++i) {
+        if (std::isnan(r.back_time)) {
+            if (pitch[i] <= -1) continue;
+            r.back_time = t[i];
+            r.rebound = pitch[i];
+        }
+        r.rebound = std::max(r.rebound, pitch[i]);
+    }
+    return r;
+}
 
 bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std::string& error) {
     Bottle b;

@@ -9,6 +9,7 @@
 #include "graph/graph.h"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <iosfwd>
 #include <string>
@@ -53,6 +54,10 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
 
 // Is `p` inside the box of a force field (fields fixed in the world, at their start pose)?
 bool in_some_field(const graph::Graph& g, const Vec3& p);
+// The first enabled field whose box holds `p` at the start, or -1 (a bare band).
+int32_t field_at(const graph::Graph& g, const Vec3& p);
+// The body whose component path is `path` (e.g. "bottle.main"), or -1.
+int32_t body_named(const graph::Graph& g, const std::string& path);
 
 // Do all bodies have friction 0 and restitution 0 (the original setup)?
 bool frictionless(const graph::Graph& g);
@@ -146,6 +151,18 @@ struct Tipping {
 Tipping analyse_tipping(const std::vector<double>& t, const std::vector<double>& pitch,
                         const std::vector<double>& tilt, const std::vector<double>& speed,
                         double threshold_deg = 1.0);
+
+// ---- rocking ----
+
+// A bottle let go leaning back (plants/experiments/rocking.plant): when it is back on its
+// base (the first sample whose lean `pitch` is above -1°) and its rebound, the largest
+// forward lean from then on, in degrees (beyond 1°: a second swing). NaN when it never
+// comes back.
+struct Rebound {
+    double back_time = NAN;
+    double rebound = NAN;
+};
+Rebound analyse_rebound(const std::vector<double>& t, const std::vector<double>& pitch);
 
 // ---- spacing ----
 

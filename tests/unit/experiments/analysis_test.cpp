@@ -239,3 +239,19 @@ TEST_CASE("experiments: reading a trace") {
     std::istringstream empty("");
     CHECK_FALSE(read_csv(empty, t, err));
 }
+
+TEST_CASE("experiments: a rebound is the largest forward lean once the bottle is back on its base") {
+    const std::vector<double> t{0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07};
+    // Let go at -10°, back above -1° at 0.03 s, then forwards by 1.5° and back.
+    const Rebound r = analyse_rebound(t, {-10, -8, -3, -0.5, 0.8, 1.5, -0.6, -2});
+    CHECK(r.back_time == doctest::Approx(0.03));
+    CHECK(r.rebound == doctest::Approx(1.5));
+    // Coming back without leaning forwards: the rebound is the largest lean after, below 0.
+    const Rebound flat = analyse_rebound(t, {-10, -6, -2, -0.9, -0.3, -0.1, -0.05, -0.1});
+    CHECK(flat.back_time == doctest::Approx(0.03));
+    CHECK(flat.rebound == doctest::Approx(-0.05));
+    // Never back on its base (fell over, or held back): NaN.
+    const Rebound never = analyse_rebound(t, {-10, -12, -20, -40, -60, -80, -90, -90});
+    CHECK(std::isnan(never.back_time));
+    CHECK(std::isnan(never.rebound));
+}
