@@ -525,6 +525,10 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
         }
         md += decreasing ? " yes |\n" : " no |\n";
     }
+    if (std::none_of(res.begin(), res.end(), [](const Tipping& x) { return x.second.found; }))
+        md += "\nNo run swings a second time: the law damps a rocking bottle before it can (the rocking probe, "
+              "`scripts/experiments.sh --only rocking`, and docs/experiments.md, \"The second swing: what the law "
+              "allows\").\n";
     md += "\nFiles: tipping.csv (per run: tilt_TAG and the signed lean pitch_TAG in degrees, > 0 forwards; v_TAG "
           "the speed along the belt in m/s), tipping.png, tipping.svg.\n";
     write_file(out / "summary.md", md);
