@@ -56,7 +56,11 @@ void report_change(const std::string& name, const std::string& was, const std::s
 
 // Writes beside the file, then renames: an interrupted run leaves the file as it was.
 bool replace_file(const std::string& path, const std::string& text) {
-    const fs::path tmp = fs::path(path).parent_path() / ("." + fs::path(path).filename().string() + ".fmt-" + std::to_string(::getpid()));
+    std::string name = ".";  // appended, not "." + string: GCC 12 at -O3 flags that with a false -Wrestrict
+    name += fs::path(path).filename().string();
+    name += ".fmt-";
+    name += std::to_string(::getpid());
+    const fs::path tmp = fs::path(path).parent_path() / name;
     {
         std::ofstream f(tmp, std::ios::binary);
         f << text;

@@ -106,7 +106,8 @@ sema::Value let_value(const Compilation& c, const ast::ObjectDecl& o, const ast:
 }
 
 std::string value_text(const sema::Value& v) {
-    if (v.kind == sema::Value::Kind::Num) return fmt::format("{:g}", v.num) + (v.dim.none() ? "" : " " + units::si_unit(v.dim));
+    if (v.kind == sema::Value::Kind::Num)
+        return v.dim.none() ? fmt::format("{:g}", v.num) : fmt::format("{:g} {}", v.num, units::si_unit(v.dim));
     if (v.kind == sema::Value::Kind::Bool) return v.boolean ? "true" : "false";
     if (v.kind == sema::Value::Kind::Str) return "\"" + v.str + "\"";
     if (v.kind == sema::Value::Kind::Vec) {

@@ -67,8 +67,13 @@ private:
             } else if (auto* l = std::get_if<ast::LetDecl>(&m)) {
                 out.push_back(symbol(l->name.text, "let", kConstant, l->span, l->name.span));
             } else if (auto* i = std::get_if<ast::InstanceDecl>(&m)) {
-                out.push_back(symbol(i->name.text + (i->index ? "[" + text(i->index->span) + "]" : ""), i->type.text,
-                                     kObject, i->span, i->name.span));
+                std::string name = i->name.text;
+                if (i->index) {
+                    name += '[';
+                    name += text(i->index->span);
+                    name += ']';
+                }
+                out.push_back(symbol(name, i->type.text, kObject, i->span, i->name.span));
             } else if (auto* k = std::get_if<ast::ComponentDecl>(&m)) {
                 out.push_back(component(*k));
             } else if (auto* g = std::get_if<ast::LogicDecl>(&m)) {

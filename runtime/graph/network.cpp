@@ -158,7 +158,10 @@ namespace {
 // A dynamic end reads as the reference slot, then the member: "a.object.sensor.on".
 std::string end_text(const Graph& g, int32_t slot, int32_t access) {
     std::string s = g.slot_path(slot);
-    if (access >= 0) s += "." + std::string(g.str(g.accesses[size_t(access)].member));
+    if (access >= 0) {
+        s += '.';
+        s += g.str(g.accesses[size_t(access)].member);
+    }
     return s;
 }
 

@@ -341,7 +341,10 @@ std::string render_errors(const std::string& path, const std::vector<SpecError>&
         if (size_t(e.loc.line) <= lines.size()) {
             const std::string num = std::to_string(e.loc.line);
             out += " " + num + " | " + lines[size_t(e.loc.line) - 1] + "\n";
-            out += " " + std::string(num.size(), ' ') + " | " + std::string(size_t(std::max(0, e.loc.col - 1)), ' ') + "^\n";
+            out.append(1 + num.size(), ' ');
+            out += " | ";
+            out.append(size_t(std::max(0, e.loc.col - 1)), ' ');
+            out += "^\n";
         }
     }
     return out;
