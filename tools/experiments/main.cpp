@@ -135,6 +135,14 @@ void write_file(const fs::path& p, const std::string& text) {
     if (!f) fail("cannot write " + p.string());
 }
 
+// The sample times the runs share (it fails when they differ).
+const std::vector<double>& same_times(const std::vector<Run>& runs) {
+    for (const Run& r : runs)
+        if (*r.trace.col("time") != *runs[0].trace.col("time"))
+            fail(r.trace_path + ": its times differ from " + runs[0].trace_path + "'s (use the same --for and rate)");
+    return *runs[0].trace.col("time");
+}
+
 // The runs of a one-bottle experiment: each run's bottle found, the runs labelled by
 // `primary`, their sample times checked to be the same. Returns those times.
 const std::vector<double>& bottle_runs(std::vector<Run>& runs, const std::string& primary) {
@@ -143,10 +151,7 @@ const std::vector<double>& bottle_runs(std::vector<Run>& runs, const std::string
         if (!find_bottle(r.g, "bottle", r.bottle, err)) fail(r.graph_path + ": " + err);
     }
     label_runs(runs, primary);
-    for (const Run& r : runs)
-        if (*r.trace.col("time") != *runs[0].trace.col("time"))
-            fail(r.trace_path + ": its times differ from " + runs[0].trace_path + "'s (use the same --for and rate)");
-    return *runs[0].trace.col("time");
+    return same_times(runs);
 }
 
 std::string plant_line(const Run& r) {
@@ -757,6 +762,7 @@ struct RockRun {
     std::vector<double> pitch;
     Rebound rebound;
     std::string tag;
+    std::array<double, 3> band() const { return {k, limit, mass}; }  // what a row of the summary is
 };
 
 std::string band_text(double k, double limit) {
@@ -764,11 +770,9 @@ std::string band_text(double k, double limit) {
 }
 
 int rocking(const fs::path& out, std::vector<Run>& runs) {
-    const std::vector<double>& t = *runs[0].trace.col("time");
+    const std::vector<double>& t = same_times(runs);
     std::vector<RockRun> rr;
     for (const Run& r : runs) {
-        if (*r.trace.col("time") != t)
-            fail(r.trace_path + ": its times differ from " + runs[0].trace_path + "'s (use the same --for and rate)");
         const int32_t main = body_named(r.g, "bottle.main"), bottom = body_named(r.g, "bottle.bottom");
         if (main < 0 || bottom < 0) fail(r.graph_path + ": the plant has no bottle (bodies bottle.main and bottle.bottom)");
         RockRun x;
@@ -797,8 +801,7 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
     std::vector<std::array<double, 3>> bands;
     std::vector<double> tilts;
     for (const RockRun& x : rr) {
-        if (std::find(bands.begin(), bands.end(), std::array{x.k, x.limit, x.mass}) == bands.end())
-            bands.push_back({x.k, x.limit, x.mass});
+        if (std::find(bands.begin(), bands.end(), x.band()) == bands.end()) bands.push_back(x.band());
         if (std::find(tilts.begin(), tilts.end(), x.tilt) == tilts.end()) tilts.push_back(x.tilt);
     }
     std::sort(tilts.begin(), tilts.end());
@@ -815,7 +818,7 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
         bool first = true;
         for (size_t k = 0; k < rr.size(); ++k) {
             const RockRun& x = rr[k];
-            if (std::array{x.k, x.limit, x.mass} != b) continue;
+            if (x.band() != b) continue;
             const size_t c = size_t(std::find(tilts.begin(), tilts.end(), x.tilt) - tilts.begin());
             panels += fmt::format("{}'rocking.csv' skip 1 using 1:{} with lines lw 2 lc rgb '{}' title 'let go at {:g}°'",
                                   first ? "" : ", \\\n     ", 2 + k, colour(c), x.tilt);
@@ -836,8 +839,7 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
           "Its rebound is its largest forward lean once it is back on its base (lean above −1°): a second swing "
           "when it exceeds 1°. On a bare band only Bullet's contact acts; a belt's field pulls both of the bottle's "
           "bodies towards the band's speed, and so damps the rocking (docs/experiments.md, Tipping).\n\n";
-    md += fmt::format("Plant `{}`, physics at {} Hz; friction and restitution {} on every body.\n\n",
-                      runs[0].g.str(runs[0].g.plant), num(rate_of(runs[0])), frictionless(runs[0].g) ? "0" : "**not** 0");
+    md += plant_line(runs[0]) + "\n\n";
     md += fmt::format("Rebound (°) per band and tilt{}; **bold**: a second swing.\n\n| band |",
                       masses ? "" : fmt::format(", {:g} g bottle", rr[0].mass * 1000));
     for (double tl : tilts) md += fmt::format(" let go at {:g}° |", tl);
@@ -851,7 +853,7 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
         for (double tl : tilts) {
             std::string cell = " — |";
             for (const RockRun& x : rr) {
-                if (std::array{x.k, x.limit, x.mass} != b || x.tilt != tl) continue;
+                if (x.band() != b || x.tilt != tl) continue;
                 const double v = x.rebound.rebound;
                 const bool swing = v > 1;
                 cell = std::isnan(v) ? " never back |" : swing ? fmt::format(" **{:.2f}** |", v) : fmt::format(" {:.2f} |", v);

@@ -6,6 +6,8 @@
 #include "engine/engine.h"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -392,13 +394,8 @@ TEST_CASE("rocking: let go leaning back, a bottle swings forwards a second time 
     const std::vector<double> belt = rebounds({});
     const std::vector<double> light = rebounds({"max_force=0.05 N"});
     const auto swings = std::count_if(bare.begin(), bare.end(), [](double x) { return x > 1; });
-    auto list = [](const std::vector<double>& x) {
-        std::string out;
-        for (double v : x) out += (out.empty() ? "" : ", ") + std::to_string(v);
-        return out;
-    };
-    INFO("rebounds (deg) at 8, 10, 12, 15, 20 deg: bare " << list(bare) << "; std.belts " << list(belt)
-                                                          << "; 0.05 N " << list(light));
+    INFO(fmt::format("rebounds (deg) at 8, 10, 12, 15, 20 deg: bare {:.2f}; std.belts {:.2f}; 0.05 N {:.2f}",
+                     fmt::join(bare, ", "), fmt::join(belt, ", "), fmt::join(light, ", ")));
     CHECK(swings >= 3);
     CHECK(*std::max_element(bare.begin(), bare.end()) > 2);
     CHECK(*std::max_element(belt.begin(), belt.end()) < 0.3);
