@@ -162,7 +162,14 @@ TEST_CASE("plc robustness: 50 clients at once") {
     // the machine, so the floor is every client served at least twice.
     CHECK(round >= 2 * clients.size());
     CHECK(stepped >= kGoingOn);
-    CHECK(p.s.stats().clients == 51);
+    // All 51 were let in and none was dropped. The 50 are still connected; steps_during's own
+    // client closed as it returned, which the server may or may not have seen by now.
+    const plc::ServerStats st = p.s.stats();
+    CHECK(st.accepted == 51);
+    CHECK(st.refused == 0);
+    CHECK(st.dropped == 0);
+    CHECK(st.clients >= 50);
+    CHECK(st.clients <= 51);
 }
 
 TEST_CASE("plc robustness: a client gone mid-request, one stuck mid-request, one that is not Modbus TCP") {
