@@ -846,22 +846,26 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
     md += " second swings | back on its base after (ms) |\n|---|";
     for (size_t i = 0; i < tilts.size() + 2; ++i) md += "---|";
     md += "\n";
+    auto run_at = [&](const std::array<double, 3>& b, double tilt) -> const RockRun* {
+        const auto it = std::find_if(rr.begin(), rr.end(), [&](const RockRun& x) { return x.band() == b && x.tilt == tilt; });
+        return it == rr.end() ? nullptr : &*it;
+    };
     for (const auto& b : bands) {
         md += "| " + band_name(b) + " |";
         int swings = 0, n = 0;
         std::vector<std::string> backs;
         for (double tl : tilts) {
-            std::string cell = " — |";
-            for (const RockRun& x : rr) {
-                if (x.band() != b || x.tilt != tl) continue;
-                const double v = x.rebound.rebound;
-                const bool swing = v > 1;
-                cell = std::isnan(v) ? " never back |" : swing ? fmt::format(" **{:.2f}** |", v) : fmt::format(" {:.2f} |", v);
-                swings += swing;
-                ++n;
-                backs.push_back(std::isnan(x.rebound.back_time) ? "—" : fmt::format("{:.0f}", 1000 * x.rebound.back_time));
+            const RockRun* x = run_at(b, tl);
+            if (!x) {
+                md += " — |";
+                continue;
             }
-            md += cell;
+            const double v = x->rebound.rebound;
+            const bool swing = v > 1;
+            md += std::isnan(v) ? " never back |" : swing ? fmt::format(" **{:.2f}** |", v) : fmt::format(" {:.2f} |", v);
+            swings += swing;
+            ++n;
+            backs.push_back(std::isnan(x->rebound.back_time) ? "—" : fmt::format("{:.0f}", 1000 * x->rebound.back_time));
         }
         md += fmt::format(" {} of {} | {} |\n", swings, n, fmt::join(backs, ", "));
     }
