@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 // The LSP's CompletionItemKind numbers we use.
-enum Kind { kField = 5, kVariable = 6, kClass = 7, kModule = 9, kProperty = 10, kUnit = 11, kKeyword = 14, kEvent = 23 };
+enum class ItemKind { Field = 5, Variable = 6, Class = 7, Module = 9, Property = 10, Unit = 11, Keyword = 14, Event = 23 };
 
 bool ident(char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; }
 
@@ -87,20 +87,20 @@ const ast::ObjectDecl* issued_type(const Compilation& c, const ast::ComponentDec
 void add_type_members(const ast::ObjectDecl& type, json& items) {
     const Members ms = members_of(type);
     for (const ast::PortDecl* p : ms.ports)
-        items.push_back({{"label", p->name.text}, {"kind", kField}, {"detail", (p->is_input ? "in " : "out ") + p->type.text}});
+        items.push_back({{"label", p->name.text}, {"kind", ItemKind::Field}, {"detail", (p->is_input ? "in " : "out ") + p->type.text}});
     for (const ast::InstanceDecl* x : ms.instances)
-        items.push_back({{"label", x->name.text}, {"kind", kVariable}, {"detail", x->type.text}});
+        items.push_back({{"label", x->name.text}, {"kind", ItemKind::Variable}, {"detail", x->type.text}});
     for (const ast::ComponentDecl* x : ms.components)
-        if (!x->name.text.empty()) items.push_back({{"label", x->name.text}, {"kind", kProperty}, {"detail", x->kind.text}});
+        if (!x->name.text.empty()) items.push_back({{"label", x->name.text}, {"kind", ItemKind::Property}, {"detail", x->kind.text}});
 }
 
 void add_slots(const ast::ComponentDecl& k, json& items) {
     if (const sema::KindSpec* spec = sema::find_kind(k.kind.text))
         for (const graph::SlotSpec& s : sema::kind_slots(*spec))
-            items.push_back({{"label", std::string(s.name)}, {"kind", kEvent},
+            items.push_back({{"label", std::string(s.name)}, {"kind", ItemKind::Event},
                              {"detail", fmt::format("{} {}", graph::word(s.dir), graph::word(s.type))},
                              {"documentation", std::string(s.doc)}});
-    auto named = [&](const std::string& name, const char* what) { items.push_back({{"label", name}, {"kind", kField}, {"detail", what}}); };
+    auto named = [&](const std::string& name, const char* what) { items.push_back({{"label", name}, {"kind", ItemKind::Field}, {"detail", what}}); };
     for (const auto& p : k.places) named(p.name.text, "place");
     for (const auto& t : k.transitions) named(t.name.text, "transition");
     for (const auto& a : k.animations) named(a.name.text, "animation");
@@ -182,9 +182,9 @@ json imports(const std::string& stdlib_dir) {
         const std::vector<std::string> types = declared_types(f);
         std::string detail;
         for (const auto& t : types) detail += (detail.empty() ? "" : ", ") + t;
-        items.push_back({{"label", module}, {"kind", kModule}, {"detail", detail}});
+        items.push_back({{"label", module}, {"kind", ItemKind::Module}, {"detail", detail}});
         for (const auto& t : types)
-            items.push_back({{"label", t}, {"kind", kClass}, {"detail", module}, {"insertText", module}});
+            items.push_back({{"label", t}, {"kind", ItemKind::Class}, {"detail", module}, {"insertText", module}});
     }
     return items;
 }
@@ -211,7 +211,7 @@ json properties(const sema::KindSpec& spec) {
     for (const auto& p : spec.props) {
         std::string detail = p.dim.none() ? "" : units::dim_name(p.dim) + " (" + units::si_unit(p.dim) + ")";
         if (p.required) detail += detail.empty() ? "required" : ", required";
-        items.push_back({{"label", std::string(p.name)}, {"kind", kProperty}, {"detail", detail},
+        items.push_back({{"label", std::string(p.name)}, {"kind", ItemKind::Property}, {"detail", detail},
                          {"documentation", std::string(p.doc)}});
     }
     return items;
@@ -234,7 +234,7 @@ json completion(const Compilation* c, const sema::LoadedModule* m, const std::st
     size_t k = before.size();
     while (k > 0 && before[k - 1] == ' ') --k;
     if (k > 0 && std::isdigit(static_cast<unsigned char>(before[k - 1]))) {
-        for (const auto& u : units::unit_atoms()) items.push_back({{"label", u}, {"kind", kUnit}});
+        for (const auto& u : units::unit_atoms()) items.push_back({{"label", u}, {"kind", ItemKind::Unit}});
         return items;
     }
     const std::string open = opener(t, start);
@@ -242,13 +242,13 @@ json completion(const Compilation* c, const sema::LoadedModule* m, const std::st
         if (const sema::KindSpec* spec = sema::find_kind(open)) return properties(*spec);
         if (open == "object" || open == "plant" || open == "for" || open == "if" || open == "else")
             for (const auto& word : sema::kind_words())
-                items.push_back({{"label", word}, {"kind", kKeyword}, {"detail", "component"},
+                items.push_back({{"label", word}, {"kind", ItemKind::Keyword}, {"detail", "component"},
                                  {"documentation", std::string(sema::find_kind(word)->doc)}});
     }
     if (c)
         for (const auto& mod : c->program.modules)
             for (const auto& o : mod.ast->objects)
-                if (!o.is_plant) items.push_back({{"label", o.name.text}, {"kind", kClass}, {"detail", signature(*c, o)}});
+                if (!o.is_plant) items.push_back({{"label", o.name.text}, {"kind", ItemKind::Class}, {"detail", signature(*c, o)}});
     return items;
 }
 

@@ -313,7 +313,7 @@ std::string cat(std::initializer_list<std::string_view> parts) {
     return r;
 }
 
-std::string quoted(std::string_view s) { return cat({"'", s, "'"}); }
+std::string in_quotes(std::string_view s) { return cat({"'", s, "'"}); }
 
 std::string join(const std::vector<std::string>& items) {
     std::string r;
@@ -325,10 +325,10 @@ std::string join(const std::vector<std::string>& items) {
 }
 
 std::string name_or(const std::vector<std::string>& names, int i, char prefix) {
-    if (i < static_cast<int>(names.size()) && !names[i].empty()) return quoted(names[i]);
+    if (i < static_cast<int>(names.size()) && !names[i].empty()) return in_quotes(names[i]);
     std::string fallback(1, prefix);
     fallback += std::to_string(i);
-    return quoted(fallback);
+    return in_quotes(fallback);
 }
 
 std::string Explorer::pname(int p) const { return name_or(net_.place_names, p, 'p'); }

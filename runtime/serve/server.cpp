@@ -41,7 +41,7 @@ namespace {
 
 constexpr size_t kMaxQueued = 64;       // messages waiting for one page
 constexpr size_t kMaxFile = 64u << 20;  // bytes of one served file
-constexpr auto kStatusEvery = std::chrono::milliseconds(200);
+constexpr auto kStatusPeriod = std::chrono::milliseconds(200);
 
 std::string error_message(std::string_view msg) {
     return json{{"type", "error"}, {"message", msg}}.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -255,7 +255,7 @@ private:
             if (queue_.size() < kMaxQueued) send(std::move(line), false);
         log_next_ = next;
         const auto now = std::chrono::steady_clock::now();
-        if (now - last_status_ >= kStatusEvery && queue_.size() < kMaxQueued / 2) {
+        if (now - last_status_ >= kStatusPeriod && queue_.size() < kMaxQueued / 2) {
             if (auto st = p.status()) {
                 last_status_ = now;
                 std::string s = st->status;

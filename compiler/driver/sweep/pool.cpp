@@ -33,7 +33,7 @@ std::string slurp(const std::string& path) {
     return s.str();
 }
 
-std::string trim(std::string s) {
+std::string trim_line(std::string s) {
     while (!s.empty() && (s.back() == ' ' || s.back() == '\n' || s.back() == '\r')) s.pop_back();
     size_t i = 0;
     while (i < s.size() && s[i] == ' ') ++i;
@@ -45,7 +45,7 @@ std::string last_error(const std::string& err) {
     std::istringstream in(err);
     std::string best, line;
     while (std::getline(in, line)) {
-        line = trim(line);
+        line = trim_line(line);
         if (line.find("error") != std::string::npos) return line;
         if (!line.empty() && line[0] != '|' && line[0] != '^') best = line;
     }
@@ -76,11 +76,11 @@ bool parse_summary(const std::string& text, Summary& s) {
         if (line.rfind("warnings:", 0) == 0) records = false;
         if (line.find("objects with a NaN state") != std::string::npos) s.nan = true;
         if (records && line.rfind("  ", 0) == 0) {
-            const std::string l = trim(line);
+            const std::string l = trim_line(line);
             const size_t ev = l.find(" events (");
             if (ev != std::string::npos) {
                 const size_t sp = l.rfind(' ', ev - 1);
-                const std::string name = trim(l.substr(0, sp));
+                const std::string name = trim_line(l.substr(0, sp));
                 s.totals[name] = std::strtod(l.c_str() + sp + 1, nullptr);
                 s.rates[name] = std::strtod(l.c_str() + ev + 9, nullptr);
             } else {
@@ -88,12 +88,12 @@ bool parse_summary(const std::string& text, Summary& s) {
                 if (body.size() > 6 && body.substr(body.size() - 6) == " (sum)") body.resize(body.size() - 6);
                 const size_t sp = body.rfind(' ');
                 if (sp == std::string::npos) continue;
-                s.totals[trim(body.substr(0, sp))] = std::strtod(body.c_str() + sp + 1, nullptr);
+                s.totals[trim_line(body.substr(0, sp))] = std::strtod(body.c_str() + sp + 1, nullptr);
             }
             continue;
         }
         records = false;
-        const std::string l = trim(line);
+        const std::string l = trim_line(line);
         after(l, "real-time factor:", "rtf") || after(l, "issued by sources:", "issued") ||
             after(l, "taken by exits:", "commissioned") || after(l, "on the line:", "on_line") ||
             after(l, "lost (left the world):", "lost") || after(l, "stalled over 30 s:", "stalled");

@@ -14,7 +14,7 @@ using namespace plant::graph;
 
 namespace {
 
-int add_slot(Graph& g, int comp, std::string_view name, SlotType type, Dir dir) {
+int put_slot(Graph& g, int comp, std::string_view name, SlotType type, Dir dir) {
     Slot s;
     s.name = g.intern(name);
     s.type = type;
@@ -25,7 +25,7 @@ int add_slot(Graph& g, int comp, std::string_view name, SlotType type, Dir dir) 
     return static_cast<int>(g.slots.size()) - 1;
 }
 
-int add_comp(Graph& g, int owner, CompKind kind, std::string_view name, int detail = -1) {
+int put_comp(Graph& g, int owner, CompKind kind, std::string_view name, int detail = -1) {
     Comp c;
     c.name = g.intern(name);
     c.kind = kind;
@@ -34,7 +34,7 @@ int add_comp(Graph& g, int owner, CompKind kind, std::string_view name, int deta
     c.detail = detail;
     g.comps.push_back(c);
     int id = static_cast<int>(g.comps.size()) - 1;
-    for (const SlotSpec& s : fixed_slots(kind)) add_slot(g, id, s.name, s.type, s.dir);
+    for (const SlotSpec& s : fixed_slots(kind)) put_slot(g, id, s.name, s.type, s.dir);
     return id;
 }
 
@@ -60,18 +60,18 @@ Graph sample() {
     g.dos.push_back(sw);
     g.do_types.push_back({g.intern("Bottle"), 1, {}});
 
-    int body = add_comp(g, 1, CompKind::Body, "blade");
-    int eye = add_comp(g, 1, CompKind::Trigger, "eye|<1>");
-    int net = add_comp(g, 1, CompKind::State, "net");
+    int body = put_comp(g, 1, CompKind::Body, "blade");
+    int eye = put_comp(g, 1, CompKind::Trigger, "eye|<1>");
+    int net = put_comp(g, 1, CompKind::State, "net");
     for (std::string_view place : {"Base", "Work\\"}) {
         Place p;
         p.comp = CompId(net);
         p.name = g.intern(place);
         p.initial = place == "Base" ? 1 : 0;
         std::string n(place);
-        p.put_slot = SlotId(add_slot(g, net, n + ".put", SlotType::Void, Dir::In));
-        p.entered_slot = SlotId(add_slot(g, net, n + ".entered", SlotType::Void, Dir::Out));
-        p.tokens_slot = SlotId(add_slot(g, net, n + ".tokens", SlotType::Int, Dir::Out));
+        p.put_slot = SlotId(put_slot(g, net, n + ".put", SlotType::Void, Dir::In));
+        p.entered_slot = SlotId(put_slot(g, net, n + ".entered", SlotType::Void, Dir::Out));
+        p.tokens_slot = SlotId(put_slot(g, net, n + ".tokens", SlotType::Int, Dir::Out));
         g.places.push_back(p);
     }
     g.arcs.push_back({PlaceId(0), 2});
@@ -83,12 +83,12 @@ Graph sample() {
     t.in_num = 1;
     t.out_adr = Adr<Arc>(1);
     t.out_num = 1;
-    t.fired_slot = SlotId(add_slot(g, net, "tw.fired", SlotType::Void, Dir::Out));
+    t.fired_slot = SlotId(put_slot(g, net, "tw.fired", SlotType::Void, Dir::Out));
     g.transitions.push_back(t);
 
-    int go = add_comp(g, 0, CompKind::Logic, "go", 0);
-    int in0 = add_slot(g, go, "in0", SlotType::Void, Dir::In);
-    int in1 = add_slot(g, go, "in1", SlotType::Void, Dir::In);
+    int go = put_comp(g, 0, CompKind::Logic, "go", 0);
+    int in0 = put_slot(g, go, "in0", SlotType::Void, Dir::In);
+    int in1 = put_slot(g, go, "in1", SlotType::Void, Dir::In);
     g.logic_inputs.push_back({SlotId(in0), false});
     g.logic_inputs.push_back({SlotId(in1), true});
     g.logics.push_back({CompId(go), LogicOp::And, Adr<LogicIn>(0), 2, SlotId(slot_of(g, go, "out"))});

@@ -13,7 +13,7 @@ using namespace plant::graph;
 
 namespace {
 
-int32_t slot_named(const Graph& g, const std::string& path) {
+int32_t slot_at_path(const Graph& g, const std::string& path) {
     for (size_t s = 0; s < g.slots.size(); ++s)
         if (g.slot_path(int32_t(s)) == path) return int32_t(s);
     FAIL("no slot " << path);
@@ -33,7 +33,7 @@ TEST_CASE("network: a dynamic end is every access target, a dynamic source also 
     plant::test::compile_repo_file("tests/golden/lower/dynamic_access.plant", c);
     REQUIRE(c.ok());
     const Graph& g = c.graph;
-    const int32_t object = slot_named(g, "seen.object");
+    const int32_t object = slot_at_path(g, "seen.object");
     std::vector<int32_t> read, written;
     for (const Flow& f : g.flows) {
         if (f.from_access >= 0) {

@@ -14,8 +14,8 @@ enum SwitchPlace {
     BasePosStartAnim, WorkingPosStartAnim, BasePosAnimCtrl, WorkingPosAnimCtrl, kPlaces
 };
 
-Transition tr(std::vector<int> in, std::vector<int> out) {
-    Transition t;
+plant::petri::Transition tr(std::vector<int> in, std::vector<int> out) {
+    plant::petri::Transition t;
     for (int p : in) t.in.push_back({p, 1});
     for (int p : out) t.out.push_back({p, 1});
     return t;
@@ -54,7 +54,7 @@ TEST_CASE("petri: step adds puts first, then fires every enabled transition at o
     Net n;  // t0: 2 A -> 3 B; t1: A + B -> C
     n.initial = {0, 0, 0};
     n.fed = {true, false, false};
-    Transition t0, t1;
+    plant::petri::Transition t0, t1;
     t0.in = {{0, 2}};
     t0.out = {{1, 3}};
     t1.in = {{0, 1}, {1, 1}};
@@ -107,7 +107,7 @@ TEST_CASE("petri: a transition needing more tokens than a place ever holds is de
     Net n;  // A fed; t0: A -> B (drains every put at once); t1: 2 A -> C; t2: B ->
     n.initial = {0, 0, 0};
     n.fed = {true, false, false};
-    Transition heavy;
+    plant::petri::Transition heavy;
     heavy.in = {{0, 2}};
     heavy.out = {{2, 1}};
     n.transitions = {tr({0}, {1}), heavy, tr({1}, {})};
@@ -121,7 +121,7 @@ TEST_CASE("petri: a weight-2 drain bounds a fed place (no false accumulation)") 
     Net n;  // A fed, t: 2 A -> ; A stays within {0, 1} between steps
     n.initial = {0};
     n.fed = {true};
-    Transition t;
+    plant::petri::Transition t;
     t.in = {{0, 2}};
     n.transitions = {t};
     Report r = analyse(n);
@@ -162,11 +162,11 @@ TEST_CASE("petri: hitting the exploration limit reports no dead transitions") {
     n.initial.assign(10, 0);
     n.fed.assign(10, true);
     for (int p = 0; p < 10; ++p) {
-        Transition t;
+        plant::petri::Transition t;
         t.in = {{p, 3}};
         n.transitions.push_back(t);
     }
-    Transition never;  // needs a token on a place that never gets one
+    plant::petri::Transition never;  // needs a token on a place that never gets one
     never.in = {{0, 1}, {9, 5}};
     n.transitions.push_back(never);
 
@@ -180,7 +180,7 @@ TEST_CASE("petri: an unbounded place is still reported when the limit is hit") {
     Net n;  // A fed, never consumed; B fed, drained only at 1000 tokens: too many markings
     n.initial = {0, 0};
     n.fed = {true, true};
-    Transition t;
+    plant::petri::Transition t;
     t.in = {{1, 1000}};
     n.transitions = {t};
     Report r = analyse(n, 50);

@@ -30,7 +30,7 @@ plant Linked {
 }
 )";
 
-std::string diagnostics(const std::string& link) {
+std::string link_diagnostics(const std::string& link) {
     Compilation c;
     test::compile_text("import std.belts\nplant P {\n    b1: Belt(length = 1 m)\n" + link + "\n}\n", c, "link_bad.plant");
     std::string out;
@@ -76,22 +76,22 @@ TEST_CASE("plc link kind: the declared entries are the map the server serves") {
 }
 
 TEST_CASE("plc link kind: cross-entry problems are E0315 at the entry, entry problems their own codes") {
-    CHECK(diagnostics("modbus plc {\n input 0 => b1.speed_now(encoding = \"float32\")\n input 1 => b1.speed_now(scale = 1000)\n}") ==
+    CHECK(link_diagnostics("modbus plc {\n input 0 => b1.speed_now(encoding = \"float32\")\n input 1 => b1.speed_now(scale = 1000)\n}") ==
           "6:2 E0315 'b1.speed_now': input register 1 overlaps 'b1.speed_now' at 0\n");
-    CHECK(diagnostics("modbus plc {\n input 59999 => b1.speed_now(encoding = \"float32\")\n}").find(
+    CHECK(link_diagnostics("modbus plc {\n input 59999 => b1.speed_now(encoding = \"float32\")\n}").find(
               "5:2 E0315 'b1.speed_now': input register address 59999..60000 is out of range") == 0);
-    CHECK(diagnostics("modbus plc { holding 60000 => b1.set_speed }").find("E0308") != std::string::npos);
-    CHECK(diagnostics("modbus plc { input 0 => b1.speed_now(encoding = \"int16\") }").find(
+    CHECK(link_diagnostics("modbus plc { holding 60000 => b1.set_speed }").find("E0308") != std::string::npos);
+    CHECK(link_diagnostics("modbus plc { input 0 => b1.speed_now(encoding = \"int16\") }").find(
               "E0315 'b1.speed_now': a real slot cannot be encoded as int16") != std::string::npos);
-    CHECK(diagnostics("modbus plc { input 0 => b1.speed_now(unit = \"mm/s\") }").find(
+    CHECK(link_diagnostics("modbus plc { input 0 => b1.speed_now(unit = \"mm/s\") }").find(
               "E0315 'b1.speed_now': a unit belongs to a scaled register, not to float32") != std::string::npos);
-    CHECK(diagnostics("modbus plc { input 0 => b1.speed_now(encoding = \"double\") }").find(
+    CHECK(link_diagnostics("modbus plc { input 0 => b1.speed_now(encoding = \"double\") }").find(
               "no encoding 'double'") != std::string::npos);
-    CHECK(diagnostics("modbus plc { coil 0 => b1.speed_now }").find("E0202") != std::string::npos);
-    CHECK(diagnostics("modbus plc { coil 0 => b1.set_speed }").find("E0201") != std::string::npos);
-    CHECK(diagnostics("modbus a { port = 1502 }\nmodbus b {\n port = 1502\n}") ==
+    CHECK(link_diagnostics("modbus plc { coil 0 => b1.speed_now }").find("E0202") != std::string::npos);
+    CHECK(link_diagnostics("modbus plc { coil 0 => b1.set_speed }").find("E0201") != std::string::npos);
+    CHECK(link_diagnostics("modbus a { port = 1502 }\nmodbus b {\n port = 1502\n}") ==
           "5:8 E0315 port 1502 is taken by the link 'a': two links cannot serve one port\n");
-    CHECK(diagnostics("modbus a { port = 1502 }\nmodbus b { port = 1503 }").empty());
+    CHECK(link_diagnostics("modbus a { port = 1502 }\nmodbus b { port = 1503 }").empty());
 }
 
 TEST_CASE("plc link kind: the loader runs the kind's check") {

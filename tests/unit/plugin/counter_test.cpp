@@ -30,7 +30,7 @@ int32_t slot(const graph::Graph& g, std::string_view path) {
     return -1;
 }
 
-std::string diagnostics(const std::string& text) {
+std::string counter_diagnostics(const std::string& text) {
     Compilation c;
     test::compile_text(text, c, "counter_bad.plant");
     std::string out;
@@ -88,21 +88,21 @@ TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
 
 TEST_CASE("plugin kind: its properties are checked like a built-in kind's") {
     test::register_counter_kind();
-    CHECK(diagnostics("plant P { counter c { start = 2 } }\n").find("E0304 counter 'c' needs the property 'limit'") !=
+    CHECK(counter_diagnostics("plant P { counter c { start = 2 } }\n").find("E0304 counter 'c' needs the property 'limit'") !=
           std::string::npos);
-    const std::string dim = diagnostics("plant P { counter c { limit = 3; idle_after = 2 m } }\n");
+    const std::string dim = counter_diagnostics("plant P { counter c { limit = 3; idle_after = 2 m } }\n");
     CHECK(dim.find("E0203") != std::string::npos);
     CHECK(dim.find("idle_after") != std::string::npos);
-    CHECK(diagnostics("plant P { counter c { limit = 3; limt = 4 } }\n").find("E0106 counter has no property 'limt'") !=
+    CHECK(counter_diagnostics("plant P { counter c { limit = 3; limt = 4 } }\n").find("E0106 counter has no property 'limt'") !=
           std::string::npos);
-    CHECK(diagnostics("plant P { counter c { limit = 3; start = 1.5 } }\n").find("E0") != std::string::npos);
+    CHECK(counter_diagnostics("plant P { counter c { limit = 3; start = 1.5 } }\n").find("E0") != std::string::npos);
     Compilation ms;
     test::compile_text("plant P { counter c { limit = 3; idle_after = 500 ms } }\n", ms, "counter_ms.plant");
     REQUIRE(ms.ok());
     CHECK(ms.graph.plugin_params[2].num == 0.5);  // stored in the descriptor's unit, seconds
-    CHECK(diagnostics("plant P { countr c { limit = 3 } }\n").find("unknown component kind 'countr'") !=
+    CHECK(counter_diagnostics("plant P { countr c { limit = 3 } }\n").find("unknown component kind 'countr'") !=
           std::string::npos);
-    const std::string slot_error = diagnostics("plant P { counter c { limit = 3 }\n flow c.value -> c.ad }\n");
+    const std::string slot_error = counter_diagnostics("plant P { counter c { limit = 3 }\n flow c.value -> c.ad }\n");
     CHECK(slot_error.find("counter component 'c' has no slot 'ad'") != std::string::npos);
 }
 
@@ -207,7 +207,7 @@ plant Tapped {
 TEST_CASE("plugin kind: bad entries get the diagnostics of their kind") {
     test::register_counter_kind();
     auto diag = [](const std::string& entry) {
-        return diagnostics("plant P {\n timer t: periodic { period = 1 s }\n counter c {\n limit = 3\n " + entry +
+        return counter_diagnostics("plant P {\n timer t: periodic { period = 1 s }\n counter c {\n limit = 3\n " + entry +
                            "\n }\n}\n");
     };
     CHECK(diag("tapp 1 => t.tick").find("E0106 a counter takes no entry 'tapp'") != std::string::npos);
@@ -226,6 +226,6 @@ TEST_CASE("plugin kind: bad entries get the diagnostics of their kind") {
     CHECK(diag("tap 1 => t.tick (2)").find("E0303 an entry's options are named") != std::string::npos);
     CHECK(diag("tap 1 => t.tock").find("E0104") != std::string::npos);
     // A kind without entries holds none.
-    CHECK(diagnostics("plant P {\n timer t: periodic { period = 1 s\n tap 1 => t.tick }\n}\n").find("E0311") !=
+    CHECK(counter_diagnostics("plant P {\n timer t: periodic { period = 1 s\n tap 1 => t.tick }\n}\n").find("E0311") !=
           std::string::npos);
 }
