@@ -121,10 +121,11 @@ private:
     if (!finite(r.f_)) return fail(fmt::format("field '{}' is not a finite number", #f_)); \
     if (!unit_quats(r.f_)) return fail(fmt::format("field '{}' has a rotation that is not a unit quaternion", #f_)); \
     if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size())); \
-    if (!reference(#f_, r.f_)) return false;
+    if (!reference(#f_, r.f_, std::bool_constant<optional_id(table, #f_)>{})) return false;
 #define PLANT_CHECK_TABLE(member, Record, elem, FIELDS)     \
     for (size_t i = 0; i < g_.member.size(); ++i) {         \
-        at(#member, i);                                     \
+        constexpr std::string_view table = #member;         \
+        at(table, i);                                       \
         const Record& r = g_.member[i];                     \
         FIELDS(PLANT_CHECK_FIELD)                           \
     }
@@ -133,12 +134,14 @@ private:
 #undef PLANT_CHECK_FIELD
         return true;
     }
+    // `optional` is whether the field may be -1, decided at compile time (a string search
+    // per row made loading a large graph slow).
     template <class T>
-    bool reference(std::string_view field, const T& v) {
+    bool reference(std::string_view field, const T& v, bool optional) {
         if constexpr (is_typed_id<T>) {
             using R = typename T::record;
             if constexpr (T::role == IdRole::Row)
-                return id(field, v.v, g_.rows<R>().size(), table_name<R>(), optional_id(table_, field));
+                return id(field, v.v, g_.rows<R>().size(), table_name<R>(), optional);
             adr_ = {field, v.v, g_.rows<R>().size(), table_name<R>()};
         } else if constexpr (std::is_same_v<T, int32_t>) {
             if (!adr_.table.empty() && field.ends_with("_num")) {
