@@ -244,11 +244,10 @@ struct Server::Impl {
         std::copy(status, status + kStatusCount, m.tab_input_registers + kStatusSteps);
     }
 
-    // A request's changes into the pending writes (under mu).
+    // A request's changes into the pending writes (the caller holds mu).
     void take_changes() {
         if (changes.empty()) return;
         const modbus_mapping_t& m = tables.mapping();
-        std::lock_guard lock(mu);
         for (const Change& c : changes) {
             if (c.kind == Change::Advance) {
                 budget += c.steps;
@@ -297,14 +296,15 @@ struct Server::Impl {
             if (len <= 0) break;
             refresh();
             modbus_set_socket(ctx, c.fd);
+            // Answered and taken under the lock before_step takes: a client that has its
+            // answer finds its write applied at the next step (it was answered before it
+            // was taken, and a step in between missed it).
+            std::lock_guard lock(mu);
             const int64_t before = tables.exceptions();
             ok = tables.handle(ctx, c.buf.data() + at, len, changes);
             take_changes();
-            {
-                std::lock_guard lock(mu);
-                ++stats.requests;
-                stats.exceptions += tables.exceptions() - before;
-            }
+            ++stats.requests;
+            stats.exceptions += tables.exceptions() - before;
             at += size_t(len);
         }
         c.buf.erase(c.buf.begin(), c.buf.begin() + std::ptrdiff_t(std::min(at, c.buf.size())));
