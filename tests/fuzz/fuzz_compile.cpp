@@ -3,6 +3,7 @@
 // Invariant: no crash, no sanitizer report, no hang (the driver's time limit per input);
 // the compiler either succeeds or reports errors, and every error has a location inside
 // the input or inside a file it imports (never an invalid span), and a non-empty message.
+#include "paths.h"
 #include "compiler.h"
 #include "fuzz.h"
 #include "faults/kind.h"

@@ -2,6 +2,7 @@
 // once per process, with its index of addressable slots.
 #pragma once
 
+#include "paths.h"
 #include "compiler.h"
 #include "engine/run_args.h"
 #include "fuzz.h"

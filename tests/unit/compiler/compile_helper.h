@@ -2,6 +2,7 @@
 // ctest runs test cases as parallel processes, so each process gets its own folder.
 #pragma once
 
+#include "paths.h"
 #include "compiler.h"
 
 #include <filesystem>

@@ -1,3 +1,4 @@
+#include "paths.h"
 #include "compile_helper.h"
 #include "graph/kinds.h"
 #include "graph/text.h"

@@ -1,5 +1,6 @@
 // sema::Reuse: a load shares the parsed modules of an earlier one whose text did not
 // change, parses the changed ones again, and reports exactly what a fresh load reports.
+#include "paths.h"
 #include "compile_helper.h"
 
 #include <doctest/doctest.h>

@@ -1,5 +1,6 @@
 // plant sweep: the spec reader's values and located errors, the checks against the plant,
 // the order of runs, and the reading of `plant run`'s summary.
+#include "paths.h"
 #include "driver/sweep/sweep.h"
 
 #include <doctest/doctest.h>

@@ -8,6 +8,7 @@
 //   ```plant at=examples    a file of that folder (its relative imports resolve there)
 //
 // And no project file cites a document that a checkout does not have.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "diag/diagnostic.h"
 

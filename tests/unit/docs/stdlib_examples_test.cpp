@@ -8,6 +8,7 @@
 //   plant Example { ... }      (the example's other lines)
 //
 // so an example says which other modules it needs, as a user's file would.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "diag/diagnostic.h"
 

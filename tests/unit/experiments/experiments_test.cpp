@@ -1,6 +1,7 @@
 // The three experiment plants (plants/experiments), compiled with --set values and run
 // on Bullet in-process: what physics requires of traction, tipping and spacing. The
 // numbers come from running the physics; the thresholds are stated with their reasons.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "analysis.h"
 #include "engine/engine.h"

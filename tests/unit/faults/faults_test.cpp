@@ -1,5 +1,6 @@
 // Faults scheduled in the plant file (runtime/faults, docs/plc.md "Faults from the plant
 // file"): each entry is the event an events file would give, applied the same way.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "engine/run.h"
 #include "engine/run_args.h"

@@ -2,6 +2,7 @@
 // the files need not be formatted already; byte for byte but for the source positions
 // the graph records, see fmt_compare.h), formatting is idempotent, and syntax errors
 // are refused. One case per layout rule: tests/golden/fmt.
+#include "paths.h"
 #include "../../fmt_compare.h"
 #include "fmt/formatter.h"
 #include "sema/modules.h"

@@ -2,6 +2,7 @@
 // plant files (the compiler) and compiled graphs (the loader and the runtime). Run under
 // AddressSanitizer + UBSan in CI, a memory error here fails the suite. Each case also
 // checks that the damage produced both outcomes, so it cannot pass by testing nothing.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "graph/text.h"

@@ -1,5 +1,6 @@
 // Physics regions (runtime/engine/regions.cpp): a Bullet world per group of static bodies far
 // from the others, bodies moving between them, and results that do not depend on the threads.
+#include "paths.h"
 #include "engine/engine.h"
 #include "graph/text.h"
 #include "engine/runtime.h"

@@ -1,5 +1,6 @@
 // Scenes saved as graph text files (tests/runtime_scenes/*.graph) load and run. The
 // files are written from the builders here: PLANT_UPDATE_SCENES=1 regenerates them.
+#include "paths.h"
 #include "engine/engine.h"
 #include "graph/text.h"
 #include "bottling_scene.h"
@@ -10,10 +11,6 @@
 #include <fstream>
 
 using namespace plant::test;
-
-#ifndef PLANT_SOURCE_DIR
-#define PLANT_SOURCE_DIR "."
-#endif
 
 TEST_CASE("runtime: the bottling scene file loads as the graph it was written from, and runs") {
     const std::string path = std::string(PLANT_SOURCE_DIR) + "/tests/runtime_scenes/bottling.graph";

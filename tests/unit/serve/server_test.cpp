@@ -1,6 +1,7 @@
 // plant serve over loopback: the protocol, one way in for events (a session replays
 // headless bit for bit), replay of a recording against the trace of the same run, and
 // pages that misbehave. Every wait is bounded.
+#include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "engine/run.h"
