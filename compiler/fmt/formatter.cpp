@@ -2,6 +2,7 @@
 #include "fmt/formatter.h"
 
 #include "fmt/lines.h"
+#include "graph/utf8.h"
 #include "parse/layout.h"
 #include "sema/modules.h"
 
@@ -19,7 +20,7 @@ std::optional<std::string> format_source(const SourceMap& sources, int32_t file,
 
 std::optional<std::string> format_text(const std::string& name, std::string text, SourceMap& sources, Sink& sink) {
     if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
-    const size_t bad = sema::invalid_utf8(text);
+    const size_t bad = graph::invalid_utf8(text);
     const int32_t file = sources.add(name, std::move(text));
     if (bad != std::string::npos) {
         sema::report_invalid_utf8(sources, file, bad, sink);

@@ -2,6 +2,7 @@
 // because the generated code and the ANTLR headers do not build as C++20.
 #include "parse/parser.h"
 #include "parse/offsets.h"
+#include "graph/utf8.h"
 
 #include "PlantLexer.h"
 #include "PlantParser.h"
@@ -647,7 +648,21 @@ static ast::Module empty_module(int32_t file) {
     return m;
 }
 
+// Text reaches ANTLR only as UTF-8: its input stream converts with wstring_convert, which
+// throws on anything else. A file's readers report E0008 before this; a --set value, a
+// sweep's value or an editor's buffer arrive here first.
+static bool utf8_text(const SourceMap& sources, int32_t file, Sink& sink) {
+    const std::string& text = sources.text(file);
+    const size_t bad = graph::invalid_utf8(text);
+    if (bad == std::string::npos) return true;
+    auto& d = sink.report(DiagId::InvalidText, Span{file, static_cast<uint32_t>(bad), static_cast<uint32_t>(bad + 1)},
+                          fmt::format("not valid UTF-8: byte 0x{:02X} here", static_cast<unsigned char>(text[bad])));
+    d.notes.push_back({{}, "plant text is UTF-8; a Latin-1 'ä' is one such byte"});
+    return false;
+}
+
 ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
+    if (!utf8_text(sources, file, sink)) return empty_module(file);
     const std::string& text = sources.text(file);
     Offsets offsets(text);
     Pipeline p(text, sink, file, offsets);
@@ -707,6 +722,7 @@ ast::Module parse_module(const SourceMap& sources, int32_t file, Sink& sink) {
 }
 
 std::optional<ast::Arg> parse_set(const SourceMap& sources, int32_t file, Sink& sink) {
+    if (!utf8_text(sources, file, sink)) return std::nullopt;
     const std::string& text = sources.text(file);
     Offsets offsets(text);
     Pipeline p(text, sink, file, offsets, "end of the value");

@@ -1,5 +1,6 @@
 #include "sema/modules.h"
 
+#include "graph/utf8.h"
 #include "parse/parser.h"
 
 #include <algorithm>
@@ -57,7 +58,7 @@ public:
         }
         // A byte-order mark is not text: columns count from after it.
         if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
-        const size_t bad = invalid_utf8(text);
+        const size_t bad = graph::invalid_utf8(text);
         int32_t file = sm_.add(display, std::move(text));
         if (bad != std::string_view::npos) {
             report_invalid_utf8(sm_, file, bad, sink_);
@@ -154,29 +155,6 @@ bool read_file(const fs::path& p, std::string& out, std::string& why) {
     ss << in.rdbuf();
     out = ss.str();
     return true;
-}
-
-size_t invalid_utf8(std::string_view s) {
-    size_t i = 0;
-    while (i < s.size()) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        size_t n = 0;
-        uint32_t cp = 0, min = 0;
-        if (c < 0x80) n = 1;
-        else if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1F, min = 0x80;
-        else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0F, min = 0x800;
-        else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07, min = 0x10000;
-        else return i;
-        if (i + n > s.size()) return i;
-        for (size_t k = 1; k < n; ++k) {
-            const auto d = static_cast<unsigned char>(s[i + k]);
-            if ((d & 0xC0) != 0x80) return i;
-            cp = (cp << 6) | (d & 0x3F);
-        }
-        if (n > 1 && (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))) return i;
-        i += n;
-    }
-    return std::string_view::npos;
 }
 
 void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sink& sink) {

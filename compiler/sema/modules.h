@@ -37,9 +37,8 @@ std::string stdlib_module_declaring(const std::string& stdlib_dir, const std::st
 // (": it is a directory"), empty when it cannot be opened.
 bool read_file(const std::filesystem::path& p, std::string& out, std::string& why);
 
-// The offset of the first byte that is not part of valid UTF-8, or npos; and its error
+// A plant file's text that is not UTF-8 (`bad` from graph::invalid_utf8): its error
 // (E0008), the one every reader of plant files reports.
-size_t invalid_utf8(std::string_view s);
 void report_invalid_utf8(const SourceMap& sources, int32_t file, size_t bad, Sink& sink);
 
 // Unsaved editor buffers by canonical path: a file found here is read from here, not from disk.

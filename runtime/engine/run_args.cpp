@@ -2,6 +2,7 @@
 
 #include "engine/plugin.h"
 #include "graph/range.h"
+#include "graph/utf8.h"
 
 #include <fmt/format.h>
 
@@ -200,6 +201,10 @@ void apply_event(Engine& e, const Event& ev) {
 
 bool parse_event(const Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
                  std::string& error) {
+    if (const size_t bad = graph::invalid_utf8(line); bad != std::string_view::npos) {
+        error = graph::utf8_error(line, bad);
+        return false;
+    }
     line = trim(line);
     size_t sp = line.find_first_of(" \t");
     if (sp == std::string_view::npos) {
@@ -344,6 +349,10 @@ bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::stri
 }  // namespace
 
 bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, Event& ev, std::string& error) {
+    if (const size_t bad = graph::invalid_utf8(rest); bad != std::string_view::npos) {
+        error = graph::utf8_error(rest, bad);  // a string value would reach traces and pages as is
+        return false;
+    }
     const auto [head, tail] = first_word(rest);
     if ((head == "force" || head == "release") && !tail.empty() && !slots.count(std::string(head)))
         return parse_force(g, slots, head == "release", tail, ev, error);

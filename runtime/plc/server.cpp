@@ -3,6 +3,7 @@
 #include "engine/interrupt.h"
 #include "engine/run_args.h"
 #include "graph/range.h"
+#include "graph/utf8.h"
 #include "plc/codec.h"
 #include "plc/frames.h"
 
@@ -400,7 +401,10 @@ struct Server::Impl {
             taken[i].set = false;
             const double v = en.type == SlotType::Bool ? (taken[i].value != 0 ? 1 : 0)
                               : en.type == SlotType::Int ? std::round(taken[i].value) : taken[i].value;
-            if (!std::isfinite(v) || !in_range(e, ev, v)) {
+            // Not finite, out of the physics' range, or a string that is not UTF-8 (it would
+            // reach traces and the viewer as is): rejected, counted.
+            if (!std::isfinite(v) || !in_range(e, ev, v) ||
+                (en.type == SlotType::String && graph::invalid_utf8(taken[i].text) != std::string::npos)) {
                 ++rejected;
                 continue;
             }

@@ -1,8 +1,11 @@
 // The sweep spec: YAML read by yaml-cpp, every node's mark kept for located errors.
 #include "sweep.h"
+#include "graph/utf8.h"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -316,8 +319,19 @@ bool load_spec(const std::string& path, Spec& out, std::vector<SpecError>& error
     }
     std::stringstream text;
     text << f.rdbuf();
+    // A spec is YAML, UTF-8 text: a bad byte is named where it is, before YAML reads on.
+    const std::string all = text.str();
+    if (const size_t bad = graph::invalid_utf8(all); bad != std::string::npos) {
+        const size_t line_start = all.rfind('\n', bad == 0 ? 0 : bad - 1);
+        const int line = 1 + int(std::count(all.begin(), all.begin() + std::ptrdiff_t(bad), '\n'));
+        const size_t col = bad - (line_start == std::string::npos || bad == 0 ? 0 : line_start + 1);
+        errors.push_back({{line, int(col) + 1},
+                          fmt::format("not valid UTF-8: byte 0x{:02X} here (a spec is UTF-8 text)",
+                                      static_cast<unsigned char>(all[bad]))});
+        return false;
+    }
     try {
-        const YAML::Node root = YAML::Load(text.str());
+        const YAML::Node root = YAML::Load(all);
         Reader(out, errors).read(root);
     } catch (const YAML::Exception& e) {
         errors.push_back({{e.mark.line + 1, e.mark.column + 1}, e.msg});

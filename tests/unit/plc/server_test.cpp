@@ -297,3 +297,27 @@ TEST_CASE("plc server: a written value beyond the physics' range is rejected lik
     CHECK(s.stats().applied == 1);
     CHECK(c.ir(2) == 2000);
 }
+
+TEST_CASE("plc server: a written string that is not UTF-8 is rejected, a UTF-8 one applied") {
+    const graph::Graph& g = bottling_graph();
+    engine::Engine e(g);
+    plc::Map m = bottling_map(g);  // and S1's route query as a 4-register string at HR 30
+    m.entries.push_back(plc_entry(engine::slot_index(g), plc::Table::HoldingRegister, 30, "line[0].s1.route.query",
+                                  plc::Encoding::String, 1, "", 4));
+    REQUIRE(plc::check_map(m, g).empty());
+    plc::Server s(g, m);
+    std::string error;
+    REQUIRE(s.start(error));
+    PlcClient c(s.port());
+    steps(s, e, 2);
+    const uint16_t latin1[4] = {uint16_t('A' << 8 | '-'), uint16_t(0xE4 << 8 | 0), 0, 0};  // "A-ä" in Latin-1
+    REQUIRE(modbus_write_registers(c.ctx, 30, 4, latin1) == 4);
+    steps(s, e, 2);
+    CHECK(s.stats().rejected == 1);
+    CHECK(s.stats().applied == 0);
+    const uint16_t utf8[4] = {uint16_t('A' << 8 | '-'), uint16_t(0xC3 << 8 | 0xA4), 0, 0};  // "A-ä" in UTF-8
+    REQUIRE(modbus_write_registers(c.ctx, 30, 4, utf8) == 4);
+    steps(s, e, 2);
+    CHECK(s.stats().rejected == 1);
+    CHECK(s.stats().applied == 1);
+}

@@ -56,3 +56,24 @@ TEST_CASE("runtime: events refuse outputs and suggest a near path") {
         CHECK(engine::format_event(c.graph, ev) == line);
     }
 }
+
+// Text that is not UTF-8 never becomes an event: a string slot's value would reach traces
+// and the viewer's JSON as is (every way in parses through parse_event or parse_input).
+TEST_CASE("runtime: an event line that is not UTF-8 is refused with the byte and its column") {
+    Compilation c;
+    test::compile_repo_file("examples/switch.plant", c);
+    REQUIRE(c.ok());
+    const graph::Graph& g = c.graph;
+    const engine::SlotIndex idx = engine::slot_index(g);
+    engine::Event ev;
+    std::string err;
+    REQUIRE(engine::parse_event(g, idx, "0.5s control.query \"A-1\"", ev, err));
+    CHECK_FALSE(engine::parse_event(g, idx, "0.5s control.query \"A-\xff\"", ev, err));
+    CHECK(err == "not valid UTF-8: byte 0xFF at column 23");
+    CHECK_FALSE(engine::parse_event(g, idx, "0.5s force control.query stuck \xc3\x28", ev, err));  // a broken pair
+    CHECK(err == "not valid UTF-8: byte 0xC3 at column 32");
+    CHECK_FALSE(engine::parse_input(g, idx, "control.query \xed\xa0\x80", ev, err));  // a UTF-16 surrogate
+    CHECK(err == "not valid UTF-8: byte 0xED at column 15");
+    REQUIRE(engine::parse_event(g, idx, "0.5s control.query \"\xc3\xa4\"", ev, err));  // 'ä' is fine
+    CHECK(ev.text == "\xc3\xa4");
+}
