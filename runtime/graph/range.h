@@ -41,6 +41,17 @@ constexpr double kMaxGravity = 1e3;
 // turns a body by at most a quarter turn a step, which at the fastest rate is 1.6e6 rad/s.
 constexpr double kMaxTurnRate = 1e6;
 
+// What Bullet would clamp or ignore, refused instead of run silently otherwise:
+// a body's linear and angular damping lie in [0, 1] (btRigidBody::setDamping clamps them);
+constexpr double kMaxDamping = 1;
+// a body's friction is at most 10 (a contact's friction, the product of its two bodies', is
+// capped at 10 by btManifoldResult::calculateCombinedFriction);
+constexpr double kMaxFriction = 10;
+// a hinge's limits span at most a turn, in radians (wider, btAngularLimit never acts);
+constexpr double kMaxHingeSpan = 6.283185307179586;
+// a static or kinematic body has no mass, inertia or damping (Bullet moves it by its pose
+// alone): validate.cpp and the compiler refuse them on such a body.
+
 // Whether a place or an offset (x, y, z in metres) lies within kMaxLength on every axis.
 bool place_in_range(const double* p);
 // Whether a gravity (m/s²) lies within kMaxGravity on every axis.

@@ -371,9 +371,14 @@ private:
                    check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
                           "field 'inertia' must be above 0 on every axis") &&
                    check(b.friction >= 0 && b.restitution >= 0, "friction and restitution must be 0 or more") &&
-                   check(b.linear_damping >= 0 && b.linear_damping <= 1 && b.angular_damping >= 0 &&
-                              b.angular_damping <= 1,
-                          "damping must lie in [0, 1]");
+                   // What Bullet would clamp or ignore (range.h), as the compiler refuses it.
+                   check(b.friction <= kMaxFriction, "friction above 10 (Bullet caps a contact's at 10)") &&
+                   check(b.linear_damping >= 0 && b.linear_damping <= kMaxDamping && b.angular_damping >= 0 &&
+                              b.angular_damping <= kMaxDamping,
+                          "damping must lie in [0, 1]") &&
+                   check(b.mode == BodyMode::Dynamic ||
+                             (b.mass == 0 && !b.inertia_set && b.linear_damping == 0 && b.angular_damping == 0),
+                         "a static or kinematic body has no mass, inertia or damping (Bullet ignores them)");
         });
     }
 
@@ -410,7 +415,9 @@ private:
     bool joints() {
         return each("joints", g_.joints, [&](const Joint& j, size_t i) {
             return owner(j.comp, CompKind::Constraint, i) &&
-                   check(j.body_a != j.body_b, "a joint joins two different bodies");
+                   check(j.body_a != j.body_b, "a joint joins two different bodies") &&
+                   check(j.kind != JointKind::Hinge || j.lower > j.upper || j.upper - j.lower <= kMaxHingeSpan,
+                         "a hinge's limits span more than a turn (Bullet's hinge would have none)");
         });
     }
 

@@ -5,6 +5,7 @@
 #include "graph/build.h"
 #include "graph/hull.h"
 #include "graph/kinds.h"
+#include "graph/range.h"
 
 #include <algorithm>
 #include <fmt/format.h>
@@ -114,6 +115,23 @@ void lower_body(Lowering& lw) {
     for (const char* n : {"friction", "restitution", "linear_damping", "angular_damping"})
         if (const Value* v = lw.props.get(n); v && v->num < 0)
             el.sink_.report(DiagId::OutOfRange, v->span, fmt::format("'{}' cannot be negative", n));
+    // What Bullet would clamp or ignore (graph/range.h), refused here as the loader refuses it.
+    for (const char* n : {"linear_damping", "angular_damping"})
+        if (const Value* v = lw.props.get(n); v && v->num > graph::kMaxDamping)
+            el.sink_.report(DiagId::OutOfRange, v->span,
+                            fmt::format("'{}' is {:g}, above 1: damping lies in [0, 1] (Bullet would clamp it to 1)", n, v->num));
+    if (const Value* v = lw.props.get("friction"); v && v->num > graph::kMaxFriction)
+        el.sink_.report(DiagId::OutOfRange, v->span,
+                        fmt::format("'friction' is {:g}, above 10: Bullet caps a contact's friction (the product of "
+                                    "the two bodies') at 10",
+                                    v->num));
+    if (b.mode != graph::BodyMode::Dynamic)
+        for (const char* n : {"mass", "inertia", "linear_damping", "angular_damping"})
+            if (const Value* v = lw.props.get(n))
+                el.sink_.report(DiagId::UnknownProperty, v->span,
+                                fmt::format("a {} body has no '{}': Bullet moves it by its pose alone and would ignore "
+                                            "it (only a dynamic body has one)",
+                                            b.mode == graph::BodyMode::Static ? "static" : "kinematic", n));
     b.collision = lw.boolean("collision", true);
     b.dynamics = lw.boolean("dynamics", true);
     b.pose = lw.frame.pose();
@@ -192,6 +210,11 @@ void lower_constraint(Lowering& lw) {
         el.sink_.report(DiagId::LimitsIncomplete, lw.props.get("lower")->span,
                         fmt::format("'lower' ({} {}) is above 'upper' ({} {})", j.lower, units::si_unit(want), j.upper,
                                     units::si_unit(want)));
+    else if (limits == 2 && j.kind == graph::JointKind::Hinge && j.upper - j.lower > graph::kMaxHingeSpan)
+        el.sink_.report(DiagId::OutOfRange, lw.props.get("upper")->span,
+                        fmt::format("the limits span {:g} deg, more than a turn: Bullet's hinge would then have no "
+                                    "limit (give a span of at most 360 deg, or no limits for a free hinge)",
+                                    (j.upper - j.lower) * 180 / 3.141592653589793));
     // The joint lw.frame: its z axis is the hinge axis, its x axis the slider axis.
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
     if (const Value* av = lw.props.get("axis")) {

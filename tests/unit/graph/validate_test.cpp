@@ -263,6 +263,11 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("friction below 0", [&](Graph& g) { g.bodies[i].friction = -0.1; });
             refused("restitution below 0", [&](Graph& g) { g.bodies[i].restitution = -0.1; });
             refused("linear damping above 1", [&](Graph& g) { g.bodies[i].linear_damping = 1.5; });
+            refused("friction above 10", [&](Graph& g) { g.bodies[i].friction = 10.5; });
+            if (good.bodies[i].mode != BodyMode::Dynamic) {
+                refused("a static or kinematic body with a mass", [&](Graph& g) { g.bodies[i].mass = 1; });
+                refused("a static or kinematic body with damping", [&](Graph& g) { g.bodies[i].angular_damping = 0.5; });
+            }
             refused("angular damping below 0", [&](Graph& g) { g.bodies[i].angular_damping = -1; });
             refused("a body placed beyond 100 km", [&](Graph& g) { g.bodies[i].pose.p[1] = -1.5e5; });
             refused("a centre of mass beyond 100 km", [&](Graph& g) { g.bodies[i].com.p[2] = 1e308; });
@@ -300,6 +305,11 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
         }
         for (size_t i = 0; i < good.joints.size(); ++i) {
             refused("a joint on one body", [&](Graph& g) { g.joints[i].body_b = g.joints[i].body_a; });
+            if (good.joints[i].kind == JointKind::Hinge)
+                refused("a hinge's limits spanning more than a turn", [&](Graph& g) {
+                    g.joints[i].lower = -4;
+                    g.joints[i].upper = 4;
+                });
             if (good.joints[i].kind != JointKind::Fixed && good.joints[i].lower <= good.joints[i].upper)
                 refused("a joint's limits not finite", [&](Graph& g) { g.joints[i].upper = std::nan(""); });
         }
