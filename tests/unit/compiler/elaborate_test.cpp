@@ -223,3 +223,26 @@ TEST_CASE("elaborate: the loop limit is CompileOptions::max_members") {
         CHECK(has_code(narrow, "E0310"));
     }
 }
+
+// A connector's output is named by the connector alone or as its slot `out` (the name
+// `plant info --slots` lists, and std.switch uses): both are the one output slot.
+TEST_CASE("elaborate: a connector's output written `go` and `go.out` is the same slot") {
+    Compilation c;
+    plant::test::compile_text(R"(
+plant P {
+    timer t: periodic { period = 1 s; autostart = true }
+    timer u: oneshot { period = 1 s }
+    logic go = t.tick
+    flow go -> u.start
+    flow go.out -> u.stop
+}
+)",
+                              c);
+    REQUIRE(c.ok());
+    const auto& g = c.graph;
+    REQUIRE(g.flows.size() >= 2);
+    int from_go = 0;
+    for (const auto& f : g.flows)
+        if (g.slot_path(f.from) == "go.out") ++from_go;
+    CHECK(from_go == 2);
+}
