@@ -1,5 +1,6 @@
 #include "text.h"
 
+#include "kinds.h"
 #include "validate.h"
 
 #include <fmt/format.h>
@@ -18,7 +19,7 @@ namespace plant::graph {
 namespace {
 
 constexpr std::string_view kMagic = "plant-graph";
-constexpr std::string_view kVersion = "1";
+const std::string kVersion = std::to_string(kFormatVersion);
 
 // ---- writing ----
 
@@ -146,6 +147,22 @@ std::string_view snippet(std::string_view s) {
     return s.substr(0, std::min<size_t>(end, 40));
 }
 
+// The header's version when it is not this program's: what it is, and what to do.
+std::string version_error(std::string_view rest) {
+    int v = 0;
+    const auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), v);
+    if (ec != std::errc{} || end != rest.data() + rest.size() || v <= 0)
+        return fmt::format("'{}' is not a format version (this program reads plant-graph {})", snippet(rest),
+                           kFormatVersion);
+    if (v < kFormatVersion)
+        return fmt::format("written by an older compiler, in format {} (this program reads format {}): compile "
+                           "its plant file again, `plant build FILE.plant -o FILE.graph`",
+                           v, kFormatVersion);
+    return fmt::format("written by a newer compiler, in format {} (this program reads format {}): run it with "
+                       "that compiler's plant, or compile its plant file again with this one",
+                       v, kFormatVersion);
+}
+
 // Parses the grammar described in text.h; every step either advances or fails
 // with the first error, so any input ends after one pass over it.
 class Reader {
@@ -162,8 +179,7 @@ public:
     bool read() {
         Graph& g = g_;
         if (!line(kMagic)) return false;
-        if (!lit(" ") || rest_ != kVersion)
-            return fail(fmt::format("unsupported version '{}' (expected {})", snippet(rest_), kVersion));
+        if (!lit(" ") || rest_ != kVersion) return fail(version_error(rest_));
         if (!line("plant") || !arg("plant", g.plant) || !end_of_line()) return false;
         if (!line("settings")) return false;
         settings_line_ = line_no_;
@@ -408,6 +424,47 @@ std::string to_text(const Graph& g) {
 }
 
 void write_text(const Graph& g, std::ostream& out) { out << to_text(g); }
+
+namespace {
+
+constexpr uint64_t fnv1a(std::string_view s, uint64_t h) {
+    for (const char c : s) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+// The tables as the X-macros list them: "member word {Type field;...}" each, in order.
+#define PLANT_SCHEMA_FIELD(T_, f_) #T_ " " #f_ ";"
+#define PLANT_SCHEMA_TABLE(member, Record, elem, FIELDS) #member " " #elem " {" FIELDS(PLANT_SCHEMA_FIELD) "}\n"
+constexpr std::string_view kSchema = "settings rate gravity\nfiles file\n" PLANT_GRAPH_TABLES(PLANT_SCHEMA_TABLE);
+#undef PLANT_SCHEMA_TABLE
+#undef PLANT_SCHEMA_FIELD
+
+template <class E>
+uint64_t hash_words(uint64_t h, E last) {
+    for (int i = 0; i <= int(last); ++i) h = fnv1a(std::string(word(E(i))) + ",", h);
+    return fnv1a(";", h);
+}
+
+}  // namespace
+
+uint64_t format_fingerprint() {
+    uint64_t h = fnv1a(kSchema, 14695981039346656037ull);
+    h = hash_words(h, SlotType::Ref);
+    h = hash_words(h, Dir::Out);
+    h = hash_words(h, CompKind::Plugin);
+    h = hash_words(h, BodyMode::Kinematic);
+    h = hash_words(h, ShapeKind::Hull);
+    h = hash_words(h, JointKind::Slider);
+    h = hash_words(h, Cond::Either);
+    h = hash_words(h, LogicOp::Or);
+    for (int k = 0; k <= int(CompKind::Plugin); ++k)
+        for (const SlotSpec& s : fixed_slots(CompKind(k)))
+            h = fnv1a(fmt::format("{}:{} {} {};", word(CompKind(k)), s.name, word(s.type), word(s.dir)), h);
+    return h;
+}
 
 bool read_text(std::istream& in, Graph& g, std::string& error, Check check) {
     Graph loaded;

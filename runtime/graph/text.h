@@ -2,7 +2,7 @@
 // for reading what the compiler produced. Driven by the X-macros of graph.h only,
 // so a new field or table appears here without code changes.
 //
-//   plant-graph 1
+//   plant-graph 2
 //   plant "Bottling"
 //   settings rate=150 gravity=(0 0 -9.81)
 //   count files 1
@@ -22,14 +22,29 @@
 // The loader skips blank lines and lines starting with '#', for hand-edited files.
 //
 // Guarantee: to_text(load(to_text(g))) == to_text(g), byte for byte.
+//
+// The number after `plant-graph` is the format's version: any change to what the text form
+// holds (a table, a field, a field's type, an enumeration's words, a kind's fixed slots)
+// takes a new one, so that a graph written before is refused by name ("written by an older
+// compiler ... compile it again") instead of failing somewhere inside. The test
+// `graph text: the format's version changes whenever its fingerprint does` pins each
+// version to format_fingerprint(), a hash of all of that (docs/graph.md).
 #pragma once
 
 #include "graph.h"
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
 namespace plant::graph {
+
+constexpr int kFormatVersion = 2;
+
+// A hash (FNV-1a, 64 bit) of what the text form holds: every table's name, element word and
+// fields with their types, in order; every enumeration's words; every built-in kind's fixed
+// slots. It changes when the format does.
+uint64_t format_fingerprint();
 
 std::string to_text(const Graph&);
 void write_text(const Graph&, std::ostream&);

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -171,7 +172,7 @@ TEST_SUITE("graph text") {
 
 TEST_CASE("the format, exactly") {
     const char* expected =
-        "plant-graph 1\n"
+        "plant-graph 2\n"
         "plant \"Line\"\n"
         "settings rate=150 gravity=(0 0 -9.81)\n"
         "count files 1\n"
@@ -369,8 +370,8 @@ TEST_CASE("broken input fails with a line number") {
     const Case cases[] = {
         {"empty", "", 1},
         {"wrong header", "plant-graf 1\n", 1},
-        {"wrong version", "plant-graph 2\n", 1},
-        {"only the header", "plant-graph 1\n", 2},
+        {"wrong version", "plant-graph 3\n", 1},
+        {"only the header", "plant-graph 2\n", 2},
         {"truncated in a line", good.substr(0, good.find("do 1") + 20), do1},
         {"truncated at a line end", good.substr(0, good.find("do 1")), do1},
         {"no end line", good.substr(0, good.find("end\n")), end},
@@ -418,6 +419,39 @@ TEST_CASE("broken input fails with a line number") {
         CHECK(error.starts_with("line " + std::to_string(c.line) + ": "));
         CHECK(to_text(g) == before);  // a failed load leaves the graph alone
     }
+}
+
+// Each version of the format and the fingerprint of what it holds (text.h). A change to
+// graph.h's tables or fields, an enumeration's words or a kind's fixed slots changes the
+// fingerprint, and this fails: give the format a new version (text.h's kFormatVersion), add
+// its line here, regenerate the goldens (scripts/update-goldens.sh) and say so in
+// docs/graph.md. A graph of the version before is then refused by name.
+TEST_CASE("graph text: the format's version changes whenever its fingerprint does") {
+    const std::map<int, uint64_t> fingerprints = {
+        {2, 0x13cd851b513dcd75},  // 2026-11-27: the first version pinned
+    };
+    REQUIRE_MESSAGE(fingerprints.count(kFormatVersion), "kFormatVersion " << kFormatVersion << " has no fingerprint here");
+    CHECK_MESSAGE(format_fingerprint() == fingerprints.at(kFormatVersion),
+                  "the text form changed (fingerprint 0x" << std::hex << format_fingerprint()
+                                                          << "): give it a new version, see this test's comment");
+    CHECK(to_text(tiny_graph()).starts_with("plant-graph " + std::to_string(kFormatVersion) + "\n"));
+}
+
+// A graph of another version is refused by its header, saying which and what to do.
+TEST_CASE("graph text: another version's graph is refused with what to do") {
+    std::string text = to_text(tiny_graph());
+    const std::string now = "plant-graph " + std::to_string(kFormatVersion);
+    auto with = [&](const std::string& header) { return header + text.substr(now.size()); };
+    Graph g;
+    std::string error;
+    CHECK_FALSE(load(with("plant-graph 1"), g, error));
+    CHECK(error.starts_with("line 1: written by an older compiler, in format 1"));
+    CHECK(error.find("compile its plant file again, `plant build FILE.plant -o FILE.graph`") != std::string::npos);
+    CHECK_FALSE(load(with("plant-graph " + std::to_string(kFormatVersion + 1)), g, error));
+    CHECK(error.starts_with("line 1: written by a newer compiler"));
+    CHECK_FALSE(load(with("plant-graph two"), g, error));
+    CHECK(error.starts_with("line 1: 'two' is not a format version"));
+    REQUIRE(load(text, g, error));
 }
 
 TEST_CASE("any prefix or damaged copy is handled without crashing") {
