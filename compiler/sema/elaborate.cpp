@@ -1,5 +1,6 @@
 // Instantiation: the plant object, then every instance inside it, depth first.
 #include "sema/elaborator.h"
+#include "sema/size.h"
 
 #include "graph/build.h"
 #include "graph/range.h"
@@ -59,7 +60,41 @@ graph::Src Elaborator::src(Span s) {
     return {idx, static_cast<int32_t>(lc.line), static_cast<int32_t>(lc.col)};
 }
 
+// A plant (or a library's type) whose size is known from its source alone and passes the
+// limit is refused at once, at the member that passes it, before anything is built: nested
+// instances multiply (40 levels of two instances each are 2^40 members), and building up to
+// the limit took seconds and gigabytes.
+bool Elaborator::too_large(const ast::ObjectDecl& o) {
+    SizeEstimate sizes([&](const std::string& n) -> const ast::ObjectDecl* {
+        auto it = types_.find(n);
+        return it == types_.end() ? nullptr : it->second.second;
+    });
+    const double limit = double(max_expanded_);
+    const auto whole = sizes.of(o);
+    if (!whole || (whole->members <= limit && whole->iterations <= limit)) return false;
+    StaticSize sum;  // up to the member that passes the limit
+    for (const auto& m : o.members) {
+        const auto size = sizes.of(std::span<const ast::Member>(&m, 1));
+        if (!size) return false;
+        sum.members += size->members;
+        sum.iterations += size->iterations;
+        if (sum.members <= limit && sum.iterations <= limit) continue;
+        auto& d = sink_.report(
+            DiagId::LoopTooLarge, std::visit([](const auto& x) { return span_of(x); }, m),
+            whole->members > limit
+                ? fmt::format("the plant expands to {:.0f} members, more than {}: nested instances and loops "
+                              "multiply (this member is {:.0f} of them)",
+                              whole->members, max_expanded_, size->members)
+                : fmt::format("loops run {:.0f} iterations in all, more than {} (nested loops multiply)",
+                              whole->iterations, max_expanded_));
+        d.notes.push_back({o.name.span, "known from the source alone, so nothing was built"});
+        return true;
+    }
+    return false;
+}
+
 void Elaborator::check_object(const ast::ObjectDecl& o) {
+    if (too_large(o)) return;
     g_.plant = name(o.name.text);
     library_mode_ = true;
     int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
@@ -109,6 +144,7 @@ graph::Graph Elaborator::run(bool require_plant) {
         }
         return std::move(g_);
     }
+    if (too_large(*plant)) return std::move(g_);
     g_.plant = name(plant->name.text);
     int32_t root_do = new_do("", -1, -1, Frame{}, plant->name.span);
     // The plant's parameters take their values from `--set NAME=VALUE`, else their defaults.

@@ -103,6 +103,7 @@ public:
                 std::vector<Item>& out, int depth);
     bool declare(Scope& s, const std::string& name, Span span);
     bool nested_too_deep(Span at);
+    bool too_large(const ast::ObjectDecl& o);
     Frame placement(const ast::Placement* p, const Env& env);
     // q := q * (the rotation, its angle scaled by share); the full angle in *angle_out.
     bool rotate(Eigen::Quaterniond& q, const ast::Rotation& r, const Env& env, double share = 1.0,
