@@ -188,8 +188,9 @@ public:
         for (const Entry& x : log_) width = std::max(width, x.path.size());
         fmt::print(out, "forced:           {}\n", log_.size());
         for (const Entry& x : log_)
-            fmt::print(out, "  {:<{}}  {:<14}  from {:.3f} s to {}\n", x.path, width, x.how, x.from,
-                       x.until < 0 ? fmt::format("the end ({:.3f} s)", e.time()) : fmt::format("{:.3f} s", x.until));
+            fmt::print(out, "  {:<{}}  {:<14}  from {} s to {}\n", x.path, width, x.how, time_text(x.from, e.dt()),
+                       x.until < 0 ? fmt::format("the end ({} s)", time_text(e.time(), e.dt()))
+                                   : fmt::format("{} s", time_text(x.until, e.dt())));
     }
 
 private:
@@ -282,7 +283,7 @@ void summary(const Engine& e, const Tally& tally, const RecordTally& counts, dou
     std::vector<std::string> silent;
     for (size_t t = 0; t < g.triggers.size(); ++t)
         if (e.trigger_enters(TriggerId(int32_t(t))) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
-    fmt::print(out, "simulated time:   {:g} s\n", e.time());
+    fmt::print(out, "simulated time:   {} s\n", time_text(e.time(), e.dt()));
     fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
     if (e.regions() > 1)
         fmt::print(out, "physics regions:  {} (a Bullet world each), on {} thread{}\n", e.regions(), e.threads(),
@@ -353,9 +354,9 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     }
     const int64_t steps = int64_t(step_count);
     for (const Event& ev : o.events)
-        if (!ev.planned && ev.time > double(steps) * e.dt() + 1e-9)  // the plant's own: a shorter run is fine
-            fmt::print(err, "plant run: warning: the event '{}' is after the end of the run ({:g} s): it is never applied\n",
-                       format_event(g, ev), double(steps) * e.dt());
+        if (!ev.planned && ev.time > double(steps) * e.dt() + time_slack(e.dt()))  // the plant's own: a shorter run is fine
+            fmt::print(err, "plant run: warning: the event '{}' is after the end of the run ({} s): it is never applied\n",
+                       format_event(g, ev, e.dt()), time_text(double(steps) * e.dt(), e.dt()));
     if (observer) observer->started(e);
     // A trace row every `every` steps; a rate far below one row per run gives the first and last rows.
     const double every_steps = o.trace_rate > 0 ? std::round(1.0 / (o.trace_rate * e.dt())) : 1;
@@ -427,7 +428,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         return 1;
     }
     if (stopped_by)
-        fmt::print(out, "interrupted:      by {} after {:g} s of {:g} s\n", InterruptGuard::name(stopped_by), e.time(),
+        fmt::print(out, "interrupted:      by {} after {} s of {:g} s\n", InterruptGuard::name(stopped_by), time_text(e.time(), e.dt()),
                    o.duration);
     summary(e, tally, counts, wall(), out);
     forces.print(e, out);

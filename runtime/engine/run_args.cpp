@@ -161,11 +161,12 @@ std::string closest_path(const SlotIndex& slots, std::string_view path) {
     return best_d <= limit ? best : std::string{};
 }
 
-std::string format_event(const Graph& g, const Event& ev) {
+std::string format_event(const Graph& g, const Event& ev, double dt) {
+    const std::string t = time_text(ev.time, dt > 0 ? dt : 1 / g.settings.rate);
     if (ev.force && ev.mode != ForceMode::Stuck)
-        return fmt::format("{}s {} {}{}", ev.time, ev.mode == ForceMode::None ? "release" : "force", ev.path,
+        return fmt::format("{}s {} {}{}", t, ev.mode == ForceMode::None ? "release" : "force", ev.path,
                            ev.mode == ForceMode::Open ? " open" : ev.mode == ForceMode::Invert ? " invert" : "");
-    std::string line = ev.force ? fmt::format("{}s force {} stuck", ev.time, ev.path) : fmt::format("{}s {}", ev.time, ev.path);
+    std::string line = ev.force ? fmt::format("{}s force {} stuck", t, ev.path) : fmt::format("{}s {}", t, ev.path);
     if (ev.slots.empty()) return line;
     if (ev.force && g.slots[size_t(ev.slots[0])].type == SlotType::Void) return line + (ev.value[0] != 0 ? " on" : " off");
     switch (g.slots[size_t(ev.slots[0])].type) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "engine/engine.h"
+#include "engine/times.h"
 #include "graph/graph.h"
 
 #include <string>
@@ -48,11 +49,15 @@ std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which);
 // The closest path in the index to a misspelt one ("" when nothing is close).
 std::string closest_path(const SlotIndex& slots, std::string_view path);
 
-// The events-file line that replays `ev` ("12.5s s1.to_working", "3s b1.drive.set_speed 0.25").
-std::string format_event(const graph::Graph& g, const Event& ev);
+// The events-file line that replays `ev` ("12.500s s1.to_working", "3.000s b1.drive.set_speed
+// 0.25"): its time on the step grid of step length `dt` (times.h; 0: the graph's own rate).
+std::string format_event(const graph::Graph& g, const Event& ev, double dt = 0);
 // Whether `ev` is applied before the engine's next step: its time is at or before the end
-// of that step (the rule `plant run`, `plant serve` and the replays share).
-inline bool due(const Engine& e, const Event& ev) { return ev.time <= double(e.steps() + 1) * e.dt() + 1e-9; }
+// of that step, to within half the last printed decimal (times.h), so that a time the run
+// printed reads back to its step (the rule `plant run`, `plant serve` and the replays share).
+inline bool due(const Engine& e, const Event& ev) {
+    return ev.time <= double(e.steps() + 1) * e.dt() + time_slack(e.dt());
+}
 // Writes the event's value into the engine (strings interned) and activates its slots,
 // for the next step: the one way external inputs reach a running plant.
 void apply_event(Engine& e, const Event& ev);

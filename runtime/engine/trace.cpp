@@ -1,4 +1,5 @@
 #include "engine/trace.h"
+#include "engine/times.h"
 
 #include "graph/kinds.h"
 
@@ -80,7 +81,7 @@ TraceColumn forced_column(std::vector<int32_t> slots) {
 }
 
 TraceWriter::TraceWriter(Engine& e, std::vector<TraceColumn> columns, std::ostream& out)
-    : e_(e), cols_(std::move(columns)), counts_(cols_.size(), 0), out_(out) {
+    : e_(e), cols_(std::move(columns)), counts_(cols_.size(), 0), out_(out), decimals_(trace_time_decimals(e.dt())) {
     for (size_t i = 0; i < cols_.size(); ++i) {
         const TraceColumn& c = cols_[i];
         if (c.kind == Kind::Value || c.kind == Kind::Text) e_.watch(c.slot());
@@ -100,9 +101,10 @@ void TraceWriter::header() {
 
 void TraceWriter::row() {
     // Shortest round-trip formatting: a trace compares bit for bit across runs. The time is
-    // the step count over the rate, one correctly rounded division: 18570 steps at 150 Hz
-    // print as 123.8, where steps × dt would print 123.80000000000001.
-    fmt::format_to(std::back_inserter(buf_), "{}", double(e_.steps()) / e_.rate());
+    // on the step grid with the run's fixed decimals (times.h: 18570 steps at 150 Hz print as
+    // 123.800000, and a row an interrupt adds at step 27512 as 183.413333, not
+    // 183.41333333333333).
+    fmt::format_to(std::back_inserter(buf_), "{:.{}f}", double(e_.steps()) / e_.rate(), decimals_);
     for (const TraceColumn& c : cols_) {
         buf_.push_back(',');
         switch (c.kind) {

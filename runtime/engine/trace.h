@@ -63,6 +63,7 @@ private:
     std::vector<size_t> activity_;    // the activity columns
     std::ostream& out_;
     fmt::memory_buffer buf_;
+    int decimals_;  // of the time column (times.h)
 };
 
 }  // namespace plant::engine

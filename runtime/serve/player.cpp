@@ -254,7 +254,7 @@ private:
         for (auto& [ev, client] : pending_) {
             ev.time = double(engine_->steps() + 1) * engine_->dt();
             engine::apply_event(*engine_, ev);
-            const std::string line = engine::format_event(g_, ev);
+            const std::string line = engine::format_event(g_, ev, engine_->dt());
             const json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"client", client}};
             log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
         }

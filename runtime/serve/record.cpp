@@ -50,7 +50,7 @@ void Recorder::started(const engine::Engine& e) {
 }
 
 void Recorder::event(const engine::Engine& e, const engine::Event& ev) {
-    const json j{{"type", "event"}, {"line", engine::format_event(e.graph(), ev)}, {"time", ev.time}};
+    const json j{{"type", "event"}, {"line", engine::format_event(e.graph(), ev, e.dt())}, {"time", ev.time}};
     chunk('E', j.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 

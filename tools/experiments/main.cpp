@@ -57,13 +57,16 @@ Vec3 vec_at(const Run& r, const std::string& name, size_t i) {
 Quat quat_at(const Run& r, const std::string& name, size_t i) {
     return {need(r, name + ".qx")[i], need(r, name + ".qy")[i], need(r, name + ".qz")[i], need(r, name + ".qw")[i]};
 }
-// The physics step of a run, from its trace (sampled every step: `plant run` without
-// --trace-rate), so that a run with `--rate` is analysed at the rate it ran.
-double step_of(const Run& r) {
+// The physics rate of a run, from its trace (sampled every step: `plant run` without
+// --trace-rate), so that a run with `--rate` is analysed at the rate it ran. A trace prints
+// its times to a thousandth of a step (docs/runtime.md), so the mean step over the whole run
+// gives the rate to far better than the 0.01 Hz it is rounded to.
+double rate_of(const Run& r) {
     const std::vector<double>& t = *r.trace.col("time");
-    return t[1] - t[0];
+    const double step = (t.back() - t.front()) / double(t.size() - 1);
+    return std::round(1 / step * 100) / 100;
 }
-double rate_of(const Run& r) { return std::round(1 / step_of(r) * 1e6) / 1e6; }
+double step_of(const Run& r) { return 1 / rate_of(r); }
 
 double along(const Vec3& v, const Vec3& d) { return v[0] * d[0] + v[1] * d[1] + v[2] * d[2]; }
 

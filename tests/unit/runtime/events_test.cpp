@@ -31,7 +31,7 @@ TEST_CASE("runtime: an event on an object's port drives what the port forwards t
     CHECK(e.tokens(plant::graph::PlaceId(working)) == 1);
     // The logged line replays it.
     ev.time = 0.5;
-    CHECK(engine::format_event(g, ev) == "0.5s sw.to_working");
+    CHECK(engine::format_event(g, ev) == "0.500s sw.to_working");
     engine::Event back;
     REQUIRE(engine::parse_event(g, idx, engine::format_event(g, ev), back, err));
     CHECK(back.slots == ev.slots);
@@ -51,7 +51,7 @@ TEST_CASE("runtime: events refuse outputs and suggest a near path") {
     CHECK_FALSE(engine::parse_event(c.graph, idx, "1s nothing.like.this.at.all", ev, err));
     CHECK(err.find("plant info --slots") != std::string::npos);
     // Values of every kind come back as they went out.
-    for (const char* line : {"1.5s feed.set_speed 0.25", "2s feed.drive.enable"}) {
+    for (const char* line : {"1.500s feed.set_speed 0.25", "2.000s feed.drive.enable"}) {
         REQUIRE_MESSAGE(engine::parse_event(c.graph, idx, line, ev, err), err);
         CHECK(engine::format_event(c.graph, ev) == line);
     }

@@ -129,9 +129,9 @@ TEST_CASE("forces: a void output stuck on is active every step, invert negates a
 
 TEST_CASE("forces: the events-file lines replay as they went out, bad forces are refused") {
     SwitchRun s;
-    for (const char* line : {"1s force sw.id open", "2s release sw.id", "3s force sw.id stuck \"F-1\"",
-                             "4s force ahead_end.seen stuck on", "5s force feed.set_speed stuck 0.25",
-                             "6s force sw.to_base open"}) {
+    for (const char* line : {"1.000s force sw.id open", "2.000s release sw.id", "3.000s force sw.id stuck \"F-1\"",
+                             "4.000s force ahead_end.seen stuck on", "5.000s force feed.set_speed stuck 0.25",
+                             "6.000s force sw.to_base open"}) {
         const engine::Event ev = s.event(line);
         CHECK(ev.force);
         CHECK(engine::format_event(s.g(), ev) == line);

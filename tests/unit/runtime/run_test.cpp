@@ -75,22 +75,48 @@ TEST_CASE("runtime: --events given a folder and a trace that cannot be written a
     CHECK(err.find("--trace: writing '/dev/full' failed") != std::string::npos);
 }
 
-TEST_CASE("runtime: a trace's time is the step count over the rate") {
+// Every time printed for people sits on the step grid with a fixed number of decimals, the
+// fewest that keep steps apart (times.h), and reads back to its step; the trace's time column
+// has three more, at 150 Hz, 600 Hz and 10 Hz; an event at either printed time is due in
+// that step.
+TEST_CASE("runtime: a trace's time is the step on the grid with fixed decimals, and reads back to its step") {
     const Graph g = bottling_scene(2);
     const std::string path = "/tmp/plant_runtime_test_time.csv";
-    std::string out, err;
-    REQUIRE(run(g, {"--for", "2s", "--rate", "150Hz", "--trace", path, "--quiet"}, out, err) == 0);
-    std::istringstream lines(slurp(path));
-    std::string line;
-    std::getline(lines, line);  // the header
-    int k = 0, differs = 0;
-    for (; std::getline(lines, line); ++k) {
-        const std::string time = line.substr(0, line.find(','));
-        CHECK(time == fmt::format("{}", k / 150.0));
-        differs += fmt::format("{}", k * (1 / 150.0)) != time;  // steps x dt: 0.06000000000000001
+    for (const auto& [rate, decimals] : {std::pair{150, 3}, {600, 4}, {10, 2}}) {
+        CAPTURE(rate);
+        std::string out, err;
+        REQUIRE(run(g, {"--for", "2s", "--rate", std::to_string(rate) + "Hz", "--trace", path, "--quiet"}, out, err) == 0);
+        std::istringstream lines(slurp(path));
+        std::string line;
+        std::getline(lines, line);  // the header
+        int k = 0;
+        for (; std::getline(lines, line); ++k) {
+            const std::string time = line.substr(0, line.find(','));
+            CHECK(time == fmt::format("{:.{}f}", k / double(rate), decimals + 3));
+            const std::string said = plant::engine::time_text(k / double(rate), 1.0 / rate);
+            CHECK(said == fmt::format("{:.{}f}", k / double(rate), decimals));
+            // Read back as an event's time, each is due in step k (the step that ends at it).
+            for (const std::string& printed : {time, said}) {
+                CAPTURE(printed);
+                plant::engine::Engine e(g, plant::engine::Options{.rate = double(rate)});
+                for (int i = 0; i + 1 < k; ++i) e.step();
+                plant::engine::Event ev;
+                ev.time = std::stod(printed);
+                if (k > 0) CHECK(plant::engine::due(e, ev));  // before step k
+                if (k > 1) {
+                    plant::engine::Engine f(g, plant::engine::Options{.rate = double(rate)});
+                    for (int i = 0; i + 2 < k; ++i) f.step();
+                    CHECK_FALSE(plant::engine::due(f, ev));  // not before step k - 1
+                }
+            }
+            if (k >= 12) break;  // a few steps make the point; engines are not free
+        }
+        CHECK(k >= 12);
     }
-    CHECK(k == 301);
-    CHECK(differs > 0);
+    CHECK(plant::engine::time_decimals(1.0 / 150) == 3);
+    CHECK(plant::engine::time_text(183.41333333333333, 1.0 / 150) == "183.413");  // an interrupted run's last row
+    CHECK(plant::engine::time_decimals(1.0 / 50) == 2);  // 10 ms steps: 0.01 apart is enough
+    CHECK(plant::engine::trace_time_decimals(1.0 / 150) == 6);
     std::remove(path.c_str());
 }
 
@@ -167,7 +193,7 @@ TEST_CASE("runtime: run_main runs, traces and summarises") {
                   "0.5s line.belt.set_speed 0.25", "--event", "1s line.state.other.put"},
               out, err) == 0);
     CHECK(err.empty());
-    CHECK(out.find("simulated time:   2 s") != std::string::npos);
+    CHECK(out.find("simulated time:   2.000 s") != std::string::npos);
     CHECK(out.find("steps:            200 at 100 Hz") != std::string::npos);
     CHECK(out.find("real-time factor") != std::string::npos);
     const std::string csv = slurp(path);
@@ -194,10 +220,10 @@ TEST_CASE("runtime: records choose the trace columns, --trace-places selects a d
     std::string out, err;
     CHECK(run(b.g, {"--for", "0.2s", "--rate", "10Hz", "--trace", path}, out, err) == 0);
     std::string csv = slurp(path);
-    CHECK(csv == "time,tick,clock.elapsed,tokens\n0,0,0,2\n0.1,1,0.1,2\n0.2,1,0.2,2\n");
+    CHECK(csv == "time,tick,clock.elapsed,tokens\n0.00000,0,0,2\n0.10000,1,0.1,2\n0.20000,1,0.2,2\n");
     CHECK(run(b.g, {"--for", "0.1s", "--rate", "10Hz", "--trace", path, "--trace-places"}, out, err) == 0);
     csv = slurp(path);
-    CHECK(csv == "time,net.p.tokens\n0,2\n0.1,2\n");
+    CHECK(csv == "time,net.p.tokens\n0.00000,2\n0.10000,2\n");
     std::remove(path.c_str());
 }
 
