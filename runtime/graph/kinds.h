@@ -41,7 +41,8 @@
     S(set_speed, "set_speed", Real, In, "target speed along the direction, m/s") \
     S(enable, "enable", Void, In, "the field pushes") \
     S(disable, "disable", Void, In, "the field stops pushing") \
-    S(speed, "speed", Real, Out, "the current target speed")
+    S(speed, "speed", Real, Out, "the speed it drives at: its target speed while enabled, 0 while not") \
+    S(enabled, "enabled", Bool, Out, "whether the field pushes")
 
 #define PLANT_SLOTS_JOINT(S) \
     S(enable, "enable", Void, In, "the constraint holds") \

@@ -67,3 +67,42 @@ plant Stop {
     }
     CHECK(e.warnings().total() == 0);
 }
+
+// What a PLC reads of a belt: `running` (not stopped) and `speed_now` (the band's speed,
+// 0 while stopped; before, the target's 0.5 m/s stayed after a stop), following stop, go and
+// set_speed; plants/bottling_plc.plant maps both.
+TEST_CASE("std.belts: running and speed_now follow stop, go and set_speed") {
+    plant::Compilation c;
+    compile_text(R"(
+import std.belts
+plant Ports {
+    belt: Belt(length = 1 m)
+    timer halt: oneshot { period = 1 s; autostart = true }
+    timer restart: oneshot { period = 2 s; autostart = true }
+    flow halt.tick -> belt.stop
+    flow restart.tick -> belt.go
+}
+)",
+                 c, "belt_ports.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const plant::graph::Graph& g = c.graph;
+    const int32_t running = slot_named(g, "belt.drive.enabled"), speed = slot_named(g, "belt.drive.speed");
+    REQUIRE(running >= 0);
+    REQUIRE(speed >= 0);
+    Engine e(g);
+    e.watch(plant::graph::SlotId(running));
+    e.watch(plant::graph::SlotId(speed));
+    auto at = [&](double t) {
+        while (e.time() < t - 1e-9) e.step();
+    };
+    at(0.5);
+    CHECK(e.value(plant::graph::SlotId(running))[0] == 1);
+    CHECK(e.value(plant::graph::SlotId(speed))[0] == doctest::Approx(0.5));
+    at(1.5);
+    CHECK(e.value(plant::graph::SlotId(running))[0] == 0);
+    CHECK(e.value(plant::graph::SlotId(speed))[0] == 0);
+    at(2.5);
+    CHECK(e.value(plant::graph::SlotId(running))[0] == 1);
+    CHECK(e.value(plant::graph::SlotId(speed))[0] == doctest::Approx(0.5));
+}
