@@ -5,9 +5,11 @@
 #include "lsp/symbols.h"
 
 #include "compiler.h"
+#include "graph/utf8.h"
 #include "fmt/formatter.h"
 #include "units/units.h"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -55,6 +57,14 @@ public:
 
     // Returns false when the client said `exit`.
     bool handle(const std::string& body) {
+        // LSP messages are UTF-8: a document in another encoding is named as such.
+        if (const size_t bad = graph::invalid_utf8(body); bad != std::string::npos) {
+            send_error(nullptr, kParseError,
+                       fmt::format("the message is not valid UTF-8: byte 0x{:02X} at offset {} (LSP messages and the documents in "
+                                   "them are UTF-8; save the file as UTF-8)",
+                                   unsigned(static_cast<unsigned char>(body[bad])), bad));
+            return true;
+        }
         json msg = json::parse(body, nullptr, false);
         if (msg.is_discarded()) {
             send_error(nullptr, kParseError, "the message is not valid JSON");

@@ -45,9 +45,11 @@ export function start(plant, repo) {
     }
   });
 
+  // A message object, a string, or a Buffer (raw bytes, e.g. ones that are not UTF-8).
   function send(msg) {
-    const body = typeof msg === 'string' ? msg : JSON.stringify({ jsonrpc: '2.0', ...msg });
-    child.stdin.write(`Content-Length: ${Buffer.byteLength(body)}\r\n\r\n${body}`);
+    const body = Buffer.isBuffer(msg) ? msg
+      : Buffer.from(typeof msg === 'string' ? msg : JSON.stringify({ jsonrpc: '2.0', ...msg }));
+    child.stdin.write(Buffer.concat([Buffer.from(`Content-Length: ${body.length}\r\n\r\n`), body]));
   }
   // Waits (at most 20 s) for the first unread message that `pred` accepts.
   function next(pred) {

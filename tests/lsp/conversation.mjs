@@ -106,6 +106,13 @@ await converse(client, async () => {
   check(nomethod.error?.code === -32600, 'a request without a method: invalid request', nomethod);
   const noposition = await request('textDocument/hover', { textDocument: { uri } });
   check(noposition.error?.code === -32602, 'a hover without a position: invalid params', noposition);
+  // A document whose text is not UTF-8 (LSP messages are): a parse error naming the byte.
+  send(Buffer.concat([Buffer.from('{"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": '
+    + '{"uri": "file:///latin1.plant", "languageId": "plant", "version": 1, "text": "plant P {'),
+    Buffer.from([0xff]), Buffer.from('}"}}}')]));
+  const latin1 = await next((m) => m.error && m.id === null);
+  check(latin1.error.code === -32700 && latin1.error.message.includes('not valid UTF-8: byte 0xFF at offset 167'),
+    'a message that is not UTF-8: a parse error naming the byte', latin1);
   send('[1, 2]');
   const notobject = await next((m) => m.error && m.id === null && m.error.code !== -32700);
   check(notobject.error.code === -32600, 'a message that is not an object: invalid request', notobject);
