@@ -49,7 +49,7 @@ commands:
   run FILE              run a plant (.plant or .graph) headless; see `plant run --help`
   fmt FILE...           format plant files in the canonical layout (--check: only report);
                         `plant fmt --help`
-  lsp                   a language server (LSP) on stdin/stdout for editors; docs/editors.md
+  lsp                   a language server (LSP) on stdin/stdout for editors; `plant lsp --help`
   serve FILE            run a plant paced to the wall clock and show it in the browser (3D,
                         controls, inspector); `plant serve --help`
   sweep SPEC            many runs of a plant over parameter values, -j N or under mpirun;
@@ -459,8 +459,8 @@ int run_command(int argc, char** argv) {
     if (o.command == "fmt") return plant::formatter::fmt_main({args.begin() + 1, args.end()}, std::cin, std::cout, std::cerr);
     if (o.command == "lsp") {  // a language server on stdin/stdout: docs/editors.md
         std::ios::sync_with_stdio(false);
-        return plant::lsp::serve(std::cin, std::cout, args.size() > 2 && args[1] == "--stdlib" ? args[2]
-                                                                                            : plant::default_stdlib_dir());
+        return plant::lsp::lsp_main({args.begin() + 1, args.end()}, std::cin, std::cout, std::cerr,
+                                    plant::default_stdlib_dir());
     }
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string& a = args[i];
