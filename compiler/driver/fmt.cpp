@@ -2,6 +2,7 @@
 #include "driver/fmt.h"
 
 #include "diag/diagnostic.h"
+#include "fmt/diff.h"
 #include "fmt/formatter.h"
 #include "sema/modules.h"
 
@@ -23,35 +24,30 @@ operators, after `:` and `,`; consecutive ports, instances and transitions in co
 every comment kept where it is (docs/editors.md, "plant fmt"). Rewrites each FILE that
 changes in place. A file with syntax errors is left alone and its diagnostics printed.
 
-  --check     change nothing; name each file that would change, with its first
-              differing line; exit 1 if there is one
+  --check     change nothing; print what would change in each file as a unified
+              diff (every difference; `patch -p0` applies it); exit 1 if any
   --stdout    print the formatted text instead of rewriting the files
   -           as FILE: format standard input to standard output (for editors)
 Exit code: 0 done, 1 a file has errors, cannot be written or (--check) would change,
 2 bad usage.
 )";
 
-// "FILE:LINE: would change" and the line as written and as formatted.
-void report_change(const std::string& name, const std::string& was, const std::string& now, std::ostream& out) {
-    std::istringstream a(was), b(now);
-    std::string la, lb;
-    for (int line = 1;; ++line) {
-        const bool ea = !std::getline(a, la), eb = !std::getline(b, lb);
-        if (ea && eb) {
-            out << name << ": would change (the line end after the last line)\n";
-            return;
-        }
-        if (ea || eb || la != lb) {
-            // Differences that do not show when printed get named.
-            const bool cr = !ea && !eb && la == lb + "\r";
-            const bool bom = line == 1 && !ea && !eb && la == "\xEF\xBB\xBF" + lb;
-            out << name << ":" << line << ": would change" << (cr ? " (a \\r\\n line end)" : bom ? " (a byte-order mark)" : "") << "\n";
-            if (cr || bom) return;
-            if (!ea) out << "-" << la << "\n";
-            if (!eb) out << "+" << lb << "\n";
-            return;
-        }
+// Every difference as a unified diff (`patch -p0` applies it). Two that do not show in a
+// diff are named first: \r\n line ends and a byte-order mark (the formatter writes
+// neither); the diff then shows what else would change.
+void report_change(const std::string& name, std::string was, const std::string& now, std::ostream& out) {
+    if (was.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+        out << name << ": would change: a byte-order mark at the start (plant fmt drops it)\n";
+        was.erase(0, 3);
     }
+    if (was.find("\r\n") != std::string::npos) {
+        out << name << ": would change: \\r\\n line ends (plant fmt writes \\n)\n";
+        std::string lf;
+        for (size_t i = 0; i < was.size(); ++i)
+            if (!(was[i] == '\r' && i + 1 < was.size() && was[i + 1] == '\n')) lf += was[i];
+        was = std::move(lf);
+    }
+    out << unified_diff(was, now, name);
 }
 
 // Writes beside the file, then renames: an interrupted run leaves the file as it was.
@@ -91,7 +87,7 @@ int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostrea
         err << "plant fmt: error: no FILE given (`-` formats standard input)\n(see `plant fmt --help`)\n";
         return 2;
     }
-    int status = 0;
+    int status = 0, changed = 0;
     for (const auto& f : files) {
         SourceMap sources;
         Sink sink;
@@ -115,6 +111,7 @@ int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostrea
             if (*formatted != text) {
                 report_change(piped ? "<stdin>" : f, text, *formatted, out);
                 status = 1;
+                ++changed;
             }
         } else if (piped || to_stdout) {
             out << *formatted;
@@ -123,6 +120,9 @@ int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostrea
             status = 1;
         }
     }
+    if (check && changed > 0)
+        err << "plant fmt: " << changed << " of " << files.size() << " file" << (files.size() == 1 ? "" : "s")
+            << " would change (`plant fmt FILE...` formats them)\n";
     return status;
 }
 
