@@ -1,5 +1,9 @@
 #include "dot/dot.h"
 
+#include "graph/plugin.h"
+
+#include <fmt/format.h>
+
 #include <functional>
 #include <map>
 #include <set>
@@ -53,6 +57,48 @@ int32_t owner_of_slot(const Graph& g, int32_t slot) {
     return g.comps[g.slots[slot].comp].owner;
 }
 
+// A component's kind as written in plant files: a plugin's own word (`faults`), not "plugin".
+std::string kind_word(const Graph& g, int32_t c) {
+    const Comp& k = g.comps[size_t(c)];
+    if (k.kind == CompKind::Plugin && in_range(g.plugins, k.detail)) return std::string(g.str(g.plugins[size_t(k.detail)].kind));
+    return std::string(word(k.kind));
+}
+
+// One slot an entry of a plugin component's table names (`open 20 s => s2.bottle`, `coil 3
+// => s1.to_working`): the component acts on it (it drives an input, or forces the slot) or
+// reads it (an output it shows); `label` is the entry's word and key.
+struct EntryEdge {
+    int32_t comp = -1, slot = -1;
+    bool reads = false;   // slot -> component
+    bool forces = false;  // an entry that may name either direction: it forces the slot
+    std::string label;
+};
+
+std::vector<EntryEdge> entry_edges(const Graph& g) {
+    std::vector<EntryEdge> out;
+    for (const Plugin& p : g.plugins) {
+        const int32_t c = p.comp;
+        if (!in_range(g.comps, c)) continue;
+        const KindDesc* desc = plugin_of(g, c);
+        for (int32_t k = 0; k < p.entry_num; ++k) {
+            const int32_t e = p.entry_adr.v + k;
+            if (!in_range(g.plugin_entries, e)) continue;
+            const PluginEntry& en = g.plugin_entries[size_t(e)];
+            const EntrySpec* spec = desc ? find_entry(*desc, g.str(en.word)) : nullptr;
+            const bool time = spec && spec->key == EntryKey::Time;
+            const std::string label = fmt::format("{} {:g}{}", g.str(en.word), en.key, time ? " s" : "");
+            for (int32_t j = 0; j < en.slot_num; ++j) {
+                const int32_t at = en.slot_adr.v + j;
+                if (!in_range(g.plugin_entry_slots, at)) continue;
+                const int32_t s = g.plugin_entry_slots[size_t(at)].v;
+                if (!in_range(g.slots, s)) continue;
+                out.push_back({c, s, spec && !spec->any_dir && spec->target == Dir::Out, spec && spec->any_dir, label});
+            }
+        }
+    }
+    return out;
+}
+
 // Where a slot is drawn: the node and, for component tables, the port; `note` names
 // the slot when the node itself does not show it (places, transitions).
 struct End {
@@ -73,9 +119,7 @@ private:
     void access(int32_t a, int depth);
     void edges();
     std::string indent(int depth) const { return std::string(2 * depth, ' '); }
-    std::string comp_label(int32_t c) const {
-        return std::string(word(g_.comps[c].kind)) + " " + std::string(g_.str(g_.comps[c].name));
-    }
+    std::string comp_label(int32_t c) const { return kind_word(g_, c) + " " + std::string(g_.str(g_.comps[c].name)); }
     std::string ep(const End& e) const { return e.port.empty() ? e.node : e.node + ":" + e.port; }
 
     // With `only_` set: inside that object (itself or below it).
@@ -287,6 +331,16 @@ void Writer::edges() {
         for (size_t i = 0; i < attrs.size(); ++i) o_ << (i == 0 ? " [" : ", ") << attrs[i];
         o_ << (attrs.empty() ? "" : "]") << ";\n";
     }
+    // A plugin component's entries: what it drives or forces, and what it reads.
+    for (const EntryEdge& e : entry_edges(g_)) {
+        if (!inside(g_.comps[size_t(e.comp)].owner) || !slot_inside(e.slot) || ends_[size_t(e.slot)].node.empty()) continue;
+        const End comp{q("c" + std::to_string(e.comp)), {}, {}};
+        const End& slot = ends_[size_t(e.slot)];
+        std::string attrs = "label=" + q(e.label) + ", style=dashed";
+        if (e.forces) attrs += ", color=\"#b03030\", fontcolor=\"#b03030\"";
+        if (!slot.note.empty()) attrs += std::string(e.reads ? ", taillabel=" : ", headlabel=") + q(slot.note);
+        o_ << "  " << ep(e.reads ? slot : comp) << " -> " << ep(e.reads ? comp : slot) << " [" << attrs << "];\n";
+    }
 }
 
 }  // namespace
@@ -343,10 +397,13 @@ public:
             comp_node_[size_t(c)] = id;
             nodes.push_back(id);
             o_ << "  " << q(id) << " [shape=" << (k.kind == CompKind::Logic ? "diamond" : k.kind == CompKind::State ? "doublecircle" : "ellipse")
-               << ", fontsize=9, label=" << q(std::string(word(k.kind)) + "\n" + std::string(g_.str(k.name))) << "];\n";
+               << ", fontsize=9, label=" << q(kind_word(g_, c) + "\n" + std::string(g_.str(k.name))) << "];\n";
         }
         // Flows bundled per (from node, to node).
         std::map<std::pair<std::string, std::string>, std::vector<std::string>> bundles;
+        // The entries of plugin components (a fault forcing a sensor, a PLC link's coil),
+        // bundled apart from the flows: drawn dashed, forces in red.
+        std::map<std::pair<std::string, std::string>, std::vector<std::string>> entries, forces;
         for (const Flow& fl : g_.flows) {
             const int32_t a = fl.from, b = fl.to;  // a dynamic end: its reference slot
             const std::string from = node_of_slot(a), to = node_of_slot(b);
@@ -354,9 +411,16 @@ public:
             // The target slot names the flow well enough at this scale ("query", "MoveToBasePos.put").
             bundles[{from, to}].push_back(std::string(g_.str(g_.slots[size_t(b)].name)));
         }
+        for (const EntryEdge& e : entry_edges(g_)) {
+            const std::string comp = node_of_comp(e.comp), slot = node_of_slot(e.slot);
+            if (comp.empty() || slot.empty() || comp == slot) continue;
+            (e.forces ? forces : entries)[e.reads ? std::pair{slot, comp} : std::pair{comp, slot}].push_back(
+                e.label + " " + std::string(g_.str(g_.slots[size_t(e.slot)].name)));
+        }
         // Objects without flows (belts, curves: joined by physics only) in rows of four, in a box.
         std::set<std::string> joined;
-        for (const auto& [ends, names] : bundles) joined.insert(ends.first), joined.insert(ends.second);
+        for (const auto* b : {&bundles, &entries, &forces})
+            for (const auto& [ends, names] : *b) joined.insert(ends.first), joined.insert(ends.second);
         std::vector<std::string> alone;
         for (const std::string& n : nodes)
             if (!joined.count(n)) alone.push_back(n);
@@ -379,7 +443,8 @@ public:
             return it->second = find(it->second);
         };
         for (const std::string& n : nodes) up[n] = n;
-        for (const auto& [ends, names] : bundles) up[find(ends.first)] = find(ends.second);
+        for (const auto* b : {&bundles, &entries, &forces})
+            for (const auto& [ends, names] : *b) up[find(ends.first)] = find(ends.second);
         std::vector<std::string> groups;  // one member of each group, in node order
         std::set<std::string> seen;
         for (const std::string& n : nodes) {
@@ -392,12 +457,17 @@ public:
         while (2 * per_row * per_row < groups.size()) ++per_row;
         for (size_t i = per_row; i < groups.size(); ++i)
             o_ << "  " << q(groups[i - per_row]) << " -> " << q(groups[i]) << " [style=invis, minlen=3];\n";
-        for (const auto& [ends, names] : bundles) {
-            std::string label = names.size() <= 2 ? names[0] + (names.size() == 2 ? ", " + names[1] : "")
-                                                  : std::to_string(names.size()) + " flows";
-            o_ << "  " << q(ends.first) << " -> " << q(ends.second) << " [label=" << q(label)
-               << (names.size() > 1 ? ", penwidth=2" : "") << "];\n";
-        }
+        auto draw = [&](const auto& bundled, const char* many, const char* style) {
+            for (const auto& [ends, names] : bundled) {
+                std::string label = names.size() <= 2 ? names[0] + (names.size() == 2 ? ", " + names[1] : "")
+                                                      : std::to_string(names.size()) + " " + many;
+                o_ << "  " << q(ends.first) << " -> " << q(ends.second) << " [label=" << q(label)
+                   << (names.size() > 1 ? ", penwidth=2" : "") << style << "];\n";
+            }
+        };
+        draw(bundles, "flows", "");
+        draw(entries, "entries", ", style=dashed");
+        draw(forces, "forces", ", style=dashed, color=\"#b03030\", fontcolor=\"#b03030\"");
         o_ << "}\n";
     }
 
@@ -422,9 +492,13 @@ private:
     }
     std::string node_of_slot(int32_t s) const {
         if (!in_range(g_.slots, s)) return {};
-        const int32_t c = g_.slots[size_t(s)].comp;
-        if (in_range(g_.comps, c) && !comp_node_[size_t(c)].empty()) return comp_node_[size_t(c)];
-        const int32_t d = owner_of_slot(g_, s);
+        return node_of_comp(g_.slots[size_t(s)].comp);
+    }
+    // The focus's own component's node, or the node of the child object it is in.
+    std::string node_of_comp(int32_t c) const {
+        if (!in_range(g_.comps, c)) return {};
+        if (!comp_node_[size_t(c)].empty()) return comp_node_[size_t(c)];
+        const int32_t d = g_.comps[size_t(c)].owner;
         if (!in_range(g_.dos, d) || node_of_do_[size_t(d)] < 0) return {};
         return "d" + std::to_string(node_of_do_[size_t(d)]);
     }
