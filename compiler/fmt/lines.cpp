@@ -24,6 +24,13 @@ int space_between(const Piece& a, const Piece& b) {
     return 1;
 }
 
+// A `///` block documents the object or plant declared right below it (hover shows it,
+// docs/language.md): no blank line between them.
+bool documents(const Line& doc, const Piece& next) {
+    return doc.pieces.size() == 1 && doc.first().tok->lex == Lex::DocComment &&
+           next.tok->starts != parse::Starts::None && (next.is("object") || next.is("plant"));
+}
+
 }  // namespace
 
 int width(std::string_view s) {
@@ -43,7 +50,8 @@ std::vector<Line> split_lines(std::string_view text, const std::vector<parse::La
         p.orig_col = width(text.substr(line_start, t.begin - line_start));
         if (lines.empty() || newlines > 0) {
             Line l;
-            l.blank_before = !lines.empty() && newlines > 1 && !lines.back().last().is("{") && !p.is("}");
+            l.blank_before = !lines.empty() && newlines > 1 && !lines.back().last().is("{") && !p.is("}") &&
+                             !documents(lines.back(), p);
             l.orig_indent = p.orig_col;
             lines.push_back(std::move(l));
         } else {

@@ -50,7 +50,13 @@ std::string doc_comment(const Compilation& c, const Span& s) {
         size_t prev = t.rfind('\n', line_begin - 1);
         size_t from = prev == std::string::npos ? 0 : prev + 1;
         std::string line = t.substr(from, line_begin - from);
-        size_t first = line.find_first_not_of(" \t");
+        size_t first = line.find_first_not_of(" \t\r");
+        // Blank lines between the block and the declaration are allowed (`plant fmt` removes them).
+        if (first == std::string::npos && lines.empty()) {
+            if (prev == std::string::npos) break;
+            line_begin = prev;
+            continue;
+        }
         if (first == std::string::npos || line.compare(first, 3, "///") != 0) break;
         std::string body = line.substr(first + 3);
         if (!body.empty() && body[0] == ' ') body.erase(0, 1);

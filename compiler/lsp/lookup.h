@@ -22,7 +22,8 @@ Members members_of(const ast::ObjectDecl& o);
 
 std::string slice(const Compilation& c, const Span& s);
 
-// The `///` lines right above the declaration at `s`, without the slashes.
+// The `///` lines right above the declaration at `s` (blank lines between allowed), without
+// the slashes.
 std::string doc_comment(const Compilation& c, const Span& s);
 
 // "object Belt(length: length = 1 m, ...)".
