@@ -252,18 +252,25 @@ private:
                     target = f->second;
                     range = range_of(c.sources, d.span);
                 }
+                // A note without a place of its own ("did you mean 'tick'?") is part of the
+                // message: clients that show no related information (Neovim 0.7) show it too.
+                std::string message = d.message;
+                json related = json::array();
+                for (const Note& n : d.notes) {
+                    const bool own_place = n.span.valid() && !(n.span.file == d.span.file && n.span.begin == d.span.begin &&
+                                                                n.span.end == d.span.end);
+                    if (!own_place || !file_uri.count(n.span.file)) {
+                        message += "; " + n.message;
+                        continue;
+                    }
+                    related.push_back({{"location", {{"uri", file_uri[n.span.file]}, {"range", range_of(c.sources, n.span)}}},
+                                       {"message", n.message}});
+                }
                 json item = {{"range", range},
                              {"severity", d.severity == Severity::Error ? 1 : d.severity == Severity::Warning ? 2 : 3},
                              {"code", std::string(info(d.id).code)},
                              {"source", "plant"},
-                             {"message", d.message}};
-                json related = json::array();
-                for (const Note& n : d.notes) {
-                    const Span& s = file_uri.count(n.span.file) ? n.span : d.span;
-                    if (!file_uri.count(s.file)) continue;
-                    related.push_back({{"location", {{"uri", file_uri[s.file]}, {"range", range_of(c.sources, s)}}},
-                                       {"message", n.message}});
-                }
+                             {"message", message}};
                 if (!related.empty()) item["relatedInformation"] = related;
                 // The same error in an imported file shows once, whichever open file reached it.
                 if (!seen[target].insert(item.dump()).second) continue;

@@ -44,6 +44,10 @@ await converse(client, async () => {
         diag?.range?.end?.line === line && diag?.range?.end?.character === col + 'to_workin'.length,
         'its range is the misspelt name', diag?.range);
   check(diag?.severity === 1 && /to_workin/.test(diag?.message), 'an error naming the slot', diag);
+  check(/; did you mean 'to_working'\?$/.test(diag?.message ?? ''),
+        'the did-you-mean note is in the message (clients that show no related information show it)', diag);
+  check(!(diag?.relatedInformation ?? []).some((r) => /did you mean/.test(r.message)),
+        'and not again as related information', diag);
 
   // Fix it (a full-text change) and get an empty list.
   send({ method: 'textDocument/didChange', params: { textDocument: { uri, version: 3 }, contentChanges: [{ text }] } });
