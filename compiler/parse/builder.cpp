@@ -1,6 +1,7 @@
 // ANTLR parse tree -> our AST, one function per grammar rule. Compiled as C++17
 // because the generated code and the ANTLR headers do not build as C++20.
 #include "parse/parser.h"
+#include "parse/braces.h"
 #include "parse/offsets.h"
 #include "graph/utf8.h"
 
@@ -101,8 +102,10 @@ public:
         bool name_fits = false;      // a name may come here
         bool self_expected = false;  // the recovery's set names the very token it rejects
         bool only_name = false;      // nothing but a name fits here
+        bool brace_fits = false;     // a `}` may come here
         try {
             auto set = parser->getExpectedTokens();
+            for (auto t : set.toList()) brace_fits = brace_fits || parser->getVocabulary().getLiteralName(t) == "'}'";
             name_fits = set.contains(static_cast<size_t>(P::ID));
             only_name = name_fits;
             for (auto t : set.toList())
@@ -123,6 +126,12 @@ public:
         // "unexpected 'flow'; expected 'flow', ..." would contradict itself: say less.
         if (!expected.empty() && expected.size() < 300 && !self_expected) text += "; expected " + expected;
         auto& d = sink_.report(DiagId::Syntax, span, text);
+        // The end of the file or a keyword that cannot come here, where a `}` could: the `{`
+        // it would close (and the block that is likely missing it).
+        if (brace_fits && bad && !self_expected && (bad->getType() == antlr4::Token::EOF || keyword_token(bad)))
+            for (Note& n : unclosed_brace_notes(file_, braces_before(parser, bad),
+                                                  bad->getType() != antlr4::Token::EOF ? token_text(bad, eof_)
+                                                  : eof_ == "end of file" ? "the end of the file" : "the " + eof_)) d.notes.push_back(std::move(n));
         // A keyword where a name was meant: `animation out { ... }`, `flow: Belt`.
         auto keyword = [](antlr4::Token* t) {
             std::string w = t ? t->getText() : "";
@@ -140,6 +149,29 @@ public:
     }
 
 private:
+    static bool keyword_token(antlr4::Token* t) {
+        const std::string w = t->getText();
+        return t->getType() != P::ID && !w.empty() &&
+               std::all_of(w.begin(), w.end(), [](char ch) { return std::isalpha(static_cast<unsigned char>(ch)) != 0; });
+    }
+
+    // The braces before `bad`, each with the indent of its line (the column of the line's
+    // first token, comments included).
+    std::vector<Brace> braces_before(antlr4::Parser* parser, antlr4::Token* bad) const {
+        antlr4::TokenStream* ts = parser->getTokenStream();
+        std::vector<Brace> out;
+        size_t line = 0;
+        int indent = 0;
+        for (size_t i = 0; i < bad->getTokenIndex() && i < ts->size(); ++i) {
+            antlr4::Token* t = ts->get(i);
+            if (t->getLine() != line) line = t->getLine(), indent = static_cast<int>(t->getCharPositionInLine());
+            const std::string w = t->getText();
+            if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL && (w == "{" || w == "}"))
+                out.push_back({off_.byte(t->getStartIndex()), static_cast<int>(line), indent, w == "{"});
+        }
+        return out;
+    }
+
     Sink& sink_;
     int32_t file_;
     const Offsets& off_;
