@@ -5,7 +5,10 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -25,6 +28,11 @@ replicate, each run a child process (`plant run ... --quiet`), and writes, in --
                 one output over one or two varied parameters (gnuplot)
 Every parameter name, value and unit is checked before the first run. A run that
 fails (compile error, crash, time-out, NaN) is a row with its status; the sweep goes on.
+While it runs it shows runs done of the total, how many were not ok and the time left
+(one line on a terminal, a line every 10 s in a log). One sweep at a time in an --out
+folder: another one there is refused while the first runs. Ctrl-C stops the runs going
+on and says how many finished; --resume completes the sweep. When the plotted output is
+the same in every run (a --for too short?) the sweep warns.
 
   -j N          runs at a time (default: one per core); the results do not depend on it
   --out DIR     where the files go (default: sweep-NAME for SPEC NAME.sweep)
@@ -115,6 +123,17 @@ int prepare(const Options& o, Prepared& p, std::ostream& err) {
         fmt::print(err, "plant sweep: error: cannot create '{}': {}\n", dir, ec.message());
         return 2;
     }
+    // One sweep at a time in DIR, before anything in it is read or written.
+    p.lock = std::make_unique<OutLock>();
+    std::string lock_error, lock_note;
+    if (!p.lock->acquire(dir, lock_error, lock_note)) {
+        fmt::print(err, "plant sweep: error: {}\n", lock_error);
+        return 2;
+    }
+    if (!lock_note.empty()) fmt::print(err, "plant sweep: {}\n", lock_note);
+    // What a killed sweep left in the work folder is of no use: the folder is ours now.
+    fs::remove_all(fs::path(dir) / "work", ec);
+    fs::create_directories(fs::path(dir) / "work", ec);
     p.csv_path = dir + "/results.csv";
     if (fs::exists(p.csv_path) && !o.resume) {
         fmt::print(err, "plant sweep: error: {} exists: --resume to complete it, or another --out\n", p.csv_path);
@@ -127,7 +146,10 @@ int prepare(const Options& o, Prepared& p, std::ostream& err) {
         return 2;
     }
     for (const auto& [i, row] : rows)
-        if (i >= 0 && size_t(i) < p.runs.size() && is_final(status[i])) p.rows[i] = row;
+        if (i >= 0 && size_t(i) < p.runs.size() && is_final(status[i])) {
+            p.rows[i] = row;
+            p.rows_not_ok += status[i] != "ok";
+        }
     // Start the file again with the kept rows: a lost run's old row must not stay beside its new one.
     std::string text = csv_header(p.spec) + "\n";
     for (const auto& [i, row] : p.rows) text += row + "\n";
@@ -137,6 +159,23 @@ int prepare(const Options& o, Prepared& p, std::ostream& err) {
         return 2;
     }
     return 0;
+}
+
+const char* signal_name(int sig) { return sig == SIGINT ? "Ctrl-C, SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
+
+std::string interrupted_message(const Options& o, const Prepared& p, int signal) {
+    size_t finished = 0;
+    for (const auto& [i, row] : p.rows) finished += is_final(status_of(p.spec, row));
+    auto arg = [](const std::string& a) {
+        return a.find_first_of(" '\"$\\") == std::string::npos ? a : "'" + a + "'";
+    };
+    std::string again = "plant sweep " + arg(o.spec_path);
+    if (!o.out_dir.empty()) again += " --out " + arg(o.out_dir);
+    if (!o.run_for.empty()) again += " --for " + arg(o.run_for);
+    if (o.timeout > 0) again += fmt::format(" --timeout {:g}s", o.timeout);
+    again += " --resume";
+    return fmt::format("plant sweep: interrupted ({}): {} of {} runs finished, in {}; `{}` runs the other {}\n",
+                       signal_name(signal), finished, p.runs.size(), p.csv_path, again, p.runs.size() - finished);
 }
 
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -161,41 +200,65 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     const std::string dir = std::filesystem::path(p.csv_path).parent_path().string();
     const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
     Exec ex{self_exe(), dir + "/work", p.spec.run_for, p.spec.timeout};
+    InterruptWatch watch;
     Pool pool(p.spec, ex);
-    size_t next = 0, done = p.rows.size(), failed = 0;
+    size_t next = 0;
     const size_t total = p.runs.size();
-    fmt::print(err, "plant sweep: {} runs ({} done already), {} at a time\n", total, done, jobs);
+    fmt::print(err, "plant sweep: {} runs ({} done already), {} at a time\n", total, p.rows.size(), jobs);
+    Progress progress(err, ::isatty(STDERR_FILENO) == 1, total, p.rows.size(), p.rows_not_ok);
     auto skip = [&] {
         while (next < total && p.rows.count(int(next))) ++next;
     };
+    auto record = [&](const Result& r) {
+        const std::string row = csv_row(p.spec, p.runs[size_t(r.index)], r);
+        if (!append_row(p.csv_path, row)) {
+            progress.clear();
+            fmt::print(err, "plant sweep: error: cannot write {}\n", p.csv_path);
+            return false;
+        }
+        p.rows[r.index] = row;
+        return true;
+    };
     skip();
     while (next < total || pool.busy() > 0) {
-        while (next < total && pool.busy() < size_t(jobs)) {
+        while (next < total && pool.busy() < size_t(jobs) && !InterruptWatch::interrupted()) {
             std::string error;
             if (!pool.start(p.runs[next], error)) {
+                progress.clear();
                 fmt::print(err, "plant sweep: error: {}\n", error);
                 return 1;
             }
             ++next;
             skip();
         }
-        const Result r = pool.wait_any();
-        const std::string row = csv_row(p.spec, p.runs[size_t(r.index)], r);
-        if (!append_row(p.csv_path, row)) {
-            fmt::print(err, "plant sweep: error: cannot write {}\n", p.csv_path);
-            return 1;
+        if (const int sig = InterruptWatch::interrupted()) {
+            // The runs going on are stopped and written as lost: --resume runs them again.
+            for (const Result& r : pool.stop_all(fmt::format("the sweep was interrupted ({})", signal_name(sig))))
+                if (!record(r)) return 1;
+            progress.end();
+            std::error_code ec;
+            std::filesystem::remove_all(dir + "/work", ec);
+            err << interrupted_message(o, p, sig);
+            return 128 + sig;
         }
-        p.rows[r.index] = row;
-        ++done;
+        Result r;
+        if (!pool.poll(r)) {
+            progress.tick(pool.busy());
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            continue;
+        }
+        if (!record(r)) return 1;
         if (r.status != "ok") {
-            ++failed;
+            progress.clear();
             fmt::print(err, "plant sweep: run {}: {}: {}\n", r.index, r.status, r.message);
         }
+        progress.finished(r.status == "ok", pool.busy());
     }
+    progress.end();
     std::error_code ec;
     std::filesystem::remove(dir + "/work", ec);
     if (!finish_outputs(p.spec, dir, p.rows, err)) return 1;
-    fmt::print(out, "{} runs, {} not ok; {}/results.csv, summary.md{}\n", total, failed, dir,
+    fmt::print(out, "{} runs, {} not ok; {}/results.csv, summary.md{}\n", total, progress.failed(), dir,
                p.spec.params.size() >= 1 && p.spec.params.size() <= 2 ? ", plot.svg" : "");
     return 0;
 }

@@ -39,7 +39,7 @@ std::string plant_exe() {
 }
 
 // One run in a child process, as the local driver does with -j 1; a worker tells rank 0
-// it is alive while the run goes on.
+// it is alive while the run goes on. Rank 0 alone (-n 1) stops it on Ctrl-C: a lost run.
 Result run_one(const Spec& spec, const Run& run, const std::string& work, bool heartbeat) {
     Pool pool(spec, Exec{plant_exe(), work, spec.run_for, spec.timeout});
     std::string error;
@@ -53,6 +53,8 @@ Result run_one(const Spec& spec, const Run& run, const std::string& work, bool h
     }
     double next = now() + kAliveEvery;
     while (!pool.poll(r)) {
+        if (const int sig = InterruptWatch::interrupted(); sig && !heartbeat)
+            return pool.stop_all(fmt::format("the sweep was interrupted ({})", signal_name(sig))).at(0);
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
         if (heartbeat && now() >= next) {
             MPI_Send(nullptr, 0, MPI_CHAR, 0, kAlive, MPI_COMM_WORLD);
@@ -62,24 +64,39 @@ Result run_one(const Spec& spec, const Run& run, const std::string& work, bool h
     return r;
 }
 
-int coordinator(Prepared& p, int size) {
+// Ctrl-C (or mpirun's SIGTERM): every finished row is in results.csv; say so and how to go on.
+[[noreturn]] void interrupted(const Options& o, Prepared& p, Progress& progress, int sig) {
+    progress.end();
+    std::error_code ec;
+    std::filesystem::remove_all(std::filesystem::path(p.csv_path).parent_path() / "work", ec);
+    p.lock.reset();  // MPI_Abort runs no destructor
+    std::cerr << interrupted_message(o, p, sig) << std::flush;
+    MPI_Abort(MPI_COMM_WORLD, 128 + sig);
+    std::_Exit(128 + sig);
+}
+
+int coordinator(const Options& o, Prepared& p, int size) {
     const std::string dir = std::filesystem::path(p.csv_path).parent_path().string();
     std::vector<int> todo;
     for (const Run& r : p.runs)
         if (!p.rows.count(r.index)) todo.push_back(r.index);
     fmt::print(std::cerr, "plant sweep: {} runs ({} done already) on {} MPI rank{}\n", p.runs.size(),
                p.runs.size() - todo.size(), size > 1 ? size - 1 : 1, size > 2 ? "s" : "");
-    size_t next = 0, failed = 0;
-    int dead = 0;
+    InterruptWatch watch;
+    Progress progress(std::cerr, ::isatty(STDERR_FILENO) == 1, p.runs.size(), p.rows.size(), p.rows_not_ok);
+    size_t next = 0;
+    int dead = 0, running = 0;
     auto record = [&](const std::string& row, int index, const std::string& status) {
         if (!append_row(p.csv_path, row)) fmt::print(std::cerr, "plant sweep: error: cannot write {}\n", p.csv_path);
         p.rows[index] = row;
-        if (status != "ok") ++failed;
+        if (status == "lost" && InterruptWatch::interrupted()) return;  // not finished: --resume runs it
+        progress.finished(status == "ok", size_t(std::max(0, running)));
     };
     if (size == 1) {
         for (int i : todo) {
             const Result r = run_one(p.spec, p.runs[size_t(i)], dir + "/work", false);
             record(csv_row(p.spec, p.runs[size_t(i)], r), i, r.status);
+            if (const int sig = InterruptWatch::interrupted()) interrupted(o, p, progress, sig);
         }
     } else {
         int stopped = 0;
@@ -90,8 +107,23 @@ int coordinator(Prepared& p, int size) {
             int flag = 0;
             MPI_Status st;
             MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+            if (const int sig = InterruptWatch::interrupted()) {
+                // The ranks' runs are lost (mpirun stops the ranks): --resume runs them again.
+                for (int k = 1; k < size; ++k) {
+                    const int i = current[size_t(k)];
+                    if (done[size_t(k)] || i < 0) continue;
+                    Result r;
+                    r.index = i;
+                    r.status = "lost";
+                    r.message = fmt::format("the sweep was interrupted ({})", signal_name(sig));
+                    r.outputs.assign(p.spec.outputs.size(), "");
+                    record(csv_row(p.spec, p.runs[size_t(i)], r), i, r.status);
+                }
+                interrupted(o, p, progress, sig);
+            }
             if (!flag) {
                 // A blocking receive would spin a core that the runs need.
+                progress.tick(size_t(running));
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 for (int k = 1; k < size; ++k) {
                     if (done[size_t(k)] || now() - heard[size_t(k)] < kDeadAfter) continue;
@@ -102,6 +134,7 @@ int coordinator(Prepared& p, int size) {
                     fmt::print(std::cerr, "plant sweep: MPI rank {} stopped answering{}\n", k,
                                i >= 0 ? fmt::format("; its run {} is lost", i) : "");
                     if (i < 0) continue;
+                    --running;
                     Result r;
                     r.index = i;
                     r.status = "lost";
@@ -125,9 +158,11 @@ int coordinator(Prepared& p, int size) {
             if (!msg.empty()) {
                 // "STATUS\nROW"
                 const size_t nl = msg.find('\n');
+                --running;
                 record(msg.substr(nl + 1), current[size_t(src)], msg.substr(0, nl));
             }
             if (next < todo.size()) {
+                ++running;
                 current[size_t(src)] = todo[next++];
                 MPI_Send(&current[size_t(src)], 1, MPI_INT, src, kWork, MPI_COMM_WORLD);
             } else {
@@ -138,10 +173,11 @@ int coordinator(Prepared& p, int size) {
             }
         }
     }
+    progress.end();
     std::error_code ec;
     std::filesystem::remove(dir + "/work", ec);
     if (!finish_outputs(p.spec, dir, p.rows, std::cerr)) return 1;
-    fmt::print(std::cout, "{} runs, {} not ok; {}/results.csv, summary.md{}\n", p.runs.size(), failed, dir,
+    fmt::print(std::cout, "{} runs, {} not ok; {}/results.csv, summary.md{}\n", p.runs.size(), progress.failed(), dir,
                p.spec.params.size() >= 1 && p.spec.params.size() <= 2 ? ", plot.svg" : "");
     if (dead > 0) {
         // MPI_Finalize would wait for the dead rank: the files are written, end the job here.
@@ -195,7 +231,7 @@ int main(int argc, char** argv) {
     if (code == 0 && rank == 0) code = prepare(o, p, std::cerr);
     // Every rank learns whether rank 0 found the spec good.
     MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    if (code == 0) code = rank == 0 ? coordinator(p, size) : worker(o, rank);
+    if (code == 0) code = rank == 0 ? coordinator(o, p, size) : worker(o, rank);
     MPI_Finalize();
     return code;
 }

@@ -13,6 +13,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <sstream>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -52,8 +53,10 @@ std::string last_error(const std::string& err) {
     return best;
 }
 
+// The sweep's pid in the name: a run left behind by a killed sweep never writes into the
+// files of the same run started again by --resume.
 std::string out_path(const std::string& dir, int index, const char* ext) {
-    return fmt::format("{}/run-{}.{}", dir, index, ext);
+    return fmt::format("{}/run-{}-{}.{}", dir, index, ::getpid(), ext);
 }
 
 }  // namespace
@@ -118,15 +121,23 @@ bool Pool::start(const Run& run, std::string& error) {
     args.insert(args.end(), {"--for", exec_.run_for, "--quiet", "--threads", "1"});
     const std::string out = out_path(exec_.work_dir, run.index, "out");
     const std::string err = out_path(exec_.work_dir, run.index, "err");
+    const pid_t parent = ::getpid();
     const pid_t pid = ::fork();
     if (pid < 0) {
         error = std::string("fork: ") + std::strerror(errno);
         return false;
     }
     if (pid == 0) {
+        // A run dies with the sweep (even a SIGKILLed one), and a Ctrl-C at the terminal
+        // reaches the sweep only (its own process group): the sweep stops its runs itself.
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() != parent) ::_exit(126);
+        ::setpgid(0, 0);
         const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (o < 0 || e < 0) ::_exit(126);
+        const int i = ::open("/dev/null", O_RDONLY);
+        if (o < 0 || e < 0 || i < 0) ::_exit(126);
+        ::dup2(i, 0);
         ::dup2(o, 1);
         ::dup2(e, 2);
         std::vector<char*> argv;
@@ -159,6 +170,25 @@ bool Pool::poll(Result& r) {
             ::kill(c.pid, SIGKILL);
         }
     return false;
+}
+
+std::vector<Result> Pool::stop_all(const std::string& why) {
+    std::vector<Result> out;
+    for (const Child& c : children_) {
+        ::kill(c.pid, SIGKILL);
+        ::waitpid(c.pid, nullptr, 0);
+        Result r;
+        r.index = c.index;
+        r.status = "lost";
+        r.message = why;
+        r.wall = now() - c.started;
+        r.outputs.assign(spec_.outputs.size(), "");
+        std::remove(out_path(exec_.work_dir, c.index, "out").c_str());
+        std::remove(out_path(exec_.work_dir, c.index, "err").c_str());
+        out.push_back(std::move(r));
+    }
+    children_.clear();
+    return out;
 }
 
 Result Pool::wait_any() {
@@ -194,6 +224,12 @@ Result Pool::finish(const Child& c, int status) {
         // exec failed (the binary replaced or gone mid-sweep): the run never started; run it again.
         r.status = "lost";
         r.message = code == 127 ? "cannot run " + exec_.plant_exe : "cannot write " + out_file;
+        return r;
+    }
+    if (code == 128 + SIGINT || code == 128 + SIGTERM) {
+        // `plant run` stopped by a signal from outside, not by its plant: run it again.
+        r.status = "lost";
+        r.message = fmt::format("interrupted by {} (exit code {})", code == 128 + SIGINT ? "SIGINT" : "SIGTERM", code);
         return r;
     }
     if (code != 0) {

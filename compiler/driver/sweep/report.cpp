@@ -82,6 +82,12 @@ std::string csv_row(const Spec& spec, const Run& run, const Result& r) {
     return row + "," + r.status + "," + field(r.message) + fmt::format(",{:.3f}", r.wall);
 }
 
+std::string status_of(const Spec& spec, const std::string& row) {
+    const auto cells = split(row);
+    const size_t status_col = 2 + spec.params.size() + spec.outputs.size();
+    return cells.size() == status_col + 3 ? cells[status_col] : "";
+}
+
 bool read_csv(const std::string& path, const Spec& spec, std::map<int, std::string>& rows,
               std::map<int, std::string>& status, std::string& error) {
     std::ifstream f(path, std::ios::binary);
@@ -110,6 +116,44 @@ bool append_row(const std::string& csv_path, const std::string& row) {
     if (!f) return false;
     const bool ok = std::fputs((row + "\n").c_str(), f) >= 0 && std::fflush(f) == 0;
     return std::fclose(f) == 0 && ok;
+}
+
+namespace {
+
+// The column plotted: the spec's `plot`, else the first output that is not rtf.
+size_t plot_column(const Spec& spec) {
+    const size_t no = spec.outputs.size();
+    size_t k = 0;
+    if (!spec.plot.empty()) {
+        while (k < no && spec.outputs[k].column() != spec.plot) ++k;
+    } else {
+        while (k < no && spec.outputs[k].name == "rtf") ++k;
+        if (k == no) k = 0;
+    }
+    return k;
+}
+
+}  // namespace
+
+std::optional<std::string> flat_plot_warning(const Spec& spec, const std::map<int, std::string>& rows) {
+    const size_t np = spec.params.size(), no = spec.outputs.size(), status_col = 2 + np + no;
+    const size_t k = plot_column(spec);
+    if (k >= no) return std::nullopt;
+    std::string value;
+    int runs = 0;
+    for (const auto& [i, row] : rows) {
+        const auto c = split(row);
+        if (c.size() != status_col + 3 || c[status_col] != "ok" || c[2 + np + k].empty()) continue;
+        if (runs > 0 && c[2 + np + k] != value) return std::nullopt;
+        value = c[2 + np + k];
+        ++runs;
+    }
+    if (runs < 2) return std::nullopt;
+    std::string why = "a plot of it is flat and shows nothing about the parameters";
+    if (std::strtod(value.c_str(), nullptr) == 0)
+        why += "; is the simulated time per run (" + spec.run_for + ", --for) long enough for anything to happen?";
+    return spec.outputs[k].column() + " is " + value + " in every run that ended ok (" + std::to_string(runs) +
+           " runs): " + why;
 }
 
 bool finish_outputs(const Spec& spec, const std::string& dir, const std::map<int, std::string>& rows,
@@ -166,6 +210,11 @@ bool finish_outputs(const Spec& spec, const std::string& dir, const std::map<int
         for (size_t k = 0; k < no; ++k) md << " " << (g.n[k] ? fmt::format("{:.4g}", mean(g, k)) : "-") << " |";
         md << " " << g.ok << "/" << g.runs << " |\n";
     }
+    const std::optional<std::string> flat = flat_plot_warning(spec, rows);
+    if (flat) {
+        md << "\n**Warning:** " << *flat << "\n";
+        err << "plant sweep: warning: " << *flat << "\n";
+    }
     if (!write_file(dir + "/summary.md", md.str())) {
         err << "plant sweep: error: cannot write " << dir << "/summary.md\n";
         return false;
@@ -173,13 +222,7 @@ bool finish_outputs(const Spec& spec, const std::string& dir, const std::map<int
 
     // The plot: the chosen output over the first parameter, a line per value of the second.
     if (np < 1 || np > 2 || no == 0) return true;
-    size_t k = 0;
-    if (!spec.plot.empty()) {
-        while (k < no && spec.outputs[k].column() != spec.plot) ++k;
-    } else {
-        while (k < no && spec.outputs[k].name == "rtf") ++k;
-        if (k == no) k = 0;
-    }
+    const size_t k = plot_column(spec);
     std::vector<std::string> series;
     for (const Group& g : groups)
         if (np == 2 && std::find(series.begin(), series.end(), g.values[1]) == series.end()) series.push_back(g.values[1]);

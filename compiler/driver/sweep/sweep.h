@@ -6,6 +6,8 @@
 
 #include <iosfwd>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -114,6 +116,8 @@ public:
     Result wait_any();
     // Without blocking: true with the Result of a child that has ended.
     bool poll(Result& r);
+    // Stops every running child (SIGKILL); each becomes a `lost` Result with `why`.
+    std::vector<Result> stop_all(const std::string& why);
 
 private:
     struct Child {
@@ -131,6 +135,8 @@ private:
 // The CSV: header, a row per result (values of the run, then outputs, status, message, wall).
 std::string csv_header(const Spec& spec);
 std::string csv_row(const Spec& spec, const Run& run, const Result& r);
+// A row's status column ("" when the row is cut short).
+std::string status_of(const Spec& spec, const std::string& row);
 // Rows of an existing CSV by run index (header checked); false with a message.
 bool read_csv(const std::string& path, const Spec& spec, std::map<int, std::string>& rows,
               std::map<int, std::string>& status, std::string& error);
@@ -147,16 +153,80 @@ struct Options {
 };
 int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& err);
 
-// Everything before the first run: spec, checks, out dir, CSV header or resumed rows.
+// The --out folder's lock (DIR/.lock, flock(2)): held while a sweep runs there, released by
+// the kernel however the sweep ends; a lock file left by a killed sweep is taken over.
+class OutLock {
+public:
+    OutLock() = default;
+    ~OutLock();
+    OutLock(const OutLock&) = delete;
+    OutLock& operator=(const OutLock&) = delete;
+    // False with `error` when another live sweep holds DIR; `note` says when a killed
+    // sweep's lock was taken over.
+    bool acquire(const std::string& dir, std::string& error, std::string& note);
+
+private:
+    int fd_ = -1;
+    std::string path_;
+};
+
+// Everything before the first run: spec, checks, out dir (locked), CSV header or resumed rows.
 struct Prepared {
     Spec spec;
     std::vector<Run> runs;
     std::map<int, std::string> rows;  // finished rows kept (resume)
+    size_t rows_not_ok = 0;           // of those, how many are not ok
     std::string csv_path;
+    std::unique_ptr<OutLock> lock;
 };
 int prepare(const Options& o, Prepared& p, std::ostream& err);
 // Appends a row to the CSV and flushes it to disk.
 bool append_row(const std::string& csv_path, const std::string& row);
+
+// "about 4 min 10 s": a duration for people.
+std::string format_duration(double seconds);
+
+// What a running sweep prints about itself (progress.cpp): on a terminal one line rewritten
+// in place, in a log a plain line at most every 10 s and at the end.
+class Progress {
+public:
+    Progress(std::ostream& err, bool terminal, size_t total, size_t done_before, size_t failed_before);
+    void finished(bool ok, size_t running);  // a run ended
+    void tick(size_t running);               // while waiting: the terminal line's time left
+    void clear();                            // before another message on a terminal
+    void end();                              // the last line stays
+    size_t done() const { return done_; }
+    size_t failed() const { return failed_; }
+    std::string line(size_t running) const;  // "12/60 runs done, 1 not ok, 2 running, about 4 min left"
+
+private:
+    void show(size_t running, bool force);
+    std::ostream& err_;
+    bool terminal_;
+    size_t total_, done_, failed_, done_before_;
+    double started_, last_ = 0;
+    bool shown_ = false;
+};
+
+// SIGINT and SIGTERM while the runs go on: the first is noted (interrupted() returns it) so
+// the driver can stop its runs and say how far it got; a second ends the process at once.
+class InterruptWatch {
+public:
+    InterruptWatch();
+    ~InterruptWatch();
+    InterruptWatch(const InterruptWatch&) = delete;
+    InterruptWatch& operator=(const InterruptWatch&) = delete;
+    static int interrupted();  // the signal, or 0
+};
+
+// "Ctrl-C, SIGINT", "SIGTERM".
+const char* signal_name(int sig);
+// The message said when a sweep stops before its end: runs finished, and how to complete it.
+std::string interrupted_message(const Options& o, const Prepared& p, int signal);
+
+// When every ok run gave the plotted output the same value (a flat plot, e.g. a --for too
+// short for anything to happen): a warning for the user; nothing otherwise.
+std::optional<std::string> flat_plot_warning(const Spec& spec, const std::map<int, std::string>& rows);
 
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <unistd.h>
 
 using namespace plant::sweep;
@@ -181,4 +182,66 @@ TEST_CASE("sweep: --resume keeps finished rows and runs lost ones again") {
     CHECK(is_final("timeout"));
     CHECK_FALSE(is_final("lost"));
     CHECK_FALSE(is_final(""));
+}
+
+TEST_CASE("sweep: progress on a terminal is one line rewritten, in a log lines at most every 10 s and the last") {
+    std::ostringstream tty;
+    Progress on_tty(tty, true, 4, 1, 1);  // --resume kept one run, not ok
+    CHECK(on_tty.line(2) == "1/4 runs done, 1 not ok, 2 running, time left not known before the first run ends");
+    on_tty.finished(true, 2);
+    CHECK(tty.str().rfind("\r\033[Kplant sweep: 2/4 runs done, 1 not ok, 2 running, about ", 0) == 0);
+    CHECK(tty.str().find('\n') == std::string::npos);
+    on_tty.clear();  // before another message: the line is wiped
+    CHECK(tty.str().substr(tty.str().size() - 4) == "\r\033[K");
+    on_tty.finished(false, 1);
+    on_tty.finished(true, 0);
+    CHECK(on_tty.failed() == 2);
+    on_tty.end();
+    CHECK(tty.str().find("4/4 runs done, 2 not ok, in ") != std::string::npos);
+    CHECK(tty.str().back() == '\n');
+
+    std::ostringstream log;
+    Progress in_log(log, false, 3, 0, 0);
+    in_log.finished(true, 2);
+    in_log.tick(2);            // nothing between lines in a log
+    in_log.finished(false, 1);  // less than 10 s later: no line
+    in_log.finished(true, 0);  // the last: always
+    CHECK(log.str().find("\r") == std::string::npos);
+    CHECK(log.str().rfind("plant sweep: 1/3 runs done, 0 not ok, 2 running, about ", 0) == 0);
+    CHECK(log.str().find("2/3") == std::string::npos);
+    CHECK(log.str().find("\nplant sweep: 3/3 runs done, 1 not ok, in ") != std::string::npos);
+}
+
+TEST_CASE("sweep: durations for people") {
+    CHECK(format_duration(0.4) == "0 s");
+    CHECK(format_duration(59) == "59 s");
+    CHECK(format_duration(250) == "4 min 10 s");
+    CHECK(format_duration(3 * 3600 + 65) == "3 h 01 min");
+    CHECK(format_duration(-1) == "?");
+}
+
+TEST_CASE("sweep: a warning when every ok run gave the plotted output the same value") {
+    Spec s;
+    s.run_for = "2 s";
+    s.params.push_back({"feed_every", {}, {}});
+    s.outputs.push_back({Output::Counter, "rtf", {}});
+    s.outputs.push_back({Output::Counter, "commissioned", {}});
+    s.outputs.push_back({Output::Counter, "issued", {}});
+    std::map<int, std::string> rows = {{0, "0,0,1 s,40.5,0,3,ok,,0.1"},
+                                       {1, "1,0,2 s,80.1,0,2,ok,,0.1"},
+                                       {2, "2,0,3 s,,,,failed,bad,0.1"}};
+    // The plot shows `commissioned` (the first output that is not rtf): 0 in both ok runs.
+    const auto w = flat_plot_warning(s, rows);
+    REQUIRE(w);
+    CHECK(*w == "commissioned is 0 in every run that ended ok (2 runs): a plot of it is flat and shows nothing about "
+                "the parameters; is the simulated time per run (2 s, --for) long enough for anything to happen?");
+    s.plot = "issued";  // 3 and 2: not flat
+    CHECK_FALSE(flat_plot_warning(s, rows));
+    rows[1] = "1,0,2 s,80.1,0,3,ok,,0.1";  // 3 in both: flat, but not 0, so no word about --for
+    const auto same = flat_plot_warning(s, rows);
+    REQUIRE(same);
+    CHECK(same->find("issued is 3 in every run") == 0);
+    CHECK(same->find("--for") == std::string::npos);
+    rows.erase(1);  // one ok run says nothing
+    CHECK_FALSE(flat_plot_warning(s, rows));
 }
