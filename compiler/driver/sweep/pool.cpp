@@ -15,7 +15,6 @@
 #include <sstream>
 #include <sys/prctl.h>
 #include <sys/wait.h>
-#include <thread>
 #include <unistd.h>
 
 namespace plant::sweep {
@@ -189,12 +188,6 @@ std::vector<Result> Pool::stop_all(const std::string& why) {
     }
     children_.clear();
     return out;
-}
-
-Result Pool::wait_any() {
-    Result r;
-    while (!poll(r)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    return r;
 }
 
 Result Pool::finish(const Child& c, int status) {

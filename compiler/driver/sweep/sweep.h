@@ -105,15 +105,14 @@ struct Exec {
     double timeout = 600;
 };
 
-// Runs several children at once: start() forks, wait_any() reaps one (blocking) and
-// turns its output into a Result. Timeouts are enforced while waiting.
+// Runs several children at once: start() forks, poll() reaps one that ended and turns its
+// output into a Result. Timeouts are enforced while polling.
 class Pool {
 public:
     Pool(const Spec& spec, Exec exec) : spec_(spec), exec_(std::move(exec)) {}
     ~Pool();
     bool start(const Run& run, std::string& error);
     size_t busy() const { return children_.size(); }
-    Result wait_any();
     // Without blocking: true with the Result of a child that has ended.
     bool poll(Result& r);
     // Stops every running child (SIGKILL); each becomes a `lost` Result with `why`.
