@@ -105,6 +105,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o) {
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
     check_ranges();
+    if (!sink_.has_errors()) check_conveyor_ends();  // a box in error would mislead it
 }
 
 graph::Graph Elaborator::run(bool require_plant) {
@@ -160,6 +161,7 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     check_logic_cycles();
     check_ranges();
+    if (!sink_.has_errors()) check_conveyor_ends();  // a box in error would mislead it
     return std::move(g_);
 }
 

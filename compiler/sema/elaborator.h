@@ -151,6 +151,8 @@ public:
     std::vector<bool> driven_or_exposed() const;
     void check_logic_cycles();
     void check_ranges();
+    // geometry.cpp
+    void check_conveyor_ends();
 
     const Program& prog_;
     const SourceMap& sm_;
