@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Coverage-guided fuzzing with libFuzzer (Debian's clang 14) under ASan + UBSan.
-#   scripts/fuzz.sh [TARGET...] [--time SECONDS]   (targets: compile graph events viewer_message modbus;
+#   scripts/fuzz.sh [TARGET...] [--time SECONDS]   (targets: compile graph events viewer_message modbus recording;
 #                                                   default: all, 60 s each)
 # Builds build/fuzz (clang, -DPLANT_FUZZ=ON), then runs each target for --time seconds on a
 # working corpus in build/fuzz/corpus/TARGET (seeded from the tree's own files: the seed
@@ -17,11 +17,11 @@ targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --time) seconds="$2"; shift 2 ;;
-    compile|graph|events|viewer_message|modbus) targets+=("$1"); shift ;;
-    *) echo "fuzz: unknown argument '$1' (targets: compile graph events viewer_message modbus; --time SECONDS)" >&2; exit 2 ;;
+    compile|graph|events|viewer_message|modbus|recording) targets+=("$1"); shift ;;
+    *) echo "fuzz: unknown argument '$1' (targets: compile graph events viewer_message modbus recording; --time SECONDS)" >&2; exit 2 ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(compile graph events viewer_message modbus)
+[ ${#targets[@]} -gt 0 ] || targets=(compile graph events viewer_message modbus recording)
 
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DPLANT_FUZZ=ON -DPLANT_SANITIZE=ON -DPLANT_BENCH=OFF > build-fuzz.log 2>&1 || { cat build-fuzz.log; exit 1; }

@@ -13,6 +13,7 @@ PACKAGES=(
   neovim
   clang libclang-rt-14-dev
   libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio
+  libzstd-dev
 )
 # The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
 # from Debian when the machine has none.

@@ -121,6 +121,10 @@ the real-time factor.
   --events FILE             one event per line, # comments
   --record FILE             write what the viewer needs (poses, graphics, status,
                             events) for `plant serve --replay FILE`
+  --record-rate 10Hz        frames recorded per second of simulated time (default
+                            30Hz; events are all kept)
+  --record-compress zstd|none
+                            compress the recording (default zstd; --replay reads both)
   --realtime                not faster than real time
   --modbus-port N           serve the plant's PLC link over Modbus TCP on port N
                             (0: a free port, printed; see docs/plc.md)
@@ -376,6 +380,14 @@ int cmd_run(const Options& o) {
         if (i + 1 >= o.rest.size()) return usage_error("--record needs a FILE");
         record = o.rest[++i];
     }
+#ifdef PLANT_HAS_SERVE
+    plant::view::RecordOptions record_opt;
+    const size_t before_record_flags = rest.size();
+    std::string record_error;
+    if (!plant::view::take_record_flags(rest, record_opt, record_error)) return usage_error(record_error);
+    if (record.empty() && rest.size() != before_record_flags)
+        return usage_error("--record-rate and --record-compress need --record FILE");
+#endif
     plant::engine::RunLink* link = nullptr;
 #ifdef PLANT_HAS_PLC
     plant::plc::LinkFlags link_flags;
@@ -392,7 +404,7 @@ int cmd_run(const Options& o) {
 #ifdef PLANT_HAS_SERVE
     plant::view::ModelDirs dirs;
     dirs.plant_dir = std::filesystem::path(f).parent_path().string();
-    plant::view::Recorder rec(g, record, dirs);
+    plant::view::Recorder rec(g, record, dirs, record_opt);
     if (!rec.ok()) {
         std::cerr << "plant run: error: --record: cannot write '" << record << "'\n";
         return 2;
@@ -496,6 +508,7 @@ int run_command(int argc, char** argv) {
             // Flags of `run` and `serve` that take a value.
             static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed",
                                                "--trace-rate", "--broadphase", "--threads", "--record",
+                                               "--record-rate", "--record-compress",
                                                "--port", "--host", "--viewer", "--models", "--speed",
                                                "--modbus-port", "--modbus-host"};
             for (const char* w : kWithValue)
