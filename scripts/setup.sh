@@ -15,8 +15,8 @@ PACKAGES=(
   libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio
   libzstd-dev
 )
-# The viewer page's packages come from npm (viewer/package-lock.json): Node.js and npm
-# from Debian when the machine has none.
+# The viewer page's and the OPC UA server's packages come from npm (viewer/, opcua/: each
+# with its package-lock.json): Node.js and npm from Debian when the machine has none.
 command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 
 missing=()
@@ -34,6 +34,18 @@ viewer_packages() {
        [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; }; then
     echo "setup: npm ci in viewer/"
     (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+  # The OPC UA link's server (opcua/: node-opcua, pinned in its lockfile), and the server's
+  # certificate for Basic256Sha256 (opcua/pki, node-opcua's PKI layout), made once.
+  dir="$(dirname "$0")/../opcua"
+  if [ ! -f "$dir/node_modules/.package-lock.json" ] ||
+     [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+    echo "setup: npm ci in opcua/"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+  if [ ! -s "$dir/pki/own/certs/certificate.pem" ]; then
+    echo "setup: the OPC UA server's certificate (opcua/pki)"
+    (cd "$dir" && node server.mjs --init-pki)
   fi
   # The same for the VS Code extension (editors/vscode: its client, the grammar test, vsce).
   dir="$(dirname "$0")/../editors/vscode"

@@ -19,6 +19,7 @@
 //   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
 //   plant_golden --update DIR   rewrite the expected files; review with `git diff`
 #include "faults/kind.h"
+#include "opcua/kind.h"
 #include "plc/kind.h"
 #include "compiler.h"
 #include "engine/run.h"
@@ -139,6 +140,7 @@ void fmt_case(const fs::path& f, const fs::path& base, bool update, Result& r, b
 
 int main(int argc, char** argv) {
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+    plant::opcua::register_opcua_kind();
     plant::faults::register_faults_kind();
     bool update = false;
     std::string dir, sources;

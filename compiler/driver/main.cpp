@@ -10,6 +10,7 @@
 #include "lsp/lsp.h"
 
 #ifdef PLANT_HAS_RUNTIME
+#include "engine/link_chain.h"
 #include "engine/run.h"
 #endif
 #ifdef PLANT_HAS_FAULTS
@@ -18,6 +19,10 @@
 #ifdef PLANT_HAS_PLC
 #include "plc/kind.h"
 #include "plc/run_link.h"
+#endif
+#ifdef PLANT_HAS_OPCUA
+#include "opcua/kind.h"
+#include "opcua/run_link.h"
 #endif
 #ifdef PLANT_HAS_SERVE
 #include "serve/record.h"
@@ -91,7 +96,7 @@ tables of their slots, flows as edges, each Petri net as places and transitions.
 Render with: plant graph FILE | dot -Tsvg -o plant.svg
 )";
 
-constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--schedule] [--modbus[=csv]] [--stdlib DIR] [--set NAME=VALUE]... FILE...
+constexpr const char* kInfoHelp = R"(usage: plant info [--slots] [--schedule] [--modbus[=csv]] [--opcua[=csv]] [--stdlib DIR] [--set NAME=VALUE]... FILE...
 
 Compiles each FILE and prints one line of counts (objects, components, slots, flows,
 connectors, places, transitions, bodies, force fields, triggers, warnings), then the
@@ -102,6 +107,8 @@ objects' declared ports and the components' slots (the paths events address).
 connector, router and label in order, then the flows delayed to cut a cycle (W0503).
 --modbus prints the plant's PLC link register map as a Markdown table (--modbus=csv: as
 CSV for a PLC project), then the link's control block (docs/plc.md).
+--opcua prints the plant's OPC UA node map (NodeIds, browse paths, data types, access,
+units) as a Markdown table (--opcua=csv: as CSV), then the Link object's nodes.
 )";
 
 constexpr const char* kRunHelp = R"(usage: plant run FILE [options]
@@ -129,7 +136,14 @@ the real-time factor.
   --modbus-port N           serve the plant's PLC link over Modbus TCP on port N
                             (0: a free port, printed; see docs/plc.md)
   --modbus-host ADDR        the address it listens on (default 127.0.0.1)
-  --lockstep                step only as a Modbus client grants steps (docs/plc.md)
+  --opcua-port N            serve the plant's OPC UA link on port N (0: a free port,
+                            printed; a plant with an `opcua` component is served without it)
+  --opcua-host ADDR         the address it listens on (default 127.0.0.1; elsewhere only
+                            Basic256Sha256, and anonymous clients may only read)
+  --opcua-pki DIR           the server's certificates (default $PLANT_OPCUA_PKI, else opcua/pki)
+  --opcua-users FILE        user names and password hashes (node opcua/passwd.mjs NAME)
+  --lockstep                step only as a client grants steps: a Modbus client, or an
+                            OPC UA client calling Link.Advance (docs/plc.md)
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
   --threads N               threads for a plant in several physics regions
                             (default: one per core; the results do not depend on it)
@@ -155,6 +169,9 @@ plays a recording made by `plant run FILE --record RECORDING`, with a timeline.
   --viewer DIR              the page's folder (default: $PLANT_VIEWER, else viewer/)
   --models DIR              where glTF/GLB models are found (besides the plant's folder)
   --threads N               physics threads (as plant run)
+  --opcua-port N, --opcua-host ADDR, --opcua-pki DIR, --opcua-users FILE
+                            the plant's OPC UA link (as plant run; a plant with an `opcua`
+                            component is served without them)
 Stop with Ctrl-C. The protocol and the page: docs/viewer.md.
 )";
 
@@ -171,6 +188,7 @@ struct Options {
     bool slots = false;  // info --slots
     bool schedule = false;  // info --schedule
     std::string modbus;  // info --modbus: "md" or "csv"
+    std::string opcua;   // info --opcua: "md" or "csv"
     bool full = false;   // graph --full
     std::string object;  // graph --object PATH
     bool has_object = false;
@@ -335,6 +353,18 @@ int cmd_info(const Options& o) {
             return usage_error("this build has no PLC link: --modbus is not available");
 #endif
         }
+        if (!o.opcua.empty()) {
+#ifdef PLANT_HAS_OPCUA
+            const std::vector<plant::opcua::Link> links = plant::opcua::links_from_graph(g);
+            std::cout << "opcua (the OPC UA link's node map, docs/plc.md):\n";
+            if (links.empty()) std::cout << "(no opcua component: `plant run --opcua-port N` serves the Link object alone)\n";
+            for (const auto& link : links)
+                std::cout << plant::opcua::format_nodes(link, o.opcua == "csv" ? plant::opcua::MapFormat::Csv
+                                                                                 : plant::opcua::MapFormat::Markdown);
+#else
+            return usage_error("this build has no OPC UA link: --opcua is not available");
+#endif
+        }
     }
     return ok ? 0 : 1;
 }
@@ -389,17 +419,43 @@ int cmd_run(const Options& o) {
         return usage_error("--record-rate and --record-compress need --record FILE");
 #endif
     plant::engine::RunLink* link = nullptr;
+    std::vector<plant::engine::RunLink*> links;
+    const std::string plant_dir = std::filesystem::path(f).parent_path().string();
+#ifdef PLANT_HAS_OPCUA
+    // Before the Modbus link's flags, which take --lockstep: it goes to the link the plant has.
+    plant::opcua::LinkFlags ua_flags;
+    std::string ua_error;
+    if (!plant::opcua::take_link_flags(rest, ua_flags, ua_error)) return usage_error(ua_error);
+    const bool ua_on = ua_flags.any() || plant::opcua::declares_link(g);
+#else
+    const bool ua_on = false;
+#endif
 #ifdef PLANT_HAS_PLC
     plant::plc::LinkFlags link_flags;
     std::string link_error;
     if (!plant::plc::take_link_flags(rest, link_flags, link_error)) return usage_error(link_error);
+    const bool lockstep = link_flags.server.lockstep;
+    const bool modbus_on = plant::plc::declares_link(g) || link_flags.port_given || link_flags.host_given || (lockstep && !ua_on);
+    if (modbus_on && ua_on && lockstep)
+        return usage_error("--lockstep: the plant is served over Modbus and OPC UA; lock-step takes one link "
+                           "(leave out --modbus-port, or the opcua component)");
     std::unique_ptr<plant::plc::ServerLink> server;
-    if ((link_flags.on || plant::plc::declares_link(g)) && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
+    if (modbus_on && !(server = plant::plc::start_link(g, link_flags, std::cerr, link_error))) {
         std::cerr << "plant run: error: " << link_error << "\n";
         return 1;
     }
-    link = server.get();
+    if (server) links.push_back(server.get());
 #endif
+#ifdef PLANT_HAS_OPCUA
+    std::unique_ptr<plant::opcua::ServerLink> ua;
+    if (ua_on && !(ua = plant::opcua::start_link(g, ua_flags, plant_dir, "plant run", std::cerr, ua_error))) {
+        std::cerr << "plant run: error: " << ua_error << "\n";
+        return 1;
+    }
+    if (ua) links.push_back(ua.get());
+#endif
+    plant::engine::LinkChain chain(links);
+    link = links.size() > 1 ? &chain : links.empty() ? nullptr : links[0];
     if (record.empty()) return plant::engine::run_main(g, rest, std::cout, std::cerr, nullptr, link);
 #ifdef PLANT_HAS_SERVE
     plant::view::ModelDirs dirs;
@@ -426,7 +482,23 @@ int cmd_serve(const Options& o) {
     plant::graph::Graph g;
     int code = 0;
     if (!load_graph(f, o, g, code)) return code;
-    return plant::view::serve_main(&g, f, o.rest, std::cout, std::cerr);
+    std::vector<std::string> rest = o.rest;
+    plant::engine::RunLink* link = nullptr;
+#ifdef PLANT_HAS_OPCUA
+    plant::opcua::LinkFlags ua_flags;
+    std::string ua_error;
+    if (!plant::opcua::take_link_flags(rest, ua_flags, ua_error)) return usage_error(ua_error);
+    if (ua_flags.lockstep) return usage_error("--lockstep: plant serve runs paced by the wall clock; lock-step is plant run's");
+    std::unique_ptr<plant::opcua::ServerLink> ua;
+    if ((ua_flags.any() || plant::opcua::declares_link(g)) &&
+        !(ua = plant::opcua::start_link(g, ua_flags, std::filesystem::path(f).parent_path().string(), "plant serve",
+                                        std::cerr, ua_error))) {
+        std::cerr << "plant serve: error: " << ua_error << "\n";
+        return 1;
+    }
+    link = ua.get();
+#endif
+    return plant::view::serve_main(&g, f, rest, std::cout, std::cerr, link);
 }
 #endif
 #endif
@@ -451,6 +523,9 @@ int main(int argc, char** argv) {
 int run_command(int argc, char** argv) {
 #ifdef PLANT_HAS_PLC
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+#endif
+#ifdef PLANT_HAS_OPCUA
+    plant::opcua::register_opcua_kind();
 #endif
 #ifdef PLANT_HAS_FAULTS
     plant::faults::register_faults_kind();
@@ -485,6 +560,7 @@ int run_command(int argc, char** argv) {
         else if (a == "--slots" && o.command == "info") o.slots = true;
         else if (a == "--schedule" && o.command == "info") o.schedule = true;
         else if ((a == "--modbus" || a == "--modbus=csv") && o.command == "info") o.modbus = a == "--modbus" ? "md" : "csv";
+        else if ((a == "--opcua" || a == "--opcua=csv") && o.command == "info") o.opcua = a == "--opcua" ? "md" : "csv";
         else if (a == "--full" && o.command == "graph") o.full = true;
         else if (a == "--object" && o.command == "graph") {
             if (i + 1 >= args.size()) return usage_error("--object needs an object's dotted path");
@@ -510,7 +586,8 @@ int run_command(int argc, char** argv) {
                                                "--trace-rate", "--broadphase", "--threads", "--record",
                                                "--record-rate", "--record-compress",
                                                "--port", "--host", "--viewer", "--models", "--speed",
-                                               "--modbus-port", "--modbus-host"};
+                                               "--modbus-port", "--modbus-host", "--opcua-port", "--opcua-host",
+                                               "--opcua-pki", "--opcua-users"};
             for (const char* w : kWithValue)
                 if (a == w && i + 1 < args.size()) o.rest.push_back(args[++i]);
         } else if (a.size() > 1 && a[0] == '-') return usage_error("unknown option '" + a + "'");

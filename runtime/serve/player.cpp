@@ -199,8 +199,8 @@ namespace {
 
 class LivePlayer final : public Player {
 public:
-    LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed)
-        : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g) {
+    LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed, engine::RunLink* link)
+        : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g), link_(link) {
         slots_ = engine::slot_index(g);
         restart();
     }
@@ -259,7 +259,19 @@ private:
             log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
         }
         pending_.clear();
+        // The link's clients (an OPC UA server) after the page's, logged alike: the session's
+        // events file replays them.
+        if (link_) {
+            link_->before_step(*engine_);
+            for (const engine::Event* ev : link_->applied()) {
+                const std::string line = engine::format_event(g_, *ev);
+                const json j{{"type", "event"}, {"line", line}, {"time", double(engine_->steps() + 1) * engine_->dt()},
+                             {"client", "link"}};
+                log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
+            }
+        }
         engine_->step();
+        if (link_) link_->after_step(*engine_);
         tally_.step(*engine_);
         if (wall_started_ < 0) wall_started_ = now, sim_started_ = engine_->time();
         return true;
@@ -301,6 +313,7 @@ private:
     std::set<std::string> watched_;
     uint64_t watched_version_ = ~uint64_t(0);
     double wall_started_ = -1, sim_started_ = 0;
+    engine::RunLink* link_ = nullptr;
 };
 
 // ---- replay ----
@@ -422,8 +435,8 @@ private:
 }  // namespace
 
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
-                                         double speed) {
-    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed);
+                                         double speed, engine::RunLink* link) {
+    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed, link);
 }
 
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "engine/engine.h"
+#include "engine/run.h"
 #include "engine/run_args.h"
 #include "serve/record.h"
 #include "serve/view.h"
@@ -115,8 +116,9 @@ private:
     std::thread thread_;
 };
 
+// `link` (may be null): an external link (engine/run.h) stepped with the run; not in lock-step.
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
-                                         double speed);
+                                         double speed, engine::RunLink* link = nullptr);
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed);
 
 }  // namespace plant::view

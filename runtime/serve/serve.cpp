@@ -30,7 +30,7 @@ bool number(const std::string& text, double& v) {
 }  // namespace
 
 int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err) {
+               std::ostream& out, std::ostream& err, engine::RunLink* link) {
     ServerOptions so;
     so.viewer_dir = default_viewer_dir();
     const fs::path parent = fs::path(file).parent_path();
@@ -84,7 +84,7 @@ int serve_main(const graph::Graph* graph, const std::string& file, const std::ve
 
     std::unique_ptr<Player> player;
     if (graph) {
-        player = make_live_player(*graph, eo, so.models, paused, speed);
+        player = make_live_player(*graph, eo, so.models, paused, speed, link);
     } else {
         Recording rec;
         std::string error;

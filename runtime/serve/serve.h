@@ -10,8 +10,11 @@
 //   --threads N     physics threads (as plant run)
 //
 // Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag, 1 when it cannot listen.
+// `link` (an OPC UA server the driver started) exchanges with the live run at its step
+// boundaries, as it does in `plant run`; what its clients apply is logged like a page's events.
 #pragma once
 
+#include "engine/run.h"
 #include "graph/graph.h"
 
 #include <iosfwd>
@@ -22,7 +25,7 @@ namespace plant::view {
 
 // `graph` is null for a replay: then `file` is the recording.
 int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err);
+               std::ostream& out, std::ostream& err, engine::RunLink* link = nullptr);
 
 // The folder the page is served from by default.
 std::string default_viewer_dir();

@@ -7,13 +7,15 @@
 #include "fuzz.h"
 #include "graph/text.h"
 #include "faults/kind.h"
+#include "opcua/kind.h"
 #include "plc/kind.h"
 
 #include <sstream>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    static const bool kinds = (plant::plc::register_modbus_kind(), plant::faults::register_faults_kind(), true);  // the plugin kinds it has
+    static const bool kinds = (plant::plc::register_modbus_kind(), plant::opcua::register_opcua_kind(),
+                                plant::faults::register_faults_kind(), true);  // the plugin kinds it has
     (void)kinds;
     if (size > 256 * 1024) return 0;
     std::istringstream in{std::string(plant::fuzz::text(data, size))};

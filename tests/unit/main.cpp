@@ -2,10 +2,12 @@
 #include <doctest/doctest.h>
 
 #include "faults/kind.h"
+#include "opcua/kind.h"
 #include "plc/kind.h"
 
 int main(int argc, char** argv) {
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
+    plant::opcua::register_opcua_kind();
     plant::faults::register_faults_kind();
     return doctest::Context(argc, argv).run();
 }
