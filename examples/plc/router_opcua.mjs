@@ -61,6 +61,9 @@ function parseArgs(argv) {
     return a;
 }
 
+// What a call gets when the run has ended under it: the server is shutting down.
+const ENDED = /closed|BadSessionIdInvalid|BadConnectionClosed|BadShutdown|BadServerHalted|socket|premature/i;
+
 const uint64 = (v) => (Array.isArray(v) ? v[0] * 4294967296 + v[1] : Number(v));
 
 class Router {
@@ -125,9 +128,9 @@ async function lockstep(session, router, a) {
             const open = done === a.fault[1];
             const r = await session.call({
                 objectId: LINK, methodId: `${LINK}.${open ? "Force" : "Release"}`,
-                inputArguments: open ? [{ dataType: DataType.NodeId, value: node(a.fault[0]) }, { dataType: DataType.String, value: "open" },
+                inputArguments: open ? [{ dataType: DataType.NodeId, value: ua.coerceNodeId(node(a.fault[0])) }, { dataType: DataType.String, value: "open" },
                                         { dataType: DataType.Boolean, value: false }]
-                                     : [{ dataType: DataType.NodeId, value: node(a.fault[0]) }],
+                                     : [{ dataType: DataType.NodeId, value: ua.coerceNodeId(node(a.fault[0])) }],
             });
             await router.check(r.statusCode, open ? "Link.Force" : "Link.Release");
             console.log(`router: step ${done}: node ${a.fault[0]} ${open ? "open" : "released"}`);
@@ -154,7 +157,7 @@ async function subscribe(client, session, router) {
                                                     requestedLifetimeCount: 600, publishingEnabled: true });
     let work = Promise.resolve();
     const queue = (job) => (work = work.then(job).catch((err) => {
-        if (!client.isReconnecting) console.error(`router_opcua: ${err.message}`);
+        if (!ENDED.test(err.message)) console.error(`router_opcua: ${err.message}`);
     }));
     for (let k = 0; k < 5; ++k) {
         for (const [nodeId, onChange] of [[SEEN(k), seenChanged(k)], [EXIT_COUNT(k), exitChanged(k)]]) {
@@ -212,7 +215,7 @@ async function main() {
         if (a.lockstep) await lockstep(session, router, a);
         else await subscribe(client, session, router);
     } catch (err) {
-        if (!/closed|BadSessionIdInvalid|BadConnectionClosed|BadShutdown|BadServerHalted|socket|premature/i.test(err.message)) {
+        if (!ENDED.test(err.message)) {
             console.error(`router_opcua: ${err.message}`);
             process.exit(1);
         }

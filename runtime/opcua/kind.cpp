@@ -155,7 +155,7 @@ bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error)
                 return false;
             }
             if (n.type != SlotType::Real) {
-                error = {k, fmt::format("'{}': a unit belongs to a real node, not to a {} one", n.path, graph::word(n.type))};
+                error = {k, fmt::format("'{}' is {}: a unit belongs to a real node", n.path, graph::word(n.type))};
                 return false;
             }
             if (!si.empty() && u->si != si) {
