@@ -5,6 +5,8 @@
 // and the Link object (ns=1;s=Link) with the link's status and its methods.
 import ua from "node-opcua";
 
+import { markPlantNode } from "./sampling.mjs";
+
 const { DataType, Variant, StatusCodes, WellKnownRoles, PermissionType, makeEUInformation } = ua;
 
 const READ = PermissionType.Browse | PermissionType.Read | PermissionType.ReadRolePermissions | PermissionType.ReceiveEvents;
@@ -135,6 +137,7 @@ export function buildAddressSpace(server, config, handlers) {
                     return status;
                 },
             }, true);
+        markPlantNode(v);
         n.ua = v;
     }
 
@@ -142,7 +145,8 @@ export function buildAddressSpace(server, config, handlers) {
                                  description: "the plant's link: its steps, lock-step and faults" });
     const status = (name, dataType, value, description) =>
         own.addVariable({ componentOf: link, browseName: name, nodeId: `s=Link.${name}`, dataType, description,
-                          minimumSamplingInterval: 0, value: new Variant({ dataType: DataType[dataType], value }) });
+                          accessLevel: "CurrentRead", userAccessLevel: "CurrentRead", minimumSamplingInterval: 0,
+                          value: new Variant({ dataType: DataType[dataType], value }) });
     const linkNodes = {
         steps: status("Steps", "UInt64", 0, "steps run"),
         time: status("SimulatedTime", "Double", 0, "simulated seconds at the end of the last step"),

@@ -16,3 +16,10 @@ foreach(slow
   string(SUBSTRING "${slow}" ${at} -1 seconds)
   set_tests_properties("${name}" PROPERTIES COST ${seconds})  # a name no longer there is ignored
 endforeach()
+# The OPC UA server's bad clients (tests/unit/opcua/robustness_test.cpp) keep the plant paced to
+# the wall clock: label wallclock, as the real-time PLC run.
+foreach(name "opcua robustness: malformed chunks, unknown services and nodes, read-only writes, clients gone"
+             "opcua robustness: 50 clients at once, each with a session, reads and a subscription"
+             "opcua robustness: a flood of reads for 3 s")
+  set_tests_properties("${name}" PROPERTIES LABELS wallclock COST 15)  # a name not there is ignored
+endforeach()

@@ -94,6 +94,7 @@ struct Bridge::Impl {
     int64_t budget = 0;           // lock-step: steps granted and not yet run
     int64_t steps_now = 0;        // steps run, as of the last after_step
     bool closing = false;
+    bool writer_done = false;
     bool handshaken = false;
     std::string ready, failure;   // the server's ready answer; why the channel ended
     BridgeStats stats;
@@ -152,7 +153,7 @@ struct Bridge::Impl {
     }
 
     ~Impl() {
-        finish();
+        finish(1);
         close_all();
     }
 
@@ -184,6 +185,7 @@ struct Bridge::Impl {
         const uint32_t id = r.u32();
         const uint32_t node = type == 'A' ? 0 : r.u32();
         std::lock_guard lock(mu);
+        if (!r.good()) return reply(id, status::BadInvalidArgument);  // cut short
         if (type != 'A' && node >= link.nodes.size()) return reply(id, status::BadNodeIdUnknown);
         const Node* n = type == 'A' ? nullptr : &link.nodes[node];
         switch (type) {
@@ -256,6 +258,7 @@ struct Bridge::Impl {
                 std::lock_guard lock(mu);
                 (type == 'R' ? ready : failure) = std::string(reinterpret_cast<const char*>(payload.data()), payload.size());
                 handshaken = true;
+                if (type == 'E') dead = true;  // before the handshake returns: wait() sees it
                 answered.notify_all();
                 if (type == 'E') break;
                 continue;
@@ -307,6 +310,8 @@ struct Bridge::Impl {
             if (!ok || last) break;
         }
         if (fd >= 0) ::shutdown(fd, SHUT_WR);  // the server reads the end of the run
+        writer_done = true;
+        wake_writer.notify_all();
     }
 
     // ---- control ----
@@ -334,14 +339,18 @@ struct Bridge::Impl {
         return false;
     }
 
-    void finish() {
+    void finish(double timeout) {
+        if (!writer.joinable()) return;
         {
-            std::lock_guard lock(mu);
+            std::unique_lock lock(mu);
             closing = true;
             wake_writer.notify_all();
             granted.notify_all();
+            // A server that reads nothing more would hold the writer in send() forever.
+            if (!wake_writer.wait_for(lock, std::chrono::duration<double>(timeout), [&] { return writer_done; }))
+                ::shutdown(fd, SHUT_RDWR);
         }
-        if (writer.joinable()) writer.join();
+        writer.join();
     }
 
     void close_all() {
@@ -533,7 +542,7 @@ bool Bridge::wait(std::string& error) { return impl_->wait(error); }
 void Bridge::before_step(engine::Engine& e) { impl_->before_step(e); }
 std::span<const engine::Event* const> Bridge::applied() const { return impl_->applied_now; }
 void Bridge::after_step(const engine::Engine& e) { impl_->after_step(e); }
-void Bridge::finish() { impl_->finish(); }
+void Bridge::finish(double timeout) { impl_->finish(timeout); }
 void Bridge::close() { impl_->close_all(); }
 bool Bridge::alive() const { return !impl_->dead; }
 const Link& Bridge::link() const { return impl_->link; }

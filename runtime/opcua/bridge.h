@@ -63,8 +63,9 @@ public:
     void after_step(const engine::Engine& e);
 
     // Sends what is buffered, then tells the server the run is over (its end of the socket
-    // reads end-of-stream). The reader keeps going until the server closes its end.
-    void finish();
+    // reads end-of-stream); a server that has not read it all within `timeout` s is cut off.
+    // The reader keeps going until the server closes its end.
+    void finish(double timeout = 10);
     // Joins the reader (after the server has gone: its end closed) and closes the socket.
     void close();
     bool alive() const;

@@ -22,7 +22,7 @@ constexpr std::array kParams = {
               "opc.tcp://HOST:PORT[/PATH]; \"\": 127.0.0.1 and --opcua-port's port, else a free one"},
     ParamSpec{"namespace", ParamType::String, "", false, 0, "the plant's namespace URI; \"\": urn:plant:<plant name>"},
     ParamSpec{"security", ParamType::String, "", false, 0,
-              "\"\": None on loopback and Basic256Sha256; \"none\" (loopback only); \"basic256sha256\" only"},
+              "\"\": None on 127.0.0.1 and Basic256Sha256; \"none\" (127.0.0.1 only); \"basic256sha256\" only"},
     ParamSpec{"users", ParamType::String, "", false, 0,
               "a users file (opcua/passwd.mjs), relative to the plant file; \"\": none"},
 };

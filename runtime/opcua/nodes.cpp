@@ -37,7 +37,7 @@ std::string_view type_name(const Node& n) {
 
 bool is_loopback(std::string_view ipv4) {
     in_addr a{};
-    return inet_pton(AF_INET, std::string(ipv4).c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
+    return inet_pton(AF_INET, std::string(ipv4).c_str(), &a) == 1 && ntohl(a.s_addr) == INADDR_LOOPBACK;
 }
 
 bool parse_endpoint(std::string_view text, std::string& host, int& port, std::string& resource, std::string& error) {
@@ -94,8 +94,8 @@ std::vector<NodeError> check_link(const Link& link, const graph::Graph& g) {
         link.namespace_uri.find_first_of(" \t\n\"") != std::string::npos)
         out.push_back({-1, fmt::format("namespace \"{}\" is not a URI (e.g. urn:plant:bottling)", link.namespace_uri)});
     if (link.security == Security::None && !link.host.empty() && !is_loopback(link.host))
-        out.push_back({-1, fmt::format("security \"none\" serves {} unencrypted and unauthenticated: only a loopback address "
-                                       "may (127.0.0.1), elsewhere Basic256Sha256",
+        out.push_back({-1, fmt::format("security \"none\" serves {} unencrypted and unauthenticated: only 127.0.0.1 may, "
+                                       "elsewhere Basic256Sha256",
                                        link.host)});
     std::map<uint32_t, size_t> ids;
     std::map<std::vector<int32_t>, size_t> slots;

@@ -37,8 +37,8 @@ struct Node {
 };
 
 enum class Security : uint8_t {
-    Auto,            // "": None and Basic256Sha256 on loopback, Basic256Sha256 elsewhere
-    None,            // "none": loopback only
+    Auto,            // "": None and Basic256Sha256 on 127.0.0.1, Basic256Sha256 elsewhere
+    None,            // "none": 127.0.0.1 only
     Basic256Sha256,  // "basic256sha256": signed, or signed and encrypted, only
 };
 
@@ -56,6 +56,10 @@ struct Link {
 
 std::string_view security_name(Security s);
 std::string_view type_name(const Node& n);  // its OPC UA DataType ("Boolean", ...; "" for a method)
+// Whether `ipv4` is 127.0.0.1, the one address served without security: SecurityPolicy None
+// and anonymous writes. Any other, 127.0.0.2 and the rest of 127/8 too, is served as if it
+// faced the network (Basic256Sha256, anonymous clients read only): one rule, and the secure
+// path can be tested on a machine with no other interface.
 bool is_loopback(std::string_view ipv4);
 
 // `opc.tcp://HOST:PORT[/PATH]`, HOST an IPv4 address or `localhost`; false with `error`.

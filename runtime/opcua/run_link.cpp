@@ -148,7 +148,7 @@ std::unique_ptr<ServerLink> start_link(const graph::Graph& g, const LinkFlags& f
     if (flags.port_given) link.port = flags.port;
     const bool loopback = is_loopback(link.host);
     if (link.security == Security::None && !loopback) {
-        error = fmt::format("the OPC UA link's security is \"none\": it serves loopback only, not {} (use Basic256Sha256: "
+        error = fmt::format("the OPC UA link's security is \"none\": it serves 127.0.0.1 only, not {} (use Basic256Sha256: "
                             "security = \"\" or \"basic256sha256\")", link.host);
         return nullptr;
     }

@@ -25,6 +25,7 @@ constexpr std::array kUnits = {
     Unit{"g", "GRM", "gram", "kg", 1e-3},
     Unit{"kg/s", "KGS", "kilogram per second", "kg/s", 1},
     Unit{"N", "NEW", "newton", "N", 1},
+    Unit{"1/s", "C97", "reciprocal second", "1/s", 1},
     Unit{"Hz", "HTZ", "hertz", "1/s", 1},
     Unit{"1/min", "C94", "reciprocal minute", "1/s", 1.0 / 60},
     Unit{"rad", "C81", "radian", "rad", 1},
