@@ -19,12 +19,14 @@ if (( quick )); then
   compile=(--runs=1 --sizes=1000,10000)
   serve=(--runs=1 --counts=50 --warmup=10 --window=5)
   plc=(--runs=1 --warmup=30 --window=60)
+  opcua=(--runs=1 --warmup=30 --window=60)
 else
   runtime=(--reps=5 --sizes=10,100,1000) logic=(--reps=5)
   bottling=(--runs=3 --counts=10,50,200,1000)
   compile=(--runs=3 --sizes=1000,10000,100000)
   serve=(--runs=3 --counts=50,1000 --warmup=30 --window=15)
   plc=(--runs=3 --warmup=60 --window=240)
+  opcua=(--runs=3 --warmup=60 --window=240)
 fi
 
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
@@ -43,6 +45,8 @@ echo "|---|---|---|---|---|"
 (( quick )) || bench/compile_lines.sh build/release/compiler/plant
 "$b/plant_bench_serve" --rows "${serve[@]}"
 "$b/plant_bench_plc" --rows "${plc[@]}"
+# The OPC UA link (node-opcua, installed by scripts/setup.sh): one client subscribed to 100 variables.
+[[ -x "$b/plant_bench_opcua" ]] && "$b/plant_bench_opcua" --rows "${opcua[@]}"
 # plant sweep: runs per minute with -j 1 and -j 2 (bench/sweep.sh).
 bench/sweep.sh build/release/compiler/plant "$( (( quick )) && echo 5s || echo 30s)"
 # The page's draw calls (three.js renderer.info) with one line and with 83 (1,000 bottles in

@@ -218,6 +218,7 @@ function applySteps(buf) {
 
 async function start(cfg) {
     config = cfg;
+    setStep(cfg.step);
     let users = null;
     if (cfg.users) users = loadUsers(cfg.users);
     const loopback = cfg.anonymousWrites;

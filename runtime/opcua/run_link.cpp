@@ -169,7 +169,8 @@ std::unique_ptr<ServerLink> start_link(const graph::Graph& g, const LinkFlags& f
                 {"anonymousWrites", loopback},
                 {"pki", !flags.pki.empty() ? flags.pki : env_or("PLANT_OPCUA_PKI", (fs::path(dir) / "pki").string())},
                 {"users", users},
-                {"lockstep", flags.lockstep}};
+                {"lockstep", flags.lockstep},
+                {"step", 1.0 / g.settings.rate}};  // as declared; the server corrects it from the steps (a --rate)
     json nodes = json::array();
     for (const Node& n : link.nodes) nodes.push_back(node_json(n));
     config["nodes"] = std::move(nodes);
