@@ -2,6 +2,7 @@
 
 #include "engine/interrupt.h"
 #include "graph/range.h"
+#include "graph/utf8.h"
 #include "opcua/channel.h"
 
 #include <fmt/format.h>
@@ -205,6 +206,8 @@ struct Bridge::Impl {
             if (n->cls != NodeClass::Variable || n->dir != graph::Dir::In) return reply(id, status::BadNotWritable);
             if (n->type != SlotType::String) return reply(id, status::BadTypeMismatch);
             if (text.size() > kMaxText) return reply(id, status::BadOutOfRange);
+            // It would reach traces and the viewer as is (graph/utf8.h, as the Modbus link checks).
+            if (graph::invalid_utf8(text) != std::string_view::npos) return reply(id, status::BadDataEncodingInvalid);
             pending[node].set = true;
             pending[node].text.assign(text);
             return reply(id, status::Good);
@@ -222,6 +225,8 @@ struct Bridge::Impl {
             if (m == ForceMode::Invert && n->type != SlotType::Bool) return reply(id, status::BadInvalidArgument);
             if (m == ForceMode::Stuck && n->type == SlotType::String && text.size() > kMaxText)
                 return reply(id, status::BadOutOfRange);
+            if (m == ForceMode::Stuck && n->type == SlotType::String && graph::invalid_utf8(text) != std::string_view::npos)
+                return reply(id, status::BadDataEncodingInvalid);
             if (m == ForceMode::Stuck && n->type != SlotType::String)
                 if (const uint32_t s = check_value(node, v); s != status::Good) return reply(id, s);
             Pending& p = pending[node];

@@ -41,6 +41,7 @@ constexpr uint32_t BadOutOfRange = 0x803c0000;
 constexpr uint32_t BadTypeMismatch = 0x80740000;
 constexpr uint32_t BadInvalidArgument = 0x80ab0000;
 constexpr uint32_t BadInvalidState = 0x80af0000;
+constexpr uint32_t BadDataEncodingInvalid = 0x80380000;
 }  // namespace status
 
 constexpr size_t kFrameHeader = 5;             // length and type

@@ -253,8 +253,10 @@ TEST_CASE("opcua bridge: writes and calls reach the plant only at step boundarie
     CHECK(l.bridge->applied()[1]->path == "b1.stop");
     CHECK(l.bridge->applied()[2]->text == "C-0042");
     std::vector<Record> second = l.server->until_step(2);
+    // The band's speed now: 0, as b1.stop came in the same step; the target is the write's.
     REQUIRE(l.find(second, 'V', kSpeedNow));
-    CHECK(l.find(second, 'V', kSpeedNow)->value == 0.25);
+    CHECK(l.find(second, 'V', kSpeedNow)->value == 0);
+    CHECK(l.e.value(graph::SlotId(l.bridge->link().nodes[kSetSpeed].slots[0]))[0] == 0.25);
     CHECK(l.find(second, 'X', kCode)->text == "C-0042");
     CHECK_FALSE(l.find(second, 'V', kRunning));  // unchanged: not sent again
     l.step();
@@ -299,9 +301,13 @@ TEST_CASE("opcua bridge: each bad request gets its OPC UA status code and reache
     CHECK(l.server->answer(12) == ua_status::BadOutOfRange);
     l.server->send('M', FakeServer::body({13}));  // cut short: no node
     CHECK(l.server->answer(13) == ua_status::BadInvalidArgument);
+    l.server->write_text(14, kSetCode, "A-\xff\xfe");  // not UTF-8 (graph/utf8.h), as the Modbus link refuses it
+    CHECK(l.server->answer(14) == ua_status::BadDataEncodingInvalid);
+    l.server->force(15, kSetCode, uint8_t(engine::ForceMode::Stuck), 0, "\xc0\xaf");  // an overlong '/'
+    CHECK(l.server->answer(15) == ua_status::BadDataEncodingInvalid);
     l.step();
     CHECK(l.bridge->applied().empty());
-    CHECK(l.bridge->stats().refused == 13);
+    CHECK(l.bridge->stats().refused == 15);
 }
 
 TEST_CASE("opcua bridge: a counter and its events, forces and releases") {
