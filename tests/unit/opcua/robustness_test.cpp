@@ -109,15 +109,16 @@ struct UaPlant {
     }
 };
 
-// The plant kept real time, and the other client was answered all along.
-void kept_going(const json& j, double seconds_hint) {
+// The plant kept real time, and the other client was answered all along, each read within
+// `max_wait_ms`.
+void kept_going(const json& j, double seconds_hint, int max_wait_ms = 2000) {
     // Steps: what the wall time allowed, but for a start late by a loaded machine; a lag
     // below a quarter of a second at any step (the suite runs tests beside this one).
     CHECK(j["stepped"].get<double>() >= 0.9 * j["expected"].get<double>() - 150 * 0.25);
     CHECK(j["lagged"].get<double>() < 0.25);
     const json& m = j["monitor"];
     CHECK(m["answered"].get<int>() >= int(seconds_hint * 10) / 4);  // a quarter of its 100 ms marks, as the Modbus tests
-    CHECK(m["maxWaitMs"].get<int>() < 2000);
+    CHECK(m["maxWaitMs"].get<int>() < max_wait_ms);
     CHECK(m["last"].get<double>() > m["first"].get<double>());   // the plant's time went on, as the server saw it
     CHECK_FALSE(j.contains("error"));
 }
@@ -166,7 +167,9 @@ TEST_CASE("opcua robustness: 50 clients at once, each with a session, reads and 
           * doctest::skip(PLANT_SANITIZED != 0)) {  // real time: not under the sanitizers
     UaPlant p;
     const json j = p.abuse("clients", "50");
-    kept_going(j, 1);
+    // 50 handshakes at one instant hold the server's one thread (niced below the plant) for
+    // seconds on a loaded 2-core machine (2.7 s seen): the plant must not wait, the reader may.
+    kept_going(j, 1, 6000);
     CHECK(j["sessions"] == 50);
 }
 
