@@ -15,6 +15,24 @@ namespace {
 
 bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
+// Where and when object d was lost, one of its bodies leaving the world at p: the last field one of its
+// bodies rode (the latest; the first body of a tie), or where b left when none did.
+void note_loss(Runtime& r, int32_t d, const btVector3& p) {
+    r.st.lost.push_back(DoId(d));  // once per DO: within its reserve
+    Loss& l = r.st.loss[d];
+    l.step = r.st.step;
+    l.out = from_bt(p);
+    l.field = FieldId{};
+    l.field_step = r.st.step;
+    l.place = l.out;
+    for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
+        if (r.st.ride_field[*x] < 0 || (l.field.valid() && r.st.ride_step[*x] <= l.field_step)) continue;
+        l.field = FieldId(r.st.ride_field[*x]);
+        l.field_step = r.st.ride_step[*x];
+        l.place = from_bt(r.st.ride_at[*x]);
+    }
+}
+
 }  // namespace
 
 // An object that falls off the plant or blows up is taken out, all its bodies, once,
@@ -28,7 +46,10 @@ void check_bodies(Runtime& r) {
         if (!nan && p.z() >= -10 && p.length2() <= 1e6) continue;
         (nan ? r.st.warn.nan_state : r.st.warn.left_world)++;
         const int32_t d = r.tab.body_do[b];
-        if (r.st.lost_at[d] < 0) r.st.lost_at[d] = r.st.time;
+        if (r.st.lost_at[d] < 0) {
+            r.st.lost_at[d] = r.st.time;
+            note_loss(r, d, p);
+        }
         for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
             if (r.st.gone[*x]) continue;
             r.st.gone[*x] = 1;

@@ -188,6 +188,8 @@ int64_t Engine::trigger_enters(graph::TriggerId t) const { return rt_->st.trigge
 int64_t Engine::issued(graph::SourceId src) const { return rt_->st.sources[src].issued; }
 int64_t Engine::taken(graph::ExitId exit) const { return rt_->st.exit_count[exit]; }
 double Engine::lost_at(graph::DoId object) const { return rt_->st.lost_at[object]; }
+const Loss& Engine::loss(graph::DoId object) const { return rt_->st.loss[object]; }
+std::span<const graph::DoId> Engine::lost() const { return rt_->st.lost; }
 double Engine::stalled_for(graph::BodyId b) const {
     const State& s = rt_->st;
     return s.slow_step[b] + 1 >= s.step ? s.time - s.stall_since[b] : 0.0;

@@ -48,6 +48,20 @@ struct Warnings {
 
 struct Runtime;  // the internals (engine/runtime.h)
 
+// Where and when an object was lost (left the world: a body fell below z = -10 m, went beyond
+// 1 km or got a NaN state). Its place on the line is where it last rode a conveyor: the last
+// step one of its bodies had its centre of mass in an acting force field, that field, and
+// that body's centre of mass then (a bottle pushed over a rail: the rail; one that fell off a
+// belt's end: the end). An object that never rode one has field -1, and its place and time
+// are those of leaving the world.
+struct Loss {
+    int64_t step = -1;                // the step it left the world in (ends at step · dt); -1: not lost
+    graph::Vec3 out{0, 0, 0};         // the centre of mass of the body that left, then
+    graph::FieldId field{};           // the last conveyor field it rode, or none
+    int64_t field_step = -1;          // the step count when it was last in that field
+    graph::Vec3 place{0, 0, 0};       // the centre of mass then
+};
+
 // Fault forcing (docs/runtime.md, "Forced slots"): a slot held at a value (stuck), cut
 // (open: never active, reads as off), or inverted (bool), until released (None). The
 // components' own state goes on underneath; readers of the slot (flows, connectors,
@@ -108,6 +122,8 @@ public:
     int64_t issued(graph::SourceId source) const;           // objects a source issued so far
     int64_t taken(graph::ExitId exit) const;              // objects an exit took so far
     double lost_at(graph::DoId object) const;           // when the object left the world; -1: never
+    const Loss& loss(graph::DoId object) const;         // where and when (step -1: not lost)
+    std::span<const graph::DoId> lost() const;          // the objects lost so far, in the order lost
     // Seconds since a dynamic body was last moving: at least a tenth of the speed of the
     // running conveyor field it is in, or in no running field at all (0 then).
     double stalled_for(graph::BodyId body) const;

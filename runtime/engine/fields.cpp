@@ -162,7 +162,12 @@ bool gather_fields(Runtime& r, int32_t b) {
         const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame
         if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z()) continue;
-        if (!have_v) v = r.phys.velocity(b), have_v = true;
+        if (!have_v) {
+            v = r.phys.velocity(b), have_v = true;
+            s.ride_field[b] = f;  // the first acting field in id order: where it rides (Loss)
+            s.ride_step[b] = s.step;
+            s.ride_at[b] = p;
+        }
         const btVector3& gain = r.tab.field_gain[size_t(f)];
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[size_t(f)])));
         s.body_k[b] += gain[gain.maxAxis()];

@@ -142,6 +142,8 @@ void issue(Runtime& r, int32_t src) {
         rb.setAngularVelocity(btVector3(0, 0, 0));
         rb.clearForces();
         r.st.gone[*b] = 0;
+        r.st.ride_field[*b] = -1;  // a new life: where it rides starts again (Loss)
+        r.st.ride_step[*b] = -1;
         r.phys.insert(*b);
     }
     for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i) {

@@ -262,7 +262,19 @@ MaterialCounts material_counts(const Engine& e) {
     return m;
 }
 
+std::string loss_text(const Engine& e, DoId d) {
+    const Graph& g = e.graph();
+    const Loss& l = e.loss(d);
+    auto mm = [](double v) { return std::round(v * 1000) / 1000 + 0.0; };  // no "-0.000"
+    const std::string at = fmt::format("at {} s at ({:.3f} {:.3f} {:.3f}) m", time_text(double(l.field_step) * e.dt(), e.dt()),
+                                       mm(l.place[0]), mm(l.place[1]), mm(l.place[2]));
+    return l.field.valid() ? "off " + g.comp_path(g.fields[size_t(l.field)].comp) + " " + at : "on no conveyor " + at;
+}
+
 namespace {
+
+// The lost objects, one a line in the order lost, up to this many.
+constexpr size_t kLossLines = 20;
 
 // Objects with dynamic bodies: issued, taken, lost, on the line, stalled.
 void material(const Engine& e, std::ostream& out) {
@@ -274,6 +286,11 @@ void material(const Engine& e, std::ostream& out) {
     if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", m.taken);
     fmt::print(out, "  on the line:           {}\n", m.on_line);
     fmt::print(out, "  lost (left the world): {}{}\n", m.lost, m.lost ? " (" + m.lost_names + ")" : "");
+    const std::span<const DoId> lost = e.lost();
+    for (size_t i = 0; i < lost.size() && i < kLossLines; ++i)
+        fmt::print(out, "    {}: {}; left the world at {} s\n", g.str(g.dos[size_t(lost[i])].path), loss_text(e, lost[i]),
+                   time_text(double(e.loss(lost[i]).step) * e.dt(), e.dt()));
+    if (lost.size() > kLossLines) fmt::print(out, "    ... and {} more\n", lost.size() - kLossLines);
     fmt::print(out, "  stalled over 30 s:     {}{}\n", m.stalled, m.stalled ? " (" + m.stalled_names + ")" : "");
 }
 
@@ -342,6 +359,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
         std::vector<TraceColumn> columns = trace_columns(g, o.select);
+        if (can_lose(g)) columns.push_back(lost_column());
         if (!forces.slots().empty()) columns.push_back(forced_column(forces.slots()));
         trace = std::make_unique<TraceWriter>(e, std::move(columns), trace_file);
         trace->header();

@@ -90,4 +90,10 @@ struct MaterialCounts {
 };
 MaterialCounts material_counts(const Engine& e);
 
+// Where a lost object left the line (Engine::loss), for people, without commas (a trace's
+// cell): "off feed.drive at 76.413 s at (-1.251 -0.114 0.050) m", the last conveyor field it
+// rode, the time it was last in it and its centre of mass then; or "on no conveyor at 12.007 s
+// at (0.100 0.000 -10.002) m", where it left the world.
+std::string loss_text(const Engine& e, graph::DoId object);
+
 }  // namespace plant::engine

@@ -33,6 +33,11 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.grip_rel.assign(nb, btTransform::getIdentity());
     s.gone.assign(nb, 0);
     s.lost_at.assign(g.dos.size(), -1.0);
+    s.loss.assign(g.dos.size(), Loss{});
+    s.lost.reserve(g.dos.size());
+    s.ride_field.assign(nb, -1);
+    s.ride_step.assign(nb, -1);
+    s.ride_at.assign(nb, btVector3(0, 0, 0));
     s.stall_since.assign(nb, 0.0);
     s.field_run.assign(nb, 0.0);
     s.slow_step.assign(nb, -1);

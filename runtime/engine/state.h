@@ -72,6 +72,13 @@ struct State {
     std::vector<btTransform> grip_rel;   // body frame relative to the gripper's
     std::vector<uint8_t> gone;           // left the world or NaN: warned once, taken out
     std::vector<double> lost_at;         // per DO: when it left the world, -1
+    std::vector<Loss> loss;              // per DO: where and when (Engine::loss)
+    std::vector<graph::DoId> lost;       // the DOs lost, in that order (reserved: every DO)
+    // Per body: the last acting field its centre of mass was in (-1: none since it was
+    // issued), the step count then and the centre of mass (fields.cpp), for Loss.
+    std::vector<int32_t> ride_field;
+    std::vector<int64_t> ride_step;
+    std::vector<btVector3> ride_at;
     // Per body, for Engine::stalled_for: since when it has been slower than a tenth of the
     // running field it is in, and the last step in which it was (-1: never).
     std::vector<double> stall_since, field_run;  // field_run: scratch, the fastest field's speed

@@ -1,8 +1,10 @@
 #include "engine/trace.h"
+#include "engine/run.h"
 #include "engine/times.h"
 
 #include "graph/kinds.h"
 
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 
@@ -75,6 +77,12 @@ std::vector<TraceColumn> trace_columns(const Graph& g, TraceSelect sel) {
     return out;
 }
 
+bool can_lose(const Graph& g) {
+    return std::any_of(g.bodies.begin(), g.bodies.end(), [](const Body& b) { return b.mode == BodyMode::Dynamic; });
+}
+
+TraceColumn lost_column() { return TraceColumn{TraceColumn::Kind::Lost, -1, 0, "lost"}; }
+
 TraceColumn forced_column(std::vector<int32_t> slots) {
     TraceColumn c{TraceColumn::Kind::Forced, -1, 0, "forced", std::move(slots)};
     return c;
@@ -122,6 +130,15 @@ void TraceWriter::row() {
             break;
         }
         case Kind::Tokens: fmt::format_to(std::back_inserter(buf_), "{}", e_.tokens(c.place())); break;
+        case Kind::Lost: {
+            const std::span<const DoId> lost = e_.lost();
+            std::string cell;
+            for (; lost_ < lost.size(); ++lost_)
+                cell += fmt::format("{}{} {}", cell.empty() ? "" : ";", e_.graph().str(e_.graph().dos[size_t(lost[lost_])].path),
+                                    loss_text(e_, lost[lost_]));
+            put_text(buf_, cell);
+            break;
+        }
         case Kind::Forced: {
             std::string cell;
             for (int32_t s : c.slots) {

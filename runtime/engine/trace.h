@@ -9,8 +9,10 @@
 //   bodies: every dynamic body's centre of mass, "<body>.x/.y/.z", and "<body>.speed";
 //   places: every place's tokens, "<slot path of its tokens output>";
 //   slots:  every void output's activity, "<slot path>".
-// A run with forces (docs/runtime.md, "Forced slots") has a last column `forced`: the
-// slots forced at that row, "path=mode" separated by ';' (empty when none).
+// A plant with dynamic bodies has a column `lost`: the objects lost (left the world) since
+// the previous row, "path off field at T s at (x y z) m" separated by ';' (empty when none;
+// run.h, loss_text). A run with forces (docs/runtime.md, "Forced slots") has a last column
+// `forced`: the slots forced at that row, "path=mode" separated by ';' (empty when none).
 #pragma once
 
 #include "engine/engine.h"
@@ -24,7 +26,7 @@
 namespace plant::engine {
 
 struct TraceColumn {
-    enum class Kind : uint8_t { Value, Text, Activity, BodyAxis, BodySpeed, Tokens, Forced };
+    enum class Kind : uint8_t { Value, Text, Activity, BodyAxis, BodySpeed, Tokens, Lost, Forced };
     Kind kind;
     int32_t id;     // slot, body or place
     int32_t index;  // component of a value, axis of a body
@@ -42,6 +44,9 @@ struct TraceSelect {
 };
 
 std::vector<TraceColumn> trace_columns(const graph::Graph& g, TraceSelect sel);
+// Whether the plant has a dynamic body, something that can be lost; then the `lost` column.
+bool can_lose(const graph::Graph& g);
+TraceColumn lost_column();
 // The `forced` column over the slots some event forces (ids, once each, in order).
 TraceColumn forced_column(std::vector<int32_t> slots);
 
@@ -64,6 +69,7 @@ private:
     std::ostream& out_;
     fmt::memory_buffer buf_;
     int decimals_;  // of the time column (times.h)
+    size_t lost_ = 0;  // Engine::lost() written so far
 };
 
 }  // namespace plant::engine

@@ -350,6 +350,21 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
     for (size_t f = 0; f < g.fields.size(); ++f)
         fields.push_back(json::array({e.field_on(FieldId(int32_t(f))) ? 1 : 0, e.field_speed(FieldId(int32_t(f)))}));
     s["fields"] = std::move(fields);
+    // The lost objects, in the order lost (the first kMaxLost): where each left the line
+    // (engine::Loss), for a marker where it fell.
+    json lost = json::array();
+    const std::span<const DoId> order = e.lost();
+    for (size_t i = 0; i < order.size() && i < kMaxLost; ++i) {
+        const engine::Loss& l = e.loss(order[i]);
+        lost.push_back({{"do", order[i].v},
+                        {"path", std::string(g.str(g.dos[size_t(order[i])].path))},
+                        {"time", double(l.step) * e.dt()},
+                        {"left", double(l.field_step) * e.dt()},
+                        {"place", l.place},
+                        {"field", l.field.valid() ? json(l.field.v) : json(nullptr)},
+                        {"out", l.out}});
+    }
+    s["lost"] = std::move(lost);
     return s.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

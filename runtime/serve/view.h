@@ -77,6 +77,8 @@ struct StatusExtra {
     bool paused = false;
     double speed = 1, rtf = 0;
 };
+// Status lists at most this many lost objects (the first lost; counters.lost counts them all).
+constexpr size_t kMaxLost = 100;
 std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x);
 // {"path", "slots": [{path, value, active}], "places": [{id, tokens}]} of one object and its
 // components (not its children); null when the path names no object.

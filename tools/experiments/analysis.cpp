@@ -402,9 +402,16 @@ bool read_csv(std::istream& in, Table& out, std::string& error) {
         error = "empty trace";
         return false;
     }
+    // A trace's text columns (docs/runtime.md, "Trace columns"): the objects lost and the slots
+    // forced at each row, often empty; their cells hold no comma. Left out of the table.
+    std::vector<int32_t> column;  // per cell of a row: its column in the table, -1 left out
     {
         std::istringstream h(line);
-        for (std::string name; std::getline(h, name, ',');) t.names.push_back(name);
+        for (std::string name; std::getline(h, name, ',');) {
+            const bool text = name == "lost" || name == "forced";
+            column.push_back(text ? -1 : int32_t(t.names.size()));
+            if (!text) t.names.push_back(name);
+        }
     }
     t.cols.resize(t.names.size());
     for (size_t row = 2; std::getline(in, line); ++row) {
@@ -412,17 +419,20 @@ bool read_csv(std::istream& in, Table& out, std::string& error) {
         std::istringstream r(line);
         size_t c = 0;
         for (std::string cell; std::getline(r, cell, ','); ++c) {
+            if (c < column.size() && column[c] < 0) continue;
             char* end = nullptr;
             const double v = std::strtod(cell.c_str(), &end);
-            if (c >= t.cols.size() || cell.empty() || *end != '\0') {
+            if (c >= column.size() || cell.empty() || *end != '\0') {
                 error = "line " + std::to_string(row) + ": '" + cell + "' is not a number of a known column";
                 return false;
             }
-            t.cols[c].push_back(v);
+            t.cols[size_t(column[c])].push_back(v);
         }
-        if (c != t.cols.size()) {
+        // getline yields no cell for an empty last one (a text column at the end).
+        if (c + 1 == column.size() && column.back() < 0 && !line.empty() && line.back() == ',') ++c;
+        if (c != column.size()) {
             error = "line " + std::to_string(row) + ": " + std::to_string(c) + " values for " +
-                    std::to_string(t.cols.size()) + " columns";
+                    std::to_string(column.size()) + " columns";
             return false;
         }
     }

@@ -259,7 +259,7 @@ plant Ticks {
         std::istringstream rows(slurp(csv));
         std::string line;
         std::getline(rows, line);
-        REQUIRE(line == "time,ticks,issued");
+        REQUIRE(line == "time,ticks,issued,lost");  // a plant with dynamic bodies: the `lost` column
         long long sum_ticks = 0, sum_issued = 0;
         int n = 0;
         while (std::getline(rows, line)) {
