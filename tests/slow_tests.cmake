@@ -4,6 +4,7 @@
 # The slow tests that are not doctest cases get their COST in tests/CMakeLists.txt.
 foreach(slow
     "stdlib: a sorting line fed twice as fast as its filling station loses no bottle in 600 s=67"
+    "stdlib: a line fed every 0.7 s into a separator that passes one a second loses no bottle in 600 s=70"
     "validate: every golden graph, damaged in each way the compiler guards, is refused=54"
     "soak: the bottling plant for a simulated hour=35"
     "faults: a drill in the plant file runs as its --event lines do=13"

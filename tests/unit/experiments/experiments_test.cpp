@@ -311,7 +311,7 @@ TEST_CASE("spacing on right angles: both bottles ride every lap on the belts for
 }
 
 TEST_CASE("tipping with std.belts' slip limit: at k = 16 kg/s the lighter the bottle, the more it tips") {
-    // With max_force = 0.3 N per body (std.belts' default) the pull is saturated while the
+    // With max_force = 0.3 N per body (std.belts' default when measured; 0.1 N since issue 34) the pull is saturated while the
     // bottle is slower than the belt by more than 0.3 N / k: a force independent of the speed
     // error and of the mass, whose torque 0.3 N·|Σz| only bottles under 45 g cannot hold on
     // their base (M·g·r). Measured at 150 Hz: 10.6°, 8.9°, 0.5° (docs/experiments.md, Tipping).

@@ -53,10 +53,10 @@ plant Stop {
         const double moved = e.body_com(plant::graph::BodyId(bottles[k]))[0] - at_stop[k];
         longest = std::max(longest, moved);
         CHECK(rest_at[k] >= 0);
-        CHECK(rest_at[k] < 0.1);  // at rest within 0.1 s of the stop
+        CHECK(rest_at[k] < 0.12);  // at rest within 0.12 s of the stop (measured 0.107 s)
         CHECK(std::abs(e.body_velocity(plant::graph::BodyId(bottles[k]))[0]) < 1e-3);
         CHECK(moved > 0);
-        CHECK(moved < 0.009);  // measured 7.1 mm at most (see the message); v²/(2·2F/M) = 8.3 mm
+        CHECK(moved < 0.025);  // measured 23.3 mm at most (see the message); v²/(2·2F/M) = 25 mm
     }
     MESSAGE("stopped within " << longest * 1000 << " mm, worst tilt " << worst_tilt << " deg");
     CHECK(worst_tilt < 10);

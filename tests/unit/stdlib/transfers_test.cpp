@@ -93,7 +93,7 @@ void check_bounds(const TransferRun& r, int speed) {
     CHECK(r.peak_tilt < (speed == 50 ? 4.5 : 10.0));
     CHECK(r.worst_out < 0.008);
     CHECK(r.last_arrival > 0);
-    CHECK(r.last_arrival < (speed == 50 ? 2.5 : 1.3));
+    CHECK(r.last_arrival < (speed == 50 ? 2.5 : 1.4));
 }
 
 // Runs `make(speed, side)` for 20, 40, 80 g, 50 and 100 cm/s, both sides, 1 and 4 bottles.
@@ -125,8 +125,9 @@ std::string turn_belt(const char* name, int speed, double side) {
 // (20 g; 40 g: 6.3°); bottom bodies at most 6.6 mm beyond 2 cm of a lane's
 // centre line (the 1 m/s impact on the end rail), inside the 4 cm half-width. Every bottle
 // is done (70 cm along the belt after the transfer) at most 2.3 s (50 cm/s) or 1.15 s
-// (100 cm/s) after starting 20 cm before it: nobody waits at the transfer. The bounds:
-// tilt 4.5° / 10°, 8 mm, 2.5 s / 1.3 s.
+// (100 cm/s) after starting 20 cm before it: nobody waits at the transfer. With std.belts'
+// limit at 0.1 N per body (since issue 34) the bottles take longer to come up to 100 cm/s:
+// 1.35 s at most. The bounds: tilt 4.5° / 10°, 8 mm, 2.5 s / 1.4 s.
 
 TEST_CASE("std.transfers: 20-80 g bottles at 50 and 100 cm/s cross a left and a right Corner upright, inside the rails") {
     sweep([](int speed, double side) {
