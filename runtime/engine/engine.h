@@ -41,8 +41,11 @@ struct Warnings {
     int64_t missed_contacts = 0;  // bodies of two physics regions met (see docs/runtime.md)
     int64_t out_of_range = 0;  // the plant's logic set a place, velocity or belt speed out of
                                // graph/range.h's range (or not finite): not applied
+    int64_t hand_refused = 0;  // a grab of a body that is not free to take (parked, gripped,
+                               // not dynamic), or a remove of an object a gripper holds
     int64_t total() const {
-        return left_world + nan_state + access_null + access_type + pool_empty + missed_contacts + out_of_range;
+        return left_world + nan_state + access_null + access_type + pool_empty + missed_contacts + out_of_range +
+               hand_refused;
     }
 };
 
@@ -92,6 +95,18 @@ public:
     // between steps only: the one way in is engine::apply_event.
     void force(graph::SlotId slot, ForceMode mode, std::span<const double> value = {});
     ForceMode forced(graph::SlotId slot) const;
+
+    // A trainee's hand (docs/runtime.md, "Hands"): holds a dynamic body at the world point
+    // `at` and pulls that point towards a target (first `at`, then each hand_move's) with
+    // a bounded force, holding the body upright, until hand_drop. remove_object takes an
+    // object out of the plant, back to its source's pool, counted by removed() (not lost).
+    // Between steps only, like input(): the one way in is engine::apply_event.
+    void hand_grab(graph::BodyId body, const graph::Vec3& at);
+    void hand_move(graph::BodyId body, const graph::Vec3& to);
+    void hand_drop(graph::BodyId body);
+    void remove_object(graph::DoId object);
+    bool held(graph::BodyId body) const;  // by a hand
+    int64_t removed() const;
 
     // Strings for string slots: the graph's names, then any interned here.
     int32_t intern(std::string_view s);

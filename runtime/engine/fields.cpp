@@ -262,8 +262,9 @@ void apply_fields(Runtime& r) {
     const int nw = r.phys.worlds();
     s.world_adr.assign(size_t(nw), 0);
     s.world_num.assign(size_t(nw), 0);
+    // Not what a gripper or a hand holds: the band slides under it.
     for (int32_t b : r.tab.dyn_bodies)
-        if (r.phys.dynamic_now(b) && s.held_by[b] < 0) ++s.world_num[size_t(r.phys.world_of(b))];
+        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b]) ++s.world_num[size_t(r.phys.world_of(b))];
     for (int w = 1; w < nw; ++w) s.world_adr[size_t(w)] = s.world_adr[size_t(w - 1)] + s.world_num[size_t(w - 1)];
     s.worlds_busy.clear();
     for (int w = 0; w < nw; ++w) {
@@ -271,7 +272,7 @@ void apply_fields(Runtime& r) {
         s.world_num[size_t(w)] = 0;
     }
     for (int32_t b : r.tab.dyn_bodies) {
-        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0) continue;
+        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0 || s.in_hand[b]) continue;
         const size_t w = size_t(r.phys.world_of(b));
         s.world_list[size_t(s.world_adr[w] + s.world_num[w]++)] = b;
     }
@@ -283,6 +284,7 @@ void phase_physics(Runtime& r) {
     r.phys.update_welds();  // before any force of this step
     move_kinematic(r);
     apply_fields(r);
+    if (!r.st.hands.empty()) apply_hands(r);
     r.phys.step(r.dt);
     r.st.warn.missed_contacts = r.phys.missed_contacts();
     r.st.step++;

@@ -25,6 +25,21 @@ double id_of(Runtime& r, int32_t d) {
 }
 
 void take(Runtime& r, int32_t exit, int32_t obj) {
+    const int32_t root = take_object(r, obj);
+    if (root < 0) return;
+    const int32_t s0 = r.g.comps[r.g.exits[exit].comp].slot_adr;
+    r.activate(s0 + exitslot::taken);
+    r.emit(s0 + exitslot::object, root);
+    r.emit(s0 + exitslot::id, id_of(r, root));
+    r.emit(s0 + exitslot::taken_count, double(++r.st.exit_count[exit]));
+}
+
+}  // namespace
+
+// The object out of the world, back into its source's pool when it is a pooled one (the
+// whole pooled object, also when `obj` is a part of it); its root, or -1 when it was not in
+// the world.
+int32_t take_object(Runtime& r, int32_t obj) {
     int32_t root = obj;
     for (int32_t d = obj; d >= 0; d = r.g.dos[d].parent)
         if (r.tab.do_source[d] >= 0) {
@@ -37,21 +52,15 @@ void take(Runtime& r, int32_t exit, int32_t obj) {
             take_body_out(r, *b);
             any = true;
         }
-    if (!any) return;
+    if (!any) return -1;
     if (int32_t src = r.tab.do_source[root]; src >= 0) {
         SourceState& ss = r.st.sources[src];
         const int32_t num = r.g.sources[src].pool_num;
         r.st.pool_ring[ss.ring_adr + (ss.head + ss.free) % num] = root;
         ss.free++;
     }
-    const int32_t s0 = r.g.comps[r.g.exits[exit].comp].slot_adr;
-    r.activate(s0 + exitslot::taken);
-    r.emit(s0 + exitslot::object, root);
-    r.emit(s0 + exitslot::id, id_of(r, root));
-    r.emit(s0 + exitslot::taken_count, double(++r.st.exit_count[exit]));
+    return root;
 }
-
-}  // namespace
 
 void follow_grippers(Runtime& r) {
     for (size_t i = 0; i < r.g.grippers.size(); ++i) {

@@ -259,6 +259,7 @@ MaterialCounts material_counts(const Engine& e) {
     }
     for (size_t s = 0; s < g.sources.size(); ++s) m.issued += e.issued(SourceId(int32_t(s)));
     for (size_t x = 0; x < g.exits.size(); ++x) m.taken += e.taken(ExitId(int32_t(x)));
+    m.removed = e.removed();
     return m;
 }
 
@@ -285,6 +286,7 @@ void material(const Engine& e, std::ostream& out) {
     if (!g.sources.empty()) fmt::print(out, "  issued by sources:     {}\n", m.issued);
     if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", m.taken);
     fmt::print(out, "  on the line:           {}\n", m.on_line);
+    if (m.removed) fmt::print(out, "  removed by hand:       {}\n", m.removed);
     fmt::print(out, "  lost (left the world): {}{}\n", m.lost, m.lost ? " (" + m.lost_names + ")" : "");
     const std::span<const DoId> lost = e.lost();
     for (size_t i = 0; i < lost.size() && i < kLossLines; ++i)
@@ -320,6 +322,7 @@ void summary(const Engine& e, const Tally& tally, const RecordTally& counts, dou
     line("issues from an empty pool", w.pool_empty);
     line("contacts between physics regions not simulated", w.missed_contacts);
     line("places, velocities or belt speeds out of range, not applied", w.out_of_range);
+    line("hands refused (a body not free to take, an object a gripper holds)", w.hand_refused);
     if (!silent.empty()) {
         std::string names;
         for (size_t i = 0; i < silent.size() && i < 5; ++i) names += (i ? ", " : "") + silent[i];

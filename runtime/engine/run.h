@@ -83,9 +83,10 @@ int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::o
              std::ostream& err, RunObserver* observer = nullptr, RunLink* link = nullptr);
 
 // Objects with dynamic bodies: issued by sources, taken by exits, on the line, lost (left
-// the world), stalled over 30 s (the first few names of the last two).
+// the world), stalled over 30 s (the first few names of the last two), removed by hand
+// (`remove` events: back in their pool, not lost).
 struct MaterialCounts {
-    int64_t issued = 0, taken = 0, on_line = 0, lost = 0, stalled = 0;
+    int64_t issued = 0, taken = 0, on_line = 0, lost = 0, stalled = 0, removed = 0;
     std::string lost_names, stalled_names;
 };
 MaterialCounts material_counts(const Engine& e);

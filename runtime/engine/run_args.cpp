@@ -163,6 +163,13 @@ std::string closest_path(const SlotIndex& slots, std::string_view path) {
 
 std::string format_event(const Graph& g, const Event& ev, double dt) {
     const std::string t = time_text(ev.time, dt > 0 ? dt : 1 / g.settings.rate);
+    switch (ev.hand) {
+    case HandAct::None: break;
+    case HandAct::Grab: return fmt::format("{}s grab {} at {}", t, ev.path, number_text(ev.value));
+    case HandAct::Move: return fmt::format("{}s move {} to {}", t, ev.path, number_text(ev.value));
+    case HandAct::Drop: return fmt::format("{}s drop {}", t, ev.path);
+    case HandAct::Remove: return fmt::format("{}s remove {}", t, ev.path);
+    }
     if (ev.force && ev.mode != ForceMode::Stuck)
         return fmt::format("{}s {} {}{}", t, ev.mode == ForceMode::None ? "release" : "force", ev.path,
                            ev.mode == ForceMode::Open ? " open" : ev.mode == ForceMode::Invert ? " invert" : "");
@@ -186,6 +193,17 @@ std::string format_event(const Graph& g, const Event& ev, double dt) {
 }
 
 void apply_event(Engine& e, const Event& ev) {
+    if (ev.hand != HandAct::None) {
+        const Vec3 p = ev.value.size() == 3 ? Vec3{ev.value[0], ev.value[1], ev.value[2]} : Vec3{0, 0, 0};
+        switch (ev.hand) {
+        case HandAct::Grab: e.hand_grab(BodyId(ev.target), p); break;
+        case HandAct::Move: e.hand_move(BodyId(ev.target), p); break;
+        case HandAct::Drop: e.hand_drop(BodyId(ev.target)); break;
+        case HandAct::Remove: e.remove_object(DoId(ev.target)); break;
+        case HandAct::None: break;
+        }
+        return;
+    }
     if (ev.slots.empty()) return;
     const Graph& g = e.graph();
     double name[1];
@@ -347,6 +365,93 @@ bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::stri
     return parse_value(g, type, path, value, ev, error) && in_range(g, ev, value, error);
 }
 
+// The body whose physics component has the dotted path `path`, or -1.
+int32_t find_body(const Graph& g, std::string_view path) {
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        const Comp& c = g.comps[g.bodies[b].comp];
+        const std::string_view owner = g.str(g.dos[c.owner].path), name = g.str(c.name);
+        if (path.size() == (owner.empty() ? 0 : owner.size() + 1) + name.size() && path.ends_with(name) &&
+            (owner.empty() || (path.starts_with(owner) && path[owner.size()] == '.')))
+            return int32_t(b);
+    }
+    return -1;
+}
+
+int32_t find_object(const Graph& g, std::string_view path) {
+    for (size_t d = 0; d < g.dos.size(); ++d)
+        if (g.str(g.dos[d].path) == path && !path.empty()) return int32_t(d);
+    return -1;
+}
+
+// The dynamic bodies' paths closest to a misspelt one, for "did you mean".
+std::string closest_body(const Graph& g, std::string_view path) {
+    const size_t limit = std::min<size_t>(4, std::max<size_t>(1, path.size() / 3));
+    std::string best;
+    size_t best_d = limit + 1;
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        if (g.bodies[b].mode != BodyMode::Dynamic) continue;
+        const std::string p = g.comp_path(g.bodies[b].comp);
+        const size_t d = edits(path, p, std::min(limit, best_d));
+        if (d < best_d || (d == best_d && d <= limit && p < best)) best = p, best_d = d;
+    }
+    return best_d <= limit ? best : std::string{};
+}
+
+// "grab BODY at X,Y,Z", "move BODY to X,Y,Z", "drop BODY", "remove OBJECT" (after the verb).
+bool parse_hand(const Graph& g, std::string_view verb, std::string_view rest, Event& ev, std::string& error) {
+    const auto [path_text, tail] = first_word(rest);
+    const std::string path(path_text);
+    ev.slots.clear();
+    ev.value.clear();
+    ev.text.clear();
+    ev.force = false;
+    ev.mode = ForceMode::None;
+    if (verb == "remove") {
+        int32_t d = find_object(g, path);
+        if (const int32_t b = d < 0 ? find_body(g, path) : -1; b >= 0) d = g.comps[g.bodies[b].comp].owner;
+        if (d < 0) {
+            error = fmt::format("remove '{}': no object of that path (an object's path, e.g. a bottle's)", path);
+            return false;
+        }
+        if (!tail.empty()) {
+            error = fmt::format("remove '{}': unexpected '{}'", path, tail);
+            return false;
+        }
+        ev.hand = HandAct::Remove;
+        ev.target = d;
+        ev.path = std::string(g.str(g.dos[d].path));
+        return true;
+    }
+    const int32_t b = find_body(g, path);
+    if (b < 0) {
+        const std::string hint = closest_body(g, path);
+        error = hint.empty() ? fmt::format("{} '{}': no body of that path (a physics component's path)", verb, path)
+                             : fmt::format("{} '{}': no body of that path; did you mean '{}'?", verb, path, hint);
+        return false;
+    }
+    if (g.bodies[b].mode != BodyMode::Dynamic) {
+        error = fmt::format("{} '{}': only a dynamic body can be taken by hand (this one is {})", verb, path,
+                            word(g.bodies[b].mode));
+        return false;
+    }
+    ev.path = path;
+    ev.target = b;
+    if (verb == "drop") {
+        ev.hand = HandAct::Drop;
+        if (!tail.empty()) error = fmt::format("drop '{}': unexpected '{}'", path, tail);
+        return tail.empty();
+    }
+    const bool grab = verb == "grab";
+    ev.hand = grab ? HandAct::Grab : HandAct::Move;
+    const auto [word_at, point] = first_word(tail);
+    if (word_at != (grab ? "at" : "to") || !numbers(point, ev.value, 3) || !place_in_range(ev.value.data())) {
+        error = fmt::format("{} '{}': expected '{} X,Y,Z' (a point in metres, within 100 km), not '{}'", verb, path,
+                            grab ? "at" : "to", tail);
+        return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, Event& ev, std::string& error) {
@@ -355,8 +460,13 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
         return false;
     }
     const auto [head, tail] = first_word(rest);
+    ev.hand = HandAct::None;
+    ev.target = -1;
     if ((head == "force" || head == "release") && !tail.empty() && !slots.count(std::string(head)))
         return parse_force(g, slots, head == "release", tail, ev, error);
+    if ((head == "grab" || head == "move" || head == "drop" || head == "remove") && !tail.empty() &&
+        !slots.count(std::string(head)))
+        return parse_hand(g, head, tail, ev, error);
     std::string path(head);
     std::string_view value = tail;
     const SlotTarget* t = find_target(slots, path, error);

@@ -17,6 +17,10 @@ namespace plant::engine {
 bool parse_duration(std::string_view text, double& seconds, std::string& error);
 bool parse_frequency(std::string_view text, double& hz, std::string& error);
 
+// A trainee's hand (docs/runtime.md, "Hands"): "grab BODY at X,Y,Z", "move BODY to X,Y,Z",
+// "drop BODY", "remove OBJECT".
+enum class HandAct : uint8_t { None, Grab, Move, Drop, Remove };
+
 // An external input at a time: the slot by its dotted path (Graph::slot_path, or a
 // declared port's Graph::port_path: an input port feeds every slot it forwards to) and a
 // value for its type (none for void; "x,y,z" or "x y z" for vec3; text for strings;
@@ -32,6 +36,10 @@ struct Event {
     bool force = false;
     ForceMode mode = ForceMode::None;
     bool planned = false;  // declared in the plant file (plant_events), not given to the run
+    // A hand's act (no slots then): `target` the body's id (remove: the object's), `value`
+    // the point (grab: the point taken, move: where to).
+    HandAct hand = HandAct::None;
+    int32_t target = -1;
 };
 
 // Every addressable input and output by its dotted path: component slots and ports.
@@ -64,8 +72,9 @@ void apply_event(Engine& e, const Event& ev);
 
 bool parse_event(const graph::Graph& g, const SlotIndex& slots, std::string_view line, Event& ev,
                  std::string& error);
-// The same without the time: "PATH [VALUE]", "force PATH ...", "release PATH" (the
-// viewer's and the PLC link's inputs).
+// The same without the time: "PATH [VALUE]", "force PATH ...", "release PATH", "grab BODY at
+// X,Y,Z", "move BODY to X,Y,Z", "drop BODY", "remove OBJECT" (the viewer's and the PLC link's
+// inputs).
 bool parse_input(const graph::Graph& g, const SlotIndex& slots, std::string_view text, Event& ev,
                  std::string& error);
 // The timed inputs the plant file itself declares (its plugin components' schedule hooks,

@@ -106,6 +106,8 @@ void init_state(State& s, const Graph& g, const Tables& t) {
         for (int32_t k = 0; k < src.pool_num; ++k) s.pool_ring.push_back(src.pool_adr + k);
     }
     s.exit_count.assign(g.exits.size(), 0);
+    s.in_hand.assign(g.bodies.size(), 0);
+    s.hands.reserve(16);  // a few trainees' hands; more grow it between steps, never in one
 }
 
 }  // namespace plant::engine

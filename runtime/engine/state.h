@@ -47,6 +47,14 @@ struct SourceState {
     double next_issue = 0;       // for sources with a rate
 };
 
+// A trainee's hand on a dynamic body (hands.cpp): the point it holds, in the body frame,
+// and where it pulls that point to, in the world.
+struct Hand {
+    int32_t body = -1;
+    btVector3 anchor{0, 0, 0};
+    btVector3 target{0, 0, 0};
+};
+
 struct State {
     double time = 0;
     int64_t step = 0;
@@ -143,6 +151,11 @@ struct State {
     std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
 
     std::vector<double> plugin_state;  // Tables::plugin_run's state_adr into it
+
+    // Hands (hands.cpp): reserved at the start, changed between steps only (events).
+    std::vector<Hand> hands;
+    std::vector<uint8_t> in_hand;  // per body: its object is in a hand (no conveyor law on it)
+    int64_t removed = 0;  // objects taken out of the plant by hand (`remove` events)
 
     Warnings warn;
 };

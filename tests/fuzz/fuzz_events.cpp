@@ -1,5 +1,5 @@
 // Target `events`: the events-file and `--event` syntax ("TIME PATH [VALUE]", forces,
-// releases) against the switch example's graph, then each parsed event applied to a running
+// releases, hands: grab, move, drop, remove) against the switch example's graph, then each parsed event applied to a running
 // engine and its events-file line parsed back.
 // Invariant: no crash, no sanitizer report; a refused line says why; a parsed event
 // formats to a line that parses to the same slots and kind; applying it never breaks a step.
@@ -29,7 +29,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const std::string back = plant::engine::format_event(g, ev);
         plant::engine::Event ev2;
         if (!plant::engine::parse_event(g, f.idx, back, ev2, error)) plant::fuzz::broken("a formatted event does not parse");
-        if (ev2.slots != ev.slots || ev2.force != ev.force || ev2.mode != ev.mode) plant::fuzz::broken("an event does not round-trip");
+        if (ev2.slots != ev.slots || ev2.force != ev.force || ev2.mode != ev.mode || ev2.hand != ev.hand ||
+            ev2.target != ev.target)
+            plant::fuzz::broken("an event does not round-trip");
         if (!e) e = std::make_unique<plant::engine::Engine>(g);
         plant::engine::apply_event(*e, ev);
         e->step();
