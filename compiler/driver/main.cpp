@@ -167,11 +167,14 @@ plays a recording made by `plant run FILE --record RECORDING`, with a timeline.
   --speed X                 times real time (default 1; 0: as fast as possible)
   --paused                  start paused
   --viewer DIR              the page's folder (default: $PLANT_VIEWER, else viewer/)
-  --models DIR              where glTF/GLB models are found (besides the plant's folder)
+  --models DIR              where glTF/GLB models are found first (then beside the plant,
+                            then the standard library's models, stdlib/models)
   --threads N               physics threads (as plant run)
   --opcua-port N, --opcua-host ADDR, --opcua-pki DIR, --opcua-users FILE
                             the plant's OPC UA link (as plant run; a plant with an `opcua`
                             component is served without them)
+  --event "5s PATH [VALUE]" a timed event, as plant run (repeatable; forces, hands too)
+  --events FILE             one such event per line (an instructor's drill)
 Stop with Ctrl-C. The protocol and the page: docs/viewer.md.
 )";
 
@@ -193,6 +196,9 @@ struct Options {
     std::string object;  // graph --object PATH
     bool has_object = false;
 };
+
+// The standard library's folder: --stdlib, else $PLANT_STDLIB or this checkout's.
+std::string stdlib_of(const Options& o) { return o.stdlib.empty() ? plant::default_stdlib_dir() : o.stdlib; }
 
 int usage_error(const std::string& msg) {
     std::cerr << "plant: error: " << msg << "\n(see `plant --help`)\n";
@@ -460,6 +466,7 @@ int cmd_run(const Options& o) {
 #ifdef PLANT_HAS_SERVE
     plant::view::ModelDirs dirs;
     dirs.plant_dir = std::filesystem::path(f).parent_path().string();
+    dirs.stdlib_dir = stdlib_of(o);
     plant::view::Recorder rec(g, record, dirs, record_opt);
     if (!rec.ok()) {
         std::cerr << "plant run: error: --record: cannot write '" << record << "'\n";
@@ -477,7 +484,7 @@ int cmd_serve(const Options& o) {
     const std::string& f = o.files[0];
     if (std::find(o.rest.begin(), o.rest.end(), "--replay") != o.rest.end()) {
         if (!o.sets.empty()) return usage_error("--set does not apply to a replay");
-        return plant::view::serve_main(nullptr, f, o.rest, std::cout, std::cerr);
+        return plant::view::serve_main(nullptr, f, o.rest, std::cout, std::cerr, nullptr, stdlib_of(o));
     }
     plant::graph::Graph g;
     int code = 0;
@@ -498,7 +505,7 @@ int cmd_serve(const Options& o) {
     }
     link = ua.get();
 #endif
-    return plant::view::serve_main(&g, f, rest, std::cout, std::cerr, link);
+    return plant::view::serve_main(&g, f, rest, std::cout, std::cerr, link, stdlib_of(o));
 }
 #endif
 #endif

@@ -92,10 +92,10 @@ std::string Player::events_file() const {
     return out;
 }
 
-void Player::log(std::string event_json, std::string line) {
+void Player::log(std::string event_json, std::string line, bool to_file) {
     std::lock_guard lock(m_);
     log_.push_back(std::move(event_json));
-    lines_.push_back(std::move(line));
+    if (to_file) lines_.push_back(std::move(line));
     if (log_.size() > kMaxLog) {
         log_.pop_front();
         ++log_first_;
@@ -107,6 +107,52 @@ void Player::clear_log() {
     log_first_ += log_.size();
     log_.clear();
     lines_.clear();
+}
+
+std::string Player::history_json() const {
+    std::lock_guard lock(m_);
+    return history_.json();
+}
+
+void Player::history_reset(size_t records) {
+    {
+        std::lock_guard lock(m_);
+        history_ = History(records);
+    }
+    ++history_version_;
+}
+
+void Player::history_add(double t, std::span<const double> values) {
+    std::lock_guard lock(m_);
+    history_.add(t, values);
+}
+
+void Player::note_force(const engine::Event& ev, const std::string& line, const std::string& by) {
+    if (!ev.force) return;
+    // A force on a slot replaces any earlier one on it; a release ends it.
+    std::erase_if(forces_, [&](const ForceNote& n) {
+        return std::any_of(n.slots.begin(), n.slots.end(),
+                           [&](int32_t s) { return std::find(ev.slots.begin(), ev.slots.end(), s) != ev.slots.end(); });
+    });
+    if (ev.mode == engine::ForceMode::None) return;
+    // How, as the events-file line says it after the path ("open", "stuck 0.25").
+    const size_t at = line.find(" " + ev.path + " ");
+    const std::string how = at == std::string::npos ? "" : line.substr(at + ev.path.size() + 2);
+    forces_.push_back({ev.path, how, by, ev.slots, ev.time});
+}
+
+std::string Player::forced_json() const {
+    json out = json::array();
+    for (const ForceNote& n : forces_) out.push_back({{"path", n.path}, {"how", n.how}, {"by", n.by}, {"since", n.since}});
+    return out.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+double Player::achieved(double wall, double sim) {
+    if (!pace_.empty() && sim < pace_.back().second) pace_.clear();  // a restart or a seek back
+    pace_.emplace_back(wall, sim);
+    while (pace_.size() > 2 && wall - pace_[1].first >= 2.0) pace_.pop_front();
+    const auto& [w0, s0] = pace_.front();
+    return wall - w0 > 0.1 ? (sim - s0) / (wall - w0) : 0;
 }
 
 void Player::new_scene(std::string scene) {
@@ -145,16 +191,21 @@ double Player::paced_target(double wall_now) const { return anchor_sim_ + (wall_
 void Player::command_now(Command& c) {
     const double now = wall_seconds();
     switch (c.kind) {
-    case Command::Kind::Pause: paused_ = true; return;
+    case Command::Kind::Pause:
+        paused_ = true;
+        pace_.clear();
+        return;
     case Command::Kind::Run:
         paused_ = false;
         before_run();
         reanchor(now, sim_time());
+        pace_.clear();
         return;
     case Command::Kind::Step: step_once_ = true; return;
     case Command::Kind::Speed:
         speed_ = c.value;
         reanchor(now, sim_time());
+        pace_.clear();
         return;
     default: handle(c, now);
     }
@@ -199,9 +250,13 @@ namespace {
 
 class LivePlayer final : public Player {
 public:
-    LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed, engine::RunLink* link)
-        : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g), link_(link) {
+    LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed,
+               std::vector<engine::Event> scheduled, engine::RunLink* link)
+        : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g),
+          scheduled_(std::move(scheduled)), link_(link) {
         slots_ = engine::slot_index(g);
+        std::stable_sort(scheduled_.begin(), scheduled_.end(),
+                         [](const engine::Event& a, const engine::Event& b) { return a.time < b.time; });
         restart();
     }
     bool live() const override { return true; }
@@ -210,14 +265,16 @@ private:
     void restart() {
         engine_ = std::make_unique<engine::Engine>(g_, opt_);
         planned_ = engine::plant_events(g_);
-        next_planned_ = 0;
+        next_planned_ = next_scheduled_ = 0;
         tally_.reset();
         pending_.clear();
         watched_.clear();
         watched_version_ = ~uint64_t(0);
         clear_log();
+        clear_forces();
+        history_reset(g_.records.size());
+        history_add(0, history_sample(*engine_, tally_));
         new_scene(scene_json(g_, dirs_, false, 0));
-        wall_started_ = -1;
     }
 
     double sim_time() const override { return engine_->time(); }
@@ -229,6 +286,18 @@ private:
         } else if (c.kind == Command::Kind::Event) {
             pending_.emplace_back(std::move(c.event), c.client);
         }  // Seek: live runs cannot seek (refused by the server)
+    }
+
+    // Applies an event before the next step and logs it: the pages see every event, the
+    // session's events file gets all but the plant file's own (a replay applies those again).
+    void apply(engine::Event& ev, const std::string& by, bool to_file, int client = -1) {
+        engine::apply_event(*engine_, ev);
+        const std::string line = engine::format_event(g_, ev, engine_->dt());
+        json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"by", by}};
+        if (client >= 0) j["client"] = client;
+        if (!to_file) j["planned"] = true;
+        log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, to_file);
+        note_force(ev, line, by);
     }
 
     bool advance(double now) override {
@@ -245,18 +314,17 @@ private:
             step = engine_->time() + engine_->dt() <= paced_target(now) + 1e-12;
         }
         if (!step) return false;
-        // The plant file's own timed inputs (its scheduled faults), as `plant run` applies
-        // them: not logged, since replaying the plant applies them again.
+        // The plant file's own timed inputs (its scheduled faults), then the command line's,
+        // as `plant run` applies them; then the pages' events, applied before the step they
+        // feed, at the time that step ends: exactly what `plant run --events` does with the
+        // logged line.
         for (; next_planned_ < planned_.size() && engine::due(*engine_, planned_[next_planned_]); ++next_planned_)
-            engine::apply_event(*engine_, planned_[next_planned_]);
-        // Events are applied before the step they feed, at the time that step ends:
-        // exactly what `plant run --events` does with the logged line.
+            apply(planned_[next_planned_], "plant file", false);
+        for (; next_scheduled_ < scheduled_.size() && engine::due(*engine_, scheduled_[next_scheduled_]); ++next_scheduled_)
+            apply(scheduled_[next_scheduled_], "command line", true);
         for (auto& [ev, client] : pending_) {
             ev.time = double(engine_->steps() + 1) * engine_->dt();
-            engine::apply_event(*engine_, ev);
-            const std::string line = engine::format_event(g_, ev, engine_->dt());
-            const json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"client", client}};
-            log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
+            apply(ev, "page " + std::to_string(client), true, client);
         }
         pending_.clear();
         // The link's clients (an OPC UA server) after the page's, logged alike: the session's
@@ -264,16 +332,17 @@ private:
         if (link_) {
             link_->before_step(*engine_);
             for (const engine::Event* ev : link_->applied()) {
-                const std::string line = engine::format_event(g_, *ev);
+                const std::string line = engine::format_event(g_, *ev, engine_->dt());
                 const json j{{"type", "event"}, {"line", line}, {"time", double(engine_->steps() + 1) * engine_->dt()},
-                             {"client", "link"}};
+                             {"by", "OPC UA link"}, {"client", "link"}};
                 log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
+                note_force(*ev, line, "OPC UA link");
             }
         }
         engine_->step();
         if (link_) link_->after_step(*engine_);
         tally_.step(*engine_);
-        if (wall_started_ < 0) wall_started_ = now, sim_started_ = engine_->time();
+        if (history_due(engine_->time())) history_add(engine_->time(), history_sample(*engine_, tally_));
         return true;
     }
 
@@ -295,8 +364,8 @@ private:
         StatusExtra x;
         x.paused = paused_;
         x.speed = speed_;
-        const double now = wall_seconds();
-        x.rtf = wall_started_ >= 0 && now > wall_started_ ? (engine_->time() - sim_started_) / (now - wall_started_) : 0;
+        x.rtf = paused_ ? 0 : achieved(wall_seconds(), engine_->time());
+        x.forced = forced_json();
         std::map<std::string, std::string> inspect;
         for (const std::string& p : inspected()) inspect[p] = inspect_json(*engine_, p);
         put_status(status_json(*engine_, tally_, x), std::move(inspect));
@@ -308,11 +377,11 @@ private:
     FrameTracker tracker_;
     engine::RecordTally tally_;
     std::vector<std::pair<engine::Event, int>> pending_;
-    std::vector<engine::Event> planned_;  // engine::plant_events, by time
-    size_t next_planned_ = 0;
+    std::vector<engine::Event> planned_;    // engine::plant_events, by time
+    std::vector<engine::Event> scheduled_;  // the command line's, by time
+    size_t next_planned_ = 0, next_scheduled_ = 0;
     std::set<std::string> watched_;
     uint64_t watched_version_ = ~uint64_t(0);
-    double wall_started_ = -1, sim_started_ = 0;
     engine::RunLink* link_ = nullptr;
 };
 
@@ -332,6 +401,9 @@ public:
         s["duration"] = rec_.duration;
         new_scene(s.dump(-1, ' ', false, json::error_handler_t::replace));
         cur_ = Frame::sized(rec_.bodies, rec_.graphics);
+        records_ = s.contains("records") && s["records"].is_array() ? s["records"].size() : 0;
+        samples_.reserve(rec_.statuses.size());
+        for (const auto& c : rec_.statuses) samples_.push_back(sample_of(c));
         seek(0);
     }
     bool live() const override { return false; }
@@ -345,9 +417,32 @@ private:
         return shape_;
     }
 
+    // A recorded status as a history sample: the counters, then the records.
+    std::vector<double> sample_of(const Recording::Chunk& c) const {
+        std::vector<double> v(kCounters + records_, 0.0);
+        const json j = json::parse(c.data, nullptr, false);
+        if (!j.is_object()) return v;
+        if (auto it = j.find("counters"); it != j.end() && it->is_object())
+            for (size_t k = 0; k < kCounters; ++k)
+                if (auto x = it->find(kCounterNames[k]); x != it->end() && x->is_number()) v[k] = x->get<double>();
+        if (auto it = j.find("records"); it != j.end() && it->is_array())
+            for (size_t k = 0; k < records_ && k < it->size(); ++k)
+                if ((*it)[k].is_number()) v[kCounters + k] = (*it)[k].get<double>();
+        return v;
+    }
+    // The history up to time t, from the recorded statuses.
+    void sample_until(double t) {
+        for (; next_sample_ < rec_.statuses.size() && rec_.statuses[next_sample_].time <= t + 1e-9; ++next_sample_)
+            if (history_due(rec_.statuses[next_sample_].time))
+                history_add(rec_.statuses[next_sample_].time, samples_[next_sample_]);
+    }
+
     // The state at time t: from the last full frame at or before it, forward.
     void seek(double t) {
         t = std::clamp(t, 0.0, rec_.duration);
+        history_reset(records_);
+        next_sample_ = 0;
+        sample_until(t);
         size_t k = 0;
         for (size_t i = 0; i < rec_.frames.size() && rec_.frames[i].time <= t + 1e-9; ++i)
             if (rec_.frames[i].full) k = i;
@@ -400,6 +495,7 @@ private:
         if (t <= time_ && next_ >= rec_.frames.size()) return false;
         apply_until(t);
         emit_events(t);
+        sample_until(t);
         time_ = t;
         return true;
     }
@@ -420,10 +516,14 @@ private:
         j["time"] = time_;
         j["paused"] = paused_;
         j["speed"] = speed_;
+        j["rtf"] = paused_ ? 0 : achieved(wall_seconds(), time_);
         put_status(j.dump(-1, ' ', false, json::error_handler_t::replace), {});
     }
 
     Recording rec_;
+    size_t records_ = 0;                       // the scene's records
+    std::vector<std::vector<double>> samples_;  // each recorded status as a history sample
+    size_t next_sample_ = 0;
     graph::Graph shape_;
     FrameTracker tracker_;
     Frame cur_;
@@ -435,8 +535,8 @@ private:
 }  // namespace
 
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
-                                         double speed, engine::RunLink* link) {
-    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed, link);
+                                         double speed, std::vector<engine::Event> scheduled, engine::RunLink* link) {
+    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed, std::move(scheduled), link);
 }
 
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed) {

@@ -8,6 +8,7 @@
 #include "engine/engine.h"
 #include "engine/run.h"
 #include "engine/run_args.h"
+#include "serve/history.h"
 #include "serve/record.h"
 #include "serve/view.h"
 
@@ -18,6 +19,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,6 +65,10 @@ public:
     std::vector<std::string> log_since(size_t from, size_t& next) const;
     // The events file of the session so far (for `plant run --events`).
     std::string events_file() const;
+    // The run's series from t = 0 (history.h), and a number bumped when they start anew (a
+    // restart, a seek): a page that has an older one is sent the new one whole.
+    std::string history_json() const;
+    uint64_t history_version() const { return history_version_.load(); }
     virtual bool live() const = 0;
     const graph::Graph& graph() const { return g_; }
     const engine::SlotIndex& slots() const { return slots_; }
@@ -83,8 +89,18 @@ protected:
     double paced_target(double wall_now) const;
     void put_frame(const FrameTracker& t);
     void put_status(std::string status, std::map<std::string, std::string> inspect);
-    void log(std::string event_json, std::string line);
+    // An event applied: to the pages' log, and (`to_file`) to the session's events file.
+    void log(std::string event_json, std::string line, bool to_file = true);
     void clear_log();
+    void history_reset(size_t records);
+    void history_add(double t, std::span<const double> values);
+    bool history_due(double t) const { return history_.due(t); }
+    // Forced slots as the events that forced them say (who, since when): for the page's list.
+    void note_force(const engine::Event& ev, const std::string& line, const std::string& by);
+    void clear_forces() { forces_.clear(); }
+    std::string forced_json() const;
+    // The speed achieved over the last two seconds of wall time.
+    double achieved(double wall_now, double sim_now);
     void new_scene(std::string scene);
     std::set<std::string> inspected() const;
     // Bumped whenever the set changes, so a step can tell without taking the lock.
@@ -108,6 +124,15 @@ private:
     std::shared_ptr<const std::string> scene_;
     std::shared_ptr<const FramePub> frame_;
     std::shared_ptr<const StatusPub> status_;
+    History history_;                 // under m_: the network thread reads it
+    std::atomic<uint64_t> history_version_{0};
+    struct ForceNote {
+        std::string path, how, by;
+        std::vector<int32_t> slots;
+        double since = 0;
+    };
+    std::vector<ForceNote> forces_;                // the player thread's own
+    std::deque<std::pair<double, double>> pace_;  // (wall, sim) over the last two seconds
     std::deque<std::string> log_;     // the last kMaxLog event messages, for late pages
     std::vector<std::string> lines_;  // the session's events file, whole
     size_t log_first_ = 0;
@@ -116,9 +141,12 @@ private:
     std::thread thread_;
 };
 
-// `link` (may be null): an external link (engine/run.h) stepped with the run; not in lock-step.
+// `scheduled`: timed events from the command line (plant serve --event / --events), applied
+// at their times in every run, logged and saved like the page's. `link` (may be null): an
+// external link (engine/run.h) stepped with the run; not in lock-step.
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
-                                         double speed, engine::RunLink* link = nullptr);
+                                         double speed, std::vector<engine::Event> scheduled = {},
+                                         engine::RunLink* link = nullptr);
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed);
 
 }  // namespace plant::view

@@ -123,6 +123,35 @@ bool decode_client_message(std::string_view text, ClientMessage& m, std::string&
         m.path = (mode == "release" ? "release " : "force ") + m.path;
         return true;
     }
+    if (type == "hand") {  // {"type":"hand","action":"grab"|"move"|"drop"|"remove","path":P,"point":[x,y,z]}
+        m.kind = ClientMessage::Kind::Event;
+        std::string action, path;
+        if (!string_field(j, "action", action, error) || !string_field(j, "path", path, error)) return false;
+        if (action != "grab" && action != "move" && action != "drop" && action != "remove") {
+            error = "\"action\" is grab, move, drop or remove";
+            return false;
+        }
+        std::string none;
+        if (!input_fields(json::object(), path, none, error)) return false;
+        m.path = action + " " + path;  // the events-file text, parsed by the server like every input
+        if (action == "grab" || action == "move") {
+            auto it = j.find("point");
+            if (it == j.end() || !it->is_array() || it->size() != 3) {
+                error = "\"point\" must be [x, y, z]";
+                return false;
+            }
+            std::string xyz;
+            for (const json& v : *it) {
+                if (!v.is_number() || !std::isfinite(v.get<double>())) {
+                    error = "\"point\" must be three finite numbers";
+                    return false;
+                }
+                xyz += (xyz.empty() ? "" : ",") + v.dump();
+            }
+            m.value = (action == "grab" ? "at " : "to ") + xyz;
+        }
+        return true;
+    }
     if (type == "event") {
         m.kind = ClientMessage::Kind::Event;
         return string_field(j, "path", m.path, error) && input_fields(j, m.path, m.value, error);

@@ -30,11 +30,14 @@ bool number(const std::string& text, double& v) {
 }  // namespace
 
 int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err, engine::RunLink* link) {
+               std::ostream& out, std::ostream& err, engine::RunLink* link, const std::string& stdlib_dir) {
     ServerOptions so;
     so.viewer_dir = default_viewer_dir();
     const fs::path parent = fs::path(file).parent_path();
     so.models.plant_dir = parent.empty() ? fs::path(".").string() : parent.string();
+    so.models.stdlib_dir = stdlib_dir;
+    std::vector<engine::Event> scheduled;
+    engine::SlotIndex slots;
     engine::Options eo;
     bool paused = false;
     double speed = 1;
@@ -66,6 +69,18 @@ int serve_main(const graph::Graph* graph, const std::string& file, const std::ve
         } else if (a == "--speed") {
             if (!value(v) || !number(v, speed) || (speed != 0 && (speed < 0.01 || speed > 1000)))
                 return fail(fmt::format("--speed: '{}' is not 0 (as fast as possible) or 0.01 to 1000", v));
+        } else if (a == "--event" || a == "--events") {
+            if (!graph) return fail(fmt::format("{} is for a live run, not a replay", a));
+            if (!value(v)) return fail(fmt::format("{} needs a value", a));
+            if (slots.empty()) slots = engine::slot_index(*graph);
+            std::string error;
+            if (a == "--events") {
+                if (!engine::load_events(*graph, slots, v, scheduled, error)) return fail(error);
+            } else {
+                engine::Event ev;
+                if (!engine::parse_event(*graph, slots, v, ev, error)) return fail("--event: " + error);
+                scheduled.push_back(std::move(ev));
+            }
         } else if (a == "--threads") {
             if (!value(v) || !number(v, x) || x < 1 || x > 256 || x != double(int(x)))
                 return fail(fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v));
@@ -82,9 +97,16 @@ int serve_main(const graph::Graph* graph, const std::string& file, const std::ve
         fmt::print(err, "plant serve: warning: the page's packages are not installed: run `scripts/setup.sh` (npm ci in {})\n",
                    so.viewer_dir);
 
+    if (std::error_code dir_ec; !so.models.models_dir.empty() && !fs::is_directory(so.models.models_dir, dir_ec))
+        return fail(fmt::format("--models: '{}' is not a folder", so.models.models_dir));
+    // Models that will not be shown: said once here, and on the page.
+    if (graph)
+        for (const ModelProblem& p : model_problems(*graph, so.models))
+            fmt::print(err, "plant serve: model {}: {}; the page draws the body's shapes instead\n", p.model, p.problem);
+
     std::unique_ptr<Player> player;
     if (graph) {
-        player = make_live_player(*graph, eo, so.models, paused, speed, link);
+        player = make_live_player(*graph, eo, so.models, paused, speed, std::move(scheduled), link);
     } else {
         Recording rec;
         std::string error;

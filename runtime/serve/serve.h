@@ -8,7 +8,9 @@
 //   --paused        start paused
 //   --speed X       0.1, 1, 10 ... times real time; 0 as fast as possible (default 1)
 //   --threads N     physics threads (as plant run)
+//   --event "5s PATH [VALUE]", --events FILE   timed events applied in the run (as plant run)
 //
+// Models are looked up under --models, beside the plant, then under `stdlib_dir`/models.
 // Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag, 1 when it cannot listen.
 // `link` (an OPC UA server the driver started) exchanges with the live run at its step
 // boundaries, as it does in `plant run`; what its clients apply is logged like a page's events.
@@ -25,7 +27,8 @@ namespace plant::view {
 
 // `graph` is null for a replay: then `file` is the recording.
 int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err, engine::RunLink* link = nullptr);
+               std::ostream& out, std::ostream& err, engine::RunLink* link = nullptr,
+               const std::string& stdlib_dir = {});
 
 // The folder the page is served from by default.
 std::string default_viewer_dir();

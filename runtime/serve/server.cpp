@@ -248,7 +248,14 @@ private:
                 scene_version_ = v;
                 last_seq_ = 0;
                 send(*scene, false);
+                history_version_ = ~uint64_t(0);  // the series of the new run follow it
             }
+        }
+        // The run's series from t = 0: after the scene, and whole again when they start anew
+        // (a restart, a seek in a replay).
+        if (const uint64_t h = p.history_version(); h != history_version_ && scene_version_ != 0) {
+            history_version_ = h;
+            send(p.history_json(), false);
         }
         size_t next = 0;
         for (std::string& line : p.log_since(log_next_, next))
@@ -321,7 +328,7 @@ private:
     bool writing_ = false, closed_ = false, registered_ = false;
     int id_ = 0, fps_ = 30;
     uint64_t errors_ = 0;
-    uint64_t scene_version_ = 0, last_seq_ = 0;
+    uint64_t scene_version_ = 0, last_seq_ = 0, history_version_ = ~uint64_t(0);
     size_t log_next_ = 0;
     std::chrono::steady_clock::time_point last_status_{};
     std::string inspect_;
@@ -368,7 +375,10 @@ private:
         }
         if (rel == "events") return respond(req, http::status::ok, server_.player.events_file(), "text/plain; charset=utf-8");
         std::string body, file;
-        if (rel.rfind("models/", 0) == 0) file = find_model(server_.opt.models, rel.substr(7));
+        if (rel.rfind("models/", 0) == 0) {
+            const std::string name = rel.substr(7);
+            file = model_name(name) ? find_model(server_.opt.models, name).file : find_model_resource(server_.opt.models, name);
+        }
         else if (!server_.opt.viewer_dir.empty()) file = (fs::path(server_.opt.viewer_dir) / rel).string();
         if (file.empty() || !read_file(file, body)) return respond(req, http::status::not_found, "not found\n");
         respond(req, http::status::ok, std::move(body), content_type(file));

@@ -18,34 +18,7 @@ namespace {
 json pose_json(const Pose& p) { return json::array({p.p[0], p.p[1], p.p[2], p.q[0], p.q[1], p.q[2], p.q[3]}); }
 json vec_json(const Vec3& v) { return json::array({v[0], v[1], v[2]}); }
 
-bool model_file(std::string_view m) {
-    auto ends = [&](std::string_view ext) {
-        return m.size() > ext.size() && m.substr(m.size() - ext.size()) == ext;
-    };
-    return ends(".glb") || ends(".gltf");
-}
-
-json model_url(const ModelDirs& dirs, std::string_view model) {
-    if (find_model(dirs, model).empty()) return nullptr;
-    return "/models/" + std::string(model);
-}
-
 }  // namespace
-
-std::string find_model(const ModelDirs& dirs, std::string_view model) {
-    if (model.empty() || !model_file(model) || model.front() == '/' || model.find('\\') != std::string_view::npos)
-        return {};
-    const fs::path rel{std::string(model)};
-    for (const auto& part : rel)
-        if (part == "..") return {};
-    for (const std::string* dir : {&dirs.models_dir, &dirs.plant_dir}) {
-        if (dir->empty()) continue;
-        std::error_code ec;
-        const fs::path p = fs::path(*dir) / rel;
-        if (fs::is_regular_file(p, ec)) return p.string();
-    }
-    return {};
-}
 
 std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, double duration) {
     json s;
@@ -55,6 +28,19 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     if (replay) s["duration"] = duration;
     s["plant"] = g.str(g.plant);
     s["rate"] = g.settings.rate;
+    // Each model name looked up once (a thousand bottles name the same five).
+    std::map<std::string, json, std::less<>> urls;
+    auto model_url = [&](std::string_view model) -> const json& {
+        auto it = urls.find(model);
+        if (it == urls.end())
+            it = urls.emplace(std::string(model), find_model(dirs, model).file.empty() ? json(nullptr)
+                                                                                       : json("/models/" + std::string(model)))
+                     .first;
+        return it->second;
+    };
+    json problems = json::array();
+    for (const ModelProblem& p : model_problems(g, dirs)) problems.push_back({{"model", p.model}, {"problem", p.problem}});
+    s["model_problems"] = std::move(problems);
 
     // Each object's own inputs and outputs (its ports, its components' slots), relative to
     // its path; objects of one type share one list.
@@ -158,14 +144,14 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
             const Variant& var = g.variants[size_t(gr.variant_adr + v)];
             variants.push_back({{"name", g.str(var.name)},
                                 {"model", g.str(var.model)},
-                                {"model_url", model_url(dirs, g.str(var.model))}});
+                                {"model_url", model_url(g.str(var.model))}});
         }
         graphics.push_back({{"id", i},
                             {"path", g.comp_path(gr.comp)},
                             {"parent", gr.parent},
                             {"body", gr.body},
                             {"model", g.str(gr.model)},
-                            {"model_url", model_url(dirs, g.str(gr.model))},
+                            {"model_url", model_url(g.str(gr.model))},
                             {"variant", gr.variant},
                             {"variants", std::move(variants)}});
     }
@@ -330,6 +316,15 @@ bool decode_frame(std::string_view in, Frame& f, bool& full) {
 
 // ---- status ----
 
+std::vector<double> history_sample(const engine::Engine& e, const engine::RecordTally& tally) {
+    const engine::MaterialCounts m = engine::material_counts(e);
+    std::vector<double> v{double(m.issued), double(m.taken), double(m.on_line),
+                          double(m.lost),   double(m.stalled), double(m.removed)};
+    const std::vector<double> r = tally.values(e);
+    v.insert(v.end(), r.begin(), r.end());
+    return v;
+}
+
 std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x) {
     const Graph& g = e.graph();
     const engine::MaterialCounts m = engine::material_counts(e);
@@ -340,8 +335,14 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
            {"speed", x.speed},
            {"rtf", x.rtf},
            {"counters",
-            {{"issued", m.issued}, {"taken", m.taken}, {"on_line", m.on_line}, {"lost", m.lost}, {"stalled", m.stalled}}},
+            {{"issued", m.issued},
+             {"taken", m.taken},
+             {"on_line", m.on_line},
+             {"lost", m.lost},
+             {"stalled", m.stalled},
+             {"removed", m.removed}}},
            {"records", tally.values(e)}};
+    if (!x.forced.empty()) s["forced"] = json::parse(x.forced, nullptr, false);
     json occupied = json::array();
     for (size_t t = 0; t < g.triggers.size(); ++t)
         if (e.trigger_occupied(TriggerId(int32_t(t)))) occupied.push_back(t);

@@ -6,6 +6,7 @@
 #include "engine/engine.h"
 #include "engine/run.h"
 #include "graph/graph.h"
+#include "serve/models.h"
 
 #include <cstdint>
 #include <string>
@@ -15,16 +16,7 @@ namespace plant::view {
 
 constexpr int kProtocolVersion = 1;
 
-// Where `model` files of graphics components are looked for: beside the plant, and in a
-// folder the user names. A model is served when it names a file found there.
-struct ModelDirs {
-    std::string plant_dir, models_dir;
-};
-// The file a model names (empty when none: draw primitives). Only plain relative names
-// without `..` are looked up.
-std::string find_model(const ModelDirs& dirs, std::string_view model);
-
-// The scene message: {"type":"scene", ...}.
+// The scene message: {"type":"scene", ...}; `model_problems` lists the models not shown.
 std::string scene_json(const graph::Graph& g, const ModelDirs& dirs, bool replay, double duration);
 
 // Poses at one moment: every body and every graphics (floats, as sent).
@@ -75,11 +67,15 @@ bool decode_frame(std::string_view bytes, Frame& f, bool& full);
 // the client inspects ("" none).
 struct StatusExtra {
     bool paused = false;
-    double speed = 1, rtf = 0;
+    double speed = 1;  // chosen (0: as fast as possible)
+    double rtf = 0;    // achieved over the last seconds
+    std::string forced;  // JSON: the forced slots, with who forced them and since when ("": none)
 };
 // Status lists at most this many lost objects (the first lost; counters.lost counts them all).
 constexpr size_t kMaxLost = 100;
 std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x);
+// The counters (history.h's order), then the records: a sample of the run's history.
+std::vector<double> history_sample(const engine::Engine& e, const engine::RecordTally& tally);
 // {"path", "slots": [{path, value, active}], "places": [{id, tokens}]} of one object and its
 // components (not its children); null when the path names no object.
 std::string inspect_json(const engine::Engine& e, std::string_view path);
