@@ -4,6 +4,9 @@ import { Connection } from './protocol.js';
 import { PlantView } from './scene.js';
 import { Inspector } from './inspector.js';
 import { Plots } from './plots.js';
+import { Labels } from './labels.js';
+import { Hand } from './hand.js';
+import { ForcedPanel, Notices } from './panels.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new PlantView($('view'));
@@ -20,7 +23,7 @@ const debug = {
   drawCalls: () => view.renderer.info.render.calls,
   triangles: () => view.renderer.info.render.triangles,
   // bodies drawn now (in the world), counting instances
-  bodiesDrawn: () => view.bodyGroups?.reduce((n, g) => n + g.solid.n + g.ghost.n, 0) ?? 0,
+  bodiesDrawn: () => view.bodyGroups?.reduce((n, g) => n + g.solid.n + g.ghost.n + g.hull.n, 0) ?? 0,
   bodiesInWorld: () => (view.bodyState ? view.bodyState.reduce((n, s) => n + (s & 1), 0) : 0),
   bodyPose: (id) => {
     const i = view.bodyIndex?.get(id);
@@ -30,6 +33,11 @@ const debug = {
   send: (msg) => conn.send(msg),
   inspect: (path) => inspector.open(path),
   inspectedPath: () => inspector.path,
+  modelStates: () => view.modelStates(),
+  notices: () => notices.list(),
+  labels: () => labels.texts(),
+  plots: () => plots.summary(),
+  historiesReceived: 0,
   view,
 };
 window.plantViewer = debug;
@@ -62,7 +70,10 @@ const conn = new Connection({
     debug.scene = scene;
     $('plant-name').textContent = scene.plant;
     document.title = `${scene.plant} · plant viewer`;
+    notices.setScene(scene);
     view.load(scene, { keepCamera: same });
+    labels.setScene(scene);
+    hand.end();
     $('follow').classList.remove('on');
     inspector.readOnly = scene.mode === 'replay';   // a recording takes no events
     inspector.setScene(scene);
@@ -74,6 +85,12 @@ const conn = new Connection({
     debug.bodyCount = view.bodyCount;
     debug.sceneReady = true;
     log(`scene: ${scene.plant}, ${scene.bodies.length} bodies, ${scene.rate} Hz${replay ? ', replay' : ''}`);
+  },
+  onWelcome(msg) { myClient = msg.client; },
+  onHistory(h) {
+    debug.historiesReceived++;
+    debug.lastHistory = { samples: h.time?.length ?? 0, first: h.time?.[0] ?? null, last: h.time?.[h.time.length - 1] ?? null };
+    plots.setHistory(h);
   },
   onFrame(frame) {
     debug.framesReceived++;
@@ -88,9 +105,12 @@ const conn = new Connection({
     view.applyStatus(st);
     setPaused(!!st.paused);
     markSpeed(st.speed);
-    $('clock').textContent = `t = ${Number(st.time).toFixed(2)} s · step ${st.step} · ${st.rtf !== undefined ? `${Number(st.rtf).toFixed(2)}× real time` : ''}`;
+    $('clock').textContent = `t = ${Number(st.time).toFixed(2)} s · step ${st.step}`;
+    showPace(st);
     inspector.applyStatus(st.inspect);
     plots.applyStatus(st);
+    forced.apply(st.forced ?? []);
+    labels.setForced(st.forced ?? []);
     if (replay && !seeking) {
       $('seek').value = String(st.time);
       $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${Number(debug.scene?.duration ?? 0).toFixed(2)} s`;
@@ -98,7 +118,8 @@ const conn = new Connection({
   },
   onEvent(msg) {
     debug.events.push(msg.line);
-    log(msg.line + (msg.client !== undefined ? `   (client ${msg.client})` : ''));
+    const by = msg.by ?? (msg.client !== undefined ? `page ${msg.client}` : '');
+    log(msg.line + (by ? `   (${by})` : ''), msg.planned ? 'planned' : msg.client === myClient ? 'mine' : '');
   },
   onError(msg) {
     debug.errors.push(msg.message);
@@ -110,6 +131,45 @@ const inspector = new Inspector((msg) => {
   conn.send(msg);
 });
 const plots = new Plots();
+const notices = new Notices($('notices'), $('notice-list'));
+view.onModelFailed = (url, error) => notices.add(`model ${url.replace(/^\/models\//, '')} could not be loaded (${error}): its body is drawn instead`);
+view.onModelLoaded = () => labels.place();
+const forced = new ForcedPanel($('forced'), $('forced-count'), $('forced-none'), (path) => conn.send({ type: 'force', path, mode: 'release' }), () => replay);
+const labels = new Labels(view, (path) => debug.select(path));
+const hand = new Hand(view, (msg) => conn.send(msg), { onChange: () => showHand() });
+debug.hand = hand;
+// A close look at an object (the docs' close-ups): from `distance` metres, at an azimuth and
+// an elevation in degrees, at the middle of what it draws.
+debug.closeUp = (path, distance = 0.8, azimuth = -60, elevation = 30) => {
+  const d = view.scene?.dos.find((x) => x.path === path);
+  if (!d) return false;
+  const box = labels.boxOf(d.id);
+  if (box.isEmpty()) return false;
+  const c = box.getCenter(box.min.clone());
+  const a = azimuth * Math.PI / 180, e = elevation * Math.PI / 180;
+  view.controls.target.copy(c);
+  view.camera.position.set(c.x + distance * Math.cos(e) * Math.cos(a), c.y + distance * Math.cos(e) * Math.sin(a), c.z + distance * Math.sin(e));
+  view.controls.update();
+  view.camera.updateMatrixWorld();
+  return true;
+};
+let myClient = -1;
+
+// The speed chosen (the buttons) and the speed achieved (over the last seconds), apart:
+// "1×" chosen while the run achieves 0.8× says the machine cannot keep up.
+function showPace(st) {
+  const chosen = Number(st.speed) === 0 ? 'max' : `${Number(st.speed)}×`;
+  const got = st.paused ? 'paused' : `${Number(st.rtf ?? 0).toFixed(2)}× achieved`;
+  $('pace').textContent = `chosen ${chosen} · ${got}`;
+  $('pace').classList.toggle('behind', !st.paused && Number(st.speed) > 0 && Number(st.rtf) < 0.9 * Number(st.speed));
+}
+
+function showHand() {
+  $('hand').classList.toggle('on', hand.enabled);
+  const text = hand.hint();
+  $('hand-hint').hidden = !text;
+  $('hand-hint').textContent = text;
+}
 
 function setPaused(p) {
   if (p === paused) return;
@@ -135,16 +195,17 @@ $('follow').addEventListener('click', () => {
   if (view.followBody >= 0) { view.follow(-1); $('follow').classList.remove('on'); return; }
   if (selectedBody >= 0) { view.follow(selectedBody); $('follow').classList.add('on'); }
 });
-for (const name of ['bodies', 'graphics', 'fields', 'triggers']) {
+for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'collision', 'labels']) {
   $(`layer-${name}`).addEventListener('change', (e) => view.setLayer(name, e.target.checked));
 }
+$('layer-legend').addEventListener('change', (e) => { $('legend').hidden = !e.target.checked; });
+$('hand').addEventListener('click', () => hand.setEnabled(!hand.enabled));
 $('seek').addEventListener('input', () => {
   seeking = true;
   $('seek-label').textContent = `${Number($('seek').value).toFixed(2)} s`;
 });
 $('seek').addEventListener('change', () => {
-  conn.send({ type: 'seek', time: Number($('seek').value) });
-  plots.clear();
+  conn.send({ type: 'seek', time: Number($('seek').value) });   // the server sends the history up to there
   seeking = false;
 });
 window.addEventListener('keydown', (e) => {
@@ -165,14 +226,16 @@ canvas.addEventListener('pointerleave', () => { pointer = null; $('hover').hidde
 canvas.addEventListener('pointerdown', (e) => { downAt = { x: e.clientX, y: e.clientY }; });
 canvas.addEventListener('pointerup', (e) => {
   if (!downAt || Math.hypot(e.clientX - downAt.x, e.clientY - downAt.y) > 4) return;   // a drag of the camera
+  if (hand.enabled) return;   // the hand took or set down something
   const r = canvas.getBoundingClientRect();
   const hit = view.pick(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
   selectHit(hit);
 });
 
 function selectHit(hit) {
-  if (!hit) { view.select(-1); inspector.close(); selectedBody = -1; $('follow').disabled = true; return; }
+  if (!hit) { view.select(-1); labels.select(-1); inspector.close(); selectedBody = -1; $('follow').disabled = true; return; }
   view.select(hit.doId);
+  labels.select(hit.doId);
   inspector.open(hit.doPath);
   selectedBody = hit.kind === 'body' && view.scene.bodies[hit.index].mode === 'dynamic' ? hit.index : -1;
   $('follow').disabled = selectedBody < 0;

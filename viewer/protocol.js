@@ -35,7 +35,8 @@ export function parseFrame(buffer) {
 }
 
 // One connection to the server; reconnects after a drop. Handlers: onScene(scene),
-// onFrame(frame), onStatus(status), onEvent(msg), onError(msg), onConnection(state).
+// onHistory(history), onFrame(frame), onStatus(status), onEvent(msg), onError(msg),
+// onConnection(state).
 export class Connection {
   constructor(handlers, { fps = 30 } = {}) {
     this.handlers = handlers;
@@ -82,6 +83,8 @@ export class Connection {
           this.handlers.onError?.({ message: `server speaks protocol ${msg.version}, this page ${PROTOCOL_VERSION}` });
         this.handlers.onScene?.(msg); break;
       case 'status': this.handlers.onStatus?.(msg); break;
+      case 'history': this.handlers.onHistory?.(msg); break;
+      case 'welcome': this.handlers.onWelcome?.(msg); break;
       case 'event': this.handlers.onEvent?.(msg); break;
       case 'error': this.handlers.onError?.(msg); break;
       default: break;   // newer servers may send more; ignore

@@ -1,11 +1,14 @@
-// The 3D view: bodies from their collision shapes, graphics, force fields and triggers,
-// drawn with instanced meshes so that the draw calls do not grow with the number of
-// bottles. The world is z-up, in metres.
+// The 3D view: graphics as their glTF models, bodies that no model stands for from their
+// collision shapes (belts as belts: belts.js), force fields and triggers, all drawn with
+// instanced meshes so that the draw calls do not grow with the number of bottles. The
+// world is z-up, in metres.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ConvexGeometry } from 'three/addons/geometries/ConvexGeometry.js';
 import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
+import { CSS2DRenderer } from 'three/addons/renderers/CSS2DRenderer.js';
+import { bodyRole, ROLE_COLOURS, chevronMaterial, chevronGeometry, rollerMatrices } from './belts.js';
 
 const MODE_COLOURS = {
   static: new THREE.Color(0x8b939e),     // slate grey: belts, rails, frames
@@ -136,9 +139,17 @@ export class PlantView {
     const sun = new THREE.DirectionalLight(0xffffff, 1.6);
     sun.position.set(3, -5, 8);
     this.world.add(sun);
+    const fill = new THREE.DirectionalLight(0xdde6ff, 0.6);
+    fill.position.set(-4, 3, 2);
+    this.world.add(fill);
+
+    // Labels: DOM elements over the canvas, the same size at every zoom (labels.js).
+    this.labelRenderer = new CSS2DRenderer();
+    this.labelRenderer.domElement.className = 'labels';
+    container.appendChild(this.labelRenderer.domElement);
 
     this.layers = {};
-    for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'ground']) {
+    for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'collision', 'labels', 'ground']) {
       this.layers[name] = new THREE.Group();
       this.layers[name].name = name;
       this.world.add(this.layers[name]);
@@ -149,6 +160,15 @@ export class PlantView {
     this.volume = new THREE.MeshBasicMaterial({ color: 0xffffff, transparent: true, opacity: 0.1, depthWrite: false });
     this.volumeEdge = new THREE.MeshBasicMaterial({ color: 0xffffff, transparent: true, opacity: 0.5, depthWrite: false, wireframe: true });
     this.arrowMaterial = new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.5 });
+    this.rollerMaterial = new THREE.MeshStandardMaterial({ color: 0x7d858f, roughness: 0.35, metalness: 0.7 });
+    this.floorMaterial = new THREE.MeshStandardMaterial({ color: 0xd3d9e0, roughness: 0.95 });
+    const chevrons = chevronMaterial();
+    this.chevronMaterial = chevrons.material;
+    this.chevronUniforms = chevrons.uniforms;
+    this.simTime = 0;
+    this.onModelFailed = null;
+    this.layers.fields.visible = false;      // the belts' chevrons show them; a toggle brings the boxes
+    this.layers.collision.visible = false;   // collision shapes of what models stand for
     this.loader = new GLTFLoader();
     this.raycaster = new THREE.Raycaster();
     this.groups = [];
@@ -163,6 +183,7 @@ export class PlantView {
   resize() {
     const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
     this.renderer.setSize(w, h, false);
+    this.labelRenderer.setSize(w, h);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
   }
@@ -173,6 +194,12 @@ export class PlantView {
     for (const geometry of geometries) geometry.dispose();
     this.groups = [];
     this.layers.ground.clear();
+  }
+
+  // The object a graphics belongs to: its body's, or the object its path names.
+  gfxDoOf(g) {
+    const bi = this.bodyIndex.get(g.body);
+    return bi !== undefined ? this.scene.bodies[bi].do : this.doOfPath(g.path);
   }
 
   // Builds everything from a scene message; the camera stays where it is when asked to
@@ -218,23 +245,30 @@ export class PlantView {
       entry.members.push(i);
     });
     this.bodyGroups = [];
+    this.roles = scene.bodies.map((b) => bodyRole(b, scene.dos, this.doIndex));
     for (const { shapes, members } of byShape.values()) {
       const geometry = bodyGeometry(shapes);
       const hullish = shapes.some((s) => s.kind !== 'box');
       const solid = new InstanceGroup('body', geometry, this.solid, members.length, this.layers.bodies);
       const ghost = new InstanceGroup('body', geometry, hullish ? this.ghost : this.ghostWire, members.length, this.layers.bodies);
+      // Bodies a model stands for: their collision shapes, on the collision layer only.
+      const hull = new InstanceGroup('body', geometry, this.ghostWire, members.length, this.layers.collision);
       ghost.mesh.renderOrder = 2;
-      const bg = { members, solid, ghost, dirty: true };
+      hull.mesh.renderOrder = 2;
+      hull.standsIn = true;   // picked where its model is drawn, the collision layer shown or not
+      const bg = { members, solid, ghost, hull, dirty: true };
       for (const m of members) this.bodyGroupOf[m] = this.bodyGroups.length;
       this.bodyGroups.push(bg);
-      this.groups.push(solid, ghost);
+      this.groups.push(solid, ghost, hull);
     }
     // bodies given an instance slot (all of them; those out of the world leave it empty)
     this.bodyCount = this.bodyGroups.reduce((n, g) => n + g.members.length, 0);
 
     // Graphics: a glTF model when the server found one, else: on a body, the body is
     // tinted with the variant's colour; free, a small blade-like marker at its pose.
-    this.models = new Map();   // url -> { parts: [{group, local}] | null, members }
+    this.models = new Map();   // url -> { parts: [{group, local, fixed}] | null, state, error }
+    this.gfxDo = scene.graphics.map((g) => this.gfxDoOf(g));
+    this.modelled = new Set();  // objects a loaded model stands for (modelled())
     const markerGeometry = new THREE.BoxGeometry(0.12, 0.006, 0.05).translate(0.06, 0, 0.025);
     this.markers = new InstanceGroup('graphics', markerGeometry, this.solid, ng, this.layers.graphics);
     this.groups.push(this.markers);
@@ -251,6 +285,15 @@ export class PlantView {
     this.triggerEdges = new InstanceGroup('trigger', unitBox, this.volumeEdge, nt, this.layers.triggers);
     for (const g of [this.fieldBoxes, this.triggerBoxes, this.triggerEdges]) g.mesh.renderOrder = 3;
     this.groups.push(this.fieldBoxes, this.fieldArrows, this.triggerBoxes, this.triggerEdges);
+    // The belts: chevrons on every running field, rollers at the bands' ends.
+    this.chevrons = new InstanceGroup('belt', chevronGeometry(nf), this.chevronMaterial, nf, this.layers.bodies);
+    this.chevrons.mesh.renderOrder = 1;
+    const rollers = rollerMatrices(scene, poseMatrix);
+    this.rollers = new InstanceGroup('belt', new THREE.CylinderGeometry(1, 1, 1, 14), this.rollerMaterial, rollers.length, this.layers.bodies);
+    this.rollers.begin();
+    rollers.forEach((m, i) => this.rollers.add(m, null, i));
+    this.rollers.end();
+    this.groups.push(this.chevrons, this.rollers);
     this.fieldState = scene.fields.map((f) => [true, f.speed]);
     this.occupied = new Set();
     this.carriers = new Set([...scene.fields, ...scene.triggers].map((v) => this.bodyIndex.get(v.body)).filter((i) => i !== undefined));
@@ -263,7 +306,7 @@ export class PlantView {
   }
 
   loadModel(url, capacity) {
-    const entry = { parts: null };
+    const entry = { parts: null, state: 'loading', error: null };
     this.models.set(url, entry);
     this.loader.load(url, (gltf) => {
       if (this.models.get(url) !== entry) return;   // a newer scene replaced this one
@@ -273,15 +316,46 @@ export class PlantView {
       entry.parts = [];
       gltf.scene.traverse((o) => {
         if (!o.isMesh) return;
+        // A part named static_* stays where its graphics starts (a robot's foot, a
+        // station's housing) while the rest follows the animation.
+        let fixed = false;
+        for (let p = o; p && !fixed; p = p.parent) fixed = p.name.startsWith('static_');
         const group = new InstanceGroup('graphics', o.geometry, o.material, capacity, this.layers.graphics);
-        entry.parts.push({ group, local: o.matrixWorld.clone() });
+        entry.parts.push({ group, local: o.matrixWorld.clone(), fixed });
         this.groups.push(group);
       });
+      entry.state = 'loaded';
+      this.modelled = this.modelledObjects();
       this.graphicsDirty = true;
       for (const bg of this.bodyGroups) bg.dirty = true;
       this.update();
       this.onModelLoaded?.(url);
-    }, undefined, (err) => console.warn(`model ${url}: ${err?.message ?? err}`));
+    }, undefined, (err) => {
+      if (this.models.get(url) !== entry) return;
+      entry.state = 'failed';
+      entry.error = String(err?.message ?? err);
+      console.warn(`model ${url}: ${entry.error}`);
+      this.onModelFailed?.(url, entry.error);
+    });
+  }
+
+  // The objects a loaded model stands for: those with a graphics whose model (or a variant's)
+  // loaded. Their bodies that move are not drawn (the model shows them): only on the
+  // collision layer.
+  modelledObjects() {
+    const out = new Set();
+    this.scene.graphics.forEach((g, i) => {
+      const urls = [g.model_url, ...(g.variants ?? []).map((v) => v.model_url)];
+      if (urls.some((u) => u && this.models.get(u)?.parts)) out.add(this.gfxDo[i]);
+    });
+    return out;
+  }
+
+  // {url: 'loading' | 'loaded' | 'failed: ...'} of every model the scene names.
+  modelStates() {
+    const out = {};
+    for (const [url, e] of this.models) out[url] = e.state === 'failed' ? `failed: ${e.error}` : e.state;
+    return out;
   }
 
   // The model URL a graphics shows now, or null for primitives.
@@ -299,6 +373,7 @@ export class PlantView {
 
   applyFrame(f) {
     if (!this.scene) return;
+    this.simTime = f.time;
     for (let k = 0; k < f.bodyIds.length; k++) {
       const i = this.bodyIndex.get(f.bodyIds[k]);
       if (i === undefined) continue;
@@ -337,16 +412,15 @@ export class PlantView {
     this.update();
   }
 
+  // Whether a loaded model stands for the body: a body that moves, of an object a model shows.
   showsModel(i) {
-    const gi = this.gfxTint.get(i);
-    if (gi === undefined) return false;
-    const url = this.gfxUrl(gi);
-    return !!(url && this.models.get(url)?.parts);
+    const b = this.scene.bodies[i];
+    return b.mode !== 'static' && this.modelled.has(b.do);
   }
 
   bodyColour(i) {
     const b = this.scene.bodies[i];
-    let c = MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
+    let c = ROLE_COLOURS[this.roles[i]] ?? MODE_COLOURS[b.mode] ?? MODE_COLOURS.static;
     const gi = this.gfxTint.get(i);
     if (gi !== undefined && !this.gfxUrl(gi)) c = this.gfxColour(gi) ?? c;
     return b.do === this.selectedDo ? _c.copy(c).lerp(SELECTED, 0.55) : c;
@@ -357,20 +431,21 @@ export class PlantView {
     for (const bg of this.bodyGroups) {
       if (!bg.dirty) continue;
       bg.dirty = false;
-      bg.solid.begin(); bg.ghost.begin();
+      bg.solid.begin(); bg.ghost.begin(); bg.hull.begin();
       for (const i of bg.members) {
         const st = this.bodyState[i];
         if (!(st & 1)) continue;            // not in the world: a parked pooled object
         poseMatrix(this.bodyPose, 7 * i, m);
-        // translucent when its collision is off, or when it carries a loaded model (which
-        // would be hidden inside it)
-        (st & 2 && !this.showsModel(i) ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
+        // a model stands for it: its shape on the collision layer; else solid, or
+        // translucent when its collision is off
+        (this.showsModel(i) ? bg.hull : st & 2 ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
       }
-      bg.solid.end(); bg.ghost.end();
+      bg.solid.end(); bg.ghost.end(); bg.hull.end();
     }
     if (this.graphicsDirty) {
       this.graphicsDirty = false;
       this.markers.begin();
+      const start = new THREE.Matrix4();
       for (const e of this.models.values()) e.parts?.forEach((p) => p.group.begin());
       const scene = this.scene;
       scene.graphics.forEach((g, i) => {
@@ -381,8 +456,9 @@ export class PlantView {
         if (url) {
           const e = this.models.get(url);
           const w = new THREE.Matrix4();
-          e?.parts?.forEach((p) => p.group.add(w.multiplyMatrices(m, p.local), null, i));
-        } else if (bi === undefined) {
+          if (e?.parts?.some((p) => p.fixed)) poseMatrix(g.pose ?? [0, 0, 0, 0, 0, 0, 1], 0, start);
+          e?.parts?.forEach((p) => p.group.add(w.multiplyMatrices(p.fixed ? start : m, p.local), null, i));
+        } else if (bi === undefined || this.models.get(g.model_url)?.state === 'failed') {
           this.markers.add(m, this.gfxColour(i) ?? MARKER, i);
         }
       });
@@ -429,6 +505,22 @@ export class PlantView {
       this.fieldArrows.add(s.compose(start, q, new THREE.Vector3(len, 0.12, 0.12)), colour, i);
     });
     this.fieldBoxes.end(); this.fieldArrows.end();
+    // Chevrons on the band under every field that is on, moving with its speed.
+    const flow = this.chevrons.mesh.geometry.attributes.aFlow, size = this.chevrons.mesh.geometry.attributes.aSize;
+    this.chevrons.begin();
+    scene.fields.forEach((f, i) => {
+      const [on, speed] = this.fieldState[i] ?? [true, f.speed];
+      if (!on || Math.hypot(f.dir[0], f.dir[1]) < 1e-6) return;
+      const k = this.chevrons.n;
+      this.volumeMatrix(f, m).multiply(new THREE.Matrix4().makeTranslation(0, 0, -f.extent[2] / 2 + 0.0012))
+        .multiply(new THREE.Matrix4().makeScale(f.extent[0], f.extent[1], 1));
+      this.chevrons.add(m, null, i);
+      flow.setXYZW(k, f.dir[0], f.dir[1], speed, 1);
+      size.setXY(k, f.extent[0], f.extent[1]);
+    });
+    this.chevrons.end();
+    flow.needsUpdate = true;
+    size.needsUpdate = true;
     this.triggerBoxes.begin(); this.triggerEdges.begin();
     scene.triggers.forEach((t, i) => {
       this.volumeMatrix(t, m).multiply(new THREE.Matrix4().makeScale(...t.extent.map((x) => Math.max(x, 1e-4))));
@@ -446,9 +538,21 @@ export class PlantView {
     const span = Math.max(size.x, size.y) * 1.4 + 0.5;
     const cell = span <= 4 ? 0.1 : span <= 20 ? 0.5 : span <= 60 ? 1 : 5;
     const extent = Math.ceil(span / cell) * cell;
-    const grid = new THREE.GridHelper(extent, Math.round(extent / cell), 0xaab4c0, 0xc7cfd8);
+    // An opaque floor just under the lowest static body (what stands on it reaches into it: a
+    // robot's column sinks into its foot), a grid on it.
+    let low = Infinity;
+    this.scene.bodies.forEach((b) => {
+      if (b.mode !== 'static') return;
+      for (const sh of b.shapes) low = Math.min(low, b.pose[2] + (sh.local?.[2] ?? 0) - (sh.kind === 'box' ? sh.size[2] / 2 : sh.size?.[0] ?? 0));
+    });
+    const z = Number.isFinite(low) ? Math.min(low, 0) - 0.001 : -0.02;
+    const gx = Math.round(centre.x / cell) * cell, gy = Math.round(centre.y / cell) * cell;
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(extent, extent), this.floorMaterial);
+    floor.position.set(gx, gy, z);
+    this.layers.ground.add(floor);
+    const grid = new THREE.GridHelper(extent, Math.round(extent / cell), 0xaab4c0, 0xbfc7d1);
     grid.rotateX(Math.PI / 2);
-    grid.position.set(Math.round(centre.x / cell) * cell, Math.round(centre.y / cell) * cell, Math.min(box.min.z, 0) - 0.002);
+    grid.position.set(gx, gy, z + 0.0005);
     this.layers.ground.add(grid);
   }
 
@@ -456,7 +560,7 @@ export class PlantView {
   bounds() {
     const box = new THREE.Box3();
     for (const g of this.groups) {
-      if (g.kind === 'graphics' || !g.mesh.visible) continue;
+      if (g.kind === 'graphics' || g.kind === 'belt' || !g.mesh.visible) continue;
       g.mesh.computeBoundingBox();
       box.union(g.mesh.boundingBox);
     }
@@ -536,7 +640,10 @@ export class PlantView {
     this.raycaster.setFromCamera(new THREE.Vector2(x, y), this.camera);
     const solidFirst = [], volumes = [];
     for (const g of this.groups) {
-      if (!g.mesh.visible || !g.mesh.parent?.visible) continue;
+      // A model drawn for a body is picked by the body's shape too (an empty bottle seen from
+      // above shows its open neck: the shape under it is still the bottle).
+      const shown = g.standsIn ? this.layers.graphics.visible : g.mesh.parent?.visible;
+      if (!g.mesh.visible || !shown || g.kind === 'belt') continue;
       if (g.kind === 'body' || g.kind === 'graphics') solidFirst.push(g.mesh); else volumes.push(g.mesh);
     }
     for (const list of [solidFirst, volumes]) {
@@ -545,7 +652,7 @@ export class PlantView {
         const group = h.object.userData.group;
         if (h.instanceId === undefined || h.instanceId >= group.n) continue;
         const i = group.ids[h.instanceId];
-        return this.describe(group.kind, i);
+        return { ...this.describe(group.kind, i), point: h.point.clone() };
       }
     }
     return null;
@@ -574,6 +681,8 @@ export class PlantView {
   }
 
   render() {
+    this.chevronUniforms.uTime.value = this.simTime;
     this.renderer.render(this.world, this.camera);
+    this.labelRenderer.render(this.world, this.camera);
   }
 }

@@ -150,6 +150,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
                             {"path", g.comp_path(gr.comp)},
                             {"parent", gr.parent},
                             {"body", gr.body},
+                            {"pose", pose_json(gr.pose)},
                             {"model", g.str(gr.model)},
                             {"model_url", model_url(g.str(gr.model))},
                             {"variant", gr.variant},

@@ -17,6 +17,7 @@ import { mkdtempSync, rmSync, statSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
+import { badModels, handCarries, labelsShown, lateHistory, modelsLoaded } from './checks.mjs';
 
 const [binary, plantFile, screenshot, ...flags] = process.argv.slice(2);
 if (!binary || !plantFile || !screenshot) {
@@ -26,7 +27,7 @@ if (!binary || !plantFile || !screenshot) {
 const docs = flags.includes('--docs');
 const drawCallsOnly = flags.includes('--draw-calls');
 const serveArgs = flags.filter((f) => f !== '--docs' && f !== '--draw-calls');   // e.g. --set lines=25, passed to plant serve
-const OVERALL_MS = docs ? 150_000 : 90_000;
+const OVERALL_MS = docs ? 240_000 : 200_000;
 const started = Date.now();
 const elapsed = () => `${((Date.now() - started) / 1000).toFixed(1)}s`;
 
@@ -145,6 +146,11 @@ try {
   check(drawn.bodies === scene.bodies.length, `the page got the scene's ${scene.bodies.length} bodies (${drawn.bodies})`);
   check(drawn.bodyCount === scene.bodies.length, `one drawn object per body: ${drawn.bodyCount} for ${scene.bodies.length} bodies`);
   check(drawn.drawnNow === drawn.inWorld && drawn.inWorld > 0, `every body in the world is drawn (${drawn.drawnNow} of ${drawn.inWorld}), parked ones are not`);
+  const ctx = { browser, page, client, scene, url, binary, plantFile, serveArgs, check, until, sleep, elapsed };
+  if (!drawCallsOnly) {
+    await modelsLoaded(ctx);
+    await labelsShown(ctx);
+  }
 
   // ---- bottles appear and move ----
   const dynamicIds = scene.bodies.filter((b) => b.mode === 'dynamic').map((b) => b.id);
@@ -243,6 +249,13 @@ try {
     check(!!inLane, `the next bottle went into lane A at the held switch (commissioned A: ${inLane?.records?.[laneRecord]}, t = ${inLane?.time?.toFixed(1)} s)`);
     const stillWorking = tokensOf(client.status?.inspect) === 1;
     check(stillWorking, `${sw.path} stayed in its working position`);
+    // Bottles in different states look different: their graphics show different models.
+    const looks = await page.evaluate(() => {
+      const v = plantViewer.view, urls = new Set();
+      v.scene.graphics.forEach((g, i) => { const bi = v.bodyIndex.get(g.body); if (bi !== undefined && (v.bodyState[bi] & 1)) urls.add(v.gfxUrl(i)); });
+      return [...urls];
+    });
+    check(looks.length >= 2 && looks.every((u) => u), `bottles on the line show ${looks.length} different models (${looks.join(', ')})`);
     await page.click('button[data-speed="1"]');
   }
 
@@ -256,6 +269,10 @@ try {
   check(!!reset, `restart: ${sw.path} is back in base position (t = ${client.status?.time})`);
   const redrawn = await page.evaluate(() => ({ bodyCount: plantViewer.bodyCount, drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld() }));
   check(redrawn.bodyCount === scene.bodies.length && redrawn.drawnNow === redrawn.inWorld, `restart: one drawn object per body again (${redrawn.bodyCount}, ${redrawn.drawnNow} of ${redrawn.inWorld} in the world drawn)`);
+
+  // ---- a trainee's hand, and a page that comes late ----
+  await handCarries(ctx);
+  await lateHistory(ctx);
 
   // ---- the picture ----
   if (docs) {
@@ -289,9 +306,20 @@ try {
   check(calls.calls > 0 && calls.calls < calls.inWorld, `instanced: fewer draw calls (${calls.calls}) than bodies drawn (${calls.inWorld})`);
   await page.screenshot({ path: screenshot });
   check(statSync(screenshot).size > 10_000, `screenshot written: ${screenshot}`);
+  if (docs) {   // close-ups beside it: the arm over its belt, the filling station
+    await page.mouse.move(5, 5);
+    for (const [path, name, distance, azimuth, elevation] of [['line[0].arm', 'arm', 1.1, -120, 28], ['line[0].fill', 'station', 0.75, -55, 30]]) {
+      const framed = await page.evaluate((...a) => plantViewer.closeUp(...a), path, distance, azimuth, elevation);
+      await sleep(800);
+      const file = screenshot.replace(/\.png$/, `-${name}.png`);
+      await (await page.$('#view')).screenshot({ path: file });
+      check(framed && statSync(file).size > 10_000, `close-up of ${path} written: ${file}`);
+    }
+  }
   check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
   const stillRunning = server.exitCode === null;
   check(stillRunning, 'the server still runs');
+  if (!docs) await badModels(ctx);
 } catch (e) {
   if (e !== null) {
     console.error(`FAIL ${e.message}`);

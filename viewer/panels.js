@@ -1,0 +1,80 @@
+// Two panels of the page: what is forced now (status.forced: every forced slot, who forced
+// it, since when, with a release button), and the notices (models the plant names that are
+// not shown, and why), said once each.
+
+function cell(text, cls) {
+  const td = document.createElement('td');
+  td.textContent = text;
+  if (cls) td.className = cls;
+  return td;
+}
+
+export class ForcedPanel {
+  constructor(table, count, none, release, readOnly) {
+    this.table = table;
+    this.count = count;
+    this.none = none;
+    this.release = release;
+    this.readOnly = readOnly;
+    this.key = '';
+  }
+
+  apply(forced) {
+    const key = JSON.stringify(forced);
+    if (key === this.key) return;
+    this.key = key;
+    this.table.replaceChildren();
+    for (const f of forced) {
+      const tr = document.createElement('tr');
+      tr.dataset.forced = f.path;
+      const name = cell(f.path, 'name');
+      name.title = `forced ${f.how} by ${f.by} since ${Number(f.since).toFixed(2)} s`;
+      const how = cell(f.how, 'how');
+      const who = cell(`${f.by}, ${Number(f.since).toFixed(1)} s`, 'kind');
+      const act = document.createElement('td');
+      if (!this.readOnly()) {
+        const b = document.createElement('button');
+        b.textContent = 'release';
+        b.title = `release ${f.path}`;
+        b.dataset.release = f.path;
+        b.addEventListener('click', () => this.release(f.path));
+        act.append(b);
+      }
+      tr.append(name, how, who, act);
+      this.table.append(tr);
+    }
+    this.count.textContent = String(forced.length);
+    this.count.classList.toggle('on', forced.length > 0);
+    this.none.hidden = forced.length > 0;
+  }
+}
+
+export class Notices {
+  constructor(box, list) {
+    this.box = box;
+    this.listEl = list;
+    this.seen = new Set();
+    box.querySelector('button')?.addEventListener('click', () => { box.hidden = true; });
+  }
+
+  // The scene's model problems, once per scene.
+  setScene(scene) {
+    this.seen.clear();
+    this.listEl.replaceChildren();
+    this.box.hidden = true;
+    const problems = scene.model_problems ?? [];
+    if (problems.length) this.add(`${problems.length} model${problems.length > 1 ? 's' : ''} not shown (the bodies' shapes are drawn instead):`);
+    for (const p of problems) this.add(`${p.model}: ${p.problem}`);
+  }
+
+  add(text) {
+    if (this.seen.has(text)) return;
+    this.seen.add(text);
+    const li = document.createElement('li');
+    li.textContent = text;
+    this.listEl.append(li);
+    this.box.hidden = false;
+  }
+
+  list() { return [...this.seen]; }
+}
