@@ -60,11 +60,29 @@ function shapeGeometry(shape) {
   return g;
 }
 
-// One geometry for a body's compound of shapes (with their local offsets).
-function bodyGeometry(shapes) {
+// A guard rail's box (x along the belt, z up) drawn as a guide rail: two bars, one at the
+// top and one lower down, on posts, so that the bottles between the rails stay in sight.
+// The collision shape stays the full box.
+function railGeometry(shape) {
+  const [l, t, h] = shape.size;
+  const bar = (z0, z1) => new THREE.BoxGeometry(l, t, z1 - z0).translate(0, 0, (z0 + z1) / 2 - h / 2);
+  const parts = [bar(0.3 * h, 0.5 * h), bar(0.8 * h, h)];
+  if (l >= 0.15) {
+    const n = Math.max(2, Math.ceil(l / 0.3) + 1);
+    for (let k = 0; k < n; k++) parts.push(new THREE.BoxGeometry(0.006, t, h).translate(-l / 2 + 0.003 + (l - 0.006) * k / (n - 1), 0, 0));
+  }
+  const g = mergeGeometries(parts.map((x) => x.toNonIndexed()), false);
+  if (shape.local) g.applyMatrix4(poseMatrix(shape.local, 0));
+  return g;
+}
+
+// One geometry for a body's compound of shapes (with their local offsets); `rails`: a guard
+// rail's boxes as guide rails.
+function bodyGeometry(shapes, rails = false) {
   const parts = [];
   for (const sh of shapes) {
-    const g = shapeGeometry(sh);
+    const isRail = rails && sh.kind === 'box' && sh.size?.[2] >= 0.02 && sh.size[0] > 4 * sh.size[1];
+    const g = isRail ? railGeometry(sh) : shapeGeometry(sh);
     if (!g) continue;
     const n = g.index ? g.toNonIndexed() : g;
     for (const name of Object.keys(n.attributes)) if (name !== 'position' && name !== 'normal') n.deleteAttribute(name);
@@ -247,7 +265,7 @@ export class PlantView {
     this.bodyGroups = [];
     this.roles = scene.bodies.map((b) => bodyRole(b, scene.dos, this.doIndex));
     for (const { shapes, members } of byShape.values()) {
-      const geometry = bodyGeometry(shapes);
+      const geometry = bodyGeometry(shapes, members.every((m) => this.roles[m] === 'rail'));
       const hullish = shapes.some((s) => s.kind !== 'box');
       const solid = new InstanceGroup('body', geometry, this.solid, members.length, this.layers.bodies);
       const ghost = new InstanceGroup('body', geometry, hullish ? this.ghost : this.ghostWire, members.length, this.layers.bodies);

@@ -54,7 +54,7 @@ for (const [file, text] of EXPECT) {
 
 // ---- materials (glTF metallic-roughness) ----
 const MAT = {
-  glass: { color: [0.55, 0.78, 0.9, 0.5], metal: 0.1, rough: 0.05, blend: true },
+  glass: { color: [0.24, 0.56, 0.84, 0.72], metal: 0.1, rough: 0.1, blend: true },   // tinted, to stand out on grey belts
   contents: { color: [0.93, 0.56, 0.14, 1], metal: 0, rough: 0.75 },
   label: { color: [0.96, 0.96, 0.92, 1], metal: 0, rough: 0.9 },
   capPurple: { color: [0.56, 0.33, 0.82, 1], metal: 0.1, rough: 0.45 },
