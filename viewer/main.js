@@ -153,6 +153,11 @@ debug.closeUp = (path, distance = 0.8, azimuth = -60, elevation = 30) => {
   view.camera.updateMatrixWorld();
   return true;
 };
+// The middle of what an object draws, [x, y, z].
+debug.boxCentre = (doId) => {
+  const box = labels.boxOf(doId);
+  return box.isEmpty() ? [NaN, NaN, NaN] : box.getCenter(box.min.clone()).toArray();
+};
 let myClient = -1;
 
 // The speed chosen (the buttons) and the speed achieved (over the last seconds), apart:

@@ -1,5 +1,6 @@
 #!/bin/sh
-# Regenerates the viewer's screenshot (docs/images/viewer.png is a copy of it): runs the
+# Regenerates the viewer's screenshot (docs/images/viewer.png is a copy of it) and, beside
+# it, OUT-arm.png and OUT-station.png, close-ups of the arm and the filling station: runs the
 # browser test on the bottling plant in its --docs mode, which runs the plant at 10x until
 # a dozen bottles are out before it takes the picture.
 #

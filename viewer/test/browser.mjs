@@ -308,7 +308,24 @@ try {
   check(statSync(screenshot).size > 10_000, `screenshot written: ${screenshot}`);
   if (docs) {   // close-ups beside it: the arm over its belt, the filling station
     await page.mouse.move(5, 5);
-    for (const [path, name, distance, azimuth, elevation] of [['line[0].arm', 'arm', 1.1, -120, 28], ['line[0].fill', 'station', 0.75, -55, 30]]) {
+    await page.click('#layer-triggers');   // the sensors' volumes and the legend out of the way
+    await page.click('#layer-legend');
+    // Each at a moment with a bottle in it: the arm carrying one (lifted), the station holding
+    // one at its pin (under the middle of its housing).
+    const shots = [['line[0].arm', 'arm', 1.5, -130, 25, 'lifted'], ['line[0].fill', 'station', 0.5, -60, 20, 'under']];
+    for (const [path, name, distance, azimuth, elevation, when] of shots) {
+      await page.click('#run');
+      await until(() => page.evaluate((path, when) => {
+        const v = plantViewer.view, d = v.scene.dos.find((x) => x.path === path);
+        const c = plantViewer.boxCentre(d.id);
+        return v.scene.bodies.some((b) => {
+          if (b.mode !== 'dynamic' || !(plantViewer.bodyState(b.id) & 1)) return false;
+          const p = plantViewer.bodyPose(b.id);
+          return when === 'lifted' ? p[2] > 0.12 : Math.hypot(p[0] - c[0], p[1] - c[1]) < 0.05 && p[2] < 0.06;
+        });
+      }, path, when), 30_000, 20);
+      await page.click('#run');
+      await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
       const framed = await page.evaluate((...a) => plantViewer.closeUp(...a), path, distance, azimuth, elevation);
       await sleep(800);
       const file = screenshot.replace(/\.png$/, `-${name}.png`);
