@@ -178,7 +178,7 @@ TEST_CASE("serve: bad pages get errors, the run and the other pages go on") {
     CHECK(http_get(s.port, "/no_such_file.js") == 404);
 }
 
-TEST_CASE("serve: a replay shows the bottles where the trace of the same run has them") {
+TEST_CASE("serve: a replay shows the bottles where the trace of the same run has them, a seek plots from 0 s") {
     const graph::Graph g = compile_ok("plants/bottling.plant");
     const std::string rec_path = (test::scratch_dir() / "run.rec").string();
     const std::string trace_path = (test::scratch_dir() / "run.csv").string();
@@ -223,11 +223,24 @@ TEST_CASE("serve: a replay shows the bottles where the trace of the same run has
     for (size_t c = 0; c < cols.size(); ++c) col_of[cols[c]] = c;
     for (int tenth : {100, 333, 600}) {  // 10 s, 33.3 s, 60 s: on the frame grid of 1/30 s
         page.send(json{{"type", "seek"}, {"time", tenth / 10.0}}.dump());
-        for (int i = 0; i < 50; ++i) {
-            REQUIRE(page.wait_frame());
-            if (std::abs(f.time - tenth / 10.0) < 1e-6) break;
-        }
+        // The frame at that time, and the plots' history rebuilt from the recording: every
+        // 0.2 s from 0 s to there, no gap for a line to cross.
+        json h;
+        bool at = false, history = false;
+        REQUIRE(page.wait([&](const std::string& msg, bool binary) {
+            if (binary) at = at || std::abs(f.time - tenth / 10.0) < 1e-6;
+            else if (json j = json::parse(msg, nullptr, false); j.is_object() && j.value("type", "") == "history") {
+                h = j;
+                history = !j["time"].empty() && j["time"].back().get<double>() >= tenth / 10.0 - 0.25;
+            }
+            return at && history;
+        }, 10));
         REQUIRE(f.time == doctest::Approx(tenth / 10.0));
+        CHECK(h["time"][0] == 0.0);
+        CHECK(h["time"].back().get<double>() <= tenth / 10.0 + 1e-9);
+        CHECK(h["time"].size() >= size_t(tenth / 2) - 2);  // a sample every 0.2 s
+        for (size_t i = 1; i < h["time"].size(); ++i)
+            CHECK(h["time"][i].get<double>() - h["time"][i - 1].get<double>() < 0.21);
         const auto& row = rows.at(tenth);
         int compared = 0;
         for (size_t b = 0; b < g.bodies.size(); ++b) {

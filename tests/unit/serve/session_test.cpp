@@ -206,7 +206,7 @@ TEST_CASE("serve: forced slots are listed with who forced them and since when, t
     std::string events;
     REQUIRE(http_get(s.port, "/events", &events) == 200);
     CHECK(events.find("force line[0].s2.bottle") == std::string::npos);
-    CHECK(events.find("5s force line[0].s3.sw.to_base open") != std::string::npos);
+    CHECK(events.find("5.000s force line[0].s3.sw.to_base open") != std::string::npos);
     CHECK(events.find("release line[0].s3.sw.to_base") != std::string::npos);
     Page late(s.port);
     REQUIRE(late.wait_json("scene", m));
