@@ -238,7 +238,7 @@ TEST_CASE("serve: the status says the speed achieved beside the one chosen") {
     CHECK(paced["rtf"].get<double>() > 0.3);
 }
 
-TEST_CASE("serve: models are found under --models, beside the plant, then in the stdlib; bad ones are refused") {
+TEST_CASE("serve: models are found under --models, beside the plant, then in the stdlib, and bad ones are refused") {
     const std::string good = write_file("good.glb", glb_header(12));
     write_file("text.glb", "this is not a model at all");
     write_file("cut.glb", glb_header(4000) + std::string(100, '\0'));
