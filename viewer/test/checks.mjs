@@ -125,7 +125,7 @@ export async function handCarries({ page, client, scene, url, binary, plantFile,
   try {
     writeFileSync(join(dir, 'session.events'), events);
     const run = spawnSync(binary, ['run', plantFile, ...serveArgs, '--events', join(dir, 'session.events'), '--for', `${paused / scene.rate}s`,
-      '--record', join(dir, 'replay.rec'), '--quiet'], { encoding: 'utf8', timeout: 120_000 });
+      '--record', join(dir, 'replay.rec'), '--record-compress', 'none', '--quiet'], { encoding: 'utf8', timeout: 120_000 });
     check(run.status === 0, `plant run --events replays the session (${run.status}: ${run.stderr.trim().slice(-300)})`);
     check(/lost \(left the world\): 0/.test(run.stdout), `the replay's summary counts no loss (${(run.stdout.match(/lost.*$/m) ?? [''])[0]})`);
     const rec = lastPoses(join(dir, 'replay.rec'), bodies.length);
