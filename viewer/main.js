@@ -7,6 +7,7 @@ import { Plots } from './plots.js';
 import { Labels } from './labels.js';
 import { Hand } from './hand.js';
 import { ForcedPanel, Notices } from './panels.js';
+import { LostMarkers } from './lost.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new PlantView($('view'));
@@ -36,6 +37,7 @@ const debug = {
   modelStates: () => view.modelStates(),
   notices: () => notices.list(),
   labels: () => labels.texts(),
+  lost: () => lost.list(),
   plots: () => plots.summary(),
   historiesReceived: 0,
   view,
@@ -73,6 +75,7 @@ const conn = new Connection({
     notices.setScene(scene);
     view.load(scene, { keepCamera: same });
     labels.setScene(scene);
+    lost.clear();
     hand.end();
     $('follow').classList.remove('on');
     inspector.readOnly = scene.mode === 'replay';   // a recording takes no events
@@ -111,6 +114,7 @@ const conn = new Connection({
     plots.applyStatus(st);
     forced.apply(st.forced ?? []);
     labels.setForced(st.forced ?? []);
+    lost.apply(st.lost ?? []);
     if (replay && !seeking) {
       $('seek').value = String(st.time);
       $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${Number(debug.scene?.duration ?? 0).toFixed(2)} s`;
@@ -136,6 +140,7 @@ view.onModelFailed = (url, error) => notices.add(`model ${url.replace(/^\/models
 view.onModelLoaded = () => labels.place();
 const forced = new ForcedPanel($('forced'), $('forced-count'), $('forced-none'), (path) => conn.send({ type: 'force', path, mode: 'release' }), () => replay);
 const labels = new Labels(view, (path) => debug.select(path));
+const lost = new LostMarkers(view, (path) => debug.select(path));
 const hand = new Hand(view, (msg) => conn.send(msg), { onChange: () => showHand() });
 debug.hand = hand;
 // A close look at an object (the docs' close-ups): from `distance` metres, at an azimuth and

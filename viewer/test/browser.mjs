@@ -17,7 +17,7 @@ import { mkdtempSync, rmSync, statSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
-import { badModels, handCarries, labelsShown, lateHistory, modelsLoaded } from './checks.mjs';
+import { badModels, handCarries, labelsShown, lateHistory, lostMarked, modelsLoaded } from './checks.mjs';
 
 const [binary, plantFile, screenshot, ...flags] = process.argv.slice(2);
 if (!binary || !plantFile || !screenshot) {
@@ -333,6 +333,7 @@ try {
       check(framed && statSync(file).size > 10_000, `close-up of ${path} written: ${file}`);
     }
   }
+  if (!docs) await lostMarked(ctx);
   check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
   const stillRunning = server.exitCode === null;
   check(stillRunning, 'the server still runs');

@@ -224,3 +224,42 @@ export async function badModels({ browser, binary, plantFile, check, until, slee
     rmSync(dir, { recursive: true, force: true });
   }
 }
+
+// A bottle lost on purpose (a hand carries it off the line, over the empty middle of the
+// loop, and lets go: it falls out of the world): the page marks where it was lost, with a
+// label that names it, from the status's `lost` list.
+export async function lostMarked({ page, scene, check, until, sleep, elapsed }) {
+  const isBottle = (b) => b.mode === 'dynamic' && b.path.endsWith('.main');
+  if (await page.evaluate(() => plantViewer.lastStatus?.paused)) await page.click('#run');
+  const pick = await until(() => page.evaluate((ids) => {
+    for (const id of ids) {
+      const p = plantViewer.bodyPose(id);
+      if ((plantViewer.bodyState(id) & 1) && p[2] < 0.05 && p[2] > 0.02) return { id, p: p.slice(0, 3) };
+    }
+    return null;
+  }, scene.bodies.filter(isBottle).map((b) => b.id)), 30_000, 50);
+  if (!check(pick !== null, `a bottle on a belt to lose (${elapsed()})`)) return;
+  const path = scene.bodies.find((b) => b.id === pick.id).path;
+  const lostBefore = await page.evaluate(() => plantViewer.lastStatus?.counters?.lost ?? 0);
+  await page.evaluate((path, p) => plantViewer.send({ type: 'hand', action: 'grab', path, point: p }), path, pick.p);
+  // Lifted, then over the middle of the loop (nothing below it there), then let go.
+  const over = [3.0, 1.2, pick.p[2] + 0.3];
+  for (let i = 1; i <= 10; i++) {
+    const t = i / 10;
+    await page.evaluate((path, q) => plantViewer.send({ type: 'hand', action: 'move', path, point: q }), path,
+      [pick.p[0] + (over[0] - pick.p[0]) * t, pick.p[1] + (over[1] - pick.p[1]) * t, over[2]]);
+    await sleep(150);
+  }
+  await page.evaluate((path) => plantViewer.send({ type: 'hand', action: 'drop', path }), path);
+  const lost = await until(() => page.evaluate((n) => ((plantViewer.lastStatus?.counters?.lost ?? 0) > n ? plantViewer.lost() : null), lostBefore), 30_000, 100);
+  if (!check(lost !== null, `the bottle let go over nothing is counted lost (${elapsed()})`)) return;
+  const object = path.slice(0, path.lastIndexOf('.'));
+  const name = object.slice(object.lastIndexOf('.') + 1);
+  const mark = lost.find((m) => object.endsWith(m.path) || m.path === object);
+  check(!!mark && mark.text.includes(`${name} lost`) && mark.place.every(Number.isFinite),
+    `a marker where ${object} was lost, labelled '${mark?.text}' at ${mark?.place?.map((v) => v.toFixed(2))}`);
+  await page.evaluate(() => plantViewer.view.fit());   // the whole plant in view: the marker's label drawn
+  await sleep(500);
+  const shown = await page.evaluate(() => [...document.querySelectorAll('.label.lost')].filter((e) => e.style.display !== 'none' && e.getClientRects().length > 0).length);
+  check(shown >= 1, `the lost marker's label is on the page (${shown})`);
+}
