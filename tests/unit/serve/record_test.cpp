@@ -91,7 +91,6 @@ int check_against_live(const view::Recording& rec, const std::map<int64_t, view:
     return compared;
 }
 
-std::string slurp(const std::string& path) { return test::slurp(path); }
 
 void write(const std::string& path, const std::string& bytes) {
     std::ofstream(path, std::ios::binary) << bytes;
@@ -108,10 +107,10 @@ TEST_CASE("record: plain and compressed recordings, at 30 and 10 Hz, replay the 
     const auto live = live_frames(g, seconds);
 
     // The compressed file is recognised by zstd's magic bytes, the plain one by its own.
-    CHECK(slurp(plain).rfind("plant-rec 1\n", 0) == 0);
-    CHECK(slurp(packed).rfind("\x28\xB5\x2F\xFD", 0) == 0);
-    CHECK(slurp(packed).size() * 3 < slurp(plain).size());
-    CHECK(slurp(thin).size() < slurp(packed).size());
+    CHECK(test::slurp(plain).rfind("plant-rec 1\n", 0) == 0);
+    CHECK(test::slurp(packed).rfind("\x28\xB5\x2F\xFD", 0) == 0);
+    CHECK(test::slurp(packed).size() * 3 < test::slurp(plain).size());
+    CHECK(test::slurp(thin).size() < test::slurp(packed).size());
 
     view::Recording a, b, c;
     std::string err;
@@ -146,8 +145,8 @@ TEST_CASE("record: plain and compressed recordings, at 30 and 10 Hz, replay the 
 
 TEST_CASE("record: a damaged or cut recording is refused with a message") {
     const graph::Graph g = compile_bottling();
-    const std::string plain = slurp(record(g, "p.rec", {30, false}, 2));
-    const std::string packed = slurp(record(g, "z.rec", {30, true}, 2));
+    const std::string plain = test::slurp(record(g, "p.rec", {30, false}, 2));
+    const std::string packed = test::slurp(record(g, "z.rec", {30, true}, 2));
     REQUIRE(packed.size() > 1000);
     auto refused = [](const std::string& bytes, const std::string& says) {
         view::Recording rec;
@@ -170,7 +169,7 @@ TEST_CASE("record: a damaged or cut recording is refused with a message") {
         view::Recorder rec(g, path, {}, {});  // writes only what it is given: nothing but an ended zstd frame
         REQUIRE(rec.ok());
     }
-    refused(slurp(path), "not a plant recording");
+    refused(test::slurp(path), "not a plant recording");
     // The file form too.
     write(path, packed.substr(0, 100));
     view::Recording rec;
