@@ -91,7 +91,6 @@ int check_against_live(const view::Recording& rec, const std::map<int64_t, view:
     return compared;
 }
 
-
 void write(const std::string& path, const std::string& bytes) {
     std::ofstream(path, std::ios::binary) << bytes;
 }
