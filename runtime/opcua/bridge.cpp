@@ -417,6 +417,9 @@ struct Bridge::Impl {
             }
         }
         applied_now.clear();
+        // Each event carries the time of the step it feeds, as the page's do: logged or recorded,
+        // it replays in that step (an events file, `plant run --events`).
+        const double at = double(e.steps() + 1) * e.dt();
         for (size_t i = 0; i < taken.size(); ++i) {
             const Node& n = link.nodes[i];
             Pending& t = taken[i];
@@ -427,6 +430,7 @@ struct Bridge::Impl {
                 ev.value.resize(t.mode == ForceMode::Stuck && n.type != SlotType::String ? 1 : 0);  // within its capacity
                 if (!ev.value.empty()) ev.value[0] = t.force_value;
                 ev.text.assign(t.force_text);
+                ev.time = at;
                 engine::apply_event(e, ev);
                 applied_now.push_back(&ev);
             }
@@ -434,6 +438,7 @@ struct Bridge::Impl {
             if (n.cls == NodeClass::Method) {
                 if (carry[i] > 0) {  // one call per step: a second would land in the same step
                     --carry[i];
+                    ev.time = at;
                     engine::apply_event(e, ev);
                     applied_now.push_back(&ev);
                 }
@@ -449,6 +454,7 @@ struct Bridge::Impl {
             ev.value.resize(n.type == SlotType::String ? 0 : 1);
             if (!ev.value.empty()) ev.value[0] = t.value;
             ev.text.assign(t.text);
+            ev.time = at;
             engine::apply_event(e, ev);
             applied_now.push_back(&ev);
         }

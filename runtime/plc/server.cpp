@@ -370,6 +370,9 @@ struct Server::Impl {
         }
         int64_t rejected = 0;
         applied_now.clear();
+        // Each event carries the time of the step it feeds, as the page's do: logged or recorded,
+        // it replays in that step (an events file, `plant run --events`).
+        const double at = double(e.steps() + 1) * e.dt();
         for (size_t i = 0; i < taken.size(); ++i) {
             const Entry& en = map.entries[i];
             if (taken_faults[i].set) {
@@ -383,6 +386,7 @@ struct Server::Impl {
                     ev.value.resize(ev.mode == engine::ForceMode::Stuck ? 1 : 0);  // within its capacity
                     if (!ev.value.empty())
                         ev.value[0] = en.type == SlotType::Int ? std::round(v) : en.type == SlotType::Real ? v : v != 0 ? 1 : 0;
+                    ev.time = at;
                     engine::apply_event(e, ev);
                     applied_now.push_back(&ev);
                 }
@@ -392,6 +396,7 @@ struct Server::Impl {
                 if (carry[i] > 0) {  // one fire per step: a second would land in the same step
                     --carry[i];
                     ev.value.clear();
+                    ev.time = at;
                     engine::apply_event(e, ev);
                     applied_now.push_back(&ev);
                 }
@@ -415,6 +420,7 @@ struct Server::Impl {
             last_text[i] = taken[i].text;
             ev.value.assign(1, v);
             ev.text = taken[i].text;
+            ev.time = at;
             engine::apply_event(e, ev);
             applied_now.push_back(&ev);
         }
