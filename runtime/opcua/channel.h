@@ -68,7 +68,7 @@ public:
     }
     bool put(const void* p, size_t n) {
         if (size_ + n > cap_) return ok_ = false;
-        std::memcpy(data_ + size_, p, n);
+        if (n > 0) std::memcpy(data_ + size_, p, n);  // an empty text's data() may be null
         size_ += n;
         return true;
     }

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <filesystem>
@@ -287,6 +288,9 @@ bool decode_frame(std::string_view in, Frame& f, bool& full) {
     if (!get_raw(in, kind) || kind != 1 || !get_raw(in, nb) || !get_raw(in, time) || !get_raw(in, step) ||
         !get_raw(in, ng) || !get_raw(in, flags))
         return false;
+    // A step count is a whole number a double holds exactly (2^53), the time a finite number:
+    // anything else is a damaged recording, not a frame.
+    if (!(step >= 0 && step <= 9007199254740992.0 && step == std::floor(step)) || !std::isfinite(time)) return false;
     const size_t need = size_t(nb) * (4 + 28 + 1) + (4 - nb % 4) % 4 + size_t(ng) * (4 + 28 + 4);
     if (nb > f.body_state.size() || ng > f.gfx_variant.size() || in.size() != need) return false;
     const char* ids = in.data();
