@@ -10,7 +10,13 @@ work=$(mktemp -d) pid=""
 trap 'kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
 . "$(dirname "$0")/start_plant.sh"
 start_plant "" serve "$src/plants/bottling_opcua.plant" --port 0 --opcua-port 0
-page=$(sed -n 's/^plant serve: \(http:[^ ]*\)$/\1/p' "$work/out")
+# The page's address follows the link's (the link starts with the plant, the page after it).
+page=""
+for _ in $(seq 100); do
+  page=$(sed -n 's/^plant serve: \(http:[^ ]*\)$/\1/p' "$work/out")
+  [ -n "$page" ] && break
+  sleep 0.2
+done
 [ -n "$page" ] || { echo "FAIL: no page URL"; cat "$work/out" "$work/err"; exit 1; }
 timeout 60 node "$(dirname "$0")/serve_test.mjs" "$url" > "$work/client" ||
   { echo "FAIL: the client"; cat "$work/client" "$work/err"; exit 1; }
