@@ -51,6 +51,19 @@ TEST_CASE("stdlib: a sorting line of RoutedSwitches sends every bottle into the 
     CHECK(e.warnings().pool_empty == 0);
 }
 
+// The sorting line of examples/sorting.plant after an overfed feed: three RoutedSwitches, each
+// with its lane and exit, and the line's end (the plants below put their feed before it).
+const std::string kSortingLine = R"(    for i in 0 .. 3 {
+        ahead[i]: Belt(length = 1 m) at (i * 1.65 m + 65 cm, 0 m, 0 m)
+        lane[i]:  Belt(length = 1 m) at (i * 1.65 m + 65 cm, 30 cm, 0 m) rotate z by 90 deg
+        lane_end[i]: Commissioning at (i * 1.65 m + 65 cm, 1.25 m, 0 m) rotate z by 90 deg
+    }
+    sa: RoutedSwitch(codes = ["A-*"]) at (0 m, 0 m, 0 m)
+    sb: RoutedSwitch(codes = ["B-*"]) at (1.65 m, 0 m, 0 m)
+    sc: RoutedSwitch(codes = ["C-*"]) at (3.3 m, 0 m, 0 m)
+    line_end: Commissioning at (4.9 m, 0 m, 0 m)
+)";
+
 // A long run, run once at full length (the ci build); the sanitizer build runs its first
 // 120 s, the queue full from about 30 s on (docs/testing.md, "How long the suite takes").
 TEST_CASE("stdlib: a sorting line fed twice as fast as its filling station loses no bottle in 600 s") {
@@ -65,16 +78,7 @@ plant Overfed {
     feed: Belt(length = 3 m) at (-3 m, 0 m, 0 m)
     sep: Separator(behind = 32 cm, further = 60 cm) at (-1.2 m, 0 m, 0 m)
     fill: FillingStation(process = 1500 ms) at (-85 cm, 0 m, 0 m)
-    for i in 0 .. 3 {
-        ahead[i]: Belt(length = 1 m) at (i * 1.65 m + 65 cm, 0 m, 0 m)
-        lane[i]:  Belt(length = 1 m) at (i * 1.65 m + 65 cm, 30 cm, 0 m) rotate z by 90 deg
-        lane_end[i]: Commissioning at (i * 1.65 m + 65 cm, 1.25 m, 0 m) rotate z by 90 deg
-    }
-    sa: RoutedSwitch(codes = ["A-*"]) at (0 m, 0 m, 0 m)
-    sb: RoutedSwitch(codes = ["B-*"]) at (1.65 m, 0 m, 0 m)
-    sc: RoutedSwitch(codes = ["C-*"]) at (3.3 m, 0 m, 0 m)
-    line_end: Commissioning at (4.9 m, 0 m, 0 m)
-    source store at (-2.9 m, 0 m, 0 m) {
+)" + kSortingLine + R"(    source store at (-2.9 m, 0 m, 0 m) {
         object = Bottle
         pool = 16
         rate = 1 / 1 s
@@ -124,16 +128,7 @@ import std.belts, std.bottle, std.switch, std.stations, std.separator
 plant FastFeed {
     feed: Belt(length = 4 m) at (-4 m, 0 m, 0 m)
     sep: Separator at (-1.2 m, 0 m, 0 m)
-    for i in 0 .. 3 {
-        ahead[i]: Belt(length = 1 m) at (i * 1.65 m + 65 cm, 0 m, 0 m)
-        lane[i]:  Belt(length = 1 m) at (i * 1.65 m + 65 cm, 30 cm, 0 m) rotate z by 90 deg
-        lane_end[i]: Commissioning at (i * 1.65 m + 65 cm, 1.25 m, 0 m) rotate z by 90 deg
-    }
-    sa: RoutedSwitch(codes = ["A-*"]) at (0 m, 0 m, 0 m)
-    sb: RoutedSwitch(codes = ["B-*"]) at (1.65 m, 0 m, 0 m)
-    sc: RoutedSwitch(codes = ["C-*"]) at (3.3 m, 0 m, 0 m)
-    line_end: Commissioning at (4.9 m, 0 m, 0 m)
-    source store at (-3.9 m, 0 m, 0 m) {
+)" + kSortingLine + R"(    source store at (-3.9 m, 0 m, 0 m) {
         object = Bottle
         pool = 40
         rate = 1 / 700 ms
