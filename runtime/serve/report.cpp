@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <ostream>
 #include <sstream>
 
 extern char** environ;
@@ -446,6 +447,25 @@ bool write_report(const Session& s, const std::string& events_text, const std::s
     std::string md = report_markdown(s, plotted ? "throughput.png" : "");
     if (!plotted) md += "(No plot: gnuplot did not run; `bash scripts/setup.sh` installs it.)\n";
     return put("report.md", md) && put("report.html", report_html(s, svg));
+}
+
+int report_main(const graph::Graph& g, const std::string& plant, const std::string& events_path,
+                const std::string& dir, double until, std::ostream& out, std::ostream& err) {
+    Session s;
+    std::string error;
+    if (!replay_session(g, plant, events_path, until, s, error)) {
+        err << error << "\n";
+        return 1;
+    }
+    std::ifstream in(events_path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!write_report(s, text, dir, error)) {
+        err << error << "\n";
+        return 1;
+    }
+    out << fmt::format("report: {0}/report.md, {0}/report.html ({1} faults, {2} events, {3} s of plant time)\n", dir,
+                       s.faults.size(), s.events.size(), engine::time_text(s.end, s.dt));
+    return 0;
 }
 
 }  // namespace plant::view

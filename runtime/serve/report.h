@@ -18,6 +18,7 @@
 #include "graph/graph.h"
 
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -86,5 +87,10 @@ std::string report_plot_data(const Session& s);
 // installed: DIR/throughput.png and .svg; otherwise the report says so). False with `error`
 // when a file cannot be written.
 bool write_report(const Session& s, const std::string& events_text, const std::string& dir, std::string& error);
+
+// `plant report PLANT EVENTS`: replays the session and writes the report into `dir`; says
+// where on `out`. Returns 0, or 1 with the message on `err`.
+int report_main(const graph::Graph& g, const std::string& plant, const std::string& events_path,
+                const std::string& dir, double until, std::ostream& out, std::ostream& err);
 
 }  // namespace plant::view
