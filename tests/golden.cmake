@@ -1,7 +1,7 @@
 # Golden-file tests (see tests/golden_runner.cpp). Update with scripts/update-goldens.sh.
 add_executable(plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden_runner.cpp)
 target_compile_options(plant_golden PRIVATE ${PLANT_WARNINGS})
-target_link_libraries(plant_golden PRIVATE plant_compiler plant_runtime plant_plc plant_opcua plant_faults)
+target_link_libraries(plant_golden PRIVATE plant_compiler plant_runtime plant_plc plant_opcua plant_faults plant_panel)
 add_test(NAME golden COMMAND plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden)
 set_tests_properties(golden PROPERTIES ENVIRONMENT "PLANT_STDLIB=${PLANT_STDLIB_DIR}")
 # The shipped plants' compiled graphs: plants/**/NAME.plant -> tests/plants/**/NAME.graph.
@@ -33,5 +33,5 @@ endif()
 # docs/language.md's slot tables match the slot declarations (runtime/graph/kinds.h).
 add_executable(plant_slot_docs ${CMAKE_CURRENT_SOURCE_DIR}/slot_docs.cpp)
 target_compile_options(plant_slot_docs PRIVATE ${PLANT_WARNINGS})
-target_link_libraries(plant_slot_docs PRIVATE plant_compiler)
+target_link_libraries(plant_slot_docs PRIVATE plant_compiler plant_panel)  # the panel kinds have slots
 add_test(NAME slot_tables_doc COMMAND plant_slot_docs ${CMAKE_SOURCE_DIR}/docs/language.md)

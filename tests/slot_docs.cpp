@@ -1,11 +1,12 @@
 // docs/language.md's slot tables are generated from the slot declarations in
-// runtime/graph/kinds.h. In each `### ... `WORD`` section of a component kind, the first
+// runtime/graph/kinds.h (and the plugin kinds with slots: the panel's elements). In each `### ... `WORD`` section of a component kind, the first
 // table headed `| slot | type | dir | |` starts with one row per fixed slot, in index
 // order; rows for content-dependent slots (`A.play`, `NAME`) follow, written by hand.
 //
 //   plant_slot_docs FILE.md            exit 1 (with the differences) unless FILE's tables match
 //   plant_slot_docs --update FILE.md   rewrite the fixed rows (scripts/update-goldens.sh)
 #include "graph/kinds.h"
+#include "panel/kind.h"
 #include "sema/schema.h"
 
 #include <algorithm>
@@ -27,7 +28,7 @@ std::string row(const graph::SlotSpec& s) {
 }
 
 bool fixed_row(const std::string& line) {
-    static const std::regex kFixed(R"(^\| `[a-z_]+` \|.*)");
+    static const std::regex kFixed(R"(^\| `[a-z_][a-z_0-9]*` \|.*)");
     return std::regex_match(line, kFixed);
 }
 
@@ -46,7 +47,7 @@ std::vector<std::string> regenerate(const std::vector<std::string>& in, std::vec
         seen.emplace_back(kind->word);
         if (i + 1 < in.size()) out.push_back(in[++i]);  // |---|...
         size_t n = 0;
-        auto specs = graph::fixed_slots(kind->kind);
+        auto specs = sema::kind_slots(*kind);
         while (i + 1 < in.size() && fixed_row(in[i + 1])) {
             ++i;
             if (n >= specs.size() || in[i] != row(specs[n]))
@@ -62,7 +63,7 @@ std::vector<std::string> regenerate(const std::vector<std::string>& in, std::vec
     }
     for (const std::string& w : sema::kind_words()) {
         const auto* k = sema::find_kind(w);
-        if (k && !graph::fixed_slots(k->kind).empty() && std::find(seen.begin(), seen.end(), w) == seen.end())
+        if (k && !sema::kind_slots(*k).empty() && std::find(seen.begin(), seen.end(), w) == seen.end())
             problems.push_back("no slot table for the kind '" + w + "'");
     }
     return out;
@@ -71,6 +72,7 @@ std::vector<std::string> regenerate(const std::vector<std::string>& in, std::vec
 }  // namespace
 
 int main(int argc, char** argv) {
+    panel::register_panel_kinds();
     bool update = argc == 3 && std::string(argv[1]) == "--update";
     if (argc != 2 && !update) {
         std::cerr << "usage: plant_slot_docs [--update] FILE.md\n";

@@ -16,6 +16,9 @@
 #ifdef PLANT_HAS_FAULTS
 #include "faults/kind.h"
 #endif
+#ifdef PLANT_HAS_PANEL
+#include "panel/kind.h"
+#endif
 #ifdef PLANT_HAS_PLC
 #include "plc/kind.h"
 #include "plc/run_link.h"
@@ -536,6 +539,9 @@ int run_command(int argc, char** argv) {
 #endif
 #ifdef PLANT_HAS_FAULTS
     plant::faults::register_faults_kind();
+#endif
+#ifdef PLANT_HAS_PANEL
+    plant::panel::register_panel_kinds();
 #endif
     std::vector<std::string> args(argv + 1, argv + argc);
     Options o;

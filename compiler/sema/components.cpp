@@ -245,6 +245,11 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         return -1;
     }
     std::string cname = prefix.empty() ? c.name.text : prefix + "." + c.name.text;
+    if (spec->plugin && !spec->plugin->inside.empty() && !inside_plugin(sc, prefix, spec->plugin->inside)) {
+        sink_.report(DiagId::WrongComponentKind, c.kind.span,
+                     fmt::format("a {} is written inside a {} component", spec->word, spec->plugin->inside));
+        return -1;
+    }
     if (!declare(sc, cname, c.name.span)) return -1;
 
     const std::string mode = check_mode(c, *spec);
@@ -263,6 +268,25 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
                 parent_graphics};
     lower(lw);
 
+    // A plugin kind's own components (a panel's buttons): named parent.child, each of a
+    // kind the holder takes.
+    if (spec->plugin && !spec->plugin->holds.empty()) {
+        for (const auto& child : c.children) {
+            const auto& holds = spec->plugin->holds;
+            if (std::find(holds.begin(), holds.end(), child.kind.text) == holds.end()) {
+                std::vector<std::string> words(holds.begin(), holds.end());
+                auto& d = sink_.report(DiagId::WrongComponentKind, child.kind.span,
+                                       fmt::format("a {} holds no '{}'", spec->word, child.kind.text));
+                if (auto hint = closest_name(child.kind.text, words); !hint.empty())
+                    d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
+                else
+                    d.notes.push_back({{}, fmt::format("it holds: {}", fmt::join(words, ", "))});
+                continue;
+            }
+            make_component(sc, child, env, -1, cname);
+        }
+        return comp;
+    }
     // Child graphics: their own components, named parent.child, posed relative to it.
     for (const auto& child : c.children) {
         if (spec->kind != CompKind::Graphics) break;  // reported above: this kind holds no children
@@ -276,6 +300,14 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         sc.frame = saved;
     }
     return comp;
+}
+
+// Whether `holder` (a component of this object, "" for none) is of the plugin kind `word`.
+bool Elaborator::inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const {
+    auto it = sc.comps.find(holder);
+    if (holder.empty() || it == sc.comps.end()) return false;
+    const graph::KindDesc* d = graph::plugin_of(g_, it->second);
+    return d && d->word == word;
 }
 
 // References between components of one DO, resolved once they all exist.

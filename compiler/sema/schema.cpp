@@ -133,6 +133,7 @@ KindSpec plugin_spec(const graph::KindDesc& d) {
         k.props.push_back(ps);
     }
     k.doc = d.doc;
+    k.children = !d.holds.empty();  // a panel's elements
     k.plugin = &d;
     return k;
 }

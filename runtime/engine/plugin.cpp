@@ -39,6 +39,10 @@ void PluginCtx::emit(int slot, double v) {
     if (r_.tab.value_adr[s] >= 0) *r_.val(s) = v;
     r_.activate_out(s);
 }
+double PluginCtx::value(int slot) const {
+    const int32_t s = slot_adr_ + slot;
+    return r_.tab.value_adr[s] >= 0 ? *r_.val(s) : 0;
+}
 double PluginCtx::param(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].num; }
 std::span<double> PluginCtx::state() const {
     const PluginRun& p = r_.tab.plugin_run[plugin_];

@@ -28,6 +28,7 @@ public:
     // adds its accessor here, with a test.
     bool active(int slot) const;     // an input activated this step, an output emitted
     void emit(int slot, double v);   // writes an output and makes it active
+    double value(int slot) const;    // a slot's (first) number: an input's value this step
     double param(int i) const;       // Number, Int, Bool (0/1) parameters, in declared order
     std::span<double> state() const;  // KindBehaviour::state_size numbers, 0 at start
     // Its entries (graph/plugin.h: EntrySpec), in declaration order; for an entry that reads

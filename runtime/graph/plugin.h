@@ -78,6 +78,13 @@ struct KindDesc {
     // links on one port), once the whole graph is built: the compiler reports a problem at
     // the entry (or the component), the loader refuses the graph. nullptr: nothing to check.
     bool (*check)(const Graph& g, int32_t plugin, PluginProblem& problem) = nullptr;
+    // Components of other plugin kinds written inside this one's block (a panel's buttons
+    // and lamps): each becomes a component of its own, named `parent.child` like a child
+    // graphics, so its slots are `parent.child.slot`. Empty: the kind holds none.
+    std::span<const std::string_view> holds = {};
+    // Non-empty: a component of this kind is written only inside a component of the kind
+    // of that word (a button inside a panel), never on its own.
+    std::string_view inside = {};
 };
 
 // Registers a kind (before any plant is compiled or loaded); false if its word is taken by

@@ -8,13 +8,15 @@
 #include "fuzz.h"
 #include "faults/kind.h"
 #include "opcua/kind.h"
+#include "panel/kind.h"
 #include "plc/kind.h"
 
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const bool kinds = (plant::plc::register_modbus_kind(), plant::opcua::register_opcua_kind(),
-                                plant::faults::register_faults_kind(), true);  // the plugin kinds it has
+                                plant::faults::register_faults_kind(),
+                                plant::panel::register_panel_kinds(), true);  // the plugin kinds it has
     (void)kinds;
     if (size > 64 * 1024) return 0;  // larger inputs only slow the search
     static const std::string path = "/nonexistent-plant-fuzz/input.plant";

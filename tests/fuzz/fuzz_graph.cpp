@@ -8,6 +8,7 @@
 #include "graph/text.h"
 #include "faults/kind.h"
 #include "opcua/kind.h"
+#include "panel/kind.h"
 #include "plc/kind.h"
 
 #include <sstream>
@@ -15,7 +16,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const bool kinds = (plant::plc::register_modbus_kind(), plant::opcua::register_opcua_kind(),
-                                plant::faults::register_faults_kind(), true);  // the plugin kinds it has
+                                plant::faults::register_faults_kind(),
+                                plant::panel::register_panel_kinds(), true);  // the plugin kinds it has
     (void)kinds;
     if (size > 256 * 1024) return 0;
     std::istringstream in{std::string(plant::fuzz::text(data, size))};

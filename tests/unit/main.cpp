@@ -3,11 +3,13 @@
 
 #include "faults/kind.h"
 #include "opcua/kind.h"
+#include "panel/kind.h"
 #include "plc/kind.h"
 
 int main(int argc, char** argv) {
     plant::plc::register_modbus_kind();  // the plugin kinds this program has (docs/architecture.md)
     plant::opcua::register_opcua_kind();
     plant::faults::register_faults_kind();
+    plant::panel::register_panel_kinds();
     return doctest::Context(argc, argv).run();
 }
