@@ -27,7 +27,7 @@ TEST_CASE("dot: the overview shows a line's objects as nodes and bundles their f
     CHECK(dot.find("line[0]: BottlingLine") != std::string::npos);
     for (const char* n : {"\"s1: RoutedSwitch\"", "\"s5: RoutedSwitch\"", "\"sep1: Separator\"", "\"b1: Belt\"", "\"arm: Arm\""})
         CHECK_MESSAGE(count(dot, n) == 1, n);
-    CHECK(count(dot, "shape=doublecircle") == 1);  // the feed net, collapsed
+    CHECK(count(dot, "shape=doublecircle") == 2);  // the feed net and the run net (the panel's), collapsed
     CHECK(dot.find("<TABLE") == std::string::npos);  // no slot tables
     CHECK(count(dot, " -> ") < 80);
     std::ostringstream full;
