@@ -8,6 +8,7 @@ import { Labels } from './labels.js';
 import { Hand } from './hand.js';
 import { ForcedPanel, Notices } from './panels.js';
 import { LostMarkers } from './lost.js';
+import { OperatorPanels } from './panel.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new PlantView($('view'));
@@ -80,6 +81,8 @@ const conn = new Connection({
     $('follow').classList.remove('on');
     inspector.readOnly = scene.mode === 'replay';   // a recording takes no events
     inspector.setScene(scene);
+    operatorPanels.readOnly = scene.mode === 'replay';
+    operatorPanels.setScene(scene);
     plots.setScene(scene);
     replay = scene.mode === 'replay';
     $('timeline').hidden = !replay;
@@ -115,6 +118,7 @@ const conn = new Connection({
     forced.apply(st.forced ?? []);
     labels.setForced(st.forced ?? []);
     lost.apply(st.lost ?? []);
+    operatorPanels.apply(st.panel ?? []);
     if (replay && !seeking) {
       $('seek').value = String(st.time);
       $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${Number(debug.scene?.duration ?? 0).toFixed(2)} s`;
@@ -141,6 +145,8 @@ view.onModelLoaded = () => labels.place();
 const forced = new ForcedPanel($('forced'), $('forced-count'), $('forced-none'), (path) => conn.send({ type: 'force', path, mode: 'release' }), () => replay);
 const labels = new Labels(view, (path) => debug.select(path));
 const lost = new LostMarkers(view, (path) => debug.select(path));
+const operatorPanels = new OperatorPanels($('view'), (msg) => conn.send(msg));
+debug.panels = () => operatorPanels.summary();
 const hand = new Hand(view, (msg) => conn.send(msg), { onChange: () => showHand() });
 debug.hand = hand;
 // A close look at an object (the docs' close-ups): from `distance` metres, at an azimuth and

@@ -1,4 +1,5 @@
 #include "serve/view.h"
+#include "serve/panels.h"
 
 #include <nlohmann/json.hpp>
 
@@ -170,6 +171,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
                           {"path", g.comp_path(g.places[p].comp) + "." + std::string(g.str(g.places[p].name))},
                           {"initial", g.places[p].initial}});
     s["places"] = std::move(places);
+    s["panels"] = panels_json(g);
     return s.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -371,6 +373,7 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
                         {"out", l.out}});
     }
     s["lost"] = std::move(lost);
+    s["panel"] = panel_values(e);
     return s.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
