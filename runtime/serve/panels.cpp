@@ -9,29 +9,27 @@
 namespace plant::view {
 namespace {
 
-using json = nlohmann::json;
-
 // An element kind, the output the page shows it by, and its parameters in the kind's order
 // (runtime/panel/kind.cpp).
-struct Element {
+struct PanelElement {
     std::string_view kind, shown;
     std::array<std::string_view, 4> params;
 };
-constexpr std::array kElements = {
-    Element{"button", "down", {"label", "color"}},
-    Element{"estop", "engaged", {"label"}},
-    Element{"selector", "position", {"label", "positions", "names", "initial"}},
-    Element{"lamp", "state", {"label", "color"}},
-    Element{"display", "value", {"label", "unit", "digits"}},
+constexpr std::array kPanelElements = {
+    PanelElement{"button", "down", {"label", "color"}},
+    PanelElement{"estop", "engaged", {"label"}},
+    PanelElement{"selector", "position", {"label", "positions", "names", "initial"}},
+    PanelElement{"lamp", "state", {"label", "color"}},
+    PanelElement{"display", "value", {"label", "unit", "digits"}},
 };
 
-const Element* element(std::string_view kind) {
-    for (const Element& e : kElements)
+const PanelElement* panel_element(std::string_view kind) {
+    for (const PanelElement& e : kPanelElements)
         if (e.kind == kind) return &e;
     return nullptr;
 }
 
-int32_t comp_slot(const graph::Graph& g, const graph::Comp& c, std::string_view name) {
+int32_t panel_slot(const graph::Graph& g, const graph::Comp& c, std::string_view name) {
     for (int32_t s = c.slot_adr; s < c.slot_adr + c.slot_num; ++s)
         if (g.str(g.slots[size_t(s)].name) == name) return s;
     return -1;
@@ -39,31 +37,31 @@ int32_t comp_slot(const graph::Graph& g, const graph::Comp& c, std::string_view 
 
 // Calls f(plugin row, element or nullptr for the panel) over every panel and its elements.
 template <class F>
-void each(const graph::Graph& g, F f) {
+void each_panel_row(const graph::Graph& g, F f) {
     for (size_t p = 0; p < g.plugins.size(); ++p) {
         const std::string_view kind = g.str(g.plugins[p].kind);
         if (kind == "panel") f(p, nullptr);
-        else if (const Element* e = element(kind)) f(p, e);
+        else if (const PanelElement* e = panel_element(kind)) f(p, e);
     }
 }
 
 }  // namespace
 
-json panels_json(const graph::Graph& g) {
-    json panels = json::array();
-    each(g, [&](size_t p, const Element* e) {
+nlohmann::json panels_json(const graph::Graph& g) {
+    nlohmann::json panels = nlohmann::json::array();
+    each_panel_row(g, [&](size_t p, const PanelElement* e) {
         const graph::Plugin& pl = g.plugins[p];
         const int32_t comp = pl.comp.v;
         auto param = [&](int k) -> const graph::PluginParam& { return g.plugin_params[size_t(pl.param_adr.v + k)]; };
         if (!e) {
             panels.push_back({{"path", g.comp_path(comp)},
                               {"title", pl.param_num > 0 ? std::string(g.str(param(0).text)) : std::string()},
-                              {"elements", json::array()}});
+                              {"elements", nlohmann::json::array()}});
             return;
         }
         if (panels.empty()) return;  // an element always follows its panel (the compiler, the loader's check)
         const std::string path = g.comp_path(comp);
-        json el{{"kind", e->kind}, {"path", path}, {"name", path.substr(path.rfind('.') + 1)}};
+        nlohmann::json el{{"kind", e->kind}, {"path", path}, {"name", path.substr(path.rfind('.') + 1)}};
         for (int k = 0; k < pl.param_num && k < int(e->params.size()) && !e->params[size_t(k)].empty(); ++k) {
             const std::string key(e->params[size_t(k)]);
             if (param(k).text.id >= 0) el[key] = std::string(g.str(param(k).text));
@@ -75,12 +73,12 @@ json panels_json(const graph::Graph& g) {
     return panels;
 }
 
-json panel_values(const engine::Engine& e) {
+nlohmann::json panel_values(const engine::Engine& e) {
     const graph::Graph& g = e.graph();
-    json values = json::array();
-    each(g, [&](size_t p, const Element* el) {
+    nlohmann::json values = nlohmann::json::array();
+    each_panel_row(g, [&](size_t p, const PanelElement* el) {
         if (!el) return;
-        const int32_t s = comp_slot(g, g.comps[size_t(g.plugins[p].comp.v)], el->shown);
+        const int32_t s = panel_slot(g, g.comps[size_t(g.plugins[p].comp.v)], el->shown);
         values.push_back(s >= 0 ? e.value(graph::SlotId(s))[0] : 0.0);
     });
     return values;

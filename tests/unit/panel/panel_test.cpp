@@ -14,7 +14,7 @@ using namespace plant;
 
 namespace {
 
-constexpr const char* kPlant = R"(plant Desk {
+constexpr const char* kDeskPlant = R"(plant Desk {
     panel ops {
         title = "Desk"
         button start { label = "Start"; color = "green" }
@@ -38,14 +38,14 @@ constexpr const char* kPlant = R"(plant Desk {
 }
 )";
 
-int32_t slot(const graph::Graph& g, std::string_view path) {
+int32_t desk_slot(const graph::Graph& g, std::string_view path) {
     for (size_t s = 0; s < g.slots.size(); ++s)
         if (g.slot_path(int32_t(s)) == path) return int32_t(s);
     FAIL("no slot " << path);
     return -1;
 }
 
-std::string diagnostics(const std::string& text) {
+std::string panel_diagnostics(const std::string& text) {
     Compilation c;
     test::compile_text(text, c, "panel_bad.plant");
     std::string out;
@@ -53,27 +53,27 @@ std::string diagnostics(const std::string& text) {
     return out;
 }
 
-struct Desk {
+struct DeskRun {
     graph::Graph g;
     engine::SlotIndex index;
     std::unique_ptr<engine::Engine> e;
-    explicit Desk(const graph::Graph& graph) : g(graph), index(engine::slot_index(g)), e(new engine::Engine(g)) {}
+    explicit DeskRun(const graph::Graph& graph) : g(graph), index(engine::slot_index(g)), e(new engine::Engine(g)) {}
     void input(std::string_view text) {
         engine::Event ev;
         std::string error;
         REQUIRE_MESSAGE(engine::parse_input(g, index, text, ev, error), error);
         engine::apply_event(*e, ev);
     }
-    double value(std::string_view path) { return e->value(graph::SlotId(slot(g, path)))[0]; }
+    double value(std::string_view path) { return e->value(graph::SlotId(desk_slot(g, path)))[0]; }
     // Emitted in this step's phase 5 (the logic sees it in the next step).
-    bool active(std::string_view path) { return e->emitted(graph::SlotId(slot(g, path))); }
+    bool active(std::string_view path) { return e->emitted(graph::SlotId(desk_slot(g, path))); }
 };
 
 }  // namespace
 
 TEST_CASE("panel: elements are components of their own kinds, named panel.element") {
     Compilation c;
-    test::compile_text(kPlant, c, "desk.plant");
+    test::compile_text(kDeskPlant, c, "desk.plant");
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     std::vector<std::string> kinds;
@@ -91,9 +91,9 @@ TEST_CASE("panel: elements are components of their own kinds, named panel.elemen
 
 TEST_CASE("panel: a button pressed by an event drives the logic; lamps and displays follow") {
     Compilation c;
-    test::compile_text(kPlant, c, "desk.plant");
+    test::compile_text(kDeskPlant, c, "desk.plant");
     REQUIRE(c.ok());
-    Desk d(c.graph);
+    DeskRun d(c.graph);
     d.e->step();
     CHECK(d.value("ops.mode.position") == 2);  // the selector starts at `initial`
     CHECK(d.value("ops.running.state") == 0);
@@ -132,9 +132,9 @@ TEST_CASE("panel: a button pressed by an event drives the logic; lamps and displ
 
 TEST_CASE("panel: the emergency stop latches until a reset; a selector takes only its positions") {
     Compilation c;
-    test::compile_text(kPlant, c, "desk.plant");
+    test::compile_text(kDeskPlant, c, "desk.plant");
     REQUIRE(c.ok());
-    Desk d(c.graph);
+    DeskRun d(c.graph);
     d.input("ops.halt.press");
     d.e->step();
     CHECK(d.active("ops.halt.pressed"));
@@ -156,8 +156,8 @@ TEST_CASE("panel: the emergency stop latches until a reset; a selector takes onl
     CHECK(d.active("ops.mode.to0"));
     CHECK(d.active("ops.mode.changed"));
     d.e->step();  // from then on at0 is active in every step, seen by the logic
-    CHECK(d.e->active(graph::SlotId(slot(d.g, "ops.mode.at0"))));
-    CHECK_FALSE(d.e->active(graph::SlotId(slot(d.g, "ops.mode.at2"))));
+    CHECK(d.e->active(graph::SlotId(desk_slot(d.g, "ops.mode.at0"))));
+    CHECK_FALSE(d.e->active(graph::SlotId(desk_slot(d.g, "ops.mode.at2"))));
     d.input("ops.mode.turn 3");  // no fourth position
     d.e->step();
     CHECK(d.value("ops.mode.position") == 0);
@@ -166,15 +166,15 @@ TEST_CASE("panel: the emergency stop latches until a reset; a selector takes onl
 
 TEST_CASE("panel: the compiler checks elements like every kind") {
     auto in_panel = [](const std::string& body) { return "plant P {\n    panel ops {\n" + body + "    }\n}\n"; };
-    CHECK(diagnostics(in_panel("        knob k { }\n")).find("E0") != std::string::npos);
-    CHECK(diagnostics(in_panel("        knob k { }\n")).find("a panel holds no 'knob'") != std::string::npos);
-    CHECK(diagnostics(in_panel("        button a { }\n        lamp a { }\n")).find("declared twice") != std::string::npos);
-    CHECK(diagnostics(in_panel("        selector m { positions = 4 }\n")).find("2 or 3 positions, not 4") != std::string::npos);
-    CHECK(diagnostics(in_panel("        selector m { names = \"A/B/C\" }\n")).find("name 3 positions, but it has 2") != std::string::npos);
-    CHECK(diagnostics(in_panel("        lamp l { color = \"purple\" }\n")).find("not 'purple'") != std::string::npos);
-    CHECK(diagnostics("plant P {\n    button b { }\n}\n").find("a button is written inside a panel component") != std::string::npos);
-    CHECK(diagnostics(in_panel("        button b { }\n") + "").empty());
+    CHECK(panel_diagnostics(in_panel("        knob k { }\n")).find("E0") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        knob k { }\n")).find("a panel holds no 'knob'") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        button a { }\n        lamp a { }\n")).find("declared twice") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        selector m { positions = 4 }\n")).find("2 or 3 positions, not 4") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        selector m { names = \"A/B/C\" }\n")).find("name 3 positions, but it has 2") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        lamp l { color = \"purple\" }\n")).find("not 'purple'") != std::string::npos);
+    CHECK(panel_diagnostics("plant P {\n    button b { }\n}\n").find("a button is written inside a panel component") != std::string::npos);
+    CHECK(panel_diagnostics(in_panel("        button b { }\n") + "").empty());
     const std::string wrong_dir = "plant P {\n    panel ops {\n        lamp l { }\n    }\n    timer t: periodic { period = 1 s }\n"
                                   "    flow ops.l.state -> t.tick\n}\n";
-    CHECK(diagnostics(wrong_dir).find("E0") != std::string::npos);
+    CHECK(panel_diagnostics(wrong_dir).find("E0") != std::string::npos);
 }
