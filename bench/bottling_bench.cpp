@@ -26,6 +26,7 @@
 #include "engine/engine.h"
 
 #include "median.h"
+#include "panel/kind.h"
 
 #include <algorithm>
 #include <chrono>
@@ -217,6 +218,7 @@ bool parse(int argc, char** argv, Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
     if (!parse(argc, argv, a)) {
         std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "

@@ -17,6 +17,7 @@
 #include "opcua/run_link.h"
 
 #include "median.h"
+#include "panel/kind.h"
 
 #include <signal.h>
 #include <spawn.h>
@@ -171,6 +172,7 @@ double measure(const plant::graph::Graph& g, const Args& a, bool with_client, do
 }  // namespace
 
 int main(int argc, char** argv) {
+    plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
     for (int i = 1; i < argc; ++i) {
         const std::string s = argv[i];

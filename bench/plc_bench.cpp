@@ -15,6 +15,7 @@
 #include "plc/server.h"
 
 #include "median.h"
+#include "panel/kind.h"
 
 #include <modbus/modbus.h>
 
@@ -113,6 +114,7 @@ double measure(const plant::graph::Graph& g, const plant::plc::Map& map, const A
 }  // namespace
 
 int main(int argc, char** argv) {
+    plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
     for (int i = 1; i < argc; ++i) {
         const std::string s = argv[i];

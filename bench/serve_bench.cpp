@@ -14,6 +14,7 @@
 #include "serve/server.h"
 
 #include "median.h"
+#include "panel/kind.h"
 
 #include <utility>  // before Boost 1.74's asio (std::exchange)
 
@@ -113,6 +114,7 @@ double measure(const plant::graph::Graph& g, const Args& a, bool with_page, long
 }  // namespace
 
 int main(int argc, char** argv) {
+    plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
     for (int i = 1; i < argc; ++i) {
         std::string s = argv[i];

@@ -14,6 +14,7 @@
 #include "engine/interrupt.h"
 #include "engine/run_args.h"
 #include "plc/server.h"
+#include "panel/kind.h"
 
 #include <chrono>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include <thread>
 
 int main(int argc, char** argv) {
+    plant::panel::register_panel_kinds();  // the bottling line's operator panel
     double duration = 30, warmup = 0;
     plant::plc::ServerOptions o;
     std::string port_file, error;

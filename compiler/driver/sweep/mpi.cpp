@@ -5,6 +5,9 @@
 #include "sweep.h"
 
 #include <mpi.h>
+#ifdef PLANT_HAS_PANEL
+#include "panel/kind.h"
+#endif
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -219,6 +222,9 @@ int worker(const Options& o, int rank) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef PLANT_HAS_PANEL
+    plant::panel::register_panel_kinds();  // the plugin kinds the plants it sweeps use (docs/architecture.md)
+#endif
     MPI_Init(&argc, &argv);
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
