@@ -89,7 +89,7 @@ TEST_CASE("panel: elements are components of their own kinds, named panel.elemen
     CHECK(loaded.same_as(g));
 }
 
-TEST_CASE("panel: a button pressed by an event drives the logic; lamps and displays follow") {
+TEST_CASE("panel: a button pressed by an event drives the logic, lamps and displays follow") {
     Compilation c;
     test::compile_text(kDeskPlant, c, "desk.plant");
     REQUIRE(c.ok());
@@ -130,7 +130,7 @@ TEST_CASE("panel: a button pressed by an event drives the logic; lamps and displ
     CHECK(d.value("ops.running.state") == 0);
 }
 
-TEST_CASE("panel: the emergency stop latches until a reset; a selector takes only its positions") {
+TEST_CASE("panel: the emergency stop latches until a reset, a selector takes only its positions") {
     Compilation c;
     test::compile_text(kDeskPlant, c, "desk.plant");
     REQUIRE(c.ok());
