@@ -60,6 +60,17 @@ public:
     void started(const engine::Engine& e) override {
         s_.dt = e.dt();
         sample(e);
+        // The panels' lamps (runtime/panel): their `state` output, and their label.
+        for (const graph::Plugin& p : g_.plugins) {
+            if (g_.str(p.kind) != "lamp") continue;
+            const graph::Comp& c = g_.comps[size_t(p.comp.v)];
+            for (int32_t k = c.slot_adr; k < c.slot_adr + c.slot_num; ++k)
+                if (g_.str(g_.slots[size_t(k)].name) == "state") {
+                    const std::string label =
+                        p.param_num > 0 ? std::string(g_.str(g_.plugin_params[size_t(p.param_adr.v)].text)) : "";
+                    lamps_.push_back({graph::SlotId(k), g_.comp_path(p.comp.v), label, int(e.value(graph::SlotId(k))[0])});
+                }
+        }
     }
     void event(const engine::Engine& e, const engine::Event& ev) override {
         SessionEvent se;
@@ -81,6 +92,11 @@ public:
     }
     void stepped(const engine::Engine& e, const engine::RecordTally&) override {
         if (e.steps() % every_ == 0) sample(e);
+        for (Lamp& l : lamps_)
+            if (const int now = int(e.value(l.slot)[0]); now != l.state) {
+                l.state = now;
+                s_.lamps.push_back({e.time(), l.path, l.label, now});
+            }
     }
     bool finished(const engine::Engine& e, const engine::RecordTally&, std::string&) override {
         if (s_.samples.empty() || s_.samples.back().time < e.time()) sample(e);
@@ -94,9 +110,15 @@ private:
         const engine::MaterialCounts m = engine::material_counts(e);
         s_.samples.push_back({e.time(), m.issued, m.taken, m.on_line, m.lost, m.stalled, m.removed});
     }
+    struct Lamp {
+        graph::SlotId slot;
+        std::string path, label;
+        int state = 0;
+    };
     const graph::Graph& g_;
     Session& s_;
     std::vector<Meta> metas_;
+    std::vector<Lamp> lamps_;
     size_t next_ = 0;
     int64_t every_ = 150;
 };
@@ -150,7 +172,15 @@ void find_faults(Session& s) {
             if (ev.force && ev.path == f.path) continue;  // the fault's own set and release
             f.actions.push_back(i);
         }
+        for (size_t i = 0; i < s.lamps.size(); ++i)
+            if (s.lamps[i].state != 0 && s.lamps[i].time >= f.set - 1e-9 && s.lamps[i].time <= end + 1e-9)
+                f.lamps.push_back(i);
     }
+}
+
+std::string lamp_text(const SessionLamp& l) {
+    const char* how = l.state == 2 ? "blinking" : l.state == 1 ? "lit" : "off";
+    return l.label.empty() ? fmt::format("{} {}", l.path, how) : fmt::format("{} ({}) {}", l.path, l.label, how);
 }
 
 std::string per_min(double r) { return r < 0 ? "—" : fmt::format("{:.1f}/min", r); }
@@ -200,6 +230,10 @@ std::vector<Row> fault_rows(const Session& s, const SessionFault& f) {
                                               per_min(f.before), per_min(f.during), per_min(f.after))});
     rows.push_back({"lost while it held", std::to_string(f.lost)});
     rows.push_back({"most stalled at once", std::to_string(f.stalled)});
+    std::string lit;
+    for (size_t i : f.lamps)
+        lit += fmt::format("{}{} at {} s", lit.empty() ? "" : "; ", lamp_text(s.lamps[i]), engine::time_text(s.lamps[i].time, s.dt));
+    rows.push_back({"lamps that lit", lit.empty() ? "none" : lit});
     return rows;
 }
 
@@ -230,6 +264,8 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
         return false;
     }
     std::vector<Meta> metas;
+    std::vector<std::pair<double, Meta>> timed;
+    const engine::SlotIndex slots = engine::slot_index(g);
     Meta pending;
     double end = -1;
     std::string l;
@@ -246,10 +282,15 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
             }
             end = seconds;
         } else if (!t.empty() && t.front() != '#') {
-            metas.push_back(std::move(pending));
+            // The replay applies the file's events in time order (stable): so do their notes.
+            engine::Event ev;
+            std::string why;
+            timed.emplace_back(engine::parse_event(g, slots, t, ev, why) ? ev.time : 0.0, std::move(pending));
             pending = {};
         }
     }
+    std::stable_sort(timed.begin(), timed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (auto& [time, meta] : timed) metas.push_back(std::move(meta));
     if (until > 0) end = until;
     if (end <= 0) {
         error = fmt::format("{}: no '# end TIME' line says when the session ended: give the report's length (--for)",

@@ -51,6 +51,13 @@ struct SessionSample {
     int64_t issued = 0, taken = 0, on_line = 0, lost = 0, stalled = 0, removed = 0;
 };
 
+// A lamp of an operator panel changing state (0 off, 1 on, 2 blinking).
+struct SessionLamp {
+    double time = 0;
+    std::string path, label;
+    int state = 0;
+};
+
 // A fault: a slot forced from `set` to `released` (-1: still forced at the end).
 struct SessionFault {
     std::string path, how, set_by, released_by;
@@ -58,6 +65,7 @@ struct SessionFault {
     double before = 0, during = 0, after = 0;  // throughput, objects a minute (-1: no window)
     int64_t lost = 0, stalled = 0;             // lost while it held, most stalled at once
     std::vector<size_t> actions;               // events by others while it held (indices)
+    std::vector<size_t> lamps;                 // lamps that lit or blinked while it held (indices)
 };
 
 struct Session {
@@ -65,6 +73,7 @@ struct Session {
     double dt = 0, end = 0;
     std::vector<SessionEvent> events;
     std::vector<SessionSample> samples;
+    std::vector<SessionLamp> lamps;  // every change of a panel lamp, in time order
     std::vector<SessionFault> faults;
 };
 

@@ -26,6 +26,7 @@ plant Line {
         pool = 10
     }
     flow t.tick -> store.issue
+    panel ops { lamp alarm { label = "Alarm"; color = "red" } }
 }
 )";
 
@@ -50,6 +51,8 @@ TEST_CASE("session report: a fault, what a trainee did while it held, and the th
                                "42.000s t.stop\n" +
                                view::session_comment("page 2", "trainee", 1795700014.0) + "\n" +
                                "44.000s t.start\n" +
+                               view::session_comment("page 2", "trainee", 1795700015.0) + "\n" +
+                               "45.000s ops.alarm.blink\n" + "90.000s ops.alarm.off\n" +
                                view::session_comment("page 1", "instructor", 1795700030.0) + "\n" +
                                "60.000s release t.tick\n" + view::session_end_comment(120, 1.0 / 150) + "\n";
     CHECK(view::session_comment("page 2", "trainee", 1795700012.5) == "# by page 2 (trainee) at 2026-11-26T13:33:32.500Z");
@@ -58,7 +61,7 @@ TEST_CASE("session report: a fault, what a trainee did while it held, and the th
     std::string error;
     REQUIRE_MESSAGE(view::replay_session(c.graph, "report_line.plant", path, 0, s, error), error);
     CHECK(s.end == doctest::Approx(120));
-    REQUIRE(s.events.size() == 4);
+    REQUIRE(s.events.size() == 6);
     CHECK(s.events[1].by == "page 2");
     CHECK(s.events[1].role == "trainee");
     CHECK(s.events[1].wall == "2026-11-26T13:33:32.500Z");
@@ -71,8 +74,14 @@ TEST_CASE("session report: a fault, what a trainee did while it held, and the th
     CHECK(f.released == doctest::Approx(60).epsilon(1e-9));
     CHECK(f.set_by == "page 1");
     CHECK(f.released_by == "page 1");
-    // The trainee's two events, not the fault's own set and release.
-    REQUIRE(f.actions.size() == 2);
+    // The trainee's three events, not the fault's own set and release, nor what came after.
+    REQUIRE(f.actions.size() == 3);
+    // The lamp the trainee set blinking while the fault held, and off after it.
+    REQUIRE(s.lamps.size() == 2);
+    CHECK(s.lamps[0].path == "ops.alarm");
+    CHECK(s.lamps[0].state == 2);
+    CHECK(s.lamps[1].state == 0);
+    REQUIRE(f.lamps.size() == 1);
     CHECK(s.events[f.actions[0]].line.find("t.stop") != std::string::npos);
     // The dip: about a bottle a second before and after, none while the timer's tick was cut
     // (the bottles already on the belt arrive in its first second or two).
@@ -84,6 +93,7 @@ TEST_CASE("session report: a fault, what a trainee did while it held, and the th
     const std::string md = view::report_markdown(s, "throughput.png");
     CHECK(md.find("### 1. `t.tick` open") != std::string::npos);
     CHECK(md.find("| released | 60.000 s by page 1 |") != std::string::npos);
+    CHECK(md.find("| lamps that lit | ops.alarm (Alarm) blinking at 45.000 s |") != std::string::npos);
     CHECK(md.find("| diagnosis took | 30.000 s of plant time |") != std::string::npos);
     CHECK(md.find("| 42.000 s | 2026-11-26T13:33:32.500Z | page 2 (trainee) | `42.000s t.stop` |") != std::string::npos);
     CHECK(md.find("plant run report_line.plant --events session.events --for 120.000s") != std::string::npos);
