@@ -1,6 +1,7 @@
 #include "engine/engine.h"
 
 #include "engine/runtime.h"
+#include "engine/workers.h"
 #include "graph/kinds.h"
 #include "graph/network.h"
 
@@ -84,14 +85,22 @@ Engine::~Engine() = default;
 
 void Engine::step() {
     Runtime& r = *rt_;
+    StepProfile& p = r.phys.workers().profile();
+    if (p.on) p.begin();
     forces_step_begin(r);
     phase_physics(r);
     phase_sensors(r);
     phase_logic(r);
+    p.lap(StepProfile::Logic);
     phase_petri(r);
+    p.lap(StepProfile::Petri);
     phase_actuators(r);
     forces_step_end(r);
+    p.lap(StepProfile::Actuators);
+    if (p.on) p.end();
 }
+
+StepProfile& Engine::profile() { return rt_->phys.workers().profile(); }
 
 double Engine::time() const { return rt_->st.time; }
 int64_t Engine::steps() const { return rt_->st.step; }

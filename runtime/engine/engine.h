@@ -50,6 +50,7 @@ struct Warnings {
 };
 
 struct Runtime;  // the internals (engine/runtime.h)
+struct StepProfile;  // engine/workers.h
 
 // Where and when an object was lost (left the world: a body fell below z = -10 m, went beyond
 // 1 km or got a NaN state). Its place on the line is where it last rode a conveyor: the last
@@ -145,6 +146,8 @@ public:
     const Warnings& warnings() const;
     int regions() const;  // physics regions: Bullet worlds of static bodies (physics.h)
     int threads() const;  // threads that step them
+    // Where the steps' wall time goes (workers.h); set profile().on to start timing.
+    StepProfile& profile();
 
     Runtime& internals() { return *rt_; }
 

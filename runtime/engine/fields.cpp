@@ -238,12 +238,13 @@ void move_kinematic(Runtime& r) {
 }  // namespace
 
 // Each body gathers the fields its centre of mass is in (a grid of the fields' bounding
-// boxes), and each physics world's bodies are done as one job (fields_of_world): the worlds of
-// a plant in several regions run on the physics threads.
-void apply_fields(Runtime& r) {
+// boxes), and each physics world's bodies are done in that world's job (fields_of_world),
+// before Bullet steps it: the worlds of a plant in several regions run on the physics threads.
+// The fields' frames and cells, on the calling thread. Whether any field can act.
+bool prepare_fields(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    if (g.fields.empty()) return;
+    if (g.fields.empty()) return false;
     if (s.groups_version != r.phys.version()) rebuild_groups(r);
     bool moved = !s.field_cells_valid;
     for (size_t f = 0; f < g.fields.size(); ++f) {
@@ -257,8 +258,12 @@ void apply_fields(Runtime& r) {
         s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
     }
     if (moved) build_field_cells(r);
+    return true;
+}
 
-    // The bodies the law can act on, by world.
+// The bodies the law can act on, by world (after the regions' worlds are assigned).
+void list_field_bodies(Runtime& r) {
+    State& s = r.st;
     const int nw = r.phys.worlds();
     s.world_adr.assign(size_t(nw), 0);
     s.world_num.assign(size_t(nw), 0);
@@ -276,17 +281,42 @@ void apply_fields(Runtime& r) {
         const size_t w = size_t(r.phys.world_of(b));
         s.world_list[size_t(s.world_adr[w] + s.world_num[w]++)] = b;
     }
-    auto job = [&r](int i) { fields_of_world(r, r.st.worlds_busy[size_t(i)]); };
-    r.phys.workers().run(int(s.worlds_busy.size()), job);
 }
 
 void phase_physics(Runtime& r) {
+    StepProfile& p = r.phys.workers().profile();
     r.phys.update_welds();  // before any force of this step
     move_kinematic(r);
-    apply_fields(r);
-    if (!r.st.hands.empty()) apply_hands(r);
-    r.phys.step(r.dt);
+    p.lap(StepProfile::Welds);
+    const bool fields = prepare_fields(r);
+    p.lap(StepProfile::FieldsPrep);
+    if (!r.st.hands.empty()) {
+        // A hand pulls after the law has acted (the forces add up in this order): the law's
+        // jobs first, then the hands, then the worlds.
+        if (fields) {
+            list_field_bodies(r);
+            auto job = [&r](int i) { fields_of_world(r, r.st.worlds_busy[size_t(i)]); };
+            r.phys.workers().run(int(r.st.worlds_busy.size()), job);
+        }
+        apply_hands(r);
+        p.lap(StepProfile::FieldsPrep);
+        r.phys.step(r.dt);
+    } else {
+        // Which world a body steps in does not change what the law does to it: the law runs
+        // in each world's job, right before Bullet steps that world.
+        Physics::StepHooks h;
+        if (fields) {
+            h.ready = [](void* c) { list_field_bodies(*static_cast<Runtime*>(c)); };
+            h.before = [](void* c, int w) {
+                Runtime& rt = *static_cast<Runtime*>(c);
+                if (size_t(w) < rt.st.world_num.size() && rt.st.world_num[size_t(w)]) fields_of_world(rt, w);
+            };
+            h.ctx = &r;
+        }
+        r.phys.step(r.dt, h);
+    }
     r.st.warn.missed_contacts = r.phys.missed_contacts();
+    p.lap(StepProfile::Follow);
     r.st.step++;
     r.st.time = double(r.st.step) * r.dt;  // no accumulated rounding
 }

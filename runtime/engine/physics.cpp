@@ -449,20 +449,38 @@ Physics::~Physics() {
 
 int Physics::threads() const { return workers_->threads(); }
 
-void Physics::step(double dt) {
+void Physics::step(double dt) { step(dt, StepHooks{}); }
+
+void Physics::step(double dt, const StepHooks& h) {
+    StepProfile& prof = workers_->profile();
+    auto one = [this, dt, &h](int i) {
+        const int w = to_step_[size_t(i)];
+        if (h.before) h.before(h.ctx, w);
+        worlds_[size_t(w)].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+        follow_world(w);
+    };
+    to_step_.clear();
     if (void_ < 0) {
-        worlds_[0].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
-    } else {
-        assign_worlds();
-        to_step_.clear();
-        for (size_t w = 0; w < worlds_.size(); ++w)
-            if (worlds_[w].active) to_step_.push_back(int32_t(w));
-        auto one = [this, dt](int i) {
-            worlds_[size_t(to_step_[size_t(i)])].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
-        };
-        workers_->run(int(to_step_.size()), one);
+        if (h.ready) h.ready(h.ctx);
+        prof.lap(StepProfile::FieldsPrep);
+        to_step_.push_back(0);
+        workers_->run(1, one);  // on this thread (timed as the job's item when profiling)
+        return;
     }
-    follow_all();
+    assign_worlds();
+    prof.lap(StepProfile::Regions);
+    if (h.ready) h.ready(h.ctx);
+    prof.lap(StepProfile::FieldsPrep);
+    // The worlds with the most movers first: the threads claim them in this order, so the
+    // longest jobs do not come last. The order changes nothing in the results.
+    for (size_t w = 0; w < worlds_.size(); ++w) {
+        if (!worlds_[w].active) continue;
+        size_t k = to_step_.size();
+        to_step_.push_back(int32_t(w));
+        for (; k > 0 && worlds_[size_t(to_step_[k - 1])].movers < worlds_[w].movers; --k) to_step_[k] = to_step_[k - 1];
+        to_step_[k] = int32_t(w);
+    }
+    workers_->run(int(to_step_.size()), one);
 }
 
 }  // namespace plant::engine

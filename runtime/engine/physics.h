@@ -41,6 +41,16 @@ public:
     // Forms and ends welds as membership and modes say: call before the step's forces
     // are applied (phase_physics does).
     void update_welds();
+    // Steps every world once by dt. With the bodies in the worlds they step in (regions.cpp),
+    // `ready` runs on the calling thread; then each world's job (on the physics threads) runs
+    // `before(world)` and Bullet's step of that world, and its welded passengers follow their
+    // carriers. One fork and one join per step.
+    struct StepHooks {
+        void (*ready)(void* ctx) = nullptr;
+        void (*before)(void* ctx, int world) = nullptr;
+        void* ctx = nullptr;
+    };
+    void step(double dt, const StepHooks& hooks);
     void step(double dt);
     // Bullet's worlds: one per region, then (with more than one region) the void's.
     int worlds() const { return int(worlds_.size()); }
@@ -107,6 +117,7 @@ private:
         std::unique_ptr<btDiscreteDynamicsWorld> world;
         btVector3 lo{0, 0, 0}, hi{-1, -1, -1};  // the region's box (the void's is empty)
         bool active = false;                   // has a mover in the world: step it
+        int32_t movers = 0;                    // bodies that are not static in it (largest first)
     };
     // A welded pair: a dynamic body that takes no collisions (a bottle's foot) joined by
     // an enabled fixed joint to a dynamic host is left out of Bullet's world, and the
@@ -123,7 +134,7 @@ private:
     void weld_on(Weld& w);
     void weld_off(Weld& w);
     void follow(const Weld& w);
-    void follow_all();
+    void follow_world(int w);  // the welds whose carriers are in world w
     void unweld(int32_t b);
     void reshape(int32_t b, const BodyShape& s);
     btVector3 host_com(int32_t b) const;
@@ -140,7 +151,7 @@ private:
     int home(int32_t b) const;  // the region whose box b's bounding box meets, or the void
     void aabb(int32_t b, btScalar grow, btVector3& lo, btVector3& hi) const;  // now, grown
     // A welded passenger: in the world, but not in Bullet's (its carrier stands for it).
-    bool carried(int32_t b) const { return welded(b) && welds_[weld_of_[b]].pass == b; }
+    bool carried(int32_t b) const { return !carried_.empty() && carried_[b]; }
     void assign_worlds();
     void move_group(int32_t group, int to);
     void merge_worlds();
@@ -161,6 +172,7 @@ private:
     std::vector<Weld> welds_;
     std::vector<int32_t> weld_of_;  // per body: its weld (host or passenger), or -1
     std::vector<uint8_t> carries_;  // per body: 1 while it carries a passenger
+    std::vector<uint8_t> carried_;  // per body: 1 while it is a carried passenger (no look into welds_)
     std::vector<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;

@@ -344,9 +344,13 @@ void Physics::assign_worlds() {
             if (overlap(lo, hi, mlo, mhi)) ++missed_;
         }
     }
-    for (World& w : worlds_) w.active = false;
+    for (World& w : worlds_) w.active = false, w.movers = 0;
     for (int32_t b : movers_)
-        if (in_world_[b]) worlds_[size_t(world_of_[b])].active = true;
+        if (in_world_[b]) {
+            World& w = worlds_[size_t(world_of_[b])];
+            w.active = true;
+            ++w.movers;
+        }
 }
 
 // One world for everything from now on: the regions' boxes no longer hold (a static body was

@@ -90,7 +90,8 @@ bool input_in_range(Runtime& r, int32_t slot);
 void take_body_out(Runtime& r, int32_t body);
 void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
 void act_field(Runtime& r, const graph::Comp& c, int32_t i);
-void apply_fields(Runtime& r);
+bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether any field acts
+void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
 void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
 void integrate_group(Runtime& r, int32_t group);
 void start_joints(Runtime& r);  // joints.cpp

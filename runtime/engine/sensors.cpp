@@ -3,18 +3,24 @@
 // animations, triggers, timers, grippers carrying their objects, exits, plugins. Each
 // kind's sensing lives with the rest of its behaviour (runtime.h lists where).
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 namespace plant::engine {
 
 void phase_sensors(Runtime& r) {
+    StepProfile& p = r.phys.workers().profile();
     check_bodies(r);
     sense_bodies(r);
+    p.lap(StepProfile::Bodies);
     advance_graphics(r);
+    p.lap(StepProfile::Graphics);
     sense_triggers(r);
+    p.lap(StepProfile::Triggers);
     sense_timers(r);
     follow_grippers(r);
     run_exits(r);
     sense_plugins(r);
+    p.lap(StepProfile::Others);
 }
 
 }  // namespace plant::engine

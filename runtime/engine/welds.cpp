@@ -31,6 +31,7 @@ using namespace plant::graph;
 void Physics::find_welds() {
     weld_of_.assign(g_.bodies.size(), -1);
     carries_.assign(g_.bodies.size(), 0);
+    carried_.assign(g_.bodies.size(), 0);
     weld_joint_.assign(g_.joints.size(), -1);
     for (size_t j = 0; j < g_.joints.size(); ++j) {
         const Joint& jt = g_.joints[j];
@@ -102,6 +103,7 @@ void Physics::weld_on(Weld& w) {
     reshape(w.host, w.both);
     w.on = true;
     carries_[w.host] = 1;
+    carried_[w.pass] = 1;
     follow(w);
 }
 
@@ -109,6 +111,7 @@ void Physics::weld_off(Weld& w) {
     follow(w);  // the passenger where its carrier left it
     w.on = false;
     carries_[w.host] = 0;
+    carried_[w.pass] = 0;
     reshape(w.host, w.own);
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
@@ -128,9 +131,16 @@ void Physics::follow(const Weld& w) {
     p.setAngularVelocity(h.getAngularVelocity());
 }
 
-void Physics::follow_all() {
-    for (const Weld& w : welds_)
-        if (w.on) follow(w);
+// A carrier is a body Bullet simulates (dynamic, in the world): it is among its world's
+// non-static bodies. Each passenger is written by its own carrier's world only.
+void Physics::follow_world(int w) {
+    if (welds_.empty()) return;
+    const btCollisionObjectArray& all = worlds_[size_t(w)].world->getCollisionObjectArray();
+    for (int i = 0; i < all.size(); ++i) {
+        const int32_t b = all[i]->getUserIndex();
+        if (all[i]->isStaticObject() || !carries_[b]) continue;
+        follow(welds_[weld_of_[b]]);
+    }
 }
 
 btRigidBody& Physics::write(int32_t b) {

@@ -10,6 +10,55 @@
 
 namespace plant::engine {
 
+// Where a step's time goes, for the benchmarks (Engine::profile): each segment of the step is
+// timed on the calling thread (its processor time, so that a busy machine's waits do not count),
+// less the time it spent in Workers::run (the parallel work, timed item by item in the
+// processor time of the thread that ran it). Off by default: then it reads no clock.
+// Allocates nothing.
+struct StepProfile {
+    enum Segment : int {
+        Welds,       // welds formed and ended, kinematic moves, hands
+        FieldsPrep,  // fields' frames and cells, the bodies listed by world
+        Regions,     // free movers assigned to their regions' worlds
+        Follow,      // welded passengers follow their carriers; missed contacts
+        Bodies,      // bodies that left, body outputs
+        Graphics,
+        Triggers,    // the index of bodies and every trigger
+        Others,      // timers, grippers, exits, plugins
+        Logic,
+        Petri,
+        Actuators,   // actuators, sources, forced values
+        kSegments
+    };
+    static const char* name(int segment);
+    static constexpr int kProjected = 5;  // 1, 2, 4, 8, 16 threads
+    static constexpr int threads_of(int i) { return 1 << i; }
+
+    bool on = false;
+    int64_t steps = 0;
+    double step_ns = 0;                 // wall time of the steps
+    double serial_ns[kSegments] = {};   // processor time of the calling thread outside Workers::run
+    double jobs_ns = 0;                 // wall time in Workers::run
+    double work_ns = 0;                 // the items' processor times, summed over the threads
+    double projected_ns[kProjected] = {};  // Workers::run's time on n threads: max(work / n, longest item)
+
+    void reset();
+    void begin();                  // at the start of a step
+    void lap(Segment s) {          // the time since the last lap (or begin) goes to s
+        if (on) lap_on(s);
+    }
+    void lap_on(Segment s);
+    void end();                    // at the end of a step
+    double serial_total() const;
+    // The serial share on threads_of(i) threads: serial / (serial + projected_ns[i]).
+    double share(int i) const;
+    // Amdahl: the step's time on n threads as the serial time plus projected_ns, relative to 1.
+    double speedup(int i) const;
+
+    int64_t last_ = 0, start_ = 0;
+    double jobs_since_ = 0;  // time in Workers::run since the last lap
+};
+
 class Workers {
 public:
     // `threads` counts the calling thread: 1 runs every item on the caller.
@@ -28,6 +77,8 @@ public:
     }
     void run(int n, void (*fn)(void*, int), void* ctx);
 
+    StepProfile& profile() { return prof_; }
+
 private:
     void helper();
     void work();
@@ -40,6 +91,8 @@ private:
     std::atomic<int> busy_{0};        // helpers still working on the current job
     std::atomic<uint64_t> job_{0};    // bumped for each job; helpers wait for it to change
     std::atomic<bool> stop_{false};
+    StepProfile prof_;
+    std::atomic<int64_t> item_sum_{0}, item_max_{0};  // while profiling: this job's items
 };
 
 }  // namespace plant::engine

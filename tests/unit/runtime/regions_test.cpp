@@ -5,6 +5,7 @@
 #include "graph/text.h"
 #include "engine/runtime.h"
 #include "engine/trace.h"
+#include "engine/workers.h"
 #include "bottling_scene.h"
 #include "trace_of.h"
 
@@ -91,6 +92,47 @@ TEST_CASE("runtime: a plant of several regions gives the same trace on one threa
     CHECK(one.size() > 10000);
     CHECK(one == two);
     CHECK(one.find(",1,") != std::string::npos);  // alive: bottles issued, routed, taken
+}
+
+TEST_CASE("runtime: the step profile splits a step into serial parts and one job of the worlds") {
+    const Graph g = bottling_scene(6, 0.5, 3);
+    Engine e(g, on_threads(2));
+    StepProfile& p = e.profile();
+    for (int i = 0; i < 150; ++i) e.step();  // bottles on the lines
+    p.on = true;
+    p.reset();
+    CHECK(p.on);  // reset keeps it on
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(p.steps == 150);
+    CHECK(p.step_ns > 0);
+    CHECK(p.work_ns > 0);  // the worlds' items
+    CHECK(p.serial_ns[StepProfile::Logic] > 0);
+    CHECK(p.serial_ns[StepProfile::Triggers] > 0);
+    CHECK(p.serial_total() > 0);
+    // One job per step: the worlds stepped, each with its law and its passengers; the items
+    // laid out on 1 thread are their sum.
+    CHECK(p.projected_ns[0] == doctest::Approx(p.work_ns));
+    for (int i = 1; i < StepProfile::kProjected; ++i) {
+        CHECK(p.projected_ns[i] <= p.projected_ns[i - 1]);
+        CHECK(p.speedup(i) >= p.speedup(i - 1));
+        CHECK(p.speedup(i) < StepProfile::threads_of(i) + 1e-9);
+        CHECK(p.share(i) >= p.share(i - 1));
+    }
+    CHECK(p.share(0) > 0);
+    CHECK(p.share(0) < 1);
+    CHECK(std::string(StepProfile::name(StepProfile::Logic)) == "logic");
+    // Timing changes nothing: every body where an engine without the profile has it.
+    Engine f(g, on_threads(2));
+    for (int i = 0; i < 300; ++i) f.step();
+    int moving = 0;
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        const plant::graph::BodyId id{int32_t(b)};
+        const auto x = e.body_pose(id), y = f.body_pose(id);
+        for (int k = 0; k < 3; ++k) CHECK(x.p[k] == y.p[k]);
+        for (int k = 0; k < 4; ++k) CHECK(x.q[k] == y.q[k]);
+        moving += g.bodies[b].mode == BodyMode::Dynamic && e.body_in_world(id);
+    }
+    CHECK(moving > 6);
 }
 
 TEST_CASE("runtime: a body thrown from one region over the void lands on the other region's floor") {
