@@ -3,6 +3,8 @@
 #include "graph/kinds.h"
 
 #include <algorithm>
+#include <climits>
+#include <cstdint>
 #include <functional>
 #include <queue>
 
@@ -24,12 +26,17 @@ Deps dependencies(const Graph& g) {
         if (g.comps[c].kind == CompKind::Router) d.nodes.push_back({NodeKind::Router, int32_t(c)});
     for (size_t l = 0; l < g.labels.size(); ++l) d.nodes.push_back({NodeKind::Label, int32_t(l)});
 
-    std::vector<std::vector<int32_t>> routes_of(g.comps.size());
-    for (const Route& r : g.routes) routes_of[size_t(r.comp)].push_back(r.out_slot);
+    // Routers' outputs, by router (few: a list per router, not per component).
+    std::vector<std::pair<int32_t, int32_t>> routes;  // (router comp, out slot), in route order
+    for (const Route& r : g.routes) routes.emplace_back(r.comp, r.out_slot);
+    std::stable_sort(routes.begin(), routes.end(), [](auto& a, auto& b) { return a.first < b.first; });
 
-    // Per slot: nodes that activate it, read it, or read it as their target's activity.
-    const size_t ns = g.slots.size(), nn = d.nodes.size();
-    std::vector<std::vector<int32_t>> prod(ns), read(ns), tread(ns);
+    // Per slot: nodes that activate it, read it, or read it as their target's activity. Kept as
+    // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,
+    // not for every slot (a pool of 1,000 bottles has 40,000 slots and no link).
+    const size_t nn = d.nodes.size();
+    using Link = std::pair<int32_t, int32_t>;  // (slot, node)
+    std::vector<Link> prod, read, tread;
     for (size_t n = 0; n < nn; ++n) {
         const Node& node = d.nodes[n];
         const int32_t id = int32_t(n);
@@ -37,30 +44,35 @@ Deps dependencies(const Graph& g) {
         case NodeKind::Flow: {
             const Flow& f = g.flows[size_t(node.index)];
             each_written_slot(g, f, [&](int32_t x) {
-                prod[size_t(x)].push_back(id);
-                if (f.cond != Cond::Source) tread[size_t(x)].push_back(id);
+                prod.emplace_back(x, id);
+                if (f.cond != Cond::Source) tread.emplace_back(x, id);
             });
-            each_read_slot(g, f, [&](int32_t x) { read[size_t(x)].push_back(id); });
+            each_read_slot(g, f, [&](int32_t x) { read.emplace_back(x, id); });
             break;
         }
         case NodeKind::Logic: {
             const Logic& l = g.logics[size_t(node.index)];
-            for (int32_t i = 0; i < l.in_num; ++i) read[size_t(g.logic_inputs[size_t(l.in_adr + i)].slot)].push_back(id);
-            prod[size_t(l.out_slot)].push_back(id);
+            for (int32_t i = 0; i < l.in_num; ++i) read.emplace_back(g.logic_inputs[size_t(l.in_adr + i)].slot, id);
+            prod.emplace_back(l.out_slot, id);
             break;
         }
-        case NodeKind::Router:
-            read[size_t(g.comps[size_t(node.index)].slot_adr + routerslot::query)].push_back(id);
-            for (int32_t s : routes_of[size_t(node.index)]) prod[size_t(s)].push_back(id);
+        case NodeKind::Router: {
+            read.emplace_back(g.comps[size_t(node.index)].slot_adr + routerslot::query, id);
+            auto r = std::lower_bound(routes.begin(), routes.end(), node.index,
+                                      [](const std::pair<int32_t, int32_t>& x, int32_t c) { return x.first < c; });
+            for (; r != routes.end() && r->first == node.index; ++r) prod.emplace_back(r->second, id);
             break;
+        }
         case NodeKind::Label: {
             const Comp& c = g.comps[size_t(g.labels[size_t(node.index)].comp)];
-            read[size_t(c.slot_adr + labelslot::set)].push_back(id);
-            prod[size_t(c.slot_adr + labelslot::value)].push_back(id);
+            read.emplace_back(c.slot_adr + labelslot::set, id);
+            prod.emplace_back(c.slot_adr + labelslot::value, id);
             break;
         }
         }
     }
+    auto by_slot = [](const Link& a, const Link& b) { return a.first < b.first; };
+    for (std::vector<Link>* v : {&prod, &read, &tread}) std::stable_sort(v->begin(), v->end(), by_slot);
 
     d.succ.resize(nn);
     d.pred.resize(nn);
@@ -69,12 +81,26 @@ Deps dependencies(const Graph& g) {
         d.succ[size_t(a)].push_back(b);
         d.pred[size_t(b)].push_back(a);
     };
-    for (size_t x = 0; x < ns; ++x) {
-        for (int32_t p : prod[x])
-            for (int32_t c : read[x]) edge(p, c);
-        for (int32_t f : tread[x])
-            for (int32_t p : prod[x])
-                if (std::find(tread[x].begin(), tread[x].end(), p) == tread[x].end()) edge(p, f);
+    // Each slot with links, in slot order: [p0, p1) of prod, [r0, r1) of read, [t0, t1) of tread.
+    size_t p0 = 0, r0 = 0, t0 = 0;
+    while (p0 < prod.size() || r0 < read.size() || t0 < tread.size()) {
+        int32_t x = INT32_MAX;
+        if (p0 < prod.size()) x = std::min(x, prod[p0].first);
+        if (r0 < read.size()) x = std::min(x, read[r0].first);
+        if (t0 < tread.size()) x = std::min(x, tread[t0].first);
+        size_t p1 = p0, r1 = r0, t1 = t0;
+        while (p1 < prod.size() && prod[p1].first == x) ++p1;
+        while (r1 < read.size() && read[r1].first == x) ++r1;
+        while (t1 < tread.size() && tread[t1].first == x) ++t1;
+        for (size_t i = p0; i < p1; ++i)
+            for (size_t j = r0; j < r1; ++j) edge(prod[i].second, read[j].second);
+        for (size_t j = t0; j < t1; ++j)
+            for (size_t i = p0; i < p1; ++i) {
+                bool also_tread = false;
+                for (size_t k = t0; k < t1 && !also_tread; ++k) also_tread = tread[k].second == prod[i].second;
+                if (!also_tread) edge(prod[i].second, tread[j].second);
+            }
+        p0 = p1, r0 = r1, t0 = t1;
     }
     return d;
 }
