@@ -346,7 +346,7 @@ void Physics::assign_worlds() {
     }
     for (World& w : worlds_) w.active = false;
     for (int32_t b : movers_)
-        if (in_world_[b]) worlds_[size_t(world_of_[b])].active = true;
+        if (in_world_[b] && !coasting(b)) worlds_[size_t(world_of_[b])].active = true;  // coasting: moved by us
 }
 
 // One world for everything from now on: the regions' boxes no longer hold (a static body was
