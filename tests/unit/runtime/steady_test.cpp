@@ -178,7 +178,7 @@ graph::Graph compiled(const std::string& text, const std::string& name) {
 // 18 steps earlier or later and 37 mm apart where they leave the world (measured over 600 s).
 // Steady transport changes the last digits as such a nudge does: the counters and the
 // commissioning order are the same, and the times and places stay within what the nudge
-// gives, with room (measured on against off: 19 steps, 40 mm).
+// gives, with room (measured on against off: 19 steps, 38 mm).
 TEST_CASE("steady transport: the bottling plant over 600 s counts, routes and commissions the same bottles on and off") {
     const int seconds = PLANT_SANITIZED ? 120 : 600;
     Compilation c;
@@ -300,5 +300,6 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
     CHECK(engine::run_main(c.graph, {"--for", "0.1s", "--quiet", "--steady-transport", "maybe"}, out, err) == 2);
     CHECK(err.str().find("--steady-transport: 'maybe' is neither on nor off") != std::string::npos);
 }
+
 
 
