@@ -7,6 +7,7 @@ foreach(slow
     "stdlib: a line fed every 0.7 s into a separator that passes one a second loses no bottle in 600 s=70"
     "validate: every golden graph, damaged in each way the compiler guards, is refused=54"
     "soak: the bottling plant for a simulated hour=35"
+    "steady transport: the bottling plant over 600 s counts, routes and commissions the same bottles on and off=12"
     "faults: a drill in the plant file runs as its --event lines do=13"
     "std.separator: 12 touching bottles held for 120 s stay on the band, none lost, then one passes per cycle=11"
     "serve: a plant's scheduled faults apply as plant run applies them=6"

@@ -150,6 +150,8 @@ the real-time factor.
   --broadphase dbvt|sap     Bullet's broadphase (default dbvt)
   --threads N               threads for a plant in several physics regions
                             (default: one per core; the results do not depend on it)
+  --steady-transport on|off bottles in steady transport leave Bullet's solver (default on,
+                            as the plant's settings.steady_transport; docs/runtime.md)
   --quiet                   no progress line
 See docs/runtime.md ("plant run") for the event values and the trace format.
 )";
@@ -173,6 +175,7 @@ plays a recording made by `plant run FILE --record RECORDING`, with a timeline.
   --models DIR              where glTF/GLB models are found first (then beside the plant,
                             then the standard library's models, stdlib/models)
   --threads N               physics threads (as plant run)
+  --steady-transport on|off as plant run
   --opcua-port N, --opcua-host ADDR, --opcua-pki DIR, --opcua-users FILE
                             the plant's OPC UA link (as plant run; a plant with an `opcua`
                             component is served without them)
@@ -596,7 +599,7 @@ int run_command(int argc, char** argv) {
             o.rest.push_back(a);
             // Flags of `run` and `serve` that take a value.
             static const char* kWithValue[] = {"--for", "--rate", "--trace", "--events", "--event", "--seed",
-                                               "--trace-rate", "--broadphase", "--threads", "--record",
+                                               "--trace-rate", "--broadphase", "--threads", "--steady-transport", "--record",
                                                "--record-rate", "--record-compress",
                                                "--port", "--host", "--viewer", "--models", "--speed",
                                                "--modbus-port", "--modbus-host", "--opcua-port", "--opcua-host",

@@ -534,10 +534,12 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
                                      fmt::format("gravity must lie within 1 km/s² along each axis, not ({:g}, {:g}, {:g}) m/s²",
                                                  grav[0], grav[1], grav[2]));
                 }
+            } else if (st->name.text == "steady_transport") {
+                if (ev_.expect_bool(v, "steady_transport")) g_.settings.steady_transport = v.boolean;
             } else {
                 auto& d = sink_.report(DiagId::UnknownProperty, st->name.span,
                                        fmt::format("unknown plant setting '{}'", st->name.text));
-                if (auto hint = closest_name(st->name.text, {"rate", "gravity"}); !hint.empty())
+                if (auto hint = closest_name(st->name.text, {"rate", "gravity", "steady_transport"}); !hint.empty())
                     d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
             }
         }

@@ -31,6 +31,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
       phys(graph, tab, opt.broadphase, opt.threads),
       index(tab, graph.bodies.size()) {
     init_state(st, g, tab);
+    start_steady(*this, opt.steady_transport && graph.settings.steady_transport);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
     for (const Flow& f : g.flows) each_read_slot(g, f, [&](int32_t s) { st.watched[s] = 1; });
     for (const Record& rec : g.records) st.watched[rec.slot] = 1;

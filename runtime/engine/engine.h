@@ -29,6 +29,10 @@ struct Options {
     // Threads that step the physics of a plant in several regions (0: one per core). The
     // results do not depend on it.
     int threads = 0;
+    // Bottles in steady transport leave Bullet's solver and move by the conveyor law's exact
+    // solution (docs/runtime.md, "Steady transport"); with the plant's
+    // settings.steady_transport, both must be on.
+    bool steady_transport = true;
 };
 
 // Runtime warnings: counted, never fatal (the summary of a run prints them).

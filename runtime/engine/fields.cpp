@@ -258,6 +258,7 @@ bool prepare_fields(Runtime& r) {
         s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
     }
     if (moved) build_field_cells(r);
+    check_steady(r);  // transport.cpp: who leaves or rejoins the solver this step
     return true;
 }
 
@@ -269,7 +270,7 @@ void list_field_bodies(Runtime& r) {
     s.world_num.assign(size_t(nw), 0);
     // Not what a gripper or a hand holds: the band slides under it.
     for (int32_t b : r.tab.dyn_bodies)
-        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b]) ++s.world_num[size_t(r.phys.world_of(b))];
+        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[size_t(r.phys.world_of(b))];
     for (int w = 1; w < nw; ++w) s.world_adr[size_t(w)] = s.world_adr[size_t(w - 1)] + s.world_num[size_t(w - 1)];
     s.worlds_busy.clear();
     for (int w = 0; w < nw; ++w) {
@@ -277,7 +278,7 @@ void list_field_bodies(Runtime& r) {
         s.world_num[size_t(w)] = 0;
     }
     for (int32_t b : r.tab.dyn_bodies) {
-        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0 || s.in_hand[b]) continue;
+        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0 || s.in_hand[b] || r.phys.coasting(b)) continue;
         const size_t w = size_t(r.phys.world_of(b));
         s.world_list[size_t(s.world_adr[w] + s.world_num[w]++)] = b;
     }
@@ -315,6 +316,7 @@ void phase_physics(Runtime& r) {
         }
         r.phys.step(r.dt, h);
     }
+    advance_steady(r);  // what left the solver moves by the law's exact solution
     r.st.warn.missed_contacts = r.phys.missed_contacts();
     p.lap(StepProfile::Follow);
     r.st.step++;

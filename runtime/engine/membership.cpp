@@ -27,8 +27,9 @@ void Physics::add_to_world(int32_t b, bool filtered) {
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
     }
-    const bool pairs = filtered && coll_on_[b];
+    const bool pairs = filtered && coll_on_[b] && !coast_[b];
     world_at(b).world->addRigidBody(bodies_[b].get(), pairs ? group_[b] : 0, pairs ? mask_[b] : 0);
+    if (coast_[b]) park(b);  // moved to another region's world while coasting
 }
 
 // Bullet's static/kinematic flags as the body's mode and dynamics switch say. A parked
@@ -38,7 +39,7 @@ void Physics::set_mode_flags(int32_t b) {
     btRigidBody& r = *bodies_[b];
     int f = r.getCollisionFlags() & ~(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_KINEMATIC_OBJECT);
     const BodyMode mode = g_.bodies[b].mode;
-    if (!in_world_[b] || mode == BodyMode::Static) f |= btCollisionObject::CF_STATIC_OBJECT;
+    if (!in_world_[b] || mode == BodyMode::Static || coast_[b]) f |= btCollisionObject::CF_STATIC_OBJECT;
     else if (mode == BodyMode::Kinematic || !dyn_on_[b]) f |= btCollisionObject::CF_KINEMATIC_OBJECT;
     r.setCollisionFlags(f);
 }
@@ -167,6 +168,7 @@ void Physics::place(int32_t b, const btTransform& f) {
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
     if (in_world_[b]) world_at(b).world->updateSingleAabb(&r);
+    if (g_.bodies[b].mode == BodyMode::Static) ++statics_placed_;
     if (void_ >= 0 && g_.bodies[b].mode == BodyMode::Static) placed_static(b);
 }
 

@@ -338,6 +338,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     mask_.assign(nb, 0);
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
+    coast_.assign(nb, 0);
     for (size_t b = 0; b < nb; ++b) {
         const Body& body = g.bodies[b];
         BodyShape bs = shapes_.build(g, body);

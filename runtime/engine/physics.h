@@ -97,6 +97,30 @@ public:
     // The body frame (graph::Body::pose), not Bullet's centre-of-mass frame.
     graph::Pose pose(int32_t b) const;
     btTransform frame(int32_t b) const;
+    // Steady transport (transport.cpp): a lone dynamic body or a weld's host (with its
+    // passenger) that the conveyor law alone moves leaves the solver: flagged static, in no
+    // pair, its broadphase box parked, its state written by coast_to() each step. land()
+    // returns it; anything that writes its state or mode (unweld) lands it first.
+    void coast(int32_t b);
+    void land(int32_t b);
+    // Coasting: b itself, or the host that carries b.
+    bool coasting(int32_t b) const {
+        if (coast_[b]) return true;
+        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
+        return w >= 0 && welds_[w].on && coast_[welds_[w].host];
+    }
+    // Sets a coasting carrier's centre-of-mass frame and velocities; its passenger follows.
+    void coast_to(int32_t b, const btTransform& com_frame, const btVector3& v, const btVector3& w);
+    // The passenger host b carries now, or -1.
+    int32_t passenger(int32_t b) const {
+        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
+        return w >= 0 && welds_[w].on && welds_[w].host == b ? welds_[w].pass : -1;
+    }
+    // Joined by no joint at all.
+    bool lone(int32_t b) const { return body_joints_.num.empty() || body_joints_.num[b] == 0; }
+    // Counts the times a static body was placed (caches of static geometry compare it).
+    uint64_t statics_placed() const { return statics_placed_; }
+
     // Teleport (also resets the previous pose, so a kinematic body gains no speed).
     void place(int32_t b, const btTransform& frame);
     // Kinematic move: Bullet derives the body's velocity from it in the next step.
@@ -167,6 +191,8 @@ private:
     std::vector<btVector3> inertia_;
     std::vector<double> mass_;
     std::vector<uint8_t> in_world_, dyn_on_, coll_on_, joint_in_, joint_on_;
+    std::vector<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp)
+    uint64_t statics_placed_ = 0;
     std::vector<int> group_, mask_;  // broadphase filter while in the world
     Csr body_joints_;
     std::vector<Weld> welds_;

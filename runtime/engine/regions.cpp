@@ -346,7 +346,7 @@ void Physics::assign_worlds() {
     }
     for (World& w : worlds_) w.active = false, w.movers = 0;
     for (int32_t b : movers_)
-        if (in_world_[b]) {
+        if (in_world_[b] && !coasting(b)) {  // coasting: moved by us (transport.cpp)
             World& w = worlds_[size_t(world_of_[b])];
             w.active = true;
             ++w.movers;

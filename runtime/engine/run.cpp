@@ -30,6 +30,7 @@ struct RunOptions {
     bool realtime = false, quiet = false;
     Broadphase broadphase = Broadphase::Dbvt;
     int threads = 0;
+    bool steady = true;
     std::vector<Event> events;
 };
 
@@ -89,6 +90,13 @@ bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions
                 return false;
             }
             o.threads = int(n);
+        } else if (a == "--steady-transport") {
+            if (!value(i, v)) return false;
+            if (v != "on" && v != "off") {
+                error = fmt::format("--steady-transport: '{}' is neither on nor off", v);
+                return false;
+            }
+            o.steady = v == "on";
         } else if (a == "--event" || a == "--events") {
             if (!value(i, v)) return false;
             if (slots.empty()) slots = slot_index(g);
@@ -354,6 +362,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
     eo.rate = o.rate;
     eo.broadphase = o.broadphase;
     eo.threads = o.threads;
+    eo.steady_transport = o.steady;
     Engine e(g, eo);
     Tally tally(g);
     RecordTally counts(g);

@@ -9,6 +9,7 @@
 #include "engine/spatial.h"
 #include "engine/state.h"
 #include "engine/tables.h"
+#include "engine/transport.h"
 
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct Runtime {
     State st;
     Physics phys;
     Spatial index;
+    Steady steady;  // transport.cpp
     std::vector<std::string> extra_names;  // strings interned at run time (events)
 
     Runtime(const graph::Graph& graph, const Options& opt);

@@ -111,7 +111,8 @@ struct Same {
 bool Graph::same_as(const Graph& other) const {
     Same same{*this, other};
     if (!same(plant, other.plant) || !same(settings.rate, other.settings.rate) ||
-        !same(settings.gravity, other.settings.gravity) || files != other.files)
+        !same(settings.gravity, other.settings.gravity) ||
+        settings.steady_transport != other.settings.steady_transport || files != other.files)
         return false;
 #define PLANT_SAME_FIELD(T_, f_) &&same(x.f_, y.f_)
 #define PLANT_SAME_TABLE(member, Record, elem, FIELDS)                                   \

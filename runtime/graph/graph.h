@@ -416,6 +416,7 @@ constexpr int64_t kMaxTokens = int64_t(1) << 53;
 struct Settings {
     double rate = 150.0;      // physics steps per second, kMinRate .. kMaxRate
     Vec3 gravity{0, 0, -9.81};
+    bool steady_transport = true;  // bottles in steady transport may leave the solver (docs/runtime.md)
     friend bool operator==(const Settings&, const Settings&) = default;
 };
 

@@ -183,9 +183,12 @@ public:
         if (!line("plant") || !arg("plant", g.plant) || !end_of_line()) return false;
         if (!line("settings")) return false;
         settings_line_ = line_no_;
-        if (!field("rate", g.settings.rate) ||
-            !field("gravity", g.settings.gravity) || !end_of_line())
+        if (!field("rate", g.settings.rate) || !field("gravity", g.settings.gravity))
             return false;
+        // Optional, written only when off (the default is on).
+        if (rest_.starts_with(" steady_transport=") && !field("steady_transport", g.settings.steady_transport))
+            return false;
+        if (!end_of_line()) return false;
         if (!table("files", "file", g.files, [&](std::string& f) { return arg("file", f); }))
             return false;
 #define PLANT_READ_FIELD(T_, f_) &&field(#f_, r.f_)
@@ -408,6 +411,7 @@ std::string to_text(const Graph& g) {
     o += "\nsettings";
     w.field("rate", g.settings.rate);
     w.field("gravity", g.settings.gravity);
+    if (!g.settings.steady_transport) w.field("steady_transport", false);
     o += '\n';
     w.table("files", "file", g.files, [&](const std::string& f) {
         o += ' ';
@@ -438,7 +442,7 @@ constexpr uint64_t fnv1a(std::string_view s, uint64_t h) {
 // The tables as the X-macros list them: "member word {Type field;...}" each, in order.
 #define PLANT_SCHEMA_FIELD(T_, f_) #T_ " " #f_ ";"
 #define PLANT_SCHEMA_TABLE(member, Record, elem, FIELDS) #member " " #elem " {" FIELDS(PLANT_SCHEMA_FIELD) "}\n"
-constexpr std::string_view kSchema = "settings rate gravity\nfiles file\n" PLANT_GRAPH_TABLES(PLANT_SCHEMA_TABLE);
+constexpr std::string_view kSchema = "settings rate gravity [steady_transport]\nfiles file\n" PLANT_GRAPH_TABLES(PLANT_SCHEMA_TABLE);
 #undef PLANT_SCHEMA_TABLE
 #undef PLANT_SCHEMA_FIELD
 

@@ -85,6 +85,10 @@ int serve_main(const graph::Graph* graph, const std::string& file, const std::ve
             if (!value(v) || !number(v, x) || x < 1 || x > 256 || x != double(int(x)))
                 return fail(fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v));
             eo.threads = int(x);
+        } else if (a == "--steady-transport") {
+            if (!value(v) || (v != "on" && v != "off"))
+                return fail(fmt::format("--steady-transport: '{}' is neither on nor off", v));
+            eo.steady_transport = v == "on";
         } else {
             return fail(fmt::format("unknown flag '{}' (see plant serve --help)", a));
         }

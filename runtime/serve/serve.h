@@ -8,6 +8,7 @@
 //   --paused        start paused
 //   --speed X       0.1, 1, 10 ... times real time; 0 as fast as possible (default 1)
 //   --threads N     physics threads (as plant run)
+//   --steady-transport on|off   (as plant run)
 //   --event "5s PATH [VALUE]", --events FILE   timed events applied in the run (as plant run)
 //
 // Models are looked up under --models, beside the plant, then under `stdlib_dir`/models.

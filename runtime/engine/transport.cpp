@@ -1,0 +1,479 @@
+// Steady transport: bottles the conveyor law alone moves leave Bullet's solver.
+//
+// A unit is a lone dynamic body or a welded pair's host with its passenger (a bottle). It is
+// steady when, at the start of a physics phase (after the fields' state of this step is known):
+//
+//   * it is simulated (dynamic, in the world, collision on), not held by a gripper or a hand,
+//     and nothing reads its outputs (no record, flow or watch: what is measured is Bullet's);
+//   * it stands upright (its body frame's z within 2° of vertical), rocks slower than 1 rad/s
+//     about the horizontal axes (a bottle standing on a band rocks by contact noise that
+//     fast, by hundredths of a degree) and turns slower than 1 rad/s about the vertical;
+//   * the centre of mass of each of its bodies lies, this step and on its path two steps on,
+//     inside exactly one acting field, the same one, at least 1 mm from its faces, and
+//     1 mm clear of the faces of every other field; that field is level and the unit's
+//     velocity in the field's frame is within 2 mm/s of the target on the driven axes and of
+//     0 on the others;
+//   * its bounding box grown by two steps at its speed plus 2 mm meets one static body only
+//     (each piece of a compound on its own: a belt's rails are one body), whose top is at most
+//     1 cm above the unit's bottom (the band it stands on: a box whose top face is within 3°
+//     of level); grown by two steps plus 1 cm, it meets no trigger's box and no kinematic
+//     part's room (its box when filed, grown by 5 cm);
+//   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
+//     for one that Bullet does not move itself) meets its own grown by two steps plus 1 cm.
+//
+// A unit steady for 15 steps in a row leaves the solver: flagged static in no pair, its
+// broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
+// along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
+// its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
+// height above the band's top face (a band rises 2 mm along its length), and it turns about
+// the vertical as it did when it left (nothing acts about that axis), no other way.
+// Its pose, velocity and bounding box are written every step, so triggers, sensors, graphics
+// and records see it as any body. It returns to the solver (Physics::land) with that state at
+// the start of the first physics phase in which it is not steady (a neighbour, a trigger, a
+// field's end or change come within reach; the reach covers two steps, so nothing meets it
+// while it is off), and at once when an event, a gripper or a hand writes its state or mode
+// (Physics::unweld lands it first). Every decision reads only this step's state, in body id
+// order, on one thread: the results do not depend on the number of threads.
+#include "engine/transport.h"
+
+#include "engine/runtime.h"
+
+#include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace plant::engine {
+
+using namespace plant::graph;
+
+// ---- Physics: leaving the solver and coming back.
+
+void Physics::coast(int32_t b) {
+    coast_[b] = 1;
+    btRigidBody& r = *bodies_[b];
+    r.clearForces();
+    r.forceActivationState(DISABLE_SIMULATION);  // not active: Bullet leaves its broadphase box alone
+    set_mode_flags(b);                           // static: Bullet does not integrate it
+    park(b);
+}
+
+void Physics::land(int32_t b) {
+    if (!coast_[b]) return;
+    coast_[b] = 0;
+    btRigidBody& r = *bodies_[b];
+    r.forceActivationState(DISABLE_DEACTIVATION);
+    set_mode_flags(b);
+    r.setInterpolationWorldTransform(r.getWorldTransform());
+    r.setInterpolationLinearVelocity(r.getLinearVelocity());
+    r.setInterpolationAngularVelocity(r.getAngularVelocity());
+    refilter(b);  // its pairs are found again in this step
+}
+
+void Physics::coast_to(int32_t b, const btTransform& t, const btVector3& v, const btVector3& w) {
+    btRigidBody& r = *bodies_[b];
+    r.setWorldTransform(t);
+    r.setInterpolationWorldTransform(t);
+    r.setLinearVelocity(v);
+    r.setAngularVelocity(w);
+    if (weld_of_[b] >= 0 && welds_[weld_of_[b]].on) follow(welds_[weld_of_[b]]);
+}
+
+namespace {
+
+constexpr btScalar kMargin = btScalar(0.01);        // m, between bodies, beyond their two steps of motion
+constexpr btScalar kStaticMargin = btScalar(0.002); // m, to a static body (a rail), beyond two steps
+constexpr btScalar kNotSimulated = btScalar(0.05);  // m, more for a body Bullet does not move itself
+constexpr btScalar kSpeedTol = btScalar(0.002);     // m/s
+constexpr btScalar kRockTol = btScalar(1);          // rad/s about horizontal axes: contact noise, not tipping
+constexpr btScalar kYawTol = btScalar(1);           // rad/s about the vertical
+constexpr btScalar kTilt = btScalar(0.99939);       // cos 2°: a body's z axis from vertical
+constexpr btScalar kUpright = btScalar(0.9986);     // cos 3°: a field's or a band's top from level
+constexpr btScalar kFieldMargin = btScalar(0.001);  // m
+constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bounding box may reach into its support's
+constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
+constexpr int16_t kSettle = 15;                     // steps steady before leaving the solver
+constexpr btScalar kCell = 1;                       // m
+constexpr int64_t kMaxCells = 1024;
+
+bool cell_of(btScalar x, btScalar y, int64_t& ix, int64_t& iy) {
+    if (!(std::abs(x) < btScalar(1e6) && std::abs(y) < btScalar(1e6))) return false;
+    ix = int64_t(std::floor(x / kCell)), iy = int64_t(std::floor(y / kCell));
+    return true;
+}
+uint64_t cell_key(int64_t ix, int64_t iy) { return (uint64_t(ix & 0xffffffff) << 32) | uint64_t(iy & 0xffffffff); }
+
+bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
+    return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
+           alo.z() <= bhi.z() && blo.z() <= ahi.z();
+}
+bool inside(const btVector3& lo, const btVector3& hi, const btVector3& blo, const btVector3& bhi) {
+    return lo.x() >= blo.x() && lo.y() >= blo.y() && lo.z() >= blo.z() && hi.x() <= bhi.x() && hi.y() <= bhi.y() &&
+           hi.z() <= bhi.z();
+}
+
+void body_box(const Physics& ph, int32_t b, btVector3& lo, btVector3& hi) {
+    const btRigidBody& r = ph.rb(b);
+    r.getCollisionShape()->getAabb(r.getWorldTransform(), lo, hi);
+}
+
+void oriented_box(const btTransform& t, const btVector3& h, btVector3& lo, btVector3& hi) {
+    const btMatrix3x3& R = t.getBasis();
+    btVector3 e;
+    for (int i = 0; i < 3; ++i) e[i] = std::abs(R[i][0]) * h.x() + std::abs(R[i][1]) * h.y() + std::abs(R[i][2]) * h.z();
+    lo = t.getOrigin() - e, hi = t.getOrigin() + e;
+}
+
+btTransform trigger_pose(Runtime& r, size_t t) {
+    const Trigger& tg = r.g.triggers[t];
+    return tg.body >= 0 ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
+}
+
+// Files the static geometry into cells (when starting and after a static body was placed or a
+// kinematic one left its room). Allocates only when it covers more cells than before.
+void build_grid(Runtime& r) {
+    Steady& S = r.steady;
+    const Physics& ph = r.phys;
+    S.hazards.clear();
+    S.kinematic.clear();
+    S.roaming.clear();
+    for (size_t b = 0; b < r.g.bodies.size(); ++b) {
+        const BodyMode mode = r.g.bodies[b].mode;
+        if (mode == BodyMode::Dynamic) continue;
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, int32_t(b), -1};
+        const btRigidBody& rb = ph.rb(int32_t(b));
+        if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
+            // Each piece on its own: a belt's two rails are one body, the band between them.
+            const auto* c = static_cast<const btCompoundShape*>(rb.getCollisionShape());
+            for (int k = 0; k < c->getNumChildShapes(); ++k) {
+                c->getChildShape(k)->getAabb(rb.getWorldTransform() * c->getChildTransform(k), h.lo, h.hi);
+                S.hazards.push_back(h);
+            }
+            continue;
+        }
+        body_box(ph, int32_t(b), h.lo, h.hi);
+        if (mode == BodyMode::Kinematic) {
+            const btVector3 room(kRoom, kRoom, kRoom);
+            h.lo -= room, h.hi += room;
+            S.home_lo[b] = h.lo, S.home_hi[b] = h.hi;
+            S.kinematic.push_back(int32_t(b));
+        }
+        S.hazards.push_back(h);
+    }
+    for (size_t t = 0; t < r.g.triggers.size(); ++t) {
+        const Trigger& tg = r.g.triggers[t];
+        if (tg.body >= 0 && r.g.bodies[tg.body].mode != BodyMode::Static) {
+            S.roaming.push_back(int32_t(t));
+            continue;
+        }
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, -1, int32_t(t)};
+        oriented_box(trigger_pose(r, t), to_bt(tg.extent) * btScalar(0.5), h.lo, h.hi);
+        S.hazards.push_back(h);
+    }
+    S.filed.clear();
+    S.big.clear();
+    for (size_t i = 0; i < S.hazards.size(); ++i) {
+        const Steady::Hazard& h = S.hazards[i];
+        int64_t x0, y0, x1, y1;
+        if (!cell_of(h.lo.x(), h.lo.y(), x0, y0) || !cell_of(h.hi.x(), h.hi.y(), x1, y1) ||
+            (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells) {
+            S.big.push_back(int32_t(i));
+            continue;
+        }
+        for (int64_t x = x0; x <= x1; ++x)
+            for (int64_t y = y0; y <= y1; ++y) S.filed.emplace_back(cell_key(x, y), int32_t(i));
+    }
+    std::sort(S.filed.begin(), S.filed.end());
+    S.cells.clear();
+    S.cell_adr.clear();
+    S.cell_list.clear();
+    for (size_t i = 0; i < S.filed.size(); ++i) {
+        if (i == 0 || S.filed[i].first != S.filed[i - 1].first) {
+            S.cells.push_back(S.filed[i].first);
+            S.cell_adr.push_back(int32_t(S.cell_list.size()));
+        }
+        S.cell_list.push_back(S.filed[i].second);
+    }
+    S.cell_adr.push_back(int32_t(S.cell_list.size()));
+    S.grid_valid = true;
+    S.grid_statics = ph.statics_placed();
+}
+
+// The one acting field whose box holds the path from p over two steps at v (1 mm inside), with
+// no field's face within 1 mm of it; -1 if none or not so.
+int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
+    State& s = r.st;
+    int64_t ix, iy;
+    if (!cell_of(p.x(), p.y(), ix, iy)) return -1;
+    const int32_t *cell = nullptr, *cell_end = nullptr;
+    const uint64_t key = cell_key(ix, iy);
+    const auto it = std::lower_bound(s.field_cells.begin(), s.field_cells.end(), key);
+    if (it != s.field_cells.end() && *it == key) {
+        const size_t i = size_t(it - s.field_cells.begin());
+        cell = s.field_cell_list.data() + s.field_cell_adr[i];
+        cell_end = s.field_cell_list.data() + s.field_cell_adr[i + 1];
+    }
+    const btVector3 q = p + v * btScalar(2 * r.dt);
+    int32_t found = -1;
+    const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
+    while (cell != cell_end || big != big_end) {
+        const int32_t f = cell != cell_end ? *cell++ : *big++;
+        const State::FieldFrame& ff = s.field_frame[size_t(f)];
+        const btMatrix3x3& R = ff.pose.getBasis();
+        const btVector3 h = to_bt(r.g.fields[size_t(f)].extent) * btScalar(0.5);
+        const btVector3 a = (p - ff.pose.getOrigin()) * R, b = (q - ff.pose.getOrigin()) * R;
+        bool in = true, out = false;
+        for (int i = 0; i < 3; ++i) {
+            in = in && std::abs(a[i]) + kFieldMargin <= h[i] && std::abs(b[i]) + kFieldMargin <= h[i];
+            out = out || (a[i] - h[i] >= kFieldMargin && b[i] - h[i] >= kFieldMargin) ||
+                  (-a[i] - h[i] >= kFieldMargin && -b[i] - h[i] >= kFieldMargin);
+        }
+        if (!in && !out) return -1;  // at a face
+        if (in && s.field_act[size_t(f)]) {
+            if (found >= 0) return -1;  // two acting fields
+            found = f;
+        }
+    }
+    return found;
+}
+
+// The top face of a box (or of a compound of one box): a point of it and its normal.
+bool top_face(const Physics& ph, int32_t b, btVector3& point, btVector3& normal) {
+    const btRigidBody& r = ph.rb(b);
+    const btCollisionShape* shape = r.getCollisionShape();
+    btTransform t = r.getWorldTransform();
+    if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
+        const auto* c = static_cast<const btCompoundShape*>(shape);
+        if (c->getNumChildShapes() != 1) return false;
+        t = t * c->getChildTransform(0);
+        shape = c->getChildShape(0);
+    }
+    if (shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
+    const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+        if (std::abs(t.getBasis().getColumn(i).z()) > std::abs(t.getBasis().getColumn(best).z())) best = i;
+    btVector3 n = t.getBasis().getColumn(best);
+    if (n.z() < 0) n = -n;
+    if (n.z() < kUpright) return false;
+    normal = n;
+    point = t.getOrigin() + n * h[best];
+    return true;
+}
+
+struct Verdict {
+    int32_t field = -1, support = -1;
+};
+
+// Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
+bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
+    Physics& ph = r.phys;
+    State& s = r.st;
+    Steady& S = r.steady;
+    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b] >= 0 || s.in_hand[b] ||
+        s.body_outputs[b])
+        return false;
+    if (p >= 0 && (s.gone[p] || s.held_by[p] >= 0 || s.in_hand[p] || s.body_outputs[p])) return false;
+    const btRigidBody& rb = ph.rb(b);
+    const btVector3 v = rb.getLinearVelocity();
+    const btVector3& w = rb.getAngularVelocity();
+    if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return false;
+    if (ph.frame(b).getBasis()[2][2] < kTilt) return false;
+    const int32_t f = field_at(r, ph.com(b), v);
+    if (f < 0 || (p >= 0 && field_at(r, ph.com(p), v) != f)) return false;
+    const btMatrix3x3& R = s.field_frame[size_t(f)].pose.getBasis();
+    const btVector3& gain = r.tab.field_gain[size_t(f)];
+    if (R[2][2] < kUpright || gain.z() > 0) return false;
+    const btVector3 vl = v * R;
+    for (int i = 0; i < 2; ++i)
+        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[size_t(f)][i] : 0)) > kSpeedTol) return false;
+
+    // Statics, triggers, kinematic parts.
+    btVector3 lo, hi;
+    body_box(ph, b, lo, hi);
+    const btScalar motion = btScalar(2 * r.dt) * v.length(), reach = kMargin + motion, sreach = kStaticMargin + motion;
+    const btVector3 g(reach, reach, reach), glo = lo - g, ghi = hi + g;
+    const btVector3 sg(sreach, sreach, sreach), slo = lo - sg, shi = hi + sg;
+    int32_t support = -1;
+    auto hazard = [&](const Steady::Hazard& h) {
+        const bool fixed = h.body >= 0 && r.g.bodies[h.body].mode == BodyMode::Static;
+        if (fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
+        if (h.trigger >= 0 || r.g.bodies[h.body].mode != BodyMode::Static) return false;
+        if (h.hi.z() > lo.z() + kSink || (support >= 0 && support != h.body)) return false;
+        support = h.body;
+        return true;
+    };
+    for (int32_t i : S.big)
+        if (!hazard(S.hazards[size_t(i)])) return false;
+    int64_t x0, y0, x1, y1;
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return false;
+    for (int64_t x = x0; x <= x1; ++x)
+        for (int64_t y = y0; y <= y1; ++y) {
+            const auto it = std::lower_bound(S.cells.begin(), S.cells.end(), cell_key(x, y));
+            if (it == S.cells.end() || *it != cell_key(x, y)) continue;
+            const size_t c = size_t(it - S.cells.begin());
+            for (int32_t k = S.cell_adr[c]; k < S.cell_adr[c + 1]; ++k)
+                if (!hazard(S.hazards[size_t(S.cell_list[size_t(k)])])) return false;
+        }
+    if (support < 0) return false;
+    for (size_t i = 0; i < S.roaming.size(); ++i)
+        if (overlap(glo, ghi, S.roam_lo[i], S.roam_hi[i])) return false;
+    btVector3 point, normal;
+    if (!top_face(ph, support, point, normal)) return false;
+
+    // Other bodies.
+    const btScalar far = reach + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
+    bool clear = true;
+    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](int32_t o) {
+        if (!clear || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
+        const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (ph.dynamic_now(o) ? 0 : kNotSimulated);
+        const btVector3 go(ro, ro, ro);
+        if (overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) clear = false;
+    });
+    if (!clear) return false;
+    out.field = f;
+    out.support = support;
+    return true;
+}
+
+void ride(Runtime& r, int32_t b, int32_t f) {
+    State& s = r.st;
+    s.ride_field[b] = f;
+    s.ride_step[b] = s.step;
+    s.ride_at[b] = r.phys.com(b);
+}
+
+}  // namespace
+
+void start_steady(Runtime& r, bool on) {
+    Steady& S = r.steady;
+    S.on = on;
+    const size_t nb = r.g.bodies.size();
+    S.settled.assign(nb, 0);
+    S.field.assign(nb, -1);
+    S.support.assign(nb, -1);
+    S.target.assign(nb, btVector3(0, 0, 0));
+    S.normal.assign(nb, btVector3(0, 0, 1));
+    S.top.assign(nb, btVector3(0, 0, 0));
+    S.height.assign(nb, 0);
+    S.yaw.assign(nb, 0);
+    S.relax.assign(nb, btVector3(1, 1, 1));
+    S.coasting.reserve(nb);
+    S.kinematic.reserve(nb);
+    S.home_lo.assign(nb, btVector3(0, 0, 0));
+    S.home_hi.assign(nb, btVector3(0, 0, 0));
+    S.roaming.reserve(r.g.triggers.size());
+    S.roam_lo.assign(r.g.triggers.size(), btVector3(0, 0, 0));
+    S.roam_hi.assign(r.g.triggers.size(), btVector3(0, 0, 0));
+    if (!on) return;
+    build_grid(r);  // and room for kinematic parts that move to more cells later
+    S.filed.reserve(2 * S.filed.size() + 64);
+    S.cells.reserve(2 * S.cells.size() + 64);
+    S.cell_adr.reserve(2 * S.cell_adr.size() + 64);
+    S.cell_list.reserve(2 * S.cell_list.size() + 64);
+    S.big.reserve(S.hazards.size());
+}
+
+void check_steady(Runtime& r) {
+    Steady& S = r.steady;
+    S.coasting.clear();
+    if (!S.on) return;
+    Physics& ph = r.phys;
+    State& s = r.st;
+    if (!S.grid_valid || S.grid_statics != ph.statics_placed()) build_grid(r);
+    for (int32_t k : S.kinematic) {  // a part that left its room: filed again where it is
+        btVector3 lo, hi;
+        body_box(ph, k, lo, hi);
+        const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
+        const btVector3 g(m, m, m);
+        if (!inside(lo - g, hi + g, S.home_lo[size_t(k)], S.home_hi[size_t(k)])) {
+            build_grid(r);
+            break;
+        }
+    }
+    for (size_t i = 0; i < S.roaming.size(); ++i)
+        oriented_box(trigger_pose(r, size_t(S.roaming[i])), to_bt(r.g.triggers[size_t(S.roaming[i])].extent) * btScalar(0.5),
+                     S.roam_lo[i], S.roam_hi[i]);
+    r.index.refresh(ph, true);
+    btScalar vmax = 0;
+    for (int32_t b : r.tab.dyn_bodies)
+        if (ph.in_world(b)) vmax = std::max(vmax, ph.rb(b).getLinearVelocity().length());
+    if (!std::isfinite(vmax)) vmax = btScalar(1e6);
+    for (int32_t b : r.tab.dyn_bodies) {
+        const int32_t p = ph.passenger(b);
+        if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
+            S.settled[size_t(b)] = 0;
+            continue;
+        }
+        const bool was = ph.coasting(b);
+        Verdict v;
+        bool ok = steady_now(r, b, p, vmax, v);
+        if (was) {
+            const btVector3 target = ok ? s.field_frame[size_t(v.field)].pose.getBasis() * s.field_target[size_t(v.field)]
+                                        : btVector3(0, 0, 0);
+            ok = ok && v.field == S.field[size_t(b)] && v.support == S.support[size_t(b)] && target == S.target[size_t(b)];
+            if (!ok) {
+                ph.land(b);
+                ++S.rejoined;
+                S.settled[size_t(b)] = 0;
+                continue;
+            }
+        } else {
+            if (!ok) {
+                S.settled[size_t(b)] = 0;
+                continue;
+            }
+            if (++S.settled[size_t(b)] < kSettle) continue;
+            const size_t f = size_t(v.field);
+            const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+            btVector3 point, normal;
+            top_face(ph, v.support, point, normal);
+            S.field[size_t(b)] = v.field;
+            S.support[size_t(b)] = v.support;
+            S.target[size_t(b)] = R * s.field_target[f];
+            S.normal[size_t(b)] = normal;
+            S.top[size_t(b)] = point;
+            S.height[size_t(b)] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
+            S.yaw[size_t(b)] = ph.rb(b).getAngularVelocity().z();
+            const double m = ph.mass(b) + (p >= 0 ? ph.mass(p) : 0.0);
+            const btVector3& gain = r.tab.field_gain[f];
+            for (int i = 0; i < 3; ++i)
+                S.relax[size_t(b)][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
+            ph.coast(b);
+            ++S.left;
+        }
+        S.coasting.push_back(b);
+        ride(r, b, v.field);
+        if (p >= 0) ride(r, p, v.field);
+    }
+}
+
+void advance_steady(Runtime& r) {
+    Steady& S = r.steady;
+    Physics& ph = r.phys;
+    const btScalar dt = btScalar(r.dt);
+    for (int32_t b : S.coasting) {
+        const size_t i = size_t(b), f = size_t(S.field[i]);
+        const btRigidBody& rb = ph.rb(b);
+        const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
+        const btVector3& target = r.st.field_target[f];
+        btVector3 vl = rb.getLinearVelocity() * R;
+        for (int k = 0; k < 3; ++k)
+            if (S.relax[i][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[i][k];
+        btVector3 v = R * vl;
+        const btVector3& n = S.normal[i];
+        v.setZ(-(n.x() * v.x() + n.y() * v.y()) / n.z());  // along the band's top face
+        btTransform t = rb.getWorldTransform();
+        btVector3 c = t.getOrigin() + v * dt;
+        c.setZ(c.z() + (S.height[i] - n.dot(c - S.top[i])) / n.z());
+        t.setOrigin(c);
+        // It turns about the vertical as it turned when it left (no torque about it), no other way.
+        const btScalar yaw = S.yaw[i];
+        if (yaw != 0) t.setBasis(btMatrix3x3(btQuaternion(btVector3(0, 0, 1), yaw * dt)) * t.getBasis());
+        ph.coast_to(b, t, v, btVector3(0, 0, yaw));
+    }
+}
+
+}  // namespace plant::engine

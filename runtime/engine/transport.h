@@ -1,0 +1,59 @@
+// Steady transport (docs/runtime.md, "Steady transport"): a bottle that rides a belt upright,
+// at the band's speed, with nothing but the band within reach, is moved by the conveyor law's
+// exact solution instead of Bullet's solver, and returns to the solver, with its state, the
+// step before anything could touch it.
+#pragma once
+
+#include <LinearMath/btTransform.h>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace plant::engine {
+
+struct Runtime;
+
+struct Steady {
+    bool on = false;  // Options::steady_transport and the plant's settings.steady_transport
+    // Per body (a lone body or a weld's host: a unit).
+    std::vector<int16_t> settled;        // consecutive steps the unit was steady
+    std::vector<int32_t> field;          // coasting: the field it rides
+    std::vector<int32_t> support;        // coasting: the static body it stands on
+    std::vector<btVector3> target;       // coasting: the field's target velocity, in the world
+    std::vector<btVector3> normal;       // coasting: the support's top face's normal
+    std::vector<btScalar> height;        // coasting: its centre of mass above the top face's plane
+    std::vector<btScalar> yaw;           // coasting: its angular velocity about the vertical
+    std::vector<btVector3> relax;        // coasting: exp(-a) per field axis (1: free axis)
+    std::vector<int32_t> coasting;       // the units coasting this step, in id order
+    std::vector<btVector3> top;          // coasting: a point of the support's top face
+    int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
+
+    // Static geometry near which nothing coasts: static bodies (a support aside), triggers
+    // fixed in the world, and kinematic bodies within a box around where they were (a gate
+    // or a blade moving inside it); filed in cells of 1 m over (x, y).
+    struct Hazard {
+        btVector3 lo, hi;
+        int32_t body;     // the static or kinematic body, or -1
+        int32_t trigger;  // the trigger, or -1
+    };
+    std::vector<Hazard> hazards;
+    std::vector<uint64_t> cells;
+    std::vector<int32_t> cell_adr, cell_list, big;
+    std::vector<std::pair<uint64_t, int32_t>> filed;
+    std::vector<int32_t> kinematic;            // declared kinematic bodies (and dynamic ones off)
+    std::vector<btVector3> home_lo, home_hi;   // per body: the box its hazard was filed with
+    std::vector<int32_t> roaming;              // triggers on moving bodies
+    std::vector<btVector3> roam_lo, roam_hi;   // their boxes this step
+    bool grid_valid = false;
+    uint64_t grid_statics = 0;                 // Physics::statics_placed when built
+};
+
+void start_steady(Runtime& r, bool on);
+// In the physics phase, after the fields' frames and before the law: units that must return to
+// the solver land, units steady long enough leave it.
+void check_steady(Runtime& r);
+// After Bullet's step: the coasting units move by the law's exact solution.
+void advance_steady(Runtime& r);
+
+}  // namespace plant::engine
