@@ -12,7 +12,7 @@
 //   plant_bench_opcua [--runs=3] [--warmup=60] [--window=240] [--rows]
 #include "compiler.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "opcua/kind.h"
 #include "opcua/run_link.h"
 

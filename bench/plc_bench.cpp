@@ -11,7 +11,7 @@
 //   plant_bench_plc [--runs=3] [--warmup=60] [--window=240] [--rows]
 #include "compiler.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "plc/server.h"
 
 #include "median.h"

@@ -1,7 +1,7 @@
 # Golden-file tests (see tests/golden_runner.cpp). Update with scripts/update-goldens.sh.
 add_executable(plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden_runner.cpp)
 target_compile_options(plant_golden PRIVATE ${PLANT_WARNINGS})
-target_link_libraries(plant_golden PRIVATE plant_compiler plant_runtime plant_plc plant_opcua plant_faults plant_panel)
+target_link_libraries(plant_golden PRIVATE plant_compiler plant_runtime plant_plc plant_opcua plant_faults plant_panel plant_app)
 add_test(NAME golden COMMAND plant_golden ${CMAKE_CURRENT_SOURCE_DIR}/golden)
 set_tests_properties(golden PROPERTIES ENVIRONMENT "PLANT_STDLIB=${PLANT_STDLIB_DIR}")
 # The shipped plants' compiled graphs: plants/**/NAME.plant -> tests/plants/**/NAME.graph.

@@ -23,6 +23,7 @@
 #include "opcua/kind.h"
 #include "plc/kind.h"
 #include "compiler.h"
+#include "app/run_flags.h"
 #include "engine/run.h"
 #include "fmt/formatter.h"
 #include "fmt_compare.h"
@@ -231,7 +232,7 @@ int main(int argc, char** argv) {
             fs::path tmp = fs::temp_directory_path() / ("plant_golden_" + std::to_string(::getpid()) + ".csv");
             args.insert(args.end(), {"--trace", tmp.string(), "--quiet"});
             std::ostringstream out, err;
-            if (plant::engine::run_main(c.graph, args, out, err) != 0) {
+            if (plant::app::run_main(c.graph, args, out, err) != 0) {
                 std::cout << "  " << f.generic_string() << ": run failed: " << err.str() << "\n";
                 ok = false;
             }

@@ -15,9 +15,4 @@ namespace plant::lsp {
 // `shutdown` request, 1 otherwise, as the protocol asks).
 int serve(std::istream& in, std::ostream& out, const std::string& stdlib_dir);
 
-// `plant lsp ARGS`: --help (its usage on `out`, 0), --stdlib DIR, else serve() on `in` and
-// `out`; a wrong argument is told on `err` (2).
-int lsp_main(const std::vector<std::string>& args, std::istream& in, std::ostream& out, std::ostream& err,
-             const std::string& default_stdlib);
-
 }  // namespace plant::lsp

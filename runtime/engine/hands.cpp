@@ -2,7 +2,7 @@
 // hand holds a point of the body and pulls it towards a target with a bounded force, the
 // way a person would: it carries the object's weight, follows at a limited speed (so that
 // nothing it carries can pass through a belt's band in one step), and holds the body
-// upright. Grabs, moves, drops and removals are events (run_args.cpp), applied between
+// upright. Grabs, moves, drops and removals are events (events.cpp), applied between
 // steps; the pull acts in phase 1, after the conveyor law and before Bullet's step.
 #include "engine/runtime.h"
 

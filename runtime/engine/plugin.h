@@ -46,7 +46,7 @@ private:
     int32_t slot_adr_;
 };
 
-struct Event;  // engine/run_args.h
+struct Event;  // engine/events.h
 
 struct KindBehaviour {
     int state_size = 0;                   // numbers of state per component
@@ -55,7 +55,7 @@ struct KindBehaviour {
     void (*act)(PluginCtx&) = nullptr;    // phase 5, in a step one of its inputs is active
     // Timed inputs the component declares (a fault scheduled in the plant file): appended to
     // `out` before a run starts, they are applied like --event's, by apply_event
-    // (plant_events in engine/run_args.h). Outside the step: may allocate.
+    // (plant_events in engine/events.h). Outside the step: may allocate.
     void (*schedule)(const graph::Graph& g, int32_t plugin, std::vector<Event>& out) = nullptr;
 };
 

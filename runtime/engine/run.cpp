@@ -2,7 +2,7 @@
 
 #include "engine/engine.h"
 #include "engine/interrupt.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "engine/trace.h"
 
 #include <fmt/format.h>
@@ -23,104 +23,6 @@ using namespace plant::graph;
 
 namespace {
 
-struct RunOptions {
-    double duration = 10, rate = 0, trace_rate = 0;
-    std::string trace;
-    TraceSelect select;
-    bool realtime = false, quiet = false;
-    Broadphase broadphase = Broadphase::Dbvt;
-    int threads = 0;
-    bool steady = true;
-    std::vector<Event> events;
-};
-
-bool parse_args(const Graph& g, const std::vector<std::string>& args, RunOptions& o, std::string& error) {
-    SlotIndex slots;
-    auto value = [&](size_t& i, std::string& v) {
-        if (i + 1 >= args.size()) {
-            error = fmt::format("{} needs a value", args[i]);
-            return false;
-        }
-        v = args[++i];
-        return true;
-    };
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        std::string v;
-        if (a == "--for") {
-            if (!value(i, v) || !parse_duration(v, o.duration, error)) return false;
-        } else if (a == "--rate") {
-            if (!value(i, v) || !parse_frequency(v, o.rate, error)) return false;
-            if (o.rate < graph::kMinRate || o.rate > graph::kMaxRate) {
-                error = fmt::format("--rate {}: the physics rate must lie between 1 Hz and 1 MHz", v);
-                return false;
-            }
-        } else if (a == "--trace-rate") {
-            if (!value(i, v) || !parse_frequency(v, o.trace_rate, error)) return false;
-            if (o.trace_rate > graph::kMaxRate) {
-                error = fmt::format("--trace-rate {}: at most 1 MHz", v);
-                return false;
-            }
-        } else if (a == "--trace") {
-            if (!value(i, o.trace)) return false;
-        } else if (a == "--trace-bodies") {
-            o.select.bodies = true;
-        } else if (a == "--trace-places") {
-            o.select.places = true;
-        } else if (a == "--trace-slots") {
-            o.select.slots = true;
-        } else if (a == "--realtime") {
-            o.realtime = true;
-        } else if (a == "--quiet") {
-            o.quiet = true;
-        } else if (a == "--broadphase") {
-            if (!value(i, v)) return false;
-            if (v == "dbvt") o.broadphase = Broadphase::Dbvt;
-            else if (v == "sap") o.broadphase = Broadphase::Sap;
-            else {
-                error = fmt::format("--broadphase: '{}' is neither dbvt nor sap", v);
-                return false;
-            }
-        } else if (a == "--threads") {
-            if (!value(i, v)) return false;
-            char* end = nullptr;
-            const long n = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || n < 1 || n > 256) {
-                error = fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v);
-                return false;
-            }
-            o.threads = int(n);
-        } else if (a == "--steady-transport") {
-            if (!value(i, v)) return false;
-            if (v != "on" && v != "off") {
-                error = fmt::format("--steady-transport: '{}' is neither on nor off", v);
-                return false;
-            }
-            o.steady = v == "on";
-        } else if (a == "--event" || a == "--events") {
-            if (!value(i, v)) return false;
-            if (slots.empty()) slots = slot_index(g);
-            if (a == "--events") {
-                if (!load_events(g, slots, v, o.events, error)) return false;
-            } else {
-                Event ev;
-                if (!parse_event(g, slots, v, ev, error)) return false;
-                o.events.push_back(std::move(ev));
-            }
-        } else {
-            error = fmt::format("unknown flag '{}'", a);
-            return false;
-        }
-    }
-    // The plant file's own timed inputs first: at equal times the command line's come after
-    // them (a later force of the same slot wins), in their command-line order.
-    std::vector<Event> planned = plant_events(g);
-    o.events.insert(o.events.begin(), std::make_move_iterator(planned.begin()), std::make_move_iterator(planned.end()));
-    std::stable_sort(o.events.begin(), o.events.end(),
-                     [](const Event& x, const Event& y) { return x.time < y.time; });
-    return true;
-}
-
 // Counts of the plant's void records (events per column, several records of one
 // column summed) and the final values of its number records, in declaration order.
 // The `records` section: records grouped by column (several records of one column summed);
@@ -139,23 +41,17 @@ public:
             it->records.push_back(r);
         }
     }
-    void print(const Engine& e, const RecordTally& counts, std::ostream& out) const {
-        if (cols_.empty()) return;
-        size_t width = 0;
-        for (const Column& c : cols_) width = std::max(width, c.name.size());
-        fmt::print(out, "records:\n");
+    void fill(const Engine& e, const RecordTally& counts, std::vector<RunSummary::Record>& out) const {
         for (const Column& c : cols_) {
+            RunSummary::Record r{c.name, c.events, 0, 0, 0, c.slots.size() > 1};
             if (c.events) {
-                int64_t count = 0;
-                for (size_t r : c.records) count += counts.count(r);
+                for (size_t x : c.records) r.count += counts.count(x);
                 const double minutes = e.time() / 60;
-                fmt::print(out, "  {:<{}}  {} events ({:.1f} per minute)\n", c.name, width, count,
-                           minutes > 0 ? double(count) / minutes : 0.0);
-                continue;
+                r.per_minute = minutes > 0 ? double(r.count) / minutes : 0.0;
+            } else {
+                for (int32_t x : c.slots) r.value += e.value(SlotId(x))[0];
             }
-            double sum = 0;
-            for (int32_t x : c.slots) sum += e.value(SlotId(x))[0];
-            fmt::print(out, "  {:<{}}  {:g}{}\n", c.name, width, sum, c.slots.size() > 1 ? " (sum)" : "");
+            out.push_back(std::move(r));
         }
     }
 
@@ -190,15 +86,8 @@ public:
             if (x.path == ev.path && x.until < 0) x.until = at;
         if (ev.mode != ForceMode::None) log_.push_back({ev.path, force_text(g, ev), at, -1});
     }
-    void print(const Engine& e, std::ostream& out) const {
-        if (log_.empty()) return;
-        size_t width = 0;
-        for (const Entry& x : log_) width = std::max(width, x.path.size());
-        fmt::print(out, "forced:           {}\n", log_.size());
-        for (const Entry& x : log_)
-            fmt::print(out, "  {:<{}}  {:<14}  from {} s to {}\n", x.path, width, x.how, time_text(x.from, e.dt()),
-                       x.until < 0 ? fmt::format("the end ({} s)", time_text(e.time(), e.dt()))
-                                   : fmt::format("{} s", time_text(x.until, e.dt())));
+    void fill(std::vector<RunSummary::Force>& out) const {
+        for (const Entry& x : log_) out.push_back({x.path, x.how, x.from, x.until});
     }
 
 private:
@@ -282,73 +171,64 @@ std::string loss_text(const Engine& e, DoId d) {
 
 namespace {
 
-// The lost objects, one a line in the order lost, up to this many.
-constexpr size_t kLossLines = 20;
-
-// Objects with dynamic bodies: issued, taken, lost, on the line, stalled.
-void material(const Engine& e, std::ostream& out) {
+// What the summary says of a run that has ended (or was stopped) with `e` as it is.
+RunSummary summarise(const Engine& e, const Tally& tally, const RecordTally& counts, const ForceLog& forces,
+                     double duration, double wall, int stopped_by) {
     const Graph& g = e.graph();
+    RunSummary s;
+    if (stopped_by) s.interrupted_by = InterruptGuard::name(stopped_by);
+    s.duration = duration;
+    s.time = e.time();
+    s.dt = e.dt();
+    s.steps = e.steps();
+    s.regions = e.regions();
+    s.threads = e.threads();
+    s.wall = wall;
     const MaterialCounts m = material_counts(e);
-    if (g.sources.empty() && g.exits.empty() && m.lost == 0 && m.on_line == 0) return;
-    fmt::print(out, "objects:\n");
-    if (!g.sources.empty()) fmt::print(out, "  issued by sources:     {}\n", m.issued);
-    if (!g.exits.empty()) fmt::print(out, "  taken by exits:        {}\n", m.taken);
-    fmt::print(out, "  on the line:           {}\n", m.on_line);
-    if (m.removed) fmt::print(out, "  removed by hand:       {}\n", m.removed);
-    fmt::print(out, "  lost (left the world): {}{}\n", m.lost, m.lost ? " (" + m.lost_names + ")" : "");
-    const std::span<const DoId> lost = e.lost();
-    for (size_t i = 0; i < lost.size() && i < kLossLines; ++i)
-        fmt::print(out, "    {}: {}; left the world at {} s\n", g.str(g.dos[size_t(lost[i])].path), loss_text(e, lost[i]),
-                   time_text(double(e.loss(lost[i]).step) * e.dt(), e.dt()));
-    if (lost.size() > kLossLines) fmt::print(out, "    ... and {} more\n", lost.size() - kLossLines);
-    fmt::print(out, "  stalled over 30 s:     {}{}\n", m.stalled, m.stalled ? " (" + m.stalled_names + ")" : "");
-}
-
-void summary(const Engine& e, const Tally& tally, const RecordTally& counts, double wall, std::ostream& out) {
-    const Graph& g = e.graph();
-    const Warnings& w = e.warnings();
-    std::vector<std::string> silent;
-    for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (e.trigger_enters(TriggerId(int32_t(t))) == 0) silent.push_back(g.comp_path(g.triggers[t].comp));
-    fmt::print(out, "simulated time:   {} s\n", time_text(e.time(), e.dt()));
-    fmt::print(out, "steps:            {} at {:g} Hz\n", e.steps(), 1.0 / e.dt());
-    if (e.regions() > 1)
-        fmt::print(out, "physics regions:  {} (a Bullet world each), on {} thread{}\n", e.regions(), e.threads(),
-                   e.threads() == 1 ? "" : "s");
-    fmt::print(out, "wall time:        {:.3f} s\n", wall);
-    fmt::print(out, "real-time factor: {:.1f}\n", wall > 0 ? e.time() / wall : 0.0);
-    material(e, out);
-    tally.print(e, counts, out);
-    fmt::print(out, "warnings:         {}\n", w.total() + int64_t(silent.size()));
-    auto line = [&](const char* what, int64_t n) {
-        if (n) fmt::print(out, "  {}: {}\n", what, n);
-    };
-    line("objects that left the world", w.left_world);
-    line("objects with a NaN state", w.nan_state);
-    line("dynamic flows without an object", w.access_null);
-    line("dynamic flows with an object of another type", w.access_type);
-    line("issues from an empty pool", w.pool_empty);
-    line("contacts between physics regions not simulated", w.missed_contacts);
-    line("places, velocities or belt speeds out of range, not applied", w.out_of_range);
-    line("hands refused (a body not free to take, an object a gripper holds)", w.hand_refused);
-    if (!silent.empty()) {
-        std::string names;
-        for (size_t i = 0; i < silent.size() && i < 5; ++i) names += (i ? ", " : "") + silent[i];
-        if (silent.size() > 5) names += ", ...";
-        fmt::print(out, "  triggers that never fired: {} ({})\n", silent.size(), names);
+    RunSummary::Objects& o = s.objects;
+    o.shown = !(g.sources.empty() && g.exits.empty() && m.lost == 0 && m.on_line == 0);
+    if (!g.sources.empty()) o.issued = m.issued;
+    if (!g.exits.empty()) o.taken = m.taken;
+    o.on_line = m.on_line;
+    o.removed = m.removed;
+    o.lost = m.lost;
+    o.stalled = m.stalled;
+    o.lost_names = m.lost_names;
+    o.stalled_names = m.stalled_names;
+    for (const DoId d : e.lost())
+        o.lost_objects.push_back({std::string(g.str(g.dos[size_t(d)].path)), loss_text(e, d), double(e.loss(d).step) * e.dt()});
+    std::vector<uint8_t> seen(g.dos.size(), 0);
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        const int32_t d = g.comps[g.bodies[b].comp].owner;
+        if (g.bodies[b].mode != BodyMode::Dynamic || seen[size_t(d)] || e.lost_at(DoId(d)) >= 0) continue;
+        if (!e.body_in_world(BodyId(int32_t(b)))) continue;
+        seen[size_t(d)] = 1;
+        if (e.stalled_for(BodyId(int32_t(b))) > 30) o.stalled_objects.emplace_back(g.str(g.dos[size_t(d)].path));
     }
+    tally.fill(e, counts, s.records);
+    const Warnings& w = e.warnings();
+    s.warning_counts = {
+        {"left_world", "objects that left the world", w.left_world},
+        {"nan_state", "objects with a NaN state", w.nan_state},
+        {"access_null", "dynamic flows without an object", w.access_null},
+        {"access_type", "dynamic flows with an object of another type", w.access_type},
+        {"pool_empty", "issues from an empty pool", w.pool_empty},
+        {"missed_contacts", "contacts between physics regions not simulated", w.missed_contacts},
+        {"out_of_range", "places, velocities or belt speeds out of range, not applied", w.out_of_range},
+        {"hand_refused", "hands refused (a body not free to take, an object a gripper holds)", w.hand_refused},
+    };
+    for (size_t t = 0; t < g.triggers.size(); ++t)
+        if (e.trigger_enters(TriggerId(int32_t(t))) == 0) s.silent_triggers.push_back(g.comp_path(g.triggers[t].comp));
+    s.warnings = w.total() + int64_t(s.silent_triggers.size());
+    forces.fill(s.forces);
+    return s;
 }
 
 }  // namespace
 
-int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
-             RunObserver* observer, RunLink* link) {
-    RunOptions o;
+int run(const Graph& g, const RunOptions& o, std::ostream& err, RunObserver* observer, RunLink* link,
+        const std::function<void(const RunSummary&)>& report) {
     std::string error;
-    if (!parse_args(g, args, o, error)) {
-        fmt::print(err, "plant run: error: {}\n", error);
-        return 2;
-    }
     std::ofstream trace_file;
     if (!o.trace.empty()) {
         trace_file.open(o.trace, std::ios::binary);
@@ -457,11 +337,7 @@ int run_main(const Graph& g, const std::vector<std::string>& args, std::ostream&
         fmt::print(err, "plant run: error: {}\n", error);
         return 1;
     }
-    if (stopped_by)
-        fmt::print(out, "interrupted:      by {} after {} s of {:g} s\n", InterruptGuard::name(stopped_by), time_text(e.time(), e.dt()),
-                   o.duration);
-    summary(e, tally, counts, wall(), out);
-    forces.print(e, out);
+    report(summarise(e, tally, counts, forces, o.duration, wall(), stopped_by));
     if (!link_error.empty()) {
         fmt::print(err, "plant run: error: {}\n", link_error);
         return 1;

@@ -1,27 +1,16 @@
-// The `plant run` command on a compiled graph. `args` are the flags after the plant
-// file; the summary goes to `out`, progress and errors to `err`.
-//
-//   --for 10s            simulated time (s, ms, min; default 10s)
-//   --rate 150Hz         physics rate (default: the graph's settings.rate)
-//   --trace FILE         CSV trace (trace.h); --trace-bodies, --trace-places,
-//                        --trace-slots choose the default column groups;
-//                        --trace-rate 50Hz samples less often than every step
-//   --event "5s DO.comp.slot [value]"   a timed external input (repeatable)
-//   --events FILE        one such event per line
-//   --realtime           do not run faster than real time
-//   --broadphase dbvt|sap
-//   --threads N          threads for the physics of a plant in several regions
-//                        (default: one per core; results do not depend on it)
-//   --quiet              no progress line
-//
-// Returns 0, or 2 for a bad flag or flag value (with a message on `err`).
+// A headless run of a compiled graph: `plant run`'s loop (its command line is app/run.cpp).
+// The run applies its events through apply_event (events.h), steps the engine, writes the
+// trace and hands a summary of what happened to its caller, which prints it as text or JSON.
 #pragma once
 
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
+#include "engine/trace.h"
 #include "graph/graph.h"
 
+#include <functional>
 #include <iosfwd>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,8 +68,71 @@ public:
     virtual std::vector<int32_t> forceable() const { return {}; }
 };
 
-int run_main(const graph::Graph& g, const std::vector<std::string>& args, std::ostream& out,
-             std::ostream& err, RunObserver* observer = nullptr, RunLink* link = nullptr);
+// What a run does, as `plant run`'s flags say it (app/run_flags.h reads them).
+struct RunOptions {
+    double duration = 10;   // simulated seconds
+    double rate = 0;        // physics rate, Hz (0: the graph's settings.rate)
+    double trace_rate = 0;  // trace rows per second (0: every step)
+    std::string trace;      // the CSV trace's path ("": none)
+    TraceSelect select;
+    bool realtime = false, quiet = false;
+    Broadphase broadphase = Broadphase::Dbvt;
+    int threads = 0;
+    bool steady = true;  // steady transport (Options::steady_transport)
+    std::vector<Event> events;  // sorted by time: the plant's own first at equal times
+};
+
+// Everything a run's summary says, for people (app/summary.cpp prints it as text) and for
+// programs (`plant run --summary=json`, docs/runtime.md "The summary as JSON").
+struct RunSummary {
+    std::string interrupted_by;  // "SIGINT"... ("": the run went to its end)
+    double duration = 0;         // the simulated time asked for, s
+    double time = 0, dt = 0;     // simulated time reached, step length (s)
+    int64_t steps = 0;
+    int regions = 1, threads = 1;
+    double wall = 0;  // s
+    struct Lost {
+        std::string object, where;  // loss_text
+        double left_at = 0;         // s, when it left the world
+    };
+    struct Objects {
+        bool shown = false;  // the plant has sources or exits, or objects with dynamic bodies
+        std::optional<int64_t> issued, taken;  // only with sources, exits
+        int64_t on_line = 0, removed = 0, lost = 0, stalled = 0;
+        std::string lost_names, stalled_names;  // the first few (MaterialCounts)
+        std::vector<Lost> lost_objects;         // every lost object, in the order lost
+        std::vector<std::string> stalled_objects;
+    } objects;
+    struct Record {
+        std::string column;
+        bool events = false;  // void records: an event count; else the final value
+        int64_t count = 0;
+        double per_minute = 0, value = 0;
+        bool sum = false;  // several records of one column
+    };
+    std::vector<Record> records;
+    struct Warning {
+        const char* key;   // "left_world" (JSON)
+        const char* text;  // "objects that left the world"
+        int64_t count;
+    };
+    int64_t warnings = 0;            // the total, silent triggers included
+    std::vector<Warning> warning_counts;   // every kind, 0 included
+    std::vector<std::string> silent_triggers;  // triggers that never fired
+    struct Force {
+        std::string path, how;
+        double from = 0, until = -1;  // s; -1: to the end
+    };
+    std::vector<Force> forces;
+};
+
+// Runs `g` as `o` says. Before the run ends badly or well, `report` gets the summary (not
+// when the run could not start). Returns 0, 2 for options the graph cannot run (a trace
+// that cannot be written, too many steps), 1 when the trace, the observer or the link
+// failed, or InterruptGuard's code after SIGINT / SIGTERM. Errors go to `err`, as
+// "plant run: error: ...", and the progress line.
+int run(const graph::Graph& g, const RunOptions& o, std::ostream& err, RunObserver* observer, RunLink* link,
+        const std::function<void(const RunSummary&)>& report);
 
 // Objects with dynamic bodies: issued by sources, taken by exits, on the line, lost (left
 // the world), stalled over 30 s (the first few names of the last two), removed by hand

@@ -3,7 +3,7 @@
 // files, --event echoed back) — sit on the step grid with a fixed number of decimals: the
 // fewest that put a step's printed time within a quarter step of the step (3 at 150 Hz:
 // 0.000, 0.007, 0.013, 0.020, ...; 4 at 600 Hz). A time read back (an events file, --event)
-// is due in the step it was printed for: due() (run_args.h) gives an event half a unit of the
+// is due in the step it was printed for: due() (events.h) gives an event half a unit of the
 // last decimal of slack. A trace is data that tools difference and fit: its time column has
 // three decimals more (within a two-thousandth of a step: 0.006667 at 150 Hz).
 

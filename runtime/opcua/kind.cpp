@@ -1,7 +1,7 @@
 #include "opcua/kind.h"
 
 #include "engine/plugin.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include <fmt/format.h>
 

@@ -46,48 +46,6 @@ json node_json(const Node& n) {
 
 std::string default_opcua_dir() { return env_or("PLANT_OPCUA_DIR", PLANT_OPCUA_DIR); }
 
-bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::string& error) {
-    std::vector<std::string> rest;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--lockstep") flags.lockstep = true;  // and it stays for the Modbus link's flags
-        if (a != "--opcua-port" && a != "--opcua-host" && a != "--opcua-pki" && a != "--opcua-users") {
-            rest.push_back(a);
-            continue;
-        }
-        if (i + 1 >= args.size()) {
-            error = fmt::format("{} needs a value", a);
-            return false;
-        }
-        const std::string& v = args[++i];
-        if (a == "--opcua-host") {
-            std::string host, resource, why;
-            int port = 0;
-            if (!parse_endpoint("opc.tcp://" + v + ":0", host, port, resource, why)) {
-                error = fmt::format("--opcua-host: '{}' is not an IPv4 address (e.g. 127.0.0.1, 0.0.0.0 for every interface)", v);
-                return false;
-            }
-            flags.host = host;
-            flags.host_given = true;
-        } else if (a == "--opcua-pki") {
-            flags.pki = v;
-        } else if (a == "--opcua-users") {
-            flags.users = v;
-        } else {
-            char* end = nullptr;
-            const long port = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || port < 0 || port > 65535) {
-                error = fmt::format("--opcua-port: '{}' is not a port number (0 to 65535; 0 picks a free one)", v);
-                return false;
-            }
-            flags.port = int(port);
-            flags.port_given = true;
-        }
-    }
-    args = std::move(rest);
-    return true;
-}
-
 bool declares_link(const graph::Graph& g) { return !links_from_graph(g).empty(); }
 
 ServerLink::ServerLink(const graph::Graph& g, Link link, BridgeOptions options) : bridge_(g, std::move(link), options) {}

@@ -1,5 +1,6 @@
-// The OPC UA link in `plant run` and `plant serve` (docs/plc.md, "OPC UA"): the flags, and
-// the server (a node-opcua child process, child.h) as the run's engine::RunLink.
+// The OPC UA link in `plant run` and `plant serve` (docs/plc.md, "OPC UA"): the server (a
+// node-opcua child process, child.h) as the run's engine::RunLink, started as its flags say
+// (app/parts/opcua.cpp reads them):
 //
 //   --opcua-port N       serve on port N (0: a free one, printed)
 //   --opcua-host ADDR    the IPv4 address to listen on (default 127.0.0.1)
@@ -28,9 +29,6 @@ struct LinkFlags {
     double lockstep_timeout = 30;
     bool any() const { return port_given || host_given || !pki.empty() || !users.empty(); }
 };
-// Takes the link's flags out of `args` (the rest go on); `--lockstep` is read, not taken
-// (the Modbus link's flags take it). False with `error` for a flag without a value or a bad one.
-bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::string& error);
 
 // Whether the plant declares an OPC UA link (an `opcua` component).
 bool declares_link(const graph::Graph& g);

@@ -8,7 +8,7 @@
 // first; strings hold two ASCII bytes per register, high byte first, NUL padded.
 #pragma once
 
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/graph.h"
 
 #include <cstdint>

@@ -8,42 +8,6 @@
 
 namespace plant::plc {
 
-bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::string& error) {
-    std::vector<std::string> rest;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a != "--modbus-port" && a != "--modbus-host" && a != "--lockstep") {
-            rest.push_back(a);
-            continue;
-        }
-        flags.on = true;
-        if (a == "--lockstep") {
-            flags.server.lockstep = true;
-            continue;
-        }
-        if (i + 1 >= args.size()) {
-            error = fmt::format("{} needs a value", a);
-            return false;
-        }
-        const std::string& v = args[++i];
-        if (a == "--modbus-host") {
-            flags.server.host = v;
-            flags.host_given = true;
-            continue;
-        }
-        char* end = nullptr;
-        const long port = std::strtol(v.c_str(), &end, 10);
-        if (v.empty() || *end || port < 0 || port > 65535) {
-            error = fmt::format("--modbus-port: '{}' is not a port number (0 to 65535; 0 picks a free one)", v);
-            return false;
-        }
-        flags.server.port = int(port);
-        flags.port_given = true;
-    }
-    args = std::move(rest);
-    return true;
-}
-
 bool declares_link(const graph::Graph& g) {
     int links = 0;
     map_from_graph(g, &links);

@@ -1,9 +1,6 @@
-// The PLC link in `plant run` (docs/plc.md): the flags that start the Modbus server and
-// the server as the run's engine::RunLink.
-//
-//   --modbus-port N      serve on port N (0: a free one, printed)
-//   --modbus-host ADDR   the IPv4 address to listen on (default 127.0.0.1)
-//   --lockstep           step only as clients grant steps (holding register 60000)
+// The PLC link in `plant run` (docs/plc.md): the Modbus server as the run's
+// engine::RunLink, started as its flags say (app/parts/modbus.cpp reads them:
+// --modbus-port N, --modbus-host ADDR, --lockstep).
 #pragma once
 
 #include "engine/run.h"
@@ -17,13 +14,9 @@
 namespace plant::plc {
 
 struct LinkFlags {
-    bool on = false;  // any of the flags given
     bool port_given = false, host_given = false;  // over what the plant's link declares
     ServerOptions server;
 };
-// Takes the link's flags out of `args` (the rest go to engine::run_main); false with
-// `error` for a flag without a value or a bad value.
-bool take_link_flags(std::vector<std::string>& args, LinkFlags& flags, std::string& error);
 
 class ServerLink : public engine::RunLink {
 public:

@@ -1,7 +1,7 @@
 #include "plc/server.h"
 
 #include "engine/interrupt.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/range.h"
 #include "graph/utf8.h"
 #include "plc/codec.h"

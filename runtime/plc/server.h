@@ -11,7 +11,7 @@
 #pragma once
 
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/graph.h"
 #include "plc/map.h"
 

@@ -7,7 +7,7 @@
 
 #include "engine/engine.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "serve/history.h"
 #include "serve/record.h"
 #include "serve/view.h"

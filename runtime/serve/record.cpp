@@ -1,6 +1,6 @@
 #include "serve/record.h"
 
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include <nlohmann/json.hpp>
 #include <zstd.h>
@@ -25,41 +25,6 @@ constexpr size_t kMaxChunk = size_t(1) << 30;
 constexpr size_t kMaxRatio = 1000;
 
 }  // namespace
-
-bool take_record_flags(std::vector<std::string>& args, RecordOptions& opt, std::string& error) {
-    std::vector<std::string> rest;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        std::string flag = a, value;
-        const bool eq = a.find('=') != std::string::npos;
-        if (eq) flag = a.substr(0, a.find('=')), value = a.substr(a.find('=') + 1);
-        if (flag != "--record-rate" && flag != "--record-compress") {
-            rest.push_back(a);
-            continue;
-        }
-        if (!eq) {
-            if (i + 1 >= args.size()) {
-                error = fmt::format("{} needs a value", flag);
-                return false;
-            }
-            value = args[++i];
-        }
-        if (flag == "--record-rate") {
-            std::string why;
-            if (!engine::parse_frequency(value, opt.rate, why)) {
-                error = "--record-rate: " + why;
-                return false;
-            }
-        } else if (value == "zstd" || value == "none") {
-            opt.compress = value == "zstd";
-        } else {
-            error = fmt::format("--record-compress takes zstd or none, not '{}'", value);
-            return false;
-        }
-    }
-    args = std::move(rest);
-    return true;
-}
 
 struct Recorder::ZstdStream {
     ZSTD_CCtx* cctx = ZSTD_createCCtx();

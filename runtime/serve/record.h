@@ -27,10 +27,6 @@ struct RecordOptions {
     int level = 3;         // zstd's compression level
 };
 
-// `--record-rate 10Hz`, `--record-compress zstd|none` (also as `--flag=value`), taken out of
-// `args` into `opt`; false with `error` on a bad value.
-bool take_record_flags(std::vector<std::string>& args, RecordOptions& opt, std::string& error);
-
 class Recorder : public engine::RunObserver {
 public:
     // Opens `path` for writing; check ok().

@@ -20,79 +20,15 @@ std::string default_viewer_dir() {
     return PLANT_VIEWER_DIR;
 }
 
-namespace {
-
-bool number(const std::string& text, double& v) {
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    return ec == std::errc() && end == text.data() + text.size() && std::isfinite(v);
-}
-
-}  // namespace
-
-int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err, engine::RunLink* link, const std::string& stdlib_dir) {
-    ServerOptions so;
-    so.viewer_dir = default_viewer_dir();
-    const fs::path parent = fs::path(file).parent_path();
-    so.models.plant_dir = parent.empty() ? fs::path(".").string() : parent.string();
-    so.models.stdlib_dir = stdlib_dir;
-    std::vector<engine::Event> scheduled;
-    engine::SlotIndex slots;
-    engine::Options eo;
-    bool paused = false;
-    double speed = 1;
+int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions options, std::ostream& out,
+               std::ostream& err, engine::RunLink* link) {
+    ServerOptions& so = options.server;
+    const bool paused = options.paused;
+    const double speed = options.speed;
     auto fail = [&](const std::string& msg) {
         fmt::print(err, "plant serve: error: {}\n", msg);
         return 2;
     };
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&](std::string& v) {
-            if (i + 1 >= args.size()) return false;
-            v = args[++i];
-            return true;
-        };
-        std::string v;
-        double x = 0;
-        if (a == "--paused") paused = true;
-        else if (a == "--replay") continue;  // the driver already chose a replay
-        else if (a == "--port") {
-            if (!value(v) || !number(v, x) || x < 0 || x > 65535 || x != double(int(x)))
-                return fail(fmt::format("--port: '{}' is not a port number (0 to 65535)", v));
-            so.port = uint16_t(x);
-        } else if (a == "--host") {
-            if (!value(so.host)) return fail("--host needs an address");
-        } else if (a == "--viewer") {
-            if (!value(so.viewer_dir)) return fail("--viewer needs a folder");
-        } else if (a == "--models") {
-            if (!value(so.models.models_dir)) return fail("--models needs a folder");
-        } else if (a == "--speed") {
-            if (!value(v) || !number(v, speed) || (speed != 0 && (speed < 0.01 || speed > 1000)))
-                return fail(fmt::format("--speed: '{}' is not 0 (as fast as possible) or 0.01 to 1000", v));
-        } else if (a == "--event" || a == "--events") {
-            if (!graph) return fail(fmt::format("{} is for a live run, not a replay", a));
-            if (!value(v)) return fail(fmt::format("{} needs a value", a));
-            if (slots.empty()) slots = engine::slot_index(*graph);
-            std::string error;
-            if (a == "--events") {
-                if (!engine::load_events(*graph, slots, v, scheduled, error)) return fail(error);
-            } else {
-                engine::Event ev;
-                if (!engine::parse_event(*graph, slots, v, ev, error)) return fail("--event: " + error);
-                scheduled.push_back(std::move(ev));
-            }
-        } else if (a == "--threads") {
-            if (!value(v) || !number(v, x) || x < 1 || x > 256 || x != double(int(x)))
-                return fail(fmt::format("--threads: '{}' is not a number of threads from 1 to 256", v));
-            eo.threads = int(x);
-        } else if (a == "--steady-transport") {
-            if (!value(v) || (v != "on" && v != "off"))
-                return fail(fmt::format("--steady-transport: '{}' is neither on nor off", v));
-            eo.steady_transport = v == "on";
-        } else {
-            return fail(fmt::format("unknown flag '{}' (see plant serve --help)", a));
-        }
-    }
     std::error_code ec;
     if (!fs::is_regular_file(fs::path(so.viewer_dir) / "index.html", ec))
         fmt::print(err, "plant serve: warning: no viewer page in '{}' (--viewer DIR); the server runs without it\n",
@@ -110,7 +46,7 @@ int serve_main(const graph::Graph* graph, const std::string& file, const std::ve
 
     std::unique_ptr<Player> player;
     if (graph) {
-        player = make_live_player(*graph, eo, so.models, paused, speed, std::move(scheduled), link);
+        player = make_live_player(*graph, options.engine, so.models, paused, speed, std::move(options.events), link);
     } else {
         Recording rec;
         std::string error;

@@ -1,24 +1,16 @@
-// The `plant serve` command: a live run of a compiled graph, or the replay of a recording,
-// shown by the viewer page (docs/viewer.md). `args` are the flags after the file.
+// `plant serve`: a live run of a compiled graph, or the replay of a recording, shown by the
+// viewer page (docs/viewer.md). Its command line is app/serve.cpp.
 //
-//   --port N        TCP port (default 8150; 0: any free port, printed)
-//   --host ADDR     address to listen on (default 127.0.0.1)
-//   --viewer DIR    the page's folder (default: $PLANT_VIEWER, else the checkout's viewer/)
-//   --models DIR    where graphics models (glTF/GLB) are looked up besides the plant's folder
-//   --paused        start paused
-//   --speed X       0.1, 1, 10 ... times real time; 0 as fast as possible (default 1)
-//   --threads N     physics threads (as plant run)
-//   --steady-transport on|off   (as plant run)
-//   --event "5s PATH [VALUE]", --events FILE   timed events applied in the run (as plant run)
-//
-// Models are looked up under --models, beside the plant, then under `stdlib_dir`/models.
-// Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag, 1 when it cannot listen.
-// `link` (an OPC UA server the driver started) exchanges with the live run at its step
-// boundaries, as it does in `plant run`; what its clients apply is logged like a page's events.
+// Models are looked up under the models folder, beside the plant, then under the standard
+// library's models. Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad folder, 1
+// when it cannot listen. `link` (an OPC UA server the command started) exchanges with the
+// live run at its step boundaries, as it does in `plant run`; what its clients apply is
+// logged like a page's events.
 #pragma once
 
 #include "engine/run.h"
 #include "graph/graph.h"
+#include "serve/server.h"
 
 #include <iosfwd>
 #include <string>
@@ -26,10 +18,17 @@
 
 namespace plant::view {
 
+struct ServeOptions {
+    ServerOptions server;  // port, host, the page's folder, the models' folders
+    double speed = 1;      // times real time (0: as fast as possible)
+    bool paused = false;
+    engine::Options engine;             // threads
+    std::vector<engine::Event> events;  // a live run's timed events
+};
+
 // `graph` is null for a replay: then `file` is the recording.
-int serve_main(const graph::Graph* graph, const std::string& file, const std::vector<std::string>& args,
-               std::ostream& out, std::ostream& err, engine::RunLink* link = nullptr,
-               const std::string& stdlib_dir = {});
+int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions options, std::ostream& out,
+               std::ostream& err, engine::RunLink* link = nullptr);
 
 // The folder the page is served from by default.
 std::string default_viewer_dir();

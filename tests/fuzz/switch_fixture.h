@@ -4,7 +4,7 @@
 
 #include "paths.h"
 #include "compiler.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "fuzz.h"
 
 #include <string>

@@ -11,7 +11,7 @@
 //   HR 0      line[0].b1.set_speed (mm/s)  HR 1  line[0].s2.to_working (non-zero fires)
 #pragma once
 
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "plc/map.h"
 
 #include <string>

@@ -12,7 +12,7 @@
 #include "compiler.h"
 #include "engine/engine.h"
 #include "engine/interrupt.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "plc/server.h"
 #include "panel/kind.h"
 

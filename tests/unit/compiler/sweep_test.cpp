@@ -1,7 +1,8 @@
 // plant sweep: the spec reader's values and located errors, the checks against the plant,
 // the order of runs, and the reading of `plant run`'s summary.
 #include "paths.h"
-#include "driver/sweep/sweep.h"
+#include "app/summary.h"
+#include "app/sweep/sweep.h"
 
 #include <doctest/doctest.h>
 
@@ -152,15 +153,26 @@ TEST_CASE("sweep check: names, units and records against the plant") {
     CHECK(e[0].loc.line == 4);
 }
 
-TEST_CASE("sweep: the summary of plant run, counters and records") {
-    const std::string text = "simulated time:   10 s\nsteps:            1500 at 150 Hz\nwall time:        0.5 s\n"
-                             "real-time factor: 20.0\nobjects:\n  issued by sources:     5\n  taken by exits:        2\n"
-                             "  on the line:           3\n  lost (left the world): 1 (line[0].b)\n"
-                             "  stalled over 30 s:     0\nrecords:\n  issued          5 events (30.0 per minute)\n"
-                             "  commissioned A  2 events (12.0 per minute)\n  level           0.25 (sum)\n"
-                             "warnings:         1\n  objects with a NaN state: 1\n";
+TEST_CASE("sweep: the summary of plant run (--summary=json), counters and records") {
+    // The summary as `plant run --summary=json` writes it (app/summary.cpp), read back.
+    plant::engine::RunSummary r;
+    r.time = 10;
+    r.dt = 1.0 / 150;
+    r.steps = 1500;
+    r.wall = 0.5;
+    r.objects.shown = true;
+    r.objects.issued = 5;
+    r.objects.taken = 2;
+    r.objects.on_line = 3;
+    r.objects.lost = 1;
+    r.records = {{"issued", true, 5, 30, 0, false}, {"commissioned A", true, 2, 12.5, 0, false},
+                 {"level", false, 0, 0, 0.25, true}};
+    r.warning_counts = {{"nan_state", "objects with a NaN state", 1}};
+    r.warnings = 1;
+    std::ostringstream json;
+    plant::app::write_summary_json(r, json);
     Summary s;
-    REQUIRE(parse_summary(text, s));
+    REQUIRE(parse_summary(json.str(), s));
     CHECK(s.counters["issued"] == 5);
     CHECK(s.counters["commissioned"] == 2);
     CHECK(s.counters["on_line"] == 3);
@@ -168,12 +180,24 @@ TEST_CASE("sweep: the summary of plant run, counters and records") {
     CHECK(s.counters["stalled"] == 0);
     CHECK(s.counters["rtf"] == 20);
     CHECK(s.totals["commissioned A"] == 2);
-    CHECK(s.rates["commissioned A"] == 12);
+    CHECK(s.rates["commissioned A"] == 12.5);  // not rounded as the text's 12.5 -> "12.5", 12.46 -> "12.5"
     CHECK(s.totals["issued"] == 5);
     CHECK(s.totals["level"] == 0.25);
     CHECK(s.nan);
+    // A plant without sources or exits has no such counters (an empty CSV cell).
+    r.objects.issued.reset();
+    r.objects.taken.reset();
+    r.warning_counts.clear();
+    json.str("");
+    plant::app::write_summary_json(r, json);
+    Summary without;
+    REQUIRE(parse_summary(json.str(), without));
+    CHECK(without.counters.count("issued") == 0);
+    CHECK(without.counters.count("commissioned") == 0);
+    CHECK_FALSE(without.nan);
     Summary none;
     CHECK_FALSE(parse_summary("plant run: error: unknown flag\n", none));
+    CHECK_FALSE(parse_summary("simulated time:   10 s\n", none));  // the text summary is not read
 }
 
 TEST_CASE("sweep: --resume keeps finished rows and runs lost ones again") {

@@ -2,8 +2,9 @@
 // file"): each entry is the event an events file would give, applied the same way.
 #include "paths.h"
 #include "../compiler/compile_helper.h"
+#include "app/run_flags.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/text.h"
 
 #include <doctest/doctest.h>
@@ -95,7 +96,7 @@ TEST_CASE("faults: a drill in the plant file runs as its --event lines do") {
         std::vector<std::string> args = {"--for", "130s", "--quiet", "--trace", trace, "--trace-rate", "10Hz"};
         args.insert(args.end(), extra.begin(), extra.end());
         std::ostringstream out, err;
-        REQUIRE_MESSAGE(engine::run_main(c.graph, args, out, err) == 0, err.str());
+        REQUIRE_MESSAGE(app::run_main(c.graph, args, out, err) == 0, err.str());
         summary = out.str();
     };
     std::string with_drill, with_events;

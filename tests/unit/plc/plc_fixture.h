@@ -4,7 +4,7 @@
 
 #include "../compiler/compile_helper.h"
 #include "../../plc/bottling_map.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "plc/map.h"
 
 #include <doctest/doctest.h>

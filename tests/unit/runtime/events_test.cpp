@@ -2,7 +2,7 @@
 // object types declare (an input port feeds every slot it forwards to).
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include <doctest/doctest.h>
 

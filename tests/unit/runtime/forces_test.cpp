@@ -3,7 +3,7 @@
 // every other one straight on).
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include <doctest/doctest.h>
 

@@ -5,7 +5,7 @@
 #include "engine/engine.h"
 #include "engine/pose.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include <doctest/doctest.h>
 

@@ -5,6 +5,7 @@
 #include "../compiler/compile_helper.h"
 #include "../stdlib/lookup.h"
 #include "engine/engine.h"
+#include "app/run_flags.h"
 #include "engine/run.h"
 #include "engine/times.h"
 
@@ -203,7 +204,7 @@ plant Fall {
 
     const std::string trace = scratch_dir() / "fall_summary.csv";
     std::ostringstream out, err;
-    REQUIRE(engine::run_main(g, {"--for", "4s", "--quiet", "--trace", trace, "--trace-rate", "10Hz"}, out, err) == 0);
+    REQUIRE(app::run_main(g, {"--for", "4s", "--quiet", "--trace", trace, "--trace-rate", "10Hz"}, out, err) == 0);
     const std::string s = out.str();
     CAPTURE(s);
     CHECK(s.find("  lost (left the world): 2 (faller, late)\n    faller: " + where + "; left the world at " +

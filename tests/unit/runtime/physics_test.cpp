@@ -241,7 +241,7 @@ TEST_CASE("runtime: a hull without volume (the loader refuses it) neither crashe
 }
 
 TEST_CASE("runtime: a place, velocity or belt speed out of range reaching an input is not applied, and counted") {
-    // Events are refused when read (run_args); what else reaches these inputs (the plant's own
+    // Events are refused when read (events.cpp); what else reaches these inputs (the plant's own
     // logic, a caller of Engine::input) is checked where they act, against graph/range.h.
     SceneBuilder b;
     const int32_t belt = floor_and_belt(b, 0.5, 16);

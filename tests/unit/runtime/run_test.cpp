@@ -1,10 +1,12 @@
 // The run API of the `plant` command.
+#include "app/run_flags.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "bottling_scene.h"
 #include "../compiler/compile_helper.h"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -18,7 +20,7 @@ namespace {
 
 int run(const Graph& g, std::vector<std::string> args, std::string& out, std::string& err) {
     std::ostringstream o, e;
-    int rc = run_main(g, args, o, e);
+    int rc = plant::app::run_main(g, args, o, e);
     out = o.str();
     err = e.str();
     return rc;
@@ -185,6 +187,41 @@ TEST_CASE("runtime: run_main names the physics regions and their threads in the 
     CHECK(out.find("physics regions") == std::string::npos);  // one region: as before
 }
 
+TEST_CASE("runtime: --summary=json says what the text summary says, for programs") {
+    // A plant that loses bottles: a belt speed far beyond the line's end throws them off.
+    const Graph g = bottling_scene(4);
+    std::string text, json, err;
+    const std::vector<std::string> args = {"--for", "3s", "--quiet", "--event", "0.1s line.belt.set_speed 3",
+                                           "--event", "0.2s force line.belt.set_speed stuck 3"};
+    REQUIRE(run(g, args, text, err) == 0);
+    std::vector<std::string> as_json = args;
+    as_json.push_back("--summary=json");
+    REQUIRE(run(g, as_json, json, err) == 0);
+    const nlohmann::json j = nlohmann::json::parse(json);
+    CHECK(j["format"] == "plant-run-summary 1");
+    CHECK(j["steps"] == 450);
+    CHECK(j["simulated_time_s"].get<double>() == doctest::Approx(3.0));
+    CHECK(j["interrupted_by"].is_null());
+    const auto& o = j["objects"];
+    auto count = [&](const std::string& line) {  // "  lost (left the world): 2 (...)" -> 2
+        const size_t at = text.find(line);
+        REQUIRE_MESSAGE(at != std::string::npos, line);
+        return std::stoll(text.substr(at + line.size()));
+    };
+    CHECK(o["on_line"].get<int64_t>() == count("on the line:"));
+    CHECK(o["lost"].get<int64_t>() == count("lost (left the world):"));
+    CHECK(o["lost_objects"].size() == o["lost"].get<size_t>());
+    CHECK(j["warnings"]["total"].get<int64_t>() == count("warnings:"));
+    CHECK(j["warnings"]["left_world"].get<int64_t>() == o["lost"].get<int64_t>());
+    REQUIRE(j["forced"].size() == 1);
+    CHECK(j["forced"][0]["path"] == "line.belt.set_speed");
+    CHECK(j["forced"][0]["until_s"].is_null());
+    for (const auto& lost : o["lost_objects"])
+        CHECK(text.find(lost["object"].get<std::string>() + ": " + lost["where"].get<std::string>()) != std::string::npos);
+    CHECK(run(g, {"--summary=yaml"}, json, err) == 2);
+    CHECK(err.find("--summary takes text or json, not 'yaml'") != std::string::npos);
+}
+
 TEST_CASE("runtime: run_main runs, traces and summarises") {
     const Graph g = bottling_scene(4);
     const std::string path = "/tmp/plant_runtime_test_trace.csv";
@@ -314,13 +351,13 @@ TEST_CASE("runtime: a link's forces are listed in the summary, a link that stops
     link.at = 50;
     link.steps = 1000;
     std::ostringstream out, err;
-    CHECK(run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out, err, nullptr, &link) == 0);
+    CHECK(plant::app::run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out, err, nullptr, &link) == 0);
     CHECK(out.str().find("forced:           1\n  line.reader.on_enter  stuck on        from 0.500 s to the end (1.000 s)") !=
           std::string::npos);
     link.steps = 30;
     link.waits = 0;
     std::ostringstream out2, err2;
-    CHECK(run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out2, err2, nullptr, &link) == 1);
+    CHECK(plant::app::run_main(g, {"--for", "1s", "--rate", "100Hz", "--quiet"}, out2, err2, nullptr, &link) == 1);
     CHECK(out2.str().find("steps:            30 at 100 Hz") != std::string::npos);
     CHECK(err2.str() == "plant run: error: no more steps granted\n");
 }

@@ -5,8 +5,9 @@
 #include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
+#include "app/run_flags.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "serve/record.h"
 
 #include <doctest/doctest.h>
@@ -38,7 +39,7 @@ std::string record(const graph::Graph& g, const std::string& name, view::RecordO
     std::vector<std::string> args = {"--for", fmt::format("{}s", seconds), "--quiet"};
     for (const std::string& ev : kEvents) args.insert(args.end(), {"--event", ev});
     std::ostringstream out, err;
-    REQUIRE(engine::run_main(g, args, out, err, &rec) == 0);
+    REQUIRE(app::run_main(g, args, out, err, &rec) == 0);
     return path;
 }
 

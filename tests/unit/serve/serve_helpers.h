@@ -6,7 +6,7 @@
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "serve/player.h"
 #include "serve/protocol.h"
 #include "serve/record.h"

@@ -1,6 +1,7 @@
 // plant serve over loopback: the protocol, one way in for events (a session replays
 // headless bit for bit), replay of a recording against the trace of the same run, and
 // pages that misbehave. Every wait is bounded.
+#include "app/run_flags.h"
 #include "serve_helpers.h"
 
 TEST_CASE("serve: client messages are decoded or refused, never thrown") {
@@ -186,7 +187,7 @@ TEST_CASE("serve: a replay shows the bottles where the trace of the same run has
         view::Recorder rec(g, rec_path, {});
         REQUIRE(rec.ok());
         std::ostringstream out, err;
-        REQUIRE(engine::run_main(g, {"--for", "60s", "--trace", trace_path, "--trace-bodies", "--trace-rate", "10Hz",
+        REQUIRE(app::run_main(g, {"--for", "60s", "--trace", trace_path, "--trace-bodies", "--trace-rate", "10Hz",
                                      "--quiet"},
                                  out, err, &rec) == 0);
     }

@@ -2,6 +2,7 @@
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "lookup.h"
+#include "app/run_flags.h"
 #include "engine/run.h"
 
 #include <doctest/doctest.h>
@@ -83,7 +84,7 @@ plant Summary {
                  c, "summary.plant");
     REQUIRE(c.ok());
     std::ostringstream out, err;
-    CHECK(plant::engine::run_main(c.graph, {"--for", "40s", "--quiet"}, out, err) == 0);
+    CHECK(plant::app::run_main(c.graph, {"--for", "40s", "--quiet"}, out, err) == 0);
     const std::string s = out.str();
     CAPTURE(s);
     CHECK(s.find("  on the line:           2\n") != std::string::npos);

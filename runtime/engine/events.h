@@ -1,6 +1,8 @@
-// The values on a `plant run` command line and in an events file: durations
-// ("10s", "500ms", "2min"), frequencies ("150Hz", "1kHz") and timed events
-// ("5s sep.net.MoveToWorkingPos.put", "2s belt.field.set_speed 0.5").
+// Events: the one way in. Every external input to a running plant (`--event`, an events
+// file, the viewer's clicks, a PLC write, a forced fault, a hand grab) is an Event, applied
+// between steps through apply_event. Here too the text forms they are read from: timed
+// events ("5s sep.net.MoveToWorkingPos.put", "2s belt.field.set_speed 0.5"), durations
+// ("10s", "500ms", "2min") and frequencies ("150Hz", "1kHz").
 #pragma once
 
 #include "engine/engine.h"
@@ -81,6 +83,10 @@ bool parse_input(const graph::Graph& g, const SlotIndex& slots, std::string_view
 // engine/plugin.h: a `faults` component's entries), sorted by time; a run applies them
 // before the command line's events of the same step.
 std::vector<Event> plant_events(const graph::Graph& g);
+// The events a run applies, in the order it applies them: the plant's own (plant_events)
+// and then `given` (the command line's, an events file's) sorted by time, the plant's first
+// at equal times and `given` in its own order (a later force of the same slot wins).
+std::vector<Event> run_events(const graph::Graph& g, std::vector<Event> given);
 
 // One event per line; blank lines and lines starting with '#' are skipped.
 bool load_events(const graph::Graph& g, const SlotIndex& slots, const std::string& path,

@@ -1,5 +1,8 @@
 // `plant fmt`: formats plant files in place, checks them (--check) or prints them.
-#include "driver/fmt.h"
+#include "app/fmt.h"
+
+#include "app/cli.h"
+#include "app/command.h"
 
 #include "diag/diagnostic.h"
 #include "fmt/diff.h"
@@ -17,18 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kFmtHelp = R"(usage: plant fmt [--check] [--stdout] FILE...
-
-Formats plant files in one canonical layout: 4 spaces per brace, one space around
+constexpr const char* kAbout = R"(Formats plant files in one canonical layout: 4 spaces per brace, one space around
 operators, after `:` and `,`; consecutive ports, instances and transitions in columns;
 every comment kept where it is (docs/editors.md, "plant fmt"). Rewrites each FILE that
 changes in place. A file with syntax errors is left alone and its diagnostics printed.
-
-  --check     change nothing; print what would change in each file as a unified
-              diff (every difference; `patch -p0` applies it); exit 1 if any
-  --stdout    print the formatted text instead of rewriting the files
-  -           as FILE: format standard input to standard output (for editors)
-Exit code: 0 done, 1 a file has errors, cannot be written or (--check) would change,
+`-` as FILE formats standard input to standard output (for editors).)";
+constexpr const char* kFooter = R"(Exit code: 0 done, 1 a file has errors, cannot be written or (--check) would change,
 2 bad usage.
 )";
 
@@ -72,21 +69,16 @@ bool replace_file(const std::string& path, const std::string& text) {
 }  // namespace
 
 int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostream& out, std::ostream& err) {
+    app::Cli cli("fmt", "[--check] [--stdout] FILE...", kAbout, kFooter);
     bool check = false, to_stdout = false;
+    cli.flag("--check", check,
+             "change nothing; print what would change in each file as a unified\ndiff (every difference; `patch -p0` "
+             "applies it); exit 1 if any");
+    cli.flag("--stdout", to_stdout, "print the formatted text instead of rewriting the files");
     std::vector<std::string> files;
-    for (const auto& a : args) {
-        if (a == "-h" || a == "--help") return out << kFmtHelp, 0;
-        if (a == "--check") check = true;
-        else if (a == "--stdout") to_stdout = true;
-        else if (a.size() > 1 && a[0] == '-') {
-            err << "plant fmt: error: unknown option '" << a << "'\n(see `plant fmt --help`)\n";
-            return 2;
-        } else files.push_back(a);
-    }
-    if (files.empty()) {
-        err << "plant fmt: error: no FILE given (`-` formats standard input)\n(see `plant fmt --help`)\n";
-        return 2;
-    }
+    cli.positionals(files);
+    if (const int code = cli.parse(args, out, err); code >= 0) return code;
+    if (files.empty()) return cli.usage_error(err, "no FILE given (`-` formats standard input)");
     int status = 0, changed = 0;
     for (const auto& f : files) {
         SourceMap sources;
@@ -127,3 +119,12 @@ int fmt_main(const std::vector<std::string>& args, std::istream& in, std::ostrea
 }
 
 }  // namespace plant::formatter
+
+namespace plant::app {
+
+extern const Command kFmtCommand{"fmt", "format plant files in the canonical layout (--check: only report)",
+                                 [](const std::vector<std::string>& args) {
+                                     return formatter::fmt_main(args, std::cin, std::cout, std::cerr);
+                                 }};
+
+}  // namespace plant::app

@@ -1,4 +1,5 @@
-// `plant fmt FILE... [--check] [--stdout]`: the command line of the formatter (compiler/fmt).
+// `plant fmt FILE... [--check] [--stdout]`: the command line of the formatter (compiler/fmt),
+// the `fmt` row of the command table.
 #pragma once
 
 #include <iosfwd>

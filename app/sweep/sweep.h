@@ -90,7 +90,7 @@ struct Result {
 // Statuses kept by --resume; a `lost` run (killed from outside) is run again.
 bool is_final(const std::string& status);
 
-// The values of a summary printed by `plant run`: counters and records by name.
+// The values of the summary `plant run --summary=json` prints: counters and records by name.
 struct Summary {
     std::map<std::string, double> counters;
     std::map<std::string, double> totals, rates;
@@ -150,7 +150,8 @@ struct Options {
     bool resume = false;
     double timeout = 0;  // 0: the spec's
 };
-int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& err);
+// -1 to go on; else the exit code, with --help printed on `out` (0) or the error on `err`.
+int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& out, std::ostream& err);
 
 // The --out folder's lock (DIR/.lock, flock(2)): held while a sweep runs there, released by
 // the kernel however the sweep ends; a lock file left by a killed sweep is taken over.
@@ -228,7 +229,5 @@ std::string interrupted_message(const Options& o, const Prepared& p, int signal)
 std::optional<std::string> flat_plot_warning(const Spec& spec, const std::map<int, std::string>& rows);
 
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
-
-extern const char* kSweepHelp;
 
 }  // namespace plant::sweep

@@ -1,4 +1,4 @@
-#include "engine/run_args.h"
+#include "engine/events.h"
 
 #include "engine/plugin.h"
 #include "graph/range.h"
@@ -526,6 +526,13 @@ std::vector<Event> plant_events(const Graph& g) {
             b->schedule(g, int32_t(p), out);
     std::stable_sort(out.begin(), out.end(), [](const Event& x, const Event& y) { return x.time < y.time; });
     return out;
+}
+
+std::vector<Event> run_events(const Graph& g, std::vector<Event> given) {
+    std::vector<Event> all = plant_events(g);
+    all.insert(all.end(), std::make_move_iterator(given.begin()), std::make_move_iterator(given.end()));
+    std::stable_sort(all.begin(), all.end(), [](const Event& x, const Event& y) { return x.time < y.time; });
+    return all;
 }
 
 }  // namespace plant::engine

@@ -1,8 +1,9 @@
-// Runs as child processes: `plant run PLANT --set ... --for T --quiet`, stdout and stderr
-// to files in the work folder, read back into a Result when the child ends.
+// Runs as child processes: `plant run PLANT --set ... --for T --quiet --summary=json`,
+// stdout and stderr to files in the work folder, read back into a Result when the child ends.
 #include "sweep.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <cerrno>
 #include <chrono>
@@ -18,6 +19,8 @@
 #include <unistd.h>
 
 namespace plant::sweep {
+
+using json = nlohmann::json;
 
 namespace {
 
@@ -61,47 +64,27 @@ std::string out_path(const std::string& dir, int index, const char* ext) {
 }  // namespace
 
 bool parse_summary(const std::string& text, Summary& s) {
-    std::istringstream in(text);
-    std::string line;
-    bool records = false, any = false;
-    auto after = [&](const std::string& l, const char* key, const char* name) {
-        if (l.rfind(key, 0) != 0) return false;
-        s.counters[name] = std::strtod(l.c_str() + std::strlen(key), nullptr);
-        any = true;
-        return true;
-    };
-    while (std::getline(in, line)) {
-        if (line.rfind("records:", 0) == 0) {
-            records = true;
-            continue;
+    // `plant run --summary=json` (docs/runtime.md, "The summary as JSON"); a value that is
+    // not a number (null: a NaN) reads as NaN.
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("simulated_time_s")) return false;
+    auto number = [](const json& v) { return v.is_number() ? v.get<double>() : std::nan(""); };
+    s.counters["rtf"] = number(j.value("real_time_factor", json()));
+    const json objects = j.value("objects", json::object());
+    for (const auto& [key, name] : {std::pair{"issued", "issued"}, {"taken", "commissioned"}, {"on_line", "on_line"},
+                                    {"lost", "lost"}, {"stalled", "stalled"}})
+        if (objects.contains(key) && !objects[key].is_null()) s.counters[name] = number(objects[key]);
+    for (const json& r : j.value("records", json::array())) {
+        const std::string column = r.value("column", "");
+        if (r.contains("events")) {
+            s.totals[column] = number(r["events"]);
+            s.rates[column] = number(r.value("per_minute", json()));
+        } else {
+            s.totals[column] = number(r.value("value", json()));
         }
-        if (line.rfind("warnings:", 0) == 0) records = false;
-        if (line.find("objects with a NaN state") != std::string::npos) s.nan = true;
-        if (records && line.rfind("  ", 0) == 0) {
-            const std::string l = trim_line(line);
-            const size_t ev = l.find(" events (");
-            if (ev != std::string::npos) {
-                const size_t sp = l.rfind(' ', ev - 1);
-                const std::string name = trim_line(l.substr(0, sp));
-                s.totals[name] = std::strtod(l.c_str() + sp + 1, nullptr);
-                s.rates[name] = std::strtod(l.c_str() + ev + 9, nullptr);
-            } else {
-                std::string body = l;
-                if (body.size() > 6 && body.substr(body.size() - 6) == " (sum)") body.resize(body.size() - 6);
-                const size_t sp = body.rfind(' ');
-                if (sp == std::string::npos) continue;
-                s.totals[trim_line(body.substr(0, sp))] = std::strtod(body.c_str() + sp + 1, nullptr);
-            }
-            continue;
-        }
-        records = false;
-        const std::string l = trim_line(line);
-        after(l, "real-time factor:", "rtf") || after(l, "issued by sources:", "issued") ||
-            after(l, "taken by exits:", "commissioned") || after(l, "on the line:", "on_line") ||
-            after(l, "lost (left the world):", "lost") || after(l, "stalled over 30 s:", "stalled");
-        if (l.rfind("simulated time:", 0) == 0) any = true;
     }
-    return any;
+    s.nan = j.value("warnings", json::object()).value("nan_state", 0) > 0;
+    return true;
 }
 
 Pool::~Pool() {
@@ -117,7 +100,7 @@ bool Pool::start(const Run& run, std::string& error) {
         args.push_back("--set");
         args.push_back(s);
     }
-    args.insert(args.end(), {"--for", exec_.run_for, "--quiet", "--threads", "1"});
+    args.insert(args.end(), {"--for", exec_.run_for, "--quiet", "--threads", "1", "--summary=json"});
     const std::string out = out_path(exec_.work_dir, run.index, "out");
     const std::string err = out_path(exec_.work_dir, run.index, "err");
     const pid_t parent = ::getpid();

@@ -2,6 +2,9 @@
 // (-j N children at a time). Under mpirun it hands over to plant-sweep-mpi.
 #include "sweep.h"
 
+#include "app/cli.h"
+#include "app/command.h"
+
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
@@ -16,10 +19,9 @@
 
 namespace plant::sweep {
 
-const char* kSweepHelp = R"(usage: plant sweep SPEC [options]
-       mpirun -n N plant sweep SPEC [options]
+namespace {
 
-Runs the plant a sweep spec names once per combination of parameter values and
+constexpr const char* kAbout = R"(Runs the plant a sweep spec names once per combination of parameter values and
 replicate, each run a child process (`plant run ... --quiet`), and writes, in --out:
   results.csv   a row per run: run, replicate, the values, the outputs, status,
                 message, wall_s (rows appended as runs finish; sorted by run at the end)
@@ -32,20 +34,32 @@ While it runs it shows runs done of the total, how many were not ok and the time
 (one line on a terminal, a line every 10 s in a log). One sweep at a time in an --out
 folder: another one there is refused while the first runs. Ctrl-C stops the runs going
 on and says how many finished; --resume completes the sweep. When the plotted output is
-the same in every run (a --for too short?) the sweep warns.
-
-  -j N          runs at a time (default: one per core); the results do not depend on it
-  --out DIR     where the files go (default: sweep-NAME for SPEC NAME.sweep)
-  --for TIME    simulated time per run, instead of the spec's (e.g. 5s)
-  --timeout T   wall time per run before it is stopped (default: the spec's, else 600 s)
-  --resume      keep the rows already in DIR/results.csv and run only the rest
-                (runs marked lost, killed from outside, run again)
-  --stdlib DIR  where `import std.x` looks
-Under mpirun (Open MPI), rank 0 hands runs out to the other ranks and writes the files.
+the same in every run (a --for too short?) the sweep warns.)";
+constexpr const char* kFooter = R"(Under mpirun (Open MPI), rank 0 hands runs out to the other ranks and writes the files.
 The spec format and a worked example: docs/sweeps.md.
 )";
 
-namespace {
+// The sweep's command line, read into `o`; `jobs` and the times are checked after parsing.
+struct SweepLine {
+    app::Cli cli{"sweep", "SPEC [options]\n       mpirun -n N plant sweep SPEC [options]", kAbout, kFooter};
+    std::string jobs, timeout;
+    std::vector<std::string> specs;
+    explicit SweepLine(Options& o) {
+        cli.value("-j,--jobs", jobs, "runs at a time (default: one per core); the results do not depend on it", "N",
+                  "a number");
+        cli.value("--out", o.out_dir, "where the files go (default: sweep-NAME for SPEC NAME.sweep)", "DIR", "a DIR");
+        cli.value("--for", o.run_for, "simulated time per run, instead of the spec's (e.g. 5s)", "TIME",
+                  "a time (s, ms, min, h), e.g. --for 5s");
+        cli.value("--timeout", timeout, "wall time per run before it is stopped (default: the spec's, else 600 s)", "T",
+                  "a time, e.g. --timeout 60s");
+        cli.flag("--resume", o.resume,
+                 "keep the rows already in DIR/results.csv and run only the rest\n(runs marked lost, killed from "
+                 "outside, run again)");
+        cli.value("--stdlib", o.stdlib, "where `import std.x` looks", "DIR", "a DIR");
+        cli.positionals(specs);
+    }
+};
+
 
 std::string self_exe() {
     std::error_code ec;
@@ -55,52 +69,22 @@ std::string self_exe() {
 
 }  // namespace
 
-int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& err) {
-    auto bad = [&](const std::string& m) {
-        fmt::print(err, "plant sweep: error: {}\n(see `plant sweep --help`)\n", m);
-        return 2;
-    };
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&](std::string& v) {
-            if (i + 1 >= args.size()) return false;
-            v = args[++i];
-            return true;
-        };
-        std::string v;
-        if (a == "-j" || a == "--jobs") {
-            if (!value(v)) return bad(a + " needs a number");
-            char* end = nullptr;
-            const long n = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end || n < 1 || n > 1024) return bad("-j: '" + v + "' is not a number from 1 to 1024");
-            o.jobs = int(n);
-        } else if (a.size() > 2 && a.rfind("-j", 0) == 0 && a[2] != '-') {
-            char* end = nullptr;
-            const long n = std::strtol(a.c_str() + 2, &end, 10);
-            if (*end || n < 1 || n > 1024) return bad("-j: '" + a.substr(2) + "' is not a number from 1 to 1024");
-            o.jobs = int(n);
-        } else if (a == "--out") {
-            if (!value(o.out_dir)) return bad("--out needs a DIR");
-        } else if (a == "--for") {
-            double s = 0;
-            if (!value(o.run_for) || !parse_seconds(o.run_for, s))
-                return bad("--for needs a time (s, ms, min, h), e.g. --for 5s");
-        } else if (a == "--timeout") {
-            if (!value(v) || !parse_seconds(v, o.timeout)) return bad("--timeout needs a time, e.g. --timeout 60s");
-        } else if (a == "--stdlib") {
-            if (!value(o.stdlib)) return bad("--stdlib needs a DIR");
-        } else if (a == "--resume") {
-            o.resume = true;
-        } else if (!a.empty() && a[0] == '-') {
-            return bad("unknown option '" + a + "'");
-        } else if (o.spec_path.empty()) {
-            o.spec_path = a;
-        } else {
-            return bad("sweep takes one SPEC");
-        }
-    }
-    if (o.spec_path.empty()) return bad("sweep needs a SPEC file");
-    return 0;
+int parse_options(const std::vector<std::string>& args, Options& o, std::ostream& out, std::ostream& err) {
+    SweepLine l(o);
+    if (const int code = l.cli.parse(args, out, err); code >= 0) return code;
+    long n = 0;
+    if (!l.jobs.empty() && !app::whole_number(l.jobs, 1, 1024, n))
+        return l.cli.usage_error(err, "-j: '" + l.jobs + "' is not a number from 1 to 1024");
+    o.jobs = int(n);
+    double s = 0;
+    if (!o.run_for.empty() && !parse_seconds(o.run_for, s))
+        return l.cli.usage_error(err, "--for needs a time (s, ms, min, h), e.g. --for 5s");
+    if (!l.timeout.empty() && !parse_seconds(l.timeout, o.timeout))
+        return l.cli.usage_error(err, "--timeout needs a time, e.g. --timeout 60s");
+    if (l.specs.size() > 1) return l.cli.usage_error(err, "sweep takes one SPEC");
+    if (l.specs.empty()) return l.cli.usage_error(err, "sweep needs a SPEC file");
+    o.spec_path = l.specs[0];
+    return -1;
 }
 
 int prepare(const Options& o, Prepared& p, std::ostream& err) {
@@ -179,8 +163,8 @@ std::string interrupted_message(const Options& o, const Prepared& p, int signal)
 }
 
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-    for (const std::string& a : args)
-        if (a == "-h" || a == "--help") return out << kSweepHelp, 0;
+    Options o;
+    if (const int code = parse_options(args, o, out, err); code >= 0) return code;  // --help: 0
     // Under mpirun: the MPI driver, a separate binary so that `plant` does not link libmpi.
     if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_RANK")) {
         const std::string mpi = (std::filesystem::path(self_exe()).parent_path() / "plant-sweep-mpi").string();
@@ -193,8 +177,6 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         fmt::print(err, "plant sweep: error: under mpirun, but cannot run {} (built with Open MPI only)\n", mpi);
         return 2;
     }
-    Options o;
-    if (const int code = parse_options(args, o, err)) return code;
     Prepared p;
     if (const int code = prepare(o, p, err)) return code;
     const std::string dir = std::filesystem::path(p.csv_path).parent_path().string();
@@ -264,3 +246,13 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
 }
 
 }  // namespace plant::sweep
+
+namespace plant::app {
+
+extern const Command kSweepCommand{"sweep", "many runs of a plant over parameter values, -j N or under mpirun; CSV, "
+                                            "summary and plot",
+                                   [](const std::vector<std::string>& args) {
+                                       return sweep::sweep_main(args, std::cout, std::cerr);
+                                   }};
+
+}  // namespace plant::app

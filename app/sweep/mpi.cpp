@@ -232,7 +232,13 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
     Options o;
     std::ostringstream quiet;  // the other ranks would only repeat rank 0's usage errors
-    int code = parse_options(args, o, rank == 0 ? static_cast<std::ostream&>(std::cerr) : quiet);
+    int code = parse_options(args, o, rank == 0 ? static_cast<std::ostream&>(std::cout) : quiet,
+                             rank == 0 ? static_cast<std::ostream&>(std::cerr) : quiet);
+    if (code >= 0) {  // --help (0) or a usage error: every rank read the same arguments
+        MPI_Finalize();
+        return code;
+    }
+    code = 0;
     Prepared p;
     if (code == 0 && rank == 0) code = prepare(o, p, std::cerr);
     // Every rank learns whether rank 0 found the spec good.
