@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   cmake ninja-build g++ pkg-config ccache
-  libbullet-dev libeigen3-dev libfmt-dev doctest-dev nlohmann-json3-dev
+  libbullet-dev libeigen3-dev libfmt-dev doctest-dev nlohmann-json3-dev libcli11-dev
   libantlr4-runtime-dev antlr4 default-jre-headless uuid-dev
   graphviz gnuplot-nox
   libboost-dev chromium
