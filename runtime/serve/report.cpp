@@ -53,7 +53,7 @@ Meta parse_meta(std::string_view l) {
     return m;
 }
 
-// Gathers the session while run_main replays it.
+// Gathers the session while engine::run replays it.
 class Gather : public engine::RunObserver {
 public:
     Gather(const graph::Graph& g, Session& s, std::vector<Meta> metas) : g_(g), s_(s), metas_(std::move(metas)) {}
@@ -302,9 +302,15 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
     Gather gather(g, out, std::move(metas));
     const double rate = g.settings.rate > 0 ? g.settings.rate : 150;
     gather.set_every(std::llround(rate));
-    std::ostringstream summary, err;
-    const std::vector<std::string> args = {"--events", events_path, "--for", fmt::format("{:.9g}s", end), "--quiet"};
-    if (engine::run_main(g, args, summary, err, &gather) != 0) {
+    // As `plant run PLANT --events FILE --for END --quiet` runs it.
+    engine::RunOptions run;
+    run.duration = end;
+    run.quiet = true;
+    std::vector<engine::Event> given;
+    if (!engine::load_events(g, engine::slot_index(g), events_path, given, error)) return false;
+    run.events = engine::run_events(g, std::move(given));
+    std::ostringstream err;
+    if (engine::run(g, run, err, &gather, nullptr, [](const engine::RunSummary&) {}) != 0) {
         error = trim(err.str());
         if (error.empty()) error = fmt::format("{}: the replay failed", events_path);
         return false;

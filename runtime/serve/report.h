@@ -4,7 +4,7 @@
 // printable HTML page with a plot.
 //
 // The report is computed from the session's events file alone, by replaying it headless
-// with `plant run --events` (run_main): its counters are the replay's, so a report that
+// with `plant run --events` (engine::run): its counters are the replay's, so a report that
 // reads right is also the proof that the session replays. The events file carries who sent
 // each event and when on the wall clock in comment lines, which a replay ignores:
 //
@@ -14,7 +14,7 @@
 //     # end 312.000s
 #pragma once
 
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/graph.h"
 
 #include <cstdint>
