@@ -2,7 +2,7 @@
 // of their own kinds with ordinary slots, and are worked by events (the one way in).
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "graph/plugin.h"
 #include "graph/text.h"
 

@@ -3,7 +3,7 @@
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "engine/run.h"
-#include "engine/run_args.h"
+#include "engine/events.h"
 #include "serve/view.h"
 
 #include <doctest/doctest.h>
