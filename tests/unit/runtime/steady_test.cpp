@@ -5,6 +5,7 @@
 // traces byte for byte.
 #include "../compiler/compile_helper.h"
 #include "../stdlib/lookup.h"
+#include "app/run_flags.h"
 #include "engine/engine.h"
 #include "engine/run.h"
 #include "engine/runtime.h"
@@ -281,7 +282,7 @@ TEST_CASE("steady transport: the measurements' traces are the same bytes on and 
         for (int on = 0; on < 2; ++on) {
             const std::string path = (scratch_dir() / (std::string("steady_") + k.plant + (on ? "_on" : "_off") + ".csv")).string();
             std::ostringstream out, err;
-            REQUIRE(engine::run_main(c.graph, {"--for", k.duration, "--quiet", "--trace", path,
+            REQUIRE(app::run_main(c.graph, {"--for", k.duration, "--quiet", "--trace", path,
                                                "--steady-transport", on ? "on" : "off"},
                                      out, err) == 0);
             std::ifstream in(path, std::ios::binary);
@@ -297,7 +298,7 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
     compile_repo_file("plants/experiments/traction.plant", c);
     REQUIRE(c.ok());
     std::ostringstream out, err;
-    CHECK(engine::run_main(c.graph, {"--for", "0.1s", "--quiet", "--steady-transport", "maybe"}, out, err) == 2);
+    CHECK(app::run_main(c.graph, {"--for", "0.1s", "--quiet", "--steady-transport", "maybe"}, out, err) == 2);
     CHECK(err.str().find("--steady-transport: 'maybe' is neither on nor off") != std::string::npos);
 }
 
