@@ -15,6 +15,7 @@
 #endif
 #ifdef PLANT_HAS_FAULTS
 #include "faults/kind.h"
+#include "faults/operable.h"
 #endif
 #ifdef PLANT_HAS_PANEL
 #include "panel/kind.h"
@@ -181,6 +182,13 @@ plays a recording made by `plant run FILE --record RECORDING`, with a timeline.
                             component is served without them)
   --event "5s PATH [VALUE]" a timed event, as plant run (repeatable; forces, hands too)
   --events FILE             one such event per line (an instructor's drill)
+  --tls-cert FILE, --tls-key FILE
+                            serve https and wss only, with this certificate and key (PEM)
+  --open                    no roles: every page has full control (any --host)
+  --no-roles                the same on this machine; refused on another address without --open
+Roles: it prints the instructor's URL (with a secret token) and the trainees' URL; a
+trainee's page operates only the plant's `operable` inputs and the hand, and is not shown
+forces. On 127.0.0.1 a page without a token is the instructor's.
 Stop with Ctrl-C. The protocol and the page: docs/viewer.md.
 )";
 
@@ -542,6 +550,7 @@ int run_command(int argc, char** argv) {
 #endif
 #ifdef PLANT_HAS_FAULTS
     plant::faults::register_faults_kind();
+    plant::faults::register_operable_kind();
 #endif
 #ifdef PLANT_HAS_PANEL
     plant::panel::register_panel_kinds();

@@ -10,9 +10,16 @@
 //   --threads N     physics threads (as plant run)
 //   --steady-transport on|off   (as plant run)
 //   --event "5s PATH [VALUE]", --events FILE   timed events applied in the run (as plant run)
+//   --tls-cert FILE, --tls-key FILE   serve https and wss only (PEM files, both)
+//   --open          no roles: every page has full control, on any --host
+//   --no-roles      the same, refused on an address other than loopback without --open
 //
+// Roles (docs/viewer.md): unless --open, a secret token is drawn from the OS; the URL with
+// it is the instructor's, `?role=trainee` a trainee's; on loopback a page without either is
+// the instructor's (one user at their own machine), elsewhere a trainee's.
 // Models are looked up under --models, beside the plant, then under `stdlib_dir`/models.
-// Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag, 1 when it cannot listen.
+// Returns when SIGINT or SIGTERM arrives (0), or 2 for a bad flag (--no-roles on a
+// non-loopback address without --open among them), 1 when it cannot listen.
 // `link` (an OPC UA server the driver started) exchanges with the live run at its step
 // boundaries, as it does in `plant run`; what its clients apply is logged like a page's events.
 #pragma once
