@@ -258,7 +258,9 @@ try {
       forcedInLog: [...document.querySelectorAll('#log li')].some((li) => li.textContent.includes('force ')),
       forcedInStatus: (plantViewer.lastStatus?.forced ?? []).length,
       forcedRows: document.querySelectorAll('#insp-slots tr.forced').length,
+      rows: document.querySelectorAll('#insp-slots tr').length,
     }), sw.path);
+    check(seen.rows > 0, `the trainee's inspector shows ${sw.path}'s slots (${seen.rows} rows)`);
     check(!seen.run && !seen.forcedPanel && seen.forceMenus === 0, `a trainee's page has no run controls, no Forced now, no force menus (${JSON.stringify(seen)})`);
     check(!seen.fire, `a trainee may not fire ${sw.path}.to_working (the bottling plant lists no operable input)`);
     check(!seen.forcedInLog && seen.forcedInStatus === 0 && seen.forcedRows === 0, 'the trainee is not shown the force (log, status, inspector)');
