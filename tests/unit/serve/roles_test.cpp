@@ -60,7 +60,7 @@ std::string error_for(Page& page, const std::string& msg) {
 
 }  // namespace
 
-TEST_CASE("roles: the token is 128 random bits, compared whole; the query's values are read") {
+TEST_CASE("roles: the token is 128 random bits, compared whole, and the query's values are read") {
     std::string error;
     const std::string a = view::make_token(error), b = view::make_token(error);
     CHECK(a.size() == 32);
