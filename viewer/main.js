@@ -183,7 +183,7 @@ function setRole(msg) {
   inspector.operable = trainee ? new Set((msg.operable ?? []).map((o) => o.path)) : null;
   const list = $('controls');
   list.replaceChildren();
-  for (const o of trainee ? msg.operable ?? [] : []) {
+  for (const o of trainee ? (msg.operable ?? []).filter((x) => !x.panel) : []) {   // panels draw their own
     const row = document.createElement('tr');
     const name = document.createElement('td');
     name.textContent = o.label;

@@ -34,6 +34,10 @@ plant Room {
     faults drill {
         open 0.1 s => other.tick
     }
+    panel ops {
+        button go { label = "Go" }
+        lamp shown { label = "Shown" }
+    }
 }
 )";
 
@@ -102,7 +106,7 @@ TEST_CASE("roles: an address that keeps giving wrong tokens is locked out, longe
 TEST_CASE("roles: the plant's operable inputs, in their keys' order, with their labels") {
     const graph::Graph g = room();
     const auto ins = faults::operable_inputs(g);
-    REQUIRE(ins.size() == 2);
+    REQUIRE(ins.size() == 2);  // the panel's inputs are not listed: the server adds them
     CHECK(g.slot_path(ins[0].slots[0]) == "clock.stop");
     CHECK(ins[0].label == "stop the clock");
     CHECK(g.slot_path(ins[1].slots[0]) == "clock.start");
@@ -117,7 +121,8 @@ TEST_CASE("roles: a trainee's force, fire on an unmarked input and wrong token a
     json welcome;
     REQUIRE(trainee.wait_json("welcome", welcome));
     CHECK(welcome["role"] == "trainee");
-    REQUIRE(welcome["operable"].size() == 2);
+    REQUIRE(welcome["operable"].size() == 5);  // the two listed, then the button's press, release, hold
+    CHECK(welcome["operable"][2]["panel"] == true);
     CHECK(welcome["operable"][0]["path"] == "clock.stop");
     CHECK(welcome["operable"][0]["label"] == "stop the clock");
 
@@ -129,11 +134,20 @@ TEST_CASE("roles: a trainee's force, fire on an unmarked input and wrong token a
     const std::string fire = error_for(trainee, R"({"type":"event","path":"other.stop"})");
     CHECK(fire.find("'other.stop' is not an input a trainee may operate") != std::string::npos);
     CHECK(error_for(trainee, R"({"type":"control","action":"pause"})").find("instructor runs") != std::string::npos);
+    // A panel's lamp is the plant's to light, not the operator's.
+    CHECK(error_for(trainee, R"({"type":"event","path":"ops.shown.on"})").find("is not an input a trainee may") !=
+          std::string::npos);
     // What a trainee may do goes through: the operable input, the hand.
     trainee.send(R"({"type":"event","path":"clock.stop"})");
     json ev;
     REQUIRE(trainee.wait_json("event", ev));
     CHECK(ev["line"].get<std::string>().find("clock.stop") != std::string::npos);
+    trainee.send(R"({"type":"event","path":"ops.go.press"})");  // a panel's button: an operator's
+    REQUIRE(trainee.wait([&](const std::string& m, bool bin) {
+        const json j = bin ? json::object() : json::parse(m, nullptr, false);
+        if (j.value("type", "") == "error") FAIL("the button was refused: " << m);
+        return j.value("type", "") == "event" && j["line"].get<std::string>().find("ops.go.press") != std::string::npos;
+    }, 10));
     trainee.send(R"({"type":"hand","action":"grab","path":"crate","point":[0,0,0.1]})");
     REQUIRE(trainee.wait([&](const std::string& m, bool bin) {
         if (bin) return false;
@@ -151,7 +165,7 @@ TEST_CASE("roles: a trainee's force, fire on an unmarked input and wrong token a
     bool binary = false;
     CHECK_FALSE(forged.read(msg, binary, 5));
     CHECK(s.server->stats().bad_tokens == 1);
-    CHECK(s.server->stats().trainee_refused == 4);
+    CHECK(s.server->stats().trainee_refused == 5);
     // The instructor's token: the instructor's page, which may force.
     Page instructor(s.port, nullptr, std::string("/ws?token=") + kToken);
     REQUIRE(instructor.wait_json("welcome", welcome));
