@@ -32,6 +32,9 @@ bool number(const std::string& text, double& v) {
 
 int serve_command(const std::vector<std::string>& args) {
     Cli cli("serve", "FILE [options]\n       plant serve --replay RECORDING [options]", kServeAbout,
+            "Roles: it prints the instructor's URL (with a secret token) and the trainees' URL; a\n"
+            "trainee's page operates only the plant's `operable` inputs, its panels and the hand, and\n"
+            "is not shown forces. On 127.0.0.1 a page without a token is the instructor's.\n"
             "Stop with Ctrl-C. The protocol and the page: docs/viewer.md.\n");
     cli.unknown_word("flag");
     view::ServeOptions so;
@@ -45,6 +48,11 @@ int serve_command(const std::vector<std::string>& args) {
               "an address");
     cli.value("--speed", speed, "times real time (default 1; 0: as fast as possible)", "X");
     cli.flag("--paused", so.paused, "start paused");
+    cli.value("--tls-cert", so.server.tls_cert, "serve https and wss only, with this certificate (PEM; with --tls-key)",
+              "FILE", "a file");
+    cli.value("--tls-key", so.server.tls_key, "the certificate's private key (PEM)", "FILE", "a file");
+    cli.flag("--open", so.server.open, "no roles: every page has full control (any --host)");
+    cli.flag("--no-roles", so.no_roles, "the same on this machine; refused on another address without --open");
     cli.value("--viewer", so.server.viewer_dir, "the page's folder (default: $PLANT_VIEWER, else viewer/)", "DIR",
               "a folder");
     cli.value("--models", so.server.models.models_dir,

@@ -13,7 +13,7 @@ PACKAGES=(
   neovim
   clang libclang-rt-14-dev
   libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio
-  libzstd-dev
+  libzstd-dev libssl-dev openssl
 )
 # The viewer page's and the OPC UA server's packages come from npm (viewer/, opcua/: each
 # with its package-lock.json): Node.js and npm from Debian when the machine has none.

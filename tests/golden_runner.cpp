@@ -19,6 +19,7 @@
 //   plant_golden DIR            check; prints a diff-like report, exit 1 on mismatch
 //   plant_golden --update DIR   rewrite the expected files; review with `git diff`
 #include "faults/kind.h"
+#include "faults/operable.h"
 #include "panel/kind.h"
 #include "opcua/kind.h"
 #include "plc/kind.h"
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
     plant::opcua::register_opcua_kind();
     plant::faults::register_faults_kind();
     plant::panel::register_panel_kinds();
+    plant::faults::register_operable_kind();
     bool update = false;
     std::string dir, sources;
     for (int i = 1; i < argc; ++i) {

@@ -29,6 +29,7 @@ export class Inspector {
     this.scene = null;
     this.path = null;
     this.readOnly = false;
+    this.operable = null;   // a trainee's page: the only inputs it may operate (a Set of paths), no forces
     this.valueCells = new Map();   // slot path -> {row, cell}
     this.placeChips = new Map();   // place id -> chip
     $('insp-close').addEventListener('click', () => this.close());
@@ -112,8 +113,8 @@ export class Inspector {
         el('td', { class: 'name', title: s.path }, s.path.slice(prefix.length),
           el('div', { class: 'kind' }, `${s.dir} ${s.type}${s.port ? ' · port' : ''}`)),
         cell,
-        el('td', {}, s.dir === 'in' && !this.readOnly ? this.control(s) : ''),
-        el('td', {}, this.readOnly ? '' : this.forceMenu(s)));
+        el('td', {}, s.dir === 'in' && !this.readOnly && (!this.operable || this.operable.has(s.path)) ? this.control(s) : ''),
+        el('td', {}, this.readOnly || this.operable ? '' : this.forceMenu(s)));
       into.append(row);
       this.valueCells.set(s.path, { row, cell });
     }

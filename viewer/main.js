@@ -1,6 +1,6 @@
 // The viewer page: connects to `plant serve` (docs/viewer.md), draws the plant, and sends
 // every interaction as a protocol message.
-import { Connection } from './protocol.js';
+import { Connection, roleQuery } from './protocol.js';
 import { PlantView } from './scene.js';
 import { Inspector } from './inspector.js';
 import { Plots } from './plots.js';
@@ -61,7 +61,7 @@ function log(text, cls) {
 
 const conn = new Connection({
   onConnection(state) {
-    $('conn').textContent = state === 'open' ? 'connected' : 'disconnected';
+    $('conn').textContent = state === 'open' ? 'connected' : state === 'refused' ? 'refused' : 'disconnected';
     $('conn').className = `badge ${state === 'open' ? 'ok' : 'bad'}`;
   },
   onScene(scene) {
@@ -92,7 +92,7 @@ const conn = new Connection({
     debug.sceneReady = true;
     log(`scene: ${scene.plant}, ${scene.bodies.length} bodies, ${scene.rate} Hz${replay ? ', replay' : ''}`);
   },
-  onWelcome(msg) { myClient = msg.client; },
+  onWelcome(msg) { myClient = msg.client; setRole(msg); },
   onHistory(h) {
     debug.historiesReceived++;
     debug.lastHistory = { samples: h.time?.length ?? 0, first: h.time?.[0] ?? null, last: h.time?.[h.time.length - 1] ?? null };
@@ -171,6 +171,31 @@ debug.boxCentre = (doId) => {
 };
 let myClient = -1;
 
+// The page's role (docs/viewer.md, "Roles"): a trainee's page hides what the server would
+// refuse it (the run's controls, forces, the events file) and lists the inputs it may operate.
+function setRole(msg) {
+  const trainee = msg.role === 'trainee';
+  debug.role = msg.role;
+  document.body.classList.toggle('trainee', trainee);
+  $('role').textContent = msg.role ?? '';
+  $('role').hidden = !msg.role;
+  $('save-events').href = `/events${roleQuery()}`;
+  inspector.operable = trainee ? new Set((msg.operable ?? []).map((o) => o.path)) : null;
+  const list = $('controls');
+  list.replaceChildren();
+  for (const o of trainee ? (msg.operable ?? []).filter((x) => !x.panel) : []) {   // panels draw their own
+    const row = document.createElement('tr');
+    const name = document.createElement('td');
+    name.textContent = o.label;
+    name.title = o.path;
+    const cell = document.createElement('td');
+    cell.append(inspector.control({ path: o.path, type: o.type }));
+    row.append(name, cell);
+    list.append(row);
+  }
+  $('controls-panel').hidden = !trainee;
+}
+
 // The speed chosen (the buttons) and the speed achieved (over the last seconds), apart:
 // "1×" chosen while the run achieves 0.8× says the machine cannot keep up.
 function showPace(st) {
@@ -226,7 +251,7 @@ $('seek').addEventListener('change', () => {
 });
 window.addEventListener('keydown', (e) => {
   if (e.target instanceof HTMLInputElement || e.target instanceof HTMLButtonElement) return;
-  if (e.key === ' ') { e.preventDefault(); $('run').click(); }
+  if (e.key === ' ' && !document.body.classList.contains('trainee')) { e.preventDefault(); $('run').click(); }
 });
 
 // ---- hover label and selection ----

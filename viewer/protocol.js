@@ -34,7 +34,17 @@ export function parseFrame(buffer) {
            bodyIds, bodyPoses, bodyStates, gfxIds, gfxPoses, gfxVariants };
 }
 
-// One connection to the server; reconnects after a drop. Handlers: onScene(scene),
+// The page's ?token= and ?role=, as a query to pass on ("" when it has neither).
+export function roleQuery() {
+  const page = new URLSearchParams(location.search);
+  const q = new URLSearchParams();
+  for (const key of ['token', 'role']) if (page.has(key)) q.set(key, page.get(key));
+  const text = q.toString();
+  return text ? `?${text}` : '';
+}
+
+// One connection to the server; reconnects after a drop, but not after the server refused
+// it at the door (a wrong token: trying again would only lock this address out). Handlers: onScene(scene),
 // onHistory(history), onFrame(frame), onStatus(status), onEvent(msg), onError(msg),
 // onConnection(state).
 export class Connection {
@@ -46,22 +56,26 @@ export class Connection {
     this.open();
   }
 
+  // The page's own ?token= (the instructor's URL) and ?role= go with it to /ws: the server
+  // decides the page's role from them (docs/viewer.md, "Roles").
   url() {
     const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
-    return `${scheme}//${location.host}/ws`;
+    return `${scheme}//${location.host}/ws${roleQuery()}`;
   }
 
   open() {
     const ws = new WebSocket(this.url());
     ws.binaryType = 'arraybuffer';
     this.ws = ws;
+    this.welcomed = false;
     ws.onopen = () => {
       this.retry = 500;
       this.handlers.onConnection?.('open');
       this.send({ type: 'hello', fps: this.fps });
     };
     ws.onclose = () => {
-      this.handlers.onConnection?.('closed');
+      this.handlers.onConnection?.(this.refused ? 'refused' : 'closed');
+      if (this.refused) return;
       setTimeout(() => this.open(), this.retry);
       this.retry = Math.min(this.retry * 2, 5000);
     };
@@ -84,9 +98,11 @@ export class Connection {
         this.handlers.onScene?.(msg); break;
       case 'status': this.handlers.onStatus?.(msg); break;
       case 'history': this.handlers.onHistory?.(msg); break;
-      case 'welcome': this.handlers.onWelcome?.(msg); break;
+      case 'welcome': this.welcomed = true; this.handlers.onWelcome?.(msg); break;
       case 'event': this.handlers.onEvent?.(msg); break;
-      case 'error': this.handlers.onError?.(msg); break;
+      case 'error':
+        if (!this.welcomed) this.refused = true;   // refused before the welcome: at the door
+        this.handlers.onError?.(msg); break;
       default: break;   // newer servers may send more; ignore
     }
   }

@@ -76,11 +76,12 @@ std::shared_ptr<const StatusPub> Player::status() const {
     return status_;
 }
 
-std::vector<std::string> Player::log_since(size_t from, size_t& next) const {
+std::vector<std::string> Player::log_since(size_t from, size_t& next, bool faults) const {
     std::lock_guard lock(m_);
     std::vector<std::string> out;
     const size_t end = log_first_ + log_.size();
-    for (size_t i = std::max(from, log_first_); i < end; ++i) out.push_back(log_[i - log_first_]);
+    for (size_t i = std::max(from, log_first_); i < end; ++i)
+        if (faults || !log_[i - log_first_].fault) out.push_back(log_[i - log_first_].json);
     next = end;
     return out;
 }
@@ -92,9 +93,9 @@ std::string Player::events_file() const {
     return out;
 }
 
-void Player::log(std::string event_json, std::string line, bool to_file) {
+void Player::log(std::string event_json, std::string line, bool to_file, bool fault) {
     std::lock_guard lock(m_);
-    log_.push_back(std::move(event_json));
+    log_.push_back({std::move(event_json), fault});
     if (to_file) lines_.push_back(std::move(line));
     if (log_.size() > kMaxLog) {
         log_.pop_front();
@@ -173,10 +174,10 @@ void Player::put_frame(const FrameTracker& t) {
     frame_ = std::move(f);
 }
 
-void Player::put_status(std::string status, std::map<std::string, std::string> inspect) {
+void Player::put_status(StatusPub::View instructor, StatusPub::View trainee) {
     auto s = std::make_shared<StatusPub>();
-    s->status = std::move(status);
-    s->inspect = std::move(inspect);
+    s->instructor = std::move(instructor);
+    s->trainee = std::move(trainee);
     std::lock_guard lock(m_);
     status_ = std::move(s);
 }
@@ -296,7 +297,7 @@ private:
         json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"by", by}};
         if (client >= 0) j["client"] = client;
         if (!to_file) j["planned"] = true;
-        log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, to_file);
+        log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, to_file, ev.force);
         note_force(ev, line, by);
     }
 
@@ -335,7 +336,7 @@ private:
                 const std::string line = engine::format_event(g_, *ev, engine_->dt());
                 const json j{{"type", "event"}, {"line", line}, {"time", double(engine_->steps() + 1) * engine_->dt()},
                              {"by", "OPC UA link"}, {"client", "link"}};
-                log(j.dump(-1, ' ', false, json::error_handler_t::replace), line);
+                log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, true, ev->force);
                 note_force(*ev, line, "OPC UA link");
             }
         }
@@ -365,10 +366,16 @@ private:
         x.paused = paused_;
         x.speed = speed_;
         x.rtf = paused_ ? 0 : achieved(wall_seconds(), engine_->time());
+        StatusPub::View trainee;
+        trainee.status = status_json(*engine_, tally_, x);  // x.forced empty: no "forced"
         x.forced = forced_json();
-        std::map<std::string, std::string> inspect;
-        for (const std::string& p : inspected()) inspect[p] = inspect_json(*engine_, p);
-        put_status(status_json(*engine_, tally_, x), std::move(inspect));
+        StatusPub::View instructor;
+        instructor.status = status_json(*engine_, tally_, x);
+        for (const std::string& p : inspected()) {
+            instructor.inspect[p] = inspect_json(*engine_, p);
+            trainee.inspect[p] = inspect_json(*engine_, p, false);
+        }
+        put_status(std::move(instructor), std::move(trainee));
     }
 
     engine::Options opt_;
@@ -461,7 +468,11 @@ private:
     void emit_events(double t) {
         for (; next_event_ < rec_.events.size() && rec_.events[next_event_].time <= t + 1e-9; ++next_event_) {
             const json j = json::parse(rec_.events[next_event_].data, nullptr, false);
-            log(rec_.events[next_event_].data, j.value("line", std::string()));
+            const std::string line = j.is_object() ? j.value("line", std::string()) : std::string();
+            // "12.3s force PATH open", "12.3s release PATH": a fault, not for trainees.
+            const size_t sp = line.find(' ');
+            const std::string_view what = sp == std::string::npos ? std::string_view() : std::string_view(line).substr(sp + 1);
+            log(rec_.events[next_event_].data, line, true, what.starts_with("force ") || what.starts_with("release "));
         }
     }
 
@@ -517,7 +528,11 @@ private:
         j["paused"] = paused_;
         j["speed"] = speed_;
         j["rtf"] = paused_ ? 0 : achieved(wall_seconds(), time_);
-        put_status(j.dump(-1, ' ', false, json::error_handler_t::replace), {});
+        StatusPub::View instructor, trainee;
+        instructor.status = j.dump(-1, ' ', false, json::error_handler_t::replace);
+        j.erase("forced");
+        trainee.status = j.dump(-1, ' ', false, json::error_handler_t::replace);
+        put_status(std::move(instructor), std::move(trainee));
     }
 
     Recording rec_;

@@ -41,9 +41,14 @@ struct FramePub {
     std::vector<uint64_t> body_seq, gfx_seq;
     bool paused = false;
 };
+// Each as the instructor sees it and as a trainee does: without what is forced (the status's
+// `forced`, the inspector's `forced`), which would give a fault away.
 struct StatusPub {
-    std::string status;                          // without "inspect"
-    std::map<std::string, std::string> inspect;  // object path -> its inspect JSON
+    struct View {
+        std::string status;                          // without "inspect"
+        std::map<std::string, std::string> inspect;  // object path -> its inspect JSON
+    };
+    View instructor, trainee;
 };
 
 class Player {
@@ -60,9 +65,10 @@ public:
     std::shared_ptr<const std::string> scene() const;
     std::shared_ptr<const FramePub> frame() const;
     std::shared_ptr<const StatusPub> status() const;
-    // Event-log lines (event messages, JSON) from index `from` on; `first` is the index of
-    // the first line kept (the log restarts with the run).
-    std::vector<std::string> log_since(size_t from, size_t& next) const;
+    // Event-log lines (event messages, JSON) from index `from` on; `next` is the index after
+    // the last line (the log restarts with the run). Without `faults`, forces and releases
+    // are left out (a trainee's page).
+    std::vector<std::string> log_since(size_t from, size_t& next, bool faults = true) const;
     // The events file of the session so far (for `plant run --events`).
     std::string events_file() const;
     // The run's series from t = 0 (history.h), and a number bumped when they start anew (a
@@ -88,9 +94,10 @@ protected:
     void reanchor(double wall_now, double sim_now);
     double paced_target(double wall_now) const;
     void put_frame(const FrameTracker& t);
-    void put_status(std::string status, std::map<std::string, std::string> inspect);
-    // An event applied: to the pages' log, and (`to_file`) to the session's events file.
-    void log(std::string event_json, std::string line, bool to_file = true);
+    void put_status(StatusPub::View instructor, StatusPub::View trainee);
+    // An event applied: to the pages' log, and (`to_file`) to the session's events file;
+    // `fault`: a force or a release, which trainees' pages are not sent.
+    void log(std::string event_json, std::string line, bool to_file, bool fault);
     void clear_log();
     void history_reset(size_t records);
     void history_add(double t, std::span<const double> values);
@@ -133,7 +140,11 @@ private:
     };
     std::vector<ForceNote> forces_;                // the player thread's own
     std::deque<std::pair<double, double>> pace_;  // (wall, sim) over the last two seconds
-    std::deque<std::string> log_;     // the last kMaxLog event messages, for late pages
+    struct LogLine {
+        std::string json;
+        bool fault;
+    };
+    std::deque<LogLine> log_;         // the last kMaxLog event messages, for late pages
     std::vector<std::string> lines_;  // the session's events file, whole
     size_t log_first_ = 0;
     std::atomic<uint64_t> scene_version_{0};

@@ -1,6 +1,7 @@
 #include "serve/serve.h"
 
 #include "serve/player.h"
+#include "serve/roles.h"
 #include "serve/server.h"
 
 #include <fmt/format.h>
@@ -29,6 +30,23 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
         fmt::print(err, "plant serve: error: {}\n", msg);
         return 2;
     };
+    // Roles (docs/viewer.md, "Roles"): on unless --open (or --no-roles, on this machine only).
+    if (so.tls_cert.empty() != so.tls_key.empty())
+        return fail(so.tls_cert.empty() ? "--tls-key needs --tls-cert too" : "--tls-cert needs --tls-key too");
+    const bool loopback = loopback_host(so.host);
+    if (options.no_roles && !loopback && !so.open)
+        return fail(fmt::format("--no-roles on {} would give everyone who reaches it full control of the plant (forces "
+                                "included); say --open as well if that is what you want, or leave roles on",
+                                so.host));
+    if (options.no_roles) so.open = true;
+    if (!so.open) {
+        std::string error;
+        so.token = make_token(error);
+        if (so.token.empty()) {
+            fmt::print(err, "plant serve: error: {}\n", error);
+            return 1;
+        }
+    }
     std::error_code ec;
     if (!fs::is_regular_file(fs::path(so.viewer_dir) / "index.html", ec))
         fmt::print(err, "plant serve: warning: no viewer page in '{}' (--viewer DIR); the server runs without it\n",
@@ -64,7 +82,19 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
     }
     player->start();
     const bool v6 = so.host.find(':') != std::string::npos;
-    fmt::print(out, "plant serve: http://{}{}{}:{}/\n", v6 ? "[" : "", so.host, v6 ? "]" : "", server.port());
+    const std::string base = fmt::format("{}://{}{}{}:{}/", so.tls_cert.empty() ? "http" : "https", v6 ? "[" : "",
+                                         so.host, v6 ? "]" : "", server.port());
+    // The first line as before roles: the page (on this machine, the instructor's).
+    fmt::print(out, "plant serve: {}\n", base);
+    if (so.open) {
+        fmt::print(out, "plant serve: open: every page has full control (no roles)\n");
+    } else {
+        fmt::print(out, "plant serve: instructor: {}?token={}\n", base, so.token);
+        fmt::print(out, "plant serve: trainees: {}?role=trainee\n", base);
+    }
+    if (!loopback && so.tls_cert.empty())
+        fmt::print(err, "plant serve: warning: {} is reachable from the network without TLS: the instructor's token "
+                        "travels in clear (--tls-cert, --tls-key)\n", so.host);
     out.flush();
     server.wait_for_signal();
     fmt::print(out, "plant serve: stopped\n");

@@ -1,6 +1,9 @@
 #include "serve/server.h"
 
+#include "faults/operable.h"
+#include "graph/plugin.h"
 #include "serve/protocol.h"
+#include "serve/roles.h"
 
 #include <utility>  // Boost 1.74's asio headers use std::exchange without it
 
@@ -12,7 +15,10 @@
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <atomic>
@@ -25,6 +31,8 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <unordered_set>
 #include <thread>
 
 namespace plant::view {
@@ -34,6 +42,7 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
+namespace ssl = net::ssl;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -98,45 +107,128 @@ bool read_file(const fs::path& p, std::string& out) {
 
 }  // namespace
 
-class WsSession;
+// What the Impl knows of a page: its WebSocket session, whatever its stream.
+class WsPage {
+public:
+    virtual ~WsPage() = default;
+    // The object this page inspects ("" the plant itself); false when none.
+    virtual bool inspecting(std::string& path) const = 0;
+    virtual void close() = 0;
+};
+
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 struct Server::Impl {
     Player& player;
     ServerOptions opt;
     net::io_context ioc{1};
     tcp::acceptor acceptor{ioc};
+    std::optional<ssl::context> tls;
     std::thread thread;
     mutable std::mutex m;
-    std::set<WsSession*> sessions;
+    std::set<WsPage*> sessions;
     ServerStats stats;
     int next_client = 1;
+    bool loopback = true;
+    TokenGate gate;                      // the I/O thread's own
+    std::unordered_set<int32_t> operable;  // the slots a trainee may fire or set
+    std::string operable_json;           // those inputs, for the welcome: [{path, label, type}]
 
-    Impl(Player& p, ServerOptions o) : player(p), opt(std::move(o)) {}
+    Impl(Player& p, ServerOptions o) : player(p), opt(std::move(o)), gate(opt.lockout) {
+        json list = json::array();
+        if (player.live())
+            for (const faults::Operable& in : faults::operable_inputs(player.graph())) {
+                if (in.slots.empty()) continue;  // a graph written by hand
+                operable.insert(in.slots.begin(), in.slots.end());
+                std::string path = engine::path_of(player.slots(), in.slots);
+                if (path.empty()) path = player.graph().slot_path(in.slots[0]);
+                list.push_back({{"path", path},
+                                {"label", in.label.empty() ? path : in.label},
+                                {"type", graph::word(player.graph().slots[size_t(in.slots[0])].type)}});
+            }
+        // An operator panel's buttons, emergency stops and selectors are an operator's by
+        // nature: their inputs are operable without a list (the page draws the panel itself).
+        for (size_t c = 0; player.live() && c < player.graph().comps.size(); ++c) {
+            const graph::KindDesc* k = graph::plugin_of(player.graph(), int32_t(c));
+            if (!k || (k->word != "button" && k->word != "estop" && k->word != "selector")) continue;
+            const graph::Comp& cp = player.graph().comps[c];
+            for (int32_t sl = cp.slot_adr.v; sl < cp.slot_adr.v + cp.slot_num; ++sl)
+                if (player.graph().slots[size_t(sl)].dir == graph::Dir::In) {
+                    operable.insert(sl);
+                    const std::string path = player.graph().slot_path(graph::SlotId(sl));
+                    list.push_back({{"path", path}, {"label", path},
+                                    {"type", graph::word(player.graph().slots[size_t(sl)].type)}, {"panel", true}});
+                }
+        }
+        operable_json = list.dump(-1, ' ', false, json::error_handler_t::replace);
+    }
     void accept();
     void inspected_changed();
     void count(uint64_t ServerStats::*field, uint64_t n = 1) {
         std::lock_guard lock(m);
         stats.*field += n;
     }
+    // The role of a request from `addr` (host:port; `host` without the port) for `target`
+    // (its ?token= and ?role=); false and `refusal` set for a wrong token, or a locked-out
+    // address, which is logged.
+    bool authorize(const std::string& host, const std::string& addr, std::string_view target, Role& role,
+                   std::string& refusal);
 };
 
+bool Server::Impl::authorize(const std::string& host, const std::string& addr, std::string_view target, Role& role,
+                             std::string& refusal) {
+    bool has_token = false, has_role = false;
+    const std::string token = query_value(target, "token", has_token);
+    const bool trainee = query_value(target, "role", has_role) == "trainee" && has_role;
+    role = trainee || (!opt.open && !has_token && !loopback) ? Role::Trainee : Role::Instructor;
+    if (!has_token || opt.open) return true;  // --open asks for no token, so none is wrong
+    const auto now = TokenGate::Clock::now();
+    TokenGate::Clock::duration wait{};
+    if (!gate.may_try(host, now, wait)) {
+        gate.refused_unread(host);
+        count(&ServerStats::bad_tokens);
+        const auto secs = std::chrono::duration_cast<std::chrono::seconds>(wait).count() + 1;
+        refusal = fmt::format("too many wrong tokens from {}: refused for {} s more", host, secs);
+        const uint64_t n = gate.failures(host);
+        if (n % 100 == 0) std::cerr << "plant serve: " << addr << ": " << refusal << " (" << n << " wrong tokens)\n";
+        return false;
+    }
+    if (same_token(token, opt.token)) {
+        gate.succeeded(host);
+        return true;
+    }
+    const bool locked = gate.failed(host, now);
+    count(&ServerStats::bad_tokens);
+    refusal = "wrong token: this is not the session's instructor URL";
+    std::cerr << "plant serve: " << addr << ": refused: wrong token"
+              << (locked ? fmt::format(" ({} in a row: the address is locked out for a while)", TokenGate::kMaxFailures)
+                         : std::string())
+              << "\n";
+    return false;
+}
+
 // One page's WebSocket: reads its messages, sends it the scene, frames, status and the
-// event log on its own timer, never more than it can take.
-class WsSession : public std::enable_shared_from_this<WsSession> {
+// event log on its own timer, never more than it can take. A trainee's page is sent no
+// force (the status's, the inspector's, the event log's) and may send only what a trainee
+// may; a page refused at the door (a wrong token) is told why and closed.
+template <class Stream>
+class WsSession : public WsPage, public std::enable_shared_from_this<WsSession<Stream>> {
 public:
-    WsSession(tcp::socket&& socket, Server::Impl& server) : ws_(std::move(socket)), server_(server), timer_(ws_.get_executor()) {}
+    WsSession(Stream&& stream, Server::Impl& server, Role role, std::string addr, std::string refusal)
+        : ws_(std::move(stream)), server_(server), timer_(ws_.get_executor()), role_(role), addr_(std::move(addr)),
+          refusal_(std::move(refusal)) {}
 
     void run(http::request<http::string_body> req) {
         ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
         ws_.read_message_max(kMaxClientMessage);
-        ws_.async_accept(req, beast::bind_front_handler(&WsSession::on_accept, shared_from_this()));
+        ws_.async_accept(req, beast::bind_front_handler(&WsSession::on_accept, this->shared_from_this()));
     }
-    // The object this page inspects ("" the plant itself); false when none.
-    bool inspecting(std::string& path) const {
+    bool inspecting(std::string& path) const override {
         path = inspect_;
         return inspecting_;
     }
-    void close() {
+    void close() override {
         if (closed_) return;
         closed_ = true;
         timer_.cancel();
@@ -146,8 +238,15 @@ public:
     }
 
 private:
+    bool trainee() const { return role_ == Role::Trainee; }
+
     void on_accept(beast::error_code ec) {
         if (ec) return;
+        if (!refusal_.empty()) {  // told why, then closed once that is written
+            close_after_write_ = true;
+            send(error_message(refusal_), false);
+            return;
+        }
         {
             std::lock_guard lock(server_.m);
             id_ = server_.next_client++;
@@ -155,7 +254,9 @@ private:
             ++server_.stats.clients;
         }
         registered_ = true;
-        send(json{{"type", "welcome"}, {"client", id_}, {"version", kProtocolVersion}}.dump(), false);
+        send(fmt::format(R"({{"type":"welcome","client":{},"version":{},"role":"{}","operable":{}}})", id_,
+                         kProtocolVersion, word(role_), server_.operable_json),
+             false);
         pump();
         do_read();
     }
@@ -170,7 +271,7 @@ private:
         if (inspecting_) server_.inspected_changed();
     }
     void do_read() {
-        ws_.async_read(buffer_, beast::bind_front_handler(&WsSession::on_read, shared_from_this()));
+        ws_.async_read(buffer_, beast::bind_front_handler(&WsSession::on_read, this->shared_from_this()));
     }
     void on_read(beast::error_code ec, size_t) {
         if (ec) {
@@ -189,9 +290,10 @@ private:
 
     void reply_error(std::string_view msg) {
         server_.count(&ServerStats::errors);
-        // Logged on the server's stderr too: the first few of each page, then a count.
+        // Logged on the server's stderr too, with the page's role and address: the first few
+        // of each page, then a count.
         if (++errors_ <= 5 || errors_ % 1000 == 0)
-            std::cerr << "plant serve: page " << id_ << ": " << msg
+            std::cerr << "plant serve: page " << id_ << " (" << word(role_) << " at " << addr_ << "): " << msg
                       << (errors_ == 5 ? " (further errors of this page: every 1000th is logged)" : "")
                       << (errors_ > 5 ? " (" + std::to_string(errors_) + " errors so far)" : "") << "\n";
         if (queue_.size() >= kMaxQueued / 2) {  // a flooding page: replies are dropped, not queued
@@ -199,6 +301,27 @@ private:
             return;
         }
         send(error_message(msg), false);
+    }
+    void refuse(std::string_view msg) {
+        server_.count(&ServerStats::trainee_refused);
+        reply_error(fmt::format("refused: {}", msg));
+    }
+
+    // What a trainee may do with an input event: the hand's acts, and events on inputs the
+    // plant lists as operable, every slot of them (a port: all it forwards to).
+    bool trainee_may(const engine::Event& ev, std::string& why) const {
+        if (ev.force) {
+            why = fmt::format("a trainee may not force or release slots ('{}')", ev.path);
+            return false;
+        }
+        if (ev.hand != engine::HandAct::None) return true;
+        for (int32_t s : ev.slots)
+            if (!server_.operable.count(s)) {
+                why = fmt::format("'{}' is not an input a trainee may operate (the plant's `operable` lists them)",
+                                  ev.path);
+                return false;
+            }
+        return !ev.slots.empty();
     }
 
     void handle(const std::string& text) {
@@ -216,11 +339,14 @@ private:
             server_.inspected_changed();
             return;
         case ClientMessage::Kind::Seek:
+            if (trainee()) return refuse("the instructor runs the session: a trainee may not seek");
             if (server_.player.live()) return reply_error("seek is for replays; a live run goes on");
             c.kind = Command::Kind::Seek;
             c.value = msg.time;
             break;
         case ClientMessage::Kind::Control:
+            if (trainee()) return refuse("the instructor runs the session: a trainee may not pause, run, step, "
+                                         "restart or change the speed");
             if (msg.action == "pause") c.kind = Command::Kind::Pause;
             else if (msg.action == "run") c.kind = Command::Kind::Run;
             else if (msg.action == "step") c.kind = Command::Kind::Step;
@@ -233,6 +359,7 @@ private:
             const std::string input = msg.value.empty() ? msg.path : msg.path + " " + msg.value;
             if (!engine::parse_input(server_.player.graph(), server_.player.slots(), input, c.event, error))
                 return reply_error(error);
+            if (std::string why; trainee() && !trainee_may(c.event, why)) return refuse(why);
             break;
         }
         }
@@ -258,16 +385,17 @@ private:
             send(p.history_json(), false);
         }
         size_t next = 0;
-        for (std::string& line : p.log_since(log_next_, next))
+        for (std::string& line : p.log_since(log_next_, next, !trainee()))
             if (queue_.size() < kMaxQueued) send(std::move(line), false);
         log_next_ = next;
         const auto now = std::chrono::steady_clock::now();
         if (now - last_status_ >= kStatusPeriod && queue_.size() < kMaxQueued / 2) {
             if (auto st = p.status()) {
                 last_status_ = now;
-                std::string s = st->status;
-                auto it = st->inspect.find(inspect_);
-                if (inspecting_ && it != st->inspect.end() && !s.empty() && s.back() == '}') {
+                const StatusPub::View& view = trainee() ? st->trainee : st->instructor;
+                std::string s = view.status;
+                auto it = view.inspect.find(inspect_);
+                if (inspecting_ && it != view.inspect.end() && !s.empty() && s.back() == '}') {
                     s.pop_back();
                     s += ",\"inspect\":" + it->second + "}";
                 }
@@ -286,7 +414,7 @@ private:
             }
         }
         timer_.expires_after(std::chrono::milliseconds(1000 / fps_));
-        timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+        timer_.async_wait([self = this->shared_from_this()](beast::error_code ec) {
             if (!ec) self->pump();
         });
     }
@@ -298,12 +426,17 @@ private:
     void do_write() {
         if (queue_.empty() || closed_) {
             writing_ = false;
+            if (close_after_write_ && !closed_) {
+                closed_ = true;
+                ws_.async_close(websocket::close_code::policy_error,
+                                [self = this->shared_from_this()](beast::error_code) {});
+            }
             return;
         }
         writing_ = true;
         ws_.binary(queue_.front().binary);
         ws_.async_write(net::buffer(queue_.front().data),
-                        beast::bind_front_handler(&WsSession::on_write, shared_from_this()));
+                        beast::bind_front_handler(&WsSession::on_write, this->shared_from_this()));
     }
     void on_write(beast::error_code ec, size_t) {
         if (ec) {
@@ -320,12 +453,14 @@ private:
         std::string data;
         bool binary;
     };
-    websocket::stream<beast::tcp_stream> ws_;
+    websocket::stream<Stream> ws_;
     Server::Impl& server_;
     net::steady_timer timer_;
+    Role role_;
+    std::string addr_, refusal_;
     beast::flat_buffer buffer_;
     std::deque<Out> queue_;
-    bool writing_ = false, closed_ = false, registered_ = false;
+    bool writing_ = false, closed_ = false, registered_ = false, close_after_write_ = false;
     int id_ = 0, fps_ = 30;
     uint64_t errors_ = 0;
     uint64_t scene_version_ = 0, last_seq_ = 0, history_version_ = ~uint64_t(0);
@@ -335,31 +470,62 @@ private:
     bool inspecting_ = false;
 };
 
-// One HTTP connection: files, the events file, or the upgrade to a WebSocket.
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// One HTTP connection: files, the events file, or the upgrade to a WebSocket; over TLS
+// after its handshake when the stream is one.
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
+    static constexpr bool kTls = !std::is_same_v<Stream, PlainStream>;
+
 public:
-    HttpSession(tcp::socket&& socket, Server::Impl& server) : stream_(std::move(socket)), server_(server) {}
-    void run() { do_read(); }
+    template <class... Tls>
+    HttpSession(tcp::socket&& socket, Server::Impl& server, Tls&... tls)
+        : stream_(std::move(socket), tls...), server_(server) {
+        beast::error_code ec;
+        const tcp::endpoint ep = beast::get_lowest_layer(stream_).socket().remote_endpoint(ec);
+        host_ = ec ? "?" : ep.address().to_string();
+        addr_ = ec ? "?" : (ep.address().is_v6() ? "[" + host_ + "]" : host_) + ":" + std::to_string(ep.port());
+    }
+    void run() {
+        if constexpr (kTls) {
+            beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+            stream_.async_handshake(ssl::stream_base::server, [self = this->shared_from_this()](beast::error_code ec) {
+                if (!ec) self->do_read();
+            });
+        } else {
+            do_read();
+        }
+    }
 
 private:
     void do_read() {
         parser_.emplace();
         parser_->body_limit(64 * 1024);
         parser_->header_limit(16 * 1024);
-        stream_.expires_after(std::chrono::seconds(30));
-        http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+        beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+        http::async_read(stream_, buffer_, *parser_,
+                         beast::bind_front_handler(&HttpSession::on_read, this->shared_from_this()));
+    }
+    void shutdown() {
+        beast::error_code ec;
+        if constexpr (kTls)
+            stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+        else
+            stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
     }
     void on_read(beast::error_code ec, size_t) {
-        if (ec == http::error::end_of_stream) {
-            stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
-            return;
-        }
+        if (ec == http::error::end_of_stream) return shutdown();
         if (ec) return;
         http::request<http::string_body> req = parser_->release();
+        const std::string_view target(req.target().data(), req.target().size());
         if (websocket::is_upgrade(req)) {
-            if (req.target() != "/ws") return respond(req, http::status::not_found, "no WebSocket here; use /ws\n");
-            stream_.expires_never();
-            std::make_shared<WsSession>(stream_.release_socket(), server_)->run(std::move(req));
+            if (target.substr(0, target.find('?')) != "/ws")
+                return respond(req, http::status::not_found, "no WebSocket here; use /ws\n");
+            Role role = Role::Trainee;
+            std::string refusal;
+            server_.authorize(host_, addr_, target, role, refusal);
+            beast::get_lowest_layer(stream_).expires_never();
+            std::make_shared<WsSession<Stream>>(std::move(stream_), server_, role, addr_, std::move(refusal))
+                ->run(std::move(req));
             return;
         }
         handle(req);
@@ -368,12 +534,22 @@ private:
     void handle(const http::request<http::string_body>& req) {
         if (req.method() != http::verb::get && req.method() != http::verb::head)
             return respond(req, http::status::method_not_allowed, "only GET and HEAD\n");
-        const std::string rel = safe_relative(std::string_view(req.target().data(), req.target().size()));
+        const std::string_view target(req.target().data(), req.target().size());
+        const std::string rel = safe_relative(target);
         if (rel.empty()) {
             server_.count(&ServerStats::refused_http);
             return respond(req, http::status::bad_request, "refused: a path with '..', a hidden name or an escape\n");
         }
-        if (rel == "events") return respond(req, http::status::ok, server_.player.events_file(), "text/plain; charset=utf-8");
+        if (rel == "events") {  // the session's events file holds the instructor's forces
+            Role role = Role::Trainee;
+            std::string refusal;
+            if (!server_.authorize(host_, addr_, target, role, refusal))
+                return respond(req, http::status::forbidden, refusal + "\n");
+            if (role != Role::Instructor)
+                return respond(req, http::status::forbidden,
+                               "the session's events file is the instructor's (its URL carries ?token=)\n");
+            return respond(req, http::status::ok, server_.player.events_file(), "text/plain; charset=utf-8");
+        }
         std::string body, file;
         if (rel.rfind("models/", 0) == 0) {
             const std::string name = rel.substr(7);
@@ -395,18 +571,16 @@ private:
         else res->body() = std::move(body);
         if (req.method() != http::verb::head) res->prepare_payload();
         res_ = res;
-        http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, size_t) {
+        http::async_write(stream_, *res, [self = this->shared_from_this(), res](beast::error_code ec, size_t) {
             if (ec) return;
-            if (!res->keep_alive()) {
-                self->stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
-                return;
-            }
+            if (!res->keep_alive()) return self->shutdown();
             self->do_read();
         });
     }
 
-    beast::tcp_stream stream_;
+    Stream stream_;
     Server::Impl& server_;
+    std::string host_, addr_;  // the client's address; with its port
     beast::flat_buffer buffer_;
     std::optional<http::request_parser<http::string_body>> parser_;
     std::shared_ptr<void> res_;
@@ -415,7 +589,8 @@ private:
 void Server::Impl::accept() {
     acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket socket) {
         if (!acceptor.is_open()) return;
-        if (!ec) std::make_shared<HttpSession>(std::move(socket), *this)->run();
+        if (!ec && tls) std::make_shared<HttpSession<TlsStream>>(std::move(socket), *this, *tls)->run();
+        else if (!ec) std::make_shared<HttpSession<PlainStream>>(std::move(socket), *this)->run();
         accept();
     });
 }
@@ -425,7 +600,7 @@ void Server::Impl::inspected_changed() {
     {
         std::lock_guard lock(m);
         std::string path;
-        for (WsSession* s : sessions)
+        for (WsPage* s : sessions)
             if (s->inspecting(path)) paths.insert(path);
     }
     player.set_inspected(paths);
@@ -441,6 +616,22 @@ bool Server::start(std::string& error) {
     if (ec) {
         error = "--host '" + impl_->opt.host + "' is not an IP address";
         return false;
+    }
+    impl_->loopback = addr.is_loopback();
+    if (!impl_->opt.tls_cert.empty() || !impl_->opt.tls_key.empty()) {
+        auto& ctx = impl_->tls.emplace(ssl::context::tls_server);
+        ctx.set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
+                        ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1);
+        ctx.use_certificate_chain_file(impl_->opt.tls_cert, ec);
+        if (ec) {
+            error = "--tls-cert: cannot use '" + impl_->opt.tls_cert + "': " + ec.message();
+            return false;
+        }
+        ctx.use_private_key_file(impl_->opt.tls_key, ssl::context::pem, ec);
+        if (ec) {
+            error = "--tls-key: cannot use '" + impl_->opt.tls_key + "': " + ec.message();
+            return false;
+        }
     }
     tcp::endpoint ep(addr, impl_->opt.port);
     auto& a = impl_->acceptor;
@@ -468,7 +659,7 @@ void Server::stop() {
         beast::error_code ec;
         impl_->acceptor.close(ec);
         std::lock_guard lock(impl_->m);
-        for (WsSession* s : impl_->sessions) s->close();
+        for (WsPage* s : impl_->sessions) s->close();
     });
     // Pages close; give their handlers a moment, then stop the loop.
     for (int i = 0; i < 50; ++i) {
@@ -480,6 +671,12 @@ void Server::stop() {
     }
     impl_->ioc.stop();
     impl_->thread.join();
+}
+
+bool loopback_host(const std::string& host) {
+    beast::error_code ec;
+    const auto addr = net::ip::make_address(host, ec);
+    return !ec && addr.is_loopback();
 }
 
 ServerStats Server::stats() const {

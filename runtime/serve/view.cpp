@@ -437,7 +437,7 @@ json force_word(const engine::Engine& e, SlotId slot) {
 
 }  // namespace
 
-std::string inspect_json(const engine::Engine& e, std::string_view path) {
+std::string inspect_json(const engine::Engine& e, std::string_view path, bool forces) {
     const Graph& g = e.graph();
     const int32_t d = find_do(g, path);
     if (d < 0) return "null";
@@ -450,14 +450,14 @@ std::string inspect_json(const engine::Engine& e, std::string_view path) {
         slots.push_back({{"path", g.port_path(int32_t(p))},
                          {"value", pt.dir == Dir::Out ? slot_value(e, first) : json(nullptr)},
                          {"active", e.active(first)},
-                         {"forced", force_word(e, first)}});
+                         {"forced", forces ? force_word(e, first) : json(nullptr)}});
     }
     json places = json::array();
     for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
         const Comp& cp = g.comps[size_t(c)];
         for (SlotId sl(cp.slot_adr); sl < cp.slot_adr + cp.slot_num; ++sl)
             slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)},
-                             {"forced", force_word(e, sl)}});
+                             {"forced", forces ? force_word(e, sl) : json(nullptr)}});
     }
     for (size_t p = 0; p < g.places.size(); ++p)
         if (g.comps[size_t(g.places[p].comp)].owner == d)

@@ -76,9 +76,10 @@ constexpr size_t kMaxLost = 100;
 std::string status_json(const engine::Engine& e, const engine::RecordTally& tally, const StatusExtra& x);
 // The counters (history.h's order), then the records: a sample of the run's history.
 std::vector<double> history_sample(const engine::Engine& e, const engine::RecordTally& tally);
-// {"path", "slots": [{path, value, active}], "places": [{id, tokens}]} of one object and its
-// components (not its children); null when the path names no object.
-std::string inspect_json(const engine::Engine& e, std::string_view path);
+// {"path", "slots": [{path, value, active, forced}], "places": [{id, tokens}]} of one object
+// and its components (not its children); null when the path names no object. Without
+// `forces` every `forced` is null (a trainee's inspector).
+std::string inspect_json(const engine::Engine& e, std::string_view path, bool forces = true);
 // The output slots inside the object `path` (its components') that the engine must refresh
 // for an inspector (Engine::watch).
 std::vector<int32_t> object_slots(const graph::Graph& g, std::string_view path);

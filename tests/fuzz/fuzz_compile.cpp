@@ -7,6 +7,7 @@
 #include "compiler.h"
 #include "fuzz.h"
 #include "faults/kind.h"
+#include "faults/operable.h"
 #include "opcua/kind.h"
 #include "panel/kind.h"
 #include "plc/kind.h"
@@ -15,7 +16,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const bool kinds = (plant::plc::register_modbus_kind(), plant::opcua::register_opcua_kind(),
-                                plant::faults::register_faults_kind(),
+                                plant::faults::register_faults_kind(), plant::faults::register_operable_kind(),
                                 plant::panel::register_panel_kinds(), true);  // the plugin kinds it has
     (void)kinds;
     if (size > 64 * 1024) return 0;  // larger inputs only slow the search

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "faults/kind.h"
+#include "faults/operable.h"
 #include "opcua/kind.h"
 #include "panel/kind.h"
 #include "plc/kind.h"
@@ -11,5 +12,6 @@ int main(int argc, char** argv) {
     plant::opcua::register_opcua_kind();
     plant::faults::register_faults_kind();
     plant::panel::register_panel_kinds();
+    plant::faults::register_operable_kind();
     return doctest::Context(argc, argv).run();
 }

@@ -239,6 +239,35 @@ try {
   const events = await (await fetch(url + 'events')).text();
   check(events.includes(`${sw.path}.to_working`), `/events holds the session's event (${events.trim().split('\n').filter((l) => l && !l.startsWith('#')).length} lines)`);
   check(events.includes(`force ${sw.path}.to_base open`), '/events holds the force too');
+  // A trainee's page beside it (docs/viewer.md, "Roles"): the fault stays hidden, the run's
+  // controls and the force menus are not there, /events is refused.
+  {
+    const trainee = await browser.newPage();
+    trainee.on('pageerror', (e) => pageErrors.push(`trainee: ${e.message}`));
+    await trainee.goto(url + '?role=trainee', { waitUntil: 'load' });
+    const role = await until(() => trainee.evaluate(() => window.plantViewer?.role), 10_000);
+    check(role === 'trainee', `the trainee's page knows its role (${role})`);
+    await until(() => trainee.evaluate(() => plantViewer.sceneReady && plantViewer.statusReceived > 2), 20_000);
+    await trainee.evaluate((p) => plantViewer.inspect(p), sw.path);
+    await until(() => trainee.evaluate((p) => !!document.querySelector(`button[data-slot="${p}.to_working"], tr[data-slot="${p}.to_base"]`), sw.path), 5000);
+    const seen = await trainee.evaluate((p) => ({
+      run: document.getElementById('run').offsetParent !== null,
+      forcedPanel: document.getElementById('forced-panel').offsetParent !== null,
+      forceMenus: document.querySelectorAll('select[data-force]').length,
+      fire: !!document.querySelector(`button[data-slot="${p}.to_working"]`),
+      forcedInLog: [...document.querySelectorAll('#log li')].some((li) => li.textContent.includes('force ')),
+      forcedInStatus: (plantViewer.lastStatus?.forced ?? []).length,
+      forcedRows: document.querySelectorAll('#insp-slots tr.forced').length,
+      rows: document.querySelectorAll('#insp-slots tr').length,
+    }), sw.path);
+    check(seen.rows > 0, `the trainee's inspector shows ${sw.path}'s slots (${seen.rows} rows)`);
+    check(!seen.run && !seen.forcedPanel && seen.forceMenus === 0, `a trainee's page has no run controls, no Forced now, no force menus (${JSON.stringify(seen)})`);
+    check(!seen.fire, `a trainee may not fire ${sw.path}.to_working (the bottling plant lists no operable input)`);
+    check(!seen.forcedInLog && seen.forcedInStatus === 0 && seen.forcedRows === 0, 'the trainee is not shown the force (log, status, inspector)');
+    const refused = await fetch(url + 'events?role=trainee');
+    check(refused.status === 403, `/events is refused to a trainee (${refused.status})`);
+    await trainee.close();
+  }
   // The next bottle at the held switch goes into its lane (the lane's exit counts it),
   // due or not; run as fast as possible until it does.
   const laneRecord = scene.records.findIndex((r) => r.column === 'commissioned A');

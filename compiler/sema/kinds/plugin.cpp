@@ -79,7 +79,11 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
             std::vector<std::string> words;
             for (const auto& x : kind->entries) words.emplace_back(x.word);
             auto& d = sink_.report(DiagId::UnknownProperty, e.word.span,
-                                   fmt::format("a {} takes no entry '{}'", kind->word, e.word.text));
+                                   fmt::format("{} {} takes no entry '{}'",
+                                               std::string_view("aeiou").find(kind->word.front()) != std::string_view::npos
+                                                   ? "an"
+                                                   : "a",
+                                               kind->word, e.word.text));
             if (auto hint = closest_name(e.word.text, words); !hint.empty())
                 d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
             else

@@ -125,7 +125,7 @@ TEST_CASE("opcua kind: each problem is reported at the entry or the component, w
     CHECK(ua_diagnostics("opcua a { endpoint = \"opc.tcp://127.0.0.1:4840\" }\nopcua b { endpoint = \"opc.tcp://127.0.0.1:4840\" }") ==
           "5:7 E0315 port 4840 is taken by the OPC UA link 'a': two links cannot serve one port\n");
     // The generic entry checks: a word, an option, a type the kind does not take.
-    CHECK(ua_diagnostics("opcua ua { variable 1 => b1.stop }").find("E0106 a opcua takes no entry 'variable'") != std::string::npos);
+    CHECK(ua_diagnostics("opcua ua { variable 1 => b1.stop }").find("E0106 an opcua takes no entry 'variable'") != std::string::npos);
     CHECK(ua_diagnostics("opcua ua { node 1 => b1.stop(scale = 2) }").find("E0303 a 'node' entry has no option 'scale'") !=
           std::string::npos);
     CHECK(ua_diagnostics("physics box: dynamic { shape box(1 m, 1 m, 1 m); mass = 1 kg }\nopcua ua { node 1 => box.position }")

@@ -40,7 +40,7 @@ using json = nlohmann::json;
 
 namespace {
 
-graph::Graph compile_ok(const std::string& repo_path, std::vector<std::string> overrides = {}) {
+[[maybe_unused]] graph::Graph compile_ok(const std::string& repo_path, std::vector<std::string> overrides = {}) {
     Compilation c;
     CompileOptions opts;
     opts.stdlib_dir = PLANT_STDLIB_DIR;
@@ -57,9 +57,10 @@ struct Page {
     bool open = false;
     view::Frame* frame = nullptr;  // every binary frame read is applied to it
 
-    explicit Page(uint16_t port, view::Frame* f = nullptr) : frame(f) {
+    // `target`: the WebSocket's path and query (`/ws?role=trainee`, `/ws?token=...`).
+    explicit Page(uint16_t port, view::Frame* f = nullptr, const std::string& target = "/ws") : frame(f) {
         beast::get_lowest_layer(ws).connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
-        ws.handshake("127.0.0.1", "/ws");
+        ws.handshake("127.0.0.1", target);
         open = true;
     }
     void send(const std::string& text) {
@@ -154,7 +155,7 @@ int http_get(uint16_t port, const std::string& target, std::string* body = nullp
 }
 
 // Pauses the session: the status says at which step, then a frame of that step (in `f`).
-int64_t pause(Page& page, view::Frame& f) {
+[[maybe_unused]] int64_t pause(Page& page, view::Frame& f) {
     page.send(R"({"type":"control","action":"pause"})");
     json st;
     for (int i = 0; i < 100; ++i) {
@@ -169,7 +170,7 @@ int64_t pause(Page& page, view::Frame& f) {
 }
 
 // `evs` applied headless as `plant run` applies them, to step `until`.
-void replay(engine::Engine& e, const std::vector<engine::Event>& evs, int64_t until) {
+[[maybe_unused]] void replay(engine::Engine& e, const std::vector<engine::Event>& evs, int64_t until) {
     size_t next = 0;
     while (e.steps() < until) {
         for (; next < evs.size() && engine::due(e, evs[next]); ++next) engine::apply_event(e, evs[next]);
@@ -181,10 +182,13 @@ struct Served {
     std::unique_ptr<view::Player> player;
     std::unique_ptr<view::Server> server;
     uint16_t port = 0;
-    Served(std::unique_ptr<view::Player> p) : player(std::move(p)) {
+    // `edit` changes the server's options (a token, TLS) before it starts.
+    template <class Edit = void (*)(view::ServerOptions&)>
+    Served(std::unique_ptr<view::Player> p, Edit edit = [](view::ServerOptions&) {}) : player(std::move(p)) {
         view::ServerOptions so;
         so.port = 0;
         so.viewer_dir = std::string(PLANT_SOURCE_DIR) + "/viewer";
+        edit(so);
         server = std::make_unique<view::Server>(*player, so);
         std::string error;
         REQUIRE(server->start(error));
