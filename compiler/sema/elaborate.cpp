@@ -49,6 +49,19 @@ Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
 
 bool Elaborator::is_object_type(const std::string& name) const { return types_.count(name) > 0; }
 
+const ast::ObjectDecl* Elaborator::object_type(const std::string& name) const {
+    auto it = types_.find(name);
+    return it == types_.end() ? nullptr : it->second.second;
+}
+
+void Elaborator::record_names(Names* names, bool survey) {
+    names_ = names;
+    survey_ = survey;
+    ev_.record_names(names);
+    if (names)
+        for (const auto& [type_name, type] : types_) names->declare(type.second->name.span);
+}
+
 graph::Src Elaborator::src(Span s) {
     if (!s.valid()) return {};
     auto& idx = graph_file_of_[static_cast<size_t>(s.file)];
@@ -93,14 +106,15 @@ bool Elaborator::too_large(const ast::ObjectDecl& o) {
     return false;
 }
 
-void Elaborator::check_object(const ast::ObjectDecl& o) {
-    if (too_large(o)) return;
+void Elaborator::check_object(const ast::ObjectDecl& o, int module) {
+    if (!survey_ && too_large(o)) return;  // a survey runs each loop once
     g_.plant = name(o.name.text);
     library_mode_ = true;
     int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
     type_stack_.push_back(o.name.text);
-    elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}));
+    elaborate_do(root_do, o, module < 0 ? prog_.root : module, bind_args(o, {}, o.name.span, Env{}));
     finish_accesses();
+    if (survey_) return;  // the names are all resolved
     check_plugins();
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
@@ -278,10 +292,21 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
         if (auto* let = std::get_if<ast::LetDecl>(&m)) {
             Value v = ev_.eval(*let->value, *env);
             auto next = std::make_shared<Env>(env);
-            next->set(let->name.text, v);
+            next->set(let->name.text, v, let->name.span);
+            name_declared(let->name.span);
             env = next;
         } else if (auto* fp = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) {
             const ast::ForDecl& f = **fp;
+            name_declared(f.var.span);
+            if (survey_) {  // one pass, the variable at its first value (or valueless)
+                Value first = ev_.eval(*f.from, *env);
+                if (f.to) ev_.eval(*f.to, *env);
+                if (!f.to) first = first.kind == Value::Kind::List && !first.items.empty() ? first.items[0] : Value{};
+                auto inner = std::make_shared<Env>(env);
+                inner->set(f.var.text, first, f.var.span);
+                expand(f.body, inner, out, depth + 1);
+                continue;
+            }
             if (!f.to) {  // for x in LIST
                 Value list = ev_.eval(*f.from, *env);
                 if (list.kind == Value::Kind::None) continue;
@@ -294,7 +319,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 for (const Value& item : list.items) {
                     if (!iterate(f.span)) break;
                     auto inner = std::make_shared<Env>(env);
-                    inner->set(f.var.text, item);
+                    inner->set(f.var.text, item, f.var.span);
                     expand(f.body, inner, out, depth + 1);
                 }
                 continue;
@@ -312,12 +337,17 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 auto inner = std::make_shared<Env>(env);
                 Value iv = Value::number(static_cast<double>(i), {}, f.var.span);
                 iv.integer = true;
-                inner->set(f.var.text, iv);
+                inner->set(f.var.text, iv, f.var.span);
                 expand(f.body, inner, out, depth + 1);
             }
         } else if (auto* ip = std::get_if<std::unique_ptr<ast::IfDecl>>(&m)) {
             const ast::IfDecl& c = **ip;
             Value cond = ev_.eval(*c.cond, *env);
+            if (survey_) {
+                expand(c.then_body, env, out, depth + 1);
+                expand(c.else_body, env, out, depth + 1);
+                continue;
+            }
             if (!ev_.expect_bool(cond, "condition")) continue;
             expand(cond.boolean ? c.then_body : c.else_body, env, out, depth + 1);
         } else {
@@ -377,6 +407,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
         if (a.name) {
             for (size_t i = 0; i < decl.params.size(); ++i)
                 if (decl.params[i].name.text == a.name->text) idx = i;
+            if (idx < decl.params.size()) name_use(a.name->span, decl.params[idx].name.span);
             if (idx == decl.params.size()) {
                 std::vector<std::string> names;
                 for (const auto& p : decl.params) names.push_back(p.name.text);
@@ -412,7 +443,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             if (const ast::Expr* use = uses_param(*given[i]->value, decl)) {
                 sink_.report(DiagId::UnknownName, use->span,
                              fmt::format("a --set value is a constant and cannot use the parameter '{}'", use->text));
-                env->set(p.name.text, Value{});
+                env->set(p.name.text, Value{}, p.name.span);
                 continue;
             }
             v = ev_.eval(*given[i]->value, caller_env);
@@ -427,7 +458,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             d.notes.push_back({p.span, "parameter declared here without a default"});
             if (decl.is_plant)
                 d.notes.push_back({{}, fmt::format("give it on the command line: --set {}=VALUE", p.name.text)});
-            env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
+            env->set(p.name.text, Value{}, p.name.span);  // known but valueless: its uses report nothing more
             continue;
         }
         // Check the value against the parameter's type.
@@ -458,15 +489,18 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             ok = false;
         }
         if (ok && v.kind == Value::Kind::Num && units::dim_of_type(t)) v.any_dim = false, v.dim = *units::dim_of_type(t);
-        if (ok) env->set(p.name.text, v);
-        else env->set(p.name.text, Value{});
+        if (ok) env->set(p.name.text, v, p.name.span);
+        else env->set(p.name.text, Value{}, p.name.span);
     }
     // Constraints, with every parameter bound: `lines: int = 1 where lines >= 1`.
     for (size_t i = 0; i < decl.params.size(); ++i) {
         const auto& p = decl.params[i];
         if (!p.constraint) continue;
         const Value* mine = env->find(p.name.text);
-        if (!mine || mine->kind == Value::Kind::None) continue;  // reported already
+        if (!mine || mine->kind == Value::Kind::None) {  // reported already
+            if (survey_) ev_.eval(*p.constraint, *env);     // for the names in it
+            continue;
+        }
         Value c = ev_.eval(*p.constraint, *env);
         if (c.kind == Value::Kind::None) continue;
         if (!ev_.expect_bool(c, fmt::format("the constraint of '{}'", p.name.text))) continue;
@@ -478,7 +512,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
                                fmt::format("'{}' of '{}' must satisfy '{}'{}", p.name.text, decl.name.text, cond,
                                            given[i] ? "" : " (its default does not)"));
         d.notes.push_back({cs, fmt::format("the constraint of '{}'", p.name.text)});
-        env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
+        env->set(p.name.text, Value{}, p.name.span);  // known but valueless: its uses report nothing more
     }
     return env;
 }
@@ -486,7 +520,10 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
 void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
     scopes_[static_cast<size_t>(do_id)].decl = &decl;
     scopes_[static_cast<size_t>(do_id)].module = module;
-    for (const auto& p : decl.params) declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+    for (const auto& p : decl.params) {
+        declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+        name_declared(p.name.span);
+    }
 
     std::vector<Item> items;
     expand(decl.members, env, items, 0);
@@ -504,6 +541,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             make_logic(s, *l);
         } else if (auto* p = std::get_if<ast::PortDecl>(it.member)) {
             declare(s, p->name.text, p->name.span);
+            name_declared(p->name.span);
         } else if (auto* st = std::get_if<ast::SettingDecl>(it.member)) {
             if (!decl.is_plant) {
                 sink_.report(DiagId::UnknownProperty, st->name.span,
@@ -550,14 +588,24 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         auto* inst = std::get_if<ast::InstanceDecl>(it.member);
         if (!inst) continue;
         std::string iname = inst->name.text;
+        name_declared(inst->name.span);
         if (inst->index) {
             Value idx = ev_.eval(*inst->index, *it.env);
-            if (!ev_.expect_int(idx, "instance index")) continue;
-            iname += fmt::format("[{}]", static_cast<long long>(idx.num));
+            if (survey_ && idx.kind == Value::Kind::None) iname += "[?]";  // a valueless loop's
+            else if (!ev_.expect_int(idx, "instance index")) continue;
+            else iname += fmt::format("[{}]", static_cast<long long>(idx.num));
         }
-        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) continue;
+        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) {
+            if (const ast::ObjectDecl* t = survey_ ? object_type(inst->type.text) : nullptr) {  // for its names
+                name_use(inst->type.span, t->name.span);
+                bind_args(*t, inst->args, inst->type.span, *it.env);
+                placement(inst->placement ? &*inst->placement : nullptr, *it.env);
+            }
+            continue;
+        }
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
+        if (type) name_use(inst->type.span, type->name.span);
         if (!type) {
             // Reported once, here: uses of the instance are not errors of their own.
             scopes_[static_cast<size_t>(do_id)].broken.insert(inst->name.text);
