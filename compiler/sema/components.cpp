@@ -113,7 +113,7 @@ std::string Linking::ref_name(const ast::Property& p) const {
 }
 
 int32_t Elaborator::add_slot(int32_t comp, std::string_view n, SlotType t, Dir dir, Span span) {
-    return graph::add_slot(g_, comp, n, t, dir, src(span));
+    return graph::add_slot(g_, graph::CompId(comp), n, t, dir, src(span));
 }
 
 // The mode word, e.g. `physics b: kinematic`; the kind's default when absent or unknown.
@@ -257,9 +257,9 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     check_sub_blocks(c, *spec);
 
-    const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
+    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), spec->kind, cname, src(c.name.span));
     if (spec->plugin)  // a plugin's slots are its descriptor's, not a fixed table's
-        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, comp, s.name, s.type, s.dir, src(c.name.span));
+        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, graph::CompId(comp), s.name, s.type, s.dir, src(c.name.span));
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
     if (names_ && !c.name.text.empty()) {
@@ -338,7 +338,7 @@ void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDec
 void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     name_declared(l.name.span);
     if (!declare(sc, l.name.text, l.name.span)) return;
-    const int32_t comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
+    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), CompKind::Logic, l.name.text, src(l.name.span));
     sc.comps[l.name.text] = comp;
     comp_spans_[comp] = l.name.span;
     graph::Logic lg;

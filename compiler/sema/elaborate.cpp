@@ -200,7 +200,7 @@ void Elaborator::emit_ports() {
 
 int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
     Scope sc;
-    sc.do_id = graph::add_do(g_, path, parent, type, f.pose(), src(s));
+    sc.do_id = graph::add_do(g_, path, graph::DoId(parent), graph::DoTypeId(type), f.pose(), src(s));
     do_spans_.resize(static_cast<size_t>(sc.do_id) + 1);
     do_spans_[static_cast<size_t>(sc.do_id)] = s;
     sc.frame = f;

@@ -251,7 +251,8 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
         for (int32_t t : to) {
-            graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
+            graph::add_flow(g_, graph::SlotId(f), graph::SlotId(t), cond, once, graph::AccessId(from_access),
+                            graph::AccessId(to_access), src(span));
             flow_spans_.push_back(span);
         }
 }
