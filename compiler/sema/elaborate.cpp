@@ -54,9 +54,10 @@ const ast::ObjectDecl* Elaborator::object_type(const std::string& name) const {
     return it == types_.end() ? nullptr : it->second.second;
 }
 
-void Elaborator::record_names(Names* names, bool survey) {
+void Elaborator::record_names(Names* names, bool survey, std::set<const ast::ObjectDecl*>* surveyed) {
     names_ = names;
     survey_ = survey;
+    surveyed_ = surveyed;
     ev_.record_names(names);
     if (names)
         for (const auto& [type_name, type] : types_) names->declare(type.second->name.span);
@@ -449,6 +450,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             v = ev_.eval(*given[i]->value, caller_env);
         } else if (given[i]) {
             v = ev_.eval(*given[i]->value, caller_env);
+            if (survey_ && p.default_value) ev_.eval(*p.default_value, *env);  // for the names in it
         } else if (p.default_value) {
             v = ev_.eval(*p.default_value, *env);  // defaults may use earlier parameters
         } else {
@@ -518,6 +520,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
 }
 
 void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
+    if (surveyed_) surveyed_->insert(&decl);
     scopes_[static_cast<size_t>(do_id)].decl = &decl;
     scopes_[static_cast<size_t>(do_id)].module = module;
     for (const auto& p : decl.params) {
@@ -677,7 +680,7 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         const auto& sp = src_rec.pose;
         at.p = Eigen::Vector3d(sp.p[0], sp.p[1], sp.p[2]);
         at.q = Eigen::Quaterniond(sp.q[3], sp.q[0], sp.q[1], sp.q[2]);
-        const int32_t n = src_rec.pool_num;
+        const int32_t n = survey_ ? std::min(src_rec.pool_num, 1) : src_rec.pool_num;  // one reads the names
         const int32_t tid = src_rec.do_type;
         const std::string parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
         std::vector<int32_t> made;

@@ -94,8 +94,9 @@ public:
     const ast::ObjectDecl* object_type(const std::string& name) const override;
 
     // The names resolved from now on are recorded in `names` (sema/names.h); `survey`:
-    // elaborate every branch and one pass of every loop (survey_names).
-    void record_names(Names* names, bool survey);
+    // elaborate every branch, one pass of every loop and one pooled object of a source
+    // (survey_names), adding each object type elaborated to `surveyed`.
+    void record_names(Names* names, bool survey, std::set<const ast::ObjectDecl*>* surveyed = nullptr);
     void name_use(Span use, Span decl, const std::string& slot = "") {
         if (names_) names_->use(use, decl, slot);
     }
@@ -196,6 +197,7 @@ public:
     bool library_mode_ = false;  // checking one object type of a library
     Names* names_ = nullptr;     // where resolved names are recorded, if anywhere
     bool survey_ = false;        // every branch and one pass of every loop (survey_names)
+    std::set<const ast::ObjectDecl*>* surveyed_ = nullptr;  // the types elaborated so far
 };
 
 }  // namespace plant::sema

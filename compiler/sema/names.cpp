@@ -12,12 +12,16 @@ void Names::add(Span use, Span decl, const std::string& slot, bool declaration) 
 }
 
 void survey_names(const Program& prog, const SourceMap& sources, Names& out, long long max_members) {
-    for (size_t m = 0; m < prog.modules.size(); ++m)
+    // Dependents first (the root's plant, then what it uses): a type already elaborated
+    // inside another, in the same survey, has had its names read.
+    std::set<const ast::ObjectDecl*> surveyed;
+    for (size_t m = prog.modules.size(); m-- > 0;)
         for (const auto& o : prog.modules[m].ast->objects) {
+            if (surveyed.count(&o)) continue;
             Sink dropped;
             Elaborator one(prog, sources, dropped);
             one.max_expanded_ = max_members;
-            one.record_names(&out, true);
+            one.record_names(&out, true, &surveyed);
             one.check_object(o, static_cast<int>(m));
         }
 }

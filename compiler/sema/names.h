@@ -36,10 +36,11 @@ private:
     std::vector<NameUse> all_;
 };
 
-// Every object type and plant of every module in `prog` elaborated alone, as `plant check`
-// checks a library's types, with every name it meets recorded in `out`: a parameter without
-// a default is valueless, both branches of an `if` are taken and a loop's body is elaborated
-// once, so that a name is resolved wherever it is written. Diagnostics are dropped (the
+// Every object type and plant of every module in `prog` elaborated, as `plant check` checks
+// a library's types, with every name it meets recorded in `out`: a parameter without a
+// default is valueless, both branches of an `if` are taken, a loop's body is elaborated once
+// and a source pools one object, so that a name is resolved wherever it is written. A type
+// is elaborated alone unless it already was inside another. Diagnostics are dropped (the
 // compilation that loaded `prog` reports its own); no graph is kept.
 void survey_names(const Program& prog, const SourceMap& sources, Names& out, long long max_members);
 

@@ -376,7 +376,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
     // member is reported at the member's position in the flow.
     Elaborator proto(prog_, sm_, sink_);
     proto.library_mode_ = true;
-    proto.record_names(names_, survey_);
+    proto.record_names(names_, survey_, surveyed_);
     proto.max_expanded_ = max_expanded_;
     int32_t root = proto.new_do("", -1, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
     proto.type_stack_.push_back(type_name);
