@@ -6,6 +6,7 @@
 #include "graph/graph.h"
 #include "sema/elaborate.h"
 #include "sema/modules.h"
+#include "sema/names.h"
 
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@ struct Compilation {
     Sink sink;
     sema::Program program;  // the parsed modules (for --emit=ast)
     graph::Graph graph;
+    sema::Names names;  // filled on request (plant lsp: sema::survey_names)
     bool ok() const { return !sink.has_errors(); }
 };
 

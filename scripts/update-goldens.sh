@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates every golden file (compiled graphs, diagnostics, runtime traces, and the
 # compiled graphs of the shipped plants in tests/plants/) and docs/language.md's slot
-# tables (from runtime/graph/kinds.h) from the current build. Review the result with
+# tables (from graph/kinds.h) from the current build. Review the result with
 # `git diff tests/golden docs` before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -30,7 +30,7 @@ if(DOT_TOOL)
   endforeach()
 endif()
 
-# docs/language.md's slot tables match the slot declarations (runtime/graph/kinds.h).
+# docs/language.md's slot tables match the slot declarations (graph/kinds.h).
 add_executable(plant_slot_docs ${CMAKE_CURRENT_SOURCE_DIR}/slot_docs.cpp)
 target_compile_options(plant_slot_docs PRIVATE ${PLANT_WARNINGS})
 target_link_libraries(plant_slot_docs PRIVATE plant_compiler plant_panel)  # the panel kinds have slots

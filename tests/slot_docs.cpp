@@ -1,5 +1,5 @@
 // docs/language.md's slot tables are generated from the slot declarations in
-// runtime/graph/kinds.h (and the plugin kinds with slots: the panel's elements). In each `### ... `WORD`` section of a component kind, the first
+// graph/kinds.h (and the plugin kinds with slots: the panel's elements). In each `### ... `WORD`` section of a component kind, the first
 // table headed `| slot | type | dir | |` starts with one row per fixed slot, in index
 // order; rows for content-dependent slots (`A.play`, `NAME`) follow, written by hand.
 //
@@ -95,6 +95,6 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : problems) std::cerr << path << ": " << p << "\n";
     if (!problems.empty())
-        std::cerr << "the slot tables are generated from runtime/graph/kinds.h: run scripts/update-goldens.sh\n";
+        std::cerr << "the slot tables are generated from graph/kinds.h: run scripts/update-goldens.sh\n";
     return problems.empty() ? 0 : 1;
 }

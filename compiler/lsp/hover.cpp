@@ -1,6 +1,6 @@
 // Hover: what the name under the cursor is. A component kind word or a property name gets
-// the registry's description; any other name is resolved to its declaration (lsp/symbols.h)
-// and described: an object type by its signature and `///` comment, a port by direction
+// the registry's description; any other name is looked up in the names sema resolved
+// (lsp/symbols.h) and its declaration described: an object type by its signature and `///` comment, a port by direction
 // and type, a parameter by type, unit and default, a `let` by its expression, dimension and
 // value (with the parameters' defaults), a component's slot by direction and type.
 #include "lsp/lookup.h"
@@ -82,6 +82,7 @@ std::string param_text(const Compilation& c, const ast::Param& p, const ast::Obj
 struct Types : sema::TypeLookup {
     explicit Types(const Compilation& c) : c_(c) {}
     bool is_object_type(const std::string& name) const override { return find_type(c_, name) != nullptr; }
+    const ast::ObjectDecl* object_type(const std::string& name) const override { return find_type(c_, name); }
     const Compilation& c_;
 };
 
@@ -203,12 +204,10 @@ json on_kinds(const std::vector<ast::Member>& ms, size_t offset) {
 json hover(const Compilation& c, const sema::LoadedModule& m, size_t offset) {
     for (const auto& o : m.ast->objects)
         if (json h = on_kinds(o.members, offset); !h.is_null()) return h;
-    // An instance's type or name: the type.
+    // An instance's name: its type.
     for (const auto& o : m.ast->objects)
         for (const ast::InstanceDecl* i : members_of(o).instances)
-            if (inside(i->type.span, offset) || inside(i->name.span, offset))
-                if (const ast::ObjectDecl* t = find_type(c, i->type.text))
-                    return markdown(signature(c, *t), doc_comment(c, t->span));
+            if (inside(i->name.span, offset)) offset = i->type.span.begin;
     const std::optional<Target> t = target_at(c, m, offset);
     if (!t) return nullptr;
     const Decl d = find_decl(c, *t);

@@ -242,9 +242,13 @@ private:
             std::map<int32_t, std::string> file_uri;
             for (const auto& m : c.program.modules) file_uri[m.ast->file] = path_to_uri(m.key);
             for (const auto& [file, u] : file_uri) by_uri.try_emplace(u, json::array());
-            if (!syntax_error_in(c, doc.path)) doc.parsed = shared;
-            else if (auto repaired = parse_repaired(doc.path, doc.text, stdlib_, overlay, c)) doc.parsed = repaired;
-            else if (!doc.parsed) doc.parsed = shared;
+            std::shared_ptr<Compilation> read =
+                !syntax_error_in(c, doc.path) ? shared : parse_repaired(doc.path, doc.text, stdlib_, overlay, c);
+            if (!read && !doc.parsed) read = shared;
+            if (read) {  // the names in it, as sema resolves them (lsp/symbols.h reads them)
+                sema::survey_names(read->program, read->sources, read->names, sema::kMaxMembers);
+                doc.parsed = read;
+            }
             for (const Diagnostic& d : c.sink.sorted()) {
                 std::string target = uri;
                 json range = zero_range();
@@ -295,12 +299,6 @@ private:
         return nullptr;
     }
 
-    static json location(const Compilation& c, const Span& s) {
-        for (const auto& m : c.program.modules)
-            if (m.ast->file == s.file) return {{"uri", path_to_uri(m.key)}, {"range", range_of(c.sources, s)}};
-        return nullptr;
-    }
-
     json definition(const Document& doc, size_t offset) {
         const sema::LoadedModule* m = module_of(doc);
         if (!m) return nullptr;
@@ -315,13 +313,11 @@ private:
                                                              : fs::path(doc.path).parent_path() / rel;
             return {{"uri", path_to_uri(canonical(file.string()))}, {"range", zero_range()}};
         }
-        for (const auto& o : m->ast->objects) {
-            for (const ast::InstanceDecl* i : members_of(o).instances) {
-                if (!inside(i->type.span, offset) && !inside(i->name.span, offset)) continue;
-                if (const ast::ObjectDecl* t = find_type(c, i->type.text)) return location(c, t->name.span);
-            }
-        }
-        // A path's segment, a named argument, a parameter's, `let`'s or loop variable's use.
+        // An instance's name: its type.
+        for (const auto& o : m->ast->objects)
+            for (const ast::InstanceDecl* i : members_of(o).instances)
+                if (inside(i->name.span, offset)) offset = i->type.span.begin;
+        // A type's, a path's segment, a named argument, a parameter's, `let`'s or loop variable's use.
         if (const std::optional<Target> t = target_at(c, *m, offset)) return declaration_of(c, *t);
         return nullptr;
     }

@@ -1,6 +1,7 @@
-// What the language server reads from the parsed modules of a compilation (a file and its
-// import closure): the outline of a file (textDocument/documentSymbol) and the references
-// of a name (textDocument/references).
+// What the language server reads from a compilation (a file and its import closure): the
+// outline of a file (textDocument/documentSymbol) from its parsed modules; what a name
+// stands for (definition, references, hover) from the names sema resolved in it
+// (Compilation::names, filled by sema::survey_names).
 #pragma once
 
 #include "compiler.h"

@@ -113,7 +113,7 @@ std::string Linking::ref_name(const ast::Property& p) const {
 }
 
 int32_t Elaborator::add_slot(int32_t comp, std::string_view n, SlotType t, Dir dir, Span span) {
-    return graph::add_slot(g_, comp, n, t, dir, src(span));
+    return graph::add_slot(g_, graph::CompId(comp), n, t, dir, src(span));
 }
 
 // The mode word, e.g. `physics b: kinematic`; the kind's default when absent or unknown.
@@ -257,11 +257,25 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     check_sub_blocks(c, *spec);
 
-    const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
+    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), spec->kind, cname, src(c.name.span));
     if (spec->plugin)  // a plugin's slots are its descriptor's, not a fixed table's
-        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, comp, s.name, s.type, s.dir, src(c.name.span));
+        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, graph::CompId(comp), s.name, s.type, s.dir, src(c.name.span));
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
+    if (names_ && !c.name.text.empty()) {
+        // Its name, and the places, transitions, animations and variants it declares: each
+        // a slot of the top component (child graphics are its slots "child", "child.anim").
+        const std::string top = cname.substr(0, cname.find('.'));
+        const Span owner = comp_spans_[sc.comps[top]];
+        const std::string base = top == cname ? "" : cname.substr(top.size() + 1);
+        auto slot = [&](const std::string& n) { return base.empty() ? n : base + "." + n; };
+        if (base.empty()) names_->declare(c.name.span);
+        else names_->declare(c.name.span, owner, base);
+        for (const auto& p : c.places) names_->declare(p.name.span, owner, slot(p.name.text));
+        for (const auto& t : c.transitions) names_->declare(t.name.span, owner, slot(t.name.text));
+        for (const auto& a : c.animations) names_->declare(a.name.span, owner, slot(a.name.text));
+        for (const auto& v : c.variants) names_->declare(v.name.span, owner, slot(v.name.text));
+    }
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
     Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[static_cast<size_t>(comp)].slot_adr, frame,
@@ -313,15 +327,18 @@ bool Elaborator::inside_plugin(const Scope& sc, const std::string& holder, std::
 // References between components of one DO, resolved once they all exist.
 void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDecl& c, const Env& env) {
     std::string on;
-    if (c.on)
+    if (c.on) {
         for (const auto& seg : c.on->segs) on += (on.empty() ? "" : ".") + seg.name.text;
+        name_component(sc, c.on->segs, 0, c.on->segs.size());
+    }
     Linking lk{*this, sc, c, env, comp, g_.comps[static_cast<size_t>(comp)], on};
     link(lk);
 }
 
 void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
+    name_declared(l.name.span);
     if (!declare(sc, l.name.text, l.name.span)) return;
-    const int32_t comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
+    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), CompKind::Logic, l.name.text, src(l.name.span));
     sc.comps[l.name.text] = comp;
     comp_spans_[comp] = l.name.span;
     graph::Logic lg;

@@ -49,6 +49,20 @@ Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
 
 bool Elaborator::is_object_type(const std::string& name) const { return types_.count(name) > 0; }
 
+const ast::ObjectDecl* Elaborator::object_type(const std::string& name) const {
+    auto it = types_.find(name);
+    return it == types_.end() ? nullptr : it->second.second;
+}
+
+void Elaborator::record_names(Names* names, bool survey, std::set<const ast::ObjectDecl*>* surveyed) {
+    names_ = names;
+    survey_ = survey;
+    surveyed_ = surveyed;
+    ev_.record_names(names);
+    if (names)
+        for (const auto& [type_name, type] : types_) names->declare(type.second->name.span);
+}
+
 graph::Src Elaborator::src(Span s) {
     if (!s.valid()) return {};
     auto& idx = graph_file_of_[static_cast<size_t>(s.file)];
@@ -93,14 +107,15 @@ bool Elaborator::too_large(const ast::ObjectDecl& o) {
     return false;
 }
 
-void Elaborator::check_object(const ast::ObjectDecl& o) {
-    if (too_large(o)) return;
+void Elaborator::check_object(const ast::ObjectDecl& o, int module) {
+    if (!survey_ && too_large(o)) return;  // a survey runs each loop once
     g_.plant = name(o.name.text);
     library_mode_ = true;
     int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
     type_stack_.push_back(o.name.text);
-    elaborate_do(root_do, o, prog_.root, bind_args(o, {}, o.name.span, Env{}));
+    elaborate_do(root_do, o, module < 0 ? prog_.root : module, bind_args(o, {}, o.name.span, Env{}));
     finish_accesses();
+    if (survey_) return;  // the names are all resolved
     check_plugins();
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
@@ -186,7 +201,7 @@ void Elaborator::emit_ports() {
 
 int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
     Scope sc;
-    sc.do_id = graph::add_do(g_, path, parent, type, f.pose(), src(s));
+    sc.do_id = graph::add_do(g_, path, graph::DoId(parent), graph::DoTypeId(type), f.pose(), src(s));
     do_spans_.resize(static_cast<size_t>(sc.do_id) + 1);
     do_spans_[static_cast<size_t>(sc.do_id)] = s;
     sc.frame = f;
@@ -278,10 +293,21 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
         if (auto* let = std::get_if<ast::LetDecl>(&m)) {
             Value v = ev_.eval(*let->value, *env);
             auto next = std::make_shared<Env>(env);
-            next->set(let->name.text, v);
+            next->set(let->name.text, v, let->name.span);
+            name_declared(let->name.span);
             env = next;
         } else if (auto* fp = std::get_if<std::unique_ptr<ast::ForDecl>>(&m)) {
             const ast::ForDecl& f = **fp;
+            name_declared(f.var.span);
+            if (survey_) {  // one pass, the variable at its first value (or valueless)
+                Value first = ev_.eval(*f.from, *env);
+                if (f.to) ev_.eval(*f.to, *env);
+                if (!f.to) first = first.kind == Value::Kind::List && !first.items.empty() ? first.items[0] : Value{};
+                auto inner = std::make_shared<Env>(env);
+                inner->set(f.var.text, first, f.var.span);
+                expand(f.body, inner, out, depth + 1);
+                continue;
+            }
             if (!f.to) {  // for x in LIST
                 Value list = ev_.eval(*f.from, *env);
                 if (list.kind == Value::Kind::None) continue;
@@ -294,7 +320,7 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 for (const Value& item : list.items) {
                     if (!iterate(f.span)) break;
                     auto inner = std::make_shared<Env>(env);
-                    inner->set(f.var.text, item);
+                    inner->set(f.var.text, item, f.var.span);
                     expand(f.body, inner, out, depth + 1);
                 }
                 continue;
@@ -312,12 +338,17 @@ void Elaborator::expand(const std::vector<ast::Member>& members, std::shared_ptr
                 auto inner = std::make_shared<Env>(env);
                 Value iv = Value::number(static_cast<double>(i), {}, f.var.span);
                 iv.integer = true;
-                inner->set(f.var.text, iv);
+                inner->set(f.var.text, iv, f.var.span);
                 expand(f.body, inner, out, depth + 1);
             }
         } else if (auto* ip = std::get_if<std::unique_ptr<ast::IfDecl>>(&m)) {
             const ast::IfDecl& c = **ip;
             Value cond = ev_.eval(*c.cond, *env);
+            if (survey_) {
+                expand(c.then_body, env, out, depth + 1);
+                expand(c.else_body, env, out, depth + 1);
+                continue;
+            }
             if (!ev_.expect_bool(cond, "condition")) continue;
             expand(cond.boolean ? c.then_body : c.else_body, env, out, depth + 1);
         } else {
@@ -377,6 +408,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
         if (a.name) {
             for (size_t i = 0; i < decl.params.size(); ++i)
                 if (decl.params[i].name.text == a.name->text) idx = i;
+            if (idx < decl.params.size()) name_use(a.name->span, decl.params[idx].name.span);
             if (idx == decl.params.size()) {
                 std::vector<std::string> names;
                 for (const auto& p : decl.params) names.push_back(p.name.text);
@@ -412,12 +444,13 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             if (const ast::Expr* use = uses_param(*given[i]->value, decl)) {
                 sink_.report(DiagId::UnknownName, use->span,
                              fmt::format("a --set value is a constant and cannot use the parameter '{}'", use->text));
-                env->set(p.name.text, Value{});
+                env->set(p.name.text, Value{}, p.name.span);
                 continue;
             }
             v = ev_.eval(*given[i]->value, caller_env);
         } else if (given[i]) {
             v = ev_.eval(*given[i]->value, caller_env);
+            if (survey_ && p.default_value) ev_.eval(*p.default_value, *env);  // for the names in it
         } else if (p.default_value) {
             v = ev_.eval(*p.default_value, *env);  // defaults may use earlier parameters
         } else {
@@ -427,7 +460,7 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             d.notes.push_back({p.span, "parameter declared here without a default"});
             if (decl.is_plant)
                 d.notes.push_back({{}, fmt::format("give it on the command line: --set {}=VALUE", p.name.text)});
-            env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
+            env->set(p.name.text, Value{}, p.name.span);  // known but valueless: its uses report nothing more
             continue;
         }
         // Check the value against the parameter's type.
@@ -458,15 +491,18 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
             ok = false;
         }
         if (ok && v.kind == Value::Kind::Num && units::dim_of_type(t)) v.any_dim = false, v.dim = *units::dim_of_type(t);
-        if (ok) env->set(p.name.text, v);
-        else env->set(p.name.text, Value{});
+        if (ok) env->set(p.name.text, v, p.name.span);
+        else env->set(p.name.text, Value{}, p.name.span);
     }
     // Constraints, with every parameter bound: `lines: int = 1 where lines >= 1`.
     for (size_t i = 0; i < decl.params.size(); ++i) {
         const auto& p = decl.params[i];
         if (!p.constraint) continue;
         const Value* mine = env->find(p.name.text);
-        if (!mine || mine->kind == Value::Kind::None) continue;  // reported already
+        if (!mine || mine->kind == Value::Kind::None) {  // reported already
+            if (survey_) ev_.eval(*p.constraint, *env);     // for the names in it
+            continue;
+        }
         Value c = ev_.eval(*p.constraint, *env);
         if (c.kind == Value::Kind::None) continue;
         if (!ev_.expect_bool(c, fmt::format("the constraint of '{}'", p.name.text))) continue;
@@ -478,15 +514,19 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
                                fmt::format("'{}' of '{}' must satisfy '{}'{}", p.name.text, decl.name.text, cond,
                                            given[i] ? "" : " (its default does not)"));
         d.notes.push_back({cs, fmt::format("the constraint of '{}'", p.name.text)});
-        env->set(p.name.text, Value{});  // known but valueless: its uses report nothing more
+        env->set(p.name.text, Value{}, p.name.span);  // known but valueless: its uses report nothing more
     }
     return env;
 }
 
 void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
+    if (surveyed_) surveyed_->insert(&decl);
     scopes_[static_cast<size_t>(do_id)].decl = &decl;
     scopes_[static_cast<size_t>(do_id)].module = module;
-    for (const auto& p : decl.params) declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+    for (const auto& p : decl.params) {
+        declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+        name_declared(p.name.span);
+    }
 
     std::vector<Item> items;
     expand(decl.members, env, items, 0);
@@ -504,6 +544,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             make_logic(s, *l);
         } else if (auto* p = std::get_if<ast::PortDecl>(it.member)) {
             declare(s, p->name.text, p->name.span);
+            name_declared(p->name.span);
         } else if (auto* st = std::get_if<ast::SettingDecl>(it.member)) {
             if (!decl.is_plant) {
                 sink_.report(DiagId::UnknownProperty, st->name.span,
@@ -552,14 +593,24 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         auto* inst = std::get_if<ast::InstanceDecl>(it.member);
         if (!inst) continue;
         std::string iname = inst->name.text;
+        name_declared(inst->name.span);
         if (inst->index) {
             Value idx = ev_.eval(*inst->index, *it.env);
-            if (!ev_.expect_int(idx, "instance index")) continue;
-            iname += fmt::format("[{}]", static_cast<long long>(idx.num));
+            if (survey_ && idx.kind == Value::Kind::None) iname += "[?]";  // a valueless loop's
+            else if (!ev_.expect_int(idx, "instance index")) continue;
+            else iname += fmt::format("[{}]", static_cast<long long>(idx.num));
         }
-        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) continue;
+        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) {
+            if (const ast::ObjectDecl* t = survey_ ? object_type(inst->type.text) : nullptr) {  // for its names
+                name_use(inst->type.span, t->name.span);
+                bind_args(*t, inst->args, inst->type.span, *it.env);
+                placement(inst->placement ? &*inst->placement : nullptr, *it.env);
+            }
+            continue;
+        }
         int type_module = -1;
         const ast::ObjectDecl* type = find_type(inst->type.text, module, inst->type.span, &type_module);
+        if (type) name_use(inst->type.span, type->name.span);
         if (!type) {
             // Reported once, here: uses of the instance are not errors of their own.
             scopes_[static_cast<size_t>(do_id)].broken.insert(inst->name.text);
@@ -631,7 +682,7 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         const auto& sp = src_rec.pose;
         at.p = Eigen::Vector3d(sp.p[0], sp.p[1], sp.p[2]);
         at.q = Eigen::Quaterniond(sp.q[3], sp.q[0], sp.q[1], sp.q[2]);
-        const int32_t n = src_rec.pool_num;
+        const int32_t n = survey_ ? std::min(src_rec.pool_num, 1) : src_rec.pool_num;  // one reads the names
         const int32_t tid = src_rec.do_type;
         const std::string parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
         std::vector<int32_t> made;

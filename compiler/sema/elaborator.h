@@ -7,6 +7,7 @@
 #include "graph/graph.h"
 #include "sema/elaborate.h"
 #include "sema/modules.h"
+#include "sema/names.h"
 #include "sema/schema.h"
 #include "sema/value.h"
 
@@ -87,9 +88,24 @@ class Elaborator : public TypeLookup {
 public:
     Elaborator(const Program& prog, const SourceMap& sm, Sink& sink);
     graph::Graph run(bool require_plant);
-    void check_object(const ast::ObjectDecl& o);
+    void check_object(const ast::ObjectDecl& o, int module = -1);  // module: the root's when -1
 
     bool is_object_type(const std::string& name) const override;
+    const ast::ObjectDecl* object_type(const std::string& name) const override;
+
+    // The names resolved from now on are recorded in `names` (sema/names.h); `survey`:
+    // elaborate every branch, one pass of every loop and one pooled object of a source
+    // (survey_names), adding each object type elaborated to `surveyed`.
+    void record_names(Names* names, bool survey, std::set<const ast::ObjectDecl*>* surveyed = nullptr);
+    void name_use(Span use, Span decl, const std::string& slot = "") {
+        if (names_) names_->use(use, decl, slot);
+    }
+    void name_declared(Span name) {
+        if (names_) names_->declare(name);
+    }
+    // The segments [first, last) of a path, or of `on`, that name a component of `s` ("a",
+    // child graphics "a.b") and the slot after it: each a use of the component or its slot.
+    void name_component(const Scope& s, const std::vector<ast::PathSeg>& segs, size_t first, size_t last);
 
     // elaborate.cpp
     void elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module,
@@ -179,6 +195,9 @@ public:
     long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included
     bool iterate(Span at);        // counts one; false past the limit (reported once)
     bool library_mode_ = false;  // checking one object type of a library
+    Names* names_ = nullptr;     // where resolved names are recorded, if anywhere
+    bool survey_ = false;        // every branch and one pass of every loop (survey_names)
+    std::set<const ast::ObjectDecl*>* surveyed_ = nullptr;  // the types elaborated so far
 };
 
 }  // namespace plant::sema

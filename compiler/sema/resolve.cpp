@@ -46,6 +46,19 @@ int32_t Elaborator::find_comp_slot(int32_t comp, std::string_view slot_name) con
     return -1;
 }
 
+void Elaborator::name_component(const Scope& s, const std::vector<ast::PathSeg>& segs, size_t first, size_t last) {
+    if (!names_ || first >= last) return;
+    auto top = s.comps.find(segs[first].name.text);
+    if (top == s.comps.end()) return;
+    const Span decl = comp_spans_[top->second];
+    name_use(segs[first].name.span, decl);
+    std::string slot;
+    for (size_t j = first + 1; j < last; ++j) {
+        slot += (slot.empty() ? "" : ".") + segs[j].name.text;
+        name_use(segs[j].name.span, decl, slot);
+    }
+}
+
 Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env& env) {
     Endpoint ep;
     ep.span = path.span;
@@ -60,8 +73,10 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
             return ep;
         }
         int type_module = -1;
-        if (!find_type(path.cast_type.text, scopes_[static_cast<size_t>(scope_do)].module, path.cast_type.span, &type_module))
-            return ep;
+        const ast::ObjectDecl* type =
+            find_type(path.cast_type.text, scopes_[static_cast<size_t>(scope_do)].module, path.cast_type.span, &type_module);
+        if (!type) return ep;
+        name_use(path.cast_type.span, type->name.span);
         int32_t tid = do_type(path.cast_type.text, path.cast_type.span);
         if (auto it = ref_types_.find(base.slots[0]); it != ref_types_.end() && it->second != tid) {
             sink_.report(DiagId::RefTypeMismatch, path.cast_type.span,
@@ -83,10 +98,21 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         std::string key = segs[i].name.text;
         if (segs[i].index) {
             Value idx = ev_.eval(*segs[i].index, env);
-            if (!ev_.expect_int(idx, "index")) return ep;
-            key += fmt::format("[{}]", static_cast<long long>(idx.num));
+            if (survey_ && idx.kind == Value::Kind::None) key += "[?]";  // a valueless loop's
+            else if (!ev_.expect_int(idx, "index")) return ep;
+            else key += fmt::format("[{}]", static_cast<long long>(idx.num));
         }
-        if (auto it = s.children.find(key); it != s.children.end()) {
+        auto it = s.children.find(key);
+        if (survey_ && segs[i].index && it == s.children.end()) {  // any of the family will do
+            it = s.children.lower_bound(segs[i].name.text + "[");
+            if (it != s.children.end() && it->first.rfind(segs[i].name.text + "[", 0) != 0) it = s.children.end();
+        }
+        if (it != s.children.end()) {
+            if (names_) {  // an instance by its name, a pooled object by its source's
+                auto named = s.declared.find(it->first);
+                name_use(segs[i].name.span,
+                         named != s.declared.end() ? named->second : do_spans_[static_cast<size_t>(it->second)]);
+            }
             cur = it->second;
             if (i + 1 == segs.size()) {
                 auto& d = sink_.report(DiagId::NotAnObject, path.span,
@@ -100,6 +126,7 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         }
         // A port of this object (own ports are used from inside, child ports from outside).
         if (auto it = s.ports.find(key); it != s.ports.end() && i + 1 == segs.size()) {
+            name_use(segs[i].name.span, it->second.span);
             ep.ok = !it->second.slots.empty();
             ep.slots = it->second.slots;
             ep.type = it->second.type;
@@ -118,6 +145,7 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
             }
         }
         if (comp >= 0) {
+            name_component(s, segs, i, segs.size());
             std::string slot_name;
             for (size_t j = after; j < segs.size(); ++j) slot_name += (j == after ? "" : ".") + segs[j].name.text;
             const auto& c = g_.comps[static_cast<size_t>(comp)];
@@ -223,7 +251,8 @@ void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<i
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
         for (int32_t t : to) {
-            graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
+            graph::add_flow(g_, graph::SlotId(f), graph::SlotId(t), cond, once, graph::AccessId(from_access),
+                            graph::AccessId(to_access), src(span));
             flow_spans_.push_back(span);
         }
 }
@@ -347,6 +376,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
     // member is reported at the member's position in the flow.
     Elaborator proto(prog_, sm_, sink_);
     proto.library_mode_ = true;
+    proto.record_names(names_, survey_, surveyed_);
     proto.max_expanded_ = max_expanded_;
     int32_t root = proto.new_do("", -1, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
     proto.type_stack_.push_back(type_name);

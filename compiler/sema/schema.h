@@ -1,6 +1,6 @@
 // The component registry on the compiler side: which kind words exist, which modes and
 // properties each accepts, with their value type and dimension. The slot tables live in
-// runtime/graph/kinds.h, shared with the runtime.
+// graph/kinds.h, shared with the runtime.
 #pragma once
 
 #include "graph/graph.h"

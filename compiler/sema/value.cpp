@@ -1,4 +1,5 @@
 #include "sema/value.h"
+#include "sema/names.h"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -42,6 +43,15 @@ const Value* Env::find(const std::string& name) const {
         if (it != e->vars_.end()) return &it->second;
     }
     return nullptr;
+}
+
+Span Env::declared(const std::string& name) const {
+    for (const Env* e = this; e; e = e->parent_.get()) {
+        if (!e->vars_.count(name)) continue;
+        auto it = e->declared_.find(name);
+        return it == e->declared_.end() ? Span{} : it->second;
+    }
+    return {};
 }
 
 std::vector<std::string> Env::names() const {
@@ -155,6 +165,14 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
         return v;
     }
     case K::Name: {
+        if (names_) {
+            const Span name{e.span.file, e.span.begin, e.span.begin + static_cast<uint32_t>(e.text.size())};
+            if (env.find(e.text)) {
+                if (const Span at = env.declared(e.text); at.valid()) names_->use(name, at);
+            } else if (e.members.empty() && types_.is_object_type(e.text)) {
+                names_->use(name, types_.object_type(e.text)->name.span);
+            }
+        }
         if (const Value* found = env.find(e.text); found && e.members.empty() && !e.index) {
             Value v = *found;
             v.span = e.span;
@@ -427,6 +445,16 @@ Value Evaluator::binary(const ast::Expr& e, const Value& a, const Value& b) {
 Value Evaluator::call(const ast::Expr& e, const Env& env) {
     const std::string& f = e.text;
     if (types_.is_object_type(f)) {
+        if (names_) {  // the type's name, its named arguments and the names in its arguments
+            const ast::ObjectDecl& type = *types_.object_type(f);
+            names_->use({e.span.file, e.span.begin, e.span.begin + static_cast<uint32_t>(f.size())}, type.name.span);
+            for (const auto& a : e.args) {
+                if (a.name)
+                    for (const auto& p : type.params)
+                        if (p.name.text == a.name->text) names_->use(a.name->span, p.name.span);
+                if (a.value) eval(*a.value, env);
+            }
+        }
         Value v;
         v.kind = Value::Kind::Type;
         v.str = f;

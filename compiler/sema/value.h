@@ -14,6 +14,8 @@
 
 namespace plant::sema {
 
+class Names;  // sema/names.h
+
 struct Value {
     enum class Kind { None, Num, Bool, Str, Vec, List, Type, Name };
     Kind kind = Kind::None;
@@ -48,19 +50,26 @@ std::string with_article(std::string_view noun);  // "an int", "a length"
 class Env {
 public:
     explicit Env(std::shared_ptr<const Env> parent = nullptr) : parent_(std::move(parent)) {}
-    void set(const std::string& name, Value v) { vars_[name] = std::move(v); }
+    // `declared`: the name's declaration (a parameter's, a `let`'s, a loop variable's).
+    void set(const std::string& name, Value v, Span declared = {}) {
+        vars_[name] = std::move(v);
+        if (declared.valid()) declared_[name] = declared;
+    }
     const Value* find(const std::string& name) const;
+    Span declared(const std::string& name) const;  // where the innermost `name` was declared
     std::vector<std::string> names() const;
 
 private:
     std::shared_ptr<const Env> parent_;
     std::map<std::string, Value> vars_;
+    std::map<std::string, Span> declared_;
 };
 
 class TypeLookup {
 public:
     virtual ~TypeLookup() = default;
     virtual bool is_object_type(const std::string& name) const = 0;
+    virtual const ast::ObjectDecl* object_type(const std::string& name) const = 0;  // null: none
 };
 
 class Evaluator {
@@ -78,6 +87,8 @@ public:
     bool expect_bool(const Value& v, std::string_view what);
     bool expect_string(const Value& v, std::string_view what);
     Sink& sink() { return sink_; }
+    // The names met from now on are recorded in `names` (null: not recorded).
+    void record_names(Names* names) { names_ = names; }
 
 private:
     Value eval_raw(const ast::Expr& e, const Env& env);
@@ -86,6 +97,7 @@ private:
     Value call(const ast::Expr& e, const Env& env);
     Sink& sink_;
     const TypeLookup& types_;
+    Names* names_ = nullptr;
 };
 
 }  // namespace plant::sema

@@ -140,7 +140,7 @@ void lower_label(Lowering& lw) {
     graph::Label l{graph::CompId(lw.comp), el.name(lw.props.get("value") ? lw.props.get("value")->str : "")};
     g.labels.push_back(l);
     lw.set_detail(g.labels.size());
-    graph::slot_value(g, lw.slot_adr + graph::labelslot::value) = l.value.id;
+    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::labelslot::value)) = l.value.id;
 }
 
 void link_trigger(Linking& lk) {

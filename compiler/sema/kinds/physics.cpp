@@ -178,8 +178,8 @@ void lower_field(Lowering& lw) {
     f.enabled = lw.boolean("enabled", true);
     g.fields.push_back(f);
     lw.set_detail(g.fields.size());
-    graph::slot_value(g, lw.slot_adr + graph::fieldslot::speed) = f.enabled ? f.speed : 0;
-    graph::slot_value(g, lw.slot_adr + graph::fieldslot::enabled) = f.enabled ? 1 : 0;
+    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::speed)) = f.enabled ? f.speed : 0;
+    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::enabled)) = f.enabled ? 1 : 0;
 }
 
 void lower_constraint(Lowering& lw) {

@@ -71,6 +71,7 @@ void lower_state(Lowering& lw) {
                         d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
                     continue;
                 }
+                el.name_use(a.place.span, c.name.span, a.place.text);  // a place of this net: its slot
                 if (a.weight_written && (a.weight < 1 || std::floor(a.weight) != a.weight || a.weight > graph::kMaxArcWeight)) {
                     el.sink_.report(DiagId::ArcBadWeight, a.weight_span,
                                     fmt::format("arc weight {} is not a whole number from 1 to {}", a.weight,

@@ -15,7 +15,7 @@ Graph plant_graph() {
     Graph g;
     g.settings.rate = 150;
     g.plant = g.intern("Test");
-    add_do(g, "", -1, -1, {});
+    add_do(g, "", DoId{}, DoTypeId{}, {});
     return g;
 }
 
@@ -33,8 +33,8 @@ TEST_SUITE("graph build") {
 TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") {
     Graph g = plant_graph();
     const Src at{0, 3, 5};
-    const int32_t c = add_comp(g, 0, CompKind::Timer, "t", at);
-    const Comp& rec = g.comps[size_t(c)];
+    const CompId c = add_comp(g, DoId(0), CompKind::Timer, "t", at);
+    const Comp& rec = g[c];
     CHECK(g.str(rec.name) == "t");
     CHECK(rec.kind == CompKind::Timer);
     CHECK(rec.owner == 0);
@@ -56,13 +56,13 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
 
 TEST_CASE("add_slot: after the fixed ones, value storage by type with its start value") {
     Graph g = plant_graph();
-    const int32_t c = add_comp(g, 0, CompKind::Label, "l");
+    const CompId c = add_comp(g, DoId(0), CompKind::Label, "l");
     const int32_t fixed = g.comps[size_t(c)].slot_num;
-    const int32_t v = add_slot(g, c, "v", SlotType::Void, Dir::In);
-    const int32_t b = add_slot(g, c, "b", SlotType::Bool, Dir::Out);
-    const int32_t r = add_slot(g, c, "r", SlotType::Ref, Dir::Out);
-    const int32_t q = add_slot(g, c, "q", SlotType::Quat, Dir::Out);
-    const int32_t p = add_slot(g, c, "p", SlotType::Pose, Dir::Out);
+    const SlotId v = add_slot(g, c, "v", SlotType::Void, Dir::In);
+    const SlotId b = add_slot(g, c, "b", SlotType::Bool, Dir::Out);
+    const SlotId r = add_slot(g, c, "r", SlotType::Ref, Dir::Out);
+    const SlotId q = add_slot(g, c, "q", SlotType::Quat, Dir::Out);
+    const SlotId p = add_slot(g, c, "p", SlotType::Pose, Dir::Out);
     CHECK(v == g.comps[size_t(c)].slot_adr + fixed);
     CHECK(g.comps[size_t(c)].slot_num == fixed + 5);
     CHECK(g.slots[size_t(v)].value_adr == -1);
@@ -81,11 +81,11 @@ TEST_CASE("add_slot: after the fixed ones, value storage by type with its start 
 TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per type") {
     Graph g = plant_graph();
     g.do_types.push_back({g.intern("Box"), 0, {}});
-    const int32_t a = add_do(g, "a", 0, 0, {});
+    const DoId a = add_do(g, "a", DoId(0), DoTypeId(0), {});
     const int32_t c1 = add_comp(g, a, CompKind::Timer, "t1");
     const int32_t c2 = add_comp(g, a, CompKind::Label, "l");
-    const int32_t empty = add_do(g, "e", 0, 0, {});
-    const int32_t b = add_do(g, "b", 0, -1, {});
+    const DoId empty = add_do(g, "e", DoId(0), DoTypeId(0), {});
+    const DoId b = add_do(g, "b", DoId(0), DoTypeId{}, {});
     add_comp(g, b, CompKind::Exit, "x");
     CHECK(g.dos[size_t(a)].comp_adr == c1);
     CHECK(g.dos[size_t(a)].comp_num == 2);
@@ -102,15 +102,15 @@ TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per
 
 TEST_CASE("a graph built through the API keeps the loader's promises") {
     Graph g = plant_graph();
-    const int32_t t = add_comp(g, 0, CompKind::Timer, "t");
-    g.timers.push_back({CompId(t), 0.5, true, true});
+    const CompId t = add_comp(g, DoId(0), CompKind::Timer, "t");
+    g.timers.push_back({t, 0.5, true, true});
     g.comps[size_t(t)].detail = 0;
-    const int32_t l = add_comp(g, 0, CompKind::Label, "l");
-    g.labels.push_back({CompId(l), g.intern("")});
+    const CompId l = add_comp(g, DoId(0), CompKind::Label, "l");
+    g.labels.push_back({l, g.intern("")});
     g.comps[size_t(l)].detail = 0;
-    const int32_t tick = g.comps[size_t(t)].slot_adr + timerslot::tick;
-    const int32_t stop = g.comps[size_t(t)].slot_adr + timerslot::stop;
-    const int32_t f = add_flow(g, tick, stop, Cond::Source, true);
+    const SlotId tick(g[t].slot_adr + timerslot::tick);
+    const SlotId stop(g[t].slot_adr + timerslot::stop);
+    const FlowId f = add_flow(g, tick, stop, Cond::Source, true);
     CHECK(g.flows[size_t(f)].from == tick);
     CHECK(g.flows[size_t(f)].to == stop);
     CHECK(g.flows[size_t(f)].once);

@@ -37,6 +37,7 @@ void compile_library(const std::string& path, Compilation& c) {
     opts.stdlib_dir = PLANT_STDLIB_DIR;
     opts.require_plant = false;
     compile_file(path, opts, c);
+    sema::survey_names(c.program, c.sources, c.names, sema::kMaxMembers);
 }
 
 }  // namespace

@@ -49,18 +49,18 @@ struct SceneBuilder {
     }
 
     int32_t dobj(std::string_view path, int32_t parent = 0, int32_t type = -1, Pose pose = {}) {
-        return add_do(g, path, parent, type, pose);
+        return add_do(g, path, DoId(parent), DoTypeId(type), pose);
     }
 
     // A component with its kind's fixed slots (graph/build.h): add a DO's components
     // right after creating it.
     int32_t comp(int32_t owner, CompKind kind, std::string_view n, int32_t detail) {
-        const int32_t id = add_comp(g, owner, kind, n);
+        const int32_t id = add_comp(g, DoId(owner), kind, n);
         g.comps[id].detail = detail;
         return id;
     }
 
-    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) { return add_slot(g, comp, n, t, d); }
+    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) { return add_slot(g, CompId(comp), n, t, d); }
 
     // Slot of a component by local name (fixed or dynamic).
     int32_t S(int32_t comp, std::string_view n) const {
@@ -216,7 +216,7 @@ struct SceneBuilder {
         Label l{};
         l.value = name(value);
         l.comp = CompId(comp(owner, CompKind::Label, n, int32_t(g.labels.size())));
-        slot_value(g, g.comps[l.comp].slot_adr + labelslot::value) = l.value.id;
+        slot_value(g, SlotId(g.comps[l.comp].slot_adr + labelslot::value)) = l.value.id;
         g.labels.push_back(l);
         return int32_t(g.labels.size() - 1);
     }
@@ -312,7 +312,7 @@ struct SceneBuilder {
 
     int32_t flow(int32_t from, int32_t to, Cond cond = Cond::Source, bool once = false, int32_t from_access = -1,
                  int32_t to_access = -1) {
-        return add_flow(g, from, to, cond, once, from_access, to_access);
+        return add_flow(g, SlotId(from), SlotId(to), cond, once, AccessId(from_access), AccessId(to_access));
     }
 
     void record(int32_t slot, std::string_view column) { g.records.push_back({SlotId(slot), name(column)}); }

@@ -6,12 +6,12 @@
 
 namespace plant::graph {
 
-DoId add_do(Graph& g, std::string_view path, int32_t parent, int32_t type, const Pose& pose, Src src) {
+DoId add_do(Graph& g, std::string_view path, DoId parent, DoTypeId type, const Pose& pose, Src src) {
     const auto id = next_id(g.dos);
     Do d;
     d.path = g.intern(path);
-    d.parent = DoId(parent);
-    d.type = DoTypeId(type);
+    d.parent = parent;
+    d.type = type;
     d.ordinal = d.type.valid() ? g[d.type].instance_num++ : 0;
     d.comp_adr = next_adr(g.comps);
     d.comp_num = 0;
@@ -22,12 +22,12 @@ DoId add_do(Graph& g, std::string_view path, int32_t parent, int32_t type, const
     return id;
 }
 
-CompId add_comp(Graph& g, int32_t owner, CompKind kind, std::string_view name, Src src) {
+CompId add_comp(Graph& g, DoId owner, CompKind kind, std::string_view name, Src src) {
     const auto id = next_id(g.comps);
     Comp c;
     c.name = g.intern(name);
     c.kind = kind;
-    c.owner = DoId(owner);
+    c.owner = owner;
     c.slot_adr = next_adr(g.slots);
     c.slot_num = 0;
     c.detail = -1;
@@ -40,15 +40,15 @@ CompId add_comp(Graph& g, int32_t owner, CompKind kind, std::string_view name, S
     return id;
 }
 
-SlotId add_slot(Graph& g, int32_t comp, std::string_view name, SlotType type, Dir dir, Src src) {
+SlotId add_slot(Graph& g, CompId comp, std::string_view name, SlotType type, Dir dir, Src src) {
     const auto id = next_id(g.slots);
-    Comp& c = g[CompId(comp)];
+    Comp& c = g[comp];
     assert(c.slot_adr + c.slot_num == id.v && "a component's slots are contiguous");
     Slot s;
     s.name = g.intern(name);
     s.type = type;
     s.dir = dir;
-    s.comp = CompId(comp);
+    s.comp = comp;
     s.value_adr = -1;
     if (const int w = slot_width(type); w > 0) {
         s.value_adr = static_cast<int32_t>(g.values.size());
@@ -62,22 +62,23 @@ SlotId add_slot(Graph& g, int32_t comp, std::string_view name, SlotType type, Di
     return id;
 }
 
-FlowId add_flow(Graph& g, int32_t from, int32_t to, Cond cond, bool once, int32_t from_access, int32_t to_access,
+FlowId add_flow(Graph& g, SlotId from, SlotId to, Cond cond, bool once, AccessId from_access, AccessId to_access,
                 Src src) {
+    const auto id = next_id(g.flows);
     Flow f;
-    f.from = SlotId(from);
-    f.to = SlotId(to);
-    f.from_access = AccessId(from_access);
-    f.to_access = AccessId(to_access);
+    f.from = from;
+    f.to = to;
+    f.from_access = from_access;
+    f.to_access = to_access;
     f.cond = cond;
     f.once = once;
     f.src = src;
     g.flows.push_back(f);
-    return FlowId(static_cast<int32_t>(g.flows.size()) - 1);
+    return id;
 }
 
-double& slot_value(Graph& g, int32_t slot) {
-    return g.values[static_cast<size_t>(g[SlotId(slot)].value_adr)].v;
+double& slot_value(Graph& g, SlotId slot) {
+    return g.values[static_cast<size_t>(g[slot].value_adr)].v;
 }
 
 }  // namespace plant::graph
