@@ -5,7 +5,7 @@
 #   bash bench/compile_lines.sh [PLANT_BINARY]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-plant="${1:-build/release/compiler/plant}"
+plant="${1:-build/release/app/plant}"
 cells=()
 per=()
 for n in 1 10 100 400; do

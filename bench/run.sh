@@ -48,18 +48,18 @@ echo "|---|---|---|---|---|"
 # 5,000 bottles in circulation (417 lines) on 2 threads, once; the row gives the load average.
 (( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=1 --counts=5000 --threads=2 --window=10
 "$b/plant_bench_compile" --rows "${compile[@]}"
-(( quick )) || bench/compile_lines.sh build/release/compiler/plant
+(( quick )) || bench/compile_lines.sh build/release/app/plant
 "$b/plant_bench_serve" --rows "${serve[@]}"
 "$b/plant_bench_plc" --rows "${plc[@]}"
 # The OPC UA link (node-opcua, installed by scripts/setup.sh): one client subscribed to 100 variables.
 [[ -x "$b/plant_bench_opcua" ]] && "$b/plant_bench_opcua" --rows "${opcua[@]}"
 # plant sweep: runs per minute with -j 1 and -j 2 (bench/sweep.sh).
-bench/sweep.sh build/release/compiler/plant "$( (( quick )) && echo 5s || echo 30s)"
+bench/sweep.sh build/release/app/plant "$( (( quick )) && echo 5s || echo 30s)"
 # The page's draw calls (three.js renderer.info) with one line and with 83 (1,000 bottles in
 # circulation): instanced meshes keep them from growing with the bottles.
 if command -v node >/dev/null && command -v chromium >/dev/null; then
   calls() {
-    node --experimental-websocket viewer/test/browser.mjs build/release/compiler/plant plants/bottling.plant \
+    node --experimental-websocket viewer/test/browser.mjs build/release/app/plant plants/bottling.plant \
       "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null | sed -n 's/^draw calls: \([0-9]*\) .* for \([0-9]*\) bodies.*/\1 \2/p'
   }
   read -r c1 b1 < <(calls 1) || true

@@ -4,7 +4,7 @@
 #   bash bench/sweep.sh PLANT_BINARY [SIMULATED_TIME_PER_RUN]   (default 30s)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-plant="${1:-build/release/compiler/plant}"
+plant="${1:-build/release/app/plant}"
 for="${2:-30s}"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT

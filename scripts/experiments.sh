@@ -62,7 +62,7 @@ done
 
 scripts/setup.sh
 scripts/build.sh release
-plant=build/release/compiler/plant
+plant=build/release/app/plant
 analyse=build/release/tools/plant-analyse
 
 # The parameters a plant declares, from its syntax tree: "k mass speed ...".

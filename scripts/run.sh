@@ -7,4 +7,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh release
-exec build/release/compiler/plant run plants/bottling.plant --for "${PLANT_RUN_FOR:-120s}" "$@"
+exec build/release/app/plant run plants/bottling.plant --for "${PLANT_RUN_FOR:-120s}" "$@"

@@ -11,5 +11,5 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
 out=${1:-$here/viewer.png}
-plant=${PLANT:-$root/build/ci/compiler/plant}
+plant=${PLANT:-$root/build/ci/app/plant}
 exec node --experimental-websocket "$here/test/browser.mjs" "$plant" "$root/plants/bottling.plant" "$out" --docs

@@ -1,5 +1,7 @@
 #include "serve/player.h"
 
+#include "serve/report.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -7,6 +9,13 @@
 #include <cmath>
 
 namespace plant::view {
+
+namespace {
+// Unix seconds, for the session's events file (who sent what, when).
+double wall_clock() {
+    return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+}  // namespace
 
 using json = nlohmann::json;
 
@@ -88,9 +97,12 @@ std::vector<std::string> Player::log_since(size_t from, size_t& next, bool fault
 
 std::string Player::events_file() const {
     std::lock_guard lock(m_);
-    std::string out = "# events of a plant serve session: plant run FILE --events THIS_FILE replays it\n";
+    std::string out = "# events of a plant serve session: plant run FILE --events THIS_FILE replays it;\n"
+                      "# plant report FILE THIS_FILE writes the session's report (docs/training.md)\n";
     for (const std::string& l : lines_) out += l + "\n";
-    return out;
+    // Where the session stands: the report replays it to here.
+    const double rate = g_.settings.rate > 0 ? g_.settings.rate : 150;
+    return out + session_end_comment(frame_ ? frame_->frame.time : 0, 1 / rate) + "\n";
 }
 
 void Player::log(std::string event_json, std::string line, bool to_file, bool fault) {
@@ -285,19 +297,22 @@ private:
             restart();
             reanchor(now, 0);
         } else if (c.kind == Command::Kind::Event) {
-            pending_.emplace_back(std::move(c.event), c.client);
+            pending_.push_back({std::move(c.event), c.client, std::move(c.role)});
         }  // Seek: live runs cannot seek (refused by the server)
     }
 
     // Applies an event before the next step and logs it: the pages see every event, the
     // session's events file gets all but the plant file's own (a replay applies those again).
-    void apply(engine::Event& ev, const std::string& by, bool to_file, int client = -1) {
+    // In the session's events file each line follows a comment that says who sent it and
+    // when on the wall clock (serve/report.h), which `plant report` reads and a replay skips.
+    void apply(engine::Event& ev, const std::string& by, bool to_file, int client = -1, const std::string& role = {}) {
         engine::apply_event(*engine_, ev);
         const std::string line = engine::format_event(g_, ev, engine_->dt());
+        const std::string noted = session_comment(by, role, wall_clock()) + "\n" + line;
         json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"by", by}};
         if (client >= 0) j["client"] = client;
         if (!to_file) j["planned"] = true;
-        log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, to_file, ev.force);
+        log(j.dump(-1, ' ', false, json::error_handler_t::replace), noted, to_file, ev.force);
         note_force(ev, line, by);
     }
 
@@ -323,9 +338,9 @@ private:
             apply(planned_[next_planned_], "plant file", false);
         for (; next_scheduled_ < scheduled_.size() && engine::due(*engine_, scheduled_[next_scheduled_]); ++next_scheduled_)
             apply(scheduled_[next_scheduled_], "command line", true);
-        for (auto& [ev, client] : pending_) {
-            ev.time = double(engine_->steps() + 1) * engine_->dt();
-            apply(ev, "page " + std::to_string(client), true, client);
+        for (Pending& p : pending_) {
+            p.event.time = double(engine_->steps() + 1) * engine_->dt();
+            apply(p.event, "page " + std::to_string(p.client), true, p.client, p.role);
         }
         pending_.clear();
         // The link's clients (an OPC UA server) after the page's, logged alike: the session's
@@ -336,7 +351,8 @@ private:
                 const std::string line = engine::format_event(g_, *ev, engine_->dt());
                 const json j{{"type", "event"}, {"line", line}, {"time", double(engine_->steps() + 1) * engine_->dt()},
                              {"by", "OPC UA link"}, {"client", "link"}};
-                log(j.dump(-1, ' ', false, json::error_handler_t::replace), line, true, ev->force);
+                log(j.dump(-1, ' ', false, json::error_handler_t::replace),
+                    session_comment("OPC UA link", "", wall_clock()) + "\n" + line, true, ev->force);
                 note_force(*ev, line, "OPC UA link");
             }
         }
@@ -383,7 +399,12 @@ private:
     std::unique_ptr<engine::Engine> engine_;
     FrameTracker tracker_;
     engine::RecordTally tally_;
-    std::vector<std::pair<engine::Event, int>> pending_;
+    struct Pending {
+        engine::Event event;
+        int client = 0;
+        std::string role;
+    };
+    std::vector<Pending> pending_;
     std::vector<engine::Event> planned_;    // engine::plant_events, by time
     std::vector<engine::Event> scheduled_;  // the command line's, by time
     size_t next_planned_ = 0, next_scheduled_ = 0;

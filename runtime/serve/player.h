@@ -32,6 +32,7 @@ struct Command {
     double value = 0;  // speed, seek time
     engine::Event event;
     int client = 0;
+    std::string role;  // of the page that sent it ("instructor", "trainee"), for the events file
 };
 
 // What the pages see, replaced as a whole (readers keep the one they took).

@@ -356,6 +356,7 @@ private:
         case ClientMessage::Kind::Event: {
             if (!server_.player.live()) return reply_error("a replay is read-only: events go to a live run");
             c.kind = Command::Kind::Event;
+            c.role = word(role_);
             const std::string input = msg.value.empty() ? msg.path : msg.path + " " + msg.value;
             if (!engine::parse_input(server_.player.graph(), server_.player.slots(), input, c.event, error))
                 return reply_error(error);

@@ -4,6 +4,8 @@
 // Every connection is to loopback; every loop is bounded.
 #include "serve_helpers.h"
 
+#include "serve/report.h"
+
 #include "faults/operable.h"
 #include "serve/roles.h"
 #include "serve/serve.h"
@@ -189,6 +191,27 @@ TEST_CASE("roles: a trainee's force, fire on an unmarked input and wrong token a
     std::string events;
     REQUIRE(http_get(s.port, std::string("/events?token=") + kToken, &events) == 200);
     CHECK(events.find("force other.stop open") != std::string::npos);
+    // Each line after who sent it, in what role, when; the file ends where the session stands:
+    // the session report (serve/report.h) replays it and tells the instructor from the trainee.
+    CHECK(events.find(" (instructor) at 20") != std::string::npos);  // # by page 4 (instructor) at 2026-...
+    CHECK(events.find(" (trainee) at 20") != std::string::npos);
+    CHECK(events.find("\n# end ") != std::string::npos);
+    const auto file = test::scratch_dir() / "roles_session.events";
+    std::ofstream(file, std::ios::binary) << events;
+    view::Session session;
+    std::string error;
+    REQUIRE_MESSAGE(view::replay_session(g, "room.plant", file.string(), 0, session, error), error);
+    bool trainee_grab = false, instructor_force = false;
+    for (const view::SessionEvent& ev : session.events) {
+        trainee_grab |= ev.role == "trainee" && ev.line.find("grab crate") != std::string::npos;
+        instructor_force |= ev.role == "instructor" && ev.line.find("force other.stop open") != std::string::npos;
+        if (!ev.planned) CHECK(ev.wall.size() == 24);  // 2026-11-27T14:03:05.120Z
+    }
+    CHECK(trainee_grab);
+    CHECK(instructor_force);
+    bool forced = false;  // the instructor's fault, beside the plant file's own
+    for (const view::SessionFault& f : session.faults) forced |= f.path == "other.stop" && f.set_by.starts_with("page ");
+    CHECK(forced);
 }
 
 TEST_CASE("roles: a trainee's page is sent no force: not in the status, the inspector or the event log") {
