@@ -13,6 +13,7 @@
 // hard as its main body (the force depends on velocity, not mass) and so tips the
 // bottle, but the torque this creates is integrated implicitly too, so the
 // bottle's rotation stays stable however light it is.
+#include "engine/cells.h"
 #include "engine/runtime.h"
 #include "graph/kinds.h"
 #include "engine/workers.h"
@@ -86,16 +87,7 @@ bool field_frame(Runtime& r, size_t f) {
     return true;
 }
 
-// ---- Which fields a body is in: a grid of 1 m cells over (x, y).
-constexpr btScalar kCell = 1;             // m
-constexpr int64_t kMaxFieldCells = 1024;  // a field covering more is tried for every body
-
-bool cell_of(btScalar x, btScalar y, int64_t& ix, int64_t& iy) {
-    if (!(std::abs(x) < btScalar(1e6) && std::abs(y) < btScalar(1e6))) return false;  // NaN or far away
-    ix = int64_t(std::floor(x / kCell)), iy = int64_t(std::floor(y / kCell));
-    return true;
-}
-uint64_t cell_key(int64_t ix, int64_t iy) { return (uint64_t(ix & 0xffffffff) << 32) | uint64_t(iy & 0xffffffff); }
+// ---- Which fields a body is in: the grid of cells.h.
 
 // Files every field under the cells its bounding box covers (after any field frame changed).
 // Allocates only when the plant's fields cover more cells than ever before.
@@ -107,27 +99,9 @@ void build_field_cells(Runtime& r) {
         if (r.g.fields[f].gain <= 0) continue;
         const State::FieldFrame& ff = s.field_frame[f];
         const btVector3& c = ff.pose.getOrigin();
-        int64_t x0, y0, x1, y1;
-        if (!cell_of(c.x() - ff.rx, c.y() - ff.ry, x0, y0) || !cell_of(c.x() + ff.rx, c.y() + ff.ry, x1, y1) ||
-            (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxFieldCells) {
-            s.field_big.push_back(int32_t(f));
-            continue;
-        }
-        for (int64_t x = x0; x <= x1; ++x)
-            for (int64_t y = y0; y <= y1; ++y) s.field_filed.emplace_back(cell_key(x, y), int32_t(f));
+        file_box(c.x() - ff.rx, c.y() - ff.ry, c.x() + ff.rx, c.y() + ff.ry, int32_t(f), s.field_filed, s.field_big);
     }
-    std::sort(s.field_filed.begin(), s.field_filed.end());  // by cell, then field id
-    s.field_cells.clear();
-    s.field_cell_adr.clear();
-    s.field_cell_list.clear();
-    for (size_t i = 0; i < s.field_filed.size(); ++i) {
-        if (i == 0 || s.field_filed[i].first != s.field_filed[i - 1].first) {
-            s.field_cells.push_back(s.field_filed[i].first);
-            s.field_cell_adr.push_back(int32_t(s.field_cell_list.size()));
-        }
-        s.field_cell_list.push_back(s.field_filed[i].second);
-    }
-    s.field_cell_adr.push_back(int32_t(s.field_cell_list.size()));
+    index_cells(s.field_filed, s.field_cells, s.field_cell_adr, s.field_cell_list);  // by cell, then field id
     s.field_cells_valid = true;
 }
 
@@ -139,13 +113,7 @@ bool gather_fields(Runtime& r, int32_t b) {
     int64_t ix, iy;
     const int32_t *cell = nullptr, *cell_end = nullptr;
     if (cell_of(p.x(), p.y(), ix, iy)) {
-        const uint64_t key = cell_key(ix, iy);
-        const auto it = std::lower_bound(s.field_cells.begin(), s.field_cells.end(), key);
-        if (it != s.field_cells.end() && *it == key) {
-            const size_t i = size_t(it - s.field_cells.begin());
-            cell = s.field_cell_list.data() + s.field_cell_adr[i];
-            cell_end = s.field_cell_list.data() + s.field_cell_adr[i + 1];
-        }
+        cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, cell_end);
     } else if (!(std::abs(p.x()) < btScalar(1e30) && std::abs(p.y()) < btScalar(1e30))) {
         return false;  // NaN: in no field (the sensors take it out)
     }

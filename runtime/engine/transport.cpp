@@ -36,6 +36,7 @@
 // order, on one thread: the results do not depend on the number of threads.
 #include "engine/transport.h"
 
+#include "engine/cells.h"
 #include "engine/runtime.h"
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
@@ -95,16 +96,6 @@ constexpr btScalar kFieldMargin = btScalar(0.001);  // m
 constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bounding box may reach into its support's
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
 constexpr int16_t kSettle = 15;                     // steps steady before leaving the solver
-constexpr btScalar kCell = 1;                       // m
-constexpr int64_t kMaxCells = 1024;
-
-bool cell_of(btScalar x, btScalar y, int64_t& ix, int64_t& iy) {
-    if (!(std::abs(x) < btScalar(1e6) && std::abs(y) < btScalar(1e6))) return false;
-    ix = int64_t(std::floor(x / kCell)), iy = int64_t(std::floor(y / kCell));
-    return true;
-}
-uint64_t cell_key(int64_t ix, int64_t iy) { return (uint64_t(ix & 0xffffffff) << 32) | uint64_t(iy & 0xffffffff); }
-
 bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
            alo.z() <= bhi.z() && blo.z() <= ahi.z();
@@ -176,27 +167,9 @@ void build_grid(Runtime& r) {
     S.big.clear();
     for (size_t i = 0; i < S.hazards.size(); ++i) {
         const Steady::Hazard& h = S.hazards[i];
-        int64_t x0, y0, x1, y1;
-        if (!cell_of(h.lo.x(), h.lo.y(), x0, y0) || !cell_of(h.hi.x(), h.hi.y(), x1, y1) ||
-            (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells) {
-            S.big.push_back(int32_t(i));
-            continue;
-        }
-        for (int64_t x = x0; x <= x1; ++x)
-            for (int64_t y = y0; y <= y1; ++y) S.filed.emplace_back(cell_key(x, y), int32_t(i));
+        file_box(h.lo.x(), h.lo.y(), h.hi.x(), h.hi.y(), int32_t(i), S.filed, S.big);
     }
-    std::sort(S.filed.begin(), S.filed.end());
-    S.cells.clear();
-    S.cell_adr.clear();
-    S.cell_list.clear();
-    for (size_t i = 0; i < S.filed.size(); ++i) {
-        if (i == 0 || S.filed[i].first != S.filed[i - 1].first) {
-            S.cells.push_back(S.filed[i].first);
-            S.cell_adr.push_back(int32_t(S.cell_list.size()));
-        }
-        S.cell_list.push_back(S.filed[i].second);
-    }
-    S.cell_adr.push_back(int32_t(S.cell_list.size()));
+    index_cells(S.filed, S.cells, S.cell_adr, S.cell_list);
     S.grid_valid = true;
     S.grid_statics = ph.statics_placed();
 }
@@ -208,13 +181,7 @@ int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     int64_t ix, iy;
     if (!cell_of(p.x(), p.y(), ix, iy)) return -1;
     const int32_t *cell = nullptr, *cell_end = nullptr;
-    const uint64_t key = cell_key(ix, iy);
-    const auto it = std::lower_bound(s.field_cells.begin(), s.field_cells.end(), key);
-    if (it != s.field_cells.end() && *it == key) {
-        const size_t i = size_t(it - s.field_cells.begin());
-        cell = s.field_cell_list.data() + s.field_cell_adr[i];
-        cell_end = s.field_cell_list.data() + s.field_cell_adr[i + 1];
-    }
+    cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, cell_end);
     const btVector3 q = p + v * btScalar(2 * r.dt);
     int32_t found = -1;
     const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
@@ -311,11 +278,10 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return false;
     for (int64_t x = x0; x <= x1; ++x)
         for (int64_t y = y0; y <= y1; ++y) {
-            const auto it = std::lower_bound(S.cells.begin(), S.cells.end(), cell_key(x, y));
-            if (it == S.cells.end() || *it != cell_key(x, y)) continue;
-            const size_t c = size_t(it - S.cells.begin());
-            for (int32_t k = S.cell_adr[c]; k < S.cell_adr[c + 1]; ++k)
-                if (!hazard(S.hazards[size_t(S.cell_list[size_t(k)])])) return false;
+            const int32_t *k = nullptr, *end = nullptr;
+            cell_ids(S.cells, S.cell_adr, S.cell_list, cell_key(x, y), k, end);
+            for (; k != end; ++k)
+                if (!hazard(S.hazards[size_t(*k)])) return false;
         }
     if (support < 0) return false;
     for (size_t i = 0; i < S.roaming.size(); ++i)
