@@ -7,6 +7,7 @@ plant="$1" src="$2"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 run() {
+  : > "$work/err$1"  # before the background run's own redirection makes it: sed below must find it
   "$plant" run "$src/plants/bottling.plant" --lockstep --modbus-port 0 --for 2s --quiet \
     --trace "$work/trace$1.csv" --trace-bodies > "$work/out$1" 2> "$work/err$1" &
   local pid=$! port=""
