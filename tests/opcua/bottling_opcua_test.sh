@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Issue #33 §4: plants/bottling_opcua.plant under the example controller
 # (examples/plc/router_opcua.mjs, node-opcua-client in its own process) in lock-step for 120 s
-# of plant time: at least 20 bottles commissioned, none lost, none in a wrong lane; a second
-# run gives the same trace; and the same trace as the bottling line under router.py over
-# Modbus (plants/bottling_plc.plant), bit for bit: the same results.
+# of plant time: at least 20 bottles commissioned, none lost, none in a wrong lane; and the
+# same trace as the bottling line under router.py over Modbus (plants/bottling_plc.plant), bit
+# for bit: the same results. That second run, another process with another link and another
+# controller, is also the repeat that shows the run deterministic (a second OPC UA run, which
+# this test made until 2026-11-27, only took 40 s more; tests/plc/bottling_plc_test.sh runs
+# the Modbus one twice).
 # With --realtime: once, paced to the wall clock for 60 s, the controller subscribed.
 #   tests/opcua/bottling_opcua_test.sh PLANT SOURCE_DIR [--realtime]
 set -euo pipefail
@@ -26,7 +29,7 @@ if [ "$mode" = --realtime ]; then
   echo "bottling_opcua: in real time with the controller subscribed: ok"
   exit 0
 fi
-for run in 1 2; do
+for run in 1; do
   start_plant $run run "$src/plants/bottling_opcua.plant" --lockstep --opcua-port 0 --for 120s --trace "$work/trace$run.csv"
   timeout 400 node "$src/examples/plc/router_opcua.mjs" "$url" --lockstep 18000 > "$work/router$run" ||
     { echo "FAIL: the controller"; tail -5 "$work/router$run"; exit 1; }
@@ -35,8 +38,7 @@ for run in 1 2; do
   grep -q '^steps: *18000 at 150 Hz' "$work/out$run" || { echo "FAIL: not 18000 steps"; cat "$work/out$run"; exit 1; }
   check_summary "$work/out$run" 20
 done
-cmp "$work/trace1.csv" "$work/trace2.csv"
-echo "bottling_opcua: two lock-step runs, the same trace ($(wc -l < "$work/trace1.csv") rows)"
+echo "bottling_opcua: a lock-step run ($(wc -l < "$work/trace1.csv") rows of trace)"
 # The Modbus link's controller on the same line (tests/plc/bottling_plc_test.sh's run).
 "$plant" run "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 120s --trace "$work/modbus.csv" \
   > "$work/out3" 2> "$work/err3" &
