@@ -1,5 +1,7 @@
 #include "engine/spatial.h"
 
+#include "engine/workers.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -15,15 +17,10 @@ int32_t Spatial::cell(btScalar y) {
     return int32_t(std::floor(y / kCell));
 }
 
-void Spatial::refresh(const Physics& ph, bool aabbs) {
-    if (version_ != ph.version()) {
-        order_.clear();
-        for (int32_t b : t_.dyn_bodies)
-            if (ph.in_world(b)) order_.push_back({0, 0, b});
-        version_ = ph.version();
-    }
+btScalar Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
     btScalar reach = 0;
-    for (Entry& e : order_) {
+    for (size_t i = begin; i < end; ++i) {
+        Entry& e = order_[i];
         const btRigidBody& r = ph.rb(e.body);
         com_[e.body] = ph.com(e.body);
         e.x = com_[e.body].x();
@@ -34,6 +31,38 @@ void Spatial::refresh(const Physics& ph, bool aabbs) {
             reach = std::max({reach, c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
                               hi_[e.body].y() - c.y()});
         }
+    }
+    return reach;
+}
+
+void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
+    if (version_ != ph.version()) {
+        order_.clear();
+        for (int32_t b : t_.dyn_bodies)
+            if (ph.in_world(b)) order_.push_back({0, 0, b});
+        version_ = ph.version();
+    }
+    // Slices of at least 256 bodies, four per thread at most: each writes its own entries.
+    constexpr size_t kLeast = 256;
+    const size_t n = order_.size();
+    const size_t slices = std::min({kSlices, size_t(4 * w.threads()), (n + kLeast - 1) / kLeast});
+    btScalar reach = 0;
+    if (slices <= 1) {
+        reach = measure(ph, aabbs, 0, n);
+    } else {
+        struct Job {
+            Spatial* s;
+            const Physics* ph;
+            bool aabbs;
+            size_t per, n;
+            void operator()(int i) const {
+                const size_t b = size_t(i) * per;
+                s->slice_reach_[size_t(i)] = s->measure(*ph, aabbs, std::min(b, n), std::min(b + per, n));
+            }
+        };
+        Job job{this, &ph, aabbs, (n + slices - 1) / slices, n};
+        w.run(int(slices), job);
+        for (size_t i = 0; i < slices; ++i) reach = std::max(reach, slice_reach_[i]);
     }
     if (aabbs) reach_ = reach;
     // Insertion sort by (cell, x, id): ties by id keep the order independent of history.

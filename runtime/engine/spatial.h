@@ -9,18 +9,22 @@
 
 #include "engine/physics.h"
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 namespace plant::engine {
 
+class Workers;
+
 class Spatial {
 public:
     Spatial(const Tables& t, size_t bodies);
 
-    // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and re-sorts.
-    void refresh(const Physics& ph, bool aabbs);
+    // Reads positions (and, with `aabbs`, bounding boxes) from Bullet, a slice of the bodies per
+    // item of a job on `w`'s threads, and re-sorts on the calling thread.
+    void refresh(const Physics& ph, bool aabbs, Workers& w);
     // Calls f(body) for every body whose centre has x in [xlo, xhi] and lies in a y cell
     // that [ylo, yhi] touches (a superset of the bodies with y in [ylo, yhi]).
     template <class F>
@@ -48,12 +52,16 @@ private:
         btScalar x;
         int32_t body;
     };
+    static constexpr size_t kSlices = 64;
     static int32_t cell(btScalar y);
+    // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach.
+    btScalar measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     const Tables& t_;
     std::vector<Entry> order_;
     std::vector<btVector3> com_, lo_, hi_;
     btScalar reach_ = 0;
+    std::array<btScalar, kSlices> slice_reach_{};
     uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership
 };
 

@@ -84,7 +84,9 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     size_t pairs = std::max<size_t>(256, 4 * (t.dyn_bodies.size() + g.triggers.size()));
     s.inside.reserve(pairs);
     s.inside_prev.reserve(pairs);
-
+    s.trigger_found.assign(g.triggers.size(), 0);
+    s.trigger_slices.resize(64);  // at most four per thread, 16 threads (triggers.cpp)
+    for (std::vector<int32_t>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
     s.timers.resize(g.timers.size());  // running from the start: start_timers (timers.cpp)
 
     s.gripper_held.assign(g.grippers.size(), -1);

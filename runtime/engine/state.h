@@ -135,6 +135,10 @@ struct State {
 
     std::vector<TriggerState> triggers;
     std::vector<int32_t> inside, inside_prev;  // DO ids, sorted per trigger
+    // Found on the physics threads (triggers.cpp): per trigger, how many objects are inside;
+    // per slice of the triggers, their lists one after the other.
+    std::vector<int32_t> trigger_found;
+    std::vector<std::vector<int32_t>> trigger_slices;
     std::vector<TimerState> timers;
     std::vector<int32_t> gripper_held;         // DO held, -1
     std::vector<GraphicsState> graphics;

@@ -32,12 +32,16 @@
 // the start of the first physics phase in which it is not steady (a neighbour, a trigger, a
 // field's end or change come within reach; the reach covers two steps, so nothing meets it
 // while it is off), and at once when an event, a gripper or a hand writes its state or mode
-// (Physics::unweld lands it first). Every decision reads only this step's state, in body id
-// order, on one thread: the results do not depend on the number of threads.
+// (Physics::unweld lands it first). Whether each unit is steady reads only this step's state
+// as the check starts (leaving or rejoining the solver changes nothing a verdict reads: not a
+// pose, a velocity, a box or whether a body is dynamic), so the verdicts are found on the
+// physics threads, a slice of the units per item; they are then acted on in body id order on
+// one thread: the results do not depend on the number of threads.
 #include "engine/transport.h"
 
 #include "engine/cells.h"
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
@@ -327,6 +331,9 @@ void start_steady(Runtime& r, bool on) {
     S.yaw.assign(nb, 0);
     S.relax.assign(nb, btVector3(1, 1, 1));
     S.coasting.reserve(nb);
+    S.steady_now.assign(nb, 0);
+    S.now_field.assign(nb, -1);
+    S.now_support.assign(nb, -1);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
     S.home_hi.assign(nb, btVector3(0, 0, 0));
@@ -362,11 +369,36 @@ void check_steady(Runtime& r) {
     for (size_t i = 0; i < S.roaming.size(); ++i)
         oriented_box(trigger_pose(r, size_t(S.roaming[i])), to_bt(r.g.triggers[size_t(S.roaming[i])].extent) * btScalar(0.5),
                      S.roam_lo[i], S.roam_hi[i]);
-    r.index.refresh(ph, true);
+    r.index.refresh(ph, true, ph.workers());
     btScalar vmax = 0;
     for (int32_t b : r.tab.dyn_bodies)
         if (ph.in_world(b)) vmax = std::max(vmax, ph.rb(b).getLinearVelocity().length());
     if (!std::isfinite(vmax)) vmax = btScalar(1e6);
+    // The verdicts, in slices of the units on the physics threads (each writes its units' own
+    // entries and reads what no verdict changes).
+    struct Slices {
+        Runtime* r;
+        btScalar vmax;
+        size_t per;
+        void operator()(int i) const {
+            Steady& S = r->steady;
+            const std::vector<int32_t>& dyn = r->tab.dyn_bodies;
+            const size_t end = std::min(dyn.size(), size_t(i + 1) * per);
+            for (size_t k = size_t(i) * per; k < end; ++k) {
+                const int32_t b = dyn[k], p = r->phys.passenger(b);
+                Verdict v;
+                S.steady_now[size_t(b)] =
+                    r->phys.in_world(b) && (p >= 0 || r->phys.lone(b)) && steady_now(*r, b, p, vmax, v);
+                S.now_field[size_t(b)] = v.field;
+                S.now_support[size_t(b)] = v.support;
+            }
+        }
+    };
+    const size_t units = r.tab.dyn_bodies.size();
+    const size_t slices = std::min(units, size_t(4 * ph.workers().threads()));
+    if (slices == 0) return;
+    Slices job{&r, vmax, (units + slices - 1) / slices};
+    ph.workers().run(int((units + job.per - 1) / job.per), job);
     for (int32_t b : r.tab.dyn_bodies) {
         const int32_t p = ph.passenger(b);
         if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
@@ -374,8 +406,8 @@ void check_steady(Runtime& r) {
             continue;
         }
         const bool was = ph.coasting(b);
-        Verdict v;
-        bool ok = steady_now(r, b, p, vmax, v);
+        Verdict v{S.now_field[size_t(b)], S.now_support[size_t(b)]};
+        bool ok = S.steady_now[size_t(b)] != 0;
         if (was) {
             const btVector3 target = ok ? s.field_frame[size_t(v.field)].pose.getBasis() * s.field_target[size_t(v.field)]
                                         : btVector3(0, 0, 0);

@@ -26,6 +26,10 @@ struct Steady {
     std::vector<btScalar> yaw;           // coasting: its angular velocity about the vertical
     std::vector<btVector3> relax;        // coasting: exp(-a) per field axis (1: free axis)
     std::vector<int32_t> coasting;       // the units coasting this step, in id order
+    // This step's verdicts, per body, found in parallel (check_steady): whether the unit is
+    // steady now, and then the field it rides and the static body it stands on.
+    std::vector<uint8_t> steady_now;
+    std::vector<int32_t> now_field, now_support;
     std::vector<btVector3> top;          // coasting: a point of the support's top face
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
 

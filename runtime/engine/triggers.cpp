@@ -5,9 +5,11 @@
 // it with the previous step's list gives on_enter / on_leave, for any number of
 // objects at once.
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace plant::engine {
@@ -41,20 +43,16 @@ bool overlaps(const btVector3& lo, const btVector3& hi, const btTransform& box, 
     return true;
 }
 
-}  // namespace
-
-void sense_triggers(Runtime& r) {
+// Which objects are inside triggers [begin, end), found on one of the physics threads: each
+// trigger's pose, and its objects, sorted, appended to `out` (the slice's own list) with
+// their place in it.
+void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out) {
     State& s = r.st;
     const Graph& g = r.g;
-    if (g.triggers.empty()) return;
-    r.index.refresh(r.phys, true);
-    s.inside.swap(s.inside_prev);
-    s.inside.clear();
-    for (size_t t = 0; t < g.triggers.size(); ++t) {
+    out.clear();
+    for (size_t t = begin; t < end; ++t) {
         const Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
-        ts.prev_adr = ts.adr;
-        ts.prev_num = ts.num;
         ts.pose = tg.body >= 0 ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
         const btMatrix3x3& R = ts.pose.getBasis();
         const btVector3 h = to_bt(tg.extent) * btScalar(0.5);
@@ -63,25 +61,66 @@ void sense_triggers(Runtime& r) {
                             r.index.reach();
         const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z() +
                             r.index.reach();
-        const size_t adr = s.inside.size();
+        const size_t adr = out.size();
         r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
             if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) return;
             const int32_t obj = object_of(g, r.tab.body_do[b], tg.filter);
             if (obj < 0) return;
             // Insert sorted, once per object (a bottle has two bodies).
-            size_t k = s.inside.size();
+            size_t k = out.size();
             bool dup = false;
-            for (size_t q = adr; q < k && !dup; ++q) dup = s.inside[q] == obj;
+            for (size_t q = adr; q < k && !dup; ++q) dup = out[q] == obj;
             if (dup) return;
-            s.inside.push_back(obj);
-            while (k > adr && s.inside[k - 1] > obj) {
-                s.inside[k] = s.inside[k - 1];
+            out.push_back(obj);
+            while (k > adr && out[k - 1] > obj) {
+                out[k] = out[k - 1];
                 --k;
             }
-            s.inside[k] = obj;
+            out[k] = obj;
         });
-        ts.adr = int32_t(adr);
-        ts.num = int32_t(s.inside.size() - adr);
+        s.trigger_found[t] = int32_t(out.size() - adr);
+    }
+}
+
+}  // namespace
+
+void sense_triggers(Runtime& r) {
+    State& s = r.st;
+    const Graph& g = r.g;
+    if (g.triggers.empty()) return;
+    r.index.refresh(r.phys, true, r.phys.workers());
+    // The triggers' contents, a slice of the triggers per item (at least 32 triggers in one,
+    // four per thread at most); then, in trigger order on this thread, the lists and events.
+    const size_t nt = g.triggers.size();
+    const size_t slices = std::min({s.trigger_slices.size(), size_t(4 * r.phys.workers().threads()), (nt + 31) / 32});
+    const size_t per = (nt + slices - 1) / slices;
+    if (slices <= 1) {
+        find_inside(r, 0, nt, s.trigger_slices[0]);
+    } else {
+        struct Job {
+            Runtime* r;
+            size_t per, n;
+            void operator()(int i) const {
+                const size_t b = std::min(size_t(i) * per, n);
+                find_inside(*r, b, std::min(b + per, n), r->st.trigger_slices[size_t(i)]);
+            }
+        };
+        Job job{&r, per, nt};
+        r.phys.workers().run(int(slices), job);
+    }
+    s.inside.swap(s.inside_prev);
+    s.inside.clear();
+    for (size_t t = 0, found = 0; t < nt; ++t) {
+        if (t % per == 0) found = 0;  // the next slice's list
+        const std::vector<int32_t>& list = s.trigger_slices[slices <= 1 ? 0 : t / per];
+        const Trigger& tg = g.triggers[t];
+        TriggerState& ts = s.triggers[t];
+        ts.prev_adr = ts.adr;
+        ts.prev_num = ts.num;
+        ts.adr = int32_t(s.inside.size());
+        ts.num = s.trigger_found[t];
+        s.inside.insert(s.inside.end(), list.begin() + std::ptrdiff_t(found), list.begin() + std::ptrdiff_t(found + size_t(ts.num)));
+        found += size_t(ts.num);
 
         // Merge the two sorted lists.
         int32_t entered = 0, left = 0, first_in = -1;
