@@ -4,6 +4,7 @@
 // relative to that base at times t (s from the animation's start), interpolated
 // linearly (slerp for orientation); the last key holds after the animation ends.
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
@@ -29,48 +30,95 @@ bool same(const Pose& a, const Pose& b) { return a.p == b.p && a.q == b.q; }
 
 }  // namespace
 
-void advance_graphics(Runtime& r) {
+namespace {
+
+enum : uint8_t { kPoseChanged = 1, kFinished = 2 };
+
+// Graphics i's pose this step; what it must publish is returned as flags (kPoseChanged,
+// kFinished), published by the caller. Reads its body's or its parent's pose, writes only
+// its own state: the graphics with no parent can run on any thread.
+uint8_t advance_one(Runtime& r, int32_t i) {
     State& s = r.st;
     const Graph& g = r.g;
-    for (int32_t i : r.tab.graphics_order) {
-        const Graphics& gr = g.graphics[i];
-        GraphicsState& gs = s.graphics[i];
-        if (gr.body >= 0) {
-            // A parked body's graphics keep their pose: nothing to do unless animated.
-            if (!r.phys.in_world(gr.body) && gs.anim < 0) continue;
-            if (r.phys.in_world(gr.body)) {
-                // Most bodies stand still (bands, rails): their pose is taken again only when
-                // their Bullet transform changed.
-                const btTransform& tr = r.phys.rb(gr.body).getWorldTransform();
-                if (gs.base_fresh && tr == gs.body_tr) {
-                    if (gs.anim < 0) {
-                        gs.prev = gs.pose;
-                        continue;  // base, offset and so the pose are as they were
-                    }
-                } else {
-                    gs.body_tr = tr;
-                    gs.base_fresh = true;
-                    gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
+    const Graphics& gr = g.graphics[i];
+    GraphicsState& gs = s.graphics[i];
+    uint8_t flags = 0;
+    if (gr.body >= 0) {
+        // A parked body's graphics keep their pose: nothing to do unless animated.
+        if (!r.phys.in_world(gr.body) && gs.anim < 0) return 0;
+        if (r.phys.in_world(gr.body)) {
+            // Most bodies stand still (bands, rails): their pose is taken again only when
+            // their Bullet transform changed.
+            const btTransform& tr = r.phys.rb(gr.body).getWorldTransform();
+            if (gs.base_fresh && tr == gs.body_tr) {
+                if (gs.anim < 0) {
+                    gs.prev = gs.pose;
+                    return 0;  // base, offset and so the pose are as they were
                 }
-            }
-        } else if (gr.parent >= 0) {
-            gs.base = pmul(s.graphics[gr.parent].pose, r.tab.graphics_local[i]);
-        }
-        if (gs.anim >= 0) {
-            const Animation& a = g.animations[gs.anim];
-            gs.t += r.dt;
-            gs.offset = sample(g, a, gs.t);
-            if (gs.t + 1e-9 >= a.duration) {
-                r.activate(a.finished_slot);
-                gs.anim = -1;
+            } else {
+                gs.body_tr = tr;
+                gs.base_fresh = true;
+                gs.base = pmul(r.phys.pose(gr.body), r.tab.graphics_local[i]);
             }
         }
-        gs.prev = gs.pose;
-        Pose pose = pmul(gs.base, gs.offset);
-        if (same(pose, gs.pose)) continue;
-        gs.pose = pose;
-        const int32_t out = r.comp_slot(gr.comp, graphicsslot::pose);
-        if (s.watched[out]) r.emit_pose(out, pose);
+    } else if (gr.parent >= 0) {
+        gs.base = pmul(s.graphics[gr.parent].pose, r.tab.graphics_local[i]);
+    }
+    if (gs.anim >= 0) {
+        const Animation& a = g.animations[gs.anim];
+        gs.t += r.dt;
+        gs.offset = sample(g, a, gs.t);
+        if (gs.t + 1e-9 >= a.duration) {
+            flags |= kFinished;
+            gs.finished = gs.anim;
+            gs.anim = -1;
+        }
+    }
+    gs.prev = gs.pose;
+    Pose pose = pmul(gs.base, gs.offset);
+    if (same(pose, gs.pose)) return flags;
+    gs.pose = pose;
+    return flags | kPoseChanged;
+}
+
+void publish(Runtime& r, int32_t i, uint8_t flags) {
+    GraphicsState& gs = r.st.graphics[i];
+    if (flags & kFinished) r.activate(r.g.animations[gs.finished].finished_slot);
+    if (flags & kPoseChanged) {
+        const int32_t out = r.comp_slot(r.g.graphics[i].comp, graphicsslot::pose);
+        if (r.st.watched[out]) r.emit_pose(out, gs.pose);
+    }
+}
+
+}  // namespace
+
+// The graphics with no parent (the first of graphics_order) in slices on the physics threads;
+// then, in graphics_order on this thread, what they publish and the children (parents first).
+void advance_graphics(Runtime& r) {
+    const std::vector<int32_t>& order = r.tab.graphics_order;
+    const size_t roots = r.tab.graphics_roots;
+    std::vector<uint8_t>& flags = r.st.graphics_flags;
+    const size_t slices = std::min(size_t(4 * r.phys.workers().threads()), (roots + 255) / 256);
+    if (slices <= 1) {
+        for (size_t k = 0; k < roots; ++k) flags[k] = advance_one(r, order[k]);
+    } else {
+        struct Job {
+            Runtime* r;
+            size_t per, n;
+            void operator()(int i) const {
+                const std::vector<int32_t>& order = r->tab.graphics_order;
+                const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
+                for (size_t k = b; k < e; ++k) r->st.graphics_flags[k] = advance_one(*r, order[k]);
+            }
+        };
+        Job job{&r, (roots + slices - 1) / slices, roots};
+        r.phys.workers().run(int(slices), job);
+    }
+    for (size_t k = 0; k < roots; ++k)
+        if (flags[k]) publish(r, order[k], flags[k]);
+    for (size_t k = roots; k < order.size(); ++k) {
+        const uint8_t f = advance_one(r, order[k]);
+        if (f) publish(r, order[k], f);
     }
 }
 

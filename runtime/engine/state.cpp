@@ -92,6 +92,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.gripper_held.assign(g.grippers.size(), -1);
 
     s.graphics.resize(g.graphics.size());
+    s.graphics_flags.assign(g.graphics.size(), 0);
     s.variant.resize(g.graphics.size());
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         s.graphics[i].base = s.graphics[i].pose = s.graphics[i].prev = g.graphics[i].pose;

@@ -33,6 +33,7 @@ struct GraphicsState {
     Pose offset;          // animation offset, identity when none ever played
     Pose pose, prev;      // base * offset, now and one step ago
     int32_t anim = -1;    // playing animation
+    int32_t finished = -1;  // the animation that finished this step (graphics.cpp)
     double t = 0;         // its time
     // The attached body's Bullet transform `base` was computed from; `base_fresh` false when
     // something else set `base` (set_pose, an object issued), so the body's is taken again.
@@ -142,6 +143,7 @@ struct State {
     std::vector<TimerState> timers;
     std::vector<int32_t> gripper_held;         // DO held, -1
     std::vector<GraphicsState> graphics;
+    std::vector<uint8_t> graphics_flags;       // per root in graphics_order: what it publishes (graphics.cpp)
     std::vector<int32_t> variant;              // per graphics: selected variant, -1
     std::vector<SourceState> sources;
     std::vector<int32_t> pool_ring;

@@ -145,6 +145,7 @@ Tables::Tables(const Graph& g) {
     }
     std::stable_sort(graphics_order.begin(), graphics_order.end(),
                      [&](int32_t a, int32_t b) { return depth[a] < depth[b]; });
+    while (graphics_roots < graphics_order.size() && depth[size_t(graphics_order[graphics_roots])] == 0) ++graphics_roots;
     graphics_local.resize(g.graphics.size());
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         const Graphics& gr = g.graphics[i];

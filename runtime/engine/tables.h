@@ -54,6 +54,7 @@ struct Tables {
     Csr comp_routes;                // routes of each Router component (by comp id)
 
     std::vector<int32_t> graphics_order;  // parents before children
+    size_t graphics_roots = 0;            // its first ones, with no parent (on a body or alone)
     std::vector<Pose> graphics_local;     // relative to the parent or attached body
     std::vector<btTransform> field_local;   // field box relative to its body frame
     std::vector<btVector3> field_gain;      // the law's gain along the field's own axes: k·|d|
