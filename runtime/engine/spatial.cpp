@@ -17,11 +17,12 @@ int32_t Spatial::cell(btScalar y) {
     return int32_t(std::floor(y / kCell));
 }
 
-btScalar Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
-    btScalar reach = 0;
+std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
+    btScalar reach = 0, vmax = 0;
     for (size_t i = begin; i < end; ++i) {
         Entry& e = order_[i];
         const btRigidBody& r = ph.rb(e.body);
+        vmax = std::max(vmax, r.getLinearVelocity().length());
         com_[e.body] = ph.com(e.body);
         e.x = com_[e.body].x();
         e.cell = cell(com_[e.body].y());
@@ -32,7 +33,7 @@ btScalar Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t en
                               hi_[e.body].y() - c.y()});
         }
     }
-    return reach;
+    return {reach, vmax};
 }
 
 void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
@@ -46,9 +47,9 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     constexpr size_t kLeast = 256;
     const size_t n = order_.size();
     const size_t slices = std::min({kSlices, size_t(4 * w.threads()), (n + kLeast - 1) / kLeast});
-    btScalar reach = 0;
+    std::pair<btScalar, btScalar> most{0, 0};
     if (slices <= 1) {
-        reach = measure(ph, aabbs, 0, n);
+        most = measure(ph, aabbs, 0, n);
     } else {
         struct Job {
             Spatial* s;
@@ -57,14 +58,16 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
             size_t per, n;
             void operator()(int i) const {
                 const size_t b = size_t(i) * per;
-                s->slice_reach_[size_t(i)] = s->measure(*ph, aabbs, std::min(b, n), std::min(b + per, n));
+                s->slice_max_[size_t(i)] = s->measure(*ph, aabbs, std::min(b, n), std::min(b + per, n));
             }
         };
         Job job{this, &ph, aabbs, (n + slices - 1) / slices, n};
         w.run(int(slices), job);
-        for (size_t i = 0; i < slices; ++i) reach = std::max(reach, slice_reach_[i]);
+        for (size_t i = 0; i < slices; ++i)
+            most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
     }
-    if (aabbs) reach_ = reach;
+    if (aabbs) reach_ = most.first;
+    vmax_ = most.second;
     // Insertion sort by (cell, x, id): ties by id keep the order independent of history.
     auto before = [](const Entry& a, const Entry& b) {
         if (a.cell != b.cell) return a.cell < b.cell;

@@ -44,6 +44,8 @@ public:
     const btVector3& hi(int32_t b) const { return hi_[b]; }
     // Largest distance along x or y from a body's centre to its bounding box (for triggers).
     btScalar reach() const { return reach_; }
+    // The largest speed of the bodies (NaN skipped), as of the last refresh.
+    btScalar vmax() const { return vmax_; }
 
 private:
     static constexpr int64_t kMaxCells = 256;
@@ -54,14 +56,15 @@ private:
     };
     static constexpr size_t kSlices = 64;
     static int32_t cell(btScalar y);
-    // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach.
-    btScalar measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
+    // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach and
+    // speed.
+    std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     const Tables& t_;
     std::vector<Entry> order_;
     std::vector<btVector3> com_, lo_, hi_;
-    btScalar reach_ = 0;
-    std::array<btScalar, kSlices> slice_reach_{};
+    btScalar reach_ = 0, vmax_ = 0;
+    std::array<std::pair<btScalar, btScalar>, kSlices> slice_max_{};
     uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership
 };
 

@@ -153,6 +153,7 @@ void build_grid(Runtime& r) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
             S.home_lo[b] = h.lo, S.home_hi[b] = h.hi;
+            S.home_tr[b] = rb.getWorldTransform();
             S.kinematic.push_back(int32_t(b));
         }
         S.hazards.push_back(h);
@@ -315,6 +316,60 @@ void ride(Runtime& r, int32_t b, int32_t f) {
     s.ride_at[b] = r.phys.com(b);
 }
 
+enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
+
+// Unit b's verdict this step and what follows from it: its count of steady steps, and when it
+// leaves the solver or goes on coasting, what it rides (S.field ... S.relax, State::ride_*).
+// Writes only the unit's own entries; the caller lands or coasts it (kLand, kCoast).
+uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
+    Physics& ph = r.phys;
+    State& s = r.st;
+    Steady& S = r.steady;
+    const int32_t p = ph.passenger(b);
+    if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
+        S.settled[size_t(b)] = 0;
+        return kStay;
+    }
+    const bool was = ph.coasting(b);
+    Verdict v;
+    bool ok = steady_now(r, b, p, vmax, v);
+    uint8_t action = kKeep;
+    if (was) {
+        const btVector3 target = ok ? s.field_frame[size_t(v.field)].pose.getBasis() * s.field_target[size_t(v.field)]
+                                    : btVector3(0, 0, 0);
+        ok = ok && v.field == S.field[size_t(b)] && v.support == S.support[size_t(b)] && target == S.target[size_t(b)];
+        if (!ok) {
+            S.settled[size_t(b)] = 0;
+            return kLand;
+        }
+    } else {
+        if (!ok) {
+            S.settled[size_t(b)] = 0;
+            return kStay;
+        }
+        if (++S.settled[size_t(b)] < kSettle) return kStay;
+        const size_t f = size_t(v.field);
+        const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+        btVector3 point, normal;
+        top_face(ph, v.support, point, normal);
+        S.field[size_t(b)] = v.field;
+        S.support[size_t(b)] = v.support;
+        S.target[size_t(b)] = R * s.field_target[f];
+        S.normal[size_t(b)] = normal;
+        S.top[size_t(b)] = point;
+        S.height[size_t(b)] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
+        S.yaw[size_t(b)] = ph.rb(b).getAngularVelocity().z();
+        const double m = ph.mass(b) + (p >= 0 ? ph.mass(p) : 0.0);
+        const btVector3& gain = r.tab.field_gain[f];
+        for (int i = 0; i < 3; ++i)
+            S.relax[size_t(b)][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
+        action = kCoast;
+    }
+    ride(r, b, v.field);
+    if (p >= 0) ride(r, p, v.field);
+    return action;
+}
+
 }  // namespace
 
 void start_steady(Runtime& r, bool on) {
@@ -331,12 +386,11 @@ void start_steady(Runtime& r, bool on) {
     S.yaw.assign(nb, 0);
     S.relax.assign(nb, btVector3(1, 1, 1));
     S.coasting.reserve(nb);
-    S.steady_now.assign(nb, 0);
-    S.now_field.assign(nb, -1);
-    S.now_support.assign(nb, -1);
+    S.action.assign(nb, 0);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
     S.home_hi.assign(nb, btVector3(0, 0, 0));
+    S.home_tr.assign(nb, btTransform::getIdentity());
     S.roaming.reserve(r.g.triggers.size());
     S.roam_lo.assign(r.g.triggers.size(), btVector3(0, 0, 0));
     S.roam_hi.assign(r.g.triggers.size(), btVector3(0, 0, 0));
@@ -354,12 +408,13 @@ void check_steady(Runtime& r) {
     S.coasting.clear();
     if (!S.on) return;
     Physics& ph = r.phys;
-    State& s = r.st;
     if (!S.grid_valid || S.grid_statics != ph.statics_placed()) build_grid(r);
     for (int32_t k : S.kinematic) {  // a part that left its room: filed again where it is
+        const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
+        // Where it was filed and slow: its box grown by m is inside the room (rounding is monotonic).
+        if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[size_t(k)]) continue;
         btVector3 lo, hi;
         body_box(ph, k, lo, hi);
-        const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
         const btVector3 g(m, m, m);
         if (!inside(lo - g, hi + g, S.home_lo[size_t(k)], S.home_hi[size_t(k)])) {
             build_grid(r);
@@ -370,28 +425,19 @@ void check_steady(Runtime& r) {
         oriented_box(trigger_pose(r, size_t(S.roaming[i])), to_bt(r.g.triggers[size_t(S.roaming[i])].extent) * btScalar(0.5),
                      S.roam_lo[i], S.roam_hi[i]);
     r.index.refresh(ph, true, ph.workers());
-    btScalar vmax = 0;
-    for (int32_t b : r.tab.dyn_bodies)
-        if (ph.in_world(b)) vmax = std::max(vmax, ph.rb(b).getLinearVelocity().length());
+    btScalar vmax = r.index.vmax();
     if (!std::isfinite(vmax)) vmax = btScalar(1e6);
-    // The verdicts, in slices of the units on the physics threads (each writes its units' own
-    // entries and reads what no verdict changes).
+    // Each unit's verdict and what follows from it, in slices of the units on the physics
+    // threads (each writes its units' own entries and reads what no verdict changes); then
+    // leaving and rejoining the solver, which touch the worlds, on this thread in id order.
     struct Slices {
         Runtime* r;
         btScalar vmax;
         size_t per;
         void operator()(int i) const {
-            Steady& S = r->steady;
             const std::vector<int32_t>& dyn = r->tab.dyn_bodies;
             const size_t end = std::min(dyn.size(), size_t(i + 1) * per);
-            for (size_t k = size_t(i) * per; k < end; ++k) {
-                const int32_t b = dyn[k], p = r->phys.passenger(b);
-                Verdict v;
-                S.steady_now[size_t(b)] =
-                    r->phys.in_world(b) && (p >= 0 || r->phys.lone(b)) && steady_now(*r, b, p, vmax, v);
-                S.now_field[size_t(b)] = v.field;
-                S.now_support[size_t(b)] = v.support;
-            }
+            for (size_t k = size_t(i) * per; k < end; ++k) r->steady.action[size_t(dyn[k])] = decide(*r, dyn[k], vmax);
         }
     };
     const size_t units = r.tab.dyn_bodies.size();
@@ -400,51 +446,19 @@ void check_steady(Runtime& r) {
     Slices job{&r, vmax, (units + slices - 1) / slices};
     ph.workers().run(int((units + job.per - 1) / job.per), job);
     for (int32_t b : r.tab.dyn_bodies) {
-        const int32_t p = ph.passenger(b);
-        if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
-            S.settled[size_t(b)] = 0;
-            continue;
-        }
-        const bool was = ph.coasting(b);
-        Verdict v{S.now_field[size_t(b)], S.now_support[size_t(b)]};
-        bool ok = S.steady_now[size_t(b)] != 0;
-        if (was) {
-            const btVector3 target = ok ? s.field_frame[size_t(v.field)].pose.getBasis() * s.field_target[size_t(v.field)]
-                                        : btVector3(0, 0, 0);
-            ok = ok && v.field == S.field[size_t(b)] && v.support == S.support[size_t(b)] && target == S.target[size_t(b)];
-            if (!ok) {
-                ph.land(b);
-                ++S.rejoined;
-                S.settled[size_t(b)] = 0;
-                continue;
-            }
-        } else {
-            if (!ok) {
-                S.settled[size_t(b)] = 0;
-                continue;
-            }
-            if (++S.settled[size_t(b)] < kSettle) continue;
-            const size_t f = size_t(v.field);
-            const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
-            btVector3 point, normal;
-            top_face(ph, v.support, point, normal);
-            S.field[size_t(b)] = v.field;
-            S.support[size_t(b)] = v.support;
-            S.target[size_t(b)] = R * s.field_target[f];
-            S.normal[size_t(b)] = normal;
-            S.top[size_t(b)] = point;
-            S.height[size_t(b)] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
-            S.yaw[size_t(b)] = ph.rb(b).getAngularVelocity().z();
-            const double m = ph.mass(b) + (p >= 0 ? ph.mass(p) : 0.0);
-            const btVector3& gain = r.tab.field_gain[f];
-            for (int i = 0; i < 3; ++i)
-                S.relax[size_t(b)][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
+        switch (S.action[size_t(b)]) {
+        case kLand:
+            ph.land(b);
+            ++S.rejoined;
+            break;
+        case kCoast:
             ph.coast(b);
             ++S.left;
+            S.coasting.push_back(b);
+            break;
+        case kKeep: S.coasting.push_back(b); break;
+        default: break;
         }
-        S.coasting.push_back(b);
-        ride(r, b, v.field);
-        if (p >= 0) ride(r, p, v.field);
     }
 }
 

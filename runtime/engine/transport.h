@@ -26,10 +26,7 @@ struct Steady {
     std::vector<btScalar> yaw;           // coasting: its angular velocity about the vertical
     std::vector<btVector3> relax;        // coasting: exp(-a) per field axis (1: free axis)
     std::vector<int32_t> coasting;       // the units coasting this step, in id order
-    // This step's verdicts, per body, found in parallel (check_steady): whether the unit is
-    // steady now, and then the field it rides and the static body it stands on.
-    std::vector<uint8_t> steady_now;
-    std::vector<int32_t> now_field, now_support;
+    std::vector<uint8_t> action;         // per unit, this step's decision (check_steady)
     std::vector<btVector3> top;          // coasting: a point of the support's top face
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
 
@@ -47,6 +44,7 @@ struct Steady {
     std::vector<std::pair<uint64_t, int32_t>> filed;
     std::vector<int32_t> kinematic;            // declared kinematic bodies (and dynamic ones off)
     std::vector<btVector3> home_lo, home_hi;   // per body: the box its hazard was filed with
+    std::vector<btTransform> home_tr;          // ... and its transform then
     std::vector<int32_t> roaming;              // triggers on moving bodies
     std::vector<btVector3> roam_lo, roam_hi;   // their boxes this step
     bool grid_valid = false;
