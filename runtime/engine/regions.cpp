@@ -26,6 +26,7 @@
 #include "engine/physics.h"
 
 #include "engine/pose.h"
+#include "engine/workers.h"
 
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -166,9 +167,11 @@ void Physics::find_regions(bool split) {
         else movers_.push_back(int32_t(b));
     }
     void_mark_.assign(size_t(groups), 0);
+    free_to_.clear();
     free_groups_.clear();
     for (int32_t gi = 0; gi < groups; ++gi)
         if (!anchored_[size_t(gi)]) free_groups_.push_back(gi);
+    free_to_.assign(free_groups_.size(), 0);
 
     // s: the largest free group.
     btScalar s = 0;
@@ -262,29 +265,48 @@ int Physics::home(int32_t b) const {
 void Physics::assign_worlds() {
     auto present = [this](int32_t b) { return in_world_[b] && !carried(b); };  // and in Bullet's
     auto box = [this](int32_t b, btVector3& lo, btVector3& hi) { aabb(b, kNear, lo, hi); };
-    // Free groups: to the region whose box they meet.
-    void_groups_.clear();
-    for (int32_t gi : free_groups_) {
-        int to = -1;
+    // Free groups: to the region whose box they meet. Where each goes, on the physics threads
+    // in slices of the groups (a group's decision reads its own bodies' worlds, which only its
+    // own move changes); the moves on this thread in group order.
+    constexpr int kParked = -2, kVoid = -1;
+    auto where = [this, &present](int32_t gi) {
         bool any = false;
         for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
             if (!present(*b)) continue;
             any = true;
             const int h = home(*b);
-            if (h != void_) {
-                to = h;
-                break;
+            if (h != void_) return h;
+        }
+        return any ? kVoid : kParked;  // parked: waits in the void's world, which is not stepped for it
+    };
+    const size_t nf = free_groups_.size();
+    const size_t slices = std::min(size_t(4 * workers_->threads()), (nf + 127) / 128);
+    if (slices <= 1) {
+        for (size_t i = 0; i < nf; ++i) free_to_[i] = where(free_groups_[i]);
+    } else {
+        struct Job {
+            Physics* ph;
+            decltype(where)* f;
+            size_t per, n;
+            void operator()(int i) const {
+                const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
+                for (size_t k = b; k < e; ++k) ph->free_to_[k] = (*f)(ph->free_groups_[k]);
             }
-        }
-        if (!any) {  // parked: waits in the void's world, which is not stepped for it
+        };
+        Job job{this, &where, (nf + slices - 1) / slices, nf};
+        workers_->run(int(slices), job);
+    }
+    void_groups_.clear();
+    for (size_t i = 0; i < nf; ++i) {
+        const int32_t gi = free_groups_[i];
+        const int to = free_to_[i];
+        if (to == kParked) {
             if (world_of_[*group_bodies_.begin(gi)] != void_) move_group(gi, void_);
-            continue;
-        }
-        if (to < 0) {
+        } else if (to == kVoid) {
             void_groups_.push_back(gi);
-            continue;
+        } else if (world_of_[*group_bodies_.begin(gi)] != to) {
+            move_group(gi, to);
         }
-        if (world_of_[*group_bodies_.begin(gi)] != to) move_group(gi, to);
     }
     // Void groups join the world of a mover they meet (of a region's world, or a void group
     // that joined one before), in turn until none joins.
