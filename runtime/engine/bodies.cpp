@@ -1,10 +1,12 @@
 // A body's behaviour (docs/runtime.md): in phase 2 what left the world is taken out and
 // the outputs read this step are refreshed; in phase 5 it acts on its inputs.
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 #include "graph/range.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace plant::engine {
@@ -37,8 +39,42 @@ void note_loss(Runtime& r, int32_t d, const btVector3& p) {
 
 // An object that falls off the plant or blows up is taken out, all its bodies, once,
 // with one warning.
+namespace {
+
+bool body_off(const Runtime& r, int32_t b) {
+    if (!r.phys.in_world(b) || r.st.gone[b]) return false;
+    const btRigidBody& rb = r.phys.rb(b);
+    const btVector3& p = rb.getWorldTransform().getOrigin();
+    const bool nan = !finite(p) || !finite(rb.getLinearVelocity()) || !finite(rb.getAngularVelocity());
+    return nan || p.z() < -10 || p.length2() > 1e6;
+}
+
+}  // namespace
+
 void check_bodies(Runtime& r) {
-    for (int32_t b : r.tab.dyn_bodies) {
+    // Whether any body left the world or went NaN: looked for on the physics threads, in
+    // slices of the bodies (reads only); the rare step that has one then handles them here.
+    const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
+    const size_t n = dyn.size();
+    const size_t slices = std::min({r.st.slice_left.size(), size_t(4 * r.phys.workers().threads()), (n + 255) / 256});
+    struct Job {
+        Runtime* r;
+        size_t per, n;
+        void operator()(int i) const {
+            const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
+            bool off = false;
+            for (size_t k = b; k < e && !off; ++k) off = body_off(*r, r->tab.dyn_bodies[k]);
+            r->st.slice_left[size_t(i)] = off;
+        }
+    };
+    if (slices > 1) {
+        Job job{&r, (n + slices - 1) / slices, n};
+        r.phys.workers().run(int(slices), job);
+        bool any = false;
+        for (size_t i = 0; i < slices; ++i) any |= r.st.slice_left[i] != 0;
+        if (!any) return;
+    }
+    for (int32_t b : dyn) {
         if (!r.phys.in_world(b) || r.st.gone[b]) continue;
         const btRigidBody& rb = r.phys.rb(b);
         const btVector3& p = rb.getWorldTransform().getOrigin();

@@ -85,6 +85,8 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.inside.reserve(pairs);
     s.inside_prev.reserve(pairs);
     s.trigger_found.assign(g.triggers.size(), 0);
+    s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
+    s.slice_left.assign(64, 0);
     s.trigger_slices.resize(64);  // at most four per thread, 16 threads (triggers.cpp)
     for (std::vector<int32_t>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
     s.timers.resize(g.timers.size());  // running from the start: start_timers (timers.cpp)

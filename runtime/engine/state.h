@@ -139,6 +139,9 @@ struct State {
     // Found on the physics threads (triggers.cpp): per trigger, how many objects are inside;
     // per slice of the triggers, their lists one after the other.
     std::vector<int32_t> trigger_found;
+    // Per slice of prepare_fields' job (fields.cpp): a field's frame changed, a kinematic part
+    // left its room.
+    std::vector<uint8_t> slice_moved, slice_left;
     std::vector<std::vector<int32_t>> trigger_slices;
     std::vector<TimerState> timers;
     std::vector<int32_t> gripper_held;         // DO held, -1

@@ -403,24 +403,31 @@ void start_steady(Runtime& r, bool on) {
     S.big.reserve(S.hazards.size());
 }
 
-void check_steady(Runtime& r) {
-    Steady& S = r.steady;
-    S.coasting.clear();
-    if (!S.on) return;
-    Physics& ph = r.phys;
-    if (!S.grid_valid || S.grid_statics != ph.statics_placed()) build_grid(r);
-    for (int32_t k : S.kinematic) {  // a part that left its room: filed again where it is
+bool kinematic_left(const Runtime& r, size_t begin, size_t end) {
+    const Steady& S = r.steady;
+    const Physics& ph = r.phys;
+    if (!S.on || !S.grid_valid) return false;
+    for (size_t i = begin; i < end && i < S.kinematic.size(); ++i) {
+        const int32_t k = S.kinematic[i];
         const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
         // Where it was filed and slow: its box grown by m is inside the room (rounding is monotonic).
         if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[size_t(k)]) continue;
         btVector3 lo, hi;
         body_box(ph, k, lo, hi);
         const btVector3 g(m, m, m);
-        if (!inside(lo - g, hi + g, S.home_lo[size_t(k)], S.home_hi[size_t(k)])) {
-            build_grid(r);
-            break;
-        }
+        if (!inside(lo - g, hi + g, S.home_lo[size_t(k)], S.home_hi[size_t(k)])) return true;
     }
+    return false;
+}
+
+void check_steady(Runtime& r, bool left) {
+    Steady& S = r.steady;
+    S.coasting.clear();
+    if (!S.on) return;
+    Physics& ph = r.phys;
+    // A part that left its room: the static geometry filed again (a part found out of the
+    // room just after filing would find the same filing again).
+    if (!S.grid_valid || S.grid_statics != ph.statics_placed() || left) build_grid(r);
     for (size_t i = 0; i < S.roaming.size(); ++i)
         oriented_box(trigger_pose(r, size_t(S.roaming[i])), to_bt(r.g.triggers[size_t(S.roaming[i])].extent) * btScalar(0.5),
                      S.roam_lo[i], S.roam_hi[i]);

@@ -54,7 +54,12 @@ struct Steady {
 void start_steady(Runtime& r, bool on);
 // In the physics phase, after the fields' frames and before the law: units that must return to
 // the solver land, units steady long enough leave it.
-void check_steady(Runtime& r);
+// `left`: whether a kinematic part left its room this step (kinematic_left, found beside the
+// fields' frames on the physics threads).
+void check_steady(Runtime& r, bool left);
+// Whether one of kinematic parts [begin, end) of Steady::kinematic left the room it was filed
+// with (then the static geometry is filed again). Reads only; any thread.
+bool kinematic_left(const Runtime& r, size_t begin, size_t end);
 // After Bullet's step: the coasting units move by the law's exact solution.
 void advance_steady(Runtime& r);
 
