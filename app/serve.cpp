@@ -64,7 +64,15 @@ int serve_command(const std::vector<std::string>& args) {
     cli.value("--steady-transport", steady, "as plant run", "on|off");
     const CLI::Option* event_option =
         cli.values("--event", event, "a timed event, as plant run (repeatable; forces, hands too)", "\"5s PATH [VALUE]\"");
-    const CLI::Option* events_option = cli.values("--events", events, "one such event per line (an instructor's drill)", "FILE");
+    const CLI::Option* events_option = cli.values("--events", events, "one such event per line", "FILE");
+    std::vector<std::string> drill_files;
+    cli.values("--drill", drill_files,
+               "drills, one per line: at a time, now, or `when PATH >= N`;\nhidden or shown; `repaired by INPUT` "
+               "(docs/training.md; repeatable)",
+               "FILE");
+    cli.value("--report-dir", so.report_dir,
+              "when the session ends (Ctrl-C), write its report there:\nreport.md, report.html, session.events",
+              "DIR", "a folder");
     CompileFlags cf;
     add_compile_flags(cli, cf);
     std::vector<std::unique_ptr<Part>> all = parts();
@@ -106,9 +114,12 @@ int serve_command(const std::vector<std::string>& args) {
     so.server.models.stdlib_dir = stdlib_of(cf);
     if (replay) {
         if (!cf.sets.empty()) return cli.usage_error(std::cerr, "--set does not apply to a replay");
-        if (!event.empty() || !events.empty())
+        if (!event.empty() || !events.empty() || !drill_files.empty() || !so.report_dir.empty())
             return cli.usage_error(std::cerr, fmt::format("{} is for a live run, not a replay",
-                                                          event.empty() ? "--events" : "--event"));
+                                                          !event.empty()         ? "--event"
+                                                          : !events.empty()      ? "--events"
+                                                          : !drill_files.empty() ? "--drill"
+                                                                                 : "--report-dir"));
         return view::serve_main(nullptr, files[0], std::move(so), std::cout, std::cerr);
     }
     graph::Graph g;
@@ -128,6 +139,10 @@ int serve_command(const std::vector<std::string>& args) {
         if (!engine::parse_event(g, slots, event[next_event++], ev, error))
             return cli.usage_error(std::cerr, "--event: " + error);
         so.events.push_back(std::move(ev));
+    }
+    for (const std::string& f : drill_files) {
+        if (slots.empty()) slots = engine::slot_index(g);
+        if (!faults::load_drills(g, slots, f, so.drills, error)) return cli.usage_error(std::cerr, "--drill: " + error);
     }
     const RunPlace place{parent.string(), stdlib_of(cf), "plant serve"};
     std::unique_ptr<engine::RunLink> link;

@@ -140,7 +140,7 @@ void Player::history_add(double t, std::span<const double> values) {
     history_.add(t, values);
 }
 
-void Player::note_force(const engine::Event& ev, const std::string& line, const std::string& by) {
+void Player::note_force(const engine::Event& ev, const std::string& line, const std::string& by, bool shown) {
     if (!ev.force) return;
     // A force on a slot replaces any earlier one on it; a release ends it.
     std::erase_if(forces_, [&](const ForceNote& n) {
@@ -151,12 +151,15 @@ void Player::note_force(const engine::Event& ev, const std::string& line, const 
     // How, as the events-file line says it after the path ("open", "stuck 0.25").
     const size_t at = line.find(" " + ev.path + " ");
     const std::string how = at == std::string::npos ? "" : line.substr(at + ev.path.size() + 2);
-    forces_.push_back({ev.path, how, by, ev.slots, ev.time});
+    forces_.push_back({ev.path, how, by, ev.slots, ev.time, shown});
 }
 
-std::string Player::forced_json() const {
+std::string Player::forced_json(bool shown_only) const {
     json out = json::array();
-    for (const ForceNote& n : forces_) out.push_back({{"path", n.path}, {"how", n.how}, {"by", n.by}, {"since", n.since}});
+    for (const ForceNote& n : forces_)
+        if (!shown_only || n.shown)
+            out.push_back({{"path", n.path}, {"how", n.how}, {"by", n.by}, {"since", n.since}});
+    if (shown_only && out.empty()) return {};
     return out.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -264,10 +267,11 @@ namespace {
 class LivePlayer final : public Player {
 public:
     LivePlayer(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused, double speed,
-               std::vector<engine::Event> scheduled, engine::RunLink* link)
+               std::vector<engine::Event> scheduled, engine::RunLink* link, std::vector<faults::Drill> drills)
         : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g),
           scheduled_(std::move(scheduled)), link_(link) {
         slots_ = engine::slot_index(g);
+        for (faults::Drill& d : drills) drills_.add(std::move(d));
         std::stable_sort(scheduled_.begin(), scheduled_.end(),
                          [](const engine::Event& a, const engine::Event& b) { return a.time < b.time; });
         restart();
@@ -285,6 +289,7 @@ private:
         watched_version_ = ~uint64_t(0);
         clear_log();
         clear_forces();
+        drills_.reset();
         history_reset(g_.records.size());
         history_add(0, history_sample(*engine_, tally_));
         new_scene(scene_json(g_, dirs_, false, 0));
@@ -298,6 +303,10 @@ private:
             reanchor(now, 0);
         } else if (c.kind == Command::Kind::Event) {
             pending_.push_back({std::move(c.event), c.client, std::move(c.role)});
+        } else if (c.kind == Command::Kind::Drill) {
+            c.drill.by = "page " + std::to_string(c.client);
+            c.drill.role = c.role;
+            drills_.add(std::move(c.drill));
         }  // Seek: live runs cannot seek (refused by the server)
     }
 
@@ -305,15 +314,17 @@ private:
     // session's events file gets all but the plant file's own (a replay applies those again).
     // In the session's events file each line follows a comment that says who sent it and
     // when on the wall clock (serve/report.h), which `plant report` reads and a replay skips.
-    void apply(engine::Event& ev, const std::string& by, bool to_file, int client = -1, const std::string& role = {}) {
+    // `shown`: a drill's force that trainees see (faults/drill.h); every other is hidden.
+    void apply(engine::Event& ev, const std::string& by, bool to_file, int client = -1, const std::string& role = {},
+               bool shown = false) {
         engine::apply_event(*engine_, ev);
         const std::string line = engine::format_event(g_, ev, engine_->dt());
         const std::string noted = session_comment(by, role, wall_clock()) + "\n" + line;
         json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"by", by}};
         if (client >= 0) j["client"] = client;
         if (!to_file) j["planned"] = true;
-        log(j.dump(-1, ' ', false, json::error_handler_t::replace), noted, to_file, ev.force);
-        note_force(ev, line, by);
+        log(j.dump(-1, ' ', false, json::error_handler_t::replace), noted, to_file, ev.force && !shown);
+        note_force(ev, line, by, shown);
     }
 
     bool advance(double now) override {
@@ -338,6 +349,14 @@ private:
             apply(planned_[next_planned_], "plant file", false);
         for (; next_scheduled_ < scheduled_.size() && engine::due(*engine_, scheduled_[next_scheduled_]); ++next_scheduled_)
             apply(scheduled_[next_scheduled_], "command line", true);
+        // Drills that fire now (a time, a condition on the last step, a repair): logged as the
+        // timed events they become, so a replay needs no drill.
+        fired_.clear();
+        drills_.due(*engine_, fired_);
+        for (faults::Drills::Fired& f : fired_) {
+            const faults::Drill& d = drills_.list()[f.drill];
+            apply(f.event, fmt_drill(f), true, -1, d.role, d.shown);
+        }
         for (Pending& p : pending_) {
             p.event.time = double(engine_->steps() + 1) * engine_->dt();
             apply(p.event, "page " + std::to_string(p.client), true, p.client, p.role);
@@ -377,16 +396,36 @@ private:
         put_frame(tracker_);
     }
 
+    static std::string fmt_drill(const faults::Drills::Fired& f) {
+        return "drill " + std::to_string(f.drill + 1) + (f.repair ? " repair" : "");
+    }
+
+    // The drills and their state, for the instructor's page.
+    std::string drills_json() const {
+        json out = json::array();
+        for (size_t i = 0; i < drills_.list().size(); ++i) {
+            const faults::Drill& d = drills_.list()[i];
+            out.push_back({{"id", i + 1}, {"text", d.text}, {"state", faults::word(d.state)}, {"shown", d.shown},
+                           {"by", d.by}, {"fired", d.fired}, {"ended", d.ended}});
+        }
+        return out.dump(-1, ' ', false, json::error_handler_t::replace);
+    }
+
     void publish_status() override {
         StatusExtra x;
         x.paused = paused_;
         x.speed = speed_;
         x.rtf = paused_ ? 0 : achieved(wall_seconds(), engine_->time());
         StatusPub::View trainee;
-        trainee.status = status_json(*engine_, tally_, x);  // x.forced empty: no "forced"
+        x.forced = forced_json(true);  // only drills' shown forces ("" none: no "forced")
+        trainee.status = status_json(*engine_, tally_, x);
         x.forced = forced_json();
         StatusPub::View instructor;
         instructor.status = status_json(*engine_, tally_, x);
+        if (!drills_.empty() && !instructor.status.empty() && instructor.status.back() == '}') {
+            instructor.status.pop_back();
+            instructor.status += ",\"drills\":" + drills_json() + "}";
+        }
         for (const std::string& p : inspected()) {
             instructor.inspect[p] = inspect_json(*engine_, p);
             trainee.inspect[p] = inspect_json(*engine_, p, false);
@@ -408,6 +447,8 @@ private:
     std::vector<engine::Event> planned_;    // engine::plant_events, by time
     std::vector<engine::Event> scheduled_;  // the command line's, by time
     size_t next_planned_ = 0, next_scheduled_ = 0;
+    faults::Drills drills_;
+    std::vector<faults::Drills::Fired> fired_;
     std::set<std::string> watched_;
     uint64_t watched_version_ = ~uint64_t(0);
     engine::RunLink* link_ = nullptr;
@@ -571,8 +612,10 @@ private:
 }  // namespace
 
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
-                                         double speed, std::vector<engine::Event> scheduled, engine::RunLink* link) {
-    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed, std::move(scheduled), link);
+                                         double speed, std::vector<engine::Event> scheduled, engine::RunLink* link,
+                                         std::vector<faults::Drill> drills) {
+    return std::make_unique<LivePlayer>(g, opt, std::move(dirs), paused, speed, std::move(scheduled), link,
+                                        std::move(drills));
 }
 
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed) {

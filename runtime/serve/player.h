@@ -8,6 +8,7 @@
 #include "engine/engine.h"
 #include "engine/run.h"
 #include "engine/events.h"
+#include "faults/drill.h"
 #include "serve/history.h"
 #include "serve/record.h"
 #include "serve/view.h"
@@ -27,10 +28,11 @@
 namespace plant::view {
 
 struct Command {
-    enum class Kind { Pause, Run, Step, Restart, Speed, Event, Seek };
+    enum class Kind { Pause, Run, Step, Restart, Speed, Event, Seek, Drill };
     Kind kind = Kind::Pause;
     double value = 0;  // speed, seek time
     engine::Event event;
+    faults::Drill drill;  // Drill: one the instructor scheduled (faults/drill.h)
     int client = 0;
     std::string role;  // of the page that sent it ("instructor", "trainee"), for the events file
 };
@@ -70,7 +72,8 @@ public:
     // the last line (the log restarts with the run). Without `faults`, forces and releases
     // are left out (a trainee's page).
     std::vector<std::string> log_since(size_t from, size_t& next, bool faults = true) const;
-    // The events file of the session so far (for `plant run --events`).
+    // The events file of the session so far (for `plant run --events`), ending with the
+    // plant time it has reached (`# end`).
     std::string events_file() const;
     // The run's series from t = 0 (history.h), and a number bumped when they start anew (a
     // restart, a seek): a page that has an older one is sent the new one whole.
@@ -103,10 +106,12 @@ protected:
     void history_reset(size_t records);
     void history_add(double t, std::span<const double> values);
     bool history_due(double t) const { return history_.due(t); }
-    // Forced slots as the events that forced them say (who, since when): for the page's list.
-    void note_force(const engine::Event& ev, const std::string& line, const std::string& by);
+    // Forced slots as the events that forced them say (who, since when): for the page's list;
+    // `shown`: a drill's that trainees may see (faults/drill.h).
+    void note_force(const engine::Event& ev, const std::string& line, const std::string& by, bool shown = false);
     void clear_forces() { forces_.clear(); }
-    std::string forced_json() const;
+    // Every force (`shown_only`: those trainees may see; "" when there is none of them).
+    std::string forced_json(bool shown_only = false) const;
     // The speed achieved over the last two seconds of wall time.
     double achieved(double wall_now, double sim_now);
     void new_scene(std::string scene);
@@ -138,6 +143,7 @@ private:
         std::string path, how, by;
         std::vector<int32_t> slots;
         double since = 0;
+        bool shown = false;
     };
     std::vector<ForceNote> forces_;                // the player thread's own
     std::deque<std::pair<double, double>> pace_;  // (wall, sim) over the last two seconds
@@ -156,9 +162,10 @@ private:
 // `scheduled`: timed events from the command line (plant serve --event / --events), applied
 // at their times in every run, logged and saved like the page's. `link` (may be null): an
 // external link (engine/run.h) stepped with the run; not in lock-step.
+// `drills`: a drill file's (plant serve --drill), which the instructor's page adds to.
 std::unique_ptr<Player> make_live_player(const graph::Graph& g, engine::Options opt, ModelDirs dirs, bool paused,
                                          double speed, std::vector<engine::Event> scheduled = {},
-                                         engine::RunLink* link = nullptr);
+                                         engine::RunLink* link = nullptr, std::vector<faults::Drill> drills = {});
 std::unique_ptr<Player> make_replay_player(Recording rec, bool paused, double speed);
 
 }  // namespace plant::view

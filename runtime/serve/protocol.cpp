@@ -165,6 +165,10 @@ bool decode_client_message(std::string_view text, ClientMessage& m, std::string&
         }
         return string_field(j, "path", m.path, error);
     }
+    if (type == "drill") {  // {"type":"drill","line":"when PATH >= N force PATH open"} (the instructor's)
+        m.kind = ClientMessage::Kind::Drill;
+        return string_field(j, "line", m.path, error);
+    }
     if (type == "seek") {
         m.kind = ClientMessage::Kind::Seek;
         if (!number_field(j, "time", m.time, error)) return false;

@@ -8,12 +8,13 @@
 namespace plant::view {
 
 struct ClientMessage {
-    enum class Kind { Hello, Control, Event, Inspect, Seek };
+    enum class Kind { Hello, Control, Event, Inspect, Seek, Drill };
     Kind kind = Kind::Hello;
     int fps = 30;              // hello
     std::string action;        // control: pause, run, step, restart, speed
     double speed = 1;          // control speed: 0 (as fast as possible), 0.1 .. 100
-    std::string path;          // event: the input's dotted path; inspect: an object ("" the plant)
+    std::string path;          // event: the input's dotted path; inspect: an object ("" the plant);
+                               // drill: its line (faults/drill.h)
     bool stop_inspect = false; // inspect with a null path
     std::string value;         // event: the value as in an events file ("" for none)
     double time = 0;           // seek

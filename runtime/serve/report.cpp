@@ -7,10 +7,12 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -263,6 +265,14 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
         error = fmt::format("{}: cannot read the session's events file", events_path);
         return false;
     }
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return replay_session_text(g, plant, events_path, text, until, out, error);
+}
+
+bool replay_session_text(const graph::Graph& g, const std::string& plant, const std::string& events_path,
+                         const std::string& text, double until, Session& out, std::string& error) {
+    std::istringstream in(text);
+    std::vector<engine::Event> given;  // as engine::load_events reads them
     std::vector<Meta> metas;
     std::vector<std::pair<double, Meta>> timed;
     const engine::SlotIndex slots = engine::slot_index(g);
@@ -285,7 +295,12 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
             // The replay applies the file's events in time order (stable): so do their notes.
             engine::Event ev;
             std::string why;
-            timed.emplace_back(engine::parse_event(g, slots, t, ev, why) ? ev.time : 0.0, std::move(pending));
+            if (!engine::parse_event(g, slots, t, ev, why)) {
+                error = fmt::format("{}:{}: {}", events_path, n, why);
+                return false;
+            }
+            timed.emplace_back(ev.time, std::move(pending));
+            given.push_back(std::move(ev));
             pending = {};
         }
     }
@@ -306,8 +321,6 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
     engine::RunOptions run;
     run.duration = end;
     run.quiet = true;
-    std::vector<engine::Event> given;
-    if (!engine::load_events(g, engine::slot_index(g), events_path, given, error)) return false;
     run.events = engine::run_events(g, std::move(given));
     std::ostringstream err;
     if (engine::run(g, run, err, &gather, nullptr, [](const engine::RunSummary&) {}) != 0) {
@@ -494,6 +507,24 @@ bool write_report(const Session& s, const std::string& events_text, const std::s
     std::string md = report_markdown(s, plotted ? "throughput.png" : "");
     if (!plotted) md += "(No plot: gnuplot did not run; `bash scripts/setup.sh` installs it.)\n";
     return put("report.md", md) && put("report.html", report_html(s, svg));
+}
+
+std::string report_page(const Session& s, const std::string& events_text, std::string& error) {
+    namespace fs = std::filesystem;
+    std::string dir = (fs::temp_directory_path() / "plant-report-XXXXXX").string();
+    if (!mkdtemp(dir.data())) {
+        error = fmt::format("cannot make a temporary folder for the report: {}", std::strerror(errno));
+        return {};
+    }
+    std::string page;
+    if (write_report(s, events_text, dir, error)) {
+        std::ifstream f(fs::path(dir) / "report.html", std::ios::binary);
+        page.assign(std::istreambuf_iterator<char>(f), {});
+        if (page.empty()) error = "the report page could not be read back";
+    }
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    return page;
 }
 
 int report_main(const graph::Graph& g, const std::string& plant, const std::string& events_path,

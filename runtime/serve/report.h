@@ -82,6 +82,10 @@ struct Session {
 // `error` when the file does not replay (a bad line: the replay's own message).
 bool replay_session(const graph::Graph& g, const std::string& plant, const std::string& events_path,
                     double until, Session& out, std::string& error);
+// The same from the file's text (`events_path` names it in messages): a served session's
+// events so far (`plant serve`'s /report).
+bool replay_session_text(const graph::Graph& g, const std::string& plant, const std::string& events_path,
+                         const std::string& text, double until, Session& out, std::string& error);
 
 // The report, Markdown (`plot_png`: the plot's file name, "" none) and HTML (`plot_svg`:
 // the plot's SVG text, inlined; "" none).
@@ -96,6 +100,10 @@ std::string report_plot_data(const Session& s);
 // installed: DIR/throughput.png and .svg; otherwise the report says so). False with `error`
 // when a file cannot be written.
 bool write_report(const Session& s, const std::string& events_text, const std::string& dir, std::string& error);
+
+// The printable HTML page with its plot inlined, as write_report makes it (in a temporary
+// folder, removed after); "" with `error` when it cannot be made.
+std::string report_page(const Session& s, const std::string& events_text, std::string& error);
 
 // `plant report PLANT EVENTS`: replays the session and writes the report into `dir`; says
 // where on `out`. Returns 0, or 1 with the message on `err`.

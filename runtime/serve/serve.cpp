@@ -1,6 +1,7 @@
 #include "serve/serve.h"
 
 #include "serve/player.h"
+#include "serve/report.h"
 #include "serve/roles.h"
 #include "serve/server.h"
 
@@ -64,7 +65,8 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
 
     std::unique_ptr<Player> player;
     if (graph) {
-        player = make_live_player(*graph, options.engine, so.models, paused, speed, std::move(options.events), link);
+        player = make_live_player(*graph, options.engine, so.models, paused, speed, std::move(options.events), link,
+                                  std::move(options.drills));
     } else {
         Recording rec;
         std::string error;
@@ -74,6 +76,8 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
         }
         player = make_replay_player(std::move(rec), paused, speed);
     }
+    if (!options.report_dir.empty() && !graph) return fail("--report-dir: a replay has no session to report");
+    so.plant_file = file;
     Server server(*player, so);
     std::string error;
     if (!server.start(error)) {
@@ -100,6 +104,18 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
     fmt::print(out, "plant serve: stopped\n");
     server.stop();
     player->stop();
+    if (options.report_dir.empty()) return 0;
+    // The session's report, from its events replayed headless (docs/training.md).
+    const std::string text = player->events_file();
+    Session session;
+    if (!replay_session_text(*graph, file, "session.events", text, 0, session, error) ||
+        !write_report(session, text, options.report_dir, error)) {
+        fmt::print(err, "plant serve: error: the session report: {}\n", error);
+        return 1;
+    }
+    fmt::print(out, "plant serve: report: {0}/report.md, {0}/report.html, {0}/session.events ({1} faults, {2} events, "
+                    "{3} s of plant time)\n",
+               options.report_dir, session.faults.size(), session.events.size(), engine::time_text(session.end, session.dt));
     return 0;
 }
 

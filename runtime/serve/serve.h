@@ -13,6 +13,7 @@
 #pragma once
 
 #include "engine/run.h"
+#include "faults/drill.h"
 #include "graph/graph.h"
 #include "serve/server.h"
 
@@ -29,6 +30,10 @@ struct ServeOptions {
     bool no_roles = false;  // --no-roles: `open` on this machine only
     engine::Options engine;             // threads
     std::vector<engine::Event> events;  // a live run's timed events
+    std::vector<faults::Drill> drills;  // a live run's drills (--drill FILE)
+    // Where the session report goes when the session ends (--report-dir): report.md,
+    // report.html, session.events (serve/report.h); "" none.
+    std::string report_dir;
 };
 
 // `graph` is null for a replay: then `file` is the recording.

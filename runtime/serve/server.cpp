@@ -1,8 +1,10 @@
 #include "serve/server.h"
 
+#include "faults/drill.h"
 #include "faults/operable.h"
 #include "graph/plugin.h"
 #include "serve/protocol.h"
+#include "serve/report.h"
 #include "serve/roles.h"
 
 #include <utility>  // Boost 1.74's asio headers use std::exchange without it
@@ -134,6 +136,11 @@ struct Server::Impl {
     TokenGate gate;                      // the I/O thread's own
     std::unordered_set<int32_t> operable;  // the slots a trainee may fire or set
     std::string operable_json;           // those inputs, for the welcome: [{path, label, type}]
+    // The session report on demand (/report): made on a thread of its own, one at a time,
+    // so the pages' I/O never waits for the replay.
+    std::mutex report_m;
+    std::thread report_thread;
+    bool report_busy = false;
 
     Impl(Player& p, ServerOptions o) : player(p), opt(std::move(o)), gate(opt.lockout) {
         json list = json::array();
@@ -353,6 +360,14 @@ private:
             else if (msg.action == "restart") c.kind = Command::Kind::Restart;
             else c.kind = Command::Kind::Speed, c.value = msg.speed;
             break;
+        case ClientMessage::Kind::Drill:
+            if (trainee()) return refuse("drills are the instructor's");
+            if (!server_.player.live()) return reply_error("a replay is read-only: drills go to a live run");
+            c.kind = Command::Kind::Drill;
+            c.role = word(role_);
+            if (!faults::parse_drill(server_.player.graph(), server_.player.slots(), msg.path, c.drill, error))
+                return reply_error("drill: " + error);
+            break;
         case ClientMessage::Kind::Event: {
             if (!server_.player.live()) return reply_error("a replay is read-only: events go to a live run");
             c.kind = Command::Kind::Event;
@@ -551,6 +566,7 @@ private:
                                "the session's events file is the instructor's (its URL carries ?token=)\n");
             return respond(req, http::status::ok, server_.player.events_file(), "text/plain; charset=utf-8");
         }
+        if (rel == "report" || rel == "report.md") return report(req, target, rel == "report.md");
         std::string body, file;
         if (rel.rfind("models/", 0) == 0) {
             const std::string name = rel.substr(7);
@@ -559,6 +575,54 @@ private:
         else if (!server_.opt.viewer_dir.empty()) file = (fs::path(server_.opt.viewer_dir) / rel).string();
         if (file.empty() || !read_file(file, body)) return respond(req, http::status::not_found, "not found\n");
         respond(req, http::status::ok, std::move(body), content_type(file));
+    }
+
+    // The session report so far (serve/report.h): the session's events replayed headless, so
+    // its counters are the replay's; HTML with the plot (gnuplot) or Markdown. The
+    // instructor's only: a trainee is refused and logged.
+    void report(const http::request<http::string_body>& req, std::string_view target, bool markdown) {
+        Role role = Role::Trainee;
+        std::string refusal;
+        if (!server_.authorize(host_, addr_, target, role, refusal))
+            return respond(req, http::status::forbidden, refusal + "\n");
+        if (role != Role::Instructor) {
+            server_.count(&ServerStats::trainee_refused);
+            std::cerr << "plant serve: " << addr_ << " (trainee): refused: the session report is the instructor's\n";
+            return respond(req, http::status::forbidden,
+                           "the session report is the instructor's (its URL carries ?token=)\n");
+        }
+        if (!server_.player.live()) return respond(req, http::status::not_found, "a replay has no session report\n");
+        std::lock_guard lock(server_.report_m);
+        if (server_.report_busy)
+            return respond(req, http::status::service_unavailable, "a report is being made; try again in a moment\n");
+        if (server_.report_thread.joinable()) server_.report_thread.join();
+        server_.report_busy = true;
+        server_.report_thread = std::thread([self = this->shared_from_this(), req, markdown,
+                                             text = server_.player.events_file()] {
+            Server::Impl& srv = self->server_;
+            const graph::Graph& g = srv.player.graph();
+            Session session;
+            std::string error, body;
+            http::status status = http::status::ok;
+            if (!replay_session_text(g, srv.opt.plant_file, "session.events", text, 0, session, error)) {
+                status = http::status::internal_server_error;
+                body = "the session does not replay: " + error + "\n";
+            } else if (markdown) {
+                body = report_markdown(session, "");
+            } else {
+                body = report_page(session, text, error);
+                if (body.empty()) status = http::status::internal_server_error, body = error + "\n";
+            }
+            srv.count(&ServerStats::reports);
+            {
+                std::lock_guard lock(srv.report_m);
+                srv.report_busy = false;
+            }
+            net::post(self->stream_.get_executor(), [self, req, status, body = std::move(body), markdown]() mutable {
+                self->respond(req, status, std::move(body),
+                              markdown ? "text/markdown; charset=utf-8" : "text/html; charset=utf-8");
+            });
+        });
     }
 
     void respond(const http::request<http::string_body>& req, http::status status, std::string body,
@@ -672,6 +736,12 @@ void Server::stop() {
     }
     impl_->ioc.stop();
     impl_->thread.join();
+    std::thread report;  // joined outside the lock, which the thread takes as it ends
+    {
+        std::lock_guard lock(impl_->report_m);
+        report = std::move(impl_->report_thread);
+    }
+    if (report.joinable()) report.join();
 }
 
 bool loopback_host(const std::string& host) {

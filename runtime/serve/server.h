@@ -32,6 +32,8 @@ struct ServerOptions {
     std::chrono::milliseconds lockout{30000};
     // PEM files: both given, the server speaks only TLS (https, wss).
     std::string tls_cert, tls_key;
+    // The plant file, as the session report names it (/report, serve/report.h).
+    std::string plant_file;
 };
 
 struct ServerStats {
@@ -43,6 +45,7 @@ struct ServerStats {
     uint64_t refused_http = 0;     // HTTP requests refused (bad path, method)
     uint64_t bad_tokens = 0;       // connections refused for a wrong token (or while locked out)
     uint64_t trainee_refused = 0;  // trainees' messages refused for their role
+    uint64_t reports = 0;          // session reports made (/report, /report.md)
 };
 
 // Whether `host` (an IP address) is a loopback address: a page from there is on this machine.
