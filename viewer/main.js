@@ -6,7 +6,7 @@ import { Inspector } from './inspector.js';
 import { Plots } from './plots.js';
 import { Labels } from './labels.js';
 import { Hand } from './hand.js';
-import { ForcedPanel, Notices } from './panels.js';
+import { DrillsPanel, ForcedPanel, Notices } from './panels.js';
 import { LostMarkers } from './lost.js';
 import { OperatorPanels } from './panel.js';
 
@@ -116,6 +116,7 @@ const conn = new Connection({
     inspector.applyStatus(st.inspect);
     plots.applyStatus(st);
     forced.apply(st.forced ?? []);
+    drills.apply(st.drills ?? []);
     labels.setForced(st.forced ?? []);
     lost.apply(st.lost ?? []);
     operatorPanels.apply(st.panel ?? []);
@@ -143,6 +144,7 @@ const notices = new Notices($('notices'), $('notice-list'));
 view.onModelFailed = (url, error) => notices.add(`model ${url.replace(/^\/models\//, '')} could not be loaded (${error}): its body is drawn instead`);
 view.onModelLoaded = () => labels.place();
 const forced = new ForcedPanel($('forced'), $('forced-count'), $('forced-none'), (path) => conn.send({ type: 'force', path, mode: 'release' }), () => replay);
+const drills = new DrillsPanel($('drill-form'), $('drills'), (msg) => conn.send(msg));
 const labels = new Labels(view, (path) => debug.select(path));
 const lost = new LostMarkers(view, (path) => debug.select(path));
 const operatorPanels = new OperatorPanels($('view'), (msg) => conn.send(msg));
@@ -180,6 +182,7 @@ function setRole(msg) {
   $('role').textContent = msg.role ?? '';
   $('role').hidden = !msg.role;
   $('save-events').href = `/events${roleQuery()}`;
+  $('open-report').href = `/report${roleQuery()}`;
   inspector.operable = trainee ? new Set((msg.operable ?? []).map((o) => o.path)) : null;
   const list = $('controls');
   list.replaceChildren();

@@ -78,3 +78,40 @@ export class Notices {
 
   list() { return [...this.seen]; }
 }
+
+// The instructor's drills (docs/training.md, "Drills"): a line in the drill syntax
+// ("when line[0].s2.seen >= 10 force line[0].s2.sw.reader.bottle open", "20s force …",
+// "now …"), hidden from trainees unless unticked, sent as {type:"drill", line}; the list is
+// status.drills (each with its state: waiting, holding, released, repaired, done).
+export class DrillsPanel {
+  constructor(form, table, send) {
+    this.table = table;
+    this.key = '';
+    this.line = form.querySelector('input[type=text]');
+    this.hidden = form.querySelector('input[type=checkbox]');
+    form.addEventListener('submit', (e) => {
+      e.preventDefault();
+      const text = this.line.value.trim();
+      if (!text) return;
+      send({ type: 'drill', line: (this.hidden.checked ? '' : 'shown ') + text });
+      this.line.value = '';
+    });
+  }
+
+  apply(drills) {
+    const key = JSON.stringify(drills);
+    if (key === this.key) return;
+    this.key = key;
+    this.table.replaceChildren();
+    for (const d of drills) {
+      const tr = document.createElement('tr');
+      tr.dataset.drill = String(d.id);
+      tr.dataset.state = d.state;
+      const when = d.fired >= 0 ? ` at ${Number(d.fired).toFixed(1)} s` : '';
+      const end = d.ended >= 0 ? `, ${Number(d.ended).toFixed(1)} s` : '';
+      tr.append(cell(`${d.id}`, 'kind'), cell(d.text, 'name'), cell(`${d.state}${when}${end}${d.shown ? '' : ' · hidden'}`, 'kind'));
+      tr.title = `by ${d.by}`;
+      this.table.append(tr);
+    }
+  }
+}
