@@ -12,12 +12,9 @@
 // picture in docs/images/viewer.png). Everything is bounded in time; exit 1 on any failed
 // check. --draw-calls: only the scene checks, then print the draw calls (for bench/).
 // Further arguments go to `plant serve` (`--set lines=25`: the 1,000-bottle plant).
-import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync, statSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
-import puppeteer from 'puppeteer-core';
+import { statSync } from 'node:fs';
 import { badModels, handCarries, labelsShown, lateHistory, lostMarked, modelsLoaded } from './checks.mjs';
+import { Harness, sleep, until } from './harness.mjs';
 
 const [binary, plantFile, screenshot, ...flags] = process.argv.slice(2);
 if (!binary || !plantFile || !screenshot) {
@@ -27,115 +24,21 @@ if (!binary || !plantFile || !screenshot) {
 const docs = flags.includes('--docs');
 const drawCallsOnly = flags.includes('--draw-calls');
 const serveArgs = flags.filter((f) => f !== '--docs' && f !== '--draw-calls');   // e.g. --set lines=25, passed to plant serve
-const OVERALL_MS = docs ? 240_000 : 200_000;
-const started = Date.now();
-const elapsed = () => `${((Date.now() - started) / 1000).toFixed(1)}s`;
-
-let server = null, browser = null, client = null, profile = null;
-let failures = 0;
-
-function check(ok, what) {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-  if (!ok) failures++;
-  return ok;
-}
-
-async function cleanup() {
-  try { client?.close(); } catch { /* closing anyway */ }
-  if (browser) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
-  if (browser?.process() && browser.process().exitCode === null) browser.process().kill('SIGKILL');
-  if (server && server.exitCode === null) {
-    server.kill('SIGTERM');
-    await Promise.race([new Promise((r) => server.once('exit', r)), sleep(3000)]);
-    if (server.exitCode === null && server.signalCode === null) server.kill('SIGKILL');
-  }
-  if (profile) try { rmSync(profile, { recursive: true, force: true, maxRetries: 3 }); } catch { /* a temporary folder */ }
-}
-
-async function finish(code) {
-  await cleanup();
-  process.exit(code);
-}
-
-const overall = setTimeout(async () => {
-  console.error(`FAIL the test took longer than ${OVERALL_MS / 1000} s`);
-  await finish(1);
-}, OVERALL_MS);
-
-function sleep(ms) { return new Promise((r) => setTimeout(r, ms)); }
-
-// Polls `f` until it returns a truthy value or `ms` pass.
-async function until(f, ms, step = 100) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await f();
-    if (v) return v;
-    if (Date.now() > end) return v;
-    await sleep(step);
-  }
-}
-
-// Starts the server and returns the URL it prints.
-function startServer() {
-  return new Promise((resolve, reject) => {
-    server = spawn(binary, ['serve', plantFile, '--port', '0', ...serveArgs], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '', err = '';
-    const timer = setTimeout(() => reject(new Error(`no URL from the server in 20 s; stdout: ${out} stderr: ${err}`)), 20_000);
-    server.stdout.on('data', (d) => {
-      out += d;
-      const m = out.match(/plant serve: (http:\/\/[^\s/]+\/)/);
-      if (m) { clearTimeout(timer); resolve(m[1]); }
-    });
-    server.stderr.on('data', (d) => { err += d; if (err.length > 20000) err = err.slice(-10000); });
-    server.on('exit', (code, sig) => { clearTimeout(timer); reject(new Error(`the server exited (${code ?? sig}): ${err}`)); });
-    server.on('error', (e) => { clearTimeout(timer); reject(e); });
-  });
-}
-
-// A protocol client of our own, to see the runtime's state independently of the page.
-function connect(url) {
-  return new Promise((resolve, reject) => {
-    const ws = new WebSocket(url.replace(/^http/, 'ws') + 'ws');
-    ws.binaryType = 'arraybuffer';
-    const state = { ws, scene: null, status: null, events: [], frames: 0, close: () => ws.close() };
-    const timer = setTimeout(() => reject(new Error('no scene on our own connection in 10 s')), 10_000);
-    ws.onmessage = (e) => {
-      if (typeof e.data !== 'string') { state.frames++; return; }
-      const m = JSON.parse(e.data);
-      if (m.type === 'scene') { state.scene = m; clearTimeout(timer); resolve(state); }
-      else if (m.type === 'status') state.status = m;
-      else if (m.type === 'event') state.events.push(m.line);
-    };
-    ws.onopen = () => ws.send(JSON.stringify({ type: 'hello', fps: 2 }));
-    ws.onerror = () => { clearTimeout(timer); reject(new Error('our WebSocket failed')); };
-    state.send = (m) => ws.send(JSON.stringify(m));
-  });
-}
+const h = new Harness('viewer', docs ? 240_000 : 200_000);
+const check = (ok, what) => h.check(ok, what);
+const elapsed = () => h.elapsed();
 
 try {
   if (typeof WebSocket === 'undefined') throw new Error('no WebSocket in this Node: run it with --experimental-websocket');
-  const url = await startServer();
+  const { base: url } = await h.startServer(binary, [plantFile, ...serveArgs]);
   console.log(`server: ${url} (${elapsed()})`);
-  client = await connect(url);
+  const client = await h.connect(url, 2);
   const scene = client.scene;
   console.log(`scene: ${scene.plant}, ${scene.bodies.length} bodies, ${scene.graphics.length} graphics, ${scene.fields.length} fields, ${scene.triggers.length} triggers`);
 
-  profile = mkdtempSync(join(tmpdir(), 'plant-viewer-chromium-'));
-  browser = await puppeteer.launch({
-    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-    headless: true,
-    protocolTimeout: 30_000,
-    args: ['--headless=new', '--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
-      '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync',
-      '--disable-dev-shm-usage', `--user-data-dir=${profile}`, '--window-size=1400,900'],
-  });
-  const page = await browser.newPage();
-  page.setDefaultTimeout(30_000);
-  await page.setViewport({ width: 1400, height: 900 });
-  const pageErrors = [];
-  page.on('pageerror', (e) => pageErrors.push(e.message));
-  page.on('console', (m) => { if (m.type() === 'error' && !/favicon/.test(m.text())) pageErrors.push(m.text()); });
-  await page.goto(url, { waitUntil: 'load' });
+  const browser = await h.launch();
+  const page = await h.open(url);
+  const pageErrors = page.errors;
 
   // ---- the scene: one drawn object per body ----
   await page.waitForFunction(() => window.plantViewer?.sceneReady && window.plantViewer.framesReceived >= 3, { timeout: 30_000 });
@@ -364,15 +267,13 @@ try {
   }
   if (!docs) await lostMarked(ctx);
   check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
-  const stillRunning = server.exitCode === null;
+  const stillRunning = h.server.exitCode === null;
   check(stillRunning, 'the server still runs');
   if (!docs) await badModels(ctx);
 } catch (e) {
   if (e !== null) {
     console.error(`FAIL ${e.message}`);
-    failures++;
+    h.failures++;
   }
 }
-clearTimeout(overall);
-console.log(`${failures ? 'FAILED' : 'passed'} in ${elapsed()}`);
-await finish(failures ? 1 : 0);
+await h.done();

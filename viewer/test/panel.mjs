@@ -10,88 +10,20 @@
 // status, and the feed stops: no bottle is issued for 12 s of plant time; Start lights the
 // lamp again and the feed resumes. Writes a screenshot of the panel (docs/images/panel.png
 // with --docs). Bounded in time; exit 1 on any failed check.
-import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync, statSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
-import puppeteer from 'puppeteer-core';
+import { statSync } from 'node:fs';
+import { Harness, sleep, until } from './harness.mjs';
 
 const [binary, plantFile, screenshot] = process.argv.slice(2);
 if (!binary || !plantFile || !screenshot) {
   console.error('usage: node --experimental-websocket panel.mjs PLANT_BINARY PLANT_FILE SCREENSHOT.png');
   process.exit(2);
 }
-const OVERALL_MS = 150_000;
-const started = Date.now();
-const elapsed = () => `${((Date.now() - started) / 1000).toFixed(1)}s`;
-let server = null, browser = null, client = null, profile = null, failures = 0;
-
-function check(ok, what) {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-  if (!ok) failures++;
-  return ok;
-}
-function sleep(ms) { return new Promise((r) => setTimeout(r, ms)); }
-async function until(f, ms, step = 100) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await f();
-    if (v || Date.now() > end) return v;
-    await sleep(step);
-  }
-}
-async function finish(code) {
-  try { client?.close(); } catch { /* closing anyway */ }
-  if (browser) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
-  if (browser?.process() && browser.process().exitCode === null) browser.process().kill('SIGKILL');
-  if (server && server.exitCode === null) {
-    server.kill('SIGTERM');
-    await Promise.race([new Promise((r) => server.once('exit', r)), sleep(3000)]);
-    if (server.exitCode === null && server.signalCode === null) server.kill('SIGKILL');
-  }
-  if (profile) try { rmSync(profile, { recursive: true, force: true, maxRetries: 3 }); } catch { /* a temporary folder */ }
-  process.exit(code);
-}
-const overall = setTimeout(async () => { console.error(`FAIL the test took longer than ${OVERALL_MS / 1000} s`); await finish(1); }, OVERALL_MS);
-
-function startServer() {
-  return new Promise((resolve, reject) => {
-    server = spawn(binary, ['serve', plantFile, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '', err = '';
-    const timer = setTimeout(() => reject(new Error(`no URL from the server in 20 s; stderr: ${err}`)), 20_000);
-    server.stdout.on('data', (d) => {
-      out += d;
-      const m = out.match(/plant serve: (http:\/\/[^\s/]+\/)/);
-      if (m) { clearTimeout(timer); resolve(m[1]); }
-    });
-    server.stderr.on('data', (d) => { err += d; if (err.length > 20000) err = err.slice(-10000); });
-    server.on('exit', (code, sig) => { clearTimeout(timer); reject(new Error(`the server exited (${code ?? sig}): ${err}`)); });
-  });
-}
-
-// Our own protocol client: the runtime's state, independent of the page.
-function connect(url) {
-  return new Promise((resolve, reject) => {
-    const ws = new WebSocket(url.replace(/^http/, 'ws') + 'ws');
-    ws.binaryType = 'arraybuffer';
-    const state = { scene: null, status: null, events: [], close: () => ws.close() };
-    const timer = setTimeout(() => reject(new Error('no scene on our own connection in 10 s')), 10_000);
-    ws.onmessage = (e) => {
-      if (typeof e.data !== 'string') return;
-      const m = JSON.parse(e.data);
-      if (m.type === 'scene') { state.scene = m; clearTimeout(timer); resolve(state); }
-      else if (m.type === 'status') state.status = m;
-      else if (m.type === 'event') state.events.push(m.line);
-    };
-    ws.onopen = () => ws.send(JSON.stringify({ type: 'hello', fps: 5 }));
-    ws.onerror = () => { clearTimeout(timer); reject(new Error('our WebSocket failed')); };
-    state.send = (m) => ws.send(JSON.stringify(m));
-  });
-}
+const h = new Harness('panel', 150_000);
+const check = (ok, what) => h.check(ok, what);
 
 try {
-  const url = await startServer();
-  client = await connect(url);
+  const { base: url } = await h.startServer(binary, [plantFile]);
+  const client = await h.connect(url);
   const panels = client.scene.panels ?? [];
   check(panels.length === 1, `the scene lists one panel (${panels.map((p) => p.path).join(', ')})`);
   const ops = panels[0];
@@ -100,22 +32,9 @@ try {
   const lamp = index('running');
   check(stop && start && lamp >= 0, `the panel has start, stop and a running lamp (${ops.elements.map((e) => `${e.kind} ${e.name}`).join(', ')})`);
 
-  profile = mkdtempSync(join(tmpdir(), 'plant-panel-chromium-'));
-  browser = await puppeteer.launch({
-    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-    headless: true,
-    protocolTimeout: 30_000,
-    args: ['--headless=new', '--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync', '--disable-dev-shm-usage',
-      `--user-data-dir=${profile}`, '--window-size=1400,900'],
-  });
-  const page = await browser.newPage();
-  page.setDefaultTimeout(30_000);
-  await page.setViewport({ width: 1400, height: 900 });
-  const pageErrors = [];
-  page.on('pageerror', (e) => pageErrors.push(e.message));
-  page.on('console', (m) => { if (m.type() === 'error' && !/favicon/.test(m.text())) pageErrors.push(m.text()); });
-  await page.goto(url, { waitUntil: 'load' });
+  await h.launch();
+  const page = await h.open(url);
+  const pageErrors = page.errors;
   await page.waitForFunction(() => window.plantViewer?.sceneReady && window.plantViewer.statusReceived >= 2, { timeout: 30_000 });
 
   const drawn = await page.evaluate(() => [...document.querySelectorAll('.op-panel [data-element]')].map((e) => e.dataset.kind));
@@ -160,8 +79,6 @@ try {
   check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
 } catch (e) {
   console.error(`FAIL ${e.message}`);
-  failures++;
+  h.failures++;
 }
-clearTimeout(overall);
-console.log(`${failures ? 'FAILED' : 'passed'} in ${elapsed()}`);
-await finish(failures ? 1 : 0);
+await h.done();
