@@ -489,6 +489,9 @@ bool write_report(const Session& s, const std::string& events_text, const std::s
         posix_spawn_file_actions_t fa;
         posix_spawn_file_actions_init(&fa);
         posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+        // Its warnings too ("empty y2 range" when nothing was lost): they would land in the
+        // middle of `plant serve`'s log; a plot that fails is said in the report.
+        posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
         posix_spawn_file_actions_addchdir_np(&fa, dir.c_str());
         pid_t pid = 0;
         if (posix_spawnp(&pid, gp.c_str(), &fa, nullptr, argv.data(), environ) == 0) {

@@ -407,3 +407,67 @@ TEST_CASE("roles: with a certificate the page is served over https and the pages
     // Plain HTTP to the TLS port gets no page.
     CHECK(http_get(s.port, "/") == 0);
 }
+
+TEST_CASE("roles: drills are the instructor's; a hidden drill's force reaches no trainee, a shown one does") {
+    const graph::Graph g = room();
+    CaptureErr err;
+    Served s(view::make_live_player(g, {}, {}, false, 1), [](view::ServerOptions& o) { o.token = kToken; });
+    Page instructor(s.port, nullptr, std::string("/ws?token=") + kToken), trainee(s.port, nullptr, "/ws?role=trainee");
+    json m;
+    REQUIRE(instructor.wait_json("welcome", m));
+    REQUIRE(trainee.wait_json("welcome", m));
+    CHECK(error_for(trainee, R"({"type":"drill","line":"now force other.stop open"})").find("refused: drills are the "
+                                                                                          "instructor's") !=
+          std::string::npos);
+    CHECK(error_for(instructor, R"({"type":"drill","line":"when clock.tock >= 3 force other.stop open"})")
+              .find("drill: no slot 'clock.tock' in the plant (did you mean 'clock.tick'?)") != std::string::npos);
+    instructor.send(R"({"type":"drill","line":"when clock.tick >= 3 force other.stop open"})");
+    instructor.send(R"({"type":"drill","line":"shown when clock.tick >= 4 force other.start open"})");
+    // The instructor sees both fire, in the log and in the status's drills.
+    bool hidden_fired = false, shown_fired = false, holding = false;
+    REQUIRE(instructor.wait([&](const std::string& msg, bool bin) {
+        const json j = bin ? json::object() : json::parse(msg, nullptr, false);
+        if (j.value("type", "") == "event" && j.value("by", "") == "drill 1")
+            hidden_fired |= j["line"].get<std::string>().find("force other.stop open") != std::string::npos;
+        if (j.value("type", "") == "event" && j.value("by", "") == "drill 2")
+            shown_fired |= j["line"].get<std::string>().find("force other.start open") != std::string::npos;
+        if (j.value("type", "") == "status" && j.contains("drills") && j["drills"].size() == 2)
+            holding = j["drills"][0]["state"] == "holding" && j["drills"][1]["state"] == "holding" &&
+                      j["drills"][0]["shown"] == false && j["drills"][1]["shown"] == true;
+        return hidden_fired && shown_fired && holding;
+    }, 20));
+    // The trainee: the shown one (its event, its force in the status), never the hidden one,
+    // and no drills.
+    bool saw_shown = false, status_shown = false;
+    REQUIRE(trainee.wait([&](const std::string& msg, bool bin) {
+        if (bin) return false;
+        const json j = json::parse(msg, nullptr, false);
+        if (j.value("type", "") == "event") {
+            const std::string line = j["line"].get<std::string>();
+            CHECK_MESSAGE(line.find("other.stop") == std::string::npos, line);
+            saw_shown |= line.find("force other.start open") != std::string::npos;
+        }
+        if (j.value("type", "") == "status") {
+            CHECK_FALSE(j.contains("drills"));
+            if (j.contains("forced")) {
+                CHECK(j["forced"].size() == 1);
+                status_shown = j["forced"][0]["path"] == "other.start";
+            }
+        }
+        return saw_shown && status_shown;
+    }, 20));
+    // The session's events file has each as the timed event it became, after who fired it.
+    std::string events;
+    REQUIRE(http_get(s.port, std::string("/events?token=") + kToken, &events) == 200);
+    CHECK(events.find("# by drill 1 (instructor) at 20") != std::string::npos);
+    CHECK(events.find("s force other.stop open\n") != std::string::npos);
+    CHECK(events.find("when") == std::string::npos);
+    // The report: the instructor's only; a trainee's ask is refused and logged.
+    CHECK(http_get(s.port, "/report.md?role=trainee") == 403);
+    CHECK(http_get(s.port, "/report?role=trainee") == 403);
+    CHECK(err.text.str().find("(trainee): refused: the session report is the instructor's") != std::string::npos);
+    std::string md;
+    REQUIRE(http_get(s.port, std::string("/report.md?token=") + kToken, &md) == 200);
+    CHECK(md.find("### 2. `other.stop` open") != std::string::npos);  // after the plant file's own fault
+    CHECK(md.find("by drill 1") != std::string::npos);
+}
