@@ -107,9 +107,9 @@ export class DrillsPanel {
       const tr = document.createElement('tr');
       tr.dataset.drill = String(d.id);
       tr.dataset.state = d.state;
-      const when = d.fired >= 0 ? ` at ${Number(d.fired).toFixed(1)} s` : '';
-      const end = d.ended >= 0 ? `, ${Number(d.ended).toFixed(1)} s` : '';
-      tr.append(cell(`${d.id}`, 'kind'), cell(d.text, 'name'), cell(`${d.state}${when}${end}${d.shown ? '' : ' · hidden'}`, 'kind'));
+      const t = (x) => `${Number(x).toFixed(1)} s`;
+      const when = d.fired < 0 ? '' : d.ended < 0 ? ` since ${t(d.fired)}` : ` (${t(d.fired)} to ${t(d.ended)})`;
+      tr.append(cell(`${d.id}`, 'kind'), cell(d.text, 'name'), cell(`${d.state}${when}${d.shown ? '' : ' · hidden'}`, 'kind'));
       tr.title = `by ${d.by}`;
       this.table.append(tr);
     }

@@ -94,6 +94,13 @@ try {
   // ---- the trainee presses Stop on the panel ----
   await press(tPage, el('stop'));
   check(await until(() => ins.events.some((l) => l.endsWith(`${el('stop')}.press`)), 5000), 'Stop reached the runtime');
+  if (shots) {   // both pages while the fault holds (docs/images/training-drill.png is the instructor's)
+    await sleep(500);
+    await iPage.bringToFront();
+    await iPage.screenshot({ path: join(shots, 'training-drill.png') });
+    await tPage.bringToFront();
+    await tPage.screenshot({ path: join(shots, 'training-drill-trainee.png') });
+  }
 
   // ---- the trainee grabs a bottle with the hand (the instructor holds the run meanwhile) ----
   await click(iPage, '#run');
@@ -151,10 +158,6 @@ try {
   await sleep(400);   // the last status of the paused run
   const live = ins.status;
   check(!!paused, `paused at ${live.time.toFixed(3)} s (step ${live.step})`);
-  if (shots) {
-    await iPage.screenshot({ path: join(shots, 'training-drill-instructor.png') });
-    await tPage.screenshot({ path: join(shots, 'training-drill-trainee.png') });
-  }
 
   // ---- the report, from the instructor's page ----
   const tab = new Promise((r) => h.browser.once('targetcreated', r));
