@@ -39,6 +39,9 @@ public:
     virtual bool wanted(const graph::Graph&) const { return false; }
     // Whether a --lockstep with no link wanted starts this one (Modbus: the plant's PLC).
     virtual bool lockstep_default() const { return false; }
+    // Whether its link can hold the run in lock-step (false: the drills, which only add
+    // events; they run beside a lock-step link and do not count as one).
+    virtual bool waits() const { return true; }
     // The link, started; null with `error`.
     virtual std::unique_ptr<engine::RunLink> start(const graph::Graph&, bool /*lockstep*/, const RunPlace&,
                                                    std::ostream& /*err*/, std::string& error) {

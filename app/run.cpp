@@ -53,9 +53,10 @@ int run_command(const std::vector<std::string>& args) {
     // The links the run serves: those asked for or declared; --lockstep alone starts the
     // plant's PLC link, and takes exactly one.
     const RunPlace place{std::filesystem::path(files[0]).parent_path().string(), stdlib_of(cf), "plant run"};
-    std::vector<Part*> served;
+    // A link that never waits (the drills) is served beside them and counts for neither.
+    std::vector<Part*> served, beside;
     for (auto& p : all)
-        if (!p->link_name().empty() && p->wanted(g)) served.push_back(p.get());
+        if (!p->link_name().empty() && p->wanted(g)) (p->waits() ? served : beside).push_back(p.get());
     if (lockstep && served.empty())
         for (auto& p : all)
             if (p->lockstep_default()) served.push_back(p.get());
@@ -63,6 +64,7 @@ int run_command(const std::vector<std::string>& args) {
         return cli.usage_error(std::cerr, "--lockstep: the plant is served over " + served[0]->link_name() + " and " +
                                               served[1]->link_name() +
                                               "; lock-step takes one link (leave out --modbus-port, or the opcua component)");
+    served.insert(served.end(), beside.begin(), beside.end());
     std::vector<std::unique_ptr<engine::RunLink>> started;
     std::vector<engine::RunLink*> chain_of;
     for (Part* p : served) {

@@ -85,6 +85,7 @@ public:
         return true;
     }
     std::string link_name() const override { return "drill"; }
+    bool waits() const override { return false; }
     bool wanted(const graph::Graph&) const override { return !files_.empty(); }
     std::unique_ptr<engine::RunLink> start(const graph::Graph& g, bool, const RunPlace&, std::ostream&,
                                            std::string& error) override {
