@@ -106,6 +106,10 @@ int serve_main(const graph::Graph* graph, const std::string& file, ServeOptions 
     player->stop();
     if (options.report_dir.empty()) return 0;
     // The session's report, from its events replayed headless (docs/training.md).
+    if (const auto f = player->frame(); !f || f->frame.time <= 0) {
+        fmt::print(out, "plant serve: no report: the session ended before its first step\n");
+        return 0;
+    }
     const std::string text = player->events_file();
     Session session;
     if (!replay_session_text(*graph, file, "session.events", text, 0, session, error) ||
