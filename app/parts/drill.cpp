@@ -25,6 +25,9 @@ public:
         applied_.reserve(drills_.list().size() * 2);
         if (!out.empty()) out_.open(out, std::ios::binary);
         if (out_) out_ << "# the events a drill applied in a plant run: plant run FILE --events THIS_FILE replays it\n";
+        // Each drill as scheduled, as a served session's events file says it (serve/report.h).
+        for (size_t i = 0; out_ && i < drills_.list().size(); ++i)
+            out_ << "# drill " << i + 1 << " by " << drills_.list()[i].by << ": " << drills_.list()[i].text << "\n";
     }
     ~DrillLink() override {
         if (out_) out_ << view_end() << "\n";

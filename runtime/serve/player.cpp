@@ -115,6 +115,11 @@ void Player::log(std::string event_json, std::string line, bool to_file, bool fa
     }
 }
 
+void Player::note(std::string comment) {
+    std::lock_guard lock(m_);
+    lines_.push_back(std::move(comment));
+}
+
 void Player::clear_log() {
     std::lock_guard lock(m_);
     log_first_ += log_.size();
@@ -272,6 +277,7 @@ public:
           scheduled_(std::move(scheduled)), link_(link) {
         slots_ = engine::slot_index(g);
         for (faults::Drill& d : drills) drills_.add(std::move(d));
+        note_drills();
         std::stable_sort(scheduled_.begin(), scheduled_.end(),
                          [](const engine::Event& a, const engine::Event& b) { return a.time < b.time; });
         restart();
@@ -290,6 +296,7 @@ private:
         clear_log();
         clear_forces();
         drills_.reset();
+        note_drills();
         history_reset(g_.records.size());
         history_add(0, history_sample(*engine_, tally_));
         new_scene(scene_json(g_, dirs_, false, 0));
@@ -307,6 +314,7 @@ private:
             c.drill.by = "page " + std::to_string(c.client);
             c.drill.role = c.role;
             drills_.add(std::move(c.drill));
+            note(drill_comment(drills_.list().size() - 1));
         }  // Seek: live runs cannot seek (refused by the server)
     }
 
@@ -394,6 +402,16 @@ private:
     void publish_frame() override {
         tracker_.take(*engine_);
         put_frame(tracker_);
+    }
+
+    // Each drill as scheduled, in the session's events file: the report names a drill's
+    // fault by its line.
+    std::string drill_comment(size_t i) const {
+        const faults::Drill& d = drills_.list()[i];
+        return session_drill_comment(int(i + 1), d.role.empty() ? d.by : d.by + " (" + d.role + ")", d.text);
+    }
+    void note_drills() {
+        for (size_t i = 0; i < drills_.list().size(); ++i) note(drill_comment(i));
     }
 
     static std::string fmt_drill(const faults::Drills::Fired& f) {

@@ -103,6 +103,9 @@ protected:
     // `fault`: a force or a release, which trainees' pages are not sent.
     void log(std::string event_json, std::string line, bool to_file, bool fault);
     void clear_log();
+    // A comment line for the session's events file alone (a drill as scheduled: `# drill N
+    // by WHO: LINE`, serve/report.h), which a replay skips.
+    void note(std::string comment);
     void history_reset(size_t records);
     void history_add(double t, std::span<const double> values);
     bool history_due(double t) const { return history_.due(t); }

@@ -11,6 +11,8 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cstdio>
 #include <cerrno>
 #include <cstring>
 #include <cmath>
@@ -28,6 +30,7 @@ namespace {
 
 constexpr std::string_view kBy = "# by ";
 constexpr std::string_view kEnd = "# end ";
+constexpr std::string_view kDrill = "# drill ";
 
 std::string trim(std::string_view s) {
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
@@ -156,6 +159,10 @@ void find_faults(Session& s) {
         f.how = p == std::string::npos ? "" : trim(std::string_view(ev.line).substr(p + ev.path.size()));
         f.set = ev.time;
         f.set_by = ev.by;
+        // "drill N" (its repair's release is "drill N repair"): the drill's line as scheduled.
+        if (int n = 0; ev.by.starts_with("drill ") && std::sscanf(ev.by.c_str() + 6, "%d", &n) == 1 && n >= 1 &&
+                       size_t(n) <= s.drills.size() && !s.drills[size_t(n - 1)].empty())
+            f.drill = fmt::format("{} {}", n, s.drills[size_t(n - 1)]);
         open[ev.path] = s.faults.size();
         s.faults.push_back(std::move(f));
     }
@@ -221,6 +228,7 @@ struct Row {
 std::vector<Row> fault_rows(const Session& s, const SessionFault& f) {
     const std::string t0 = engine::time_text(f.set, s.dt);
     std::vector<Row> rows = {{"set", fmt::format("{} s by {}", t0, f.set_by)}};
+    if (!f.drill.empty()) rows.push_back({"drill", f.drill});
     if (f.released < 0) {
         rows.push_back({"released", fmt::format("not in the session (it ended at {} s, {} s after)",
                                                 engine::time_text(s.end, s.dt), engine::time_text(s.end - f.set, s.dt))});
@@ -256,6 +264,10 @@ std::string session_comment(std::string_view by, std::string_view role, double w
                         : fmt::format("# by {} ({}) at {}.{:03}Z", by, role, buf, ms);
 }
 
+std::string session_drill_comment(int number, std::string_view by, std::string_view line) {
+    return fmt::format("# drill {} by {}: {}", number, by, line);
+}
+
 std::string session_end_comment(double time, double dt) { return fmt::format("# end {}s", engine::time_text(time, dt)); }
 
 bool replay_session(const graph::Graph& g, const std::string& plant, const std::string& events_path, double until,
@@ -272,6 +284,7 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
 bool replay_session_text(const graph::Graph& g, const std::string& plant, const std::string& events_path,
                          const std::string& text, double until, Session& out, std::string& error) {
     std::istringstream in(text);
+    std::vector<std::string> drills;   // "by WHO: LINE", by number - 1
     std::vector<engine::Event> given;  // as engine::load_events reads them
     std::vector<Meta> metas;
     std::vector<std::pair<double, Meta>> timed;
@@ -283,6 +296,14 @@ bool replay_session_text(const graph::Graph& g, const std::string& plant, const 
         const std::string t = trim(l);
         if (t.starts_with(kBy)) {
             pending = parse_meta(t);
+        } else if (t.starts_with(kDrill)) {  // "# drill N by WHO: LINE"
+            int number = 0;
+            const std::string_view rest = std::string_view(t).substr(kDrill.size());
+            auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), number);
+            if (ec == std::errc() && number >= 1 && number <= 100000) {
+                if (drills.size() < size_t(number)) drills.resize(size_t(number));
+                drills[size_t(number - 1)] = std::string(trim(std::string_view(end, size_t(rest.data() + rest.size() - end))));
+            }
         } else if (t.starts_with(kEnd)) {
             double seconds = 0;
             std::string why;
@@ -328,6 +349,7 @@ bool replay_session_text(const graph::Graph& g, const std::string& plant, const 
         if (error.empty()) error = fmt::format("{}: the replay failed", events_path);
         return false;
     }
+    out.drills = std::move(drills);
     find_faults(out);
     return true;
 }

@@ -29,6 +29,9 @@ namespace plant::view {
 // the page's log says it), their role ("" none: the plant file, the command line, a link)
 // and the wall clock (Unix seconds).
 std::string session_comment(std::string_view by, std::string_view role, double wall);
+// The comment line that says a drill was scheduled (faults/drill.h): its number, who
+// scheduled it, its line ("# drill 1 by page 3 (instructor): when … >= 10 force … open").
+std::string session_drill_comment(int number, std::string_view by, std::string_view line);
 // The comment line that ends a session's events file: the plant time it ended at.
 std::string session_end_comment(double time, double dt);
 
@@ -61,6 +64,7 @@ struct SessionLamp {
 // A fault: a slot forced from `set` to `released` (-1: still forced at the end).
 struct SessionFault {
     std::string path, how, set_by, released_by;
+    std::string drill;  // the drill that set it, as scheduled ("1 by page 3 (instructor): when …"; "" none)
     double set = 0, released = -1;
     double before = 0, during = 0, after = 0;  // throughput, objects a minute (-1: no window)
     int64_t lost = 0, stalled = 0;             // lost while it held, most stalled at once
@@ -75,6 +79,7 @@ struct Session {
     std::vector<SessionSample> samples;
     std::vector<SessionLamp> lamps;  // every change of a panel lamp, in time order
     std::vector<SessionFault> faults;
+    std::vector<std::string> drills;  // each drill as scheduled ("when … force …"), by number - 1
 };
 
 // Replays `events_text` (a session's events file; `events_path` names it in messages) on

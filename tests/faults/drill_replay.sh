@@ -17,6 +17,8 @@ grep -q '^[0-9.]*s force line\[0\]\.s2\.sw\.reader\.bottle open$' fired.events |
   { echo "FAIL: the drill's force is not in fired.events"; cat fired.events; exit 1; }
 grep -q '^45\.007s release line\[0\]\.s2\.sw\.reader\.bottle$' fired.events ||
   { echo "FAIL: the repair's release is not at the step after Start (45.007 s)"; cat fired.events; exit 1; }
+grep -q '^# drill 1 by drill file: when line\[0\]\.s2\.seen >= 3 force ' fired.events ||
+  { echo "FAIL: fired.events does not say the drill as scheduled"; cat fired.events; exit 1; }
 grep -q '^# end 50\.000s$' fired.events || { echo "FAIL: no '# end' line"; cat fired.events; exit 1; }
 "$plant" run "$file" "${common[@]}" --events fired.events --trace replay.csv > replay.json
 cmp live.csv replay.csv || { echo "FAIL: the replay's trace differs from the drilled run's"; exit 1; }

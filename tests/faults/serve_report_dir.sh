@@ -17,7 +17,7 @@ grep -q 'plant serve: trainees:' out.txt || { echo "FAIL: no URL"; cat out.txt e
 url=$(sed -n 's/^plant serve: instructor: //p' out.txt)
 events="${url%%\?*}events?${url#*\?}"
 for _ in $(seq 600); do
-  curl -sf "$events" > events.txt && grep -q ' force line\[0\]\.s2\.sw\.reader\.bottle open$' events.txt && break
+  curl -sf "$events" > events.txt && grep -q '^[0-9.]*s force line\[0\]\.s2\.sw\.reader\.bottle open$' events.txt && break
   sleep 0.2
 done
 kill -TERM $pid
@@ -30,5 +30,7 @@ grep -q '^plant serve: report: rep/report.md, rep/report.html, rep/session.event
 grep -q '^# by drill 1 at ' rep/session.events && grep -q '^[0-9.]*s force line\[0\]\.s2\.sw\.reader\.bottle open$' rep/session.events ||
   { echo "FAIL: the drill's force is not in session.events"; cat rep/session.events; exit 1; }
 grep -q '^| set | [0-9.]* s by drill 1 |$' rep/report.md || { echo "FAIL: the report's fault"; cat rep/report.md; exit 1; }
+grep -q '^| drill | 1 by drill file: when line\[0\]\.s2\.seen >= 2 force line\[0\]\.s2\.sw\.reader\.bottle open |$' rep/report.md ||
+  { echo "FAIL: the report does not name the fault's drill"; cat rep/report.md; exit 1; }
 test -s rep/report.html
 echo "serve_report_dir: ok"

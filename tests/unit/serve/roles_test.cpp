@@ -460,8 +460,11 @@ TEST_CASE("roles: drills are the instructor's; a hidden drill's force reaches no
     std::string events;
     REQUIRE(http_get(s.port, std::string("/events?token=") + kToken, &events) == 200);
     CHECK(events.find("# by drill 1 (instructor) at 20") != std::string::npos);
+    // Each drill as scheduled, before anything it fired: the report names the fault's drill.
+    CHECK(events.find("# drill 1 by page 1 (instructor): when clock.tick >= 3 force other.stop open\n") <
+          events.find("# by drill 1 (instructor)"));
     CHECK(events.find("s force other.stop open\n") != std::string::npos);
-    CHECK(events.find("when") == std::string::npos);
+    CHECK(events.find("\nwhen") == std::string::npos);  // only the comment says the condition
     // The report: the instructor's only; a trainee's ask is refused and logged.
     CHECK(http_get(s.port, "/report.md?role=trainee") == 403);
     CHECK(http_get(s.port, "/report?role=trainee") == 403);
@@ -470,4 +473,5 @@ TEST_CASE("roles: drills are the instructor's; a hidden drill's force reaches no
     REQUIRE(http_get(s.port, std::string("/report.md?token=") + kToken, &md) == 200);
     CHECK(md.find("### 2. `other.stop` open") != std::string::npos);  // after the plant file's own fault
     CHECK(md.find("by drill 1") != std::string::npos);
+    CHECK(md.find("| drill | 1 by page 1 (instructor): when clock.tick >= 3 force other.stop open |") != std::string::npos);
 }
