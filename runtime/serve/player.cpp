@@ -276,8 +276,7 @@ public:
         : Player(g, paused, speed), opt_(opt), dirs_(std::move(dirs)), tracker_(g), tally_(g),
           scheduled_(std::move(scheduled)), link_(link) {
         slots_ = engine::slot_index(g);
-        for (faults::Drill& d : drills) drills_.add(std::move(d));
-        note_drills();
+        for (faults::Drill& d : drills) drills_.add(std::move(d));  // noted in the events file by restart()
         std::stable_sort(scheduled_.begin(), scheduled_.end(),
                          [](const engine::Event& a, const engine::Event& b) { return a.time < b.time; });
         restart();
