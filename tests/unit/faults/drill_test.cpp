@@ -16,7 +16,7 @@ using namespace plant;
 
 namespace {
 
-const char* kPlant = R"(import std.belts
+const char* kDrillPlant = R"(import std.belts
 plant P {
     b1: Belt(length = 1 m)
     timer t: periodic { period = 200 ms; autostart = true }
@@ -24,11 +24,11 @@ plant P {
 }
 )";
 
-struct Fixture {
+struct DrillFixture {
     Compilation c;
     engine::SlotIndex slots;
-    Fixture() {
-        test::compile_text(kPlant, c, "drill_plant.plant");
+    DrillFixture() {
+        test::compile_text(kDrillPlant, c, "drill_plant.plant");
         REQUIRE(c.ok());
         slots = engine::slot_index(c.graph);
     }
@@ -43,7 +43,7 @@ struct Fixture {
 }  // namespace
 
 TEST_CASE("drill: the three triggers, hidden or shown, and a repair rule") {
-    Fixture f;
+    DrillFixture f;
     faults::Drill d;
     std::string error;
     REQUIRE_MESSAGE(faults::parse_drill(f.c.graph, f.slots, "2s force b1.stop stuck on", d, error), error);
@@ -69,7 +69,7 @@ TEST_CASE("drill: the three triggers, hidden or shown, and a repair rule") {
 }
 
 TEST_CASE("drill: a bad line says what is wrong") {
-    Fixture f;
+    DrillFixture f;
     CHECK(f.refused("when t.tik >= 3 force b1.stop stuck on").find("no slot 't.tik' in the plant (did you mean 't.tick'?)") !=
           std::string::npos);
     CHECK(f.refused("when t.tick > 3 force b1.stop stuck on").find("'when PATH >= NUMBER'") != std::string::npos);
@@ -87,7 +87,7 @@ TEST_CASE("drill: a bad line says what is wrong") {
 }
 
 TEST_CASE("drill: a condition fires at the boundary after the step it first holds in; a repair releases") {
-    Fixture f;
+    DrillFixture f;
     engine::Engine e(f.c.graph);
     const graph::SlotId tick(f.slots.at("t.tick").slots[0]);
     e.watch(tick);
@@ -147,7 +147,7 @@ TEST_CASE("drill: a condition fires at the boundary after the step it first hold
 }
 
 TEST_CASE("drill: a fault released by someone else ends its drill") {
-    Fixture f;
+    DrillFixture f;
     engine::Engine e(f.c.graph);
     faults::Drills drills;
     faults::Drill d;
