@@ -86,7 +86,7 @@ TEST_CASE("drill: a bad line says what is wrong") {
     CHECK_MESSAGE(error.find("bad.drill:3:3: ") != std::string::npos, error);
 }
 
-TEST_CASE("drill: a condition fires at the boundary after the step it first holds in; a repair releases") {
+TEST_CASE("drill: a condition fires at the boundary after the step it first holds in, and a repair releases") {
     DrillFixture f;
     engine::Engine e(f.c.graph);
     const graph::SlotId tick(f.slots.at("t.tick").slots[0]);

@@ -408,7 +408,7 @@ TEST_CASE("roles: with a certificate the page is served over https and the pages
     CHECK(http_get(s.port, "/") == 0);
 }
 
-TEST_CASE("roles: drills are the instructor's; a hidden drill's force reaches no trainee, a shown one does") {
+TEST_CASE("roles: drills are the instructor's, a hidden drill's force reaches no trainee, a shown one does") {
     const graph::Graph g = room();
     CaptureErr err;
     Served s(view::make_live_player(g, {}, {}, false, 1), [](view::ServerOptions& o) { o.token = kToken; });
