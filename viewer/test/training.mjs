@@ -106,9 +106,23 @@ try {
   await click(iPage, '#run');
   check(await until(() => ins.status?.paused, 5000), 'the instructor pauses the run');
   const bottles = ins.scene.bodies.filter((b) => b.mode === 'dynamic' && b.path.endsWith('.main')).map((b) => b.id);
-  const pick = await until(() => tPage.evaluate((ids) => ids.find((id) => (plantViewer.bodyState(id) & 1) && plantViewer.bodyPose(id)[2] < 0.1) ?? null, bottles), 5000);
+  // A bottle the hand can take: looked down at, the first whose own body (or model) is what
+  // the pointer would hit at its centre, with nothing of the page over it.
+  await click(tPage, '#layer-labels');   // the labels out of the way, as a person would
+  const pick = await until(() => tPage.evaluate((ids) => {
+    const v = plantViewer.view, r = v.renderer.domElement.getBoundingClientRect();
+    for (const id of ids) {
+      if (!(plantViewer.bodyState(id) & 1) || plantViewer.bodyPose(id)[2] > 0.1) continue;
+      v.lookDownAt(plantViewer.bodyPose(id), 1.2);
+      const at = plantViewer.screenPoint(id);
+      const hit = v.pick(((at.x - r.left) / r.width) * 2 - 1, -((at.y - r.top) / r.height) * 2 + 1);
+      const index = !hit ? -1 : hit.kind === 'body' ? hit.index : hit.kind === 'graphics' ? v.bodyIndex.get(v.scene.graphics[hit.index].body) : -1;
+      if (index === v.bodyIndex.get(id) && document.elementFromPoint(at.x, at.y) === v.renderer.domElement) return id;
+    }
+    return null;
+  }, bottles), 5000);
   let grabbed = null;
-  if (check(pick !== null && pick !== undefined, `a bottle is on the line (${pick})`)) {
+  if (check(pick !== null && pick !== undefined, `a bottle on the line the hand can reach (${pick})`)) {
     await tPage.bringToFront();
     await tPage.evaluate((id) => plantViewer.view.lookDownAt(plantViewer.bodyPose(id), 1.2), pick);
     await sleep(300);
