@@ -56,20 +56,15 @@ void check_bodies(Runtime& r) {
     // slices of the bodies (reads only); the rare step that has one then handles them here.
     const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
     const size_t n = dyn.size();
-    const size_t slices = std::min({r.st.slice_left.size(), size_t(4 * r.phys.workers().threads()), (n + 255) / 256});
-    struct Job {
-        Runtime* r;
-        size_t per, n;
-        void operator()(int i) const {
-            const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
-            bool off = false;
-            for (size_t k = b; k < e && !off; ++k) off = body_off(*r, r->tab.dyn_bodies[k]);
-            r->st.slice_left[size_t(i)] = off;
-        }
+    const size_t slices = slice_count(r.phys.workers(), n, 256, r.st.slice_left.size());
+    auto look = [&r, n, slices](int i) {
+        const auto [b, e] = slice_of(n, slices, size_t(i));
+        bool off = false;
+        for (size_t k = b; k < e && !off; ++k) off = body_off(r, r.tab.dyn_bodies[k]);
+        r.st.slice_left[size_t(i)] = off;
     };
     if (slices > 1) {
-        Job job{&r, (n + slices - 1) / slices, n};
-        r.phys.workers().run(int(slices), job);
+        run_slices(r.phys.workers(), slices, look);
         bool any = false;
         for (size_t i = 0; i < slices; ++i) any |= r.st.slice_left[i] != 0;
         if (!any) return;

@@ -216,34 +216,28 @@ bool prepare_fields(Runtime& r) {
     if (s.groups_version != r.phys.version()) rebuild_groups(r);
     // Each field's frame and whether it acts, and whether a kinematic part left its room
     // (transport.cpp), in slices on the physics threads: each writes its fields' own entries.
-    struct Job {
-        Runtime* r;
-        size_t per_field, per_part;
-        void operator()(int i) const {
-            State& s = r->st;
-            const size_t nf = r->g.fields.size(), fb = std::min(size_t(i) * per_field, nf);
-            bool moved = false;
-            for (size_t f = fb; f < std::min(fb + per_field, nf); ++f) {
-                const Field& fd = r->g.fields[f];
-                s.field_act[f] = 0;
-                if (fd.gain <= 0) continue;
-                moved |= field_frame(*r, f);
-                const btVector3& gain = r->tab.field_gain[f];
-                if (!s.field_on[f] || gain[gain.maxAxis()] <= 0) continue;
-                s.field_act[f] = 1;
-                s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
-            }
-            s.slice_moved[size_t(i)] = moved;
-            s.slice_left[size_t(i)] = per_part && kinematic_left(*r, size_t(i) * per_part, size_t(i + 1) * per_part);
-        }
-    };
     const size_t nf = g.fields.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
-    const size_t slices = std::min({s.slice_moved.size(), size_t(4 * r.phys.workers().threads()), (nf + nk + 127) / 128});
-    Job job{&r, (nf + slices - 1) / slices, (nk + slices - 1) / slices};
-    if (slices <= 1) job(0);
-    else r.phys.workers().run(int(slices), job);
+    const size_t slices = slice_count(r.phys.workers(), nf + nk, 128, s.slice_moved.size());
+    auto frames = [&r, &s, &g, nf, nk, slices](int i) {
+        const auto [fb, fe] = slice_of(nf, slices, size_t(i));
+        bool moved = false;
+        for (size_t f = fb; f < fe; ++f) {
+            const Field& fd = g.fields[f];
+            s.field_act[f] = 0;
+            if (fd.gain <= 0) continue;
+            moved |= field_frame(r, f);
+            const btVector3& gain = r.tab.field_gain[f];
+            if (!s.field_on[f] || gain[gain.maxAxis()] <= 0) continue;
+            s.field_act[f] = 1;
+            s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+        }
+        s.slice_moved[size_t(i)] = moved;
+        const auto [kb, ke] = slice_of(nk, slices, size_t(i));
+        s.slice_left[size_t(i)] = kb < ke && kinematic_left(r, kb, ke);
+    };
+    run_slices(r.phys.workers(), slices, frames);
     bool moved = !s.field_cells_valid, left = false;
-    for (size_t i = 0; i < std::max<size_t>(slices, 1); ++i) moved |= s.slice_moved[i] != 0, left |= s.slice_left[i] != 0;
+    for (size_t i = 0; i < slices; ++i) moved |= s.slice_moved[i] != 0, left |= s.slice_left[i] != 0;
     if (moved) build_field_cells(r);
     check_steady(r, left);  // transport.cpp: who leaves or rejoins the solver this step
     return true;

@@ -98,22 +98,12 @@ void advance_graphics(Runtime& r) {
     const std::vector<int32_t>& order = r.tab.graphics_order;
     const size_t roots = r.tab.graphics_roots;
     std::vector<uint8_t>& flags = r.st.graphics_flags;
-    const size_t slices = std::min(size_t(4 * r.phys.workers().threads()), (roots + 255) / 256);
-    if (slices <= 1) {
-        for (size_t k = 0; k < roots; ++k) flags[k] = advance_one(r, order[k]);
-    } else {
-        struct Job {
-            Runtime* r;
-            size_t per, n;
-            void operator()(int i) const {
-                const std::vector<int32_t>& order = r->tab.graphics_order;
-                const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
-                for (size_t k = b; k < e; ++k) r->st.graphics_flags[k] = advance_one(*r, order[k]);
-            }
-        };
-        Job job{&r, (roots + slices - 1) / slices, roots};
-        r.phys.workers().run(int(slices), job);
-    }
+    const size_t slices = slice_count(r.phys.workers(), roots, 256, roots + 1);
+    auto poses = [&r, &order, &flags, roots, slices](int i) {
+        const auto [b, e] = slice_of(roots, slices, size_t(i));
+        for (size_t k = b; k < e; ++k) flags[k] = advance_one(r, order[k]);
+    };
+    run_slices(r.phys.workers(), slices, poses);
     for (size_t k = 0; k < roots; ++k)
         if (flags[k]) publish(r, order[k], flags[k]);
     for (size_t k = roots; k < order.size(); ++k) {

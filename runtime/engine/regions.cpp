@@ -280,22 +280,12 @@ void Physics::assign_worlds() {
         return any ? kVoid : kParked;  // parked: waits in the void's world, which is not stepped for it
     };
     const size_t nf = free_groups_.size();
-    const size_t slices = std::min(size_t(4 * workers_->threads()), (nf + 127) / 128);
-    if (slices <= 1) {
-        for (size_t i = 0; i < nf; ++i) free_to_[i] = where(free_groups_[i]);
-    } else {
-        struct Job {
-            Physics* ph;
-            decltype(where)* f;
-            size_t per, n;
-            void operator()(int i) const {
-                const size_t b = std::min(size_t(i) * per, n), e = std::min(b + per, n);
-                for (size_t k = b; k < e; ++k) ph->free_to_[k] = (*f)(ph->free_groups_[k]);
-            }
-        };
-        Job job{this, &where, (nf + slices - 1) / slices, nf};
-        workers_->run(int(slices), job);
-    }
+    const size_t slices = slice_count(*workers_, nf, 128, nf + 1);
+    auto decide = [this, &where, nf, slices](int i) {
+        const auto [b, e] = slice_of(nf, slices, size_t(i));
+        for (size_t k = b; k < e; ++k) free_to_[k] = where(free_groups_[k]);
+    };
+    run_slices(*workers_, slices, decide);
     void_groups_.clear();
     for (size_t i = 0; i < nf; ++i) {
         const int32_t gi = free_groups_[i];

@@ -44,28 +44,16 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
         version_ = ph.version();
     }
     // Slices of at least 256 bodies, four per thread at most: each writes its own entries.
-    constexpr size_t kLeast = 256;
     const size_t n = order_.size();
-    const size_t slices = std::min({kSlices, size_t(4 * w.threads()), (n + kLeast - 1) / kLeast});
+    const size_t slices = slice_count(w, n, 256, kSlices);
+    auto measuring = [this, &ph, aabbs, n, slices](int i) {
+        const auto [b, e] = slice_of(n, slices, size_t(i));
+        slice_max_[size_t(i)] = measure(ph, aabbs, b, e);
+    };
+    run_slices(w, slices, measuring);
     std::pair<btScalar, btScalar> most{0, 0};
-    if (slices <= 1) {
-        most = measure(ph, aabbs, 0, n);
-    } else {
-        struct Job {
-            Spatial* s;
-            const Physics* ph;
-            bool aabbs;
-            size_t per, n;
-            void operator()(int i) const {
-                const size_t b = size_t(i) * per;
-                s->slice_max_[size_t(i)] = s->measure(*ph, aabbs, std::min(b, n), std::min(b + per, n));
-            }
-        };
-        Job job{this, &ph, aabbs, (n + slices - 1) / slices, n};
-        w.run(int(slices), job);
-        for (size_t i = 0; i < slices; ++i)
-            most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
-    }
+    for (size_t i = 0; i < slices; ++i)
+        most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
     if (aabbs) reach_ = most.first;
     vmax_ = most.second;
     // Insertion sort by (cell, x, id): ties by id keep the order independent of history.

@@ -437,21 +437,13 @@ void check_steady(Runtime& r, bool left) {
     // Each unit's verdict and what follows from it, in slices of the units on the physics
     // threads (each writes its units' own entries and reads what no verdict changes); then
     // leaving and rejoining the solver, which touch the worlds, on this thread in id order.
-    struct Slices {
-        Runtime* r;
-        btScalar vmax;
-        size_t per;
-        void operator()(int i) const {
-            const std::vector<int32_t>& dyn = r->tab.dyn_bodies;
-            const size_t end = std::min(dyn.size(), size_t(i + 1) * per);
-            for (size_t k = size_t(i) * per; k < end; ++k) r->steady.action[size_t(dyn[k])] = decide(*r, dyn[k], vmax);
-        }
+    const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
+    const size_t slices = slice_count(ph.workers(), dyn.size(), 64, dyn.size() + 1);
+    auto deciding = [&r, &dyn, vmax, slices](int i) {
+        const auto [b, e] = slice_of(dyn.size(), slices, size_t(i));
+        for (size_t k = b; k < e; ++k) r.steady.action[size_t(dyn[k])] = decide(r, dyn[k], vmax);
     };
-    const size_t units = r.tab.dyn_bodies.size();
-    const size_t slices = std::min(units, size_t(4 * ph.workers().threads()));
-    if (slices == 0) return;
-    Slices job{&r, vmax, (units + slices - 1) / slices};
-    ph.workers().run(int((units + job.per - 1) / job.per), job);
+    run_slices(ph.workers(), slices, deciding);
     for (int32_t b : r.tab.dyn_bodies) {
         switch (S.action[size_t(b)]) {
         case kLand:

@@ -82,6 +82,45 @@ void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out
     }
 }
 
+// Trigger t's objects this step (`objects`, found by find_inside): its list in State::inside
+// and its events, against the list of the step before.
+void take(Runtime& r, size_t t, const int32_t* objects) {
+    State& s = r.st;
+    const Trigger& tg = r.g.triggers[t];
+    TriggerState& ts = s.triggers[t];
+    ts.prev_adr = ts.adr;
+    ts.prev_num = ts.num;
+    ts.adr = int32_t(s.inside.size());
+    ts.num = s.trigger_found[t];
+    s.inside.insert(s.inside.end(), objects, objects + ts.num);
+
+    // Merge the two sorted lists.
+    int32_t entered = 0, left = 0, first_in = -1;
+    const int32_t *a = s.inside.data() + ts.adr, *ae = a + ts.num;
+    const int32_t *p = s.inside_prev.data() + ts.prev_adr, *pe = p + ts.prev_num;
+    while (a != ae || p != pe) {
+        if (p == pe || (a != ae && *a < *p)) {
+            if (entered++ == 0) first_in = *a;
+            ++a;
+        } else if (a == ae || *p < *a) {
+            ++left;
+            ++p;
+        } else {
+            ++a;
+            ++p;
+        }
+    }
+    const int32_t s0 = r.comp_slot(tg.comp, triggerslot::on_enter);
+    if (entered) {
+        ts.enters += entered;
+        r.activate(s0 + triggerslot::on_enter);
+        r.emit(s0 + triggerslot::object, first_in);
+    }
+    if (left) r.activate(s0 + triggerslot::on_leave);
+    if (ts.num) r.activate(s0 + triggerslot::on_stay);
+    if (ts.num != ts.prev_num) r.emit(s0 + triggerslot::count_inside, ts.num);
+}
+
 }  // namespace
 
 void sense_triggers(Runtime& r) {
@@ -92,61 +131,18 @@ void sense_triggers(Runtime& r) {
     // The triggers' contents, a slice of the triggers per item (at least 32 triggers in one,
     // four per thread at most); then, in trigger order on this thread, the lists and events.
     const size_t nt = g.triggers.size();
-    const size_t slices = std::min({s.trigger_slices.size(), size_t(4 * r.phys.workers().threads()), (nt + 31) / 32});
-    const size_t per = (nt + slices - 1) / slices;
-    if (slices <= 1) {
-        find_inside(r, 0, nt, s.trigger_slices[0]);
-    } else {
-        struct Job {
-            Runtime* r;
-            size_t per, n;
-            void operator()(int i) const {
-                const size_t b = std::min(size_t(i) * per, n);
-                find_inside(*r, b, std::min(b + per, n), r->st.trigger_slices[size_t(i)]);
-            }
-        };
-        Job job{&r, per, nt};
-        r.phys.workers().run(int(slices), job);
-    }
+    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
+    auto finding = [&r, &s, nt, slices](int i) {
+        const auto [b, e] = slice_of(nt, slices, size_t(i));
+        find_inside(r, b, e, s.trigger_slices[size_t(i)]);
+    };
+    run_slices(r.phys.workers(), slices, finding);
     s.inside.swap(s.inside_prev);
     s.inside.clear();
-    for (size_t t = 0, found = 0; t < nt; ++t) {
-        if (t % per == 0) found = 0;  // the next slice's list
-        const std::vector<int32_t>& list = s.trigger_slices[slices <= 1 ? 0 : t / per];
-        const Trigger& tg = g.triggers[t];
-        TriggerState& ts = s.triggers[t];
-        ts.prev_adr = ts.adr;
-        ts.prev_num = ts.num;
-        ts.adr = int32_t(s.inside.size());
-        ts.num = s.trigger_found[t];
-        s.inside.insert(s.inside.end(), list.begin() + std::ptrdiff_t(found), list.begin() + std::ptrdiff_t(found + size_t(ts.num)));
-        found += size_t(ts.num);
-
-        // Merge the two sorted lists.
-        int32_t entered = 0, left = 0, first_in = -1;
-        const int32_t *a = s.inside.data() + ts.adr, *ae = a + ts.num;
-        const int32_t *p = s.inside_prev.data() + ts.prev_adr, *pe = p + ts.prev_num;
-        while (a != ae || p != pe) {
-            if (p == pe || (a != ae && *a < *p)) {
-                if (entered++ == 0) first_in = *a;
-                ++a;
-            } else if (a == ae || *p < *a) {
-                ++left;
-                ++p;
-            } else {
-                ++a;
-                ++p;
-            }
-        }
-        const int32_t s0 = r.comp_slot(tg.comp, triggerslot::on_enter);
-        if (entered) {
-            ts.enters += entered;
-            r.activate(s0 + triggerslot::on_enter);
-            r.emit(s0 + triggerslot::object, first_in);
-        }
-        if (left) r.activate(s0 + triggerslot::on_leave);
-        if (ts.num) r.activate(s0 + triggerslot::on_stay);
-        if (ts.num != ts.prev_num) r.emit(s0 + triggerslot::count_inside, ts.num);
+    for (size_t i = 0; i < slices; ++i) {
+        const auto [b, e] = slice_of(nt, slices, i);
+        const int32_t* found = s.trigger_slices[i].data();
+        for (size_t t = b; t < e; found += s.trigger_found[t], ++t) take(r, t, found);
     }
 }
 

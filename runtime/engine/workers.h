@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace plant::engine {
@@ -94,5 +95,29 @@ private:
     StepProfile prof_;
     std::atomic<int64_t> item_sum_{0}, item_max_{0};  // while profiling: this job's items
 };
+
+// A loop over ids [0, n) cut into slices, a few per thread, each slice an item of one job
+// (regions.cpp, fields.cpp, transport.cpp, spatial.cpp, bodies.cpp, graphics.cpp,
+// triggers.cpp): an item writes only its own ids' entries (or its slice's), and what touches
+// shared state runs after the job on the calling thread, in id order.
+//
+// How many slices: at least `least` ids in each, four per thread at most, and at most `most`
+// (the size of a caller's per-slice scratch); at least one.
+inline size_t slice_count(const Workers& w, size_t n, size_t least, size_t most) {
+    const size_t by_size = (n + least - 1) / least, by_threads = size_t(4 * w.threads());
+    const size_t c = by_size < by_threads ? by_size : by_threads;
+    return c < 1 ? 1 : c < most ? c : most;
+}
+// Slice i of `count` over [0, n): its first id and the one after its last.
+inline std::pair<size_t, size_t> slice_of(size_t n, size_t count, size_t i) {
+    const size_t per = (n + count - 1) / count, b = i * per < n ? i * per : n;
+    return {b, b + per < n ? b + per : n};
+}
+// Calls f(i) for every slice i in [0, count): on the threads, or here when there is one.
+template <class F>
+void run_slices(Workers& w, size_t count, F& f) {
+    if (count <= 1) f(0);
+    else w.run(int(count), f);
+}
 
 }  // namespace plant::engine
