@@ -39,7 +39,9 @@ for run in 1; do
   check_summary "$work/out$run" 20
 done
 echo "bottling_opcua: a lock-step run ($(wc -l < "$work/trace1.csv") rows of trace)"
-# The Modbus link's controller on the same line (tests/plc/bottling_plc_test.sh's run).
+# The Modbus link's controller on the same line (tests/plc/bottling_plc_test.sh's run). The
+# err file exists before the child starts, so the first look for the port cannot race it.
+: > "$work/err3"
 "$plant" run "$src/plants/bottling_plc.plant" --lockstep --modbus-port 0 --for 120s --trace "$work/modbus.csv" \
   > "$work/out3" 2> "$work/err3" &
 pid=$!

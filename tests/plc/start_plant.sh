@@ -4,6 +4,10 @@
 start_plant() {
   local tag="$1"
   shift
+  # The files exist before the child starts: the first look for the port must not race the
+  # background job's redirections (sed would fail on a missing file, and `set -e` end the test).
+  : > "$work/out$tag"
+  : > "$work/err$tag"
   "$plant" run "$@" > "$work/out$tag" 2> "$work/err$tag" &
   pid=$!
   port=""
