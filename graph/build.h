@@ -6,7 +6,7 @@
 // - every non-void slot owns slot_width(type) doubles in Graph::values, starting at
 //   value_adr, all 0 except: a ref or string reads -1 (no object, no text: not the first
 //   name), a quat or pose ends in w = 1 (the identity).
-// Kind-specific records (Body, Timer, ...) and their `detail` index are the caller's.
+// Kind-specific records (Body, Trigger, ...) and their `detail` index are the caller's.
 // Every id is typed (ids.h): a call with two ids swapped does not compile
 // (tests/compile_fail/swapped_ids.cpp); DoId{}, DoTypeId{}, AccessId{} are "none".
 #pragma once

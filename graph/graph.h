@@ -12,6 +12,7 @@
 #pragma once
 
 #include "ids.h"
+#include "kinds/list.h"  // the kinds on the kind table: their records' fields (PLANT_FIELDS_...)
 
 #include <array>
 #include <cassert>
@@ -217,12 +218,6 @@ constexpr int slot_width(SlotType t) {
     F(Vec3, extent)                                                            \
     F(Pose, pose)          /* world pose of the box centre at start */         \
     F(DoTypeId, filter)     /* DoType whose bodies it reacts to, -1 for any */
-
-#define PLANT_FIELDS_TIMER(F)    \
-    F(CompId, comp)             \
-    F(double, period)            \
-    F(bool, periodic)            \
-    F(bool, autostart)
 
 #define PLANT_FIELDS_GRIPPER(F)                                  \
     F(CompId, comp)                                             \

@@ -1,28 +1,28 @@
 #include "kinds.h"
 
+#include "plugin.h"
+
 #include <array>
 
 namespace plant::graph {
 namespace {
 
-#define PLANT_SLOT_SPEC(id, name, type, dir, doc) SlotSpec{name, SlotType::type, Dir::dir, doc},
 constexpr std::array kGraphics = {PLANT_SLOTS_GRAPHICS(PLANT_SLOT_SPEC)};
 constexpr std::array kBody = {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)};
 constexpr std::array kField = {PLANT_SLOTS_FIELD(PLANT_SLOT_SPEC)};
 constexpr std::array kJoint = {PLANT_SLOTS_JOINT(PLANT_SLOT_SPEC)};
 constexpr std::array kTrigger = {PLANT_SLOTS_TRIGGER(PLANT_SLOT_SPEC)};
-constexpr std::array kTimer = {PLANT_SLOTS_TIMER(PLANT_SLOT_SPEC)};
 constexpr std::array kGripper = {PLANT_SLOTS_GRIPPER(PLANT_SLOT_SPEC)};
 constexpr std::array kSource = {PLANT_SLOTS_SOURCE(PLANT_SLOT_SPEC)};
 constexpr std::array kExit = {PLANT_SLOTS_EXIT(PLANT_SLOT_SPEC)};
 constexpr std::array kRouter = {PLANT_SLOTS_ROUTER(PLANT_SLOT_SPEC)};
 constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
 constexpr std::array kLabel = {PLANT_SLOTS_LABEL(PLANT_SLOT_SPEC)};
-#undef PLANT_SLOT_SPEC
 
 }  // namespace
 
 std::span<const SlotSpec> fixed_slots(CompKind kind) {
+    if (const KindDesc* d = builtin_kind(kind)) return d->slots;  // a kind on the kind table
     switch (kind) {
     case CompKind::Graphics: return kGraphics;
     case CompKind::Body: return kBody;
@@ -30,7 +30,6 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     case CompKind::Constraint: return kJoint;
     case CompKind::State: return {};
     case CompKind::Trigger: return kTrigger;
-    case CompKind::Timer: return kTimer;
     case CompKind::Gripper: return kGripper;
     case CompKind::Source: return kSource;
     case CompKind::Exit: return kExit;
@@ -38,6 +37,7 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     case CompKind::Logic: return kLogic;
     case CompKind::Label: return kLabel;
     case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
+    default: return {};
     }
     return {};
 }

@@ -4,9 +4,10 @@
 // (places, transitions, animations, variants, routes, connector inputs) follow the
 // fixed ones, in declaration order.
 //
-// Each kind's fixed slots are declared once, below, as a list
+// Each kind's fixed slots are declared once, below (a kind on the kind table: in its
+// kinds/NAME/graph.h), as a list
 //   S(index name, slot name, SlotType, Dir, documentation)
-// from which both the index constants (`timerslot::start`) and the table returned by
+// from which both the index constants (`bodyslot::pose`) and the table returned by
 // fixed_slots() are generated; docs/language.md's slot tables are checked against it.
 #pragma once
 
@@ -56,13 +57,6 @@
     S(object, "object", Ref, Out, "the object that last entered (or is inside)") \
     S(count_inside, "count", Int, Out, "how many objects are inside")
 
-#define PLANT_SLOTS_TIMER(S) \
-    S(start, "start", Void, In, "starts (or restarts) the timer") \
-    S(stop, "stop", Void, In, "stops the timer") \
-    S(tick, "tick", Void, Out, "the period or delay elapsed") \
-    S(elapsed, "elapsed", Real, Out, "seconds since start") \
-    S(running, "running", Bool, Out, "whether the timer runs")
-
 #define PLANT_SLOTS_GRIPPER(S) \
     S(grip, "grip", Void, In, "take the object in the gripper's trigger") \
     S(release, "release", Void, In, "hand the object back to the dynamics") \
@@ -101,7 +95,11 @@ struct SlotSpec {
     SlotType type;
     Dir dir;
     std::string_view doc;
+    std::string_view unit = {};  // a real slot's SI unit where its kind says ("s"); "" none known
 };
+
+// One S(...) of a PLANT_SLOTS_ list as a SlotSpec: {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)}.
+#define PLANT_SLOT_SPEC(id, name, type, dir, doc) ::plant::graph::SlotSpec{name, ::plant::graph::SlotType::type, ::plant::graph::Dir::dir, doc},
 
 std::span<const SlotSpec> fixed_slots(CompKind kind);
 // Index of a fixed slot by name, -1 if none.
@@ -114,13 +112,16 @@ namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) cou
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
 namespace jointslot { enum : int { PLANT_SLOTS_JOINT(PLANT_SLOT_INDEX) count }; }
 namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
-namespace timerslot { enum : int { PLANT_SLOTS_TIMER(PLANT_SLOT_INDEX) count }; }
 namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
 namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }; }
 namespace exitslot { enum : int { PLANT_SLOTS_EXIT(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 namespace labelslot { enum : int { PLANT_SLOTS_LABEL(PLANT_SLOT_INDEX) count }; }
+// The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
+#define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }
+PLANT_KINDS(PLANT_KIND_SLOT_INDEX)
+#undef PLANT_KIND_SLOT_INDEX
 #undef PLANT_SLOT_INDEX
 
 }  // namespace plant::graph

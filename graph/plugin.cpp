@@ -1,9 +1,19 @@
 #include "plugin.h"
 
+#include <array>
 #include <string>
+
+// The rows of the kinds on the kind table, one per kind in kinds/list.h (kinds/NAME/kind.cpp).
+#define PLANT_KIND_ROW_DECL(word, WORD) namespace plant::kinds::word { extern const graph::KindDesc desc; }
+PLANT_KINDS(PLANT_KIND_ROW_DECL)
+#undef PLANT_KIND_ROW_DECL
 
 namespace plant::graph {
 namespace {
+
+#define PLANT_KIND_ROW(word, WORD) &kinds::word::desc,
+const std::array kBuiltins = {PLANT_KINDS(PLANT_KIND_ROW)};
+#undef PLANT_KIND_ROW
 
 std::vector<const KindDesc*>& registry() {
     static std::vector<const KindDesc*> r;
@@ -20,16 +30,30 @@ bool names_unique(std::span<const T> items) {
 
 }  // namespace
 
+std::span<const KindDesc* const> builtin_kinds() { return kBuiltins; }
+
+const KindDesc* builtin_kind(CompKind kind) {
+    static const auto by_kind = [] {
+        std::array<const KindDesc*, size_t(CompKind::Plugin) + 1> a{};
+        for (const KindDesc* d : kBuiltins) a[size_t(d->kind)] = d;
+        return a;
+    }();
+    return kind == CompKind::Plugin ? nullptr : by_kind[size_t(kind)];
+}
+
 bool register_kind(const KindDesc& desc) {
     CompKind builtin{};
     // The words plant files use for the built-in kinds; a body is written `physics`.
     if (desc.word.empty() || desc.word == "physics" || parse_word(desc.word, builtin) || find_plugin(desc.word) ||
         !names_unique(desc.slots) || !names_unique(desc.params))
         return false;
-    for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from
-        if (p.type == ParamType::Value) return false;
+    if (desc.kind != CompKind::Plugin) return false;  // a kind on the kind table is in kinds/list.h
+    for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from;
+        if (p.type > ParamType::String) return false;  // plugin_params holds a number or a text
     for (size_t i = 0; i < desc.entries.size(); ++i) {
         if (!names_unique(desc.entries[i].options) || desc.entries[i].max_key < 0) return false;
+        for (const ParamSpec& o : desc.entries[i].options)
+            if (o.type > ParamType::Value) return false;
         for (size_t j = 0; j < i; ++j)
             if (desc.entries[i].word == desc.entries[j].word) return false;
     }
@@ -71,6 +95,10 @@ std::string_view word(ParamType t) {
     case ParamType::Bool: return "bool";
     case ParamType::String: return "string";
     case ParamType::Value: return "value";
+    case ParamType::Vec3: return "vec3";
+    case ParamType::StringList: return "string list";
+    case ParamType::Type: return "type";
+    case ParamType::CompRef: return "component reference";
     }
     return "?";
 }

@@ -1,15 +1,19 @@
-// Component kinds as plugins: a kind the core does not know, declared by one descriptor
-// that the compiler and the runtime share. The descriptor says what the kind is called in
-// plant files, its slots (the same SlotSpec table the built-in kinds have, graph/kinds.h),
-// its parameters and their documentation; the runtime adds the kind's behaviour
-// (engine/plugin.h). A new kind is therefore new files plus one registration line per side
-// (docs/architecture.md, "Adding a component kind").
+// Component kinds by descriptor: one row per kind, shared by the compiler and the runtime.
+// The descriptor says what the kind is called in plant files, its slots (the SlotSpec
+// table of graph/kinds.h), its parameters in one property vocabulary (ParamSpec) and their
+// documentation; each side adds the kind's part of its own (the compiler its lowering,
+// sema/kinds/lowering.h; the runtime its behaviour, engine/plugin.h).
 //
-// In the graph a plugin component is a Comp of kind CompKind::Plugin whose detail is a row
-// of `plugins` (its kind word and its parameters in `plugin_params`). Its slots are the
-// descriptor's, in order, at comp.slot_adr. The loader refuses a plugin component whose
-// kind this program has not registered, or whose slots or parameters differ from the
-// descriptor's.
+// Two sorts of kinds have rows (docs/architecture.md, "The kind table"):
+//  - kinds on the kind table that ship with plant (kinds/NAME/, listed in kinds/kinds.cmake):
+//    a CompKind of their own, a typed graph table of their own, modes, a loader
+//    check per row; found by builtin_kind();
+//  - plugin kinds, registered by the program before any plant is compiled or loaded
+//    (register_kind): in the graph a Comp of kind CompKind::Plugin whose detail is a row of
+//    `plugins` (its kind word and its parameters in `plugin_params`). Its slots are the
+//    descriptor's, in order, at comp.slot_adr. The loader refuses a plugin component whose
+//    kind this program has not registered, or whose slots or parameters differ from the
+//    descriptor's.
 #pragma once
 
 #include "graph.h"
@@ -24,13 +28,16 @@ namespace plant::graph {
 
 // Value: an entry option whose type is the entry's slot's (void and bool: true or false;
 // int; real: a number in SI units; string), stored as a number or a text accordingly.
-enum class ParamType : uint8_t { Number, Int, Bool, String, Value };
+// Vec3 (three numbers in `unit`), StringList, Type (an object type, `Bottle(mass = 40 g)`)
+// and CompRef (a component of the same object, by name) are the built-in kinds' for now: a
+// plugin's parameters are stored in `plugin_params` as one number or one text each.
+enum class ParamType : uint8_t { Number, Int, Bool, String, Value, Vec3, StringList, Type, CompRef };
 
 struct ParamSpec {
     std::string_view name;
     ParamType type;
-    // Number: the SI unit its values are in ("m/s", "Hz"; "" for a plain number); the
-    // compiler checks a written value's dimension against it.
+    // Number, Vec3: the SI unit its values are in ("m/s", "Hz"; "" for a plain number);
+    // the compiler checks a written value's dimension against it.
     std::string_view unit;
     bool required;
     double default_num;  // Number, Int, Bool (0/1) when not required and not given
@@ -85,7 +92,34 @@ struct KindDesc {
     // Non-empty: a component of this kind is written only inside a component of the kind
     // of that word (a button inside a panel), never on its own.
     std::string_view inside = {};
+
+    // ---- A kind on the kind table (kinds/NAME/kind.cpp); a plugin kind leaves these ----
+    CompKind kind = CompKind::Plugin;                 // its kind in the graph
+    std::span<const std::string_view> modes = {};     // `NAME n: MODE`; the first is the default
+    // The graph table its components' `detail` indexes (PLANT_KIND_TABLE): its name, its row
+    // count, each row's component. The loader checks that each row's component is of this
+    // kind with the row as its detail, then calls `check` with the row.
+    std::string_view table = {};
+    size_t (*rows)(const Graph& g) = nullptr;
+    CompId (*comp_of)(const Graph& g, int32_t row) = nullptr;
+    // The input without which a component does nothing, unless `runs_alone` says it does
+    // anyway (nullptr: it never does): the compiler warns (W0502) with `idle_warning`, `{}`
+    // standing for the component's name. -1: none.
+    int idle_input = -1;
+    bool (*runs_alone)(const Graph& g, int32_t row) = nullptr;
+    std::string_view idle_warning = {};
 };
+
+// The table fields of a kind on the kind table, from its graph table's member name:
+// `.table = ...` written `PLANT_KIND_TABLE(member)`.
+#define PLANT_KIND_TABLE(member)                                                          \
+    .table = #member, .rows = [](const ::plant::graph::Graph& g) { return g.member.size(); }, \
+    .comp_of = [](const ::plant::graph::Graph& g, int32_t row) { return g.member[size_t(row)].comp; }
+
+// The kinds on the kind table (kinds/list.h), in its order; a built-in kind's row, nullptr
+// for one not on the table (yet) and for Plugin.
+std::span<const KindDesc* const> builtin_kinds();
+const KindDesc* builtin_kind(CompKind kind);
 
 // Registers a kind (before any plant is compiled or loaded); false if its word is taken by
 // a built-in kind or another plugin, or it declares a slot or parameter twice.

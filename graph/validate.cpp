@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && joints() && nets() && triggers() && timers() && grippers() && sources() &&
+               shapes() && fields() && joints() && nets() && triggers() && table_kinds() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() &&
                ports() && plugin_records();
     }
@@ -189,13 +189,16 @@ private:
 
     // The table a component kind's `detail` indexes, with its size; none for state and router.
     bool detail_table(CompKind k, size_t& n, std::string_view& name) const {
+        if (const KindDesc* d = builtin_kind(k)) {
+            n = d->rows(g_), name = d->table;
+            return true;
+        }
         switch (k) {
         case CompKind::Graphics: n = g_.graphics.size(), name = "graphics"; return true;
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Constraint: n = g_.joints.size(), name = "joints"; return true;
         case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
-        case CompKind::Timer: n = g_.timers.size(), name = "timers"; return true;
         case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
         case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
         case CompKind::Exit: n = g_.exits.size(), name = "exits"; return true;
@@ -204,6 +207,7 @@ private:
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
         case CompKind::Router: return false;
+        default: return false;  // a kind on the kind table has its table
         }
         return false;
     }
@@ -450,11 +454,17 @@ private:
         });
     }
 
-    bool timers() {
-        return each("timers", g_.timers, [&](const Timer& t, size_t i) {
-            return owner(t.comp, CompKind::Timer, i) &&
-                   check(t.period > 0, "field 'period' must be above 0");
-        });
+    // The kinds on the kind table: each row's component of the kind with the row as its
+    // detail, then the kind's own check of the row.
+    bool table_kinds() {
+        for (const KindDesc* d : builtin_kinds())
+            for (size_t i = 0, n = d->rows(g_); i < n; ++i) {
+                at(d->table, i);
+                if (!owner(d->comp_of(g_, int32_t(i)), d->kind, i)) return false;
+                PluginProblem problem;
+                if (d->check && !d->check(g_, int32_t(i), problem)) return fail(problem.message);
+            }
+        return true;
     }
 
     bool grippers() {

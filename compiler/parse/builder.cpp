@@ -140,7 +140,7 @@ public:
         };
         antlr4::Token* prev = bad && bad->getText() == ":" ? parser->getTokenStream()->LT(-1) : nullptr;
         // A keyword where only a name fits, or one the recovery both rejects and expects
-        // (`timer flow {`): a name was meant. A keyword starting a statement after a
+        // (`label flow {`): a name was meant. A keyword starting a statement after a
         // missing brace gets no note.
         if (name_fits && keyword(bad) && (only_name || self_expected))
             d.notes.push_back({{}, "'" + bad->getText() + "' is a keyword and cannot be used as a name"});

@@ -106,6 +106,12 @@ void Elaborator::check_unused() {
         const Span span = comp_spans_[static_cast<int32_t>(c)];
         const std::string cname(g_.str(comp.name));
         auto slot = [&](int idx) { return static_cast<size_t>(comp.slot_adr + idx); };
+        // A kind on the kind table says which input it needs (graph/plugin.h: idle_input).
+        if (const graph::KindDesc* k = graph::builtin_kind(comp.kind); k && k->idle_input >= 0) {
+            if (!(k->runs_alone && k->runs_alone(g_, comp.detail)) && !driven[slot(k->idle_input)])
+                sink_.report(DiagId::InputNotDriven, span, fmt::format(fmt::runtime(k->idle_warning), cname));
+            continue;
+        }
         switch (comp.kind) {
         case CompKind::Logic:
             if (!used[slot(graph::logicslot::out)])
@@ -118,11 +124,6 @@ void Elaborator::check_unused() {
                                  fmt::format("route '{}' of router '{}' drives nothing", g_.str(g_.slots[slot(i)].name), cname));
             if (!driven[slot(graph::routerslot::query)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format("router '{}' is never queried: nothing drives its 'query'", cname));
-            break;
-        case CompKind::Timer:
-            if (!g_.timers[static_cast<size_t>(comp.detail)].autostart && !driven[slot(graph::timerslot::start)])
-                sink_.report(DiagId::InputNotDriven, span,
-                             fmt::format("timer '{}' never runs: nothing drives its 'start' and it does not autostart", cname));
             break;
         case CompKind::Source:
             if (g_.sources[static_cast<size_t>(comp.detail)].rate <= 0 && !driven[slot(graph::sourceslot::issue)])

@@ -9,7 +9,17 @@
 #include "graph/kinds.h"
 
 #include <algorithm>
+#include <array>
 #include <fmt/format.h>
+
+// The compiler's part of each kind on the kind table (kinds/NAME/lower.cpp), beside its row.
+#define PLANT_KIND_LOWERING_DECL(word, WORD)                \
+    namespace plant::kinds::word {                          \
+    extern const graph::KindDesc desc;                      \
+    extern const sema::KindLowering lowering;               \
+    }
+PLANT_KINDS(PLANT_KIND_LOWERING_DECL)
+#undef PLANT_KIND_LOWERING_DECL
 
 namespace plant::sema {
 
@@ -17,10 +27,20 @@ using graph::CompKind;
 using graph::Dir;
 using graph::SlotType;
 
+const KindLowering* builtin_lowering(CompKind kind) {
+#define PLANT_KIND_LOWERING(word, WORD) std::pair{&kinds::word::desc, &kinds::word::lowering},
+    static const std::array rows = {PLANT_KINDS(PLANT_KIND_LOWERING)};
+#undef PLANT_KIND_LOWERING
+    for (const auto& [desc, lowering] : rows)
+        if (desc->kind == kind) return lowering;
+    return nullptr;
+}
+
 namespace {
 
 // The kind's lowering; the one place a kind joins the compiler.
 void lower(Lowering& lw) {
+    if (const KindLowering* k = builtin_lowering(lw.spec.kind)) return k->lower(lw);
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
     case CompKind::Field: return lower_field(lw);
@@ -28,7 +48,6 @@ void lower(Lowering& lw) {
     case CompKind::Graphics: return lower_graphics(lw);
     case CompKind::State: return lower_state(lw);
     case CompKind::Trigger: return lower_trigger(lw);
-    case CompKind::Timer: return lower_timer(lw);
     case CompKind::Gripper: return lower_gripper(lw);
     case CompKind::Source: return lower_source(lw);
     case CompKind::Exit: return lower_exit(lw);
@@ -36,11 +55,16 @@ void lower(Lowering& lw) {
     case CompKind::Label: return lower_label(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
+    default: return;  // a kind on the kind table: above
     }
 }
 
 // The kind's late linking, for the kinds that name other components.
 void link(Linking& lk) {
+    if (const KindLowering* k = builtin_lowering(lk.rec.kind)) {
+        if (k->link) k->link(lk);
+        return;
+    }
     switch (lk.rec.kind) {
     case CompKind::Field: return link_field(lk);
     case CompKind::Constraint: return link_constraint(lk);

@@ -1,5 +1,6 @@
 #include "sema/schema.h"
 
+#include <algorithm>
 #include <deque>
 #include <mutex>
 #include <utility>
@@ -10,6 +11,31 @@ namespace {
 namespace d = units::dims;
 using graph::CompKind;
 using T = PropType;
+
+// A kind's row as the compiler's spec: its parameters become properties, so the generic
+// checks of make_component apply to them.
+KindSpec kind_spec(const graph::KindDesc& d) {
+    KindSpec k{d.word, d.kind, {d.modes.begin(), d.modes.end()}, {}};
+    for (const graph::ParamSpec& p : d.params) {
+        PropSpec ps{p.name, T::Number, {}, p.required, p.doc};
+        switch (p.type) {
+        case graph::ParamType::Number: ps.dim = param_dim(p); break;
+        case graph::ParamType::Vec3: ps.type = T::Vec3, ps.dim = param_dim(p); break;
+        case graph::ParamType::Int: ps.type = T::Int; break;
+        case graph::ParamType::Bool: ps.type = T::Bool; break;
+        case graph::ParamType::String: ps.type = T::String; break;
+        case graph::ParamType::StringList: ps.type = T::StringList; break;
+        case graph::ParamType::Type: ps.type = T::Type; break;
+        case graph::ParamType::CompRef: ps.type = T::CompRef; break;
+        case graph::ParamType::Value: break;  // entry options only (graph::register_kind)
+        }
+        k.props.push_back(ps);
+    }
+    k.doc = d.doc;
+    k.children = !d.holds.empty();  // a panel's elements
+    if (d.kind == CompKind::Plugin) k.plugin = &d;
+    return k;
+}
 
 std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
@@ -64,11 +90,6 @@ std::vector<KindSpec> make_kinds() {
     trigger.on = true;
     k.push_back(trigger);
 
-    k.push_back(KindSpec{"timer", CompKind::Timer, {"periodic", "oneshot"}, {
-        {"period", T::Number, d::time, true, "period, or delay of a one-shot timer"},
-        {"autostart", T::Bool, {}, false, "runs from the start, default false"},
-    }});
-
     KindSpec gripper{"gripper", CompKind::Gripper, {}, {
         {"trigger", T::CompRef, {}, true, "trigger volume that catches objects"},
     }};
@@ -100,7 +121,6 @@ std::vector<KindSpec> make_kinds() {
         {"constraint", "a joint between two bodies: fixed, a hinge or a slider"},
         {"state", "a Petri net: places holding tokens and transitions that move them"},
         {"trigger", "a box volume that reports objects entering, staying and leaving"},
-        {"timer", "ticks after a period, once or periodically"},
         {"gripper", "holds the object its trigger caught, and lets it go"},
         {"source", "issues objects of a type into the plant, from a pool built at compile time"},
         {"exit", "takes the objects in its trigger out of the plant"},
@@ -110,31 +130,14 @@ std::vector<KindSpec> make_kinds() {
     for (auto& spec : k)
         for (const auto& [word, doc] : docs)
             if (spec.word == word) spec.doc = doc;
+    // The kinds on the kind table, from their rows; all in CompKind order.
+    for (const graph::KindDesc* row : graph::builtin_kinds()) k.push_back(kind_spec(*row));
+    std::stable_sort(k.begin(), k.end(), [](const KindSpec& a, const KindSpec& b) { return a.kind < b.kind; });
     return k;
 }
 
 const std::vector<KindSpec>& kinds() {
     static const std::vector<KindSpec> k = make_kinds();
-    return k;
-}
-
-// A plugin's parameters as properties: the generic checks of make_component then apply.
-KindSpec plugin_spec(const graph::KindDesc& d) {
-    KindSpec k{d.word, CompKind::Plugin, {}, {}};
-    for (const graph::ParamSpec& p : d.params) {
-        PropSpec ps{p.name, T::Number, {}, p.required, p.doc};
-        switch (p.type) {
-        case graph::ParamType::Number: ps.dim = param_dim(p); break;
-        case graph::ParamType::Int: ps.type = T::Int; break;
-        case graph::ParamType::Bool: ps.type = T::Bool; break;
-        case graph::ParamType::String: ps.type = T::String; break;
-        case graph::ParamType::Value: break;  // entry options only (graph::register_kind)
-        }
-        k.props.push_back(ps);
-    }
-    k.doc = d.doc;
-    k.children = !d.holds.empty();  // a panel's elements
-    k.plugin = &d;
     return k;
 }
 
@@ -149,7 +152,7 @@ const KindSpec* find_kind(std::string_view word) {
     std::lock_guard lock(m);
     for (const auto& k : plugin_specs)
         if (k.word == word) return &k;
-    if (const graph::KindDesc* d = graph::find_plugin(word)) return &plugin_specs.emplace_back(plugin_spec(*d));
+    if (const graph::KindDesc* d = graph::find_plugin(word)) return &plugin_specs.emplace_back(kind_spec(*d));
     return nullptr;
 }
 
@@ -161,7 +164,7 @@ std::vector<std::string> kind_words() {
 }
 
 units::Dim param_dim(const graph::ParamSpec& p) {
-    if (p.type != graph::ParamType::Number || p.unit.empty()) return {};
+    if ((p.type != graph::ParamType::Number && p.type != graph::ParamType::Vec3) || p.unit.empty()) return {};
     auto u = units::parse_unit(p.unit);
     return u ? u->dim : units::Dim{};
 }

@@ -4,6 +4,8 @@
 // velocities. Then sources with a rate issue.
 #include "engine/runtime.h"
 
+#include "engine/plugin.h"
+
 #include "graph/kinds.h"
 
 #include <algorithm>
@@ -14,7 +16,8 @@ using namespace plant::graph;
 
 namespace {
 
-// Each kind's acting lives with the rest of its behaviour (runtime.h lists where); state
+// Each kind's acting lives with the rest of its behaviour (runtime.h lists where; a kind on
+// the kind table: its kinds/NAME/run.cpp); state
 // acts in phase 4, routers, connectors and labels in phase 3, the rest has no inputs.
 void act_on(Runtime& r, int32_t comp) {
     const Comp& c = r.g.comps[comp];
@@ -23,12 +26,13 @@ void act_on(Runtime& r, int32_t comp) {
     case CompKind::Body: act_body(r, c, i); break;
     case CompKind::Field: act_field(r, c, i); break;
     case CompKind::Constraint: act_joint(r, c, i); break;
-    case CompKind::Timer: act_timer(r, c, i); break;
     case CompKind::Graphics: act_graphics(r, c, i); break;
     case CompKind::Source: act_source(r, c, i); break;
     case CompKind::Gripper: act_gripper(r, c, i); break;
     case CompKind::Plugin: act_plugin(r, i); break;
-    default: break;
+    default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
+        if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c, i);
+        break;
     }
 }
 

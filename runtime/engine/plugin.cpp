@@ -2,11 +2,28 @@
 
 #include "engine/runtime.h"
 
+#include <array>
 #include <utility>
 #include <vector>
 
+// The runtime's part of each kind on the kind table (kinds/NAME/run.cpp), beside its row.
+#define PLANT_KIND_RUN_DECL(word, WORD)             \
+    namespace plant::kinds::word {                  \
+    extern const graph::KindDesc desc;              \
+    extern const engine::KindBehaviour behaviour;   \
+    }
+PLANT_KINDS(PLANT_KIND_RUN_DECL)
+#undef PLANT_KIND_RUN_DECL
+
 namespace plant::engine {
 namespace {
+
+#define PLANT_KIND_RUN(word, WORD) &kinds::word::behaviour,
+const std::array kBuiltinRuns = {PLANT_KINDS(PLANT_KIND_RUN)};
+#undef PLANT_KIND_RUN
+#define PLANT_KIND_RUN_KIND(word, WORD) &kinds::word::desc,
+const std::array kBuiltinRows = {PLANT_KINDS(PLANT_KIND_RUN_KIND)};
+#undef PLANT_KIND_RUN_KIND
 
 std::vector<std::pair<std::string_view, const KindBehaviour*>>& behaviours() {
     static std::vector<std::pair<std::string_view, const KindBehaviour*>> b;
@@ -14,6 +31,27 @@ std::vector<std::pair<std::string_view, const KindBehaviour*>>& behaviours() {
 }
 
 }  // namespace
+
+const KindBehaviour* builtin_behaviour(graph::CompKind kind) {
+    static const auto by_kind = [] {
+        std::array<const KindBehaviour*, size_t(graph::CompKind::Plugin) + 1> a{};
+        for (size_t i = 0; i < kBuiltinRows.size(); ++i) a[size_t(kBuiltinRows[i]->kind)] = kBuiltinRuns[i];
+        return a;
+    }();
+    return by_kind[size_t(kind)];
+}
+
+std::span<const KindBehaviour* const> builtin_behaviours() { return kBuiltinRuns; }
+
+void start_kinds(Runtime& r) {
+    for (const KindBehaviour* b : kBuiltinRuns)
+        if (b->start_all) b->start_all(r);
+}
+
+void sense_kinds(Runtime& r) {
+    for (const KindBehaviour* b : kBuiltinRuns)
+        if (b->sense_all) b->sense_all(r);
+}
 
 bool register_plugin(const graph::KindDesc& desc, const KindBehaviour& behaviour) {
     if ((desc.senses == graph::PluginPhase::Sensors) != (behaviour.sense != nullptr) ||

@@ -1,7 +1,9 @@
-// The runtime side of a plugin component kind (graph/plugin.h): its behaviour, as hooks
-// the step's phases call, and the narrow view of one component those hooks get. A kind
-// registers its descriptor and its behaviour together with register_plugin(), before
-// any plant is compiled or run (docs/architecture.md, "Adding a component kind").
+// The runtime side of a component kind's row (graph/plugin.h): its behaviour, as hooks the
+// step's phases call. A plugin kind's hooks get the narrow view of one component
+// (PluginCtx); it registers its descriptor and its behaviour together with
+// register_plugin(), before any plant is compiled or run. A kind on the kind table
+// (kinds/NAME/run.cpp) works on its typed graph table and typed state of its own, a whole
+// table at a time (docs/architecture.md, "The kind table").
 //
 // The hooks run inside the step: they must not allocate, block or keep pointers into
 // the view. What they emit goes the way every component output goes: an output emitted
@@ -11,6 +13,7 @@
 #include "graph/plugin.h"
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -47,6 +50,7 @@ private:
 };
 
 struct Event;  // engine/events.h
+struct KindData;  // engine/state.h
 
 struct KindBehaviour {
     int state_size = 0;                   // numbers of state per component
@@ -57,7 +61,20 @@ struct KindBehaviour {
     // `out` before a run starts, they are applied like --event's, by apply_event
     // (plant_events in engine/events.h). Outside the step: may allocate.
     void (*schedule)(const graph::Graph& g, int32_t plugin, std::vector<Event>& out) = nullptr;
+
+    // ---- A kind on the kind table: its whole table at a time ----
+    // Its state (State::kinds[its CompKind]), made when the engine is built; nullptr: none.
+    std::unique_ptr<KindData> (*make_state)(const graph::Graph& g) = nullptr;
+    void (*start_all)(Runtime& r) = nullptr;  // once, in the kind table's order (start_kinds)
+    void (*sense_all)(Runtime& r) = nullptr;  // phase 2, in the kind table's order (sense_kinds)
+    // Phase 5, for a component with an active input: `c` the component, `row` its detail.
+    // nullptr: its inputs are read elsewhere (phases 3, 4), never by phase 5.
+    void (*act_one)(Runtime& r, const graph::Comp& c, int32_t row) = nullptr;
 };
+
+// The behaviour of a kind on the kind table (kinds/list.h), nullptr for any other kind.
+const KindBehaviour* builtin_behaviour(graph::CompKind kind);
+std::span<const KindBehaviour* const> builtin_behaviours();  // in the kind table's order
 
 // Registers the kind's descriptor (graph::register_kind) and its behaviour; false if the
 // descriptor is refused or a hook the descriptor's phases name is missing.

@@ -64,7 +64,7 @@ struct Runtime {
 
 // The five phases of a step (docs/runtime.md), in this order.
 void phase_physics(Runtime& r);    // 1: kinematic moves, conveyor forces, Bullet step
-void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, timers, grippers, exits, plugins
+void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, the kind table's, grippers, exits, plugins
 void phase_logic(Runtime& r);      // 3: external inputs, flows, connectors, routers, labels
 void phase_petri(Runtime& r);      // 4: clear outputs, puts, all enabled transitions fire
 void phase_actuators(Runtime& r);  // 5: components act on their active inputs
@@ -80,7 +80,7 @@ void forces_logic_end(Runtime& r);
 void force_again(Runtime& r, int32_t slot);
 void forces_step_end(Runtime& r);
 
-// Each built-in kind's behaviour, in its own file: `start_*` once when the engine is built
+// Each built-in kind not yet on the kind table has its behaviour in its own file: `start_*` once when the engine is built
 // (in the order Runtime's constructor calls them), `sense_*` in phase 2, `act_*` in phase 5
 // for a component with an active input (`c` the component, `i` its detail row).
 void check_bodies(Runtime& r);  // bodies.cpp: what left the world is taken out
@@ -98,9 +98,6 @@ void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
 void integrate_group(Runtime& r, int32_t group);
 void start_joints(Runtime& r);  // joints.cpp
 void act_joint(Runtime& r, const graph::Comp& c, int32_t i);
-void start_timers(Runtime& r);  // timers.cpp
-void sense_timers(Runtime& r);
-void act_timer(Runtime& r, const graph::Comp& c, int32_t i);
 void start_triggers(Runtime& r);  // triggers.cpp
 void sense_triggers(Runtime& r);
 void start_graphics(Runtime& r);  // graphics.cpp
@@ -125,5 +122,9 @@ bool glob_match(std::string_view pattern, std::string_view text);
 void start_plugins(Runtime& r);
 void sense_plugins(Runtime& r);
 void act_plugin(Runtime& r, int32_t plugin);
+// The kinds on the kind table (plugin.cpp; each in kinds/NAME/run.cpp): their start and
+// sense hooks in the table's order; their act hooks through builtin_behaviour().
+void start_kinds(Runtime& r);
+void sense_kinds(Runtime& r);
 
 }  // namespace plant::engine

@@ -1,5 +1,7 @@
 #include "engine/state.h"
 
+#include "engine/plugin.h"
+
 #include <algorithm>
 
 namespace plant::engine {
@@ -89,7 +91,9 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.slice_left.assign(64, 0);
     s.trigger_slices.resize(64);  // at most four per thread, 16 threads (triggers.cpp)
     for (std::vector<int32_t>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
-    s.timers.resize(g.timers.size());  // running from the start: start_timers (timers.cpp)
+
+    for (const graph::KindDesc* k : graph::builtin_kinds())  // the kinds on the kind table
+        if (const KindBehaviour* b = builtin_behaviour(k->kind); b->make_state) s.kinds[size_t(k->kind)] = b->make_state(g);
 
     s.gripper_held.assign(g.grippers.size(), -1);
 

@@ -10,7 +10,9 @@
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace plant::engine {
@@ -22,10 +24,10 @@ struct TriggerState {
     int64_t enters = 0;
 };
 
-struct TimerState {
-    bool running = false;
-    int64_t n = 0;        // steps since start
-    double deadline = 0;  // next tick, seconds since start
+// A kind on the kind table keeps its state in a type of its own (kinds/NAME/run.cpp), made
+// once outside the step (KindBehaviour::make_state) and reached with kind_data<T>().
+struct KindData {
+    virtual ~KindData() = default;
 };
 
 struct GraphicsState {
@@ -143,7 +145,6 @@ struct State {
     // left its room.
     std::vector<uint8_t> slice_moved, slice_left;
     std::vector<std::vector<int32_t>> trigger_slices;
-    std::vector<TimerState> timers;
     std::vector<int32_t> gripper_held;         // DO held, -1
     std::vector<GraphicsState> graphics;
     std::vector<uint8_t> graphics_flags;       // per root in graphics_order: what it publishes (graphics.cpp)
@@ -160,6 +161,8 @@ struct State {
     std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
 
     std::vector<double> plugin_state;  // Tables::plugin_run's state_adr into it
+    // The kinds on the kind table: their state, by CompKind (nullptr: none).
+    std::array<std::unique_ptr<KindData>, size_t(graph::CompKind::Plugin) + 1> kinds;
 
     // Hands (hands.cpp): reserved at the start, changed between steps only (events).
     std::vector<Hand> hands;
@@ -170,5 +173,11 @@ struct State {
 };
 
 void init_state(State& s, const graph::Graph& g, const Tables& t);
+
+// The state of a kind on the kind table, as the type its run.cpp made.
+template <class T>
+T& kind_data(State& s, graph::CompKind kind) {
+    return static_cast<T&>(*s.kinds[size_t(kind)]);
+}
 
 }  // namespace plant::engine

@@ -45,15 +45,18 @@ Tables::Tables(const Graph& g) {
     slot_out.resize(g.slots.size());
     value_adr.resize(g.slots.size());
     for (size_t s = 0; s < g.slots.size(); ++s) value_adr[s] = g.slots[s].value_adr;
-    for (const Timer& t : g.timers) timer_slots.push_back(g.comps[t.comp].slot_adr);
     for (size_t s = 0; s < g.slots.size(); ++s) slot_out[s] = g.slots[s].dir == Dir::Out;
-    // State, logic, router and label inputs are read by phases 3 and 4; the rest act.
+    // State, logic, router and label inputs are read by phases 3 and 4; the rest act (a kind
+    // on the kind table: when it has an act hook).
     slot_acts.resize(g.slots.size());
     for (size_t s = 0; s < g.slots.size(); ++s) {
         const CompKind k = g.comps[g.slots[s].comp].kind;
-        slot_acts[s] = !slot_out[s] && k != CompKind::State && k != CompKind::Logic && k != CompKind::Router &&
-                       k != CompKind::Label &&
-                       (k != CompKind::Plugin || plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators);
+        const KindBehaviour* b = builtin_behaviour(k);
+        slot_acts[s] = !slot_out[s] && (b ? b->act_one != nullptr
+                                          : k != CompKind::State && k != CompKind::Logic && k != CompKind::Router &&
+                                                k != CompKind::Label &&
+                                                (k != CompKind::Plugin ||
+                                                 plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators));
     }
     // Plugin components: the loader checked their kinds are registered; a kind registered
     // without its behaviour (graph::register_kind alone, as a compiler-only program may) is

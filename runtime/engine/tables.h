@@ -32,7 +32,6 @@ struct PluginRun {
 struct Tables {
     std::vector<uint8_t> slot_out;  // 1 for outputs
     std::vector<int32_t> value_adr; // Slot::value_adr, packed: the hot lookup of every step
-    std::vector<int32_t> timer_slots; // first slot of each timer's component
     std::vector<uint8_t> slot_acts; // 1 for inputs of components that act in phase 5
     // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
     // every other slot.

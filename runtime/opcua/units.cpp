@@ -1,5 +1,7 @@
 #include "opcua/units.h"
 
+#include "graph/plugin.h"
+
 #include <array>
 
 namespace plant::opcua {
@@ -56,7 +58,10 @@ std::string_view slot_si_unit(const graph::Graph& g, int32_t slot) {
     const graph::CompKind kind = g.comps[size_t(s.comp.v)].kind;
     const std::string_view name = g.str(s.name);
     if (kind == graph::CompKind::Field && (name == "set_speed" || name == "speed")) return "m/s";
-    if (kind == graph::CompKind::Timer && name == "elapsed") return "s";
+    // A kind's row may say (graph::SlotSpec::unit).
+    const auto fixed = graph::slots_of(g, s.comp);
+    const int32_t k = slot - g.comps[size_t(s.comp.v)].slot_adr;
+    if (k >= 0 && size_t(k) < fixed.size()) return fixed[size_t(k)].unit;
     return "";
 }
 

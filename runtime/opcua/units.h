@@ -27,8 +27,8 @@ const Unit* find_unit(std::string_view symbol);
 // OPC UA's UnitId for a UNECE code (Part 8: the code's characters, high byte first).
 int32_t unit_id(std::string_view code);
 
-// The SI unit of a built-in real slot ("m/s" for a force field's speed, "s" for a timer's
-// elapsed time); "" when the slot has none we know of (a plugin's, an int, a bool).
+// The SI unit of a built-in real slot ("m/s" for a force field's speed; what a kind's row
+// says, graph::SlotSpec::unit); "" when the slot has none we know of (an int, a bool).
 std::string_view slot_si_unit(const graph::Graph& g, int32_t slot);
 
 }  // namespace plant::opcua

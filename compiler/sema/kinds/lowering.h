@@ -2,8 +2,10 @@
 // generic part (components.cpp: kind word, mode, properties known, set once and typed,
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
-// references between components) gets a Linking. One file per family of kinds holds both:
-// physics.cpp, graphics.cpp, state.cpp, objects.cpp; plugin.cpp lowers every plugin kind.
+// references between components) gets a Linking. A kind on the kind table has both in its
+// kinds/NAME/lower.cpp (KindLowering); for the others one file per family of kinds holds
+// both: physics.cpp, graphics.cpp, state.cpp, objects.cpp; plugin.cpp lowers every plugin
+// kind.
 #pragma once
 
 #include "sema/elaborator.h"
@@ -66,6 +68,14 @@ struct Linking {
     std::string ref_name(const ast::Property& p) const;
 };
 
+// The compiler's part of a kind on the kind table (kinds/NAME/lower.cpp, found through
+// kinds/list.h): its lowering and, for a kind that names other components, its linking.
+struct KindLowering {
+    void (*lower)(Lowering& lw) = nullptr;
+    void (*link)(Linking& lk) = nullptr;
+};
+const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on the table
+
 // physics.cpp
 void lower_body(Lowering& lw);
 void lower_field(Lowering& lw);
@@ -81,7 +91,6 @@ void lower_state(Lowering& lw);
 void lower_plugin(Lowering& lw);
 // objects.cpp
 void lower_trigger(Lowering& lw);
-void lower_timer(Lowering& lw);
 void lower_gripper(Lowering& lw);
 void lower_source(Lowering& lw);
 void lower_exit(Lowering& lw);

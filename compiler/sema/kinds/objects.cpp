@@ -1,5 +1,5 @@
-// The kinds that sense, count and route objects: trigger, timer, gripper, source, exit,
-// router, label.
+// The kinds that sense, count and route objects: trigger, gripper, source, exit, router,
+// label.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -33,18 +33,6 @@ void lower_trigger(Lowering& lw) {
     }
     g.triggers.push_back(t);
     lw.set_detail(g.triggers.size());
-}
-
-void lower_timer(Lowering& lw) {
-    graph::Graph& g = lw.el.g_;
-    graph::Timer t;
-    t.comp = graph::CompId(lw.comp);
-    t.period = lw.num("period", 0);
-    lw.positive("period");
-    t.periodic = lw.mode != "oneshot";
-    t.autostart = lw.boolean("autostart", false);
-    g.timers.push_back(t);
-    lw.set_detail(g.timers.size());
 }
 
 void lower_gripper(Lowering& lw) {

@@ -201,6 +201,7 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
         case graph::ParamType::Bool: ok = ev_.expect_bool(values[k], what) && ok; break;
         case graph::ParamType::String: ok = ev_.expect_string(values[k], what) && ok; break;
         case graph::ParamType::Value: ok = expect_slot_value(values[k], target, what) && ok; break;
+        default: break;  // not an entry option's type (graph::register_kind refuses it)
         }
     }
     for (size_t k = 0; k < es.options.size(); ++k) {
