@@ -178,17 +178,6 @@ constexpr int slot_width(SlotType t) {
     F(double, max_force) /* slip limit per body, N; 0: unlimited */                 \
     F(bool, enabled)
 
-#define PLANT_FIELDS_JOINT(F)                                                    \
-    F(CompId, comp)                                                             \
-    F(JointKind, kind)                                                           \
-    F(BodyId, body_a)                                                           \
-    F(BodyId, body_b)                                                           \
-    F(Pose, frame_a)     /* joint frame relative to body a */                    \
-    F(Pose, frame_b)     /* joint frame relative to body b */                    \
-    F(double, lower)     /* hinge: rad, slider: m; lower > upper means free */   \
-    F(double, upper)                                                             \
-    F(bool, enabled)
-
 #define PLANT_FIELDS_PLACE(F)  \
     F(CompId, comp)           \
     F(Name, name)              \
@@ -344,7 +333,7 @@ constexpr int slot_width(SlotType t) {
     X(shapes, Shape, shape, PLANT_FIELDS_SHAPE)                       \
     X(points, Point, point, PLANT_FIELDS_POINT)                       \
     X(fields, Field, field, PLANT_FIELDS_FIELD)                       \
-    X(joints, Joint, joint, PLANT_FIELDS_JOINT)                       \
+    X(joints, Joint, joint, PLANT_FIELDS_CONSTRAINT)                  \
     X(places, Place, place, PLANT_FIELDS_PLACE)                       \
     X(transitions, Transition, transition, PLANT_FIELDS_TRANSITION)   \
     X(arcs, Arc, arc, PLANT_FIELDS_ARC)                               \

@@ -10,7 +10,6 @@ namespace {
 constexpr std::array kGraphics = {PLANT_SLOTS_GRAPHICS(PLANT_SLOT_SPEC)};
 constexpr std::array kBody = {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)};
 constexpr std::array kField = {PLANT_SLOTS_FIELD(PLANT_SLOT_SPEC)};
-constexpr std::array kJoint = {PLANT_SLOTS_JOINT(PLANT_SLOT_SPEC)};
 constexpr std::array kTrigger = {PLANT_SLOTS_TRIGGER(PLANT_SLOT_SPEC)};
 constexpr std::array kGripper = {PLANT_SLOTS_GRIPPER(PLANT_SLOT_SPEC)};
 constexpr std::array kSource = {PLANT_SLOTS_SOURCE(PLANT_SLOT_SPEC)};
@@ -27,7 +26,6 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     case CompKind::Graphics: return kGraphics;
     case CompKind::Body: return kBody;
     case CompKind::Field: return kField;
-    case CompKind::Constraint: return kJoint;
     case CompKind::State: return {};
     case CompKind::Trigger: return kTrigger;
     case CompKind::Gripper: return kGripper;

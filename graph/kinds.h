@@ -45,11 +45,6 @@
     S(speed, "speed", Real, Out, "the speed it drives at: its target speed while enabled, 0 while not") \
     S(enabled, "enabled", Bool, Out, "whether the field pushes")
 
-#define PLANT_SLOTS_JOINT(S) \
-    S(enable, "enable", Void, In, "the constraint holds") \
-    S(disable, "disable", Void, In, "the constraint is released") \
-    S(enabled, "enabled", Bool, Out, "whether it holds")
-
 #define PLANT_SLOTS_TRIGGER(S) \
     S(on_enter, "on_enter", Void, Out, "an object entered the volume this step") \
     S(on_stay, "on_stay", Void, Out, "at least one object is inside") \
@@ -110,7 +105,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
 namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) count }; }
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
-namespace jointslot { enum : int { PLANT_SLOTS_JOINT(PLANT_SLOT_INDEX) count }; }
 namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
 namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
 namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }; }

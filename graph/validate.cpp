@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && joints() && nets() && triggers() && table_kinds() && grippers() && sources() &&
+               shapes() && fields() && nets() && triggers() && table_kinds() && grippers() && sources() &&
                exits() && routes() && graphics() && animations() && variants() && labels() &&
                ports() && plugin_records();
     }
@@ -197,7 +197,6 @@ private:
         case CompKind::Graphics: n = g_.graphics.size(), name = "graphics"; return true;
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
-        case CompKind::Constraint: n = g_.joints.size(), name = "joints"; return true;
         case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
         case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
         case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
@@ -413,15 +412,6 @@ private:
                    check(f.extent[0] > 0 && f.extent[1] > 0 && f.extent[2] > 0, "field 'extent' must be above 0") &&
                    check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
                    check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
-        });
-    }
-
-    bool joints() {
-        return each("joints", g_.joints, [&](const Joint& j, size_t i) {
-            return owner(j.comp, CompKind::Constraint, i) &&
-                   check(j.body_a != j.body_b, "a joint joins two different bodies") &&
-                   check(j.kind != JointKind::Hinge || j.lower > j.upper || j.upper - j.lower <= kMaxHingeSpan,
-                         "a hinge's limits span more than a turn (Bullet's hinge would have none)");
         });
     }
 

@@ -44,7 +44,6 @@ void lower(Lowering& lw) {
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
     case CompKind::Field: return lower_field(lw);
-    case CompKind::Constraint: return lower_constraint(lw);
     case CompKind::Graphics: return lower_graphics(lw);
     case CompKind::State: return lower_state(lw);
     case CompKind::Trigger: return lower_trigger(lw);
@@ -67,7 +66,6 @@ void link(Linking& lk) {
     }
     switch (lk.rec.kind) {
     case CompKind::Field: return link_field(lk);
-    case CompKind::Constraint: return link_constraint(lk);
     case CompKind::Graphics: return link_graphics(lk);
     case CompKind::Trigger: return link_trigger(lk);
     case CompKind::Gripper: return link_gripper(lk);

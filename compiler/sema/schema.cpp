@@ -70,15 +70,6 @@ std::vector<KindSpec> make_kinds() {
     field.on = true;
     k.push_back(field);
 
-    k.push_back(KindSpec{"constraint", CompKind::Constraint, {"fixed", "hinge", "slider"}, {
-        {"a", T::CompRef, {}, true, "first body"},
-        {"b", T::CompRef, {}, true, "second body"},
-        {"axis", T::Vec3, {}, false, "hinge/slider axis in the object's frame, default (0, 0, 1)"},
-        {"lower", T::Number, {}, false, "lower limit (angle or length)"},
-        {"upper", T::Number, {}, false, "upper limit (angle or length)"},
-        {"enabled", T::Bool, {}, false, "default true"},
-    }});
-
     KindSpec state{"state", CompKind::State, {}, {}};
     state.places = true;
     k.push_back(state);
@@ -118,7 +109,6 @@ std::vector<KindSpec> make_kinds() {
         {"graphics", "what the viewer draws: a model, its animations and variants, child graphics"},
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
         {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
-        {"constraint", "a joint between two bodies: fixed, a hinge or a slider"},
         {"state", "a Petri net: places holding tokens and transitions that move them"},
         {"trigger", "a box volume that reports objects entering, staying and leaving"},
         {"gripper", "holds the object its trigger caught, and lets it go"},

@@ -25,7 +25,6 @@ void act_on(Runtime& r, int32_t comp) {
     switch (c.kind) {
     case CompKind::Body: act_body(r, c, i); break;
     case CompKind::Field: act_field(r, c, i); break;
-    case CompKind::Constraint: act_joint(r, c, i); break;
     case CompKind::Graphics: act_graphics(r, c, i); break;
     case CompKind::Source: act_source(r, c, i); break;
     case CompKind::Gripper: act_gripper(r, c, i); break;

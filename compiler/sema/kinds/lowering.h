@@ -79,9 +79,7 @@ const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on 
 // physics.cpp
 void lower_body(Lowering& lw);
 void lower_field(Lowering& lw);
-void lower_constraint(Lowering& lw);
 void link_field(Linking& lk);
-void link_constraint(Linking& lk);
 // graphics.cpp
 void lower_graphics(Lowering& lw);
 void link_graphics(Linking& lk);

@@ -1,6 +1,7 @@
 // The slot tables of kinds.h: the runtime indexes fixed slots through the *slot
 // constants, the compiler checks flows against fixed_slots().
 #include "graph/kinds.h"
+#include "graph/plugin.h"
 
 #include <doctest/doctest.h>
 
@@ -30,7 +31,7 @@ TEST_CASE("fixed_slots(kind) is the table its index constants count") {
     CHECK(slot_count(CompKind::Body) == size_t(bodyslot::count));
     CHECK(slot_count(CompKind::Graphics) == size_t(graphicsslot::count));
     CHECK(slot_count(CompKind::Field) == size_t(fieldslot::count));
-    CHECK(slot_count(CompKind::Constraint) == size_t(jointslot::count));
+    CHECK(slot_count(CompKind::Constraint) == size_t(constraintslot::count));
     CHECK(slot_count(CompKind::Trigger) == size_t(triggerslot::count));
     CHECK(slot_count(CompKind::Timer) == size_t(timerslot::count));
     CHECK(slot_count(CompKind::Gripper) == size_t(gripperslot::count));
@@ -69,6 +70,50 @@ TEST_CASE("every kind: names unique, index finds each, unknown is -1") {
         }
         CHECK(fixed_slot_index(k, "no_such_slot") == -1);
         CHECK(fixed_slot_index(k, "") == -1);
+    }
+}
+
+// The kind table (graph/plugin.h): each row names its own CompKind and graph table, and the
+// generic code reads the row, not a switch.
+TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with its slots and table") {
+    REQUIRE(!builtin_kinds().empty());
+    std::set<CompKind> seen;
+    for (const KindDesc* d : builtin_kinds()) {
+        CAPTURE(d->word);
+        CHECK(seen.insert(d->kind).second);
+        CHECK(d->kind != CompKind::Plugin);
+        CHECK(builtin_kind(d->kind) == d);
+        CHECK(word(d->kind) == d->word);  // the graph's word for the CompKind is the plant file's
+        CHECK(fixed_slots(d->kind).data() == d->slots.data());
+        CHECK(!d->doc.empty());
+        CHECK(!d->table.empty());
+        REQUIRE(bool(d->rows));
+        REQUIRE(bool(d->comp_of));
+        CHECK(d->rows(Graph{}) == 0);
+        CHECK((d->idle_input < 0 || size_t(d->idle_input) < d->slots.size()));
+        CHECK((d->idle_input < 0) == d->idle_warning.empty());
+        CHECK(!find_plugin(d->word));  // not a plugin: register_kind refuses the word
+    }
+    CHECK(builtin_kind(CompKind::Plugin) == nullptr);
+    CHECK(builtin_kind(CompKind::Body) == nullptr);  // not on the table yet
+    const KindDesc* timer = builtin_kind(CompKind::Timer);
+    REQUIRE(timer);
+    CHECK(timer->table == "timers");
+    CHECK(timer->slots[timerslot::elapsed].unit == "s");
+}
+
+TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind and parameters a plugin cannot store") {
+    constexpr SlotSpec slots[] = {{"in", SlotType::Void, Dir::In, "an input"}};
+    const KindDesc timer_word{"timer", "a second timer", slots, {}};
+    CHECK_FALSE(register_kind(timer_word));
+    const KindDesc as_table{.word = "kinds_test_table", .doc = "claims a CompKind", .slots = slots, .params = {}, .kind = CompKind::Timer};
+    CHECK_FALSE(register_kind(as_table));
+    for (ParamType t : {ParamType::Vec3, ParamType::StringList, ParamType::Type, ParamType::CompRef, ParamType::Value}) {
+        CAPTURE(word(t));
+        const ParamSpec params[] = {{"p", t, "", false, 0, "a parameter"}};
+        const KindDesc d{"kinds_test_param", "takes one parameter", slots, params};
+        CHECK_FALSE(register_kind(d));
+        CHECK(find_plugin("kinds_test_param") == nullptr);
     }
 }
 
