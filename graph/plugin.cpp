@@ -3,14 +3,10 @@
 #include <array>
 #include <string>
 
-// The rows of the kinds on the kind table, one per kind in kinds/list.h (kinds/NAME/kind.cpp).
-#define PLANT_KIND_ROW_DECL(word, WORD) namespace plant::kinds::word { extern const graph::KindDesc desc; }
-PLANT_KINDS(PLANT_KIND_ROW_DECL)
-#undef PLANT_KIND_ROW_DECL
-
 namespace plant::graph {
 namespace {
 
+// The rows of the kinds on the kind table, one per kind in kinds/list.h (kinds/NAME/kind.cpp).
 #define PLANT_KIND_ROW(word, WORD) &kinds::word::desc,
 const std::array kBuiltins = {PLANT_KINDS(PLANT_KIND_ROW)};
 #undef PLANT_KIND_ROW

@@ -12,21 +12,13 @@
 #include <array>
 #include <fmt/format.h>
 
-// The compiler's part of each kind on the kind table (kinds/NAME/lower.cpp), beside its row.
-#define PLANT_KIND_LOWERING_DECL(word, WORD)                \
-    namespace plant::kinds::word {                          \
-    extern const graph::KindDesc desc;                      \
-    extern const sema::KindLowering lowering;               \
-    }
-PLANT_KINDS(PLANT_KIND_LOWERING_DECL)
-#undef PLANT_KIND_LOWERING_DECL
-
 namespace plant::sema {
 
 using graph::CompKind;
 using graph::Dir;
 using graph::SlotType;
 
+// The compiler's part of each kind on the kind table (kinds/NAME/lower.cpp), beside its row.
 const KindLowering* builtin_lowering(CompKind kind) {
 #define PLANT_KIND_LOWERING(word, WORD) std::pair{&kinds::word::desc, &kinds::word::lowering},
     static const std::array rows = {PLANT_KINDS(PLANT_KIND_LOWERING)};

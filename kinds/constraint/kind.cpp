@@ -31,7 +31,6 @@ bool check(const Graph& g, int32_t row, PluginProblem& problem) {
 
 }  // namespace
 
-extern const KindDesc desc;
 constexpr KindDesc desc{
     .word = "constraint",
     .doc = "a joint between two bodies: fixed, a hinge or a slider",

@@ -92,7 +92,6 @@ void link(Linking& lk) {
 
 }  // namespace
 
-extern const KindLowering lowering;
 constexpr KindLowering lowering{.lower = lower, .link = link};
 
 }  // namespace plant::kinds::constraint

@@ -25,7 +25,6 @@ void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
 
 }  // namespace
 
-extern const KindBehaviour behaviour;
 constexpr KindBehaviour behaviour{.start_all = start_all, .act_one = act_one};
 
 }  // namespace plant::kinds::constraint

@@ -30,7 +30,6 @@ bool check(const Graph& g, int32_t row, PluginProblem& problem) {
 
 }  // namespace
 
-extern const KindDesc desc;
 constexpr KindDesc desc{
     .word = "timer",
     .doc = "ticks after a period, once or periodically",

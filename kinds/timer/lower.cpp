@@ -21,7 +21,6 @@ void lower(sema::Lowering& lw) {
 
 }  // namespace
 
-extern const sema::KindLowering lowering;
 constexpr sema::KindLowering lowering{.lower = lower};
 
 }  // namespace plant::kinds::timer

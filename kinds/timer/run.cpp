@@ -79,7 +79,6 @@ void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
 
 }  // namespace
 
-extern const KindBehaviour behaviour;
 constexpr KindBehaviour behaviour{
     .make_state = make_state, .start_all = start_all, .sense_all = sense_all, .act_one = act_one};
 

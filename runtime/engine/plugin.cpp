@@ -6,18 +6,10 @@
 #include <utility>
 #include <vector>
 
-// The runtime's part of each kind on the kind table (kinds/NAME/run.cpp), beside its row.
-#define PLANT_KIND_RUN_DECL(word, WORD)             \
-    namespace plant::kinds::word {                  \
-    extern const graph::KindDesc desc;              \
-    extern const engine::KindBehaviour behaviour;   \
-    }
-PLANT_KINDS(PLANT_KIND_RUN_DECL)
-#undef PLANT_KIND_RUN_DECL
-
 namespace plant::engine {
 namespace {
 
+// The runtime's part of each kind on the kind table (kinds/NAME/run.cpp), beside its row.
 #define PLANT_KIND_RUN(word, WORD) &kinds::word::behaviour,
 const std::array kBuiltinRuns = {PLANT_KINDS(PLANT_KIND_RUN)};
 #undef PLANT_KIND_RUN
