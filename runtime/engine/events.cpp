@@ -17,13 +17,13 @@ namespace plant::engine {
 
 using namespace plant::graph;
 
-namespace {
-
 std::string_view trim(std::string_view s) {
     while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
     while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
     return s;
 }
+
+namespace {
 
 // A number followed by an optional unit (spaces allowed between them).
 bool number_unit(std::string_view text, double& v, std::string_view& unit) {
@@ -481,11 +481,11 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
     return parse_value(g, t->type, path, value, ev, error) && in_range(g, ev, value, error);
 }
 
-bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,
-                 std::vector<Event>& out, std::string& error) {
+bool read_lines(const std::string& path, std::string_view what,
+                const std::function<bool(std::string_view line, int n, size_t col)>& f, std::string& error) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) {
-        error = fmt::format("{}: is a folder, not an events file", path);
+        error = fmt::format("{}: is a folder, not {}", path, what);
         return false;
     }
     std::ifstream in(path);
@@ -495,20 +495,28 @@ bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path
     }
     std::string line;
     for (int n = 1; std::getline(in, line); ++n) {
-        std::string_view l = trim(line);
+        const std::string_view l = trim(line);
         if (l.empty() || l.front() == '#') continue;
-        Event ev;
-        if (!parse_event(g, slots, l, ev, error)) {
-            error = fmt::format("{}:{}: {}", path, n, error);
-            return false;
-        }
-        out.push_back(std::move(ev));
+        if (!f(l, n, size_t(l.data() - line.data()) + 1)) return false;
     }
     if (in.bad()) {
         error = fmt::format("{}: cannot read", path);
         return false;
     }
     return true;
+}
+
+bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path,
+                 std::vector<Event>& out, std::string& error) {
+    return read_lines(path, "an events file", [&](std::string_view l, int n, size_t) {
+        Event ev;
+        if (!parse_event(g, slots, l, ev, error)) {
+            error = fmt::format("{}:{}: {}", path, n, error);
+            return false;
+        }
+        out.push_back(std::move(ev));
+        return true;
+    }, error);
 }
 
 std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which) {

@@ -9,6 +9,7 @@
 #include "engine/times.h"
 #include "graph/graph.h"
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -87,6 +88,16 @@ std::vector<Event> plant_events(const graph::Graph& g);
 // and then `given` (the command line's, an events file's) sorted by time, the plant's first
 // at equal times and `given` in its own order (a later force of the same slot wins).
 std::vector<Event> run_events(const graph::Graph& g, std::vector<Event> given);
+
+// `s` without blanks (spaces, tabs, carriage returns, newlines) at either end.
+std::string_view trim(std::string_view s);
+// Reads a file of one item per line, as an events file and a drill file are: blank lines and
+// lines starting with '#' are skipped, and f(line, n, col) gets every other line, trimmed, with
+// its number and the column it starts at (both from 1). False, with `error` set, when the path
+// is a folder (`what` says what it should be: "an events file"), cannot be opened or read, or f
+// returns false (having set `error`).
+bool read_lines(const std::string& path, std::string_view what,
+                const std::function<bool(std::string_view line, int n, size_t col)>& f, std::string& error);
 
 // One event per line; blank lines and lines starting with '#' are skipped.
 bool load_events(const graph::Graph& g, const SlotIndex& slots, const std::string& path,

@@ -6,18 +6,12 @@
 
 #include <cmath>
 #include <charconv>
-#include <filesystem>
-#include <fstream>
 
 namespace plant::faults {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-    return s;
-}
+using engine::trim;
 
 // The first word of `s` (up to a blank), and `s` after it, trimmed.
 std::string_view first_word(std::string_view& s) {
@@ -134,33 +128,16 @@ bool parse_drill(const graph::Graph& g, const engine::SlotIndex& slots, std::str
 
 bool load_drills(const graph::Graph& g, const engine::SlotIndex& slots, const std::string& path, std::vector<Drill>& out,
                  std::string& error) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-        error = fmt::format("{}: is a folder, not a drill file", path);
-        return false;
-    }
-    std::ifstream in(path);
-    if (!in) {
-        error = fmt::format("{}: cannot open", path);
-        return false;
-    }
-    std::string line;
-    for (int n = 1; std::getline(in, line); ++n) {
-        const std::string_view l = trim(line);
-        if (l.empty() || l.front() == '#') continue;
+    return engine::read_lines(path, "a drill file", [&](std::string_view l, int n, size_t col) {
         Drill d;
         if (!parse_drill(g, slots, l, d, error)) {
-            error = fmt::format("{}:{}:{}: {}", path, n, size_t(l.data() - line.data()) + 1, error);
+            error = fmt::format("{}:{}:{}: {}", path, n, col, error);
             return false;
         }
         d.by = "drill file";
         out.push_back(std::move(d));
-    }
-    if (in.bad()) {
-        error = fmt::format("{}: cannot read", path);
-        return false;
-    }
-    return true;
+        return true;
+    }, error);
 }
 
 void Drills::add(Drill d) {

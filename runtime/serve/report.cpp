@@ -32,11 +32,7 @@ constexpr std::string_view kBy = "# by ";
 constexpr std::string_view kEnd = "# end ";
 constexpr std::string_view kDrill = "# drill ";
 
-std::string trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-    return std::string(s);
-}
+std::string trim(std::string_view s) { return std::string(engine::trim(s)); }
 
 // Who sent the next event: "# by NAME (ROLE) at WALL", role and wall optional.
 struct Meta {
