@@ -176,22 +176,26 @@ async function manyClients(n) {
 }
 
 async function flood(seconds) {
-    const until = Date.now() + seconds * 1000;
     const nodes = Array.from({ length: 30 }, (_, i) => ({ nodeId: i < 5 ? `ns=2;i=${i + 1}` : "ns=1;s=Link.Steps", attributeId: AttributeIds.Value }));
+    // The four sessions first: on a loaded machine their handshakes alone can take seconds,
+    // which are not the flood's.
+    const sessions = await Promise.all(Array.from({ length: 4 }, connect));
+    const started = Date.now();
+    const until = started + seconds * 1000;
     let requests = 0;
-    await Promise.all(Array.from({ length: 4 }, async () => {
-        const { client, session } = await connect();
-        await Promise.all(Array.from({ length: 8 }, async () => {  // eight requests in flight on each
-            while (Date.now() < until) {
-                await session.read(nodes);
-                ++requests;
-            }
-        }));
+    await Promise.all(sessions.map(({ session }) => Promise.all(Array.from({ length: 8 }, async () => {  // eight requests in flight on each
+        while (Date.now() < until) {
+            await session.read(nodes);
+            ++requests;
+        }
+    }))));
+    const took = (Date.now() - started) / 1000;
+    for (const { client, session } of sessions) {
         await session.close();
         await client.disconnect();
-    }));
+    }
     out.requests = requests;
-    out.perSecond = Math.round(requests / seconds);
+    out.perSecond = Math.round(requests / took);
 }
 
 const m = monitor();
