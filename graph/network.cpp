@@ -6,16 +6,25 @@
 #include <climits>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <queue>
+#include <tuple>
 
 namespace plant::graph {
 
 namespace {
 
-// The dependency graph: nodes, and who must run before whom.
+// The dependency graph: nodes, and who must run before whom. Ids from nodes.size() on
+// are groups: the slots one kind of dynamic end may be (every bottle's label value, for
+// the flows reading `(sw.bottle as Bottle).code`), each one node between those slots'
+// producers and the flows that read through the end. Edges from each producer to each such
+// reader made the network quadratic in a plant's size (83 lines of the bottling plant with
+// 40 bottles per storage: 2.8 million edges, 4.2 million links, 70 MB of the compiler's
+// peak); a group holds the same order (analyse_network releases it the moment its last
+// producer is released, so each reader becomes ready exactly when it did).
 struct Deps {
     std::vector<Node> nodes;
-    std::vector<std::vector<int32_t>> succ, pred;
+    std::vector<std::vector<int32_t>> succ, pred;  // nodes, then groups
 };
 
 Deps dependencies(const Graph& g) {
@@ -31,51 +40,88 @@ Deps dependencies(const Graph& g) {
     for (const Route& r : g.routes) routes.emplace_back(r.comp, r.out_slot);
     std::stable_sort(routes.begin(), routes.end(), [](auto& a, auto& b) { return a.first < b.first; });
 
-    // Per slot: nodes that activate it, read it, or read it as their target's activity. Kept as
-    // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,
-    // not for every slot (a pool of 1,000 bottles has 40,000 slots and no link).
-    const size_t nn = d.nodes.size();
-    using Link = std::pair<int32_t, int32_t>;  // (slot, node)
-    std::vector<Link> prod, read, tread;
-    for (size_t n = 0; n < nn; ++n) {
-        const Node& node = d.nodes[n];
-        const int32_t id = int32_t(n);
-        switch (node.kind) {
-        case NodeKind::Flow: {
-            const Flow& f = g.flows[size_t(node.index)];
-            each_written_slot(g, f, [&](int32_t x) {
-                prod.emplace_back(x, id);
-                if (f.cond != Cond::Source) tread.emplace_back(x, id);
-            });
-            each_read_slot(g, f, [&](int32_t x) { read.emplace_back(x, id); });
-            break;
-        }
-        case NodeKind::Logic: {
-            const Logic& l = g.logics[size_t(node.index)];
-            for (int32_t i = 0; i < l.in_num; ++i) read.emplace_back(g.logic_inputs[size_t(l.in_adr + i)].slot, id);
-            prod.emplace_back(l.out_slot, id);
-            break;
-        }
-        case NodeKind::Router: {
-            read.emplace_back(g.comps[size_t(node.index)].slot_adr + routerslot::query, id);
-            auto r = std::lower_bound(routes.begin(), routes.end(), node.index,
-                                      [](const std::pair<int32_t, int32_t>& x, int32_t c) { return x.first < c; });
-            for (; r != routes.end() && r->first == node.index; ++r) prod.emplace_back(r->second, id);
-            break;
-        }
-        case NodeKind::Label: {
-            const Comp& c = g.comps[size_t(g.labels[size_t(node.index)].comp)];
-            read.emplace_back(c.slot_adr + labelslot::set, id);
-            prod.emplace_back(c.slot_adr + labelslot::value, id);
-            break;
-        }
+    // The groups: accesses with the same targets (the member of every object of one type) are one.
+    std::vector<int32_t> group_of(g.accesses.size(), -1);
+    std::vector<int32_t> group_access;  // per group, its first access
+    {
+        std::map<std::tuple<int32_t, int32_t, int32_t>, std::vector<int32_t>> by_key;  // -> groups
+        for (size_t a = 0; a < g.accesses.size(); ++a) {
+            const Access& ac = g.accesses[a];
+            const auto targets = [&](const Access& x) { return g.access_targets.begin() + x.target_adr.v; };
+            std::vector<int32_t>& same = by_key[std::make_tuple(ac.do_type.v, ac.member.id, ac.target_num)];
+            for (int32_t k : same) {
+                const Access& other = g.accesses[size_t(group_access[size_t(k)])];
+                if (std::equal(targets(ac), targets(ac) + ac.target_num, targets(other),
+                               [](const AccessTarget& x, const AccessTarget& y) { return x.v == y.v; }))
+                    group_of[a] = k;
+            }
+            if (group_of[a] < 0) {
+                group_of[a] = int32_t(group_access.size());
+                same.push_back(group_of[a]);
+                group_access.push_back(int32_t(a));
+            }
         }
     }
-    auto by_slot = [](const Link& a, const Link& b) { return a.first < b.first; };
-    for (std::vector<Link>* v : {&prod, &read, &tread}) std::stable_sort(v->begin(), v->end(), by_slot);
 
-    d.succ.resize(nn);
-    d.pred.resize(nn);
+    // Per slot: nodes that activate it, read it, or read it as their target's activity. Kept as
+    // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,
+    // not for every slot (a pool of 1,000 bottles has 40,000 slots and no link). A read
+    // through a dynamic end is a (group, node) pair instead. Counted first, then filled.
+    const size_t nn = d.nodes.size();
+    using Link = std::pair<int32_t, int32_t>;  // (slot or group, node)
+    std::vector<Link> prod, read, tread, dyn;
+    size_t counts[4] = {0, 0, 0, 0};
+    auto links = [&](auto&& add) {
+        for (size_t n = 0; n < nn; ++n) {
+            const Node& node = d.nodes[n];
+            const int32_t id = int32_t(n);
+            switch (node.kind) {
+            case NodeKind::Flow: {
+                const Flow& f = g.flows[size_t(node.index)];
+                each_written_slot(g, f, [&](int32_t x) {
+                    add(0, x, id);
+                    if (f.cond != Cond::Source) add(2, x, id);
+                });
+                if (f.from_access >= 0) {
+                    add(1, g.accesses[size_t(f.from_access)].ref_slot.v, id);
+                    add(3, group_of[size_t(f.from_access)], id);
+                } else {
+                    add(1, f.from.v, id);
+                }
+                break;
+            }
+            case NodeKind::Logic: {
+                const Logic& l = g.logics[size_t(node.index)];
+                for (int32_t i = 0; i < l.in_num; ++i) add(1, g.logic_inputs[size_t(l.in_adr + i)].slot, id);
+                add(0, l.out_slot, id);
+                break;
+            }
+            case NodeKind::Router: {
+                add(1, g.comps[size_t(node.index)].slot_adr + routerslot::query, id);
+                auto r = std::lower_bound(routes.begin(), routes.end(), node.index,
+                                          [](const std::pair<int32_t, int32_t>& x, int32_t c) { return x.first < c; });
+                for (; r != routes.end() && r->first == node.index; ++r) add(0, r->second, id);
+                break;
+            }
+            case NodeKind::Label: {
+                const Comp& c = g.comps[size_t(g.labels[size_t(node.index)].comp)];
+                add(1, c.slot_adr + labelslot::set, id);
+                add(0, c.slot_adr + labelslot::value, id);
+                break;
+            }
+            }
+        }
+    };
+    links([&](int list, int32_t, int32_t) { ++counts[list]; });
+    std::vector<Link>* lists[4] = {&prod, &read, &tread, &dyn};
+    for (int i = 0; i < 4; ++i) lists[i]->reserve(counts[i]);
+    links([&](int list, int32_t x, int32_t id) { lists[list]->emplace_back(x, id); });
+    // By slot, then node: as a stable sort by slot of lists made in node order, without its buffer.
+    for (std::vector<Link>* v : lists) std::sort(v->begin(), v->end());
+
+    const size_t ng = group_access.size();
+    d.succ.resize(nn + ng);
+    d.pred.resize(nn + ng);
     auto edge = [&](int32_t a, int32_t b) {
         if (a == b) return;
         d.succ[size_t(a)].push_back(b);
@@ -102,6 +148,37 @@ Deps dependencies(const Graph& g) {
             }
         p0 = p1, r0 = r1, t0 = t1;
     }
+    // Each group: its producers (of any of its slots) before it, it before its readers. Where
+    // a node is both (it reads a slot it may write), the group would make a cycle the direct
+    // edges do not have: those producers and readers are joined directly, as each slot would.
+    std::vector<int32_t> producers, readers;
+    for (size_t k = 0, r = 0; k < ng; ++k) {
+        readers.clear();
+        for (; r < dyn.size() && dyn[r].first == int32_t(k); ++r)
+            if (readers.empty() || readers.back() != dyn[r].second) readers.push_back(dyn[r].second);
+        if (readers.empty()) continue;
+        producers.clear();
+        const Access& ac = g.accesses[size_t(group_access[k])];
+        for (int32_t i = 0; i < ac.target_num; ++i) {
+            const int32_t x = g.access_targets[size_t(ac.target_adr.v + i)].v;
+            auto at = std::lower_bound(prod.begin(), prod.end(), Link{x, INT32_MIN});
+            for (; at != prod.end() && at->first == x; ++at) producers.push_back(at->second);
+        }
+        std::sort(producers.begin(), producers.end());
+        producers.erase(std::unique(producers.begin(), producers.end()), producers.end());
+        bool both = false;
+        for (int32_t n : readers) both = both || std::binary_search(producers.begin(), producers.end(), n);
+        const int32_t group = int32_t(nn + k);
+        for (int32_t p : producers) {
+            if (both) {
+                for (int32_t n : readers) edge(p, n);
+            } else {
+                edge(p, group);
+            }
+        }
+        if (!both && !producers.empty())
+            for (int32_t n : readers) edge(group, n);
+    }
     return d;
 }
 
@@ -120,19 +197,22 @@ int32_t comp_of(const Graph& g, const Node& n) {
 Network analyse_network(const Graph& g) {
     Network net;
     const Deps d = dependencies(g);
-    const size_t nn = d.nodes.size();
+    const size_t nn = d.nodes.size(), total = d.succ.size();
 
-    // Kahn's algorithm, smallest ready node first.
-    std::vector<int32_t> indeg(nn);
-    for (size_t n = 0; n < nn; ++n) indeg[n] = int32_t(d.pred[n].size());
-    std::vector<uint8_t> gone(nn, 0);  // emitted or delayed
+    // Kahn's algorithm, smallest ready node first; a group is released the moment it is ready.
+    std::vector<int32_t> indeg(total);
+    for (size_t n = 0; n < total; ++n) indeg[n] = int32_t(d.pred[n].size());
+    std::vector<uint8_t> gone(total, 0);  // emitted or delayed (a group: released)
     std::priority_queue<int32_t, std::vector<int32_t>, std::greater<>> ready;
     for (size_t n = 0; n < nn; ++n)
         if (indeg[n] == 0) ready.push(int32_t(n));
-    auto release = [&](int32_t n) {
+    std::function<void(int32_t)> release = [&](int32_t n) {
         gone[size_t(n)] = 1;
         for (int32_t m : d.succ[size_t(n)])
-            if (!gone[size_t(m)] && --indeg[size_t(m)] == 0) ready.push(m);
+            if (!gone[size_t(m)] && --indeg[size_t(m)] == 0) {
+                if (size_t(m) >= nn) release(m);
+                else ready.push(m);
+            }
     };
     for (size_t done = 0; done < nn;) {
         if (!ready.empty()) {
@@ -145,7 +225,8 @@ Network analyse_network(const Graph& g) {
             continue;
         }
         // Stuck: every node left waits on another, so walking predecessors from the
-        // first one must come back to a node already on the path: that is a cycle.
+        // first one must come back to a node already on the path: that is a cycle. A group
+        // not yet released stands for its producers not yet gone.
         int32_t cur = 0;
         while (gone[size_t(cur)]) ++cur;
         std::vector<int32_t> path, pos(nn, -1);
@@ -153,8 +234,15 @@ Network analyse_network(const Graph& g) {
             pos[size_t(cur)] = int32_t(path.size());
             path.push_back(cur);
             int32_t next = -1;
-            for (int32_t p : d.pred[size_t(cur)])
-                if (!gone[size_t(p)] && (next < 0 || p < next)) next = p;
+            for (int32_t p : d.pred[size_t(cur)]) {
+                if (gone[size_t(p)]) continue;
+                if (size_t(p) < nn) {
+                    if (next < 0 || p < next) next = p;
+                    continue;
+                }
+                for (int32_t q : d.pred[size_t(p)])
+                    if (!gone[size_t(q)] && (next < 0 || q < next)) next = q;
+            }
             cur = next;
         }
         int32_t cut = -1;
