@@ -12,6 +12,29 @@
 
 namespace plant::graph {
 
+AccessGroups access_groups(const Graph& g) {
+    AccessGroups out;
+    out.of.assign(g.accesses.size(), -1);
+    std::map<std::tuple<int32_t, int32_t, int32_t>, std::vector<int32_t>> by_key;  // -> groups
+    const auto targets = [&](const Access& x) { return g.access_targets.begin() + x.target_adr.v; };
+    for (size_t a = 0; a < g.accesses.size(); ++a) {
+        const Access& ac = g.accesses[a];
+        std::vector<int32_t>& same = by_key[std::make_tuple(ac.do_type.v, ac.member.id, ac.target_num)];
+        for (int32_t k : same) {
+            const Access& other = g.accesses[size_t(out.first[size_t(k)])];
+            if (std::equal(targets(ac), targets(ac) + ac.target_num, targets(other),
+                           [](const AccessTarget& x, const AccessTarget& y) { return x.v == y.v; }))
+                out.of[a] = k;
+        }
+        if (out.of[a] < 0) {
+            out.of[a] = int32_t(out.first.size());
+            same.push_back(out.of[a]);
+            out.first.push_back(int32_t(a));
+        }
+    }
+    return out;
+}
+
 namespace {
 
 // The dependency graph: nodes, and who must run before whom. Ids from nodes.size() on
@@ -40,28 +63,9 @@ Deps dependencies(const Graph& g) {
     for (const Route& r : g.routes) routes.emplace_back(r.comp, r.out_slot);
     std::stable_sort(routes.begin(), routes.end(), [](auto& a, auto& b) { return a.first < b.first; });
 
-    // The groups: accesses with the same targets (the member of every object of one type) are one.
-    std::vector<int32_t> group_of(g.accesses.size(), -1);
-    std::vector<int32_t> group_access;  // per group, its first access
-    {
-        std::map<std::tuple<int32_t, int32_t, int32_t>, std::vector<int32_t>> by_key;  // -> groups
-        for (size_t a = 0; a < g.accesses.size(); ++a) {
-            const Access& ac = g.accesses[a];
-            const auto targets = [&](const Access& x) { return g.access_targets.begin() + x.target_adr.v; };
-            std::vector<int32_t>& same = by_key[std::make_tuple(ac.do_type.v, ac.member.id, ac.target_num)];
-            for (int32_t k : same) {
-                const Access& other = g.accesses[size_t(group_access[size_t(k)])];
-                if (std::equal(targets(ac), targets(ac) + ac.target_num, targets(other),
-                               [](const AccessTarget& x, const AccessTarget& y) { return x.v == y.v; }))
-                    group_of[a] = k;
-            }
-            if (group_of[a] < 0) {
-                group_of[a] = int32_t(group_access.size());
-                same.push_back(group_of[a]);
-                group_access.push_back(int32_t(a));
-            }
-        }
-    }
+    const AccessGroups groups = access_groups(g);
+    const std::vector<int32_t>& group_of = groups.of;
+    const std::vector<int32_t>& group_access = groups.first;
 
     // Per slot: nodes that activate it, read it, or read it as their target's activity. Kept as
     // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,

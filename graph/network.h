@@ -45,6 +45,13 @@ void each_read_slot(const Graph& g, const Flow& f, Fn&& fn) {
     each_end_slot(g, f.from, f.from_access, [&](int32_t s) { fn(s); return true; });
 }
 
+// Accesses whose targets are the same slots (the same member of every object of one type)
+// form one group: `of` per access its group, `first` per group its first access.
+struct AccessGroups {
+    std::vector<int32_t> of, first;
+};
+AccessGroups access_groups(const Graph& g);
+
 // One node of the logic phase.
 enum class NodeKind : uint8_t { Flow, Logic, Router, Label };
 

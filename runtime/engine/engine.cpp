@@ -29,8 +29,10 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
       tab(graph),
       sched(build_schedule(graph, tab)),
       phys(graph, tab, opt.broadphase, opt.threads),
-      index(tab, graph.bodies.size()) {
+      index(tab, graph.bodies.size()),
+      logic_every_node(opt.logic_every_node) {
     init_state(st, g, tab);
+    st.logic_due.assign(sched.always.size(), 0);
     start_steady(*this, opt.steady_transport && graph.settings.steady_transport);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
     for (const Flow& f : g.flows) each_read_slot(g, f, [&](int32_t s) { st.watched[s] = 1; });

@@ -33,6 +33,9 @@ struct Options {
     // solution (docs/runtime.md, "Steady transport"); with the plant's
     // settings.steady_transport, both must be on.
     bool steady_transport = true;
+    // The logic phase runs every node each step instead of only those due (docs/runtime.md,
+    // "Performance notes"): the same results, slower; for the test that shows they are.
+    bool logic_every_node = false;
 };
 
 // Runtime warnings: counted, never fatal (the summary of a run prints them).

@@ -5,6 +5,8 @@
 
 #include "graph/kinds.h"
 
+#include <algorithm>
+
 namespace plant::engine {
 
 using namespace plant::graph;
@@ -45,17 +47,15 @@ void copy(Runtime& r, int32_t from_val, int32_t to_val, int32_t width) {
 }
 
 // A singular flow runs once when its condition holds, and is re-armed by a step in
-// which its condition does not hold.
+// which its condition does not hold: it runs in a step whose condition holds when it did
+// not hold in the step before. Kept as the last step it held, so a step in which the flow is
+// not due (its condition cannot hold) needs no visit.
 bool gate(Runtime& r, int32_t f, bool once, bool ok) {
-    if (!once) return ok;
-    uint8_t& armed = r.st.armed[f];
-    if (!ok) {
-        armed = 1;
-        return false;
-    }
-    if (!armed) return false;
-    armed = 0;
-    return true;
+    if (!once || !ok) return ok;
+    int64_t& held = r.st.once_held[f];
+    const bool runs = held != r.st.step - 1;
+    held = r.st.step;
+    return runs;
 }
 
 void run_flow(Runtime& r, int32_t f, bool delayed) {
@@ -80,7 +80,7 @@ void run_flow(Runtime& r, int32_t f, bool delayed) {
         if (from < 0 || to < 0) {  // would run, but an object is missing: warn, skip
             if (op.from_access >= 0 && from < 0) resolve(r, op.from_access, true);
             if (op.to_access >= 0 && to < 0) resolve(r, op.to_access, true);
-            if (op.once) r.st.armed[f] = 1;
+            if (op.once) r.st.once_held[f] = kNeverHeld;  // re-armed: it runs again next step
             return;
         }
         copy(r, r.g.slots[from].value_adr, r.g.slots[to].value_adr, op.width);
@@ -124,6 +124,62 @@ void run_label(Runtime& r, int32_t i) {
 
 }  // namespace
 
+namespace {
+
+void run_op(Runtime& r, const Op& op) {
+    switch (op.kind) {
+    case OpKind::Flow: run_flow(r, op.index, false); break;
+    case OpKind::Pulse:
+        if (r.st.act[op.from]) r.activate_in(op.to);  // flows end at inputs
+        break;
+    case OpKind::Logic: run_connector(r, op.index); break;
+    case OpKind::Router: run_router(r, op.index); break;
+    case OpKind::Label: run_label(r, op.index); break;
+    }
+}
+
+// The ops due (schedule.h), in order: a bit per op; the activity lists read from where the
+// last look ended, each new active slot's readers after the op running made due.
+void run_due(Runtime& r) {
+    State& s = r.st;
+    const Schedule& sc = r.sched;
+    uint64_t* due = s.logic_due.data();
+    std::copy(sc.always.begin(), sc.always.end(), due);
+    size_t out_seen = 0, in_seen = 0;
+    int32_t ran = -1;  // position of the op that ran last
+    auto look = [&] {
+        auto due_from = [&](const int32_t* q, const int32_t* end) {
+            for (; q != end; ++q)
+                if (*q > ran) due[size_t(*q) / 64] |= uint64_t(1) << (*q % 64);
+        };
+        auto mark = [&](int32_t x) {
+            due_from(sc.readers.data() + sc.reader_adr[size_t(x)], sc.readers.data() + sc.reader_adr[size_t(x) + 1]);
+            for (int32_t k = sc.group_adr[size_t(x)]; k < sc.group_adr[size_t(x) + 1]; ++k) {
+                const int32_t group = sc.groups[size_t(k)];
+                due_from(sc.group_readers.data() + sc.group_reader_adr[size_t(group)],
+                         sc.group_readers.data() + sc.group_reader_adr[size_t(group) + 1]);
+            }
+        };
+        for (; out_seen < s.out_list.size(); ++out_seen) mark(s.out_list[out_seen]);
+        for (; in_seen < s.in_list.size(); ++in_seen) mark(s.in_list[in_seen]);
+    };
+    look();
+    const size_t words = sc.always.size();
+    for (size_t w = 0; w < words;) {
+        const uint64_t bits = due[w];
+        if (!bits) {
+            ++w;
+            continue;
+        }
+        due[w] = bits & (bits - 1);
+        ran = int32_t(w * 64 + size_t(__builtin_ctzll(bits)));
+        run_op(r, sc.ops[size_t(ran)]);
+        look();
+    }
+}
+
+}  // namespace
+
 void phase_logic(Runtime& r) {
     State& s = r.st;
     for (int32_t x : s.in_list) s.act[x] = 0;
@@ -131,16 +187,10 @@ void phase_logic(Runtime& r) {
     for (int32_t x : s.pending) r.activate(x);
     s.pending.clear();
     forces_logic_begin(r);
-    for (const Op& op : r.sched.ops) {
-        switch (op.kind) {
-        case OpKind::Flow: run_flow(r, op.index, false); break;
-        case OpKind::Pulse:
-            if (s.act[op.from]) r.activate_in(op.to);  // flows end at inputs
-            break;
-        case OpKind::Logic: run_connector(r, op.index); break;
-        case OpKind::Router: run_router(r, op.index); break;
-        case OpKind::Label: run_label(r, op.index); break;
-        }
+    if (s.forced_out.empty() && !r.logic_every_node) {
+        run_due(r);
+    } else {
+        for (const Op& op : r.sched.ops) run_op(r, op);
     }
     for (int32_t f : r.sched.delayed) run_flow(r, f, true);
     forces_logic_end(r);

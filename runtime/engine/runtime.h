@@ -26,6 +26,7 @@ struct Runtime {
     Physics phys;
     Spatial index;
     Steady steady;  // transport.cpp
+    bool logic_every_node;  // Options::logic_every_node
     std::vector<std::string> extra_names;  // strings interned at run time (events)
 
     Runtime(const graph::Graph& graph, const Options& opt);

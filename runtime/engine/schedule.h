@@ -30,10 +30,25 @@ struct Op {
     int32_t from = -1, to = -1;  // a Pulse's slots
 };
 
+// Most ops do nothing in a step where none of the slots they read is active (a flow whose
+// source is not, a router not queried, a connector whose inputs are all off): the logic
+// phase runs only those due, in the program's order. Due are the ops in `always` (an `and`
+// whose inputs are all negated, an `or` with a negated input, a connector with no input)
+// and each op that reads a slot active at the phase's start or made active by an op before
+// it (its position in `readers`, by slot; a flow through a dynamic end reads every slot of
+// its access's group). With a forced output the phase runs every op (a force may take an
+// activity back mid-phase).
 struct Schedule {
     std::vector<FlowOp> flows;     // by flow id
     std::vector<Op> ops;           // the logic phase, in order
     std::vector<int32_t> delayed;  // flows cut out of cycles
+    std::vector<uint64_t> always;  // bit per op position: due every step
+    std::vector<int32_t> reader_adr;  // per slot, +1: its readers' positions in `readers`
+    std::vector<int32_t> readers;     // op positions, each slot's ascending
+    // A flow with a dynamic end reads whichever slot of its access's group (graph/network.h)
+    // the reference names: each slot's groups, and each group's readers.
+    std::vector<int32_t> group_adr, groups;              // per slot, +1; group ids
+    std::vector<int32_t> group_reader_adr, group_readers;  // per group, +1; op positions
 };
 
 Schedule build_schedule(const graph::Graph& g, const Tables& t);

@@ -20,7 +20,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.seen_list.reserve(ns);
     s.in_list.reserve(ns);
     s.pending.reserve(ns + 64);
-    s.armed.assign(g.flows.size(), 1);
+    s.once_held.assign(g.flows.size(), kNeverHeld);
     s.watched.assign(ns, 0);
     s.body_outputs.assign(nb, 0);
     s.observed_bodies.reserve(nb);

@@ -58,6 +58,9 @@ struct Hand {
     btVector3 target{0, 0, 0};
 };
 
+// A singular flow whose condition never held (or whose last run found no object).
+inline constexpr int64_t kNeverHeld = INT64_MIN / 2;
+
 struct State {
     double time = 0;
     int64_t step = 0;
@@ -67,8 +70,9 @@ struct State {
     std::vector<double> values;
     std::vector<uint8_t> act, seen;
     std::vector<int32_t> out_list, seen_list, in_list;
+    std::vector<uint64_t> logic_due;  // the logic phase's ops due, a bit per op (schedule.h)
     std::vector<int32_t> pending;       // activated at the start of the next logic phase
-    std::vector<uint8_t> armed;         // per flow: a singular flow may run
+    std::vector<int64_t> once_held;     // per flow: the last step a singular flow's condition held (it runs on a step whose previous did not)
     std::vector<uint8_t> watched;       // per slot: refreshed although no flow reads it
     std::vector<uint8_t> body_outputs;  // per body: bit i = output i (from bodyslot::pose) used
     std::vector<int32_t> observed_bodies;
