@@ -130,6 +130,11 @@ const conn = new Connection({
     const by = msg.by ?? (msg.client !== undefined ? `page ${msg.client}` : '');
     log(msg.line + (by ? `   (${by})` : ''), msg.planned ? 'planned' : msg.client === myClient ? 'mine' : '');
   },
+  onDrill(msg) {   // a drill cancelled (or not: it had fired), the instructor's pages only
+    const by = msg.by ? `   (${msg.by})` : '';
+    if (msg.refused) log(`drill ${msg.id} not cancelled: ${msg.refused}${by}`, 'error');
+    else log(`drill ${msg.id} cancelled at ${Number(msg.time).toFixed(2)} s${by}`, msg.client === myClient ? 'mine' : '');
+  },
   onError(msg) {
     debug.errors.push(msg.message);
     log(`error: ${msg.message}`, 'error');

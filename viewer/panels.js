@@ -82,10 +82,12 @@ export class Notices {
 // The instructor's drills (docs/training.md, "Drills"): a line in the drill syntax
 // ("when line[0].s2.seen >= 10 force line[0].s2.sw.reader.bottle open", "20s force …",
 // "now …"), hidden from trainees unless unticked, sent as {type:"drill", line}; the list is
-// status.drills (each with its state: waiting, holding, released, repaired, done).
+// status.drills (each with its state: waiting, holding, released, repaired, done, cancelled);
+// a waiting drill has a *cancel* button, sent as {type:"drill", cancel: id}.
 export class DrillsPanel {
   constructor(form, table, send) {
     this.table = table;
+    this.send = send;
     this.key = '';
     this.line = form.querySelector('input[type=text]');
     this.hidden = form.querySelector('input[type=checkbox]');
@@ -108,8 +110,17 @@ export class DrillsPanel {
       tr.dataset.drill = String(d.id);
       tr.dataset.state = d.state;
       const t = (x) => `${Number(x).toFixed(1)} s`;
-      const when = d.fired < 0 ? '' : d.ended < 0 ? ` since ${t(d.fired)}` : ` (${t(d.fired)} to ${t(d.ended)})`;
-      tr.append(cell(`${d.id}`, 'kind'), cell(d.text, 'name'), cell(`${d.state}${when}${d.shown ? '' : ' · hidden'}`, 'kind'));
+      const when = d.state === 'cancelled' ? ` at ${t(d.ended)}` : d.fired < 0 ? '' : d.ended < 0 ? ` since ${t(d.fired)}` : ` (${t(d.fired)} to ${t(d.ended)})`;
+      const act = document.createElement('td');
+      if (d.state === 'waiting') {
+        const b = document.createElement('button');
+        b.textContent = 'cancel';
+        b.className = 'drill-cancel';
+        b.title = `drop drill ${d.id} before it fires`;
+        b.addEventListener('click', () => this.send({ type: 'drill', cancel: d.id }));
+        act.append(b);
+      }
+      tr.append(cell(`${d.id}`, 'kind'), cell(d.text, 'name'), cell(`${d.state}${when}${d.shown ? '' : ' · hidden'}`, 'kind'), act);
       tr.title = `by ${d.by}`;
       this.table.append(tr);
     }

@@ -100,6 +100,7 @@ export class Connection {
       case 'history': this.handlers.onHistory?.(msg); break;
       case 'welcome': this.welcomed = true; this.handlers.onWelcome?.(msg); break;
       case 'event': this.handlers.onEvent?.(msg); break;
+      case 'drill': this.handlers.onDrill?.(msg); break;
       case 'error':
         if (!this.welcomed) this.refused = true;   // refused before the welcome: at the door
         this.handlers.onError?.(msg); break;

@@ -40,6 +40,7 @@ std::string_view word(Drill::State s) {
     case Drill::State::Released: return "released";
     case Drill::State::Repaired: return "repaired";
     case Drill::State::Done: return "done";
+    case Drill::State::Cancelled: return "cancelled";
     }
     return "?";
 }
@@ -147,12 +148,36 @@ void Drills::add(Drill d) {
 
 void Drills::reset() {
     for (Drill& d : drills_) {
+        if (d.state == Drill::State::Cancelled) {
+            d.ended = 0;
+            d.watched = false;
+            continue;
+        }
         d.state = Drill::State::Waiting;
         d.count = 0;
         d.counted_to = -1;
         d.fired = d.ended = -1;
         d.watched = false;
     }
+}
+
+bool Drills::cancel(int number, double t, const std::string& by, std::string& error) {
+    if (number < 1 || size_t(number) > drills_.size()) {
+        error = drills_.empty() ? fmt::format("no drill {}: none is scheduled", number)
+                                : fmt::format("no drill {} (they are 1 to {})", number, drills_.size());
+        return false;
+    }
+    Drill& d = drills_[size_t(number - 1)];
+    if (d.state != Drill::State::Waiting) {
+        error = d.state == Drill::State::Holding
+                    ? fmt::format("drill {} has fired (its fault holds): release its slot to end it", number)
+                    : fmt::format("drill {} is {}: only a waiting drill can be cancelled", number, word(d.state));
+        return false;
+    }
+    d.state = Drill::State::Cancelled;
+    d.ended = t;
+    d.cancelled_by = by;
+    return true;
 }
 
 void Drills::due(engine::Engine& e, std::vector<Fired>& out) {

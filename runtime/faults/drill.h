@@ -41,11 +41,12 @@ struct Drill {
     std::string by, role;  // who scheduled it ("drill file", "page 2"), their role
 
     // The run's own state of it.
-    enum class State : uint8_t { Waiting, Holding, Released, Repaired, Done };
+    enum class State : uint8_t { Waiting, Holding, Released, Repaired, Done, Cancelled };
     State state = State::Waiting;
     int64_t count = 0;        // When on a void slot: activations seen so far
     int64_t counted_to = -1;  // the last step counted
-    double fired = -1, ended = -1;
+    double fired = -1, ended = -1;  // Cancelled: `ended` is when
+    std::string cancelled_by;       // Cancelled: who ("page 1 (instructor)")
     bool watched = false;  // its slots watched in this run's engine
 };
 
@@ -69,8 +70,13 @@ public:
     };
 
     void add(Drill d);
-    // A new run (a restart): every drill waits again.
+    // A new run (a restart): every drill waits again, but a cancelled one stays cancelled
+    // (from the run's start).
     void reset();
+    // Drops waiting drill `number` (1-based) before it fires, at plant time `t`, by `by`: it
+    // never fires. A drill that has fired is ended by releasing its fault, not cancelled:
+    // false with `error` saying so (or that there is no such drill). Touches no plant state.
+    bool cancel(int number, double t, const std::string& by, std::string& error);
     // At a step boundary, before the step: what fires now (in the order of the drills), each
     // timed at the end of the coming step. A drill whose fault was released (by anyone)
     // meanwhile ends; one whose repair input was active in the last step gets its release.

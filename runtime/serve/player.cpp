@@ -314,6 +314,8 @@ private:
             c.drill.role = c.role;
             drills_.add(std::move(c.drill));
             note(drill_comment(drills_.list().size() - 1));
+        } else if (c.kind == Command::Kind::DrillCancel) {
+            cancel_drill(int(c.value), c.client, c.role);
         }  // Seek: live runs cannot seek (refused by the server)
     }
 
@@ -410,7 +412,33 @@ private:
         return session_drill_comment(int(i + 1), d.role.empty() ? d.by : d.by + " (" + d.role + ")", d.text);
     }
     void note_drills() {
-        for (size_t i = 0; i < drills_.list().size(); ++i) note(drill_comment(i));
+        for (size_t i = 0; i < drills_.list().size(); ++i) {
+            note(drill_comment(i));
+            note_cancelled(i);
+        }
+    }
+
+    // A waiting drill dropped before it fires: it touches no plant state, so the session's
+    // events file gets only a comment (which a replay skips and the report reads), and the
+    // instructors' logs a line (a trainee's page never hears of drills); one that cannot be
+    // cancelled (it fired, or there is no such drill) is said so in their logs.
+    void cancel_drill(int number, int client, const std::string& role) {
+        const std::string by = "page " + std::to_string(client);
+        std::string why;
+        const double t = engine_->time();
+        const bool ok = drills_.cancel(number, t, role.empty() ? by : by + " (" + role + ")", why);
+        json j{{"type", "drill"}, {"id", number}, {"time", t}, {"by", by}, {"client", client}};
+        if (ok) j["state"] = "cancelled";
+        else j["refused"] = why;
+        const std::string comment = session_drill_cancel_comment(number, t, engine_->dt(), by, role, wall_clock());
+        log(j.dump(-1, ' ', false, json::error_handler_t::replace), comment, ok, true);
+    }
+    // A drill cancelled in an earlier run of the session stays so after a restart: the new
+    // events file says it from the start.
+    void note_cancelled(size_t i) {
+        const faults::Drill& d = drills_.list()[i];
+        if (d.state == faults::Drill::State::Cancelled)
+            note(session_drill_cancel_comment(int(i + 1), 0, engine_->dt(), d.cancelled_by, "", wall_clock()));
     }
 
     static std::string fmt_drill(const faults::Drills::Fired& f) {

@@ -28,9 +28,9 @@
 namespace plant::view {
 
 struct Command {
-    enum class Kind { Pause, Run, Step, Restart, Speed, Event, Seek, Drill };
+    enum class Kind { Pause, Run, Step, Restart, Speed, Event, Seek, Drill, DrillCancel };
     Kind kind = Kind::Pause;
-    double value = 0;  // speed, seek time
+    double value = 0;  // speed, seek time, DrillCancel: the drill's number
     engine::Event event;
     faults::Drill drill;  // Drill: one the instructor scheduled (faults/drill.h)
     int client = 0;

@@ -165,6 +165,16 @@ bool decode_client_message(std::string_view text, ClientMessage& m, std::string&
         }
         return string_field(j, "path", m.path, error);
     }
+    if (type == "drill" && j.contains("cancel")) {  // {"type":"drill","cancel":2}: a waiting drill dropped
+        m.kind = ClientMessage::Kind::DrillCancel;
+        const json& n = j.at("cancel");
+        if (!n.is_number_integer() || n.get<int64_t>() < 1 || n.get<int64_t>() > 1000000) {
+            error = "\"cancel\" is a drill's number (1, 2, ... as the status's drills list them)";
+            return false;
+        }
+        m.drill = int(n.get<int64_t>());
+        return true;
+    }
     if (type == "drill") {  // {"type":"drill","line":"when PATH >= N force PATH open"} (the instructor's)
         m.kind = ClientMessage::Kind::Drill;
         return string_field(j, "line", m.path, error);

@@ -8,7 +8,7 @@
 namespace plant::view {
 
 struct ClientMessage {
-    enum class Kind { Hello, Control, Event, Inspect, Seek, Drill };
+    enum class Kind { Hello, Control, Event, Inspect, Seek, Drill, DrillCancel };
     Kind kind = Kind::Hello;
     int fps = 30;              // hello
     std::string action;        // control: pause, run, step, restart, speed
@@ -18,6 +18,7 @@ struct ClientMessage {
     bool stop_inspect = false; // inspect with a null path
     std::string value;         // event: the value as in an events file ("" for none)
     double time = 0;           // seek
+    int drill = 0;             // drill cancel: the drill's number (1-based, as the status lists it)
 };
 
 // At most this many bytes in one message (a longer one is refused before it is parsed).

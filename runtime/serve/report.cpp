@@ -157,8 +157,8 @@ void find_faults(Session& s) {
         f.set_by = ev.by;
         // "drill N" (its repair's release is "drill N repair"): the drill's line as scheduled.
         if (int n = 0; ev.by.starts_with("drill ") && std::sscanf(ev.by.c_str() + 6, "%d", &n) == 1 && n >= 1 &&
-                       size_t(n) <= s.drills.size() && !s.drills[size_t(n - 1)].empty())
-            f.drill = fmt::format("{} {}", n, s.drills[size_t(n - 1)]);
+                       size_t(n) <= s.drills.size() && !s.drills[size_t(n - 1)].text.empty())
+            f.drill = fmt::format("{} {}", n, s.drills[size_t(n - 1)].text);
         open[ev.path] = s.faults.size();
         s.faults.push_back(std::move(f));
     }
@@ -243,6 +243,30 @@ std::vector<Row> fault_rows(const Session& s, const SessionFault& f) {
     return rows;
 }
 
+// Each drill and what became of it: the fault it set, an event it fired, its cancellation,
+// or nothing yet.
+std::vector<Row> drill_rows(const Session& s) {
+    std::vector<Row> rows;
+    for (size_t i = 0; i < s.drills.size(); ++i) {
+        const SessionDrill& d = s.drills[i];
+        if (d.text.empty() && d.cancelled < 0) continue;
+        const std::string by = fmt::format("drill {}", i + 1);
+        std::string what;
+        for (size_t k = 0; k < s.faults.size() && what.empty(); ++k)
+            if (s.faults[k].set_by == by)
+                what = fmt::format("set fault {} at {} s", k + 1, engine::time_text(s.faults[k].set, s.dt));
+        for (size_t k = 0; k < s.events.size() && what.empty(); ++k)
+            if (s.events[k].by == by)
+                what = fmt::format("fired `{}` at {} s", s.events[k].line, engine::time_text(s.events[k].time, s.dt));
+        if (what.empty() && d.cancelled >= 0)
+            what = fmt::format("cancelled before it fired, at {} s by {}{}", engine::time_text(d.cancelled, s.dt),
+                               dash(d.cancelled_by), d.wall.empty() ? "" : " at " + d.wall);
+        if (what.empty()) what = "had not fired when the session ended";
+        rows.push_back({fmt::format("{}. {}", i + 1, d.text), what});
+    }
+    return rows;
+}
+
 std::string replay_command(const Session& s) {
     return fmt::format("plant run {} --events session.events --for {}s", s.plant, engine::time_text(s.end, s.dt));
 }
@@ -264,6 +288,13 @@ std::string session_drill_comment(int number, std::string_view by, std::string_v
     return fmt::format("# drill {} by {}: {}", number, by, line);
 }
 
+std::string session_drill_cancel_comment(int number, double time, double dt, std::string_view by,
+                                         std::string_view role, double wall) {
+    // "# by WHO (ROLE) at WALL" without its "# ".
+    return fmt::format("# drill {} cancelled at {}s {}", number, engine::time_text(time, dt),
+                       session_comment(by, role, wall).substr(2));
+}
+
 std::string session_end_comment(double time, double dt) { return fmt::format("# end {}s", engine::time_text(time, dt)); }
 
 bool replay_session(const graph::Graph& g, const std::string& plant, const std::string& events_path, double until,
@@ -280,7 +311,7 @@ bool replay_session(const graph::Graph& g, const std::string& plant, const std::
 bool replay_session_text(const graph::Graph& g, const std::string& plant, const std::string& events_path,
                          const std::string& text, double until, Session& out, std::string& error) {
     std::istringstream in(text);
-    std::vector<std::string> drills;   // "by WHO: LINE", by number - 1
+    std::vector<SessionDrill> drills;  // "by WHO: LINE", by number - 1
     std::vector<engine::Event> given;  // as engine::load_events reads them
     std::vector<Meta> metas;
     std::vector<std::pair<double, Meta>> timed;
@@ -292,13 +323,33 @@ bool replay_session_text(const graph::Graph& g, const std::string& plant, const 
         const std::string t = trim(l);
         if (t.starts_with(kBy)) {
             pending = parse_meta(t);
-        } else if (t.starts_with(kDrill)) {  // "# drill N by WHO: LINE"
+        } else if (t.starts_with(kDrill)) {  // "# drill N by WHO: LINE", "# drill N cancelled at T by WHO at WALL"
             int number = 0;
             const std::string_view rest = std::string_view(t).substr(kDrill.size());
             auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), number);
             if (ec == std::errc() && number >= 1 && number <= 100000) {
                 if (drills.size() < size_t(number)) drills.resize(size_t(number));
-                drills[size_t(number - 1)] = std::string(trim(std::string_view(end, size_t(rest.data() + rest.size() - end))));
+                SessionDrill& d = drills[size_t(number - 1)];
+                const std::string_view after = engine::trim(std::string_view(end, size_t(rest.data() + rest.size() - end)));
+                constexpr std::string_view kCancelled = "cancelled at ";
+                if (after.starts_with(kCancelled)) {
+                    std::string_view when = after.substr(kCancelled.size());
+                    const size_t sp = when.find(' ');
+                    double seconds = 0;
+                    std::string why;
+                    if (!engine::parse_duration(when.substr(0, sp), seconds, why)) {
+                        error = fmt::format("{}:{}:1: a drill's cancellation: {}", events_path, n, why);
+                        return false;
+                    }
+                    d.cancelled = seconds;
+                    if (sp != std::string_view::npos) {
+                        const Meta m = parse_meta("# " + std::string(engine::trim(when.substr(sp))));
+                        d.cancelled_by = m.role.empty() ? m.by : fmt::format("{} ({})", m.by, m.role);
+                        d.wall = m.wall;
+                    }
+                } else {
+                    d.text = std::string(after);
+                }
             }
         } else if (t.starts_with(kEnd)) {
             double seconds = 0;
@@ -381,6 +432,11 @@ std::string report_markdown(const Session& s, const std::string& plot_png) {
         }
         md += "\n";
     }
+    if (const std::vector<Row> drills = drill_rows(s); !drills.empty()) {
+        md += "## Drills\n\n| drill, as scheduled | what became of it |\n|---|---|\n";
+        for (const Row& r : drills) md += fmt::format("| {} | {} |\n", cell(r.key), cell(r.value));
+        md += "\n";
+    }
     md += "## What each person did\n\n";
     for (const std::string& p : people(s)) {
         md += fmt::format("### {}\n\n| plant time | wall clock | event |\n|---|---|---|\n", p);
@@ -433,6 +489,11 @@ std::string report_html(const Session& s, const std::string& plot_svg) {
                              engine::time_text(ev.time, s.dt), esc(dash(ev.wall)), esc(who(ev)), esc(ev.line));
         }
         h += "</table></section>\n";
+    }
+    if (const std::vector<Row> drills = drill_rows(s); !drills.empty()) {
+        h += "<h2>Drills</h2>\n<table><tr><th>drill, as scheduled</th><th>what became of it</th></tr>\n";
+        for (const Row& r : drills) h += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", esc(r.key), esc(r.value));
+        h += "</table>\n";
     }
     h += "<h2>What each person did</h2>\n";
     for (const std::string& p : people(s)) {

@@ -32,6 +32,11 @@ std::string session_comment(std::string_view by, std::string_view role, double w
 // The comment line that says a drill was scheduled (faults/drill.h): its number, who
 // scheduled it, its line ("# drill 1 by page 3 (instructor): when … >= 10 force … open").
 std::string session_drill_comment(int number, std::string_view by, std::string_view line);
+// The comment line that says a waiting drill was cancelled before it fired, at plant time
+// `time`, by whom (as session_comment says it): "# drill 2 cancelled at 12.340s by page 1
+// (instructor) at 2026-11-27T14:03:05.120Z". A replay skips it: the drill set nothing.
+std::string session_drill_cancel_comment(int number, double time, double dt, std::string_view by,
+                                         std::string_view role, double wall);
 // The comment line that ends a session's events file: the plant time it ended at.
 std::string session_end_comment(double time, double dt);
 
@@ -72,6 +77,14 @@ struct SessionFault {
     std::vector<size_t> lamps;                 // lamps that lit or blinked while it held (indices)
 };
 
+// A drill as the session's events file says it was scheduled (and cancelled).
+struct SessionDrill {
+    std::string text;          // "by WHO: LINE" ("" a number the file skips)
+    double cancelled = -1;     // plant time it was cancelled at (-1: it was not)
+    std::string cancelled_by;  // who, with their role ("page 1 (instructor)")
+    std::string wall;          // when on the wall clock ("" when the file does not say)
+};
+
 struct Session {
     std::string plant;  // the plant file
     double dt = 0, end = 0;
@@ -79,7 +92,7 @@ struct Session {
     std::vector<SessionSample> samples;
     std::vector<SessionLamp> lamps;  // every change of a panel lamp, in time order
     std::vector<SessionFault> faults;
-    std::vector<std::string> drills;  // each drill as scheduled ("when … force …"), by number - 1
+    std::vector<SessionDrill> drills;  // each drill as scheduled, by number - 1
 };
 
 // Replays `events_text` (a session's events file; `events_path` names it in messages) on

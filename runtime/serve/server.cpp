@@ -368,6 +368,13 @@ private:
             if (!faults::parse_drill(server_.player.graph(), server_.player.slots(), msg.path, c.drill, error))
                 return reply_error("drill: " + error);
             break;
+        case ClientMessage::Kind::DrillCancel:
+            if (trainee()) return refuse("drills are the instructor's");
+            if (!server_.player.live()) return reply_error("a replay is read-only: drills go to a live run");
+            c.kind = Command::Kind::DrillCancel;
+            c.role = word(role_);
+            c.value = msg.drill;
+            break;
         case ClientMessage::Kind::Event: {
             if (!server_.player.live()) return reply_error("a replay is read-only: events go to a live run");
             c.kind = Command::Kind::Event;

@@ -27,6 +27,7 @@ if (!binary || !plantFile) {
 const h = new Harness('training', 150_000);
 const check = (ok, what) => h.check(ok, what);
 const FAULT = 'line[0].s2.sw.reader.bottle';
+const CANCELLED = 'line[0].s4.to_working';   // a drill cancelled before it fires
 
 // Until the instructor's connection sees plant time `t` (bounded).
 async function plantTime(ins, t, ms = 30_000) {
@@ -75,6 +76,16 @@ try {
   check(await until(() => ins.status?.drills?.[0]?.state === 'waiting', 5000), `the drill waits (${JSON.stringify(ins.status?.drills)})`);
   check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="1"][data-state="waiting"]')), 5000),
     'the instructor\'s page lists it');
+  // A second drill, scheduled and cancelled before it fires: it never does.
+  await iPage.type('#drill-line', `60s force ${CANCELLED} open`);
+  await click(iPage, '#drill-add');
+  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="waiting"] button.drill-cancel')), 5000),
+    'a second drill waits, with a cancel button');
+  await click(iPage, '#drills tr[data-drill="2"] button.drill-cancel');
+  check(await until(() => ins.status?.drills?.[1]?.state === 'cancelled', 5000), `the instructor cancelled it (${ins.status?.drills?.[1]?.state})`);
+  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="cancelled"]') &&
+    !document.querySelector('#drills tr[data-drill="2"] button') && /drill 2 cancelled at/.test(document.getElementById('log').textContent)), 5000),
+    'the page lists it cancelled, without its button, and logs it');
   await click(iPage, '#run');
   check(await until(() => ins.status?.drills?.[0]?.state === 'holding', 30_000, 50), `the drill fired (at ${ins.status?.drills?.[0]?.fired} s)`);
   check(Math.abs((ins.status?.drills?.[0]?.fired ?? 0) - 20) < 1e-6, 'at 20 s of plant time');
@@ -188,6 +199,9 @@ try {
   check(html.includes(FAULT) && html.includes('<svg'), 'it is the session report, with its plot');
   check(md.includes(`${FAULT} open`), 'the report lists the fault');
   check(/\| set \| 20\.000 s by drill 1 \|/.test(md), `set at 20 s by the drill (${(md.match(/\| set \|.*/) ?? [''])[0]})`);
+  check(ins.status?.drills?.[1]?.state === 'cancelled' && !ins.events.some((l) => l.includes(CANCELLED)), 'the cancelled drill never fired');
+  check(new RegExp(`\\| 2\\. by page \\d+ \\(instructor\\): 60s force ${CANCELLED.replace(/[[\].]/g, '\\$&')} open \\| cancelled before it fired, at 0\\.000 s by page \\d+ \\(instructor\\)`).test(md),
+    `the report lists the cancelled drill (${(md.match(/\| 2\. by.*/) ?? [''])[0]})`);
   check(/\| released \| \d+\.\d+ s by page \d+ \|/.test(md), `released by the instructor's page (${(md.match(/\| released \|.*/) ?? [''])[0]})`);
   const held = md.split('## What each person did')[0];
   for (const what of ['ops.stop.press', 'grab ', 'drop ', 'ops.start.press'])

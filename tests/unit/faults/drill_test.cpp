@@ -171,3 +171,50 @@ TEST_CASE("drill: a fault released by someone else ends its drill") {
     CHECK(applied == 1);
     CHECK(drills.list()[0].state == faults::Drill::State::Released);
 }
+
+TEST_CASE("drill: a waiting drill cancelled never fires, one that fired or no such drill is not cancelled") {
+    DrillFixture f;
+    engine::Engine e(f.c.graph);
+    faults::Drills drills;
+    faults::Drill d;
+    std::string error;
+    REQUIRE(faults::parse_drill(f.c.graph, f.slots, "0.2s force b1.stop stuck on", d, error));
+    drills.add(d);
+    REQUIRE(faults::parse_drill(f.c.graph, f.slots, "now force b1.set_speed stuck 0.1", d, error));
+    drills.add(d);
+    CHECK_FALSE(drills.cancel(3, 0, "page 1 (instructor)", error));
+    CHECK(error == "no drill 3 (they are 1 to 2)");
+    CHECK_FALSE(drills.cancel(0, 0, "page 1 (instructor)", error));
+    std::vector<faults::Drills::Fired> fired;
+    int applied = 0;
+    bool cancelled = false;
+    const graph::SlotId stop(f.slots.at("b1.stop").slots[0]);
+    while (e.time() < 0.5) {
+        if (!cancelled && e.time() >= 0.1) {  // before drill 1's time; drill 2 fired at the first step
+            CHECK_FALSE(drills.cancel(2, e.time(), "page 1 (instructor)", error));
+            CHECK(error.find("drill 2 has fired (its fault holds)") != std::string::npos);
+            REQUIRE_MESSAGE(drills.cancel(1, e.time(), "page 1 (instructor)", error), error);
+            cancelled = true;
+            CHECK_FALSE(drills.cancel(1, e.time(), "page 1 (instructor)", error));
+            CHECK(error == "drill 1 is cancelled: only a waiting drill can be cancelled");
+        }
+        fired.clear();
+        drills.due(e, fired);
+        for (auto& x : fired) {
+            CHECK(x.drill == 1);
+            engine::apply_event(e, x.event), ++applied;
+        }
+        e.step();
+    }
+    CHECK(applied == 1);
+    CHECK(e.forced(stop) == engine::ForceMode::None);
+    CHECK(drills.list()[0].state == faults::Drill::State::Cancelled);
+    CHECK(faults::word(drills.list()[0].state) == "cancelled");
+    CHECK(drills.list()[0].ended == doctest::Approx(0.1).epsilon(0.1));
+    CHECK(drills.list()[0].cancelled_by == "page 1 (instructor)");
+    CHECK(drills.list()[0].fired < 0);
+    // A restart: the others wait again, a cancelled drill stays dropped.
+    drills.reset();
+    CHECK(drills.list()[0].state == faults::Drill::State::Cancelled);
+    CHECK(drills.list()[1].state == faults::Drill::State::Waiting);
+}

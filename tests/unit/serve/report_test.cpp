@@ -132,3 +132,54 @@ TEST_CASE("session report: a session that does not replay, or does not say when 
     CHECK_FALSE(view::replay_session(c.graph, "report_line.plant", bad_end, 0, s, error));
     CHECK(error.find("report_bad_end.events:1:1: the session's end") != std::string::npos);
 }
+
+TEST_CASE("session report: a drill cancelled before it fired is a comment: listed in the report, the replay unchanged") {
+    Compilation c;
+    test::compile_text(kLine, c, "report_line.plant");
+    REQUIRE(c.ok());
+    const std::string body = "42.000s t.stop\n";
+    const std::string with = view::session_drill_comment(1, "page 1 (instructor)", "50s force t.tick open") + "\n" +
+                             view::session_drill_comment(2, "page 1 (instructor)", "now force t.start open") + "\n" +
+                             view::session_drill_cancel_comment(1, 12.34, 1.0 / 150, "page 1", "instructor",
+                                                                1795700012.5) +
+                             "\n" + view::session_comment("page 2", "trainee", 1795700014.0) + "\n" + body +
+                             view::session_end_comment(60, 1.0 / 150) + "\n";
+    CHECK(view::session_drill_cancel_comment(1, 12.34, 1.0 / 150, "page 1", "instructor", 1795700012.5) ==
+          "# drill 1 cancelled at 12.340s by page 1 (instructor) at 2026-11-26T13:33:32.500Z");
+    view::Session s, plain;
+    std::string error;
+    REQUIRE_MESSAGE(view::replay_session_text(c.graph, "report_line.plant", "with.events", with, 0, s, error), error);
+    REQUIRE_MESSAGE(view::replay_session_text(c.graph, "report_line.plant", "plain.events", body + "# end 60s\n", 0,
+                                              plain, error),
+                    error);
+    REQUIRE(s.drills.size() == 2);
+    CHECK(s.drills[0].text == "by page 1 (instructor): 50s force t.tick open");
+    CHECK(s.drills[0].cancelled == doctest::Approx(12.34));
+    CHECK(s.drills[0].cancelled_by == "page 1 (instructor)");
+    CHECK(s.drills[0].wall == "2026-11-26T13:33:32.500Z");
+    CHECK(s.drills[1].cancelled < 0);
+    // The replay is the one without the drills: the same events, the same counters.
+    REQUIRE(s.events.size() == 1);
+    CHECK(s.events[0].by == "page 2");  // the cancellation took no event's "# by" note
+    REQUIRE(s.samples.size() == plain.samples.size());
+    for (size_t i = 0; i < s.samples.size(); ++i) {
+        CHECK(s.samples[i].taken == plain.samples[i].taken);
+        CHECK(s.samples[i].issued == plain.samples[i].issued);
+    }
+    // `plant run --events` reads the file as it reads one without the comments.
+    const std::string path = write_events("report_cancel.events", with);
+    std::vector<engine::Event> events;
+    REQUIRE_MESSAGE(engine::load_events(c.graph, engine::slot_index(c.graph), path, events, error), error);
+    CHECK(events.size() == 1);
+    const std::string md = view::report_markdown(s, "");
+    CHECK(md.find("## Drills") != std::string::npos);
+    CHECK(md.find("| 1. by page 1 (instructor): 50s force t.tick open | cancelled before it fired, at 12.340 s by page 1 "
+                  "(instructor) at 2026-11-26T13:33:32.500Z |") != std::string::npos);
+    CHECK(md.find("| 2. by page 1 (instructor): now force t.start open | had not fired when the session ended |") !=
+          std::string::npos);
+    CHECK(view::report_html(s, "").find("<h2>Drills</h2>") != std::string::npos);
+    // A cancellation whose time does not read is refused with where.
+    CHECK_FALSE(view::replay_session_text(c.graph, "report_line.plant", "bad.events", "# drill 1 cancelled at soon\n# end 1s\n",
+                                          0, s, error));
+    CHECK(error.find("bad.events:1:1: a drill's cancellation") != std::string::npos);
+}

@@ -475,3 +475,68 @@ TEST_CASE("roles: drills are the instructor's, a hidden drill's force reaches no
     CHECK(md.find("by drill 1") != std::string::npos);
     CHECK(md.find("| drill | 1 by page 1 (instructor): when clock.tick >= 3 force other.stop open |") != std::string::npos);
 }
+
+TEST_CASE("roles: the instructor cancels a waiting drill, which never fires, and a trainee's cancel is refused and logged") {
+    const graph::Graph g = room();
+    CaptureErr err;
+    // Paused, so the drills are scheduled and the first cancelled before any step; then as
+    // fast as it goes.
+    Served s(view::make_live_player(g, {}, {}, true, 0), [](view::ServerOptions& o) { o.token = kToken; });
+    Page instructor(s.port, nullptr, std::string("/ws?token=") + kToken), trainee(s.port, nullptr, "/ws?role=trainee");
+    json m;
+    REQUIRE(instructor.wait_json("welcome", m));
+    REQUIRE(trainee.wait_json("welcome", m));
+    instructor.send(R"({"type":"drill","line":"1s force other.stop open"})");
+    instructor.send(R"({"type":"drill","line":"now force other.start open"})");
+    CHECK(error_for(trainee, R"({"type":"drill","cancel":1})").find("refused: drills are the instructor's") !=
+          std::string::npos);
+    CHECK(err.text.str().find("(trainee at 127.0.0.1:") != std::string::npos);
+    CHECK(err.text.str().find("refused: drills are the instructor's") != std::string::npos);
+    CHECK(error_for(instructor, R"({"type":"drill","cancel":"one"})").find("\"cancel\" is a drill's number") !=
+          std::string::npos);
+    instructor.send(R"({"type":"drill","cancel":1})");
+    instructor.send(R"({"type":"control","action":"run"})");
+    // Drill 2 fires at the first step; cancelling it then is refused, in the instructor's log.
+    bool cancelled = false, refused = false, past = false;
+    REQUIRE(instructor.wait([&](const std::string& msg, bool bin) {
+        const json j = bin ? json::object() : json::parse(msg, nullptr, false);
+        if (j.value("type", "") == "drill" && j["id"] == 1) cancelled = j.value("state", "") == "cancelled";
+        return j.value("type", "") == "status" && j.contains("drills") && j["drills"][1]["state"] == "holding";
+    }, 20));
+    instructor.send(R"({"type":"drill","cancel":2})");
+    REQUIRE(instructor.wait([&](const std::string& msg, bool bin) {
+        const json j = bin ? json::object() : json::parse(msg, nullptr, false);
+        if (j.value("type", "") == "drill" && j["id"] == 1) cancelled = j.value("state", "") == "cancelled";
+        if (j.value("type", "") == "drill" && j["id"] == 2)
+            refused = j.value("refused", "").find("drill 2 has fired") != std::string::npos;
+        if (j.value("type", "") == "event") CHECK(j.value("by", "") != "drill 1");
+        if (j.value("type", "") == "status" && j.value("time", 0.0) > 2 && j.contains("drills")) {
+            past = true;
+            CHECK(j["drills"][0]["state"] == "cancelled");
+            CHECK(j["drills"][0]["fired"] == -1);
+        }
+        return cancelled && refused && past;
+    }, 20));
+    // A trainee's page hears nothing of drills.
+    REQUIRE(trainee.wait([&](const std::string& msg, bool bin) {
+        const json j = bin ? json::object() : json::parse(msg, nullptr, false);
+        CHECK(j.value("type", "") != "drill");
+        return j.value("type", "") == "status" && j.value("time", 0.0) > 2;
+    }, 20));
+    // The events file: the cancellation is a comment (a replay skips it), drill 1 set nothing.
+    std::string events;
+    REQUIRE(http_get(s.port, std::string("/events?token=") + kToken, &events) == 200);
+    CHECK(events.find("# drill 1 cancelled at 0.000s by page 1 (instructor) at 20") != std::string::npos);
+    std::istringstream lines(events);
+    for (std::string l; std::getline(lines, l);)
+        if (!l.starts_with("#")) CHECK_MESSAGE(l.find("other.stop") == std::string::npos, l);
+    CHECK(events.find("# drill 2 cancelled") == std::string::npos);
+    // The report (a replay of that file) says what became of each drill.
+    std::string md;
+    REQUIRE(http_get(s.port, std::string("/report.md?token=") + kToken, &md) == 200);
+    CHECK(md.find("## Drills") != std::string::npos);
+    CHECK_MESSAGE(md.find("| 1. by page 1 (instructor): 1s force other.stop open | cancelled before it fired, at 0.000 s by "
+                          "page 1 (instructor) at 20") != std::string::npos,
+                  md);
+    CHECK_MESSAGE(md.find("| 2. by page 1 (instructor): now force other.start open | set fault 1 at 0.007 s |") != std::string::npos, md);
+}
