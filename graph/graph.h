@@ -293,7 +293,9 @@ constexpr int slot_width(SlotType t) {
     F(Adr<PluginParam>, param_adr)  /* into plugin_params */                                \
     F(int32_t, param_num)                                                          \
     F(Adr<PluginEntry>, entry_adr)  /* into plugin_entries */                               \
-    F(int32_t, entry_num)
+    F(int32_t, entry_num)                                                          \
+    F(bool, placed)        /* given a placement (KindDesc::placed: a panel drawn in the scene) */ \
+    F(Pose, pose)          /* its world pose when placed */
 
 // An entry of a plugin component's table (`coil 3 => s1.to_working(pulse = 1)`): its
 // word, its key (an index, or a time in s: graph/plugin.h, EntryKey), the slots its target names (an input port: every input it forwards to),

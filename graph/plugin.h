@@ -92,6 +92,10 @@ struct KindDesc {
     // Non-empty: a component of this kind is written only inside a component of the kind
     // of that word (a button inside a panel), never on its own.
     std::string_view inside = {};
+    // Whether a component of the kind takes a placement (`panel ops at (…) rotate z by …`):
+    // its world pose is stored (Plugin::pose, placed) for the viewer to draw it in the scene
+    // (an operator panel). A placement on a kind without it is refused (E0311).
+    bool placed = false;
 
     // ---- A kind on the kind table (kinds/NAME/kind.cpp); a plugin kind leaves these ----
     CompKind kind = CompKind::Plugin;                 // its kind in the graph

@@ -148,6 +148,11 @@ std::vector<RangeFlaw> range_flaws(const Graph& g) {
         r.at("sources", i, g.sources[i].comp);
         r.place("pose", "place", g.sources[i].pose);
     }
+    for (size_t i = 0; i < g.plugins.size(); ++i)
+        if (g.plugins[i].placed) {
+            r.at("plugins", i, g.plugins[i].comp);
+            r.place("pose", "place", g.plugins[i].pose);
+        }
     for (size_t i = 0; i < g.graphics.size(); ++i) {
         r.at("graphics", i, g.graphics[i].comp);
         r.place("pose", "place", g.graphics[i].pose);

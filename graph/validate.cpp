@@ -255,6 +255,7 @@ private:
                 return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
                                         p.param_num));
             if (!params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word))) return false;
+            if (p.placed && !d->placed) return fail(fmt::format("a {} takes no placement, field 'placed' is true", d->word));
             for (int32_t k = 0; k < p.entry_num; ++k)
                 if (!plugin_entry(*d, g_.plugin_entries[size_t(p.entry_adr + k)], p.entry_adr + k)) return false;
             return true;

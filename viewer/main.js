@@ -9,6 +9,7 @@ import { Hand } from './hand.js';
 import { DrillsPanel, ForcedPanel, Notices } from './panels.js';
 import { LostMarkers } from './lost.js';
 import { OperatorPanels } from './panel.js';
+import { ScenePanels } from './panel3d.js';
 
 const $ = (id) => document.getElementById(id);
 const view = new PlantView($('view'));
@@ -83,6 +84,8 @@ const conn = new Connection({
     inspector.setScene(scene);
     operatorPanels.readOnly = scene.mode === 'replay';
     operatorPanels.setScene(scene);
+    scenePanels.readOnly = scene.mode === 'replay';
+    scenePanels.setScene(scene);
     plots.setScene(scene);
     replay = scene.mode === 'replay';
     $('timeline').hidden = !replay;
@@ -120,6 +123,7 @@ const conn = new Connection({
     labels.setForced(st.forced ?? []);
     lost.apply(st.lost ?? []);
     operatorPanels.apply(st.panel ?? []);
+    scenePanels.apply(st.panel ?? []);
     if (replay && !seeking) {
       $('seek').value = String(st.time);
       $('seek-label').textContent = `${Number(st.time).toFixed(2)} s / ${Number(debug.scene?.duration ?? 0).toFixed(2)} s`;
@@ -154,6 +158,8 @@ const labels = new Labels(view, (path) => debug.select(path));
 const lost = new LostMarkers(view, (path) => debug.select(path));
 const operatorPanels = new OperatorPanels($('view'), (msg) => conn.send(msg));
 debug.panels = () => operatorPanels.summary();
+const scenePanels = new ScenePanels(view, (msg) => conn.send(msg));   // panels placed in the scene (panel3d.js)
+debug.scenePanels = scenePanels;
 const hand = new Hand(view, (msg) => conn.send(msg), { onChange: () => showHand() });
 debug.hand = hand;
 // A close look at an object (the docs' close-ups): from `distance` metres, at an azimuth and
@@ -244,7 +250,7 @@ $('follow').addEventListener('click', () => {
   if (view.followBody >= 0) { view.follow(-1); $('follow').classList.remove('on'); return; }
   if (selectedBody >= 0) { view.follow(selectedBody); $('follow').classList.add('on'); }
 });
-for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'collision', 'labels']) {
+for (const name of ['bodies', 'graphics', 'fields', 'triggers', 'collision', 'labels', 'panels']) {
   $(`layer-${name}`).addEventListener('change', (e) => view.setLayer(name, e.target.checked));
 }
 $('layer-legend').addEventListener('change', (e) => { $('legend').hidden = !e.target.checked; });
@@ -325,6 +331,7 @@ function hover() {
 
 function loop() {
   hover();
+  scenePanels.tick();
   view.render();
   requestAnimationFrame(loop);
 }

@@ -275,7 +275,8 @@ constexpr KindDesc kPanel{"panel",   "an operator panel: buttons, selectors, an 
                           {},        kPanelParams,
                           {},        PluginPhase::None,
                           PluginPhase::None, nullptr,
-                          kElements};
+                          kElements, {},
+                          true};  // placed: drawn in the scene as well as on the page
 constexpr KindDesc kButton{"button", "a push button of a panel: down while held",
                            button::kSlots, button::kParams, {}, PluginPhase::None, PluginPhase::Actuators,
                            check_button, {}, "panel"};

@@ -57,6 +57,10 @@ nlohmann::json panels_json(const graph::Graph& g) {
             panels.push_back({{"path", g.comp_path(comp)},
                               {"title", pl.param_num > 0 ? std::string(g.str(param(0).text)) : std::string()},
                               {"elements", nlohmann::json::array()}});
+            // Placed in the scene too (`panel ops at (…)`): its world pose, px py pz qx qy qz qw.
+            if (pl.placed)
+                panels.back()["pose"] = {pl.pose.p[0], pl.pose.p[1], pl.pose.p[2], pl.pose.q[0],
+                                         pl.pose.q[1], pl.pose.q[2], pl.pose.q[3]};
             return;
         }
         if (panels.empty()) return;  // an element always follows its panel (the compiler, the loader's check)

@@ -10,8 +10,9 @@
 
 namespace plant::view {
 
-// [{path, title, elements: [{name, kind, path, label, color, positions, names, unit,
-// digits}]}], in component order: every `panel` and the elements it holds.
+// [{path, title, pose, elements: [{name, kind, path, label, color, positions, names, unit,
+// digits}]}], in component order: every `panel` and the elements it holds; `pose` (px py pz
+// qx qy qz qw, world) only for a panel placed in the scene.
 nlohmann::json panels_json(const graph::Graph& g);
 // One number per element, in the order panels_json lists them: a button's `down`, an
 // emergency stop's `engaged`, a selector's `position`, a lamp's `state` (0 off, 1 on, 2

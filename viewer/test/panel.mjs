@@ -8,8 +8,11 @@
 // the drawn button) reaches the runtime as the events `…ops.stop.press` / `…ops.stop.release`
 // (seen by a protocol client of our own), the running lamp goes out on the page and in the
 // status, and the feed stops: no bottle is issued for 12 s of plant time; Start lights the
-// lamp again and the feed resumes. Writes a screenshot of the panel (docs/images/panel.png
-// with --docs). Bounded in time; exit 1 on any failed check.
+// lamp again and the feed resumes. The same panel is placed in the scene: a board (drawn by
+// a few instanced meshes) whose Stop, Start, emergency stop, reset key and selector, clicked
+// in the 3D view, send the same events (the camera stays where it was), and whose lamp and
+// display follow the status. Writes screenshots of the panel (SCREENSHOT.png) and of the board
+// in the scene (SCREENSHOT-scene.png). Bounded in time; exit 1 on any failed check.
 import { statSync } from 'node:fs';
 import { Harness, sleep, until } from './harness.mjs';
 
@@ -76,6 +79,65 @@ try {
   await sleep(500);
   await (await page.$('.op-panel')).screenshot({ path: screenshot });
   check(statSync(screenshot).size > 2_000, `screenshot of the panel written: ${screenshot}`);
+
+  // ---- the same panel placed in the scene (docs/viewer.md): a board worked by clicks ----
+  check(Array.isArray(ops.pose) && ops.pose.length === 7, `the scene places the panel (pose ${JSON.stringify(ops.pose)})`);
+  const placed = () => page.evaluate(() => plantViewer.scenePanels.summary());
+  const inScene = await placed();
+  check(inScene.length === ops.elements.length && inScene.map((e) => e.kind).join() === ops.elements.map((e) => e.kind).join(),
+    `the board has the panel's ${ops.elements.length} elements (${inScene.map((e) => e.kind).join(', ')})`);
+  await page.evaluate((p) => plantViewer.scenePanels.lookAt(p, 0.75), ops.path);
+  await sleep(300);
+  const countAt = index('count');
+  check(await until(async () => (await placed())[countAt]?.text === String(Math.round(client.status?.panel?.[countAt] ?? -1)), 5000),
+    `the board's display shows the count (${(await placed())[countAt]?.text} / ${client.status?.panel?.[countAt]})`);
+  const meshes = await page.evaluate(() => plantViewer.scenePanels.meshes());
+  check(meshes <= 5, `every board is drawn by at most 5 instanced meshes (${meshes})`);
+  const lit3d = async () => (await placed())[lamp]?.lit === true;
+  check(await until(lit3d, 5000), 'the running lamp is lit on the board');
+  const camera = () => page.evaluate(() => plantViewer.view.camera.position.toArray().map((x) => x.toFixed(6)).join());
+  const cam0 = await camera();
+  const at = await page.evaluate((p) => plantViewer.scenePanels.screenPoint(p), stop.path);
+  const events0 = client.events.length;
+  await page.mouse.move(at.x, at.y);
+  await page.mouse.down();
+  check(await until(async () => (await placed())[index('stop')]?.down === true, 5000), 'Stop clicked on the board is drawn down while held (from the status)');
+  await sleep(200);
+  await page.mouse.up();
+  const sent = () => client.events.slice(events0);
+  check(await until(() => sent().some((l) => l.endsWith(`${stop.path}.press`)) && sent().some((l) => l.endsWith(`${stop.path}.release`)), 5000),
+    `the board's Stop reached the runtime as the same events (${sent().filter((l) => l.includes('.stop.')).join('; ') || 'none'})`);
+  check(await until(async () => !(await lit3d()), 5000), 'the running lamp goes out on the board');
+  check(await until(async () => !(await lampOn()), 5000), 'and on the 2D panel');
+  check(await camera() === cam0, 'the click on the board did not move the camera');
+  check(await page.evaluate(() => document.getElementById('inspector')?.hidden !== false), 'nor select anything behind it');
+  const at2 = await page.evaluate((p) => plantViewer.scenePanels.screenPoint(p), start.path);
+  await page.mouse.click(at2.x, at2.y, { delay: 80 });
+  check(await until(lit3d, 5000), 'Start clicked on the board lights the running lamp again');
+  // The mushroom latches, the key resets it; a click on the knob turns it to the next position.
+  const halt = index('halt'), mode = index('mode');
+  const clickAt = async (path, key = false) => {
+    const pt = await page.evaluate((p, k) => plantViewer.scenePanels.screenPoint(p, k), path, key);
+    await page.mouse.click(pt.x, pt.y, { delay: 60 });
+  };
+  await clickAt(ops.elements[halt].path);
+  check(await until(() => client.status?.panel?.[halt] === 1, 5000), 'the board\'s emergency stop latches');
+  await clickAt(ops.elements[halt].path, true);
+  check(await until(() => client.status?.panel?.[halt] === 0, 5000), 'its reset key releases it');
+  const mode0 = client.status?.panel?.[mode];
+  await clickAt(ops.elements[mode].path);
+  check(await until(() => client.status?.panel?.[mode] === (mode0 + 1) % 2, 5000), `the board's selector turns (${mode0} -> ${client.status?.panel?.[mode]})`);
+  await clickAt(ops.elements[mode].path);
+  check(await until(() => client.status?.panel?.[mode] === mode0, 5000), 'and back');
+  await clickAt(start.path);
+  check(await until(lit3d, 5000), 'Start after the reset lights the running lamp again');
+  const sceneShot = screenshot.replace(/\.png$/, '-scene.png');
+  // The board in its place in the line, the 2D panel over the view out of the way.
+  await page.evaluate((p) => { plantViewer.scenePanels.lookAt(p, 1.5, 0.45, 0.35); document.getElementById('op-panels').hidden = true; }, ops.path);
+  await sleep(500);
+  await (await page.$('#view')).screenshot({ path: sceneShot });
+  await page.evaluate(() => { document.getElementById('op-panels').hidden = false; });
+  check(statSync(sceneShot).size > 2_000, `screenshot of the board in the scene written: ${sceneShot}`);
   check(pageErrors.length === 0, `no errors on the page${pageErrors.length ? ': ' + pageErrors.join(' | ') : ''}`);
 } catch (e) {
   console.error(`FAIL ${e.message}`);

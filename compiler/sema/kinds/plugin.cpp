@@ -32,6 +32,22 @@ void lower_plugin(Lowering& lw) {
     rec.param_adr = graph::next_adr(g.plugin_params);
     rec.param_num = static_cast<int32_t>(kind.params.size());
     rec.entry_adr = graph::Adr<graph::PluginEntry>(0);  // set when it has entries
+    // A placement: the world pose of a kind that is drawn in the scene (a panel); on any
+    // other plugin kind it would be silently dropped, so it is refused.
+    if (lw.decl.placement) {
+        if (kind.placed) {
+            rec.placed = true;
+            rec.pose = lw.frame.pose();
+        } else {
+            const Span at = lw.decl.placement->at ? lw.decl.placement->at->span : lw.decl.name.span;
+            auto& d = lw.el.sink_.report(DiagId::WrongComponentKind, at,
+                                         fmt::format("'{}' takes no placement: a {} component is not drawn in the scene",
+                                                     lw.decl.name.text, kind.word));
+            if (!kind.inside.empty())
+                d.notes.push_back({{}, fmt::format("place its {} instead (`{} NAME at (X, Y, Z) {{ … }}`)", kind.inside,
+                                                   kind.inside)});
+        }
+    }
     for (const graph::ParamSpec& ps : kind.params)
         g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
     g.plugins.push_back(rec);

@@ -55,7 +55,7 @@ TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
 
     // The text form carries it, and reads back the same.
     const std::string text = graph::to_text(g);
-    CHECK(text.find("count plugins 1\nplugin 0 comp=1 kind=\"counter\" param_adr=0 param_num=3 entry_adr=0 entry_num=0\n") != std::string::npos);
+    CHECK(text.find("count plugins 1\nplugin 0 comp=1 kind=\"counter\" param_adr=0 param_num=3 entry_adr=0 entry_num=0 placed=false pose=(0 0 0|0 0 0 1)\n") != std::string::npos);
     graph::Graph loaded;
     std::string error;
     std::istringstream in(text);
