@@ -74,8 +74,8 @@ public:
     void add_flags(Cli& cli, Where where) override {
         if (where != Where::Run) return;  // plant serve reads its own --drill (app/serve.cpp)
         cli.values("--drill", files_,
-                   "drills, one per line: at a time, now, or `when PATH >= N`;\n`repaired by INPUT` "
-                   "(docs/training.md; repeatable)",
+                   "drills, one per line: at a time, now, or `when PATH >= N`;\n`repaired by INPUT` or "
+                   "`repaired by hand PATH` (docs/training.md; repeatable)",
                    "FILE");
         cli.value("--drill-events", out_, "write what the drills applied as an events file\n(--events replays it)",
                   "FILE", "a FILE");

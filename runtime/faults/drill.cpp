@@ -31,6 +31,22 @@ const engine::SlotTarget* find_slot(const engine::SlotIndex& slots, std::string_
     return nullptr;
 }
 
+// The dynamic bodies a hand can take that `path` names: a body's component path, or an
+// object's path (and every object inside it: `line[0]` names every bottle of the line).
+std::vector<int32_t> hand_bodies(const graph::Graph& g, std::string_view path) {
+    std::vector<int32_t> out;
+    for (size_t b = 0; b < g.bodies.size(); ++b) {
+        const graph::Body& body = g.bodies[b];
+        if (body.mode != graph::BodyMode::Dynamic) continue;
+        const int32_t comp = body.comp.v;
+        const std::string_view owner = g.str(g.dos[size_t(g.comps[size_t(comp)].owner)].path);
+        const bool inside = owner == path || (owner.size() > path.size() && owner.starts_with(path) &&
+                                              (owner[path.size()] == '.' || owner[path.size()] == '['));
+        if (inside || g.comp_path(comp) == path) out.push_back(int32_t(b));
+    }
+    return out;
+}
+
 }  // namespace
 
 std::string_view word(Drill::State s) {
@@ -65,15 +81,30 @@ bool parse_drill(const graph::Graph& g, const engine::SlotIndex& slots, std::str
     }
     // ... repaired by PATH (the last such clause: an event's text may hold the words).
     if (const size_t r = rest.rfind(" repaired by "); r != std::string_view::npos) {
-        const std::string_view path = trim(rest.substr(r + 13));
+        std::string_view path = trim(rest.substr(r + 13));
+        std::string_view after = path;
+        if (first_word(after) == "hand" && !after.empty()) {  // repaired by hand PATH
+            d.repair_hand = true;
+            path = after;
+        }
         if (path.empty() || path.find_first_of(" \t") != std::string_view::npos) {
-            error = fmt::format("'repaired by' takes one input's path, not '{}'", path);
+            error = fmt::format("'repaired by' takes one input's path, or 'hand' and a part's path, not '{}'", path);
             return false;
         }
-        const engine::SlotTarget* t = find_slot(slots, path, error);
-        if (!t) return false;
+        if (d.repair_hand) {
+            d.repair_bodies = hand_bodies(g, path);
+            if (d.repair_bodies.empty()) {
+                error = fmt::format("'repaired by hand {}': no object or body of that path has a dynamic body a hand "
+                                    "can take",
+                                    path);
+                return false;
+            }
+        } else {
+            const engine::SlotTarget* t = find_slot(slots, path, error);
+            if (!t) return false;
+            d.repair_slots = t->slots;
+        }
         d.repair_path = std::string(path);
-        d.repair_slots = t->slots;
         rest = trim(rest.substr(0, r));
     }
     std::string_view peek = rest;
@@ -120,7 +151,8 @@ bool parse_drill(const graph::Graph& g, const engine::SlotIndex& slots, std::str
         d.at = d.event.time;
     }
     if (!d.repair_path.empty() && (!d.event.force || d.event.mode == engine::ForceMode::None)) {
-        error = fmt::format("'repaired by {}': a repair rule ends a fault, and this drill forces nothing", d.repair_path);
+        error = fmt::format("'repaired by {}{}': a repair rule ends a fault, and this drill forces nothing",
+                            d.repair_hand ? "hand " : "", d.repair_path);
         return false;
     }
     out = std::move(d);
@@ -156,6 +188,7 @@ void Drills::reset() {
         d.state = Drill::State::Waiting;
         d.count = 0;
         d.counted_to = -1;
+        d.hand_held = false;
         d.fired = d.ended = -1;
         d.watched = false;
     }
@@ -227,6 +260,12 @@ void Drills::due(engine::Engine& e, std::vector<Fired>& out) {
         }
         bool repaired = false;
         for (int32_t s : d.repair_slots) repaired = repaired || e.active(graph::SlotId(s));
+        if (d.repair_hand) {  // held by a hand at an earlier boundary, let go of by this one
+            bool held = false;
+            for (int32_t b : d.repair_bodies) held = held || e.held(graph::BodyId(b));
+            repaired = d.hand_held && !held;
+            d.hand_held = d.hand_held || held;
+        }
         if (!repaired) continue;
         Fired f;
         f.drill = i;

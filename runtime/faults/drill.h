@@ -1,8 +1,9 @@
 // Drills (docs/training.md, "Drills"): faults an instructor schedules now, at a time, or when
 // a condition holds ("when bottle 10 passes S2"), each hidden from trainees or shown, each
-// ended by its release or by a repair rule (an input operated). One drill is one line:
+// ended by its release or by a repair rule (an input operated, a part replaced by hand). One
+// drill is one line:
 //
-//     [hidden|shown] TRIGGER EVENT [repaired by PATH]
+//     [hidden|shown] TRIGGER EVENT [repaired by PATH | repaired by hand PATH]
 //     TRIGGER: TIME (as in an events file: "20s"), `now`, or `when PATH >= N`
 //
 //     20s force line[0].s2.sw.reader.bottle open
@@ -36,6 +37,11 @@ struct Drill {
     engine::Event event;              // what it does (time set when it fires)
     std::string repair_path;          // "" none: an input whose operation releases the fault
     std::vector<int32_t> repair_slots;
+    // `repaired by hand PATH`: the fault is released once a hand has let go of a part PATH
+    // names (an object, the objects inside it, or a body: their dynamic bodies), having held
+    // it since the fault was set — the part taken and put back, or taken off the line.
+    bool repair_hand = false;
+    std::vector<int32_t> repair_bodies;
     bool shown = false;  // trainees see it (its force, its release); hidden by default
     std::string text;    // the line as written
     std::string by, role;  // who scheduled it ("drill file", "page 2"), their role
@@ -44,6 +50,7 @@ struct Drill {
     enum class State : uint8_t { Waiting, Holding, Released, Repaired, Done, Cancelled };
     State state = State::Waiting;
     int64_t count = 0;        // When on a void slot: activations seen so far
+    bool hand_held = false;   // repaired by hand: a hand has held the part while the fault held
     int64_t counted_to = -1;  // the last step counted
     double fired = -1, ended = -1;  // Cancelled: `ended` is when
     std::string cancelled_by;       // Cancelled: who ("page 1 (instructor)")

@@ -5,10 +5,12 @@
 #include "paths.h"
 #include "../compiler/compile_helper.h"
 #include "engine/events.h"
+#include "engine/times.h"
 #include "faults/drill.h"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -217,4 +219,96 @@ TEST_CASE("drill: a waiting drill cancelled never fires, one that fired or no su
     drills.reset();
     CHECK(drills.list()[0].state == faults::Drill::State::Cancelled);
     CHECK(drills.list()[1].state == faults::Drill::State::Waiting);
+}
+
+TEST_CASE("drill: repaired by hand, the fault is released once a hand has let go of the part it held") {
+    Compilation c;
+    test::compile_text(R"(
+object Crate {
+    physics body: dynamic { mass = 1 kg; shape box(10 cm, 10 cm, 10 cm) }
+}
+plant P {
+    timer t: periodic { period = 200 ms; autostart = true }
+    box1: Crate at (0 m, 0 m, 5 cm)
+    box2: Crate at (1 m, 0 m, 5 cm)
+    physics floor: static { shape box(4 m, 4 m, 2 cm) at (0 m, 0 m, -1 cm) }
+}
+)",
+                       c, "hand_drill.plant");
+    REQUIRE_MESSAGE(c.ok(), render_all_text(c.sink.sorted(), c.sources));
+    const engine::SlotIndex slots = engine::slot_index(c.graph);
+    faults::Drill d;
+    std::string error;
+    REQUIRE_MESSAGE(faults::parse_drill(c.graph, slots, "now force t.stop stuck on repaired by hand box1", d, error), error);
+    CHECK(d.repair_hand);
+    CHECK(d.repair_path == "box1");
+    CHECK(d.repair_bodies.size() == 1);
+    REQUIRE(faults::parse_drill(c.graph, slots, "now force t.stop stuck on repaired by hand box2.body", d, error));
+    CHECK(d.repair_bodies.size() == 1);
+    REQUIRE(faults::parse_drill(c.graph, slots, "now force t.stop stuck on repaired by hand box", d, error) == false);
+    CHECK(error.find("'repaired by hand box': no object or body of that path has a dynamic body") != std::string::npos);
+    CHECK_FALSE(faults::parse_drill(c.graph, slots, "now force t.stop stuck on repaired by hand floor", d, error));
+    CHECK_FALSE(faults::parse_drill(c.graph, slots, "now t.stop repaired by hand box1", d, error));
+    CHECK(error.find("'repaired by hand box1': a repair rule ends a fault") != std::string::npos);
+
+    faults::Drills drills;
+    REQUIRE(faults::parse_drill(c.graph, slots, "now force t.stop stuck on repaired by hand box1", d, error));
+    drills.add(d);
+    REQUIRE(faults::parse_drill(c.graph, slots, "now force t.start stuck on repaired by hand box2", d, error));
+    drills.add(d);
+    engine::Engine e(c.graph);
+    std::vector<engine::Event> hand;  // box1 taken at 0.2 s and put back at 0.5 s; box2 never
+    for (const char* line : {"0.2s grab box1.body at 0,0,0.08", "0.3s move box1.body to 0,0.2,0.15", "0.5s drop box1.body"}) {
+        engine::Event ev;
+        REQUIRE_MESSAGE(engine::parse_event(c.graph, slots, line, ev, error), error);
+        hand.push_back(ev);
+    }
+    std::vector<faults::Drills::Fired> fired;
+    std::vector<std::pair<double, std::string>> log;
+    size_t next = 0;
+    const graph::SlotId stop(slots.at("t.stop").slots[0]);
+    while (e.time() < 1.0) {
+        fired.clear();
+        drills.due(e, fired);
+        for (auto& x : fired) {
+            engine::apply_event(e, x.event);
+            log.emplace_back(x.event.time, engine::format_event(c.graph, x.event, e.dt()));
+        }
+        for (; next < hand.size() && engine::due(e, hand[next]); ++next) engine::apply_event(e, hand[next]);
+        e.step();
+        if (e.time() < 0.5 - 1e-9) CHECK(e.forced(stop) != engine::ForceMode::None);  // held, not yet let go
+    }
+    REQUIRE(log.size() == 3);
+    CHECK(log[2].second.find("release t.stop") != std::string::npos);
+    // The drop applied before the step ending at 0.5 s: let go of at the boundary after it.
+    CHECK(log[2].first == doctest::Approx(0.5 + e.dt()));
+    CHECK(e.forced(stop) == engine::ForceMode::None);
+    CHECK(drills.list()[0].state == faults::Drill::State::Repaired);
+    CHECK(drills.list()[1].state == faults::Drill::State::Holding);  // nobody took box2
+
+    // One way in: the hand's events and what the drills fired, replayed as timed events
+    // without any drill, leave the plant where the drilled run did.
+    engine::Engine replay(c.graph);
+    std::vector<engine::Event> timed = hand;
+    for (const auto& [time, line] : log) {
+        engine::Event ev;
+        REQUIRE_MESSAGE(engine::parse_event(c.graph, slots, engine::time_text(time, e.dt()) + "s " + line.substr(line.find(' ') + 1), ev,
+                                            error),
+                        error);
+        timed.push_back(ev);
+    }
+    std::stable_sort(timed.begin(), timed.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
+    next = 0;
+    while (replay.time() < 1.0) {
+        for (; next < timed.size() && engine::due(replay, timed[next]); ++next) engine::apply_event(replay, timed[next]);
+        replay.step();
+    }
+    CHECK(next == timed.size());
+    CHECK(replay.forced(stop) == engine::ForceMode::None);
+    const graph::SlotId pose(slots.at("box1.body.pose").slots[0]);
+    e.watch(pose);
+    replay.watch(pose);
+    e.step();
+    replay.step();
+    for (int k = 0; k < 7; ++k) CHECK(replay.value(pose)[size_t(k)] == e.value(pose)[size_t(k)]);
 }
