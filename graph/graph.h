@@ -264,10 +264,6 @@ constexpr int slot_width(SlotType t) {
     F(Name, model)              \
     F(SlotId, select_slot)
 
-#define PLANT_FIELDS_LABEL(F) \
-    F(CompId, comp)          \
-    F(Name, value)
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

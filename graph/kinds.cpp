@@ -16,7 +16,6 @@ constexpr std::array kSource = {PLANT_SLOTS_SOURCE(PLANT_SLOT_SPEC)};
 constexpr std::array kExit = {PLANT_SLOTS_EXIT(PLANT_SLOT_SPEC)};
 constexpr std::array kRouter = {PLANT_SLOTS_ROUTER(PLANT_SLOT_SPEC)};
 constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
-constexpr std::array kLabel = {PLANT_SLOTS_LABEL(PLANT_SLOT_SPEC)};
 
 }  // namespace
 
@@ -33,7 +32,6 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     case CompKind::Exit: return kExit;
     case CompKind::Router: return kRouter;
     case CompKind::Logic: return kLogic;
-    case CompKind::Label: return kLabel;
     case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
     default: return {};
     }

@@ -77,10 +77,6 @@
 
 #define PLANT_SLOTS_LOGIC(S) \
     S(out, "out", Void, Out, "active in a step the operation is true")
-
-#define PLANT_SLOTS_LABEL(S) \
-    S(set, "set", String, In, "replaces the text") \
-    S(value, "value", String, Out, "the text")
 // clang-format on
 
 namespace plant::graph {
@@ -111,7 +107,6 @@ namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }
 namespace exitslot { enum : int { PLANT_SLOTS_EXIT(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
-namespace labelslot { enum : int { PLANT_SLOTS_LABEL(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
 #define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }
 PLANT_KINDS(PLANT_KIND_SLOT_INDEX)

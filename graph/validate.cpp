@@ -54,7 +54,7 @@ public:
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && nets() && triggers() && table_kinds() && grippers() && sources() &&
-               exits() && routes() && graphics() && animations() && variants() && labels() &&
+               exits() && routes() && graphics() && animations() && variants() &&
                ports() && plugin_records();
     }
 
@@ -202,7 +202,6 @@ private:
         case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
         case CompKind::Exit: n = g_.exits.size(), name = "exits"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
-        case CompKind::Label: n = g_.labels.size(), name = "labels"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
         case CompKind::Router: return false;
@@ -524,12 +523,6 @@ private:
     bool variants() {
         return each("variants", g_.variants, [&](const Variant& v, size_t) {
             return slot("select_slot", v.select_slot, SlotType::Void, Dir::In);
-        });
-    }
-
-    bool labels() {
-        return each("labels", g_.labels, [&](const auto& r, size_t i) {
-            return owner(r.comp, CompKind::Label, i);
         });
     }
 

@@ -43,7 +43,6 @@ void lower(Lowering& lw) {
     case CompKind::Source: return lower_source(lw);
     case CompKind::Exit: return lower_exit(lw);
     case CompKind::Router: return lower_router(lw);
-    case CompKind::Label: return lower_label(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
     default: return;  // a kind on the kind table: above

@@ -102,9 +102,6 @@ std::vector<KindSpec> make_kinds() {
     router.routes = true;
     k.push_back(router);
 
-    k.push_back(KindSpec{"label", CompKind::Label, {}, {
-        {"value", T::String, {}, false, "the text, default empty"},
-    }});
     const std::pair<std::string_view, std::string_view> docs[] = {
         {"graphics", "what the viewer draws: a model, its animations and variants, child graphics"},
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
@@ -115,7 +112,6 @@ std::vector<KindSpec> make_kinds() {
         {"source", "issues objects of a type into the plant, from a pool built at compile time"},
         {"exit", "takes the objects in its trigger out of the plant"},
         {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
-        {"label", "a text the viewer shows"},
     };
     for (auto& spec : k)
         for (const auto& [word, doc] : docs)

@@ -47,7 +47,6 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     // see the start values once.
     start_triggers(*this);
     start_objects(*this);
-    start_labels(*this);
     start_fields(*this);
     start_kinds(*this);   // the kind table's, in its order (kinds/kinds.cmake)
     start_places(*this);

@@ -196,9 +196,4 @@ void phase_logic(Runtime& r) {
     forces_logic_end(r);
 }
 
-// A label's value is published once at the start.
-void start_labels(Runtime& r) {
-    for (const Label& l : r.g.labels) r.emit(r.comp_slot(l.comp, labelslot::value), l.value.id);
-}
-
 }  // namespace plant::engine

@@ -114,7 +114,6 @@ void release(Runtime& r, int32_t gripper);
 void issue(Runtime& r, int32_t source);
 int32_t take_object(Runtime& r, int32_t obj);  // out of the world, back to its pool; its root or -1
 void apply_hands(Runtime& r);  // hands.cpp: trainees' hands pull what they hold, in phase 1
-void start_labels(Runtime& r);  // logic.cpp: labels, routers and connectors act in phase 3
 void start_places(Runtime& r);  // petri.cpp: state acts in phase 4
 bool glob_match(std::string_view pattern, std::string_view text);
 // Plugin components (plugin.cpp): started once, sensing in phase 2, acting in phase 5.

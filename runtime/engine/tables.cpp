@@ -46,15 +46,14 @@ Tables::Tables(const Graph& g) {
     value_adr.resize(g.slots.size());
     for (size_t s = 0; s < g.slots.size(); ++s) value_adr[s] = g.slots[s].value_adr;
     for (size_t s = 0; s < g.slots.size(); ++s) slot_out[s] = g.slots[s].dir == Dir::Out;
-    // State, logic, router and label inputs are read by phases 3 and 4; the rest act (a kind
-    // on the kind table: when it has an act hook).
+    // State, logic and router inputs are read by phases 3 and 4; the rest act (a kind on the
+    // kind table: when it has an act hook; a label's `set` is read by phase 3).
     slot_acts.resize(g.slots.size());
     for (size_t s = 0; s < g.slots.size(); ++s) {
         const CompKind k = g.comps[g.slots[s].comp].kind;
         const KindBehaviour* b = builtin_behaviour(k);
         slot_acts[s] = !slot_out[s] && (b ? b->act_one != nullptr
                                           : k != CompKind::State && k != CompKind::Logic && k != CompKind::Router &&
-                                                k != CompKind::Label &&
                                                 (k != CompKind::Plugin ||
                                                  plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators));
     }

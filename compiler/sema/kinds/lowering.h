@@ -93,7 +93,6 @@ void lower_gripper(Lowering& lw);
 void lower_source(Lowering& lw);
 void lower_exit(Lowering& lw);
 void lower_router(Lowering& lw);
-void lower_label(Lowering& lw);
 void link_trigger(Linking& lk);
 void link_gripper(Linking& lk);
 void link_exit(Linking& lk);

@@ -1,5 +1,4 @@
-// The kinds that sense, count and route objects: trigger, gripper, source, exit, router,
-// label.
+// The kinds that sense, count and route objects: trigger, gripper, source, exit, router.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -120,15 +119,6 @@ void lower_router(Lowering& lw) {
             g.routes.push_back({graph::CompId(lw.comp), el.name(pv.str), graph::SlotId(it->second)});
         }
     }
-}
-
-void lower_label(Lowering& lw) {
-    Elaborator& el = lw.el;
-    graph::Graph& g = lw.el.g_;
-    graph::Label l{graph::CompId(lw.comp), el.name(lw.props.get("value") ? lw.props.get("value")->str : "")};
-    g.labels.push_back(l);
-    lw.set_detail(g.labels.size());
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::labelslot::value)) = l.value.id;
 }
 
 void link_trigger(Linking& lk) {

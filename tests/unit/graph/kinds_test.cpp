@@ -1,7 +1,9 @@
 // The slot tables of kinds.h: the runtime indexes fixed slots through the *slot
 // constants, the compiler checks flows against fixed_slots().
+#include "engine/plugin.h"
 #include "graph/kinds.h"
 #include "graph/plugin.h"
+#include "sema/kinds/lowering.h"
 
 #include <doctest/doctest.h>
 
@@ -100,6 +102,30 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     REQUIRE(timer);
     CHECK(timer->table == "timers");
     CHECK(timer->slots[timerslot::elapsed].unit == "s");
+    const KindDesc* label = builtin_kind(CompKind::Label);
+    REQUIRE(label);
+    CHECK(label->table == "labels");
+}
+
+// Each row's other two parts (kinds/list.h): the compiler's lowering and the runtime's
+// behaviour, found by the row's CompKind; a kind whose inputs a phase other than 5 reads
+// (the label's `set`, phase 3) has no act hook.
+TEST_CASE("the kind table: every row has its lowering and its behaviour") {
+    for (const KindDesc* d : builtin_kinds()) {
+        CAPTURE(d->word);
+        const plant::sema::KindLowering* lw = plant::sema::builtin_lowering(d->kind);
+        REQUIRE(lw);
+        CHECK(bool(lw->lower));
+        const plant::engine::KindBehaviour* b = plant::engine::builtin_behaviour(d->kind);
+        REQUIRE(b);
+        CHECK_FALSE(bool(b->start));  // the per-component hooks are a plugin's
+        CHECK_FALSE(bool(b->sense));
+        CHECK_FALSE(bool(b->act));
+        CHECK(b->state_size == 0);
+    }
+    CHECK_FALSE(bool(plant::engine::builtin_behaviour(CompKind::Label)->act_one));
+    CHECK(bool(plant::engine::builtin_behaviour(CompKind::Timer)->act_one));
+    CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
 }
 
 TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind and parameters a plugin cannot store") {
