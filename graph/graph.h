@@ -224,10 +224,6 @@ constexpr int slot_width(SlotType t) {
     F(Adr<IdEntry>, id_adr)    /* into ids: bar codes handed out in turn */           \
     F(int32_t, id_num)
 
-#define PLANT_FIELDS_EXIT(F) \
-    F(CompId, comp)         \
-    F(TriggerId, trigger)
-
 #define PLANT_FIELDS_ROUTE(F)                                         \
     F(CompId, comp)                                                  \
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \

@@ -66,12 +66,6 @@
     S(id, "id", String, Out, "the bar code of the object issued last") \
     S(issued_count, "count", Int, Out, "objects issued so far")
 
-#define PLANT_SLOTS_EXIT(S) \
-    S(taken, "taken", Void, Out, "an object was taken out of the world") \
-    S(object, "object", Ref, Out, "the object taken last (untyped)") \
-    S(id, "id", String, Out, "its bar code") \
-    S(taken_count, "count", Int, Out, "objects taken so far")
-
 #define PLANT_SLOTS_ROUTER(S) \
     S(query, "query", String, In, "an ID to route; activates the first matching entry")
 
@@ -104,7 +98,6 @@ namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; 
 namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
 namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
 namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }; }
-namespace exitslot { enum : int { PLANT_SLOTS_EXIT(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.

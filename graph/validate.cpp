@@ -54,7 +54,7 @@ public:
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && nets() && triggers() && table_kinds() && grippers() && sources() &&
-               exits() && routes() && graphics() && animations() && variants() &&
+               routes() && graphics() && animations() && variants() &&
                ports() && plugin_records();
     }
 
@@ -200,7 +200,6 @@ private:
         case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
         case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
         case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
-        case CompKind::Exit: n = g_.exits.size(), name = "exits"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
@@ -473,12 +472,6 @@ private:
                                             s.pool_adr + k, std::string(g_.str(g_.do_types[size_t(s.do_type)].name))));
             }
             return true;
-        });
-    }
-
-    bool exits() {
-        return each("exits", g_.exits, [&](const auto& r, size_t i) {
-            return owner(r.comp, CompKind::Exit, i);
         });
     }
 

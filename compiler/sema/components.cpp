@@ -41,7 +41,6 @@ void lower(Lowering& lw) {
     case CompKind::Trigger: return lower_trigger(lw);
     case CompKind::Gripper: return lower_gripper(lw);
     case CompKind::Source: return lower_source(lw);
-    case CompKind::Exit: return lower_exit(lw);
     case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
@@ -60,7 +59,6 @@ void link(Linking& lk) {
     case CompKind::Graphics: return link_graphics(lk);
     case CompKind::Trigger: return link_trigger(lk);
     case CompKind::Gripper: return link_gripper(lk);
-    case CompKind::Exit: return link_exit(lk);
     default: return;  // nothing to link (plugin kinds name no other component)
     }
 }

@@ -94,10 +94,6 @@ std::vector<KindSpec> make_kinds() {
         {"ids", T::StringList, {}, false, "bar codes handed out in turn; default NAME-1 ... NAME-pool"},
     }});
 
-    k.push_back(KindSpec{"exit", CompKind::Exit, {}, {
-        {"trigger", T::CompRef, {}, true, "trigger volume whose objects are taken out"},
-    }});
-
     KindSpec router{"router", CompKind::Router, {}, {}};
     router.routes = true;
     k.push_back(router);
@@ -110,7 +106,6 @@ std::vector<KindSpec> make_kinds() {
         {"trigger", "a box volume that reports objects entering, staying and leaving"},
         {"gripper", "holds the object its trigger caught, and lets it go"},
         {"source", "issues objects of a type into the plant, from a pool built at compile time"},
-        {"exit", "takes the objects in its trigger out of the plant"},
         {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
     };
     for (auto& spec : k)

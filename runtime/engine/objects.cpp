@@ -1,6 +1,7 @@
 // Objects that come and go: grippers (carry an object kinematically, hand it back
-// with the gripper's velocity), sources (issue pooled objects with bar codes) and
-// exits (take objects out of the world, back into their source's pool).
+// with the gripper's velocity), sources (issue pooled objects with bar codes), and what
+// an exit (kinds/exit/run.cpp) or a trainee's hand does to take an object out of the world:
+// back into its source's pool.
 #include "engine/runtime.h"
 
 #include "graph/kinds.h"
@@ -17,24 +18,14 @@ btTransform gripper_frame(const Runtime& r, const Gripper& gr) {
     return btTransform::getIdentity();
 }
 
+}  // namespace
+
 // The bar code of an object: its label's text, else its path.
-double id_of(Runtime& r, int32_t d) {
+double object_id(Runtime& r, int32_t d) {
     int32_t l = r.tab.do_label[d];
     if (l >= 0) return *r.val(r.comp_slot(r.g.labels[l].comp, labelslot::value));
     return r.g.dos[d].path.id;
 }
-
-void take(Runtime& r, int32_t exit, int32_t obj) {
-    const int32_t root = take_object(r, obj);
-    if (root < 0) return;
-    const int32_t s0 = r.g.comps[r.g.exits[exit].comp].slot_adr;
-    r.activate(s0 + exitslot::taken);
-    r.emit(s0 + exitslot::object, root);
-    r.emit(s0 + exitslot::id, id_of(r, root));
-    r.emit(s0 + exitslot::taken_count, double(++r.st.exit_count[exit]));
-}
-
-}  // namespace
 
 // The object out of the world, back into its source's pool when it is a pooled one (the
 // whole pooled object, also when `obj` is a part of it); its root, or -1 when it was not in
@@ -169,20 +160,10 @@ void issue(Runtime& r, int32_t src) {
     r.emit(s0 + sourceslot::issued_count, double(ss.issued));
 }
 
-void run_exits(Runtime& r) {
-    for (size_t e = 0; e < r.g.exits.size(); ++e) {
-        const int32_t t = r.g.exits[e].trigger;
-        if (t < 0) continue;
-        const TriggerState& ts = r.st.triggers[t];
-        for (int32_t k = 0; k < ts.num; ++k) take(r, int32_t(e), r.st.inside[ts.adr + k]);
-    }
-}
-
-// The references grippers, sources and exits hold start empty.
+// The references grippers and sources hold start empty.
 void start_objects(Runtime& r) {
     for (const Gripper& gr : r.g.grippers) *r.val(r.comp_slot(gr.comp, gripperslot::object)) = -1;
     for (const Source& s : r.g.sources) *r.val(r.comp_slot(s.comp, sourceslot::object)) = -1;
-    for (const Exit& e : r.g.exits) *r.val(r.comp_slot(e.comp, exitslot::object)) = -1;
 }
 
 void act_source(Runtime& r, const Comp& c, int32_t i) {

@@ -91,10 +91,8 @@ void lower_plugin(Lowering& lw);
 void lower_trigger(Lowering& lw);
 void lower_gripper(Lowering& lw);
 void lower_source(Lowering& lw);
-void lower_exit(Lowering& lw);
 void lower_router(Lowering& lw);
 void link_trigger(Linking& lk);
 void link_gripper(Linking& lk);
-void link_exit(Linking& lk);
 
 }  // namespace plant::sema

@@ -1,4 +1,4 @@
-// The kinds that sense, count and route objects: trigger, gripper, source, exit, router.
+// The kinds that sense, count and route objects: trigger, gripper, source, router.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -81,12 +81,6 @@ void lower_source(Lowering& lw) {
     lw.set_detail(g.sources.size());
 }
 
-void lower_exit(Lowering& lw) {
-    graph::Graph& g = lw.el.g_;
-    g.exits.push_back({graph::CompId(lw.comp), {}});
-    lw.set_detail(g.exits.size());
-}
-
 void lower_router(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
@@ -145,12 +139,6 @@ void link_gripper(Linking& lk) {
         else
             gr.body = graph::BodyId(lk.on_body());
     }
-}
-
-void link_exit(Linking& lk) {
-    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
-        lk.el.g_.exits[static_cast<size_t>(lk.rec.detail)].trigger =
-            graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
 }
 
 }  // namespace plant::sema

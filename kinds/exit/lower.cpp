@@ -1,0 +1,28 @@
+// The exit's lowering: a row of `exits`; its linking: the trigger whose objects it takes.
+#include "sema/kinds/lowering.h"
+
+#include "graph/graph.h"
+
+namespace plant::kinds::exit {
+
+using namespace plant::sema;
+
+namespace {
+
+void lower(Lowering& lw) {
+    graph::Graph& g = lw.el.g_;
+    g.exits.push_back({graph::CompId(lw.comp), {}});
+    lw.set_detail(g.exits.size());
+}
+
+void link(Linking& lk) {
+    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
+        lk.el.g_.exits[static_cast<size_t>(lk.rec.detail)].trigger =
+            graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
+}
+
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower, .link = link};
+
+}  // namespace plant::kinds::exit

@@ -1,0 +1,42 @@
+// The exit's behaviour: its `object` starts empty; in phase 2 it takes every object inside
+// its trigger out of the world (back into its source's pool: engine/objects.cpp).
+#include "engine/plugin.h"
+#include "engine/runtime.h"
+
+#include "graph/kinds.h"
+
+namespace plant::kinds::exit {
+
+using namespace plant::engine;
+namespace slot = plant::graph::exitslot;
+
+namespace {
+
+void take(Runtime& r, size_t e, int32_t obj) {
+    const int32_t root = take_object(r, obj);
+    if (root < 0) return;
+    const int32_t s0 = r.g.comps[r.g.exits[e].comp].slot_adr;
+    r.activate(s0 + slot::taken);
+    r.emit(s0 + slot::object, root);
+    r.emit(s0 + slot::id, object_id(r, root));
+    r.emit(s0 + slot::taken_count, double(++r.st.exit_count[e]));
+}
+
+void start_all(Runtime& r) {
+    for (const graph::Exit& e : r.g.exits) *r.val(r.comp_slot(e.comp, slot::object)) = -1;
+}
+
+void sense_all(Runtime& r) {
+    for (size_t e = 0; e < r.g.exits.size(); ++e) {
+        const int32_t t = r.g.exits[e].trigger;
+        if (t < 0) continue;
+        const TriggerState& ts = r.st.triggers[t];
+        for (int32_t k = 0; k < ts.num; ++k) take(r, e, r.st.inside[ts.adr + k]);
+    }
+}
+
+}  // namespace
+
+constexpr KindBehaviour behaviour{.start_all = start_all, .sense_all = sense_all};
+
+}  // namespace plant::kinds::exit
