@@ -214,16 +214,6 @@ constexpr int slot_width(SlotType t) {
     F(BodyId, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
     F(GraphicsId, graphics) /* Graphics whose pose it follows when body is -1 */
 
-#define PLANT_FIELDS_SOURCE(F)                                                   \
-    F(DoTypeId, do_type)                                                          \
-    F(CompId, comp)                                                             \
-    F(Adr<Do>, pool_adr)  /* first pooled DO id (pooled DOs are contiguous) */    \
-    F(int32_t, pool_num)                                                         \
-    F(double, rate)       /* issues per second, 0: only on the issue input */    \
-    F(Pose, pose)         /* world pose where objects are issued */              \
-    F(Adr<IdEntry>, id_adr)    /* into ids: bar codes handed out in turn */           \
-    F(int32_t, id_num)
-
 #define PLANT_FIELDS_ROUTE(F)                                         \
     F(CompId, comp)                                                  \
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \

@@ -59,13 +59,6 @@
     S(released, "released", Void, Out, "an object was handed back") \
     S(object, "object", Ref, Out, "the object held (none: no object); typed by the trigger's `filter`")
 
-#define PLANT_SLOTS_SOURCE(S) \
-    S(issue, "issue", Void, In, "issue one object from the pool") \
-    S(issued, "issued", Void, Out, "an object was issued") \
-    S(object, "object", Ref, Out, "the object issued last; typed by `object`") \
-    S(id, "id", String, Out, "the bar code of the object issued last") \
-    S(issued_count, "count", Int, Out, "objects issued so far")
-
 #define PLANT_SLOTS_ROUTER(S) \
     S(query, "query", String, In, "an ID to route; activates the first matching entry")
 
@@ -97,7 +90,6 @@ namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) cou
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
 namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
 namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
-namespace sourceslot { enum : int { PLANT_SLOTS_SOURCE(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.

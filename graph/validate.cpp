@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && nets() && triggers() && table_kinds() && grippers() && sources() &&
+               shapes() && fields() && nets() && triggers() && table_kinds() && grippers() &&
                routes() && graphics() && animations() && variants() &&
                ports() && plugin_records();
     }
@@ -199,7 +199,6 @@ private:
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
         case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
-        case CompKind::Source: n = g_.sources.size(), name = "sources"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
@@ -459,19 +458,6 @@ private:
     bool grippers() {
         return each("grippers", g_.grippers, [&](const Gripper& gr, size_t i) {
             return owner(gr.comp, CompKind::Gripper, i);
-        });
-    }
-
-    bool sources() {
-        return each("sources", g_.sources, [&](const Source& s, size_t i) {
-            if (!owner(s.comp, CompKind::Source, i) || !check(s.rate >= 0, "field 'rate' is negative")) return false;
-            for (int32_t k = 0; k < s.pool_num; ++k) {
-                const Do& d = g_.dos[size_t(s.pool_adr + k)];
-                if (d.pool != s.comp || d.type != s.do_type)
-                    return fail(fmt::format("DO {} in its pool is not a pooled {} of this source",
-                                            s.pool_adr + k, std::string(g_.str(g_.do_types[size_t(s.do_type)].name))));
-            }
-            return true;
         });
     }
 

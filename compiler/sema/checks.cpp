@@ -125,11 +125,6 @@ void Elaborator::check_unused() {
             if (!driven[slot(graph::routerslot::query)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format("router '{}' is never queried: nothing drives its 'query'", cname));
             break;
-        case CompKind::Source:
-            if (g_.sources[static_cast<size_t>(comp.detail)].rate <= 0 && !driven[slot(graph::sourceslot::issue)])
-                sink_.report(DiagId::InputNotDriven, span,
-                             fmt::format("source '{}' never issues: its rate is 0 and nothing drives 'issue'", cname));
-            break;
         case CompKind::Gripper:
             if (!driven[slot(graph::gripperslot::grip)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format("gripper '{}' never grips: nothing drives 'grip'", cname));

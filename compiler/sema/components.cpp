@@ -40,7 +40,6 @@ void lower(Lowering& lw) {
     case CompKind::State: return lower_state(lw);
     case CompKind::Trigger: return lower_trigger(lw);
     case CompKind::Gripper: return lower_gripper(lw);
-    case CompKind::Source: return lower_source(lw);
     case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);

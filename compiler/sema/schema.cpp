@@ -87,13 +87,6 @@ std::vector<KindSpec> make_kinds() {
     gripper.on = true;
     k.push_back(gripper);
 
-    k.push_back(KindSpec{"source", CompKind::Source, {}, {
-        {"object", T::Type, {}, true, "object type issued, e.g. Bottle(mass = 40 g)"},
-        {"pool", T::Int, {}, true, "objects pre-built at compile time"},
-        {"rate", T::Number, d::frequency, false, "issues per second; 0 (default): only on 'issue'"},
-        {"ids", T::StringList, {}, false, "bar codes handed out in turn; default NAME-1 ... NAME-pool"},
-    }});
-
     KindSpec router{"router", CompKind::Router, {}, {}};
     router.routes = true;
     k.push_back(router);
@@ -105,7 +98,6 @@ std::vector<KindSpec> make_kinds() {
         {"state", "a Petri net: places holding tokens and transitions that move them"},
         {"trigger", "a box volume that reports objects entering, staying and leaving"},
         {"gripper", "holds the object its trigger caught, and lets it go"},
-        {"source", "issues objects of a type into the plant, from a pool built at compile time"},
         {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
     };
     for (auto& spec : k)

@@ -26,7 +26,6 @@ void act_on(Runtime& r, int32_t comp) {
     case CompKind::Body: act_body(r, c, i); break;
     case CompKind::Field: act_field(r, c, i); break;
     case CompKind::Graphics: act_graphics(r, c, i); break;
-    case CompKind::Source: act_source(r, c, i); break;
     case CompKind::Gripper: act_gripper(r, c, i); break;
     case CompKind::Plugin: act_plugin(r, i); break;
     default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
@@ -52,12 +51,7 @@ void phase_actuators(Runtime& r) {
         s.comp_mark[c] = 0;
         act_on(r, c);
     }
-    for (int32_t src : r.tab.rate_sources) {
-        SourceState& ss = s.sources[src];
-        if (s.time + 1e-9 < ss.next_issue) continue;
-        ss.next_issue += 1.0 / r.g.sources[src].rate;
-        issue(r, src);
-    }
+    act_kinds(r);  // the kind table's whole-table hooks: sources with a rate issue
 }
 
 }  // namespace plant::engine

@@ -1,7 +1,6 @@
 // Objects that come and go: grippers (carry an object kinematically, hand it back
-// with the gripper's velocity), sources (issue pooled objects with bar codes), and what
-// an exit (kinds/exit/run.cpp) or a trainee's hand does to take an object out of the world:
-// back into its source's pool.
+// with the gripper's velocity), and what an exit (kinds/exit/run.cpp) or a trainee's hand
+// does to take an object out of the world: back into its source's pool (kinds/source/).
 #include "engine/runtime.h"
 
 #include "graph/kinds.h"
@@ -120,54 +119,9 @@ void release(Runtime& r, int32_t i) {
     r.emit(s0 + gripperslot::object, -1);
 }
 
-void issue(Runtime& r, int32_t src) {
-    SourceState& ss = r.st.sources[src];
-    const Source& S = r.g.sources[src];
-    if (ss.free == 0) {
-        r.st.warn.pool_empty++;
-        return;
-    }
-    const int32_t d = r.st.pool_ring[ss.ring_adr + ss.head];
-    ss.head = (ss.head + 1) % S.pool_num;
-    ss.free--;
-    // Pooled objects keep their shape: every part moves as the DO moves to the source.
-    const Pose to = pmul(S.pose, pinv(r.g.dos[d].pose));
-    for (const int32_t* b = r.tab.do_bodies.begin(d); b != r.tab.do_bodies.end(d); ++b) {
-        const Body& body = r.g.bodies[*b];
-        r.phys.set_dynamics(*b, body.dynamics);
-        r.phys.set_collision(*b, body.collision);
-        r.phys.place(*b, to_bt(pmul(to, body.pose)));
-        btRigidBody& rb = r.phys.write(*b);
-        rb.setLinearVelocity(btVector3(0, 0, 0));
-        rb.setAngularVelocity(btVector3(0, 0, 0));
-        rb.clearForces();
-        r.st.gone[*b] = 0;
-        r.st.ride_field[*b] = -1;  // a new life: where it rides starts again (Loss)
-        r.st.ride_step[*b] = -1;
-        r.phys.insert(*b);
-    }
-    for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i) {
-        r.st.graphics[*i].base = pmul(to, r.g.graphics[*i].pose);
-        r.st.graphics[*i].base_fresh = false;
-    }
-    const double code = S.id_num > 0 ? r.g.ids[S.id_adr + ss.issued % S.id_num].v.id : r.g.dos[d].path.id;
-    if (int32_t l = r.tab.do_label[d]; l >= 0) r.emit(r.comp_slot(r.g.labels[l].comp, labelslot::value), code);
-    ss.issued++;
-    const int32_t s0 = r.g.comps[S.comp].slot_adr;
-    r.activate(s0 + sourceslot::issued);
-    r.emit(s0 + sourceslot::object, d);
-    r.emit(s0 + sourceslot::id, code);
-    r.emit(s0 + sourceslot::issued_count, double(ss.issued));
-}
-
-// The references grippers and sources hold start empty.
+// The reference a gripper holds starts empty.
 void start_objects(Runtime& r) {
     for (const Gripper& gr : r.g.grippers) *r.val(r.comp_slot(gr.comp, gripperslot::object)) = -1;
-    for (const Source& s : r.g.sources) *r.val(r.comp_slot(s.comp, sourceslot::object)) = -1;
-}
-
-void act_source(Runtime& r, const Comp& c, int32_t i) {
-    if (r.st.act[c.slot_adr + sourceslot::issue]) issue(r, i);
 }
 
 void act_gripper(Runtime& r, const Comp& c, int32_t i) {

@@ -45,6 +45,11 @@ void sense_kinds(Runtime& r) {
         if (b->sense_all) b->sense_all(r);
 }
 
+void act_kinds(Runtime& r) {
+    for (const KindBehaviour* b : kBuiltinRuns)
+        if (b->act_all) b->act_all(r);
+}
+
 bool register_plugin(const graph::KindDesc& desc, const KindBehaviour& behaviour) {
     if ((desc.senses == graph::PluginPhase::Sensors) != (behaviour.sense != nullptr) ||
         (desc.acts == graph::PluginPhase::Actuators) != (behaviour.act != nullptr) || behaviour.state_size < 0)

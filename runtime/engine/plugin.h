@@ -70,6 +70,9 @@ struct KindBehaviour {
     // Phase 5, for a component with an active input: `c` the component, `row` its detail.
     // nullptr: its inputs are read elsewhere (phases 3, 4), never by phase 5.
     void (*act_one)(Runtime& r, const graph::Comp& c, int32_t row) = nullptr;
+    // Phase 5, once every component with an active input acted: the whole table, in the
+    // kind table's order (act_kinds); a source with a rate issues.
+    void (*act_all)(Runtime& r) = nullptr;
 };
 
 // The behaviour of a kind on the kind table (kinds/list.h), nullptr for any other kind.

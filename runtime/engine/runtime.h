@@ -104,13 +104,11 @@ void advance_graphics(Runtime& r);
 void act_graphics(Runtime& r, const graph::Comp& c, int32_t i);
 void play_animation(Runtime& r, int32_t anim);
 void select_variant(Runtime& r, int32_t variant);
-void start_objects(Runtime& r);  // objects.cpp: grippers, sources
+void start_objects(Runtime& r);  // objects.cpp: grippers
 void follow_grippers(Runtime& r);
 void act_gripper(Runtime& r, const graph::Comp& c, int32_t i);
-void act_source(Runtime& r, const graph::Comp& c, int32_t i);
 void grip(Runtime& r, int32_t gripper);
 void release(Runtime& r, int32_t gripper);
-void issue(Runtime& r, int32_t source);
 int32_t take_object(Runtime& r, int32_t obj);  // out of the world, back to its pool; its root or -1
 double object_id(Runtime& r, int32_t obj);     // its bar code: its label's text, else its path
 void apply_hands(Runtime& r);  // hands.cpp: trainees' hands pull what they hold, in phase 1
@@ -120,9 +118,10 @@ bool glob_match(std::string_view pattern, std::string_view text);
 void start_plugins(Runtime& r);
 void sense_plugins(Runtime& r);
 void act_plugin(Runtime& r, int32_t plugin);
-// The kinds on the kind table (plugin.cpp; each in kinds/NAME/run.cpp): their start and
-// sense hooks in the table's order; their act hooks through builtin_behaviour().
+// The kinds on the kind table (plugin.cpp; each in kinds/NAME/run.cpp): their start, sense
+// and act_all hooks in the table's order; their act_one hooks through builtin_behaviour().
 void start_kinds(Runtime& r);
 void sense_kinds(Runtime& r);
+void act_kinds(Runtime& r);  // phase 5's end: their act_all hooks
 
 }  // namespace plant::engine

@@ -110,7 +110,6 @@ Tables::Tables(const Graph& g) {
         const Source& src = g.sources[s];
         for (int32_t d = src.pool_adr; d < src.pool_adr + src.pool_num; ++d)
             if (d >= 0 && size_t(d) < ndo) do_source[d] = int32_t(s);
-        if (src.rate > 0) rate_sources.push_back(int32_t(s));
     }
 
     // Petri nets: one per State component.

@@ -58,7 +58,6 @@ struct Tables {
     std::vector<btTransform> field_local;   // field box relative to its body frame
     std::vector<btVector3> field_gain;      // the law's gain along the field's own axes: k·|d|
     std::vector<btTransform> trigger_local; // trigger box relative to its body frame
-    std::vector<int32_t> rate_sources;
 
     std::vector<PluginRun> plugin_run;      // per row of Graph::plugins
     std::vector<int32_t> sensing_plugins;   // rows whose kind senses in phase 2

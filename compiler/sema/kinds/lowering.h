@@ -90,7 +90,6 @@ void lower_plugin(Lowering& lw);
 // objects.cpp
 void lower_trigger(Lowering& lw);
 void lower_gripper(Lowering& lw);
-void lower_source(Lowering& lw);
 void lower_router(Lowering& lw);
 void link_trigger(Linking& lk);
 void link_gripper(Linking& lk);

@@ -1,4 +1,4 @@
-// The kinds that sense, count and route objects: trigger, gripper, source, router.
+// The kinds that sense, count and route objects: trigger, gripper, router.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -11,10 +11,6 @@ namespace plant::sema {
 using graph::CompKind;
 using graph::Dir;
 using graph::SlotType;
-
-namespace {
-constexpr int32_t kMaxPool = 100000;
-}  // namespace
 
 void lower_trigger(Lowering& lw) {
     Elaborator& el = lw.el;
@@ -43,42 +39,6 @@ void lower_gripper(Lowering& lw) {
     gr.graphics = {};
     g.grippers.push_back(gr);
     lw.set_detail(g.grippers.size());
-}
-
-void lower_source(Lowering& lw) {
-    Elaborator& el = lw.el;
-    graph::Graph& g = lw.el.g_;
-    const ast::ComponentDecl& c = lw.decl;
-    graph::Source s;
-    s.comp = graph::CompId(lw.comp);
-    s.do_type = {};
-    s.pose = lw.frame.pose();
-    s.rate = lw.num("rate", 0);
-    if (const Value* r = lw.props.get("rate"); r && r->num < 0)
-        el.sink_.report(DiagId::OutOfRange, r->span, "'rate' cannot be negative");
-    int32_t pool = 0;
-    if (const Value* p = lw.props.get("pool")) {
-        if (p->num < 1 || p->num > kMaxPool)
-            el.sink_.report(p->num < 1 ? DiagId::NonPositive : DiagId::LoopTooLarge, p->span,
-                            fmt::format("'pool' must be between 1 and {}", kMaxPool));
-        else pool = static_cast<int32_t>(p->num);
-    }
-    s.pool_num = pool;  // the DOs are built by make_pools
-    s.pool_adr = {};
-    if (const Value* t = lw.props.get("object")) {
-        s.do_type = graph::DoTypeId(el.do_type(t->str, t->span));
-        el.ref_types_[lw.slot_adr + graph::sourceslot::object] = s.do_type;
-    }
-    s.id_adr = graph::next_adr(g.ids);
-    if (const Value* ids = lw.props.get("ids")) {
-        for (const auto& it : ids->items) g.ids.push_back({el.name(it.str)});
-        if (ids->items.empty()) el.sink_.report(DiagId::OutOfRange, ids->span, "'ids' is empty");
-    } else {
-        for (int32_t i = 1; i <= pool; ++i) g.ids.push_back({el.name(fmt::format("{}-{}", c.name.text, i))});
-    }
-    s.id_num = static_cast<int32_t>(g.ids.size()) - s.id_adr;
-    g.sources.push_back(s);
-    lw.set_detail(g.sources.size());
 }
 
 void lower_router(Lowering& lw) {

@@ -125,6 +125,7 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     }
     CHECK_FALSE(bool(plant::engine::builtin_behaviour(CompKind::Label)->act_one));
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Timer)->act_one));
+    CHECK(bool(plant::engine::builtin_behaviour(CompKind::Source)->act_all));  // a rate's issues
     CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
 }
 
