@@ -208,12 +208,6 @@ constexpr int slot_width(SlotType t) {
     F(Pose, pose)          /* world pose of the box centre at start */         \
     F(DoTypeId, filter)     /* DoType whose bodies it reacts to, -1 for any */
 
-#define PLANT_FIELDS_GRIPPER(F)                                  \
-    F(CompId, comp)                                             \
-    F(TriggerId, trigger)  /* Trigger that catches objects */     \
-    F(BodyId, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
-    F(GraphicsId, graphics) /* Graphics whose pose it follows when body is -1 */
-
 #define PLANT_FIELDS_ROUTE(F)                                         \
     F(CompId, comp)                                                  \
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \

@@ -52,13 +52,6 @@
     S(object, "object", Ref, Out, "the object that last entered (or is inside)") \
     S(count_inside, "count", Int, Out, "how many objects are inside")
 
-#define PLANT_SLOTS_GRIPPER(S) \
-    S(grip, "grip", Void, In, "take the object in the gripper's trigger") \
-    S(release, "release", Void, In, "hand the object back to the dynamics") \
-    S(gripped, "gripped", Void, Out, "an object was taken") \
-    S(released, "released", Void, Out, "an object was handed back") \
-    S(object, "object", Ref, Out, "the object held (none: no object); typed by the trigger's `filter`")
-
 #define PLANT_SLOTS_ROUTER(S) \
     S(query, "query", String, In, "an ID to route; activates the first matching entry")
 
@@ -89,7 +82,6 @@ namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
 namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) count }; }
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
 namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
-namespace gripperslot { enum : int { PLANT_SLOTS_GRIPPER(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.

@@ -100,6 +100,7 @@ struct KindDesc {
     // ---- A kind on the kind table (kinds/NAME/kind.cpp); a plugin kind leaves these ----
     CompKind kind = CompKind::Plugin;                 // its kind in the graph
     std::span<const std::string_view> modes = {};     // `NAME n: MODE`; the first is the default
+    bool on = false;                                  // written `NAME n on PATH`: rides a body (or graphics)
     // The graph table its components' `detail` indexes (PLANT_KIND_TABLE): its name, its row
     // count, each row's component. The loader checks that each row's component is of this
     // kind with the row as its detail, then calls `check` with the row.

@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && nets() && triggers() && table_kinds() && grippers() &&
+               shapes() && fields() && nets() && triggers() && table_kinds() &&
                routes() && graphics() && animations() && variants() &&
                ports() && plugin_records();
     }
@@ -198,7 +198,6 @@ private:
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
-        case CompKind::Gripper: n = g_.grippers.size(), name = "grippers"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
@@ -453,12 +452,6 @@ private:
                 if (d->check && !d->check(g_, int32_t(i), problem)) return fail(problem.message);
             }
         return true;
-    }
-
-    bool grippers() {
-        return each("grippers", g_.grippers, [&](const Gripper& gr, size_t i) {
-            return owner(gr.comp, CompKind::Gripper, i);
-        });
     }
 
     bool routes() {

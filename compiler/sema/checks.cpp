@@ -125,10 +125,6 @@ void Elaborator::check_unused() {
             if (!driven[slot(graph::routerslot::query)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format("router '{}' is never queried: nothing drives its 'query'", cname));
             break;
-        case CompKind::Gripper:
-            if (!driven[slot(graph::gripperslot::grip)])
-                sink_.report(DiagId::InputNotDriven, span, fmt::format("gripper '{}' never grips: nothing drives 'grip'", cname));
-            break;
         default: break;
         }
     }

@@ -39,7 +39,6 @@ void lower(Lowering& lw) {
     case CompKind::Graphics: return lower_graphics(lw);
     case CompKind::State: return lower_state(lw);
     case CompKind::Trigger: return lower_trigger(lw);
-    case CompKind::Gripper: return lower_gripper(lw);
     case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
@@ -57,7 +56,6 @@ void link(Linking& lk) {
     case CompKind::Field: return link_field(lk);
     case CompKind::Graphics: return link_graphics(lk);
     case CompKind::Trigger: return link_trigger(lk);
-    case CompKind::Gripper: return link_gripper(lk);
     default: return;  // nothing to link (plugin kinds name no other component)
     }
 }

@@ -33,6 +33,7 @@ KindSpec kind_spec(const graph::KindDesc& d) {
     }
     k.doc = d.doc;
     k.children = !d.holds.empty();  // a panel's elements
+    k.on = d.on;
     if (d.kind == CompKind::Plugin) k.plugin = &d;
     return k;
 }
@@ -81,12 +82,6 @@ std::vector<KindSpec> make_kinds() {
     trigger.on = true;
     k.push_back(trigger);
 
-    KindSpec gripper{"gripper", CompKind::Gripper, {}, {
-        {"trigger", T::CompRef, {}, true, "trigger volume that catches objects"},
-    }};
-    gripper.on = true;
-    k.push_back(gripper);
-
     KindSpec router{"router", CompKind::Router, {}, {}};
     router.routes = true;
     k.push_back(router);
@@ -97,7 +92,6 @@ std::vector<KindSpec> make_kinds() {
         {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
         {"state", "a Petri net: places holding tokens and transitions that move them"},
         {"trigger", "a box volume that reports objects entering, staying and leaving"},
-        {"gripper", "holds the object its trigger caught, and lets it go"},
         {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
     };
     for (auto& spec : k)

@@ -89,9 +89,7 @@ void lower_state(Lowering& lw);
 void lower_plugin(Lowering& lw);
 // objects.cpp
 void lower_trigger(Lowering& lw);
-void lower_gripper(Lowering& lw);
 void lower_router(Lowering& lw);
 void link_trigger(Linking& lk);
-void link_gripper(Linking& lk);
 
 }  // namespace plant::sema

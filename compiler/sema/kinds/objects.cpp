@@ -1,4 +1,4 @@
-// The kinds that sense, count and route objects: trigger, gripper, router.
+// The kinds that sense, count and route objects: trigger, router.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -28,17 +28,6 @@ void lower_trigger(Lowering& lw) {
     }
     g.triggers.push_back(t);
     lw.set_detail(g.triggers.size());
-}
-
-void lower_gripper(Lowering& lw) {
-    graph::Graph& g = lw.el.g_;
-    graph::Gripper gr;
-    gr.comp = graph::CompId(lw.comp);
-    gr.trigger = {};
-    gr.body = {};
-    gr.graphics = {};
-    g.grippers.push_back(gr);
-    lw.set_detail(g.grippers.size());
 }
 
 void lower_router(Lowering& lw) {
@@ -77,28 +66,6 @@ void lower_router(Lowering& lw) {
 
 void link_trigger(Linking& lk) {
     if (lk.decl.on) lk.el.g_.triggers[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
-}
-
-// A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
-void link_gripper(Linking& lk) {
-    graph::Graph& g = lk.el.g_;
-    auto& gr = g.grippers[static_cast<size_t>(lk.rec.detail)];
-    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
-        gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
-        if (gr.trigger >= 0) {
-            int32_t tslot = g.comps[static_cast<size_t>(g.triggers[static_cast<size_t>(gr.trigger)].comp)].slot_adr +
-                            graph::triggerslot::object;
-            if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
-                lk.el.ref_types_[lk.rec.slot_adr + graph::gripperslot::object] = it->second;
-        }
-    }
-    if (lk.decl.on) {
-        auto it = lk.scope.comps.find(lk.on);
-        if (it != lk.scope.comps.end() && g.comps[static_cast<size_t>(it->second)].kind == graph::CompKind::Graphics)
-            gr.graphics = graph::GraphicsId(g.comps[static_cast<size_t>(it->second)].detail);
-        else
-            gr.body = graph::BodyId(lk.on_body());
-    }
 }
 
 }  // namespace plant::sema

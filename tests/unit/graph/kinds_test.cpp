@@ -105,6 +105,10 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     const KindDesc* label = builtin_kind(CompKind::Label);
     REQUIRE(label);
     CHECK(label->table == "labels");
+    const KindDesc* gripper = builtin_kind(CompKind::Gripper);
+    REQUIRE(gripper);
+    CHECK(gripper->on);  // written `gripper g on BODY`
+    CHECK_FALSE(timer->on);
 }
 
 // Each row's other two parts (kinds/list.h): the compiler's lowering and the runtime's

@@ -1,0 +1,51 @@
+// The gripper's lowering: a row of `grippers`; its linking: the trigger it grips from (its
+// `object` slot is typed by the trigger's) and the body or graphics it is `on`.
+#include "sema/kinds/lowering.h"
+
+#include "graph/graph.h"
+#include "graph/kinds.h"
+
+namespace plant::kinds::gripper {
+
+using namespace plant::sema;
+
+namespace {
+
+void lower(Lowering& lw) {
+    graph::Graph& g = lw.el.g_;
+    graph::Gripper gr;
+    gr.comp = graph::CompId(lw.comp);
+    gr.trigger = {};
+    gr.body = {};
+    gr.graphics = {};
+    g.grippers.push_back(gr);
+    lw.set_detail(g.grippers.size());
+}
+
+// A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
+void link(Linking& lk) {
+    graph::Graph& g = lk.el.g_;
+    auto& gr = g.grippers[static_cast<size_t>(lk.rec.detail)];
+    if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
+        gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
+        if (gr.trigger >= 0) {
+            int32_t tslot = g.comps[static_cast<size_t>(g.triggers[static_cast<size_t>(gr.trigger)].comp)].slot_adr +
+                            graph::triggerslot::object;
+            if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
+                lk.el.ref_types_[lk.rec.slot_adr + graph::gripperslot::object] = it->second;
+        }
+    }
+    if (lk.decl.on) {
+        auto it = lk.scope.comps.find(lk.on);
+        if (it != lk.scope.comps.end() && g.comps[static_cast<size_t>(it->second)].kind == graph::CompKind::Graphics)
+            gr.graphics = graph::GraphicsId(g.comps[static_cast<size_t>(it->second)].detail);
+        else
+            gr.body = graph::BodyId(lk.on_body());
+    }
+}
+
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower, .link = link};
+
+}  // namespace plant::kinds::gripper
