@@ -301,6 +301,7 @@ export class ScenePanels {
       path: it.cell.spec.path, kind: it.kind,
       lit: it.kind === 'lamp' ? it.lit : undefined,
       down: it.kind === 'button' ? it.value !== 0 : undefined,
+      position: it.kind === 'selector' ? it.value : undefined,
       text: it.kind === 'display' ? this.displays.find((d) => d.item === it)?.el.textContent : undefined,
     }));
   }

@@ -127,6 +127,9 @@ try {
   const mode0 = client.status?.panel?.[mode];
   await clickAt(ops.elements[mode].path);
   check(await until(() => client.status?.panel?.[mode] === (mode0 + 1) % 2, 5000), `the board's selector turns (${mode0} -> ${client.status?.panel?.[mode]})`);
+  // The knob's next position is the board's, which follows the plant's status: wait for it
+  // (under the sanitizers the status can come after the protocol client's).
+  check(await until(async () => (await placed())[mode]?.position === (mode0 + 1) % 2, 5000), 'the board shows the new position');
   await clickAt(ops.elements[mode].path);
   check(await until(() => client.status?.panel?.[mode] === mode0, 5000), 'and back');
   await clickAt(start.path);
