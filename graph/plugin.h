@@ -93,8 +93,10 @@ struct KindDesc {
     // of that word (a button inside a panel), never on its own.
     std::string_view inside = {};
     // Whether a component of the kind takes a placement (`panel ops at (…) rotate z by …`):
-    // its world pose is stored (Plugin::pose, placed) for the viewer to draw it in the scene
-    // (an operator panel). A placement on a kind without it is refused (E0311).
+    // a plugin's world pose is stored (Plugin::pose, placed) for the viewer to draw it in the
+    // scene (an operator panel); a kind on the kind table uses it in its lowering (a
+    // constraint's frame, where a source issues). A placement on a kind without it is
+    // refused (E0311).
     bool placed = false;
 
     // ---- A kind on the kind table (kinds/NAME/kind.cpp); a plugin kind leaves these ----

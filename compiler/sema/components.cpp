@@ -32,7 +32,10 @@ namespace {
 
 // The kind's lowering; the one place a kind joins the compiler.
 void lower(Lowering& lw) {
-    if (const KindLowering* k = builtin_lowering(lw.spec.kind)) return k->lower(lw);
+    if (const KindLowering* k = builtin_lowering(lw.spec.kind)) {
+        refuse_placement(lw, *graph::builtin_kind(lw.spec.kind));
+        return k->lower(lw);
+    }
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
     case CompKind::Field: return lower_field(lw);

@@ -37,6 +37,7 @@ constexpr KindDesc desc{
     .slots = kSlots,
     .params = kParams,
     .check = check,
+    .placed = true,  // the joint's frame
     .kind = CompKind::Constraint,
     .modes = kModes,
     PLANT_KIND_TABLE(joints),

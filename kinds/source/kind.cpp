@@ -45,6 +45,7 @@ constexpr KindDesc desc{
     .slots = kSlots,
     .params = kParams,
     .check = check,
+    .placed = true,  // where it issues its objects
     .kind = CompKind::Source,
     PLANT_KIND_TABLE(sources),
     .idle_input = sourceslot::issue,

@@ -87,6 +87,9 @@ void link_graphics(Linking& lk);
 void lower_state(Lowering& lw);
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
+// A placement on a kind whose row takes none (KindDesc::placed) would be dropped without a
+// word: it is refused (E0311). Whether it was.
+bool refuse_placement(Lowering& lw, const graph::KindDesc& kind);
 // objects.cpp
 void lower_trigger(Lowering& lw);
 void lower_router(Lowering& lw);

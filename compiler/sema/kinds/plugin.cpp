@@ -23,6 +23,18 @@ graph::PluginParam stored(Elaborator& el, const graph::ParamSpec& ps, const Valu
 
 }  // namespace
 
+bool refuse_placement(Lowering& lw, const graph::KindDesc& kind) {
+    if (!lw.decl.placement || kind.placed) return false;
+    const Span at = lw.decl.placement->at ? lw.decl.placement->at->span : lw.decl.name.span;
+    auto& d = lw.el.sink_.report(DiagId::WrongComponentKind, at,
+                                 fmt::format("'{}' takes no placement: a {} component is not drawn in the scene",
+                                             lw.decl.name.text, kind.word));
+    if (!kind.inside.empty())
+        d.notes.push_back({{}, fmt::format("place its {} instead (`{} NAME at (X, Y, Z) {{ … }}`)", kind.inside,
+                                           kind.inside)});
+    return true;
+}
+
 void lower_plugin(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const graph::KindDesc& kind = *lw.spec.plugin;
@@ -34,19 +46,9 @@ void lower_plugin(Lowering& lw) {
     rec.entry_adr = graph::Adr<graph::PluginEntry>(0);  // set when it has entries
     // A placement: the world pose of a kind that is drawn in the scene (a panel); on any
     // other plugin kind it would be silently dropped, so it is refused.
-    if (lw.decl.placement) {
-        if (kind.placed) {
-            rec.placed = true;
-            rec.pose = lw.frame.pose();
-        } else {
-            const Span at = lw.decl.placement->at ? lw.decl.placement->at->span : lw.decl.name.span;
-            auto& d = lw.el.sink_.report(DiagId::WrongComponentKind, at,
-                                         fmt::format("'{}' takes no placement: a {} component is not drawn in the scene",
-                                                     lw.decl.name.text, kind.word));
-            if (!kind.inside.empty())
-                d.notes.push_back({{}, fmt::format("place its {} instead (`{} NAME at (X, Y, Z) {{ … }}`)", kind.inside,
-                                                   kind.inside)});
-        }
+    if (lw.decl.placement && !refuse_placement(lw, kind)) {
+        rec.placed = true;
+        rec.pose = lw.frame.pose();
     }
     for (const graph::ParamSpec& ps : kind.params)
         g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
