@@ -8,29 +8,20 @@
 #include <functional>
 #include <map>
 #include <queue>
-#include <tuple>
 
 namespace plant::graph {
 
 AccessGroups access_groups(const Graph& g) {
+    // The compiler gives every access to one member of one type the same range of targets
+    // (sema's finish_accesses), so a range is a group; a graph written by hand with equal
+    // lists in two ranges has two groups, which orders the same, only with more nodes.
     AccessGroups out;
-    out.of.assign(g.accesses.size(), -1);
-    std::map<std::tuple<int32_t, int32_t, int32_t>, std::vector<int32_t>> by_key;  // -> groups
-    const auto targets = [&](const Access& x) { return g.access_targets.begin() + x.target_adr.v; };
+    std::map<std::pair<int32_t, int32_t>, int32_t> by_range;  // (target_adr, target_num) -> group
     for (size_t a = 0; a < g.accesses.size(); ++a) {
         const Access& ac = g.accesses[a];
-        std::vector<int32_t>& same = by_key[std::make_tuple(ac.do_type.v, ac.member.id, ac.target_num)];
-        for (int32_t k : same) {
-            const Access& other = g.accesses[size_t(out.first[size_t(k)])];
-            if (std::equal(targets(ac), targets(ac) + ac.target_num, targets(other),
-                           [](const AccessTarget& x, const AccessTarget& y) { return x.v == y.v; }))
-                out.of[a] = k;
-        }
-        if (out.of[a] < 0) {
-            out.of[a] = int32_t(out.first.size());
-            same.push_back(out.of[a]);
-            out.first.push_back(int32_t(a));
-        }
+        const auto [at, added] = by_range.try_emplace({ac.target_adr.v, ac.target_num}, int32_t(out.first.size()));
+        if (added) out.first.push_back(int32_t(a));
+        out.of.push_back(at->second);
     }
     return out;
 }
@@ -210,13 +201,18 @@ Network analyse_network(const Graph& g) {
     std::priority_queue<int32_t, std::vector<int32_t>, std::greater<>> ready;
     for (size_t n = 0; n < nn; ++n)
         if (indeg[n] == 0) ready.push(int32_t(n));
-    std::function<void(int32_t)> release = [&](int32_t n) {
+    auto release = [&](int32_t n) {
         gone[size_t(n)] = 1;
-        for (int32_t m : d.succ[size_t(n)])
-            if (!gone[size_t(m)] && --indeg[size_t(m)] == 0) {
-                if (size_t(m) >= nn) release(m);
-                else ready.push(m);
+        for (int32_t m : d.succ[size_t(n)]) {
+            if (gone[size_t(m)] || --indeg[size_t(m)] != 0) continue;
+            if (size_t(m) < nn) {
+                ready.push(m);
+                continue;
             }
+            gone[size_t(m)] = 1;  // a group: its successors are nodes
+            for (int32_t k : d.succ[size_t(m)])
+                if (!gone[size_t(k)] && --indeg[size_t(k)] == 0) ready.push(k);
+        }
     };
     for (size_t done = 0; done < nn;) {
         if (!ready.empty()) {
