@@ -50,10 +50,8 @@ void Physics::sync_joints(int32_t b) {
         const Joint& jt = g_.joints[*j];
         bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
         if (want == bool(joint_in_[*j])) continue;
-        btDiscreteDynamicsWorld& w = *world_at(jt.body_a).world;
-        if (want) w.addConstraint(joints_[*j].get(), true);  // linked bodies do not collide
-        else w.removeConstraint(joints_[*j].get());
-        joint_in_[*j] = want;
+        if (want) add_joint(*j);
+        else remove_joint(*j);
     }
 }
 
@@ -153,7 +151,7 @@ void Physics::refilter(int32_t b) {
 
 void Physics::set_joint(int32_t j, bool on) {
     if (weld_joint_[j] >= 0) unweld(welds_[weld_joint_[j]].host);
-    joints_[j]->setEnabled(on);
+    if (joints_[j]) joints_[j]->setEnabled(on);  // a weld's joint is made with joint_on_
     joint_on_[j] = on;
     ++version_;
 }

@@ -369,34 +369,10 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     std::vector<std::pair<int32_t, int32_t>> pairs;
     joint_in_.assign(g.joints.size(), 0);
     joint_on_.assign(g.joints.size(), 0);
+    joints_.resize(g.joints.size());
     for (size_t j = 0; j < g.joints.size(); ++j) {
         const Joint& jt = g.joints[j];
-        btRigidBody& a = *bodies_[jt.body_a];
-        btTransform fa = local_inv_[jt.body_a] * to_bt(jt.frame_a);
-        btRigidBody& b = jt.body_b >= 0 ? *bodies_[jt.body_b] : btTypedConstraint::getFixedBody();
-        btTransform fb = jt.body_b >= 0 ? local_inv_[jt.body_b] * to_bt(jt.frame_b) : to_bt(jt.frame_b);
-        const bool limited = jt.lower <= jt.upper;
-        std::unique_ptr<btTypedConstraint> c;
-        switch (jt.kind) {
-        case JointKind::Fixed: c = std::make_unique<btFixedConstraint>(a, b, fa, fb); break;
-        case JointKind::Hinge: {  // about the joint frame's z axis
-            auto h = std::make_unique<btHingeConstraint>(a, b, fa, fb, false);
-            if (limited) h->setLimit(btScalar(jt.lower), btScalar(jt.upper));
-            c = std::move(h);
-            break;
-        }
-        case JointKind::Slider: {  // along the joint frame's x axis; Bullet: lower > upper is free
-            auto s = std::make_unique<btSliderConstraint>(a, b, fa, fb, true);
-            s->setLowerLinLimit(limited ? btScalar(jt.lower) : 1);
-            s->setUpperLinLimit(limited ? btScalar(jt.upper) : -1);
-            c = std::move(s);
-            break;
-        }
-        }
-        c->setUserConstraintId(int(j));
-        c->setEnabled(jt.enabled);
         joint_on_[j] = jt.enabled;
-        joints_.push_back(std::move(c));
         pairs.emplace_back(jt.body_a, int32_t(j));
         if (jt.body_b >= 0 && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, int32_t(j));
     }
@@ -409,6 +385,10 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         body_joints_.list.push_back(j);
     }
     find_welds();
+    // A weld's fixed joint is made only while Bullet's world holds it (make_joint): a bottle's
+    // weld holds nearly always, and the joint is 2 KiB of Bullet's per pooled bottle.
+    for (size_t j = 0; j < g.joints.size(); ++j)
+        if (weld_joint_[j] < 0) make_joint(int32_t(j));
 
     // The regions and their worlds (regions.cpp), then every body joins its world once, in id
     // order; pooled ones are parked. A pool's objects all start at one pose: they join without
@@ -428,14 +408,85 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         set_mode_flags(int32_t(b));  // before joining: Bullet files a body as static or not then
         add_to_world(int32_t(b), !pool[b]);
     }
-    for (size_t j = 0; j < g.joints.size(); ++j) {
-        world_at(g.joints[j].body_a).world->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
-        joint_in_[j] = 1;
-    }
+    add_joints_at_start(pool);
     for (size_t b = 0; b < nb; ++b)
         if (pool[b]) take_out(int32_t(b));
     int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::make_unique<Workers>(std::min(n, std::max(1, int(worlds_.size()) - (void_ >= 0))));
+}
+
+// Bullet's constraint for joint j, made from the graph (make_joint); a weld's is made when
+// Bullet's world takes it and dropped when the weld forms again (its memory goes back to
+// Bullet's recycled blocks).
+void Physics::make_joint(int32_t j) {
+    const Joint& jt = g_.joints[j];
+    btRigidBody& a = *bodies_[jt.body_a];
+    btTransform fa = local_inv_[jt.body_a] * to_bt(jt.frame_a);
+    btRigidBody& b = jt.body_b >= 0 ? *bodies_[jt.body_b] : btTypedConstraint::getFixedBody();
+    btTransform fb = jt.body_b >= 0 ? local_inv_[jt.body_b] * to_bt(jt.frame_b) : to_bt(jt.frame_b);
+    const bool limited = jt.lower <= jt.upper;
+    std::unique_ptr<btTypedConstraint> c;
+    switch (jt.kind) {
+    case JointKind::Fixed: c = std::make_unique<btFixedConstraint>(a, b, fa, fb); break;
+    case JointKind::Hinge: {  // about the joint frame's z axis
+        auto h = std::make_unique<btHingeConstraint>(a, b, fa, fb, false);
+        if (limited) h->setLimit(btScalar(jt.lower), btScalar(jt.upper));
+        c = std::move(h);
+        break;
+    }
+    case JointKind::Slider: {  // along the joint frame's x axis; Bullet: lower > upper is free
+        auto s = std::make_unique<btSliderConstraint>(a, b, fa, fb, true);
+        s->setLowerLinLimit(limited ? btScalar(jt.lower) : 1);
+        s->setUpperLinLimit(limited ? btScalar(jt.upper) : -1);
+        c = std::move(s);
+        break;
+    }
+    }
+    c->setUserConstraintId(int(j));
+    c->setEnabled(joint_on_[j]);
+    joints_[j] = std::move(c);
+}
+
+void Physics::add_joint(int32_t j) {
+    if (!joints_[j]) make_joint(j);
+    world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
+    joint_in_[j] = 1;
+}
+
+void Physics::remove_joint(int32_t j) {
+    world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
+    joint_in_[j] = 0;
+    if (weld_joint_[j] >= 0) joints_[j].reset();
+}
+
+// Every joint joined its world at the start and the pooled bodies' joints left it again, each
+// removal moving the world's last constraint into the gap (Bullet's remove). Bullet's order
+// of a world's constraints is the order its solver sees them in: the joints that stay are
+// added in the order that dance leaves them in, worked out on their ids, so that the pooled
+// bottles' weld joints need not be made at all.
+void Physics::add_joints_at_start(const std::vector<char>& pool) {
+    const size_t nj = g_.joints.size();
+    std::vector<std::vector<int32_t>> order(worlds_.size());
+    std::vector<int32_t> at(nj, -1);  // a joint's place in its world's list
+    for (size_t j = 0; j < nj; ++j) {
+        std::vector<int32_t>& o = order[size_t(world_of_[g_.joints[j].body_a])];
+        at[j] = int32_t(o.size());
+        o.push_back(int32_t(j));
+    }
+    for (size_t b = 0; b < pool.size(); ++b) {
+        if (!pool[b] || body_joints_.num.empty()) continue;
+        for (const int32_t* j = body_joints_.begin(int32_t(b)); j != body_joints_.end(int32_t(b)); ++j) {
+            if (at[*j] < 0) continue;  // left with its other body
+            std::vector<int32_t>& o = order[size_t(world_of_[g_.joints[*j].body_a])];
+            const int32_t last = o.back();
+            o[size_t(at[*j])] = last;
+            at[last] = at[*j];
+            o.pop_back();
+            at[*j] = -1;
+        }
+    }
+    for (const std::vector<int32_t>& o : order)
+        for (int32_t j : o) add_joint(j);
 }
 
 Physics::~Physics() {

@@ -168,6 +168,11 @@ private:
     void add_to_world(int32_t b, bool filtered);
     void set_mode_flags(int32_t b);
     void sync_joints(int32_t b);
+    // Bullet's constraints: made from the graph; a weld's exists only while it is in a world.
+    void make_joint(int32_t j);
+    void add_joint(int32_t j);     // into its world (made first if need be)
+    void remove_joint(int32_t j);  // out of its world (a weld's constraint is dropped)
+    void add_joints_at_start(const std::vector<char>& pool);
     World& world_at(int32_t b) { return worlds_[size_t(world_of_[b])]; }
     void make_world(World& w, Broadphase bp, size_t bodies);
     // regions.cpp
@@ -186,7 +191,7 @@ private:
     ShapeCache shapes_;
     std::unique_ptr<BoxHullContacts> contacts_;  // outlives the dispatchers, which call it
     std::vector<std::unique_ptr<btRigidBody>> bodies_;
-    std::vector<std::unique_ptr<btTypedConstraint>> joints_;
+    std::vector<std::unique_ptr<btTypedConstraint>> joints_;  // a weld's: null while it holds
     std::vector<btTransform> local_, local_inv_;  // Bullet frame relative to the body frame
     std::vector<btVector3> inertia_;
     std::vector<double> mass_;

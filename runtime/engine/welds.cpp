@@ -96,10 +96,7 @@ void Physics::reshape(int32_t b, const BodyShape& s) {
 }
 
 void Physics::weld_on(Weld& w) {
-    if (joint_in_[w.joint]) {
-        world_at(w.host).world->removeConstraint(joints_[w.joint].get());
-        joint_in_[w.joint] = 0;
-    }
+    if (joint_in_[w.joint]) remove_joint(w.joint);  // and its Bullet constraint is dropped
     world_at(w.pass).world->removeRigidBody(bodies_[w.pass].get());
     reshape(w.host, w.both);
     w.on = true;
@@ -116,10 +113,7 @@ void Physics::weld_off(Weld& w) {
     reshape(w.host, w.own);
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
-    if (in_world_[w.host] && in_world_[w.pass]) {
-        world_at(w.host).world->addConstraint(joints_[w.joint].get(), true);
-        joint_in_[w.joint] = 1;
-    }
+    if (in_world_[w.host] && in_world_[w.pass]) add_joint(w.joint);  // made again from the graph
 }
 
 void Physics::follow(const Weld& w) {
