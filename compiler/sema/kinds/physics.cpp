@@ -77,6 +77,17 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
                                        : "a hull needs four points not in one plane (points within 1 µm count as one)"});
             ok = false;
         }
+        if (ok) {  // the same points as a hull before it (the same object again): those rows
+            std::vector<double> key;
+            key.reserve(3 * size_t(sh.point_num));
+            for (size_t i = size_t(sh.point_adr); i < g.points.size(); ++i)
+                key.insert(key.end(), std::begin(g.points[i].p), std::end(g.points[i].p));
+            const auto [at, fresh] = el.hulls_.try_emplace(std::move(key), sh.point_adr);
+            if (!fresh) {
+                g.points.resize(size_t(sh.point_adr));
+                sh.point_adr = at->second;
+            }
+        }
     } else {
         auto& d = el.sink_.report(DiagId::BadShape, sd.kind.span, fmt::format("unknown shape '{}'", k));
         if (auto hint = closest_name(k, {"box", "sphere", "cylinder", "capsule", "hull"}); !hint.empty())
