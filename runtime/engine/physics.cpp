@@ -311,8 +311,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
     } else {
         w.broadphase = std::make_unique<btDbvtBroadphase>();
     }
-    w.solver = std::make_unique<btSequentialImpulseConstraintSolver>();
-    w.world = std::make_unique<IslandWorld>(w.dispatcher.get(), w.broadphase.get(), w.solver.get(), config.get());
+    w.world = std::make_unique<IslandWorld>(w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
     w.world->setGravity(gravity_);
     w.world->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
     // Contact normals between boxes and hulls from the separating-axis test on their
@@ -399,6 +398,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     {
         std::vector<size_t> count(worlds_.size());
         for (size_t b = 0; b < nb; ++b) ++count[size_t(world_of_[b])];
+        solvers_.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
         for (size_t w = 0; w < worlds_.size(); ++w) make_world(worlds_[w], bp, count[w]);
     }
     std::vector<char> pool(nb);
@@ -413,6 +413,8 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         if (pool[b]) take_out(int32_t(b));
     int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::make_unique<Workers>(std::min(n, std::max(1, int(worlds_.size()) - (void_ >= 0))));
+    while (int(solvers_.size()) < workers_->threads())
+        solvers_.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
 }
 
 // Bullet's constraint for joint j, made from the graph (make_joint); a weld's is made when
@@ -508,6 +510,7 @@ void Physics::step(double dt, const StepHooks& h) {
     auto one = [this, dt, &h](int i) {
         const int w = to_step_[size_t(i)];
         if (h.before) h.before(h.ctx, w);
+        worlds_[size_t(w)].world->setConstraintSolver(solvers_[size_t(worker_slot())].get());  // this thread's
         worlds_[size_t(w)].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
         follow_world(w);
     };

@@ -137,7 +137,6 @@ private:
         std::unique_ptr<btCollisionConfiguration> config;
         std::unique_ptr<btCollisionDispatcher> dispatcher;
         std::unique_ptr<btBroadphaseInterface> broadphase;
-        std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
         std::unique_ptr<btDiscreteDynamicsWorld> world;
         btVector3 lo{0, 0, 0}, hi{-1, -1, -1};  // the region's box (the void's is empty)
         bool active = false;                   // has a mover in the world: step it
@@ -208,6 +207,11 @@ private:
     bool welds_dirty_ = true;
     uint64_t version_ = 0;
 
+    // Bullet's constraint solvers, one per thread (worker_slot()): a world steps with the solver
+    // of the thread that steps it. A solver keeps only its arrays from one call to the next
+    // (each call sets up every entry it reads), so which one a world gets changes no result,
+    // and the arrays sized for the largest world's contacts exist once per thread, not per world.
+    std::vector<std::unique_ptr<btSequentialImpulseConstraintSolver>> solvers_;
     // Regions (regions.cpp): bodies joined by joints form a group and share a world.
     std::vector<World> worlds_;       // declared after the bodies: destroyed before them
     std::vector<int32_t> world_of_;   // per body

@@ -96,13 +96,20 @@ double StepProfile::speedup(int i) const {
     return n > 0 ? one / n : 0;
 }
 
+namespace {
+thread_local int t_slot = 0;
+}
+
+int worker_slot() { return t_slot; }
+
 Workers::Workers(int threads) {
     // Bullet's profiler numbers the threads that call it with a counter that is not atomic:
     // every thread takes its number here, one after the other.
     btQuickprofGetCurrentThreadIndex2();
     for (int t = 1; t < threads; ++t) {
         std::atomic<bool> ready{false};
-        helpers_.emplace_back([this, &ready] {
+        helpers_.emplace_back([this, &ready, t] {
+            t_slot = t;
             btQuickprofGetCurrentThreadIndex2();
             ready.store(true, std::memory_order_release);
             ready.notify_one();

@@ -60,6 +60,10 @@ struct StepProfile {
     double jobs_since_ = 0;  // time in Workers::run since the last lap
 };
 
+// Which thread of its Workers the calling thread is: 0 for the thread that calls run(), 1 to
+// threads() - 1 for the helpers (set once when each starts). Per-thread scratch is indexed by it.
+int worker_slot();
+
 class Workers {
 public:
     // `threads` counts the calling thread: 1 runs every item on the caller.
