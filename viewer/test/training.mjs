@@ -12,7 +12,11 @@
 // the fault, the trainee's actions with their times and the throughput dip
 // while it held; a trainee asking for /report is refused; the session's events replay
 // headless (`plant run --events`) to the live counters. Bounded in time; exit 1 on any
-// failed check. With SCREENSHOT_DIR, screenshots of both pages go there.
+// failed check. With SCREENSHOT_DIR, the pictures of docs/training.md go there: both pages
+// at the same moment while the fault holds (training-instructor.png, training-trainee.png),
+// and the instructor's after the trainee pressed Stop (training-drill.png):
+//
+//   node --experimental-websocket viewer/test/training.mjs build/dev/app/plant plants/bottling.plant docs/images
 import { spawnSync } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -101,16 +105,25 @@ try {
   const tLog = await tPage.evaluate(() => document.getElementById('log').textContent);
   check(!tLog.includes(FAULT) && !tLog.includes('force'), 'the trainee\'s page logs nothing of it');
   check(await tPage.evaluate(() => !document.querySelector('#forced tr') && !document.querySelector('#drills tr')), 'nor lists it');
+  if (shots) {   // the same moment on both pages (the run holds meanwhile)
+    await click(iPage, '#run');
+    await until(() => ins.status?.paused, 5000);
+    await sleep(500);
+    await iPage.bringToFront();
+    await iPage.screenshot({ path: join(shots, 'training-instructor.png') });
+    await tPage.bringToFront();
+    await tPage.screenshot({ path: join(shots, 'training-trainee.png') });
+    await click(iPage, '#run');
+    await until(() => ins.status && !ins.status.paused, 5000);
+  }
 
   // ---- the trainee presses Stop on the panel ----
   await press(tPage, el('stop'));
   check(await until(() => ins.events.some((l) => l.endsWith(`${el('stop')}.press`)), 5000), 'Stop reached the runtime');
-  if (shots) {   // both pages while the fault holds (docs/images/training-drill.png is the instructor's)
+  if (shots) {   // the instructor's page with the drill holding and the trainee's Stop in the log
     await sleep(500);
     await iPage.bringToFront();
     await iPage.screenshot({ path: join(shots, 'training-drill.png') });
-    await tPage.bringToFront();
-    await tPage.screenshot({ path: join(shots, 'training-drill-trainee.png') });
   }
 
   // ---- the trainee grabs a bottle with the hand (the instructor holds the run meanwhile) ----
