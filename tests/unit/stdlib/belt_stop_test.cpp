@@ -1,5 +1,5 @@
-// std.belts Belt's stop and go: a stopped belt brakes what rides on it to rest (its band
-// holds still and pulls with the slip limit), go runs it again.
+// std.belts Belt's stop and go (and std.transfers Corner's): a stopped belt brakes what
+// rides on it to rest (its band holds still and pulls with the slip limit), go runs it again.
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "lookup.h"
@@ -105,4 +105,39 @@ plant Ports {
     at(2.5);
     CHECK(e.value(plant::graph::SlotId(running))[0] == 1);
     CHECK(e.value(plant::graph::SlotId(speed))[0] == doctest::Approx(0.5));
+}
+
+// std.transfers Corner's stop: its band halts and brakes what is on it, as a Belt's (before,
+// it only let go, and a bottle coasted on over the frictionless band); go runs it again.
+TEST_CASE("std.transfers: a stopped Corner brakes the bottle on it to rest, go starts it again") {
+    plant::Compilation c;
+    compile_text(R"(
+import std.belts, std.bottle, std.transfers
+plant CornerStop {
+    in1:  Belt(length = 1 m)
+    turn: Corner(left = true) at (1 m, 0 m, 0 m)
+    out1: Belt(length = 1 m) at (1.04 m, 4 cm, 0 m) rotate z by 90 deg
+    b:    Bottle at (1.04 m, 0 m, -1 mm)
+    timer halt: oneshot { period = 60 ms; autostart = true }
+    timer restart: oneshot { period = 1 s; autostart = true }
+    flow halt.tick -> turn.stop
+    flow restart.tick -> turn.go
+}
+)",
+                 c, "corner_stop.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
+    REQUIRE(bottles.size() == 1);
+    const plant::graph::BodyId b(bottles[0]);
+    Engine e(c.graph);
+    while (e.time() < 0.06 - 1e-9) e.step();
+    CHECK(e.body_velocity(b)[1] > 0.3);  // the band pulls it along +y, towards out1
+    while (e.time() < 0.5 - 1e-9) e.step();
+    CHECK(std::abs(e.body_velocity(b)[1]) < 1e-3);
+    CHECK(e.body_com(b)[1] < 0.04);  // still on the corner's square
+    while (e.time() < 1.5 - 1e-9) e.step();
+    CHECK(e.body_velocity(b)[1] > 0.3);
+    CHECK(e.body_com(b)[1] > 0.1);  // on out1
+    CHECK(e.warnings().total() == 0);
 }
