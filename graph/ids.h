@@ -11,7 +11,14 @@
 // The loader checks every field of these types against its table (validate.cpp).
 #pragma once
 
+#include <cassert>
+#include <concepts>
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
+#include <span>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -37,6 +44,12 @@ struct TypedId {
         ++v;
         return *this;
     }
+    // An Adr's first row.
+    constexpr TypedId<Record, IdRole::Row> first() const
+        requires(Role == IdRole::Adr)
+    {
+        return TypedId<Record, IdRole::Row>(v);
+    }
 
     friend constexpr bool operator==(TypedId, TypedId) = default;
     // Ids of two tables never compare (they would through int32_t).
@@ -54,6 +67,142 @@ constexpr bool is_typed_id = false;
 template <class R, IdRole Role>
 constexpr bool is_typed_id<TypedId<R, Role>> = true;
 
+// A number of rows, as an id counts them: the count of a table or any vector.
+template <class V>
+constexpr int32_t count_of(const V& v) {
+    return static_cast<int32_t>(v.size());
+}
+
+// A table's id as the number it indexes, where no typed table takes it (a key, a bit).
+template <class R, IdRole Role>
+constexpr size_t index(TypedId<R, Role> id) {
+    return static_cast<size_t>(id.v);
+}
+
+// The ids [first, first + n) in order: for (BodyId b : ids_of(g.bodies)) ...,
+// for (ShapeId s : children(body.shape_adr, body.shape_num)) ...
+template <class IdT>
+struct IdRange {
+    struct It {
+        int32_t i;
+        constexpr IdT operator*() const { return IdT(i); }
+        constexpr It& operator++() {
+            ++i;
+            return *this;
+        }
+        friend constexpr bool operator==(It, It) = default;
+    };
+    int32_t first, last;
+    constexpr It begin() const { return {first}; }
+    constexpr It end() const { return {last}; }
+    constexpr int32_t size() const { return last - first; }
+};
+template <class R>
+constexpr IdRange<Id<R>> children(Adr<R> adr, int32_t num) {
+    return {adr.v, adr.v + num};
+}
+
+// A vector indexed by one id type (Carbon's ValueStore / IdVector): v[id] takes an IdT
+// and nothing else, so an id of another table or an Adr does not index it. The graph's
+// tables and the runtime's per-id arrays are these. In release builds operator[] is the
+// vector's; debug builds assert the id in range.
+template <class IdT, class T>
+class IdVector {
+public:
+    using value_type = T;
+    using id_type = IdT;
+    using iterator = typename std::vector<T>::iterator;
+    using const_iterator = typename std::vector<T>::const_iterator;
+
+    IdVector() = default;
+    explicit IdVector(int32_t n, const T& fill = T{}) : v_(static_cast<size_t>(n), fill) {}
+    IdVector(std::initializer_list<T> init) : v_(init) {}
+
+    T& operator[](IdT i) {
+        assert(static_cast<size_t>(i.v) < v_.size());
+        return v_[static_cast<size_t>(i.v)];
+    }
+    const T& operator[](IdT i) const {
+        assert(static_cast<size_t>(i.v) < v_.size());
+        return v_[static_cast<size_t>(i.v)];
+    }
+#ifndef PLANT_STRICT_IDS
+    // Transitional: a plain integer still indexes, while code converts to typed ids
+    // (a build with -DPLANT_STRICT_IDS shows what is left). An id of another type or an
+    // Adr does not (it is no integral type).
+    template <std::integral I>
+    T& operator[](I i) {
+        assert(static_cast<size_t>(i) < v_.size());
+        return v_[static_cast<size_t>(i)];
+    }
+    template <std::integral I>
+    const T& operator[](I i) const {
+        assert(static_cast<size_t>(i) < v_.size());
+        return v_[static_cast<size_t>(i)];
+    }
+#endif
+    // Checked: throws std::out_of_range (a negative id too).
+    const T& at(IdT i) const { return v_.at(static_cast<size_t>(i.v)); }
+    T& at(IdT i) { return v_.at(static_cast<size_t>(i.v)); }
+    bool contains(IdT i) const { return i.v >= 0 && static_cast<size_t>(i.v) < v_.size(); }
+
+    // The rows of a child list (an adr, num pair) as one span.
+    template <class R>
+        requires std::same_as<IdT, Id<R>>
+    std::span<const T> slice(Adr<R> adr, int32_t num) const {
+        assert(adr.v >= 0 && num >= 0 && static_cast<size_t>(adr.v) + static_cast<size_t>(num) <= v_.size());
+        return std::span<const T>(v_.data() + adr.v, static_cast<size_t>(num));
+    }
+
+    size_t size() const { return v_.size(); }
+    int32_t count() const { return static_cast<int32_t>(v_.size()); }
+    bool empty() const { return v_.empty(); }
+    // The id the next row appended gets, and every id in order.
+    IdT next_id() const { return IdT(count()); }
+    IdRange<IdT> ids() const { return {0, count()}; }
+
+    iterator begin() { return v_.begin(); }
+    iterator end() { return v_.end(); }
+    const_iterator begin() const { return v_.begin(); }
+    const_iterator end() const { return v_.end(); }
+    T& front() { return v_.front(); }
+    const T& front() const { return v_.front(); }
+    T& back() { return v_.back(); }
+    const T& back() const { return v_.back(); }
+    T* data() { return v_.data(); }
+    const T* data() const { return v_.data(); }
+
+    // Appends a row and returns its id.
+    IdT push_back(const T& x) {
+        v_.push_back(x);
+        return IdT(count() - 1);
+    }
+    IdT push_back(T&& x) {
+        v_.push_back(std::move(x));
+        return IdT(count() - 1);
+    }
+    template <class... A>
+    T& emplace_back(A&&... a) {
+        return v_.emplace_back(std::forward<A>(a)...);
+    }
+    void pop_back() { v_.pop_back(); }
+    void resize(size_t n) { v_.resize(n); }
+    void resize(size_t n, const T& fill) { v_.resize(n, fill); }
+    void assign(size_t n, const T& fill) { v_.assign(n, fill); }
+    void reserve(size_t n) { v_.reserve(n); }
+    void clear() { v_.clear(); }
+    size_t capacity() const { return v_.capacity(); }
+
+    // The rows as a plain vector (for code that is generic over containers).
+    std::vector<T>& vec() { return v_; }
+    const std::vector<T>& vec() const { return v_; }
+
+    friend bool operator==(const IdVector&, const IdVector&) = default;
+
+private:
+    std::vector<T> v_;
+};
+
 // The id the next row appended to a table gets (its size), and as a list's first row.
 template <class R>
 constexpr Id<R> next_id(const std::vector<R>& table) {
@@ -63,26 +212,27 @@ template <class R>
 constexpr Adr<R> next_adr(const std::vector<R>& table) {
     return Adr<R>(static_cast<int32_t>(table.size()));
 }
+template <class R>
+constexpr IdRange<Id<R>> ids_of(const std::vector<R>& table) {
+    return {0, static_cast<int32_t>(table.size())};
+}
 
-// The ids of a table's rows in order: for (BodyId b : ids_of(g.bodies)) ...
+// A table of the graph: its rows by their Id<R>.
 template <class R>
-struct IdRange {
-    struct It {
-        int32_t i;
-        constexpr Id<R> operator*() const { return Id<R>(i); }
-        constexpr It& operator++() {
-            ++i;
-            return *this;
-        }
-        friend constexpr bool operator==(It, It) = default;
-    };
-    int32_t n;
-    constexpr It begin() const { return {0}; }
-    constexpr It end() const { return {n}; }
-};
+using Table = IdVector<Id<R>, R>;
+
+// The id the next row appended to a table gets (its size), and as a list's first row.
 template <class R>
-constexpr IdRange<R> ids_of(const std::vector<R>& table) {
-    return {static_cast<int32_t>(table.size())};
+constexpr Id<R> next_id(const Table<R>& table) {
+    return table.next_id();
+}
+template <class R>
+constexpr Adr<R> next_adr(const Table<R>& table) {
+    return Adr<R>(table.count());
+}
+template <class IdT, class T>
+constexpr IdRange<IdT> ids_of(const IdVector<IdT, T>& v) {
+    return v.ids();
 }
 
 // JSON (nlohmann, found by ADL): its number.
