@@ -93,19 +93,19 @@ int coordinator(const Options& o, Prepared& p, int size) {
         if (!append_row(p.csv_path, row)) fmt::print(std::cerr, "plant sweep: error: cannot write {}\n", p.csv_path);
         p.rows[index] = row;
         if (status == "lost" && InterruptWatch::interrupted()) return;  // not finished: --resume runs it
-        progress.finished(status == "ok", size_t(std::max(0, running)));
+        progress.finished(status == "ok", std::max(0, running));
     };
     if (size == 1) {
         for (int i : todo) {
-            const Result r = run_one(p.spec, p.runs[size_t(i)], dir + "/work", false);
-            record(csv_row(p.spec, p.runs[size_t(i)], r), i, r.status);
+            const Result r = run_one(p.spec, p.runs[i], dir + "/work", false);
+            record(csv_row(p.spec, p.runs[i], r), i, r.status);
             if (const int sig = InterruptWatch::interrupted()) interrupted(o, p, progress, sig);
         }
     } else {
         int stopped = 0;
-        std::vector<int> current(size_t(size), -1);  // the run each rank has
-        std::vector<double> heard(size_t(size), now());
-        std::vector<bool> done(size_t(size), false);
+        std::vector<int> current(size, -1);  // the run each rank has
+        std::vector<double> heard(size, now());
+        std::vector<bool> done(size, false);
         while (stopped < size - 1) {
             int flag = 0;
             MPI_Status st;
@@ -113,27 +113,27 @@ int coordinator(const Options& o, Prepared& p, int size) {
             if (const int sig = InterruptWatch::interrupted()) {
                 // The ranks' runs are lost (mpirun stops the ranks): --resume runs them again.
                 for (int k = 1; k < size; ++k) {
-                    const int i = current[size_t(k)];
-                    if (done[size_t(k)] || i < 0) continue;
+                    const int i = current[k];
+                    if (done[k] || i < 0) continue;
                     Result r;
                     r.index = i;
                     r.status = "lost";
                     r.message = fmt::format("the sweep was interrupted ({})", signal_name(sig));
                     r.outputs.assign(p.spec.outputs.size(), "");
-                    record(csv_row(p.spec, p.runs[size_t(i)], r), i, r.status);
+                    record(csv_row(p.spec, p.runs[i], r), i, r.status);
                 }
                 interrupted(o, p, progress, sig);
             }
             if (!flag) {
                 // A blocking receive would spin a core that the runs need.
-                progress.tick(size_t(running));
+                progress.tick(running);
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 for (int k = 1; k < size; ++k) {
-                    if (done[size_t(k)] || now() - heard[size_t(k)] < kDeadAfter) continue;
-                    done[size_t(k)] = true;
+                    if (done[k] || now() - heard[k] < kDeadAfter) continue;
+                    done[k] = true;
                     ++stopped;
                     ++dead;
-                    const int i = current[size_t(k)];
+                    const int i = current[k];
                     fmt::print(std::cerr, "plant sweep: MPI rank {} stopped answering{}\n", k,
                                i >= 0 ? fmt::format("; its run {} is lost", i) : "");
                     if (i < 0) continue;
@@ -143,35 +143,35 @@ int coordinator(const Options& o, Prepared& p, int size) {
                     r.status = "lost";
                     r.message = fmt::format("MPI rank {} died during the run", k);
                     r.outputs.assign(p.spec.outputs.size(), "");
-                    record(csv_row(p.spec, p.runs[size_t(i)], r), i, r.status);
+                    record(csv_row(p.spec, p.runs[i], r), i, r.status);
                 }
                 continue;
             }
             const int src = st.MPI_SOURCE;
-            heard[size_t(src)] = now();
+            heard[src] = now();
             if (st.MPI_TAG == kAlive) {
                 MPI_Recv(nullptr, 0, MPI_CHAR, src, kAlive, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
                 continue;
             }
             int len = 0;
             MPI_Get_count(&st, MPI_CHAR, &len);
-            std::string msg(size_t(len), '\0');
+            std::string msg(len, '\0');
             MPI_Recv(msg.data(), len, MPI_CHAR, src, kResult, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            if (done[size_t(src)]) continue;  // declared dead, yet it answered: its run is in the CSV as lost
+            if (done[src]) continue;  // declared dead, yet it answered: its run is in the CSV as lost
             if (!msg.empty()) {
                 // "STATUS\nROW"
                 const size_t nl = msg.find('\n');
                 --running;
-                record(msg.substr(nl + 1), current[size_t(src)], msg.substr(0, nl));
+                record(msg.substr(nl + 1), current[src], msg.substr(0, nl));
             }
             if (next < todo.size()) {
                 ++running;
-                current[size_t(src)] = todo[next++];
-                MPI_Send(&current[size_t(src)], 1, MPI_INT, src, kWork, MPI_COMM_WORLD);
+                current[src] = todo[next++];
+                MPI_Send(&current[src], 1, MPI_INT, src, kWork, MPI_COMM_WORLD);
             } else {
-                current[size_t(src)] = -1;
+                current[src] = -1;
                 MPI_Send(nullptr, 0, MPI_INT, src, kStop, MPI_COMM_WORLD);
-                done[size_t(src)] = true;
+                done[src] = true;
                 ++stopped;
             }
         }
@@ -210,7 +210,7 @@ int worker(const Options& o, int rank) {
         int index = -1;
         MPI_Recv(&index, 1, MPI_INT, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
         if (st.MPI_TAG == kStop) break;
-        const Run& run = runs.at(size_t(index));
+        const Run& run = runs.at(index);
         const Result r = run_one(spec, run, work, true);
         msg = r.status + "\n" + csv_row(spec, run, r);
     }

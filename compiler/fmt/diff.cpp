@@ -33,31 +33,31 @@ constexpr long kMaxEdits = 4000;
 void myers(const std::vector<std::string_view>& a, const std::vector<std::string_view>& b, std::vector<Op>& out) {
     const long n = long(a.size()), m = long(b.size()), max = std::min(n + m, kMaxEdits);
     std::vector<std::vector<long>> trace;  // V after each d, diagonals -d..d at [k + d]
-    std::vector<long> v(size_t(2 * max + 3), 0);
+    std::vector<long> v(2 * max + 3, 0);
     const long off = max + 1;
     long found = -1;
     for (long d = 0; d <= max && found < 0; ++d) {
         for (long k = -d; k <= d; k += 2) {
-            long x = (k == -d || (k != d && v[size_t(off + k - 1)] < v[size_t(off + k + 1)])) ? v[size_t(off + k + 1)]
-                                                                                              : v[size_t(off + k - 1)] + 1;
+            long x = (k == -d || (k != d && v[off + k - 1] < v[off + k + 1])) ? v[off + k + 1]
+                                                                                              : v[off + k - 1] + 1;
             long y = x - k;
-            while (x < n && y < m && a[size_t(x)] == b[size_t(y)]) ++x, ++y;
-            v[size_t(off + k)] = x;
+            while (x < n && y < m && a[x] == b[y]) ++x, ++y;
+            v[off + k] = x;
             if (x >= n && y >= m) found = d;
         }
         trace.emplace_back(v.begin() + off - d, v.begin() + off + d + 1);
     }
     if (found < 0) {  // too many edits: all of a out, all of b in
-        out.assign(size_t(n), Op::Del);
-        out.insert(out.end(), size_t(m), Op::Add);
+        out.assign(n, Op::Del);
+        out.insert(out.end(), m, Op::Add);
         return;
     }
     std::vector<Op> rev;
     long x = n, y = m;
     for (long d = found; d > 0; --d) {
-        const std::vector<long>& prev = trace[size_t(d - 1)];  // diagonals -(d-1)..d-1
+        const std::vector<long>& prev = trace[d - 1];  // diagonals -(d-1)..d-1
         const long k = x - y;
-        auto at = [&](long kk) { return prev[size_t(kk + d - 1)]; };
+        auto at = [&](long kk) { return prev[kk + d - 1]; };
         const bool down = k == -d || (k != d && at(k - 1) < at(k + 1));
         const long pk = down ? k + 1 : k - 1;
         const long px = at(pk), py = px - pk;
@@ -101,7 +101,7 @@ std::string unified_diff(std::string_view before, std::string_view after, std::s
     const long c = context, total = long(ops.size());
     long i = 0, ia = 0, ib = 0;  // position in ops, a and b
     while (i < total) {
-        if (ops[size_t(i)] == Op::Same) {
+        if (ops[i] == Op::Same) {
             ++i, ++ia, ++ib;
             continue;
         }
@@ -110,25 +110,25 @@ std::string unified_diff(std::string_view before, std::string_view after, std::s
         const long lead = std::min(c, ia < ib ? ia : ib);
         long end = i;
         for (long same = 0; end < total; ++end) {
-            same = ops[size_t(end)] == Op::Same ? same + 1 : 0;
+            same = ops[end] == Op::Same ? same + 1 : 0;
             if (same > 2 * c) break;
         }
         // `end` is past the run of unchanged lines that ends the hunk; keep `c` of them.
         long last = end;
-        while (last > i && ops[size_t(last - 1)] == Op::Same) --last;
+        while (last > i && ops[last - 1] == Op::Same) --last;
         const long stop = std::min(total, last + c);
         long na = lead, nb = lead;
         for (long k = i; k < stop; ++k) {
-            na += ops[size_t(k)] != Op::Add;
-            nb += ops[size_t(k)] != Op::Del;
+            na += ops[k] != Op::Add;
+            nb += ops[k] != Op::Del;
         }
         out += fmt::format("@@ -{} +{} @@\n", range(ia - lead, na), range(ib - lead, nb));
-        for (long k = lead; k > 0; --k) line(out, ' ', a[size_t(ia - k)]);
+        for (long k = lead; k > 0; --k) line(out, ' ', a[ia - k]);
         for (; i < stop; ++i) {
-            const Op op = ops[size_t(i)];
-            if (op == Op::Same) line(out, ' ', a[size_t(ia)]), ++ia, ++ib;
-            else if (op == Op::Del) line(out, '-', a[size_t(ia++)]);
-            else line(out, '+', b[size_t(ib++)]);
+            const Op op = ops[i];
+            if (op == Op::Same) line(out, ' ', a[ia]), ++ia, ++ib;
+            else if (op == Op::Del) line(out, '-', a[ia++]);
+            else line(out, '+', b[ib++]);
         }
     }
     return out;

@@ -26,6 +26,7 @@
 #include <cstring>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 namespace plant::plc {
 
@@ -120,12 +121,12 @@ struct Server::Impl {
         for (size_t i = 0; i < n; ++i) {
             const Entry& e = map.entries[i];
             if (e.encoding == Encoding::String)  // strings never outgrow their registers: no allocation per step
-                for (std::string* s : {&pending[i].text, &taken[i].text, &last_text[i]}) s->reserve(2 * size_t(e.length) + 1);
+                for (std::string* s : {&pending[i].text, &taken[i].text, &last_text[i]}) s->reserve(2 * e.length + 1);
             engine::Event ev;
             ev.path = e.path;
             ev.slots = e.slots;
             ev.value.assign(1, 0);
-            ev.text.reserve(2 * size_t(e.length) + 1);
+            ev.text.reserve(2 * e.length + 1);
             events.push_back(ev);
             ev.force = true;
             force_events.push_back(ev);
@@ -134,11 +135,11 @@ struct Server::Impl {
                 regs += width(e);
             }
         }
-        out.assign(size_t(regs), 0);
-        snapshot.assign(size_t(regs), 0);
+        out.assign(regs, 0);
+        snapshot.assign(regs, 0);
         status[kStatusLockstep - kStatusSteps] = opt.lockstep ? 1 : 0;  // before the first step too
         applied_now.reserve(2 * n);
-        clients.reserve(size_t(opt.max_clients));
+        clients.reserve(opt.max_clients);
         changes.reserve(256);
     }
 
@@ -215,7 +216,7 @@ struct Server::Impl {
         const int fd = accept4(listen_fd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
         if (fd < 0) return;
         std::lock_guard lock(mu);
-        if (clients.size() >= size_t(opt.max_clients) || fd >= FD_SETSIZE) {
+        if (std::cmp_greater_equal(clients.size(), opt.max_clients) || fd >= FD_SETSIZE) {
             close(fd);
             ++stats.refused;
             return;
@@ -238,7 +239,7 @@ struct Server::Impl {
         for (size_t i = 0; i < map.entries.size(); ++i) {
             if (offset[i] < 0) continue;
             const Entry& e = map.entries[i];
-            const uint16_t* r = &snapshot[size_t(offset[i])];
+            const uint16_t* r = &snapshot[offset[i]];
             if (e.table == Table::DiscreteInput) m.tab_input_bits[e.address] = uint8_t(r[0] != 0);
             else std::copy(r, r + width(e), m.tab_input_registers + e.address);
         }
@@ -254,10 +255,10 @@ struct Server::Impl {
                 budget += c.steps;
                 continue;
             }
-            const Entry& e = map.entries[size_t(c.entry)];
+            const Entry& e = map.entries[c.entry];
             if (c.kind == Change::Fault) {
                 const uint16_t* r = m.tab_registers + kFaultBase + kFaultStride * c.entry;
-                PendingFault& f = faults[size_t(c.entry)];
+                PendingFault& f = faults[c.entry];
                 f.set = true;
                 f.mode = engine::ForceMode(r[0]);
                 f.value = double(get_float(r + 1));
@@ -269,7 +270,7 @@ struct Server::Impl {
                 bit = m.tab_bits[e.address];
                 r = &bit;
             }
-            Pending& p = pending[size_t(c.entry)];
+            Pending& p = pending[c.entry];
             if (e.type == SlotType::Void) {
                 if (decode(e, r) != 0) ++p.fires;
             } else {
@@ -306,7 +307,7 @@ struct Server::Impl {
             take_changes();
             ++stats.requests;
             stats.exceptions += tables.exceptions() - before;
-            at += size_t(len);
+            at += len;
         }
         c.buf.erase(c.buf.begin(), c.buf.begin() + std::ptrdiff_t(std::min(at, c.buf.size())));
         c.partial_since = c.buf.empty() ? Clock::time_point{} : c.partial_since == Clock::time_point{} ? Clock::now() : c.partial_since;
@@ -440,7 +441,7 @@ struct Server::Impl {
             active_count[i] += active ? 1 : 0;
             const std::span<const double> v = en.type == SlotType::Void ? std::span<const double>{} : e.value(s);
             const std::string_view text = en.type == SlotType::String && !v.empty() ? e.str(int32_t(v[0])) : std::string_view{};
-            encode(en, v, text, active, active_count[i], &out[size_t(offset[i])]);
+            encode(en, v, text, active, active_count[i], &out[offset[i]]);
         }
         uint16_t st[kStatusCount];
         put_u32(uint32_t(e.steps()), st);
