@@ -153,7 +153,7 @@ void print_slots(const graph::Graph& g, std::ostream& out) {
             const Port& pt = g.ports[size_t(p)];
             std::string to;
             for (int32_t k = 0; k < pt.target_num; ++k)
-                to += (k ? ", " : "") + g.slot_path(g.port_targets[size_t(pt.target_adr + k)].v);
+                to += (k ? ", " : "") + g.slot_path(g.port_targets[pt.target_adr + k].v);
             line(pt.dir, pt.type, g.port_path(p), (pt.dir == Dir::In ? "  (port => " : "  (port <= ") + to + ")");
         }
         const Do& o = g.dos[d];

@@ -51,8 +51,8 @@ SlotId add_slot(Graph& g, CompId comp, std::string_view name, SlotType type, Dir
     s.comp = comp;
     s.value_adr = -1;
     if (const int w = slot_width(type); w > 0) {
-        s.value_adr = static_cast<int32_t>(g.values.size());
-        g.values.resize(g.values.size() + static_cast<size_t>(w), Value{0.0});
+        s.value_adr = g.values.count();
+        g.values.resize(g.values.size() + w, Value{0.0});
         if (type == SlotType::Ref || type == SlotType::String) g.values.back().v = -1;
         if (type == SlotType::Quat || type == SlotType::Pose) g.values.back().v = 1;
     }
@@ -78,7 +78,7 @@ FlowId add_flow(Graph& g, SlotId from, SlotId to, Cond cond, bool once, AccessId
 }
 
 double& slot_value(Graph& g, SlotId slot) {
-    return g.values[static_cast<size_t>(g[slot].value_adr)].v;
+    return g.values[Id<Value>(g[slot].value_adr)].v;
 }
 
 }  // namespace plant::graph

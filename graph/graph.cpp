@@ -12,17 +12,17 @@ Name Graph::intern(std::string_view s) {
     // apart, so the index is then rebuilt on every call: correct, only slower.
     if (index_.size() != names.size()) {
         index_.clear();
-        for (size_t i = 0; i < names.size(); ++i)
-            index_.emplace(names[i], static_cast<int32_t>(i));
+        for (int32_t i = 0; i < count_of(names); ++i) index_.emplace(names[i], i);
     }
     // Looking up first: almost every name is already there, and emplace would build a
     // string and a node for nothing.
     thread_local std::string key;
     key.assign(s);
     if (auto it = index_.find(key); it != index_.end()) return Name{it->second};
-    index_.emplace(key, static_cast<int32_t>(names.size()));
+    const Name added{count_of(names)};
+    index_.emplace(key, added.id);
     names.emplace_back(s);
-    return Name{static_cast<int32_t>(names.size()) - 1};
+    return added;
 }
 
 namespace {
@@ -32,31 +32,30 @@ std::string join(std::string_view a, std::string_view b) {
     return fmt::format("{}.{}", a, b);
 }
 
-template <class T>
-bool in_range(const std::vector<T>& v, int32_t i) {
-    return i >= 0 && static_cast<size_t>(i) < v.size();
+bool in_range(const std::vector<std::string>& v, int32_t i) {
+    return i >= 0 && i < count_of(v);
 }
 
 }  // namespace
 
 std::string Graph::comp_path(int32_t comp) const {
-    if (!in_range(comps, comp)) return fmt::format("<comp {}>", comp);
+    if (!comps.contains(CompId(comp))) return fmt::format("<comp {}>", comp);
     const Comp& c = comps[comp];
-    std::string owner = in_range(dos, c.owner) ? std::string(str(dos[c.owner].path))
+    std::string owner = dos.contains(c.owner) ? std::string(str(dos[c.owner].path))
                                                : fmt::format("<do {}>", c.owner);
     return join(owner, str(c.name));
 }
 
 std::string Graph::slot_path(int32_t slot) const {
-    if (!in_range(slots, slot)) return fmt::format("<slot {}>", slot);
+    if (!slots.contains(SlotId(slot))) return fmt::format("<slot {}>", slot);
     const Slot& s = slots[slot];
     return join(comp_path(s.comp), str(s.name));
 }
 
 std::string Graph::port_path(int32_t port) const {
-    if (!in_range(ports, port)) return fmt::format("<port {}>", port);
+    if (!ports.contains(PortId(port))) return fmt::format("<port {}>", port);
     const Port& p = ports[port];
-    std::string owner = in_range(dos, p.owner) ? std::string(str(dos[p.owner].path))
+    std::string owner = dos.contains(p.owner) ? std::string(str(dos[p.owner].path))
                                                : fmt::format("<do {}>", p.owner);
     return join(owner, str(p.name));
 }
@@ -98,9 +97,9 @@ struct Same {
     bool operator()(const T& x, const T& y) const { return x == y; }  // ints, bools, enums, Src
 
     template <class R, class F>
-    bool table(const std::vector<R>& x, const std::vector<R>& y, F&& fields) const {
+    bool table(const Table<R>& x, const Table<R>& y, F&& fields) const {
         if (x.size() != y.size()) return false;
-        for (size_t i = 0; i < x.size(); ++i)
+        for (Id<R> i : x.ids())
             if (!fields(x[i], y[i])) return false;
         return true;
     }

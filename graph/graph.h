@@ -388,7 +388,7 @@ struct Graph {
     std::vector<std::string> files;  // source files, relative, in first-use order
     std::vector<std::string> names;  // interned strings
 
-#define PLANT_DECLARE_TABLE(member, Record, word, FIELDS) std::vector<Record> member;
+#define PLANT_DECLARE_TABLE(member, Record, word, FIELDS) Table<Record> member;
     PLANT_GRAPH_TABLES(PLANT_DECLARE_TABLE)
 #undef PLANT_DECLARE_TABLE
 
@@ -396,19 +396,15 @@ struct Graph {
     // builds (the step's accessor); at() throws std::out_of_range.
 #define PLANT_DECLARE_ACCESS(member, Record, word, FIELDS)                                        \
     const Record& operator[](Id<Record> i) const {                                               \
-        assert(size_t(i.v) < member.size());                                                     \
-        return member[size_t(i.v)];                                                              \
+        return member[i];                                                                        \
     }                                                                                            \
-    Record& operator[](Id<Record> i) {                                                           \
-        assert(size_t(i.v) < member.size());                                                     \
-        return member[size_t(i.v)];                                                              \
-    }                                                                                            \
-    const Record& at(Id<Record> i) const { return member.at(size_t(i.v)); }
+    Record& operator[](Id<Record> i) { return member[i]; }                                       \
+    const Record& at(Id<Record> i) const { return member.at(i); }
     PLANT_GRAPH_TABLES(PLANT_DECLARE_ACCESS)
 #undef PLANT_DECLARE_ACCESS
     // The table of a record type: g.rows<Slot>() is g.slots.
     template <class R>
-    const std::vector<R>& rows() const;
+    const Table<R>& rows() const;
 
     // Interning: returns the existing id for an equal string.
     Name intern(std::string_view s);
@@ -432,7 +428,7 @@ template <class R>
 constexpr std::string_view table_name();
 #define PLANT_DEFINE_ROWS(member, Record, word, FIELDS)                                  \
     template <>                                                                         \
-    inline const std::vector<Record>& Graph::rows<Record>() const { return member; }    \
+    inline const Table<Record>& Graph::rows<Record>() const { return member; }    \
     template <>                                                                         \
     constexpr std::string_view table_name<Record>() { return #member; }
 PLANT_GRAPH_TABLES(PLANT_DEFINE_ROWS)

@@ -44,7 +44,7 @@ struct TypedId {
         ++v;
         return *this;
     }
-    // An Adr's first row.
+    // An Adr's first row (adr + k is its k-th: operator+ below).
     constexpr TypedId<Record, IdRole::Row> first() const
         requires(Role == IdRole::Adr)
     {
@@ -66,6 +66,13 @@ template <class T>
 constexpr bool is_typed_id = false;
 template <class R, IdRole Role>
 constexpr bool is_typed_id<TypedId<R, Role>> = true;
+
+// Adr<R> + k is the id of the k-th row of the child list it starts.
+template <class R, class I>
+    requires std::integral<I> || (std::is_enum_v<I> && std::is_convertible_v<I, int32_t>)
+constexpr Id<R> operator+(Adr<R> adr, I k) {
+    return Id<R>(adr.v + static_cast<int32_t>(k));
+}
 
 // A number of rows, as an id counts them: the count of a table or any vector.
 template <class V>
@@ -202,20 +209,6 @@ public:
 private:
     std::vector<T> v_;
 };
-
-// The id the next row appended to a table gets (its size), and as a list's first row.
-template <class R>
-constexpr Id<R> next_id(const std::vector<R>& table) {
-    return Id<R>(static_cast<int32_t>(table.size()));
-}
-template <class R>
-constexpr Adr<R> next_adr(const std::vector<R>& table) {
-    return Adr<R>(static_cast<int32_t>(table.size()));
-}
-template <class R>
-constexpr IdRange<Id<R>> ids_of(const std::vector<R>& table) {
-    return {0, static_cast<int32_t>(table.size())};
-}
 
 // A table of the graph: its rows by their Id<R>.
 template <class R>

@@ -16,11 +16,11 @@ AccessGroups access_groups(const Graph& g) {
     // (sema's finish_accesses), so a range is a group; a graph written by hand with equal
     // lists in two ranges has two groups, which orders the same, only with more nodes.
     AccessGroups out;
-    std::map<std::pair<int32_t, int32_t>, int32_t> by_range;  // (target_adr, target_num) -> group
-    for (size_t a = 0; a < g.accesses.size(); ++a) {
+    std::map<std::pair<int32_t, int32_t>, AccessGroupId> by_range;  // (target_adr, target_num) -> group
+    for (AccessId a : ids_of(g.accesses)) {
         const Access& ac = g.accesses[a];
-        const auto [at, added] = by_range.try_emplace({ac.target_adr.v, ac.target_num}, int32_t(out.first.size()));
-        if (added) out.first.push_back(int32_t(a));
+        const auto [at, added] = by_range.try_emplace({ac.target_adr.v, ac.target_num}, out.first.next_id());
+        if (added) out.first.push_back(a);
         out.of.push_back(at->second);
     }
     return out;
@@ -36,18 +36,21 @@ namespace {
 // 40 bottles per storage: 2.8 million edges, 4.2 million links, 70 MB of the compiler's
 // peak); a group holds the same order (analyse_network releases it the moment its last
 // producer is released, so each reader becomes ready exactly when it did).
+struct Dep;
+using DepId = Id<Dep>;  // a node (below nodes.count()) or a group (from there on)
+
 struct Deps {
-    std::vector<Node> nodes;
-    std::vector<std::vector<int32_t>> succ, pred;  // nodes, then groups
+    IdVector<DepId, Node> nodes;
+    IdVector<DepId, std::vector<DepId>> succ, pred;  // nodes, then groups
 };
 
 Deps dependencies(const Graph& g) {
     Deps d;
-    for (size_t f = 0; f < g.flows.size(); ++f) d.nodes.push_back({NodeKind::Flow, int32_t(f)});
-    for (size_t l = 0; l < g.logics.size(); ++l) d.nodes.push_back({NodeKind::Logic, int32_t(l)});
-    for (size_t c = 0; c < g.comps.size(); ++c)
-        if (g.comps[c].kind == CompKind::Router) d.nodes.push_back({NodeKind::Router, int32_t(c)});
-    for (size_t l = 0; l < g.labels.size(); ++l) d.nodes.push_back({NodeKind::Label, int32_t(l)});
+    for (FlowId f : ids_of(g.flows)) d.nodes.push_back({NodeKind::Flow, f.v});
+    for (LogicId l : ids_of(g.logics)) d.nodes.push_back({NodeKind::Logic, l.v});
+    for (CompId c : ids_of(g.comps))
+        if (g.comps[c].kind == CompKind::Router) d.nodes.push_back({NodeKind::Router, c.v});
+    for (Id<Label> l : ids_of(g.labels)) d.nodes.push_back({NodeKind::Label, l.v});
 
     // Routers' outputs, by router (few: a list per router, not per component).
     std::vector<std::pair<int32_t, int32_t>> routes;  // (router comp, out slot), in route order
@@ -55,72 +58,70 @@ Deps dependencies(const Graph& g) {
     std::stable_sort(routes.begin(), routes.end(), [](auto& a, auto& b) { return a.first < b.first; });
 
     const AccessGroups groups = access_groups(g);
-    const std::vector<int32_t>& group_of = groups.of;
-    const std::vector<int32_t>& group_access = groups.first;
+    const IdVector<AccessId, AccessGroupId>& group_of = groups.of;
+    const IdVector<AccessGroupId, AccessId>& group_access = groups.first;
 
     // Per slot: nodes that activate it, read it, or read it as their target's activity. Kept as
     // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,
     // not for every slot (a pool of 1,000 bottles has 40,000 slots and no link). A read
     // through a dynamic end is a (group, node) pair instead. Counted first, then filled.
-    const size_t nn = d.nodes.size();
-    using Link = std::pair<int32_t, int32_t>;  // (slot or group, node)
+    const int32_t nn = d.nodes.count();
+    using Link = std::pair<int32_t, DepId>;  // (slot or group, node)
     std::vector<Link> prod, read, tread, dyn;
     size_t counts[4] = {0, 0, 0, 0};
     auto links = [&](auto&& add) {
-        for (size_t n = 0; n < nn; ++n) {
-            const Node& node = d.nodes[n];
-            const int32_t id = int32_t(n);
+        for (DepId id : d.nodes.ids()) {
+            const Node& node = d.nodes[id];
             switch (node.kind) {
             case NodeKind::Flow: {
-                const Flow& f = g.flows[size_t(node.index)];
-                each_written_slot(g, f, [&](int32_t x) {
-                    add(0, x, id);
-                    if (f.cond != Cond::Source) add(2, x, id);
+                const Flow& f = g.flows[node.flow()];
+                each_written_slot(g, f, [&](SlotId x) {
+                    add(0, x.v, id);
+                    if (f.cond != Cond::Source) add(2, x.v, id);
                 });
-                if (f.from_access >= 0) {
-                    add(1, g.accesses[size_t(f.from_access)].ref_slot.v, id);
-                    add(3, group_of[size_t(f.from_access)], id);
+                if (f.from_access.valid()) {
+                    add(1, g.accesses[f.from_access].ref_slot.v, id);
+                    add(3, group_of[f.from_access].v, id);
                 } else {
                     add(1, f.from.v, id);
                 }
                 break;
             }
             case NodeKind::Logic: {
-                const Logic& l = g.logics[size_t(node.index)];
-                for (int32_t i = 0; i < l.in_num; ++i) add(1, g.logic_inputs[size_t(l.in_adr + i)].slot, id);
-                add(0, l.out_slot, id);
+                const Logic& l = g.logics[node.logic()];
+                for (Id<LogicIn> i : children(l.in_adr, l.in_num)) add(1, g.logic_inputs[i].slot.v, id);
+                add(0, l.out_slot.v, id);
                 break;
             }
             case NodeKind::Router: {
-                add(1, g.comps[size_t(node.index)].slot_adr + routerslot::query, id);
+                add(1, (g.comps[node.router()].slot_adr + routerslot::query).v, id);
                 auto r = std::lower_bound(routes.begin(), routes.end(), node.index,
                                           [](const std::pair<int32_t, int32_t>& x, int32_t c) { return x.first < c; });
                 for (; r != routes.end() && r->first == node.index; ++r) add(0, r->second, id);
                 break;
             }
             case NodeKind::Label: {
-                const Comp& c = g.comps[size_t(g.labels[size_t(node.index)].comp)];
-                add(1, c.slot_adr + labelslot::set, id);
-                add(0, c.slot_adr + labelslot::value, id);
+                const Comp& c = g.comps[g.labels[node.label()].comp];
+                add(1, (c.slot_adr + labelslot::set).v, id);
+                add(0, (c.slot_adr + labelslot::value).v, id);
                 break;
             }
             }
         }
     };
-    links([&](int list, int32_t, int32_t) { ++counts[list]; });
+    links([&](int list, int32_t, DepId) { ++counts[list]; });
     std::vector<Link>* lists[4] = {&prod, &read, &tread, &dyn};
     for (int i = 0; i < 4; ++i) lists[i]->reserve(counts[i]);
-    links([&](int list, int32_t x, int32_t id) { lists[list]->emplace_back(x, id); });
+    links([&](int list, int32_t x, DepId id) { lists[list]->emplace_back(x, id); });
     // By slot, then node: as a stable sort by slot of lists made in node order, without its buffer.
     for (std::vector<Link>* v : lists) std::sort(v->begin(), v->end());
 
-    const size_t ng = group_access.size();
-    d.succ.resize(nn + ng);
-    d.pred.resize(nn + ng);
-    auto edge = [&](int32_t a, int32_t b) {
+    d.succ.resize(d.nodes.size() + group_access.size());
+    d.pred.resize(d.nodes.size() + group_access.size());
+    auto edge = [&](DepId a, DepId b) {
         if (a == b) return;
-        d.succ[size_t(a)].push_back(b);
-        d.pred[size_t(b)].push_back(a);
+        d.succ[a].push_back(b);
+        d.pred[b].push_back(a);
     };
     // Each slot with links, in slot order: [p0, p1) of prod, [r0, r1) of read, [t0, t1) of tread.
     size_t p0 = 0, r0 = 0, t0 = 0;
@@ -146,45 +147,46 @@ Deps dependencies(const Graph& g) {
     // Each group: its producers (of any of its slots) before it, it before its readers. Where
     // a node is both (it reads a slot it may write), the group would make a cycle the direct
     // edges do not have: those producers and readers are joined directly, as each slot would.
-    std::vector<int32_t> producers, readers;
-    for (size_t k = 0, r = 0; k < ng; ++k) {
+    std::vector<DepId> producers, readers;
+    size_t r = 0;
+    for (AccessGroupId k : group_access.ids()) {
         readers.clear();
-        for (; r < dyn.size() && dyn[r].first == int32_t(k); ++r)
+        for (; r < dyn.size() && dyn[r].first == k.v; ++r)
             if (readers.empty() || readers.back() != dyn[r].second) readers.push_back(dyn[r].second);
         if (readers.empty()) continue;
         producers.clear();
-        const Access& ac = g.accesses[size_t(group_access[k])];
-        for (int32_t i = 0; i < ac.target_num; ++i) {
-            const int32_t x = g.access_targets[size_t(ac.target_adr.v + i)].v;
-            auto at = std::lower_bound(prod.begin(), prod.end(), Link{x, INT32_MIN});
+        const Access& ac = g.accesses[group_access[k]];
+        for (Id<AccessTarget> t : children(ac.target_adr, ac.target_num)) {
+            const int32_t x = g.access_targets[t].v.v;
+            auto at = std::lower_bound(prod.begin(), prod.end(), Link{x, DepId(INT32_MIN)});
             for (; at != prod.end() && at->first == x; ++at) producers.push_back(at->second);
         }
         std::sort(producers.begin(), producers.end());
         producers.erase(std::unique(producers.begin(), producers.end()), producers.end());
         bool both = false;
-        for (int32_t n : readers) both = both || std::binary_search(producers.begin(), producers.end(), n);
-        const int32_t group = int32_t(nn + k);
-        for (int32_t p : producers) {
+        for (DepId n : readers) both = both || std::binary_search(producers.begin(), producers.end(), n);
+        const DepId group(nn + k.v);
+        for (DepId p : producers) {
             if (both) {
-                for (int32_t n : readers) edge(p, n);
+                for (DepId n : readers) edge(p, n);
             } else {
                 edge(p, group);
             }
         }
         if (!both && !producers.empty())
-            for (int32_t n : readers) edge(group, n);
+            for (DepId n : readers) edge(group, n);
     }
     return d;
 }
 
-int32_t comp_of(const Graph& g, const Node& n) {
+CompId comp_of(const Graph& g, const Node& n) {
     switch (n.kind) {
-    case NodeKind::Logic: return g.logics[size_t(n.index)].comp;
-    case NodeKind::Router: return n.index;
-    case NodeKind::Label: return g.labels[size_t(n.index)].comp;
+    case NodeKind::Logic: return g.logics[n.logic()].comp;
+    case NodeKind::Router: return n.router();
+    case NodeKind::Label: return g.labels[n.label()].comp;
     case NodeKind::Flow: break;
     }
-    return -1;
+    return CompId{};
 }
 
 }  // namespace
@@ -192,34 +194,35 @@ int32_t comp_of(const Graph& g, const Node& n) {
 Network analyse_network(const Graph& g) {
     Network net;
     const Deps d = dependencies(g);
-    const size_t nn = d.nodes.size(), total = d.succ.size();
+    const int32_t nn = d.nodes.count();
+    auto is_node = [&](DepId n) { return n.v < nn; };
 
     // Kahn's algorithm, smallest ready node first; a group is released the moment it is ready.
-    std::vector<int32_t> indeg(total);
-    for (size_t n = 0; n < total; ++n) indeg[n] = int32_t(d.pred[n].size());
-    std::vector<uint8_t> gone(total, 0);  // emitted or delayed (a group: released)
-    std::priority_queue<int32_t, std::vector<int32_t>, std::greater<>> ready;
-    for (size_t n = 0; n < nn; ++n)
-        if (indeg[n] == 0) ready.push(int32_t(n));
-    auto release = [&](int32_t n) {
-        gone[size_t(n)] = 1;
-        for (int32_t m : d.succ[size_t(n)]) {
-            if (gone[size_t(m)] || --indeg[size_t(m)] != 0) continue;
-            if (size_t(m) < nn) {
+    IdVector<DepId, int32_t> indeg;
+    for (const std::vector<DepId>& p : d.pred) indeg.push_back(count_of(p));
+    IdVector<DepId, uint8_t> gone(d.succ.count(), 0);  // emitted or delayed (a group: released)
+    std::priority_queue<DepId, std::vector<DepId>, std::greater<>> ready;
+    for (DepId n : d.nodes.ids())
+        if (indeg[n] == 0) ready.push(n);
+    auto release = [&](DepId n) {
+        gone[n] = 1;
+        for (DepId m : d.succ[n]) {
+            if (gone[m] || --indeg[m] != 0) continue;
+            if (is_node(m)) {
                 ready.push(m);
                 continue;
             }
-            gone[size_t(m)] = 1;  // a group: its successors are nodes
-            for (int32_t k : d.succ[size_t(m)])
-                if (!gone[size_t(k)] && --indeg[size_t(k)] == 0) ready.push(k);
+            gone[m] = 1;  // a group: its successors are nodes
+            for (DepId k : d.succ[m])
+                if (!gone[k] && --indeg[k] == 0) ready.push(k);
         }
     };
-    for (size_t done = 0; done < nn;) {
+    for (int32_t done = 0; done < nn;) {
         if (!ready.empty()) {
-            int32_t n = ready.top();
+            DepId n = ready.top();
             ready.pop();
-            if (gone[size_t(n)]) continue;
-            net.order.push_back(d.nodes[size_t(n)]);
+            if (gone[n]) continue;
+            net.order.push_back(d.nodes[n]);
             release(n);
             ++done;
             continue;
@@ -227,39 +230,40 @@ Network analyse_network(const Graph& g) {
         // Stuck: every node left waits on another, so walking predecessors from the
         // first one must come back to a node already on the path: that is a cycle. A group
         // not yet released stands for its producers not yet gone.
-        int32_t cur = 0;
-        while (gone[size_t(cur)]) ++cur;
-        std::vector<int32_t> path, pos(nn, -1);
-        while (pos[size_t(cur)] < 0) {
-            pos[size_t(cur)] = int32_t(path.size());
+        DepId cur(0);
+        while (gone[cur]) ++cur;
+        std::vector<DepId> path;
+        IdVector<DepId, int32_t> pos(nn, -1);
+        while (pos[cur] < 0) {
+            pos[cur] = count_of(path);
             path.push_back(cur);
-            int32_t next = -1;
-            for (int32_t p : d.pred[size_t(cur)]) {
-                if (gone[size_t(p)]) continue;
-                if (size_t(p) < nn) {
-                    if (next < 0 || p < next) next = p;
+            DepId next;
+            for (DepId p : d.pred[cur]) {
+                if (gone[p]) continue;
+                if (is_node(p)) {
+                    if (!next.valid() || p < next) next = p;
                     continue;
                 }
-                for (int32_t q : d.pred[size_t(p)])
-                    if (!gone[size_t(q)] && (next < 0 || q < next)) next = q;
+                for (DepId q : d.pred[p])
+                    if (!gone[q] && (!next.valid() || q < next)) next = q;
             }
             cur = next;
         }
-        int32_t cut = -1;
-        std::vector<int32_t> comps;
-        for (size_t i = size_t(pos[size_t(cur)]); i < path.size(); ++i) {
-            const Node& node = d.nodes[size_t(path[i])];
-            if (node.kind == NodeKind::Flow && (cut < 0 || path[i] < cut)) cut = path[i];
+        DepId cut;
+        std::vector<CompId> comps;
+        for (auto i = path.begin() + pos[cur]; i != path.end(); ++i) {
+            const Node& node = d.nodes[*i];
+            if (node.kind == NodeKind::Flow && (!cut.valid() || *i < cut)) cut = *i;
             if (node.kind != NodeKind::Flow) comps.push_back(comp_of(g, node));
         }
-        if (cut < 0) cut = cur;  // cannot happen: component nodes only connect through flows
-        if (d.nodes[size_t(cut)].kind == NodeKind::Flow) {
+        if (!cut.valid()) cut = cur;  // cannot happen: component nodes only connect through flows
+        if (d.nodes[cut].kind == NodeKind::Flow) {
             // Predecessors were walked, so the path runs against the flow of activity.
             std::reverse(comps.begin(), comps.end());
-            net.delayed.push_back(d.nodes[size_t(cut)].index);
+            net.delayed.push_back(d.nodes[cut].flow());
             net.cycles.push_back(std::move(comps));
         } else {
-            net.order.push_back(d.nodes[size_t(cut)]);
+            net.order.push_back(d.nodes[cut]);
         }
         release(cut);
         ++done;
@@ -270,18 +274,18 @@ Network analyse_network(const Graph& g) {
 namespace {
 
 // A dynamic end reads as the reference slot, then the member: "a.object.sensor.on".
-std::string end_text(const Graph& g, int32_t slot, int32_t access) {
+std::string end_text(const Graph& g, SlotId slot, AccessId access) {
     std::string s = g.slot_path(slot);
-    if (access >= 0) {
+    if (access.valid()) {
         s += '.';
-        s += g.str(g.accesses[size_t(access)].member);
+        s += g.str(g.accesses[access].member);
     }
     return s;
 }
 
-std::string flow_text(const Graph& g, int32_t f) {
-    const Flow& fl = g.flows[size_t(f)];
-    std::string s = "flow " + std::to_string(f) + " " + end_text(g, fl.from, fl.from_access) + " -> " +
+std::string flow_text(const Graph& g, FlowId f) {
+    const Flow& fl = g.flows[f];
+    std::string s = "flow " + std::to_string(f.v) + " " + end_text(g, fl.from, fl.from_access) + " -> " +
                     end_text(g, fl.to, fl.to_access);
     if (fl.cond != Cond::Source) s += " when " + std::string(word(fl.cond));
     if (fl.once) s += " once";
@@ -296,10 +300,10 @@ std::string network_text(const Graph& g, const Network& n) {
         const Node& node = n.order[i];
         out += "  " + std::to_string(i + 1) + ". ";
         switch (node.kind) {
-        case NodeKind::Flow: out += flow_text(g, node.index); break;
-        case NodeKind::Logic: out += "connector " + g.comp_path(g.logics[size_t(node.index)].comp); break;
-        case NodeKind::Router: out += "router " + g.comp_path(node.index); break;
-        case NodeKind::Label: out += "label " + g.comp_path(g.labels[size_t(node.index)].comp); break;
+        case NodeKind::Flow: out += flow_text(g, node.flow()); break;
+        case NodeKind::Logic: out += "connector " + g.comp_path(g.logics[node.logic()].comp); break;
+        case NodeKind::Router: out += "router " + g.comp_path(node.router()); break;
+        case NodeKind::Label: out += "label " + g.comp_path(g.labels[node.label()].comp); break;
         }
         out += "\n";
     }

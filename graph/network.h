@@ -23,32 +23,35 @@ namespace plant::graph {
 // access when dynamic (then `from`/`to` hold the access's reference slot, see Flow).
 // Calls fn(slot) for each until fn returns false; returns whether none did.
 template <class Fn>
-bool each_end_slot(const Graph& g, int32_t slot, int32_t access, Fn&& fn) {
-    if (access < 0) return fn(slot);
-    const Access& a = g.accesses[size_t(access)];
-    for (int32_t i = 0; i < a.target_num; ++i)
-        if (!fn(g.access_targets[size_t(a.target_adr + i)].v)) return false;
+bool each_end_slot(const Graph& g, SlotId slot, AccessId access, Fn&& fn) {
+    if (!access.valid()) return fn(slot);
+    const Access& a = g.accesses[access];
+    for (Id<AccessTarget> t : children(a.target_adr, a.target_num))
+        if (!fn(g.access_targets[t].v)) return false;
     return true;
 }
 
 // Every slot a flow may write.
 template <class Fn>
 void each_written_slot(const Graph& g, const Flow& f, Fn&& fn) {
-    each_end_slot(g, f.to, f.to_access, [&](int32_t s) { fn(s); return true; });
+    each_end_slot(g, f.to, f.to_access, [&](SlotId s) { fn(s); return true; });
 }
 
 // Every slot a flow reads: its source, or for a dynamic source the reference slot
 // (which object to read from) and every slot the source may be.
 template <class Fn>
 void each_read_slot(const Graph& g, const Flow& f, Fn&& fn) {
-    if (f.from_access >= 0) fn(g.accesses[size_t(f.from_access)].ref_slot);
-    each_end_slot(g, f.from, f.from_access, [&](int32_t s) { fn(s); return true; });
+    if (f.from_access.valid()) fn(g.accesses[f.from_access].ref_slot);
+    each_end_slot(g, f.from, f.from_access, [&](SlotId s) { fn(s); return true; });
 }
 
 // Accesses whose targets are the same slots (the same member of every object of one type)
 // form one group: `of` per access its group, `first` per group its first access.
+struct AccessGroup;
+using AccessGroupId = Id<AccessGroup>;
 struct AccessGroups {
-    std::vector<int32_t> of, first;
+    IdVector<AccessId, AccessGroupId> of;
+    IdVector<AccessGroupId, AccessId> first;
 };
 AccessGroups access_groups(const Graph& g);
 
@@ -57,13 +60,18 @@ enum class NodeKind : uint8_t { Flow, Logic, Router, Label };
 
 struct Node {
     NodeKind kind;
-    int32_t index;  // flow id, logic id, router comp id, label id
+    int32_t index;  // flow id, logic id, router comp id, label id: as the accessors read it
+
+    FlowId flow() const { return FlowId(index); }
+    LogicId logic() const { return LogicId(index); }
+    CompId router() const { return CompId(index); }
+    Id<Label> label() const { return Id<Label>(index); }
 };
 
 struct Network {
     std::vector<Node> order;       // the logic phase, delayed flows left out
-    std::vector<int32_t> delayed;  // flows cut out of cycles, in the order cut
-    std::vector<std::vector<int32_t>> cycles;  // per delayed flow: the comps on its cycle
+    std::vector<FlowId> delayed;   // flows cut out of cycles, in the order cut
+    std::vector<std::vector<CompId>> cycles;  // per delayed flow: the comps on its cycle
 };
 
 Network analyse_network(const Graph& g);

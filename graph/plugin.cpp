@@ -66,16 +66,18 @@ const KindDesc* find_plugin(std::string_view word) {
 std::span<const KindDesc* const> plugins() { return registry(); }
 
 const KindDesc* plugin_of(const Graph& g, int32_t comp) {
-    if (comp < 0 || size_t(comp) >= g.comps.size()) return nullptr;
-    const Comp& c = g.comps[size_t(comp)];
-    if (c.kind != CompKind::Plugin || c.detail < 0 || size_t(c.detail) >= g.plugins.size()) return nullptr;
-    return find_plugin(g.str(g.plugins[size_t(c.detail)].kind));
+    const CompId id(comp);
+    if (!g.comps.contains(id)) return nullptr;
+    const Comp& c = g.comps[id];
+    const PluginId plugin(c.detail);
+    if (c.kind != CompKind::Plugin || !g.plugins.contains(plugin)) return nullptr;
+    return find_plugin(g.str(g.plugins[plugin].kind));
 }
 
 std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp) {
     if (const KindDesc* d = plugin_of(g, comp)) return d->slots;
-    if (comp < 0 || size_t(comp) >= g.comps.size()) return {};
-    return fixed_slots(g.comps[size_t(comp)].kind);
+    if (const CompId id(comp); g.comps.contains(id)) return fixed_slots(g.comps[id].kind);
+    return {};
 }
 
 const EntrySpec* find_entry(const KindDesc& desc, std::string_view word) {

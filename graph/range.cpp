@@ -18,9 +18,9 @@ public:
     explicit Ranges(std::vector<RangeFlaw>& out) : out_(out) {}
 
     // The record the checks that follow are of, and the component it belongs to (-1: a DO).
-    void at(std::string_view table, size_t row, int32_t comp) {
+    void at(std::string_view table, int32_t row, int32_t comp) {
         table_ = table;
-        row_ = int32_t(row);
+        row_ = row;
         comp_ = comp;
     }
     // A world pose at start: every coordinate within kMaxLength of the origin.
@@ -87,9 +87,9 @@ bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
 bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
 
 std::string_view input_range(const Graph& g, int32_t slot, const double* v) {
-    const Slot& s = g.slots[size_t(slot)];
+    const Slot& s = g.slots[SlotId(slot)];
     const Comp& c = g[s.comp];
-    const int32_t i = slot - int32_t(c.slot_adr);
+    const int32_t i = slot - c.slot_adr.v;
     const bool body = c.kind == CompKind::Body, field = c.kind == CompKind::Field;
     // Each axis within `limit`; NaN is never (a value the plant's logic computed may be one).
     auto within = [v](int n, double limit) {
@@ -110,57 +110,55 @@ std::string_view input_range(const Graph& g, int32_t slot, const double* v) {
 std::vector<RangeFlaw> range_flaws(const Graph& g) {
     std::vector<RangeFlaw> out;
     Ranges r(out);
-    for (size_t i = 0; i < g.dos.size(); ++i) {
-        r.at("dos", i, -1);
+    for (const auto i : ids_of(g.dos)) {
+        r.at("dos", i.v, -1);
         r.place("pose", "place", g.dos[i].pose);
     }
-    for (size_t i = 0; i < g.bodies.size(); ++i) {
+    for (const auto i : ids_of(g.bodies)) {
         const Body& b = g.bodies[i];
-        r.at("bodies", i, b.comp);
+        r.at("bodies", i.v, b.comp);
         r.place("pose", "place", b.pose);
         r.offset("com", "centre of mass", b.com);
         r.mass(b);
         if (b.inertia_set) r.inertia(b.inertia);
-        for (int32_t k = 0; k < b.shape_num; ++k) {
-            const auto s = size_t(b.shape_adr + k);
-            r.at("shapes", s, b.comp);
+        for (Id<Shape> s : children(b.shape_adr, b.shape_num)) {
+            r.at("shapes", s.v, b.comp);
             r.offset("local", "offset of a shape", g.shapes[s].local);
             if (const Shape& sh = g.shapes[s]; sh.kind != ShapeKind::Hull)
                 r.size("size", "size of a shape", sh.size,
                        sh.kind == ShapeKind::Sphere ? 1 : sh.kind == ShapeKind::Box ? 3 : 2);
         }
     }
-    for (size_t i = 0; i < g.fields.size(); ++i) {
-        r.at("fields", i, g.fields[i].comp);
+    for (const auto i : ids_of(g.fields)) {
+        r.at("fields", i.v, g.fields[i].comp);
         r.volume(g.fields[i]);
         r.belt(g.fields[i]);
     }
-    for (size_t i = 0; i < g.joints.size(); ++i) {
-        r.at("joints", i, g.joints[i].comp);
+    for (const auto i : ids_of(g.joints)) {
+        r.at("joints", i.v, g.joints[i].comp);
         r.offset("frame_a", "frame on body a", g.joints[i].frame_a);
         r.offset("frame_b", "frame on body b", g.joints[i].frame_b);
     }
-    for (size_t i = 0; i < g.triggers.size(); ++i) {
-        r.at("triggers", i, g.triggers[i].comp);
+    for (const auto i : ids_of(g.triggers)) {
+        r.at("triggers", i.v, g.triggers[i].comp);
         r.volume(g.triggers[i]);
     }
-    for (size_t i = 0; i < g.sources.size(); ++i) {
-        r.at("sources", i, g.sources[i].comp);
+    for (const auto i : ids_of(g.sources)) {
+        r.at("sources", i.v, g.sources[i].comp);
         r.place("pose", "place", g.sources[i].pose);
     }
-    for (size_t i = 0; i < g.plugins.size(); ++i)
+    for (const auto i : ids_of(g.plugins))
         if (g.plugins[i].placed) {
-            r.at("plugins", i, g.plugins[i].comp);
+            r.at("plugins", i.v, g.plugins[i].comp);
             r.place("pose", "place", g.plugins[i].pose);
         }
-    for (size_t i = 0; i < g.graphics.size(); ++i) {
-        r.at("graphics", i, g.graphics[i].comp);
+    for (const auto i : ids_of(g.graphics)) {
+        r.at("graphics", i.v, g.graphics[i].comp);
         r.place("pose", "place", g.graphics[i].pose);
     }
     for (const Animation& a : g.animations)
-        for (int32_t k = 0; k < a.key_num; ++k) {
-            const auto key = size_t(a.key_adr + k);
-            r.at("keys", key, g.graphics[size_t(a.graphics)].comp);
+        for (Id<Key> key : children(a.key_adr, a.key_num)) {
+            r.at("keys", key.v, g.graphics[a.graphics].comp);
             r.offset("pose", "key frame", g.keys[key].pose);
         }
     return out;

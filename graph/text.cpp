@@ -58,7 +58,7 @@ public:
     }
     void put(Name n) {
         if (n.id == -1) o_ += '-';
-        else if (n.id < 0 || static_cast<size_t>(n.id) >= g_.names.size())
+        else if (n.id < 0 || n.id >= count_of(g_.names))
             fmt::format_to(out(), "#{}", n.id);  // a broken id: visible, and rejected by the loader
         else put(g_.names[n.id]);
     }
@@ -87,14 +87,14 @@ public:
         o_ += '"';
     }
 
-    template <class R, class F>
-    void table(std::string_view member, std::string_view elem, const std::vector<R>& rows,
-               F&& fields) {
+    template <class Rows, class F>
+    void table(std::string_view member, std::string_view elem, const Rows& rows, F&& fields) {
         if (rows.empty() && optional_table(member)) return;
         fmt::format_to(out(), "count {} {}\n", member, rows.size());
-        for (size_t i = 0; i < rows.size(); ++i) {
-            fmt::format_to(out(), "{} {}", elem, i);
-            fields(rows[i]);
+        int32_t i = 0;
+        for (const auto& r : rows) {
+            fmt::format_to(out(), "{} {}", elem, i++);
+            fields(r);
             o_ += '\n';
         }
     }
@@ -172,8 +172,8 @@ public:
     // The line each record was read from, per table member name; the settings line as "".
     int line_of(std::string_view member, int32_t row) const {
         auto it = lines_.find(std::string(member));
-        if (it == lines_.end() || row < 0 || size_t(row) >= it->second.size()) return settings_line_;
-        return it->second[size_t(row)];
+        if (it == lines_.end() || row < 0 || row >= count_of(it->second)) return settings_line_;
+        return it->second[row];
     }
 
     bool read() {
@@ -278,7 +278,7 @@ private:
         const char* b = rest_.data();
         auto [p, ec] = std::from_chars(b, b + rest_.size(), v);
         if (ec != std::errc{}) return false;
-        rest_.remove_prefix(static_cast<size_t>(p - b));
+        rest_.remove_prefix(p - b);
         return true;
     }
     template <size_t N>
@@ -363,8 +363,8 @@ private:
     }
 
     // "count <member> N" and then N lines "<elem> <id> ...", ids 0..N-1 in order.
-    template <class R, class F>
-    bool table(std::string_view member, std::string_view elem, std::vector<R>& rows, F&& fields) {
+    template <class Rows, class F>
+    bool table(std::string_view member, std::string_view elem, Rows& rows, F&& fields) {
         if (!next_line()) return false;
         std::string_view at = rest_;
         int32_t n = -1;
@@ -382,7 +382,7 @@ private:
             if (!(lit(elem) && lit(" ") && number(id) && at_delim()))
                 return fail(fmt::format("expected '{} {}', got '{}'", elem, i, at.substr(0, 40)));
             if (id != i) return fail(fmt::format("expected {} id {}, got {}", elem, i, id));
-            R r{};
+            typename Rows::value_type r{};
             if (!fields(r) || !end_of_line()) return false;
             rows.push_back(std::move(r));
             lines.push_back(line_no_);

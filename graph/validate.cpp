@@ -66,15 +66,15 @@ private:
         return false;
     }
     bool fail(std::string message) { return fail_at(table_, row_, std::move(message)); }
-    void at(std::string_view table, size_t row) {
+    void at(std::string_view table, int32_t row) {
         table_ = table;
-        row_ = int32_t(row);
+        row_ = row;
     }
     // check(record, id) for every record of a table, stopping at the first that fails.
     template <class R, class F>
-    bool each(std::string_view table, const std::vector<R>& rows, F&& check) {
-        for (size_t i = 0; i < rows.size(); ++i) {
-            at(table, i);
+    bool each(std::string_view table, const Table<R>& rows, F&& check) {
+        for (Id<R> i : rows.ids()) {
+            at(table, i.v);
             if (!check(rows[i], i)) return false;
         }
         return true;
@@ -83,21 +83,21 @@ private:
     // `value` is a row of a table with n rows, or -1 when `none` allows it.
     bool id(std::string_view field, int32_t value, size_t n, std::string_view target, bool none = false) {
         if (none && value == -1) return true;
-        if (value >= 0 && size_t(value) < n) return true;
+        if (value >= 0 && std::cmp_less(value, n)) return true;
         return fail(fmt::format("field '{}' = {} is not {}a row of {} ({} rows)", field, value,
                                 none ? "-1 or " : "", target, n));
     }
     // [adr, adr + num) inside a table of n rows (num = 0: any adr).
     bool range(std::string_view adr_field, int32_t adr, int32_t num, size_t n, std::string_view target) {
         if (num == 0 && adr >= -1) return true;
-        if (num > 0 && adr >= 0 && size_t(adr) + size_t(num) <= n) return true;
+        if (num > 0 && adr >= 0 && std::cmp_less_equal(int64_t{adr} + num, n)) return true;
         return fail(fmt::format("fields '{}' + num ({} + {}) are not a range of {} ({} rows)", adr_field, adr, num,
                                 target, n));
     }
     // A slot of the given type and direction (every_field() checked it is one, or -1).
-    bool slot(std::string_view field, int32_t s, SlotType type, Dir dir) {
-        if (s < 0) return true;
-        const Slot& sl = g_.slots[size_t(s)];
+    bool slot(std::string_view field, SlotId s, SlotType type, Dir dir) {
+        if (!s.valid()) return true;
+        const Slot& sl = g_.slots[s];
         if (sl.type != type || sl.dir != dir)
             return fail(fmt::format("field '{}' = {}: slot {} is {} {}, expected {} {}", field, s, s, word(sl.type),
                                     word(sl.dir), word(type), word(dir)));
@@ -105,9 +105,9 @@ private:
     }
     bool check(bool ok, std::string_view what) { return ok || fail(std::string(what)); }
     // The component `c` is of `kind` and its detail is this record.
-    bool owner(int32_t c, CompKind kind, size_t self) {
-        const Comp& cp = g_.comps[size_t(c)];
-        if (cp.kind != kind || cp.detail != int32_t(self))
+    bool owner(CompId c, CompKind kind, int32_t self) {
+        const Comp& cp = g_.comps[c];
+        if (cp.kind != kind || cp.detail != self)
             return fail(fmt::format("field 'comp' = {}: that component is a {} whose detail is {}, not this {}", c,
                                     word(cp.kind), cp.detail, word(kind)));
         return true;
@@ -123,9 +123,9 @@ private:
     if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size())); \
     if (!reference(#f_, r.f_, std::bool_constant<optional_id(table, #f_)>{})) return false;
 #define PLANT_CHECK_TABLE(member, Record, elem, FIELDS)     \
-    for (size_t i = 0; i < g_.member.size(); ++i) {         \
+    for (Id<Record> i : g_.member.ids()) {                  \
         constexpr std::string_view table = #member;         \
-        at(table, i);                                       \
+        at(table, i.v);                                     \
         const Record& r = g_.member[i];                     \
         FIELDS(PLANT_CHECK_FIELD)                           \
     }
@@ -153,7 +153,7 @@ private:
     }
     template <class T>
     bool src_ok(const T& s) {
-        if constexpr (std::is_same_v<T, Src>) return s.file >= -1 && s.file < int32_t(g_.files.size());
+        if constexpr (std::is_same_v<T, Src>) return s.file >= -1 && s.file < count_of(g_.files);
         return true;
     }
     template <class T>
@@ -171,16 +171,16 @@ private:
     }
 
     bool dos() {
-        if (!each("do_types", g_.do_types, [&](const auto& r, size_t) {
+        if (!each("do_types", g_.do_types, [&](const auto& r, DoTypeId) {
             return check(r.instance_num >= 0, "field 'instance_num' is negative");
         }))
             return false;
-        return each("dos", g_.dos, [&](const Do& d, size_t i) {
-            if (!check(d.parent < int32_t(i), "field 'parent' must name an earlier DO (or be -1)")) return false;
-            if (d.type >= 0 && !(d.ordinal >= 0 && d.ordinal < g_.do_types[size_t(d.type)].instance_num))
+        return each("dos", g_.dos, [&](const Do& d, DoId i) {
+            if (!check(d.parent.v < i.v, "field 'parent' must name an earlier DO (or be -1)")) return false;
+            if (d.type.valid() && !(d.ordinal >= 0 && d.ordinal < g_.do_types[d.type].instance_num))
                 return fail(fmt::format("field 'ordinal' = {} is not below its type's instance_num {}", d.ordinal,
-                                        g_.do_types[size_t(d.type)].instance_num));
-            if (d.pool >= 0 && !check(g_.comps[size_t(d.pool)].kind == CompKind::Source,
+                                        g_.do_types[d.type].instance_num));
+            if (d.pool.valid() && !check(g_.comps[d.pool].kind == CompKind::Source,
                                       "field 'pool' does not name a source component"))
                 return false;
             return true;
@@ -208,7 +208,7 @@ private:
     }
 
     bool comps() {
-        return each("comps", g_.comps, [&](const Comp& cp, size_t c) {
+        return each("comps", g_.comps, [&](const Comp& cp, CompId c) {
             size_t n = 0;
             std::string_view table;
             if (detail_table(cp.kind, n, table)) {
@@ -217,25 +217,26 @@ private:
                 return false;
             }
             // A plugin's detail is a row of `plugins` by now; plugin_records() checks the rest.
-            const KindDesc* plugin = cp.kind == CompKind::Plugin ? plugin_of(g_, int32_t(c)) : nullptr;
+            const KindDesc* plugin = cp.kind == CompKind::Plugin ? plugin_of(g_, c) : nullptr;
             if (cp.kind == CompKind::Plugin && !plugin)
                 return fail(fmt::format("a component of kind '{}', which this program does not have (a plugin it "
-                                        "was not built with)", g_.str(g_.plugins[size_t(cp.detail)].kind)));
-            const auto fixed = slots_of(g_, int32_t(c));
-            if (plugin && cp.slot_num != int32_t(fixed.size()))
+                                        "was not built with)", g_.str(g_.plugins[PluginId(cp.detail)].kind)));
+            const auto fixed = slots_of(g_, c);
+            if (plugin && cp.slot_num != count_of(fixed))
                 return fail(fmt::format("a {} has {} slots, field 'slot_num' is {}", plugin->word, fixed.size(),
                                         cp.slot_num));
-            if (cp.slot_num < int32_t(fixed.size()))
+            if (cp.slot_num < count_of(fixed))
                 return fail(fmt::format("a {} has {} fixed slots, field 'slot_num' is {}", word(cp.kind), fixed.size(),
                                         cp.slot_num));
             for (int32_t k = 0; k < cp.slot_num; ++k) {
-                const Slot& s = g_.slots[size_t(cp.slot_adr + k)];
-                if (s.comp != int32_t(c))
+                const Slot& s = g_.slots[cp.slot_adr + k];
+                if (s.comp != c)
                     return fail(fmt::format("slot {} in its slot range belongs to component {}", cp.slot_adr + k, s.comp));
-                if (size_t(k) < fixed.size() && (s.type != fixed[size_t(k)].type || s.dir != fixed[size_t(k)].dir))
-                    return fail(fmt::format("slot {} ('{}' of a {}) is {} {}, expected {} {}", cp.slot_adr + k,
-                                            fixed[size_t(k)].name, word(cp.kind), word(s.type), word(s.dir),
-                                            word(fixed[size_t(k)].type), word(fixed[size_t(k)].dir)));
+                if (k >= count_of(fixed)) continue;
+                const SlotSpec& spec = fixed[k];
+                if (s.type != spec.type || s.dir != spec.dir)
+                    return fail(fmt::format("slot {} ('{}' of a {}) is {} {}, expected {} {}", cp.slot_adr + k, spec.name,
+                                            word(cp.kind), word(s.type), word(s.dir), word(spec.type), word(spec.dir)));
             }
             return true;
         });
@@ -244,32 +245,32 @@ private:
     // Plugin components: a kind this program registered, its parameters as its descriptor
     // declares them.
     bool plugin_records() {
-        return each("plugins", g_.plugins, [&](const Plugin& p, size_t i) {
-            if (!owner(p.comp, CompKind::Plugin, i)) return false;
+        return each("plugins", g_.plugins, [&](const Plugin& p, PluginId i) {
+            if (!owner(p.comp, CompKind::Plugin, i.v)) return false;
             const KindDesc* d = find_plugin(g_.str(p.kind));  // comps() found it
-            if (p.param_num != int32_t(d->params.size()))
+            if (p.param_num != count_of(d->params))
                 return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
                                         p.param_num));
             if (!params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word))) return false;
             if (p.placed && !d->placed) return fail(fmt::format("a {} takes no placement, field 'placed' is true", d->word));
-            for (int32_t k = 0; k < p.entry_num; ++k)
-                if (!plugin_entry(*d, g_.plugin_entries[size_t(p.entry_adr + k)], p.entry_adr + k)) return false;
+            for (Id<PluginEntry> e : children(p.entry_adr, p.entry_num))
+                if (!plugin_entry(*d, g_.plugin_entries[e], e.v)) return false;
             return true;
-        }) && each("plugins", g_.plugins, [&](const Plugin& p, size_t i) {
+        }) && each("plugins", g_.plugins, [&](const Plugin& p, PluginId i) {
             // The kind's own check, once every component's records are sound.
             const KindDesc* d = find_plugin(g_.str(p.kind));
             PluginProblem problem;
-            if (!d->check || d->check(g_, int32_t(i), problem)) return true;
+            if (!d->check || d->check(g_, i.v, problem)) return true;
             return fail(problem.entry < 0 ? fmt::format("a {}: {}", d->word, problem.message)
                                           : fmt::format("plugin entry {}: {}", p.entry_adr + problem.entry, problem.message));
         });
     }
 
     // Parameters (or an entry's options) as their specs declare them.
-    bool params_valid(std::span<const ParamSpec> specs, int32_t adr, const std::string& of) {
+    bool params_valid(std::span<const ParamSpec> specs, Adr<PluginParam> adr, const std::string& of) {
         for (size_t k = 0; k < specs.size(); ++k) {
             const ParamSpec& ps = specs[k];
-            const PluginParam& v = g_.plugin_params[size_t(adr) + k];
+            const PluginParam& v = g_.plugin_params[adr + k];
             const bool ok = ps.type == ParamType::String ? v.text.id >= 0
                             : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
                             : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
@@ -294,25 +295,25 @@ private:
         if (e.slot_num < 1 || (one && e.slot_num != 1))
             return fail(fmt::format("{}: a '{}' entry names {} slot{}, {}", where, es->word, one ? "one" : "at least one",
                                     one ? "" : "s", fmt::format("field 'slot_num' is {}", e.slot_num)));
-        for (int32_t k = 0; k < e.slot_num; ++k) {
-            const int32_t s = g_.plugin_entry_slots[size_t(e.slot_adr + k)].v;
-            const Slot& sl = g_.slots[size_t(s)];
+        for (const PluginEntrySlot& es_slot : g_.plugin_entry_slots.slice(e.slot_adr, e.slot_num)) {
+            const SlotId s = es_slot.v;
+            const Slot& sl = g_.slots[s];
             const bool type_ok = es->types.empty() || std::find(es->types.begin(), es->types.end(), sl.type) != es->types.end();
             if ((sl.dir != es->target && !es->any_dir) || !type_ok)
                 return fail(fmt::format("{}: slot {} is {} {}, which a '{}' entry cannot name", where, s, word(sl.type),
                                         word(sl.dir), es->word));
         }
-        if (e.param_num != int32_t(es->options.size()))
+        if (e.param_num != count_of(es->options))
             return fail(fmt::format("{}: a '{}' entry has {} options, field 'param_num' is {}", where, es->word,
                                     es->options.size(), e.param_num));
         return params_valid(es->options, e.param_adr, fmt::format("of a '{}' entry", es->word));
     }
 
     bool slots() {
-        return each("slots", g_.slots, [&](const Slot& sl, size_t) {
+        return each("slots", g_.slots, [&](const Slot& sl, SlotId) {
             const int w = slot_width(sl.type);
             if (w == 0) return true;
-            if (sl.value_adr < 0 || size_t(sl.value_adr) + size_t(w) > g_.values.size())
+            if (sl.value_adr < 0 || std::cmp_greater(int64_t{sl.value_adr} + w, g_.values.size()))
                 return fail(fmt::format("field 'value_adr' = {}: a {} slot needs {} values there, the graph has {}",
                                         sl.value_adr, word(sl.type), w, g_.values.size()));
             return true;
@@ -321,29 +322,29 @@ private:
 
     // Accesses and their targets, then the flows whose ends go through them.
     bool flows() {
-        if (!each("accesses", g_.accesses, [&](const Access& a, size_t) {
+        if (!each("accesses", g_.accesses, [&](const Access& a, AccessId) {
             if (!slot("ref_slot", a.ref_slot, SlotType::Ref, Dir::Out)) return false;
-            if (a.target_num != g_.do_types[size_t(a.do_type)].instance_num)
+            if (a.target_num != g_.do_types[a.do_type].instance_num)
                 return fail(fmt::format("field 'target_num' = {}: its type has {} instances", a.target_num,
-                                        g_.do_types[size_t(a.do_type)].instance_num));
+                                        g_.do_types[a.do_type].instance_num));
             return true;
         }))
             return false;
-        return each("flows", g_.flows, [&](const Flow& f, size_t) {
+        return each("flows", g_.flows, [&](const Flow& f, FlowId) {
             // A dynamic end holds its access's reference slot: the one place the runtime reads it from.
-            if (f.from_access >= 0 && f.from != g_.accesses[size_t(f.from_access)].ref_slot)
+            if (f.from_access.valid() && f.from != g_.accesses[f.from_access].ref_slot)
                 return fail(fmt::format("field 'from' = {}: a dynamic source holds its access's ref_slot {}", f.from,
-                                        g_.accesses[size_t(f.from_access)].ref_slot));
-            if (f.to_access >= 0 && f.to != g_.accesses[size_t(f.to_access)].ref_slot)
+                                        g_.accesses[f.from_access].ref_slot));
+            if (f.to_access.valid() && f.to != g_.accesses[f.to_access].ref_slot)
                 return fail(fmt::format("field 'to' = {}: a dynamic target holds its access's ref_slot {}", f.to,
-                                        g_.accesses[size_t(f.to_access)].ref_slot));
+                                        g_.accesses[f.to_access].ref_slot));
             // A flow drives inputs: written into an output, the value would be lost or clobbered.
-            if (!each_end_slot(g_, f.to, f.to_access, [&](int32_t s) { return g_.slots[size_t(s)].dir == Dir::In; }))
+            if (!each_end_slot(g_, f.to, f.to_access, [&](SlotId s) { return g_.slots[s].dir == Dir::In; }))
                 return fail("its target is not an input slot");
             // The runtime copies the target's width of values from the source.
             int width = -1;
-            bool same = each_end_slot(g_, f.to, f.to_access, [&](int32_t s) {
-                const int w = slot_width(g_.slots[size_t(s)].type);
+            bool same = each_end_slot(g_, f.to, f.to_access, [&](SlotId s) {
+                const int w = slot_width(g_.slots[s].type);
                 if (width >= 0 && w != width) return false;
                 width = w;
                 return true;
@@ -351,20 +352,20 @@ private:
             if (!same) return fail("the slots its target may be differ in width");
             if (width <= 0) return true;
             const bool fits = each_end_slot(g_, f.from, f.from_access,
-                                       [&](int32_t s) { return slot_width(g_.slots[size_t(s)].type) == width; });
+                                       [&](SlotId s) { return slot_width(g_.slots[s].type) == width; });
             if (!fits) return fail(fmt::format("its source is not {} values wide, as its target is", width));
             return true;
         });
     }
     bool logics() {
-        return each("logics", g_.logics, [&](const Logic& l, size_t i) {
-            return owner(l.comp, CompKind::Logic, i);
+        return each("logics", g_.logics, [&](const Logic& l, LogicId i) {
+            return owner(l.comp, CompKind::Logic, i.v);
         });
     }
 
     bool bodies() {
-        return each("bodies", g_.bodies, [&](const Body& b, size_t i) {
-            return owner(b.comp, CompKind::Body, i) &&
+        return each("bodies", g_.bodies, [&](const Body& b, BodyId i) {
+            return owner(b.comp, CompKind::Body, i.v) &&
                    check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
                    check(b.shape_num > 0, "a body needs at least one shape") &&
                    check(b.mass >= 0, "field 'mass' is negative") &&
@@ -383,7 +384,7 @@ private:
     }
 
     bool shapes() {
-        return each("shapes", g_.shapes, [&](const Shape& s, size_t) {
+        return each("shapes", g_.shapes, [&](const Shape& s, Id<Shape>) {
             const Vec3& z = s.size;
             bool ok = true;
             switch (s.kind) {
@@ -391,21 +392,22 @@ private:
             case ShapeKind::Sphere: ok = z[0] > 0; break;
             case ShapeKind::Cylinder:
             case ShapeKind::Capsule: ok = z[0] > 0 && z[1] > 0; break;
-            case ShapeKind::Hull:
+            case ShapeKind::Hull: {
                 if (!check(s.point_num > 0, "a hull needs points")) return false;
-                if (const HullFlaw flaw = hull_flaw(&g_.points[size_t(s.point_adr)], size_t(s.point_num));
-                    flaw != HullFlaw::None)
+                const std::span<const Point> points = g_.points.slice(s.point_adr, s.point_num);
+                if (const HullFlaw flaw = hull_flaw(points.data(), points.size()); flaw != HullFlaw::None)
                     return fail(fmt::format("a hull {}", hull_flaw_text(flaw)));
                 break;
+            }
             }
             return check(ok, "field 'size' must be above 0 where the shape uses it");
         });
     }
 
     bool fields() {
-        return each("fields", g_.fields, [&](const Field& f, size_t i) {
+        return each("fields", g_.fields, [&](const Field& f, FieldId i) {
             const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
-            return owner(f.comp, CompKind::Field, i) &&
+            return owner(f.comp, CompKind::Field, i.v) &&
                    check(f.extent[0] > 0 && f.extent[1] > 0 && f.extent[2] > 0, "field 'extent' must be above 0") &&
                    check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
                    check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
@@ -413,7 +415,7 @@ private:
     }
 
     bool nets() {
-        if (!each("places", g_.places, [&](const Place& p, size_t) {
+        if (!each("places", g_.places, [&](const Place& p, PlaceId) {
             return check(g_[p.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
                    check(p.initial >= 0 && p.initial <= kMaxInitialTokens,
                          fmt::format("field 'initial' must lie in [0, {}]", kMaxInitialTokens)) &&
@@ -422,21 +424,21 @@ private:
                    slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out);
         }))
             return false;
-        if (!each("transitions", g_.transitions, [&](const Transition& t, size_t) {
+        if (!each("transitions", g_.transitions, [&](const Transition& t, TransitionId) {
             return check(g_[t.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
                    check(t.in_num > 0, "a transition needs an input place (it would fire in every step)") &&
                    slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out);
         }))
             return false;
-        return each("arcs", g_.arcs, [&](const auto& r, size_t) {
+        return each("arcs", g_.arcs, [&](const auto& r, Id<Arc>) {
             return check(r.weight >= 1 && r.weight <= kMaxArcWeight,
                          fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
         });
     }
 
     bool triggers() {
-        return each("triggers", g_.triggers, [&](const Trigger& t, size_t i) {
-            return owner(t.comp, CompKind::Trigger, i) &&
+        return each("triggers", g_.triggers, [&](const Trigger& t, TriggerId i) {
+            return owner(t.comp, CompKind::Trigger, i.v) &&
                    check(t.extent[0] > 0 && t.extent[1] > 0 && t.extent[2] > 0, "field 'extent' must be above 0");
         });
     }
@@ -445,26 +447,26 @@ private:
     // detail, then the kind's own check of the row.
     bool table_kinds() {
         for (const KindDesc* d : builtin_kinds())
-            for (size_t i = 0, n = d->rows(g_); i < n; ++i) {
+            for (int32_t i = 0; std::cmp_less(i, d->rows(g_)); ++i) {
                 at(d->table, i);
-                if (!owner(d->comp_of(g_, int32_t(i)), d->kind, i)) return false;
+                if (!owner(d->comp_of(g_, i), d->kind, i)) return false;
                 PluginProblem problem;
-                if (d->check && !d->check(g_, int32_t(i), problem)) return fail(problem.message);
+                if (d->check && !d->check(g_, i, problem)) return fail(problem.message);
             }
         return true;
     }
 
     bool routes() {
-        return each("routes", g_.routes, [&](const Route& r, size_t) {
+        return each("routes", g_.routes, [&](const Route& r, Id<Route>) {
             return check(g_[r.comp].kind == CompKind::Router, "field 'comp' is not a router") &&
                    slot("out_slot", r.out_slot, SlotType::Void, Dir::Out);
         });
     }
 
     bool graphics() {
-        return each("graphics", g_.graphics, [&](const Graphics& gr, size_t i) {
-            if (!owner(gr.comp, CompKind::Graphics, i) ||
-                !check(gr.parent < int32_t(i), "field 'parent' must name an earlier graphics (or be -1)"))
+        return each("graphics", g_.graphics, [&](const Graphics& gr, GraphicsId i) {
+            if (!owner(gr.comp, CompKind::Graphics, i.v) ||
+                !check(gr.parent.v < i.v, "field 'parent' must name an earlier graphics (or be -1)"))
                 return false;
             if (gr.variant < -1 || gr.variant >= gr.variant_num)
                 return fail(fmt::format("field 'variant' = {} is not -1 or the index of one of its {} variants",
@@ -474,7 +476,7 @@ private:
     }
 
     bool animations() {
-        return each("animations", g_.animations, [&](const Animation& a, size_t i) {
+        return each("animations", g_.animations, [&](const Animation& a, AnimationId i) {
             if (!check(a.duration >= 0, "field 'duration' is negative") ||
                 !check(a.key_num > 0, "an animation needs keys") ||
                 !slot("play_slot", a.play_slot, SlotType::Void, Dir::In) ||
@@ -482,10 +484,11 @@ private:
                 return false;
             // A bad key is reported at the key.
             for (int32_t k = 0; k < a.key_num; ++k) {
-                const double t = g_.keys[size_t(a.key_adr + k)].t;
-                at("keys", size_t(a.key_adr + k));
+                const Id<Key> key = a.key_adr + k;
+                const double t = g_.keys[key].t;
+                at("keys", key.v);
                 if (k == 0 && t < 0) return fail(fmt::format("the first key of animation {} is at a negative time", i));
-                if (k > 0 && !(t > g_.keys[size_t(a.key_adr + k - 1)].t))
+                if (k > 0 && !(t > g_.keys[a.key_adr + (k - 1)].t))
                     return fail(fmt::format("its time is not later than the key before it (animation {})", i));
             }
             return true;
@@ -493,17 +496,17 @@ private:
     }
 
     bool variants() {
-        return each("variants", g_.variants, [&](const Variant& v, size_t) {
+        return each("variants", g_.variants, [&](const Variant& v, VariantId) {
             return slot("select_slot", v.select_slot, SlotType::Void, Dir::In);
         });
     }
 
     bool ports() {
-        return each("ports", g_.ports, [&](const Port& p, size_t) {
+        return each("ports", g_.ports, [&](const Port& p, PortId) {
             if (p.target_num < 1 || (p.dir == Dir::Out && p.target_num != 1))
                 return fail(fmt::format("a port forwards to {} slots ({} port)", p.target_num, word(p.dir)));
-            for (int32_t k = 0; k < p.target_num; ++k)
-                if (!slot("port_targets", g_.port_targets[size_t(p.target_adr + k)].v, p.type, p.dir)) return false;
+            for (const PortTarget& t : g_.port_targets.slice(p.target_adr, p.target_num))
+                if (!slot("port_targets", t.v, p.type, p.dir)) return false;
             return true;
         });
     }

@@ -19,9 +19,10 @@ namespace {
 
 using namespace plant::graph;
 
-template <class T>
-bool in_range(const std::vector<T>& v, int32_t i) {
-    return i >= 0 && static_cast<size_t>(i) < v.size();
+// A loaded graph may be unsound (dot draws what it is given): every id is looked up checked.
+template <class IdT, class T>
+bool in_range(const IdVector<IdT, T>& v, IdT i) {
+    return v.contains(i);
 }
 
 // A DOT double-quoted string. Backslashes are doubled so that a name never forms an
@@ -52,15 +53,15 @@ std::string html(std::string_view s) {
     return r;
 }
 
-int32_t owner_of_slot(const Graph& g, int32_t slot) {
-    if (!in_range(g.slots, slot) || !in_range(g.comps, g.slots[slot].comp)) return -1;
+DoId owner_of_slot(const Graph& g, SlotId slot) {
+    if (!in_range(g.slots, slot) || !in_range(g.comps, g.slots[slot].comp)) return DoId{};
     return g.comps[g.slots[slot].comp].owner;
 }
 
 // A component's kind as written in plant files: a plugin's own word (`faults`), not "plugin".
-std::string kind_word(const Graph& g, int32_t c) {
-    const Comp& k = g.comps[size_t(c)];
-    if (k.kind == CompKind::Plugin && in_range(g.plugins, k.detail)) return std::string(g.str(g.plugins[size_t(k.detail)].kind));
+std::string kind_word(const Graph& g, CompId c) {
+    const Comp& k = g.comps[c];
+    if (const PluginId p(k.detail); k.kind == CompKind::Plugin && in_range(g.plugins, p)) return std::string(g.str(g.plugins[p].kind));
     return std::string(word(k.kind));
 }
 
@@ -68,7 +69,8 @@ std::string kind_word(const Graph& g, int32_t c) {
 // => s1.to_working`): the component acts on it (it drives an input, or forces the slot) or
 // reads it (an output it shows); `label` is the entry's word and key.
 struct EntryEdge {
-    int32_t comp = -1, slot = -1;
+    CompId comp;
+    SlotId slot;
     bool reads = false;   // slot -> component
     bool forces = false;  // an entry that may name either direction: it forces the slot
     std::string label;
@@ -77,20 +79,18 @@ struct EntryEdge {
 std::vector<EntryEdge> entry_edges(const Graph& g) {
     std::vector<EntryEdge> out;
     for (const Plugin& p : g.plugins) {
-        const int32_t c = p.comp;
+        const CompId c = p.comp;
         if (!in_range(g.comps, c)) continue;
         const KindDesc* desc = plugin_of(g, c);
-        for (int32_t k = 0; k < p.entry_num; ++k) {
-            const int32_t e = p.entry_adr.v + k;
+        for (Id<PluginEntry> e : children(p.entry_adr, p.entry_num)) {
             if (!in_range(g.plugin_entries, e)) continue;
-            const PluginEntry& en = g.plugin_entries[size_t(e)];
+            const PluginEntry& en = g.plugin_entries[e];
             const EntrySpec* spec = desc ? find_entry(*desc, g.str(en.word)) : nullptr;
             const bool time = spec && spec->key == EntryKey::Time;
             const std::string label = fmt::format("{} {:g}{}", g.str(en.word), en.key, time ? " s" : "");
-            for (int32_t j = 0; j < en.slot_num; ++j) {
-                const int32_t at = en.slot_adr.v + j;
+            for (Id<PluginEntrySlot> at : children(en.slot_adr, en.slot_num)) {
                 if (!in_range(g.plugin_entry_slots, at)) continue;
-                const int32_t s = g.plugin_entry_slots[size_t(at)].v;
+                const SlotId s = g.plugin_entry_slots[at].v;
                 if (!in_range(g.slots, s)) continue;
                 out.push_back({c, s, spec && !spec->any_dir && spec->target == Dir::Out, spec && spec->any_dir, label});
             }
@@ -109,60 +109,63 @@ struct End {
 
 class Writer {
 public:
-    Writer(const Graph& g, std::ostream& o, int32_t only = -1) : g_(g), o_(o), only_(only) {}
+    Writer(const Graph& g, std::ostream& o, DoId only = DoId{}) : g_(g), o_(o), only_(only) {}
     void run();
 
 private:
-    void cluster(int32_t d, int depth);
-    void component(int32_t c, int depth);
-    void net(int32_t c, int depth);
-    void access(int32_t a, int depth);
+    void cluster(DoId d, int depth);
+    void component(CompId c, int depth);
+    void net(CompId c, int depth);
+    void access(AccessId a, int depth);
     void edges();
     std::string indent(int depth) const { return std::string(2 * depth, ' '); }
-    std::string comp_label(int32_t c) const { return kind_word(g_, c) + " " + std::string(g_.str(g_.comps[c].name)); }
+    std::string comp_label(CompId c) const { return kind_word(g_, c) + " " + std::string(g_.str(g_.comps[c].name)); }
     std::string ep(const End& e) const { return e.port.empty() ? e.node : e.node + ":" + e.port; }
 
     // With `only_` set: inside that object (itself or below it).
-    bool inside(int32_t d) const {
-        if (only_ < 0) return true;
-        for (int hops = 0; in_range(g_.dos, d) && hops <= int(g_.dos.size()); ++hops, d = g_.dos[d].parent)
+    bool inside(DoId d) const {
+        if (!only_.valid()) return true;
+        for (int32_t hops = 0; in_range(g_.dos, d) && hops <= g_.dos.count(); ++hops, d = g_.dos[d].parent)
             if (d == only_) return true;
         return false;
     }
-    bool slot_inside(int32_t s) const { return only_ < 0 || inside(owner_of_slot(g_, s)); }
+    bool slot_inside(SlotId s) const { return !only_.valid() || inside(owner_of_slot(g_, s)); }
 
     const Graph& g_;
     std::ostream& o_;
-    int32_t only_;
-    std::vector<std::vector<int32_t>> child_dos_, do_comps_, do_accesses_;
-    std::vector<int32_t> top_dos_, top_comps_, top_accesses_;
-    std::vector<char> drawn_;  // per DO, guards against a parent cycle in a loaded graph
-    std::vector<End> ends_;    // per slot
+    DoId only_;
+    IdVector<DoId, std::vector<DoId>> child_dos_;
+    IdVector<DoId, std::vector<CompId>> do_comps_;
+    IdVector<DoId, std::vector<AccessId>> do_accesses_;
+    std::vector<DoId> top_dos_;
+    std::vector<CompId> top_comps_;
+    std::vector<AccessId> top_accesses_;
+    IdVector<DoId, char> drawn_;  // guards against a parent cycle in a loaded graph
+    IdVector<SlotId, End> ends_;
 };
 
 void Writer::run() {
-    size_t nd = g_.dos.size();
+    const size_t nd = g_.dos.size();
     child_dos_.resize(nd);
     do_comps_.resize(nd);
     do_accesses_.resize(nd);
     drawn_.assign(nd, 0);
-    for (size_t d = 0; d < nd; ++d) {
-        int32_t p = g_.dos[d].parent;
-        (in_range(g_.dos, p) && p != static_cast<int32_t>(d) ? child_dos_[p] : top_dos_)
-            .push_back(static_cast<int32_t>(d));
+    for (DoId d : ids_of(g_.dos)) {
+        const DoId p = g_.dos[d].parent;
+        (in_range(g_.dos, p) && p != d ? child_dos_[p] : top_dos_).push_back(d);
     }
-    for (size_t c = 0; c < g_.comps.size(); ++c) {
-        int32_t d = g_.comps[c].owner;
-        (in_range(g_.dos, d) ? do_comps_[d] : top_comps_).push_back(static_cast<int32_t>(c));
+    for (CompId c : ids_of(g_.comps)) {
+        const DoId d = g_.comps[c].owner;
+        (in_range(g_.dos, d) ? do_comps_[d] : top_comps_).push_back(c);
     }
-    for (size_t a = 0; a < g_.accesses.size(); ++a) {
-        int32_t d = owner_of_slot(g_, g_.accesses[a].ref_slot);
-        (in_range(g_.dos, d) ? do_accesses_[d] : top_accesses_).push_back(static_cast<int32_t>(a));
+    for (AccessId a : ids_of(g_.accesses)) {
+        const DoId d = owner_of_slot(g_, g_.accesses[a].ref_slot);
+        (in_range(g_.dos, d) ? do_accesses_[d] : top_accesses_).push_back(a);
     }
 
     ends_.assign(g_.slots.size(), {});
-    for (size_t s = 0; s < g_.slots.size(); ++s) {
-        int32_t c = g_.slots[s].comp;
+    for (SlotId s : ids_of(g_.slots)) {
+        const CompId c = g_.slots[s].comp;
         if (!in_range(g_.comps, c)) continue;
         // The compass point keeps a flow on the side of the table its slot is drawn on.
         std::string port = q("s" + std::to_string(s));
@@ -170,7 +173,7 @@ void Writer::run() {
         ends_[s] = {q("c" + std::to_string(c)), port, {}};
         if (g_.comps[c].kind == CompKind::Logic) ends_[s].port.clear();
     }
-    auto note = [&](int32_t slot, const std::string& node, std::string_view owner_name) {
+    auto note = [&](SlotId slot, const std::string& node, std::string_view owner_name) {
         if (!in_range(g_.slots, slot)) return;
         std::string_view n = g_.str(g_.slots[slot].name);
         if (n.substr(0, owner_name.size()) == owner_name && n.size() > owner_name.size() &&
@@ -178,12 +181,12 @@ void Writer::run() {
             n.remove_prefix(owner_name.size() + 1);  // "BasePos.entered" -> "entered"
         ends_[slot] = {node, {}, std::string(n)};
     };
-    for (size_t p = 0; p < g_.places.size(); ++p) {
+    for (PlaceId p : ids_of(g_.places)) {
         const Place& pl = g_.places[p];
         std::string node = q("p" + std::to_string(p));
-        for (int32_t s : {pl.put_slot, pl.entered_slot, pl.tokens_slot}) note(s, node, g_.str(pl.name));
+        for (SlotId s : {pl.put_slot, pl.entered_slot, pl.tokens_slot}) note(s, node, g_.str(pl.name));
     }
-    for (size_t t = 0; t < g_.transitions.size(); ++t)
+    for (TransitionId t : ids_of(g_.transitions))
         note(g_.transitions[t].fired_slot, q("t" + std::to_string(t)), g_.str(g_.transitions[t].name));
 
     std::string_view plant = g_.str(g_.plant);
@@ -191,40 +194,40 @@ void Writer::run() {
        << "  graph [rankdir=LR, compound=true, fontname=\"Helvetica\", fontsize=11];\n"
        << "  node [fontname=\"Helvetica\", fontsize=10];\n"
        << "  edge [fontname=\"Helvetica\", fontsize=9];\n";
-    if (only_ >= 0) {
+    if (only_.valid()) {
         cluster(only_, 1);
     } else {
-        for (int32_t d : top_dos_) cluster(d, 1);
-        for (int32_t c : top_comps_) component(c, 1);
-        for (int32_t a : top_accesses_) access(a, 1);
+        for (DoId d : top_dos_) cluster(d, 1);
+        for (CompId c : top_comps_) component(c, 1);
+        for (AccessId a : top_accesses_) access(a, 1);
     }
     edges();
     o_ << "}\n";
 }
 
-void Writer::cluster(int32_t d, int depth) {
+void Writer::cluster(DoId d, int depth) {
     if (drawn_[d]) return;
     drawn_[d] = 1;
     const Do& x = g_.dos[d];
     std::string label(g_.str(x.path));
-    if (x.parent < 0 && label.empty()) label = g_.str(g_.plant);
+    if (!x.parent.valid() && label.empty()) label = g_.str(g_.plant);
     std::string in = indent(depth);
     o_ << in << "subgraph " << q("cluster_do" + std::to_string(d)) << " {\n"
        << in << "  label=" << q(label) << ";\n";
-    for (int32_t c : do_comps_[d]) component(c, depth + 1);
-    for (int32_t a : do_accesses_[d]) access(a, depth + 1);
-    for (int32_t child : child_dos_[d]) cluster(child, depth + 1);
+    for (CompId c : do_comps_[d]) component(c, depth + 1);
+    for (AccessId a : do_accesses_[d]) access(a, depth + 1);
+    for (DoId child : child_dos_[d]) cluster(child, depth + 1);
     o_ << in << "}\n";
 }
 
-void Writer::component(int32_t c, int depth) {
+void Writer::component(CompId c, int depth) {
     const Comp& k = g_.comps[c];
     std::string in = indent(depth);
     std::string id = q("c" + std::to_string(c));
     if (k.kind == CompKind::State) return net(c, depth);
     if (k.kind == CompKind::Logic) {
         std::string_view op = "logic";
-        if (in_range(g_.logics, k.detail)) op = word(g_.logics[k.detail].op);
+        if (const LogicId l(k.detail); in_range(g_.logics, l)) op = word(g_.logics[l].op);
         o_ << in << id << " [shape=diamond, width=0.4, height=0.4, fontsize=8, label=" << q(op)
            << ", xlabel=" << q(g_.str(k.name)) << "];\n";
         return;
@@ -232,11 +235,11 @@ void Writer::component(int32_t c, int depth) {
     // A table: inputs down the left, the component in the middle, outputs down the
     // right, each slot a port. (HTML-like labels, not records: graphviz loses flat
     // edges between record nodes.)
-    std::vector<int32_t> ins, outs;
-    for (int32_t s = k.slot_adr; s < k.slot_adr + k.slot_num; ++s)
+    std::vector<SlotId> ins, outs;
+    for (SlotId s : children(k.slot_adr, k.slot_num))
         if (in_range(g_.slots, s)) (g_.slots[s].dir == Dir::In ? ins : outs).push_back(s);
-    const size_t rows = std::max({ins.size(), outs.size(), size_t(1)});
-    auto cell = [&](const std::vector<int32_t>& side, size_t r) {
+    const size_t rows = std::max({ins.size(), outs.size(), size_t{1}});
+    auto cell = [&](const std::vector<SlotId>& side, size_t r) {
         if (r >= side.size()) return std::string("<TD BORDER=\"0\"></TD>");
         return "<TD PORT=\"s" + std::to_string(side[r]) + "\">" + html(g_.str(g_.slots[side[r]].name)) + "</TD>";
     };
@@ -250,12 +253,12 @@ void Writer::component(int32_t c, int depth) {
     o_ << in << id << " [shape=plaintext, label=<" << label << ">];\n";
 }
 
-void Writer::net(int32_t c, int depth) {
+void Writer::net(CompId c, int depth) {
     std::string in = indent(depth);
     o_ << in << "subgraph " << q("cluster_net" + std::to_string(c)) << " {\n"
        << in << "  label=" << q(comp_label(c)) << ";\n"
        << in << "  style=rounded;\n";
-    for (size_t p = 0; p < g_.places.size(); ++p) {
+    for (PlaceId p : ids_of(g_.places)) {
         const Place& pl = g_.places[p];
         if (pl.comp != c) continue;
         std::string label(g_.str(pl.name));
@@ -264,14 +267,14 @@ void Writer::net(int32_t c, int depth) {
         o_ << in << "  " << q("p" + std::to_string(p)) << " [shape=circle, fixedsize=false, label="
            << q(label) << "];\n";
     }
-    for (size_t t = 0; t < g_.transitions.size(); ++t) {
+    for (TransitionId t : ids_of(g_.transitions)) {
         const Transition& tr = g_.transitions[t];
         if (tr.comp != c) continue;
         std::string id = q("t" + std::to_string(t));
         o_ << in << "  " << id << " [shape=box, height=0.25, style=filled, fillcolor=\"#dddddd\", label="
            << q(g_.str(tr.name)) << "];\n";
-        auto arcs = [&](int32_t adr, int32_t num, bool consumed) {
-            for (int32_t a = adr; a < adr + num; ++a) {
+        auto arcs = [&](Adr<Arc> adr, int32_t num, bool consumed) {
+            for (Id<Arc> a : children(adr, num)) {
                 if (!in_range(g_.arcs, a) || !in_range(g_.places, g_.arcs[a].place)) continue;
                 std::string place = q("p" + std::to_string(g_.arcs[a].place));
                 o_ << in << "  " << (consumed ? place : id) << " -> " << (consumed ? id : place);
@@ -286,7 +289,7 @@ void Writer::net(int32_t c, int depth) {
 }
 
 // A slot of an object known only at run time, drawn next to the slot holding it.
-void Writer::access(int32_t a, int depth) {
+void Writer::access(AccessId a, int depth) {
     const Access& x = g_.accesses[a];
     std::string type = in_range(g_.do_types, x.do_type) ? std::string(g_.str(g_.do_types[x.do_type].name))
                                                         : std::string("?");
@@ -295,14 +298,14 @@ void Writer::access(int32_t a, int depth) {
 }
 
 void Writer::edges() {
-    for (size_t a = 0; a < g_.accesses.size(); ++a) {
-        int32_t r = g_.accesses[a].ref_slot;
+    for (AccessId a : ids_of(g_.accesses)) {
+        const SlotId r = g_.accesses[a].ref_slot;
         if (!in_range(ends_, r) || ends_[r].node.empty() || !slot_inside(r)) continue;
         o_ << "  " << ep(ends_[r]) << " -> " << q("a" + std::to_string(a))
            << " [style=dotted, arrowhead=none];\n";
     }
     // Logic inputs that are negated, so an edge into one can be marked.
-    std::vector<char> negated(g_.slots.size(), 0);
+    IdVector<SlotId, char> negated(g_.slots.count(), 0);
     for (const LogicIn& li : g_.logic_inputs)
         if (in_range(g_.slots, li.slot)) negated[li.slot] = li.negated;
 
@@ -321,10 +324,10 @@ void Writer::edges() {
         if (f.cond != Cond::Source) label = "when " + std::string(word(f.cond));
         if (f.once) label += std::string(label.empty() ? "" : ", ") + "once";
         if (!label.empty()) attrs.push_back("label=" + q(label));
-        if (f.from_access >= 0 || f.to_access >= 0) attrs.push_back("style=dashed");
+        if (f.from_access.valid() || f.to_access.valid()) attrs.push_back("style=dashed");
         if (!from.note.empty()) attrs.push_back("taillabel=" + q(from.note));
         if (!to.note.empty()) attrs.push_back("headlabel=" + q(to.note));
-        if (f.to_access < 0 && in_range(g_.slots, f.to) && negated[f.to])
+        if (!f.to_access.valid() && in_range(g_.slots, f.to) && negated[f.to])
             attrs.push_back("arrowhead=odot, headlabel=\"not\"");
 
         o_ << "  " << ep(from) << " -> " << ep(to);
@@ -333,9 +336,9 @@ void Writer::edges() {
     }
     // A plugin component's entries: what it drives or forces, and what it reads.
     for (const EntryEdge& e : entry_edges(g_)) {
-        if (!inside(g_.comps[size_t(e.comp)].owner) || !slot_inside(e.slot) || ends_[size_t(e.slot)].node.empty()) continue;
+        if (!inside(g_.comps[e.comp].owner) || !slot_inside(e.slot) || ends_[e.slot].node.empty()) continue;
         const End comp{q("c" + std::to_string(e.comp)), {}, {}};
-        const End& slot = ends_[size_t(e.slot)];
+        const End& slot = ends_[e.slot];
         std::string attrs = "label=" + q(e.label) + ", style=dashed";
         if (e.forces) attrs += ", color=\"#b03030\", fontcolor=\"#b03030\"";
         if (!slot.note.empty()) attrs += std::string(e.reads ? ", taillabel=" : ", headlabel=") + q(slot.note);
@@ -351,50 +354,50 @@ public:
     Overview(const Graph& g, std::ostream& o) : g_(g), o_(o) {}
 
     void run() {
-        const size_t nd = g_.dos.size();
-        std::vector<std::vector<int32_t>> children(nd);
-        std::vector<int32_t> roots;
-        for (size_t d = 0; d < nd; ++d) {
-            const int32_t p = g_.dos[d].parent;
-            if (g_.dos[d].pool >= 0) continue;  // pooled objects (bottles) are not the plant's layout
-            (in_range(g_.dos, p) && p != int32_t(d) ? children[size_t(p)] : roots).push_back(int32_t(d));
+        const int32_t nd = g_.dos.count();
+        IdVector<DoId, std::vector<DoId>> sub(nd);  // child objects
+        std::vector<DoId> roots;
+        for (DoId d : ids_of(g_.dos)) {
+            const DoId p = g_.dos[d].parent;
+            if (g_.dos[d].pool.valid()) continue;  // pooled objects (bottles) are not the plant's layout
+            (in_range(g_.dos, p) && p != d ? sub[p] : roots).push_back(d);
         }
-        int32_t focus = roots.empty() ? -1 : roots[0];
+        DoId focus = roots.empty() ? DoId{} : roots[0];
         // A wrapper with one child object and no components of its own shows that child.
-        for (int hops = 0; focus >= 0 && hops < int(nd); ++hops) {
-            const auto& ch = children[size_t(focus)];
-            if (ch.size() != 1 || g_.dos[size_t(focus)].comp_num > 0) break;
+        for (int32_t hops = 0; focus.valid() && hops < nd; ++hops) {
+            const auto& ch = sub[focus];
+            if (ch.size() != 1 || g_.dos[focus].comp_num > 0) break;
             focus = ch[0];
         }
         // Node of every DO and component: the child of `focus` (or own component) it is in.
-        node_of_do_.assign(nd, -1);
+        node_of_do_.assign(g_.dos.size(), -1);
         std::string_view plant = g_.str(g_.plant);
         o_ << "digraph " << q(plant.empty() ? "plant" : plant) << " {\n"
            << "  graph [rankdir=TB, nodesep=0.2, ranksep=0.35, fontname=\"Helvetica\", fontsize=11, label="
-           << q(focus >= 0 ? overview_title(focus) : std::string("empty")) << ", labelloc=t];\n"
+           << q(focus.valid() ? overview_title(focus) : std::string("empty")) << ", labelloc=t];\n"
            << "  node [fontname=\"Helvetica\", fontsize=10];\n"
            << "  edge [fontname=\"Helvetica\", fontsize=7];\n";
-        if (focus < 0) {
+        if (!focus.valid()) {
             o_ << "}\n";
             return;
         }
         std::vector<std::string> nodes;
-        for (int32_t c : children[size_t(focus)]) {
+        for (DoId c : sub[focus]) {
             nodes.push_back("d" + std::to_string(c));
-            const Do& x = g_.dos[size_t(c)];
+            const Do& x = g_.dos[c];
             const std::string path(g_.str(x.path));
             const std::string name = path.substr(path.rfind('.') == std::string::npos ? 0 : path.rfind('.') + 1);
             const std::string type = in_range(g_.do_types, x.type) ? std::string(g_.str(g_.do_types[x.type].name)) : "";
             o_ << "  " << q("d" + std::to_string(c)) << " [shape=box, style=rounded, label=" << q(name + ": " + type)
                << ", tooltip=" << q(path) << "];\n";
-            mark(c, int32_t(c), children);
+            mark(c, c.v, sub);
         }
-        const Do& f = g_.dos[size_t(focus)];
+        const Do& f = g_.dos[focus];
         comp_node_.assign(g_.comps.size(), "");
-        for (int32_t c = f.comp_adr; c < f.comp_adr + f.comp_num; ++c) {
-            const Comp& k = g_.comps[size_t(c)];
+        for (CompId c : children(f.comp_adr, f.comp_num)) {
+            const Comp& k = g_.comps[c];
             const std::string id = "c" + std::to_string(c);
-            comp_node_[size_t(c)] = id;
+            comp_node_[c] = id;
             nodes.push_back(id);
             o_ << "  " << q(id) << " [shape=" << (k.kind == CompKind::Logic ? "diamond" : k.kind == CompKind::State ? "doublecircle" : "ellipse")
                << ", fontsize=9, label=" << q(kind_word(g_, c) + "\n" + std::string(g_.str(k.name))) << "];\n";
@@ -405,17 +408,17 @@ public:
         // bundled apart from the flows: drawn dashed, forces in red.
         std::map<std::pair<std::string, std::string>, std::vector<std::string>> entries, forces;
         for (const Flow& fl : g_.flows) {
-            const int32_t a = fl.from, b = fl.to;  // a dynamic end: its reference slot
+            const SlotId a = fl.from, b = fl.to;  // a dynamic end: its reference slot
             const std::string from = node_of_slot(a), to = node_of_slot(b);
             if (from.empty() || to.empty() || from == to) continue;
             // The target slot names the flow well enough at this scale ("query", "MoveToBasePos.put").
-            bundles[{from, to}].push_back(std::string(g_.str(g_.slots[size_t(b)].name)));
+            bundles[{from, to}].push_back(std::string(g_.str(g_.slots[b].name)));
         }
         for (const EntryEdge& e : entry_edges(g_)) {
             const std::string comp = node_of_comp(e.comp), slot = node_of_slot(e.slot);
             if (comp.empty() || slot.empty() || comp == slot) continue;
             (e.forces ? forces : entries)[e.reads ? std::pair{slot, comp} : std::pair{comp, slot}].push_back(
-                e.label + " " + std::string(g_.str(g_.slots[size_t(e.slot)].name)));
+                e.label + " " + std::string(g_.str(g_.slots[e.slot].name)));
         }
         // Objects without flows (belts, curves: joined by physics only) in rows of four, in a box.
         std::set<std::string> joined;
@@ -472,49 +475,49 @@ public:
     }
 
 private:
-    std::string overview_title(int32_t focus) const {
-        const std::string path(g_.str(g_.dos[size_t(focus)].path));
-        const std::string type = in_range(g_.do_types, g_.dos[size_t(focus)].type)
-                                     ? std::string(g_.str(g_.do_types[g_.dos[size_t(focus)].type].name))
+    std::string overview_title(DoId focus) const {
+        const std::string path(g_.str(g_.dos[focus].path));
+        const std::string type = in_range(g_.do_types, g_.dos[focus].type)
+                                     ? std::string(g_.str(g_.do_types[g_.dos[focus].type].name))
                                      : std::string(g_.str(g_.plant));
         return (path.empty() ? type : path + ": " + type) +
                " (overview: plant graph --object PATH draws one object in full)";
     }
-    void mark(int32_t d, int32_t node, const std::vector<std::vector<int32_t>>& children) {
-        std::vector<int32_t> todo{d};
+    void mark(DoId d, int32_t node, const IdVector<DoId, std::vector<DoId>>& sub) {
+        std::vector<DoId> todo{d};
         while (!todo.empty()) {
-            const int32_t x = todo.back();
+            const DoId x = todo.back();
             todo.pop_back();
-            if (node_of_do_[size_t(x)] >= 0) continue;
-            node_of_do_[size_t(x)] = node;
-            for (int32_t c : children[size_t(x)]) todo.push_back(c);
+            if (node_of_do_[x] >= 0) continue;
+            node_of_do_[x] = node;
+            for (DoId c : sub[x]) todo.push_back(c);
         }
     }
-    std::string node_of_slot(int32_t s) const {
+    std::string node_of_slot(SlotId s) const {
         if (!in_range(g_.slots, s)) return {};
-        return node_of_comp(g_.slots[size_t(s)].comp);
+        return node_of_comp(g_.slots[s].comp);
     }
     // The focus's own component's node, or the node of the child object it is in.
-    std::string node_of_comp(int32_t c) const {
+    std::string node_of_comp(CompId c) const {
         if (!in_range(g_.comps, c)) return {};
-        if (!comp_node_[size_t(c)].empty()) return comp_node_[size_t(c)];
-        const int32_t d = g_.comps[size_t(c)].owner;
-        if (!in_range(g_.dos, d) || node_of_do_[size_t(d)] < 0) return {};
-        return "d" + std::to_string(node_of_do_[size_t(d)]);
+        if (!comp_node_[c].empty()) return comp_node_[c];
+        const DoId d = g_.comps[c].owner;
+        if (!in_range(g_.dos, d) || node_of_do_[d] < 0) return {};
+        return "d" + std::to_string(node_of_do_[d]);
     }
 
     const Graph& g_;
     std::ostream& o_;
-    std::vector<int32_t> node_of_do_;
-    std::vector<std::string> comp_node_;
+    IdVector<DoId, int32_t> node_of_do_;  // the node: a child of the focus (its DO id)
+    IdVector<CompId, std::string> comp_node_;
 };
 
 void write_dot(const Graph& g, std::ostream& o) { Writer(g, o).run(); }
 
 bool write_dot_object(const Graph& g, std::string_view path, std::ostream& o) {
-    for (size_t d = 0; d < g.dos.size(); ++d)
+    for (DoId d : ids_of(g.dos))
         if (g.str(g.dos[d].path) == path) {
-            Writer(g, o, int32_t(d)).run();
+            Writer(g, o, d).run();
             return true;
         }
     return false;

@@ -13,20 +13,26 @@
 
 namespace plant::sema {
 
+using graph::CompId;
 using graph::CompKind;
+using graph::DoId;
+using graph::PlaceId;
+using graph::SlotId;
+using graph::TransitionId;
+using SlotFlags = graph::IdVector<SlotId, uint8_t>;
 
 namespace {
 
-std::vector<bool> driven_inputs(const graph::Graph& g) {
-    std::vector<bool> driven(g.slots.size(), false);
-    for (const auto& f : g.flows) graph::each_written_slot(g, f, [&](int32_t s) { driven[static_cast<size_t>(s)] = true; });
+SlotFlags driven_inputs(const graph::Graph& g) {
+    SlotFlags driven(g.slots.count(), 0);
+    for (const auto& f : g.flows) graph::each_written_slot(g, f, [&](SlotId s) { driven[s] = 1; });
     return driven;
 }
 
-std::vector<bool> used_outputs(const graph::Graph& g) {
-    std::vector<bool> used(g.slots.size(), false);
-    for (const auto& f : g.flows) graph::each_read_slot(g, f, [&](int32_t s) { used[static_cast<size_t>(s)] = true; });
-    for (const auto& r : g.records) used[static_cast<size_t>(r.slot)] = true;
+SlotFlags used_outputs(const graph::Graph& g) {
+    SlotFlags used(g.slots.count(), 0);
+    for (const auto& f : g.flows) graph::each_read_slot(g, f, [&](SlotId s) { used[s] = 1; });
+    for (const auto& r : g.records) used[r.slot] = 1;
     return used;
 }
 
@@ -35,64 +41,60 @@ std::vector<bool> used_outputs(const graph::Graph& g) {
 // Inputs driven by a flow, or exposed by an input port of their object: what a port
 // forwards to is the object's interface, fed from outside whether or not this plant
 // connects it (an unconnected port is the plant's choice, not a mistake in the type).
-std::vector<bool> Elaborator::driven_or_exposed() const {
+SlotFlags Elaborator::driven_or_exposed() const {
     auto driven = driven_inputs(g_);
     for (const auto& scope : scopes_)
         for (const auto& [n, port] : scope.ports)
             if (port.input)
-                for (int32_t s : port.slots) driven[static_cast<size_t>(s)] = true;
+                for (int32_t s : port.slots) driven[SlotId(s)] = 1;
     return driven;
 }
 
 void Elaborator::check_petri_nets() {
     const auto driven = driven_or_exposed();
-    std::vector<std::vector<int32_t>> places_of(g_.comps.size()), transitions_of(g_.comps.size());
-    for (size_t p = 0; p < g_.places.size(); ++p) places_of[static_cast<size_t>(g_.places[p].comp)].push_back(static_cast<int32_t>(p));
-    for (size_t t = 0; t < g_.transitions.size(); ++t)
-        transitions_of[static_cast<size_t>(g_.transitions[t].comp)].push_back(static_cast<int32_t>(t));
+    graph::IdVector<CompId, std::vector<PlaceId>> places_of(g_.comps.count());
+    graph::IdVector<CompId, std::vector<TransitionId>> transitions_of(g_.comps.count());
+    for (PlaceId p : ids_of(g_.places)) places_of[g_.places[p].comp].push_back(p);
+    for (TransitionId t : ids_of(g_.transitions)) transitions_of[g_.transitions[t].comp].push_back(t);
     std::set<std::tuple<int32_t, uint32_t, std::string>> reported;  // one analysis per declaration and marking
-    for (size_t c = 0; c < g_.comps.size(); ++c) {
+    for (CompId c : ids_of(g_.comps)) {
         if (g_.comps[c].kind != CompKind::State || places_of[c].empty()) continue;
         petri::Net net;
-        std::map<int32_t, int> local;
-        for (int32_t p : places_of[c]) {
-            local[p] = static_cast<int>(net.initial.size());
-            net.initial.push_back(g_.places[static_cast<size_t>(p)].initial);
-            net.fed.push_back(driven[static_cast<size_t>(g_.places[static_cast<size_t>(p)].put_slot)]);
-            net.place_names.emplace_back(g_.str(g_.places[static_cast<size_t>(p)].name));
+        std::map<PlaceId, int> local;
+        for (PlaceId p : places_of[c]) {
+            local[p] = graph::count_of(net.initial);
+            net.initial.push_back(g_.places[p].initial);
+            net.fed.push_back(driven[g_.places[p].put_slot] != 0);
+            net.place_names.emplace_back(g_.str(g_.places[p].name));
         }
-        for (int32_t t : transitions_of[c]) {
-            const auto& tr = g_.transitions[static_cast<size_t>(t)];
+        for (TransitionId t : transitions_of[c]) {
+            const auto& tr = g_.transitions[t];
             petri::Transition pt;
-            for (int32_t i = 0; i < tr.in_num; ++i) {
-                const auto& a = g_.arcs[static_cast<size_t>(tr.in_adr + i)];
-                pt.in.push_back({local[a.place], a.weight});
-            }
-            for (int32_t i = 0; i < tr.out_num; ++i) {
-                const auto& a = g_.arcs[static_cast<size_t>(tr.out_adr + i)];
-                pt.out.push_back({local[a.place], a.weight});
-            }
+            for (const graph::Arc& a : g_.arcs.slice(tr.in_adr, tr.in_num)) pt.in.push_back({local[a.place], a.weight});
+            for (const graph::Arc& a : g_.arcs.slice(tr.out_adr, tr.out_num)) pt.out.push_back({local[a.place], a.weight});
             net.transitions.push_back(std::move(pt));
             net.transition_names.emplace_back(g_.str(tr.name));
         }
         // Instances of one type with the same marking and feeding give the same answer.
         std::string sig;
         for (size_t i = 0; i < net.initial.size(); ++i) sig += fmt::format("{}{},", net.initial[i], net.fed[i] ? "f" : "");
-        const Span decl = comp_spans_[static_cast<int32_t>(c)];
+        const Span decl = comp_spans_[c.v];
         if (!reported.insert({decl.file, decl.begin, sig}).second)
             continue;
         petri::Report rep = petri::analyse(net);
         const std::string net_name(g_.str(g_.comps[c].name));
         for (size_t i = 0; i < rep.unbounded.size(); ++i) {
-            const auto& pl = g_.places[static_cast<size_t>(places_of[c][static_cast<size_t>(rep.unbounded[i])])];
-            auto& d = sink_.report(DiagId::UnboundedPlace, place_spans_[places_of[c][static_cast<size_t>(rep.unbounded[i])]],
+            const PlaceId p = places_of[c][rep.unbounded[i]];
+            const auto& pl = g_.places[p];
+            auto& d = sink_.report(DiagId::UnboundedPlace, place_spans_[p.v],
                                    fmt::format("place '{}' of net '{}' can accumulate tokens without bound", g_.str(pl.name), net_name));
             if (i < rep.unbounded_why.size()) d.notes.push_back({{}, rep.unbounded_why[i]});
             d.notes.push_back({{}, "add a transition that drains surplus tokens, e.g. `transition drain: Held + Request -> Held`"});
         }
         for (int idx : rep.dead) {
-            const auto& tr = g_.transitions[static_cast<size_t>(transitions_of[c][static_cast<size_t>(idx)])];
-            sink_.report(DiagId::DeadTransition, transition_spans_[transitions_of[c][static_cast<size_t>(idx)]],
+            const TransitionId t = transitions_of[c][idx];
+            const auto& tr = g_.transitions[t];
+            sink_.report(DiagId::DeadTransition, transition_spans_[t.v],
                          fmt::format("transition '{}' of net '{}' can never fire", g_.str(tr.name), net_name));
         }
     }
@@ -101,11 +103,11 @@ void Elaborator::check_petri_nets() {
 void Elaborator::check_unused() {
     const auto driven = driven_or_exposed();
     const auto used = used_outputs(g_);
-    for (size_t c = 0; c < g_.comps.size(); ++c) {
+    for (CompId c : ids_of(g_.comps)) {
         const auto& comp = g_.comps[c];
-        const Span span = comp_spans_[static_cast<int32_t>(c)];
+        const Span span = comp_spans_[c.v];
         const std::string cname(g_.str(comp.name));
-        auto slot = [&](int idx) { return static_cast<size_t>(comp.slot_adr + idx); };
+        auto slot = [&](int idx) { return comp.slot_adr + idx; };
         // A kind on the kind table says which input it needs (graph/plugin.h: idle_input).
         if (const graph::KindDesc* k = graph::builtin_kind(comp.kind); k && k->idle_input >= 0) {
             if (!(k->runs_alone && k->runs_alone(g_, comp.detail)) && !driven[slot(k->idle_input)])
@@ -135,12 +137,12 @@ void Elaborator::check_logic_cycles() {
     const graph::Network net = graph::analyse_network(g_);
     for (size_t i = 0; i < net.delayed.size(); ++i) {
         std::string through;
-        for (int32_t c : net.cycles[i]) {
-            const auto& comp = g_.comps[static_cast<size_t>(c)];
+        for (CompId c : net.cycles[i]) {
+            const auto& comp = g_.comps[c];
             through += fmt::format("{}{} '{}'", through.empty() ? "" : ", ",
                                    comp.kind == CompKind::Logic ? "connector" : graph::word(comp.kind), g_.str(comp.name));
         }
-        sink_.report(DiagId::LogicCycle, flow_spans_[static_cast<size_t>(net.delayed[i])],
+        sink_.report(DiagId::LogicCycle, flow_spans_[graph::index(net.delayed[i])],
                      fmt::format("this flow closes a logic cycle through {}; it is evaluated with a one-step delay", through));
     }
 }
@@ -164,44 +166,43 @@ std::string range_note(const graph::RangeFlaw& f) {
 void Elaborator::check_ranges() {
     const std::vector<graph::RangeFlaw> flaws = graph::range_flaws(g_);
     if (flaws.empty()) return;
-    std::vector<bool> do_done(g_.dos.size(), false);
+    graph::IdVector<DoId, uint8_t> do_done(g_.dos.count(), 0);
     std::set<int32_t> comp_done, top_done;  // components of the plant itself; the objects it makes
-    auto within_done = [&](int32_t d) {
-        for (; d >= 0; d = g_.dos[static_cast<size_t>(d)].parent)
-            if (do_done[static_cast<size_t>(d)]) return true;
+    auto within_done = [&](DoId d) {
+        for (; d.valid(); d = g_.dos[d].parent)
+            if (do_done[d]) return true;
         return false;
     };
-    auto path = [&](int32_t d) { return g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(d)].path.id)]; };
+    auto path = [&](DoId d) { return g_.str(g_.dos[d].path); };
     for (const graph::RangeFlaw& f : flaws) {
         if (f.comp < 0) {  // a DO
-            const auto& d = g_.dos[static_cast<size_t>(f.row)];
-            if (within_done(d.parent)) continue;
-            do_done[static_cast<size_t>(f.row)] = true;
-            const auto a = do_at_spans_.find(f.row);
-            const Span at = a != do_at_spans_.end() ? a->second : do_spans_[static_cast<size_t>(f.row)];
-            sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", f.what, path(f.row), f.text))
+            const DoId row(f.row);
+            if (within_done(g_.dos[row].parent)) continue;
+            do_done[row] = 1;
+            const auto a = do_at_spans_.find(row);
+            const Span at = a != do_at_spans_.end() ? a->second : do_spans_[row];
+            sink_.report(DiagId::OutOfRange, at, fmt::format("the {} of '{}' {}", f.what, path(row), f.text))
                 .notes.push_back({{}, range_note(f)});
             continue;
         }
-        const int32_t c = f.comp;
-        if (comp_done.count(c) || within_done(g_.comps[static_cast<size_t>(c)].owner)) continue;
-        comp_done.insert(c);
-        const std::string& who = g_.names[static_cast<size_t>(g_.comps[static_cast<size_t>(c)].name.id)];
-        const int32_t owner = g_.comps[static_cast<size_t>(c)].owner;
-        if (g_.dos[static_cast<size_t>(owner)].parent < 0) {  // the plant's own component
-            sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", f.what, who, f.text))
+        const CompId c(f.comp);
+        if (comp_done.count(f.comp) || within_done(g_.comps[c].owner)) continue;
+        comp_done.insert(f.comp);
+        const std::string who(g_.str(g_.comps[c].name));
+        const DoId owner = g_.comps[c].owner;
+        if (!g_.dos[owner].parent.valid()) {  // the plant's own component
+            sink_.report(DiagId::OutOfRange, comp_spans_[f.comp], fmt::format("the {} of '{}' {}", f.what, who, f.text))
                 .notes.push_back({{}, range_note(f)});
             continue;
         }
         // A part of an object the plant makes: at that object, where its arguments are (most
         // likely what put the part out of range), once per object, with the part's declaration.
-        int32_t top = owner;
-        while (g_.dos[static_cast<size_t>(g_.dos[static_cast<size_t>(top)].parent)].parent >= 0)
-            top = g_.dos[static_cast<size_t>(top)].parent;
-        if (!top_done.insert(top).second) continue;
-        auto& d = sink_.report(DiagId::OutOfRange, do_spans_[static_cast<size_t>(top)],
+        DoId top = owner;
+        while (g_.dos[g_.dos[top].parent].parent.valid()) top = g_.dos[top].parent;
+        if (!top_done.insert(top.v).second) continue;
+        auto& d = sink_.report(DiagId::OutOfRange, do_spans_[top],
                                fmt::format("the {} of '{}' in '{}' {}", f.what, who, path(owner), f.text));
-        d.notes.push_back({comp_spans_[c], fmt::format("'{}' is declared here", who)});
+        d.notes.push_back({comp_spans_[f.comp], fmt::format("'{}' is declared here", who)});
         d.notes.push_back({{}, range_note(f)});
     }
 }

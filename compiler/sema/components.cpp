@@ -86,8 +86,8 @@ void Lowering::positive_vec(const char* n) const {
         el.sink_.report(DiagId::NonPositive, v->span, fmt::format("every extent in '{}' must be positive", n));
 }
 
-void Lowering::set_detail(size_t size) const {
-    el.g_.comps[static_cast<size_t>(comp)].detail = static_cast<int32_t>(size) - 1;
+void Lowering::set_detail(int32_t rows) const {
+    el.g_.comps[graph::CompId(comp)].detail = rows - 1;
 }
 
 int32_t Linking::find(const std::string& n, Span span, CompKind want, const char* what) const {
@@ -100,7 +100,7 @@ int32_t Linking::find(const std::string& n, Span span, CompKind want, const char
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
         return -1;
     }
-    const auto& target = el.g_.comps[static_cast<size_t>(it->second)];
+    const auto& target = el.g_.comps[graph::CompId(it->second)];
     if (target.kind != want) {
         // The words of the language: a Body is written `physics`.
         auto word = [](CompKind k) { return k == CompKind::Body ? std::string_view("physics") : graph::word(k); };
@@ -268,7 +268,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     check_sub_blocks(c, *spec);
 
-    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), spec->kind, cname, src(c.name.span));
+    const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
     if (spec->plugin)  // a plugin's slots are its descriptor's, not a fixed table's
         for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, graph::CompId(comp), s.name, s.type, s.dir, src(c.name.span));
     sc.comps[cname] = comp;
@@ -289,7 +289,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     }
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
-    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[static_cast<size_t>(comp)].slot_adr, frame,
+    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[graph::CompId(comp)].slot_adr.v, frame,
                 parent_graphics};
     lower(lw);
 
@@ -321,7 +321,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         }
         Frame saved = sc.frame;
         sc.frame = frame;
-        make_component(sc, child, env, g_.comps[static_cast<size_t>(comp)].detail, cname);
+        make_component(sc, child, env, g_.comps[graph::CompId(comp)].detail, cname);
         sc.frame = saved;
     }
     return comp;
@@ -342,20 +342,20 @@ void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDec
         for (const auto& seg : c.on->segs) on += (on.empty() ? "" : ".") + seg.name.text;
         name_component(sc, c.on->segs, 0, c.on->segs.size());
     }
-    Linking lk{*this, sc, c, env, comp, g_.comps[static_cast<size_t>(comp)], on};
+    Linking lk{*this, sc, c, env, comp, g_.comps[graph::CompId(comp)], on};
     link(lk);
 }
 
 void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     name_declared(l.name.span);
     if (!declare(sc, l.name.text, l.name.span)) return;
-    const int32_t comp = graph::add_comp(g_, graph::DoId(sc.do_id), CompKind::Logic, l.name.text, src(l.name.span));
-    sc.comps[l.name.text] = comp;
-    comp_spans_[comp] = l.name.span;
+    const graph::CompId comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
+    sc.comps[l.name.text] = comp.v;
+    comp_spans_[comp.v] = l.name.span;
     graph::Logic lg;
-    lg.comp = graph::CompId(comp);
+    lg.comp = comp;
     lg.op = graph::LogicOp::And;
-    lg.out_slot = graph::SlotId(g_.comps[static_cast<size_t>(comp)].slot_adr + graph::logicslot::out);
+    lg.out_slot = g_.comps[comp].slot_adr + graph::logicslot::out;
     for (size_t i = 0; i < l.ops.size(); ++i) {
         if (l.ops[i].text != l.ops[0].text) {
             sink_.report(DiagId::LogicMixedOps, l.ops[i].span,
@@ -366,11 +366,11 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     if (!l.ops.empty() && l.ops[0].text == "or") lg.op = graph::LogicOp::Or;
     lg.in_adr = graph::next_adr(g_.logic_inputs);
     for (size_t i = 0; i < l.terms.size(); ++i) {
-        int32_t s = add_slot(comp, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
+        int32_t s = add_slot(comp.v, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
         g_.logic_inputs.push_back({graph::SlotId(s), l.terms[i].negated});
     }
-    lg.in_num = static_cast<int32_t>(l.terms.size());
-    g_.comps[static_cast<size_t>(comp)].detail = static_cast<int32_t>(g_.logics.size());
+    lg.in_num = graph::count_of(l.terms);
+    g_.comps[comp].detail = g_.logics.count();
     g_.logics.push_back(lg);
 }
 

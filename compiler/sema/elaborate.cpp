@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <fmt/format.h>
 
 namespace plant::sema {
@@ -33,7 +34,7 @@ template <class T> Span span_of(const std::unique_ptr<T>& member) { return membe
 
 Elaborator::Elaborator(const Program& prog, const SourceMap& sm, Sink& sink)
     : prog_(prog), sm_(sm), sink_(sink), ev_(sink, *this) {
-    graph_file_of_.assign(static_cast<size_t>(sm.size()), -1);
+    graph_file_of_.assign(sm.size(), -1);
     // Object types are one namespace; a duplicate is an error even across modules.
     for (size_t m = 0; m < prog.modules.size(); ++m)
         for (const auto& o : prog.modules[m].ast->objects) {
@@ -65,9 +66,9 @@ void Elaborator::record_names(Names* names, bool survey, std::set<const ast::Obj
 
 graph::Src Elaborator::src(Span s) {
     if (!s.valid()) return {};
-    auto& idx = graph_file_of_[static_cast<size_t>(s.file)];
+    auto& idx = graph_file_of_[s.file];
     if (idx < 0) {
-        idx = static_cast<int32_t>(g_.files.size());
+        idx = graph::count_of(g_.files);
         g_.files.push_back(sm_.name(s.file));
     }
     auto lc = sm_.line_col(s.file, s.begin);
@@ -111,7 +112,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o, int module) {
     if (!survey_ && too_large(o)) return;  // a survey runs each loop once
     g_.plant = name(o.name.text);
     library_mode_ = true;
-    int32_t root_do = new_do("", -1, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
+    const graph::DoId root_do = new_do("", graph::DoId{}, do_type(o.name.text, o.name.span), Frame{}, o.name.span);
     type_stack_.push_back(o.name.text);
     elaborate_do(root_do, o, module < 0 ? prog_.root : module, bind_args(o, {}, o.name.span, Env{}));
     finish_accesses();
@@ -125,7 +126,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o, int module) {
 
 graph::Graph Elaborator::run(bool require_plant) {
     if (prog_.root < 0) return std::move(g_);
-    const auto& root = *prog_.modules[static_cast<size_t>(prog_.root)].ast;
+    const auto& root = *prog_.modules[prog_.root].ast;
     const ast::ObjectDecl* plant = nullptr;
     for (const auto& o : root.objects) {
         if (!o.is_plant) continue;
@@ -162,7 +163,7 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     if (too_large(*plant)) return std::move(g_);
     g_.plant = name(plant->name.text);
-    int32_t root_do = new_do("", -1, -1, Frame{}, plant->name.span);
+    const graph::DoId root_do = new_do("", graph::DoId{}, graph::DoTypeId{}, Frame{}, plant->name.span);
     // The plant's parameters take their values from `--set NAME=VALUE`, else their defaults.
     elaborate_do(root_do, *plant, prog_.root, bind_args(*plant, prog_.overrides, plant->name.span, Env{}));
     finish_accesses();
@@ -182,42 +183,43 @@ graph::Graph Elaborator::run(bool require_plant) {
 
 // Every declared port, by object and name, for events and tools that address them.
 void Elaborator::emit_ports() {
-    const size_t n = std::min(scopes_.size(), g_.dos.size());
-    for (size_t d = 0; d < n; ++d)
+    for (graph::DoId d : scopes_.ids()) {
+        if (!g_.dos.contains(d)) break;
         for (const auto& [port_name, info] : scopes_[d].ports) {
             if (info.slots.empty()) continue;
             graph::Port p;
-            p.owner = graph::DoId(static_cast<int32_t>(d));
+            p.owner = d;
             p.name = name(port_name);
             p.type = info.type;
             p.dir = info.input ? graph::Dir::In : graph::Dir::Out;
             p.target_adr = graph::next_adr(g_.port_targets);
-            p.target_num = static_cast<int32_t>(info.slots.size());
+            p.target_num = graph::count_of(info.slots);
             p.src = src(info.span);
             for (int32_t sl : info.slots) g_.port_targets.push_back({graph::SlotId(sl)});
             g_.ports.push_back(p);
         }
+    }
 }
 
-int32_t Elaborator::new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span s) {
+graph::DoId Elaborator::new_do(const std::string& path, graph::DoId parent, graph::DoTypeId type, const Frame& f,
+                               Span s) {
     Scope sc;
-    sc.do_id = graph::add_do(g_, path, graph::DoId(parent), graph::DoTypeId(type), f.pose(), src(s));
-    do_spans_.resize(static_cast<size_t>(sc.do_id) + 1);
-    do_spans_[static_cast<size_t>(sc.do_id)] = s;
+    sc.do_id = graph::add_do(g_, path, parent, type, f.pose(), src(s));
+    do_spans_.resize(g_.dos.size());
+    do_spans_[sc.do_id] = s;
     sc.frame = f;
     scopes_.push_back(std::move(sc));
     return scopes_.back().do_id;
 }
 
-int32_t Elaborator::do_type(const std::string& type_name, Span s) {
+graph::DoTypeId Elaborator::do_type(const std::string& type_name, Span s) {
     if (auto it = do_types_.find(type_name); it != do_types_.end()) return it->second;
     graph::DoType t;
     t.name = name(type_name);
     // The type's declaration, wherever the first use (a filter, a cast, a source) is.
     if (auto it = types_.find(type_name); it != types_.end()) s = it->second.second->name.span;
     t.src = src(s);
-    g_.do_types.push_back(t);
-    int32_t id = static_cast<int32_t>(g_.do_types.size()) - 1;
+    const graph::DoTypeId id = g_.do_types.push_back(t);
     do_types_[type_name] = id;
     return id;
 }
@@ -229,7 +231,7 @@ const ast::ObjectDecl* Elaborator::find_type(const std::string& type_name, int m
     if (it != types_.end()) {
         int m = it->second.first;
         visible = m == module;
-        for (int imp : prog_.modules[static_cast<size_t>(module)].imports) visible = visible || imp == m;
+        for (int imp : prog_.modules[module].imports) visible = visible || imp == m;
     }
     if (it == types_.end() || !visible) {
         std::vector<std::string> candidates;
@@ -251,7 +253,7 @@ const ast::ObjectDecl* Elaborator::find_type(const std::string& type_name, int m
 // One more level of objects (an instance, or a source's pooled object) would nest deeper
 // than kMaxDepth: reported at `at`. The elaboration recurses once per level.
 bool Elaborator::nested_too_deep(Span at) {
-    if (type_stack_.size() < size_t(kMaxDepth)) return false;
+    if (std::cmp_less(type_stack_.size(), kMaxDepth)) return false;
     sink_.report(DiagId::LoopTooLarge, at,
                  fmt::format("objects nest more than {} deep (an instance inside an instance inside ...)", kMaxDepth));
     return true;
@@ -519,12 +521,12 @@ std::shared_ptr<const Env> Elaborator::bind_args(const ast::ObjectDecl& decl, co
     return env;
 }
 
-void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
+void Elaborator::elaborate_do(graph::DoId do_id, const ast::ObjectDecl& decl, int module, std::shared_ptr<const Env> env) {
     if (surveyed_) surveyed_->insert(&decl);
-    scopes_[static_cast<size_t>(do_id)].decl = &decl;
-    scopes_[static_cast<size_t>(do_id)].module = module;
+    scopes_[do_id].decl = &decl;
+    scopes_[do_id].module = module;
     for (const auto& p : decl.params) {
-        declare(scopes_[static_cast<size_t>(do_id)], p.name.text, p.name.span);
+        declare(scopes_[do_id], p.name.text, p.name.span);
         name_declared(p.name.span);
     }
 
@@ -536,7 +538,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
     std::vector<std::pair<int32_t, const Item*>> made;
     std::map<std::string, Span, std::less<>> settings_seen;  // each setting once: no silent "last wins"
     for (const auto& it : items) {
-        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        Scope& s = scopes_[do_id];
         if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
             int32_t comp = make_component(s, *c, *it.env, -1, "");
             if (comp >= 0) made.emplace_back(comp, &it);
@@ -586,7 +588,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         }
     }
     for (auto [comp, it] : made)
-        link_component(scopes_[static_cast<size_t>(do_id)], comp, std::get<ast::ComponentDecl>(*it->member), *it->env);
+        link_component(scopes_[do_id], comp, std::get<ast::ComponentDecl>(*it->member), *it->env);
 
     // Child instances, then pooled objects of this DO's sources.
     for (const auto& it : items) {
@@ -600,7 +602,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
             else if (!ev_.expect_int(idx, "instance index")) continue;
             else iname += fmt::format("[{}]", static_cast<long long>(idx.num));
         }
-        if (!declare(scopes_[static_cast<size_t>(do_id)], iname, inst->name.span)) {
+        if (!declare(scopes_[do_id], iname, inst->name.span)) {
             if (const ast::ObjectDecl* t = survey_ ? object_type(inst->type.text) : nullptr) {  // for its names
                 name_use(inst->type.span, t->name.span);
                 bind_args(*t, inst->args, inst->type.span, *it.env);
@@ -613,7 +615,7 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         if (type) name_use(inst->type.span, type->name.span);
         if (!type) {
             // Reported once, here: uses of the instance are not errors of their own.
-            scopes_[static_cast<size_t>(do_id)].broken.insert(inst->name.text);
+            scopes_[do_id].broken.insert(inst->name.text);
             continue;
         }
         if (nested_too_deep(inst->type.span)) continue;
@@ -625,13 +627,13 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
         }
         auto child_env = bind_args(*type, inst->args, inst->args.empty() ? inst->type.span : inst->args_span,
                                    *it.env);
-        Frame f = scopes_[static_cast<size_t>(do_id)].frame *
+        Frame f = scopes_[do_id].frame *
                   placement(inst->placement ? &*inst->placement : nullptr, *it.env);
-        const std::string& parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
+        const std::string parent_path(g_.str(g_.dos[do_id].path));
         std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
-        int32_t child = new_do(path, do_id, do_type(type->name.text, type->name.span), f, inst->span);
+        const graph::DoId child = new_do(path, do_id, do_type(type->name.text, type->name.span), f, inst->span);
         if (inst->placement && inst->placement->at) do_at_spans_[child] = inst->placement->at->span;
-        scopes_[static_cast<size_t>(do_id)].children[iname] = child;
+        scopes_[do_id].children[iname] = child;
         type_stack_.push_back(type->name.text);
         elaborate_do(child, *type, type_module, child_env);
         type_stack_.pop_back();
@@ -640,11 +642,11 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
 
     // Connections: ports, connector inputs, flows, records.
     for (const auto& it : items) {
-        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        Scope& s = scopes_[do_id];
         if (auto* p = std::get_if<ast::PortDecl>(it.member)) bind_port(s, *p, *it.env);
     }
     for (const auto& it : items) {
-        Scope& s = scopes_[static_cast<size_t>(do_id)];
+        Scope& s = scopes_[do_id];
         if (auto* l = std::get_if<ast::LogicDecl>(it.member)) connect_logic(s, *l, *it.env);
         else if (auto* f = std::get_if<ast::FlowDecl>(it.member)) add_flow(*f, *it.env, do_id);
         else if (auto* r = std::get_if<ast::RecordDecl>(it.member)) add_record(s, *r, *it.env);
@@ -653,22 +655,22 @@ void Elaborator::elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int mo
 }
 
 // Pooled objects of a source: built now, contiguous DO ids, outside the world until issued.
-void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
+void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
     for (const auto& it : items) {
         auto* c = std::get_if<ast::ComponentDecl>(it.member);
         if (!c || c->kind.text != "source") continue;
-        auto found = scopes_[static_cast<size_t>(do_id)].comps.find(c->name.text);
-        if (found == scopes_[static_cast<size_t>(do_id)].comps.end()) continue;
-        const int32_t comp = found->second;
-        auto& src_rec = g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)];
+        auto found = scopes_[do_id].comps.find(c->name.text);
+        if (found == scopes_[do_id].comps.end()) continue;
+        const graph::CompId comp(found->second);
+        auto& src_rec = g_.sources[graph::SourceId(g_.comps[comp].detail)];
         const ast::Property* obj = nullptr;
         for (const auto& p : c->properties)
             if (p.name.text == "object") obj = &p;
-        if (!obj || src_rec.do_type < 0 || src_rec.pool_num <= 0) continue;
+        if (!obj || !src_rec.do_type.valid() || src_rec.pool_num <= 0) continue;
         Value v = ev_.eval(*obj->value, *it.env);
         if (v.kind != Value::Kind::Type) continue;
         int type_module = -1;
-        const ast::ObjectDecl* type = find_type(v.str, scopes_[static_cast<size_t>(do_id)].module, v.span, &type_module);
+        const ast::ObjectDecl* type = find_type(v.str, scopes_[do_id].module, v.span, &type_module);
         if (!type) continue;
         if (nested_too_deep(v.span)) continue;
         if (std::find(type_stack_.begin(), type_stack_.end(), type->name.text) != type_stack_.end()) {
@@ -683,20 +685,20 @@ void Elaborator::make_pools(int32_t do_id, const std::vector<Item>& items) {
         at.p = Eigen::Vector3d(sp.p[0], sp.p[1], sp.p[2]);
         at.q = Eigen::Quaterniond(sp.q[3], sp.q[0], sp.q[1], sp.q[2]);
         const int32_t n = survey_ ? std::min(src_rec.pool_num, 1) : src_rec.pool_num;  // one reads the names
-        const int32_t tid = src_rec.do_type;
-        const std::string parent_path = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(do_id)].path.id)];
-        std::vector<int32_t> made;
+        const graph::DoTypeId tid = src_rec.do_type;
+        const std::string parent_path(g_.str(g_.dos[do_id].path));
+        std::vector<graph::DoId> made;
         for (int32_t i = 0; i < n; ++i) {
             std::string iname = fmt::format("{}[{}]", c->name.text, i);
             std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
-            int32_t d = new_do(path, do_id, tid, at, c->name.span);
-            g_.dos[static_cast<size_t>(d)].pool = graph::CompId(comp);
-            scopes_[static_cast<size_t>(do_id)].children[iname] = d;
+            const graph::DoId d = new_do(path, do_id, tid, at, c->name.span);
+            g_.dos[d].pool = comp;
+            scopes_[do_id].children[iname] = d;
             made.push_back(d);
         }
-        g_.sources[static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail)].pool_adr = graph::Adr<graph::Do>(made.front());
+        g_.sources[graph::SourceId(g_.comps[comp].detail)].pool_adr = graph::Adr<graph::Do>(made.front().v);
         type_stack_.push_back(type->name.text);
-        for (int32_t d : made) elaborate_do(d, *type, type_module, env);
+        for (graph::DoId d : made) elaborate_do(d, *type, type_module, env);
         type_stack_.pop_back();
     }
 }

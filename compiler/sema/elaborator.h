@@ -43,12 +43,12 @@ struct PortInfo {
 };
 
 struct Scope {
-    int32_t do_id = -1;
+    graph::DoId do_id;
     const ast::ObjectDecl* decl = nullptr;
     int module = -1;
     Frame frame;
     std::map<std::string, int32_t> comps;     // component name -> comp id
-    std::map<std::string, int32_t> children;  // instance name ("b" or "b[3]") -> DO id
+    std::map<std::string, graph::DoId> children;  // instance name ("b" or "b[3]") -> DO id
     std::map<std::string, PortInfo> ports;
     std::map<std::string, Span> declared;     // every member name, for duplicates
     std::set<std::string> broken;             // instances whose type is unknown (reported)
@@ -68,9 +68,9 @@ struct Endpoint {
     graph::Dir dir = graph::Dir::Out;
     // Dynamic access: the ref slot, the object type, the member path below it.
     int32_t ref_slot = -1;
-    int32_t do_type = -1;
+    graph::DoTypeId do_type;
     const ast::Path* access_path = nullptr;
-    int32_t access_scope = -1;
+    graph::DoId access_scope;
     std::shared_ptr<const Env> env;
     std::string text;
     Span span;
@@ -108,10 +108,10 @@ public:
     void name_component(const Scope& s, const std::vector<ast::PathSeg>& segs, size_t first, size_t last);
 
     // elaborate.cpp
-    void elaborate_do(int32_t do_id, const ast::ObjectDecl& decl, int module,
+    void elaborate_do(graph::DoId do_id, const ast::ObjectDecl& decl, int module,
                       std::shared_ptr<const Env> env);
-    int32_t new_do(const std::string& path, int32_t parent, int32_t type, const Frame& f, Span src);
-    int32_t do_type(const std::string& name, Span src);
+    graph::DoId new_do(const std::string& path, graph::DoId parent, graph::DoTypeId type, const Frame& f, Span src);
+    graph::DoTypeId do_type(const std::string& name, Span src);
     std::shared_ptr<const Env> bind_args(const ast::ObjectDecl& decl, const std::vector<ast::Arg>& args,
                                          Span call_span, const Env& caller_env);
     const ast::ObjectDecl* find_type(const std::string& name, int module, Span use, int* type_module);
@@ -137,19 +137,19 @@ public:
     int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
     void link_component(Scope& s, int32_t comp, const ast::ComponentDecl& c, const Env& env);
     void make_logic(Scope& s, const ast::LogicDecl& l);
-    void make_pools(int32_t do_id, const std::vector<Item>& items);
+    void make_pools(graph::DoId do_id, const std::vector<Item>& items);
 
     // resolve.cpp
-    Endpoint resolve(int32_t scope_do, const ast::Path& path, const Env& env);
+    Endpoint resolve(graph::DoId scope_do, const ast::Path& path, const Env& env);
     // A plugin component's entries (sema/kinds/plugin.cpp), with the flows of its scope.
-    void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do);
+    void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do);
     // The kinds' own checks (graph::KindDesc::check) over every plugin component.
     void check_plugins();
     bool expect_slot_value(const Value& v, graph::SlotType t, const std::string& what);
     bool entry_options(const ast::EntryDecl& e, const graph::EntrySpec& es, graph::SlotType target, const Env& env,
                        std::vector<graph::PluginParam>& out);
     void bind_port(Scope& s, const ast::PortDecl& p, const Env& env);
-    void add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do);
+    void add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId scope_do);
     bool flow_ends_fit(const Endpoint& from, graph::Dir from_dir, graph::SlotType from_type, const Endpoint& to,
                        graph::Dir to_dir, graph::SlotType to_type);
     void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
@@ -165,7 +165,7 @@ public:
     // checks.cpp
     void check_petri_nets();
     void check_unused();
-    std::vector<bool> driven_or_exposed() const;
+    graph::IdVector<graph::SlotId, uint8_t> driven_or_exposed() const;
     void check_logic_cycles();
     void check_ranges();
     // geometry.cpp
@@ -176,16 +176,16 @@ public:
     Sink& sink_;
     Evaluator ev_;
     graph::Graph g_;
-    std::vector<Scope> scopes_;  // by DO id
+    graph::IdVector<graph::DoId, Scope> scopes_;
     std::map<std::string, std::pair<int, const ast::ObjectDecl*>> types_;  // object types by name
-    std::map<std::string, int32_t> do_types_;
+    std::map<std::string, graph::DoTypeId> do_types_;
     std::vector<std::string> type_stack_;  // objects being instantiated, for recursion
-    std::unordered_map<int32_t, int32_t> ref_types_;  // ref slot -> DoType it holds
+    std::unordered_map<int32_t, graph::DoTypeId> ref_types_;  // ref slot -> DoType it holds
     std::vector<PendingAccessFlow> pending_;
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
     std::map<int32_t, Span> comp_spans_;
-    std::vector<Span> do_spans_;          // by DO id: its declaration
-    std::map<int32_t, Span> do_at_spans_;  // DO id -> the position its placement gives (`at (...)`)
+    graph::IdVector<graph::DoId, Span> do_spans_;  // its declaration
+    std::map<graph::DoId, Span> do_at_spans_;     // the position its placement gives (`at (...)`)
     std::vector<Span> flow_spans_;  // by flow id (for warnings)
     std::vector<Span> plugin_spans_;  // by plugin row: the component's name
     std::vector<Span> entry_spans_;   // by plugin entry row

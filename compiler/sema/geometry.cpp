@@ -27,7 +27,7 @@ using Eigen::Vector3d;
 
 // A field's box in world coordinates, with its outlet and inlet faces.
 struct Box {
-    int32_t field = -1;
+    graph::FieldId field;
     Vector3d c, half;            // centre, half extents (local)
     Eigen::Matrix3d r;           // local -> world
     bool source = false;         // moves things: it has an outlet
@@ -42,8 +42,8 @@ struct Box {
     Vector3d world(const Vector3d& l) const { return c + r * l; }
 };
 
-Box make_box(const graph::Graph& g, int32_t i) {
-    const graph::Field& f = g.fields[static_cast<size_t>(i)];
+Box make_box(const graph::Graph& g, graph::FieldId i) {
+    const graph::Field& f = g.fields[i];
     Box b;
     b.field = i;
     b.c = Vector3d(f.pose.p[0], f.pose.p[1], f.pose.p[2]);
@@ -53,7 +53,7 @@ Box make_box(const graph::Graph& g, int32_t i) {
     b.axis = std::abs(d.y()) > std::abs(d.x()) ? 1 : 0;
     b.sign = d[b.axis] < 0 ? -1 : 1;
     // A field on a body moves with it; one that pulls mostly up or down is a lift, not a lane.
-    b.source = f.speed != 0 && f.body < 0 && std::abs(d.z()) < std::abs(d[b.axis]);
+    b.source = f.speed != 0 && !f.body.valid() && std::abs(d.z()) < std::abs(d[b.axis]);
     const int other = 1 - b.axis;
     Vector3d e = Vector3d::Zero();
     e[b.axis] = b.sign;
@@ -97,27 +97,26 @@ void Elaborator::check_conveyor_ends() {
     const auto std_dir = std::filesystem::weakly_canonical(prog_.stdlib_dir, ec).generic_string();
     for (const auto& m : prog_.modules)
         if (!std_dir.empty() && m.ast && m.key.rfind(std_dir + "/", 0) == 0) std_files.insert(m.ast->file);
-    auto declared = [&](int32_t field) {
-        const int32_t comp = g_.fields[static_cast<size_t>(field)].comp.value();
-        int32_t d = g_.comps[static_cast<size_t>(comp)].owner.value();
-        if (d < 0 || g_.dos[static_cast<size_t>(d)].parent.value() < 0) {  // the plant's (or the type's) own field
-            const auto cs = comp_spans_.find(comp);
+    auto declared = [&](graph::FieldId field) {
+        const graph::CompId comp = g_.fields[field].comp;
+        graph::DoId d = g_.comps[comp].owner;
+        if (!d.valid() || !g_.dos[d].parent.valid()) {  // the plant's (or the type's) own field
+            const auto cs = comp_spans_.find(comp.v);
             return cs != comp_spans_.end() ? cs->second : Span{};
         }
-        while (d >= 0 && std_files.count(do_spans_[static_cast<size_t>(d)].file) &&
-               g_.dos[static_cast<size_t>(d)].parent.value() >= 0)
-            d = g_.dos[static_cast<size_t>(d)].parent.value();
-        return d >= 0 ? do_spans_[static_cast<size_t>(d)] : Span{};
+        while (d.valid() && std_files.count(do_spans_[d].file) && g_.dos[d].parent.valid())
+            d = g_.dos[d].parent;
+        return d.valid() ? do_spans_[d] : Span{};
     };
-    auto path = [&](int32_t field) {
-        const auto& c = g_.comps[static_cast<size_t>(g_.fields[static_cast<size_t>(field)].comp.value())];
-        const std::string& owner = g_.names[static_cast<size_t>(g_.dos[static_cast<size_t>(c.owner.value())].path.id)];
-        const std::string& name = g_.names[static_cast<size_t>(c.name.id)];
+    auto path = [&](graph::FieldId field) {
+        const auto& c = g_.comps[g_.fields[field].comp];
+        const std::string owner(g_.str(g_.dos[c.owner].path));
+        const std::string name(g_.str(c.name));
         return owner.empty() ? name : owner + "." + name;
     };
 
     std::vector<Box> boxes;
-    for (size_t i = 0; i < g_.fields.size(); ++i) boxes.push_back(make_box(g_, static_cast<int32_t>(i)));
+    for (graph::FieldId i : ids_of(g_.fields)) boxes.push_back(make_box(g_, i));
     std::set<std::tuple<int32_t, uint32_t, int32_t, uint32_t>> reported;  // once per pair of declarations
     auto report = [&](const Box& a, const Box& b, std::string message, std::string why) {
         const Span sa = declared(a.field), sb = declared(b.field);
@@ -134,7 +133,7 @@ void Elaborator::check_conveyor_ends() {
         const Box* step = nullptr;   // one it runs onto with a step (the smallest)
         double step_h = 0;
         for (const Box& b : boxes) {
-            if (b.field == a.field || g_.fields[static_cast<size_t>(b.field)].body >= 0) continue;
+            if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             const Vector3d l = b.local(ahead);
             if (std::abs(l.x()) > b.half.x() || std::abs(l.y()) > b.half.y()) continue;
             const double h = l.z() + b.half.z();  // the outlet's height above b's bottom
@@ -175,7 +174,7 @@ void Elaborator::check_conveyor_ends() {
         Vector3d miss = Vector3d::Zero();  // from the outlet to where the other conveyor starts
         double near_d = kCapture + 1e-9;
         for (const Box& b : boxes) {
-            if (b.field == a.field || g_.fields[static_cast<size_t>(b.field)].body >= 0) continue;
+            if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             if ((b.c - a.outlet).norm() > kCapture + a.half_width + b.half.norm()) continue;
             const Vector3d l0 = b.local(a.outlet);
             if (std::abs(l0.x()) <= b.half.x() + 1e-9 && std::abs(l0.y()) <= b.half.y() + 1e-9) continue;  // still in it

@@ -34,15 +34,15 @@ std::string_view kind_word(graph::CompKind k) { return k == graph::CompKind::Bod
 // The word a plant file uses for a component's kind, a plugin's own among them.
 std::string_view kind_word(const graph::Graph& g, int32_t comp) {
     if (const graph::KindDesc* d = graph::plugin_of(g, comp)) return d->word;
-    return kind_word(g.comps[static_cast<size_t>(comp)].kind);
+    return kind_word(g.comps[graph::CompId(comp)].kind);
 }
 
 }  // namespace
 
 int32_t Elaborator::find_comp_slot(int32_t comp, std::string_view slot_name) const {
-    const auto& c = g_.comps[static_cast<size_t>(comp)];
-    for (int32_t i = 0; i < c.slot_num; ++i)
-        if (g_.str(g_.slots[static_cast<size_t>(c.slot_adr + i)].name) == slot_name) return c.slot_adr + i;
+    const auto& c = g_.comps[graph::CompId(comp)];
+    for (graph::SlotId sl : children(c.slot_adr, c.slot_num))
+        if (g_.str(g_.slots[sl].name) == slot_name) return sl.v;
     return -1;
 }
 
@@ -59,7 +59,7 @@ void Elaborator::name_component(const Scope& s, const std::vector<ast::PathSeg>&
     }
 }
 
-Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env& env) {
+Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const Env& env) {
     Endpoint ep;
     ep.span = path.span;
     ep.text = path_text(path);
@@ -74,14 +74,14 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         }
         int type_module = -1;
         const ast::ObjectDecl* type =
-            find_type(path.cast_type.text, scopes_[static_cast<size_t>(scope_do)].module, path.cast_type.span, &type_module);
+            find_type(path.cast_type.text, scopes_[scope_do].module, path.cast_type.span, &type_module);
         if (!type) return ep;
         name_use(path.cast_type.span, type->name.span);
-        int32_t tid = do_type(path.cast_type.text, path.cast_type.span);
+        const graph::DoTypeId tid = do_type(path.cast_type.text, path.cast_type.span);
         if (auto it = ref_types_.find(base.slots[0]); it != ref_types_.end() && it->second != tid) {
             sink_.report(DiagId::RefTypeMismatch, path.cast_type.span,
                          fmt::format("'{}' holds a '{}', which is not a '{}'", base.text,
-                                     g_.str(g_.do_types[static_cast<size_t>(it->second)].name), path.cast_type.text));
+                                     g_.str(g_.do_types[it->second].name), path.cast_type.text));
             return ep;
         }
         ep.ok = true;
@@ -91,10 +91,10 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         return ep;  // the member is resolved against every object of the type, later
     }
 
-    int32_t cur = scope_do;
+    graph::DoId cur = scope_do;
     const auto& segs = path.segs;
     for (size_t i = 0; i < segs.size(); ++i) {
-        const Scope& s = scopes_[static_cast<size_t>(cur)];
+        const Scope& s = scopes_[cur];
         std::string key = segs[i].name.text;
         if (segs[i].index) {
             Value idx = ev_.eval(*segs[i].index, env);
@@ -111,14 +111,14 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
             if (names_) {  // an instance by its name, a pooled object by its source's
                 auto named = s.declared.find(it->first);
                 name_use(segs[i].name.span,
-                         named != s.declared.end() ? named->second : do_spans_[static_cast<size_t>(it->second)]);
+                         named != s.declared.end() ? named->second : do_spans_[it->second]);
             }
             cur = it->second;
             if (i + 1 == segs.size()) {
                 auto& d = sink_.report(DiagId::NotAnObject, path.span,
                                        fmt::format("'{}' is an object; name one of its slots, e.g. '{}.<slot>'", ep.text, ep.text));
                 std::vector<std::string> ports;
-                for (const auto& [n, port] : scopes_[static_cast<size_t>(cur)].ports) ports.push_back(n);
+                for (const auto& [n, port] : scopes_[cur].ports) ports.push_back(n);
                 if (!ports.empty()) d.notes.push_back({{}, fmt::format("its ports: {}", fmt::join(ports, ", "))});
                 return ep;
             }
@@ -148,13 +148,12 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
             name_component(s, segs, i, segs.size());
             std::string slot_name;
             for (size_t j = after; j < segs.size(); ++j) slot_name += (j == after ? "" : ".") + segs[j].name.text;
-            const auto& c = g_.comps[static_cast<size_t>(comp)];
+            const auto& c = g_.comps[graph::CompId(comp)];
             if (slot_name.empty() && c.kind == graph::CompKind::Logic) slot_name = "out";
             int32_t slot = slot_name.empty() ? -1 : find_comp_slot(comp, slot_name);
             if (slot < 0) {
                 std::vector<std::string> names;
-                for (int32_t k = 0; k < c.slot_num; ++k)
-                    names.emplace_back(g_.str(g_.slots[static_cast<size_t>(c.slot_adr + k)].name));
+                for (const graph::Slot& sl : g_.slots.slice(c.slot_adr, c.slot_num)) names.emplace_back(g_.str(sl.name));
                 auto& d = sink_.report(DiagId::UnknownSlot, slot_name.empty() ? path.span : segs[after].name.span,
                                        slot_name.empty()
                                            ? fmt::format("'{}' is a {} component; name one of its slots", ep.text, kind_word(g_, comp))
@@ -166,7 +165,7 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
                     d.notes.push_back({{}, fmt::format("its slots: {}", fmt::join(names, ", "))});
                 return ep;
             }
-            const auto& sl = g_.slots[static_cast<size_t>(slot)];
+            const auto& sl = g_.slots[graph::SlotId(slot)];
             ep.ok = true;
             ep.slots = {slot};
             ep.type = sl.type;
@@ -181,7 +180,7 @@ Endpoint Elaborator::resolve(int32_t scope_do, const ast::Path& path, const Env&
         for (const auto& [k, v] : s.ports) names.push_back(k);
         auto& d = sink_.report(DiagId::UnknownName, segs[i].name.span,
                                cur == scope_do ? fmt::format("unknown name '{}'", key)
-                                               : fmt::format("'{}' has no member '{}'", g_.str(g_.dos[static_cast<size_t>(cur)].path), key));
+                                               : fmt::format("'{}' has no member '{}'", g_.str(g_.dos[cur].path), key));
         // `s` or `s[9]` where the loop made s[0] ... s[2]: list them rather than guess.
         const std::string base = segs[i].name.text + "[";
         std::vector<std::string> family;
@@ -243,7 +242,7 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
         }
         info.slots.insert(info.slots.end(), e.slots.begin(), e.slots.end());
     }
-    scopes_[static_cast<size_t>(s.do_id)].ports[p.name.text] = std::move(info);
+    scopes_[s.do_id].ports[p.name.text] = std::move(info);
 }
 
 void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
@@ -279,7 +278,7 @@ bool Elaborator::flow_ends_fit(const Endpoint& from, Dir from_dir, SlotType from
     return true;
 }
 
-void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_do) {
+void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId scope_do) {
     graph::Cond cond = graph::Cond::Source;
     if (f.condition && !graph::parse_word(f.condition->text, cond)) {
         auto& d = sink_.report(DiagId::BadCondition, f.condition->span,
@@ -294,7 +293,7 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
         if (auto hint = closest_name(f.condition->text, words); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
     }
-    if (f.name) declare(scopes_[static_cast<size_t>(scope_do)], f.name->text, f.name->span);
+    if (f.name) declare(scopes_[scope_do], f.name->text, f.name->span);
     Endpoint from = resolve(scope_do, f.from, env);
     Endpoint to = resolve(scope_do, f.to, env);
     if (!from.ok || !to.ok) return;
@@ -311,10 +310,10 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, int32_t scope_
 void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
     auto it = s.comps.find(l.name.text);
     // Only the connector this declaration made: a duplicate name was reported and made none.
-    if (it == s.comps.end() || g_.comps[static_cast<size_t>(it->second)].kind != graph::CompKind::Logic ||
+    if (it == s.comps.end() || g_.comps[graph::CompId(it->second)].kind != graph::CompKind::Logic ||
         comp_spans_[it->second].begin != l.name.span.begin || comp_spans_[it->second].file != l.name.span.file)
         return;
-    const auto& lg = g_.logics[static_cast<size_t>(g_.comps[static_cast<size_t>(it->second)].detail)];
+    const auto& lg = g_.logics[graph::LogicId(g_.comps[graph::CompId(it->second)].detail)];
     for (size_t i = 0; i < l.terms.size(); ++i) {
         Endpoint e = resolve(s.do_id, l.terms[i].path, env);
         if (!e.ok) continue;
@@ -324,7 +323,7 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
                                      with_article(graph::word(e.type)), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
             continue;
         }
-        emit_flow(e.slots, {g_.logic_inputs[static_cast<size_t>(lg.in_adr) + i].slot}, -1, -1, graph::Cond::Source,
+        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot.v}, -1, -1, graph::Cond::Source,
                   false, l.terms[i].span);
     }
 }
@@ -340,7 +339,7 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
                                                    "one of them", e.text, e.slots.size()));
         return;
     }
-    std::string prefix(g_.str(g_.dos[static_cast<size_t>(s.do_id)].path));
+    std::string prefix(g_.str(g_.dos[s.do_id].path));
     std::string column = prefix.empty() ? e.text : prefix + "." + e.text;
     if (r.column) {
         Value v = ev_.eval(*r.column, env);
@@ -378,7 +377,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
     proto.library_mode_ = true;
     proto.record_names(names_, survey_, surveyed_);
     proto.max_expanded_ = max_expanded_;
-    int32_t root = proto.new_do("", -1, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
+    const graph::DoId root = proto.new_do("", graph::DoId{}, proto.do_type(type_name, decl.name.span), Frame{}, decl.name.span);
     proto.type_stack_.push_back(type_name);
     proto.elaborate_do(root, decl, it->second.first, proto.bind_args(decl, {}, decl.name.span, Env{}));
     const int before = sink_.count(Severity::Error);
@@ -387,7 +386,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
         reported = sink_.count(Severity::Error) > before;
         return std::nullopt;
     }
-    const auto& sl = proto.g_.slots[static_cast<size_t>(m.slots[0])];
+    const auto& sl = proto.g_.slots[graph::SlotId(m.slots[0])];
     return std::pair<SlotType, Dir>{sl.type, sl.dir};
 }
 
@@ -395,19 +394,19 @@ void Elaborator::finish_accesses() {
     // The objects of each type, and the targets of each (type, member) once: every access to
     // the same member of the same type shares one range of access_targets, so the work and
     // the table grow with the plant, not with accesses times objects.
-    std::vector<std::vector<int32_t>> dos_of_type(g_.do_types.size());
-    for (size_t d = 0; d < g_.dos.size(); ++d)
-        if (g_.dos[d].type >= 0) dos_of_type[static_cast<size_t>(g_.dos[d].type)].push_back(static_cast<int32_t>(d));
+    graph::IdVector<graph::DoTypeId, std::vector<graph::DoId>> dos_of_type(g_.do_types.count());
+    for (graph::DoId d : ids_of(g_.dos))
+        if (g_.dos[d].type.valid()) dos_of_type[g_.dos[d].type].push_back(d);
     struct Targets {
         bool ok;
         int32_t adr, count;
         SlotType type;
         Dir dir;
     };
-    std::map<std::pair<int32_t, std::string>, Targets> shared;
+    std::map<std::pair<graph::DoTypeId, std::string>, Targets> shared;
     for (auto& pf : pending_) {
         Endpoint* ends[2] = {&pf.from, &pf.to};
-        int32_t access_ids[2] = {-1, -1};
+        graph::AccessId access_ids[2] = {};
         SlotType types[2] = {pf.from.type, pf.to.type};
         Dir dirs[2] = {pf.from.dir, pf.to.dir};
         bool ok = true;
@@ -416,7 +415,7 @@ void Elaborator::finish_accesses() {
             if (e.ref_slot < 0) continue;
             graph::Access acc;
             acc.ref_slot = graph::SlotId(e.ref_slot);
-            acc.do_type = graph::DoTypeId(e.do_type);
+            acc.do_type = e.do_type;
             acc.target_adr = graph::next_adr(g_.access_targets);
             std::string member;
             for (const auto& seg : e.access_path->segs) member += (member.empty() ? "" : ".") + seg.name.text;
@@ -428,8 +427,7 @@ void Elaborator::finish_accesses() {
                 acc.target_num = known->second.count;
                 types[k] = known->second.type;
                 dirs[k] = known->second.dir;
-                g_.accesses.push_back(acc);
-                access_ids[k] = static_cast<int32_t>(g_.accesses.size()) - 1;
+                access_ids[k] = g_.accesses.push_back(acc);
                 continue;
             }
             ast::Path sub;
@@ -441,18 +439,16 @@ void Elaborator::finish_accesses() {
             }
             bool first = true;
             int32_t count = 0;
-            const std::vector<int32_t> none;
-            const std::vector<int32_t>& candidates =
-                e.do_type >= 0 && static_cast<size_t>(e.do_type) < dos_of_type.size() ? dos_of_type[static_cast<size_t>(e.do_type)] : none;
-            for (int32_t dd : candidates) {
-                const size_t d = static_cast<size_t>(dd);
-                Endpoint m = resolve(static_cast<int32_t>(d), sub, Env{});
+            const std::vector<graph::DoId> none;
+            const std::vector<graph::DoId>& candidates = dos_of_type.contains(e.do_type) ? dos_of_type[e.do_type] : none;
+            for (graph::DoId d : candidates) {
+                Endpoint m = resolve(d, sub, Env{});
                 if (!m.ok || m.slots.size() != 1) {
                     if (m.ok) sink_.report(DiagId::NotAnObject, e.span, "a dynamic slot must name one slot");
                     ok = false;
                     break;
                 }
-                const auto& sl = g_.slots[static_cast<size_t>(m.slots[0])];
+                const auto& sl = g_.slots[graph::SlotId(m.slots[0])];
                 if (first) {
                     types[k] = sl.type;
                     dirs[k] = sl.dir;
@@ -461,7 +457,7 @@ void Elaborator::finish_accesses() {
                     // Parameters or conditions made the objects of one type differ.
                     sink_.report(DiagId::SlotTypeMismatch, e.span,
                                  fmt::format("'{}' is not the same kind of slot in every '{}': {} {} in one, {} {} in '{}'",
-                                             e.text, g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name),
+                                             e.text, g_.str(g_.do_types[e.do_type].name),
                                              graph::word(types[k]), dir_word(dirs[k]), graph::word(sl.type), dir_word(sl.dir),
                                              g_.str(g_.dos[d].path)));
                     ok = false;
@@ -474,7 +470,7 @@ void Elaborator::finish_accesses() {
                 // No object of the type exists (a library checked alone, or a plant that
                 // never builds one): check the member on a prototype built from defaults.
                 bool reported = false;
-                auto probe = probe_member(std::string(g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name)), sub, reported);
+                auto probe = probe_member(std::string(g_.str(g_.do_types[e.do_type].name)), sub, reported);
                 if (probe) {
                     types[k] = probe->first;
                     dirs[k] = probe->second;
@@ -484,15 +480,14 @@ void Elaborator::finish_accesses() {
                     sink_.report(DiagId::NotAnObject, e.span,
                                  fmt::format("no object of type '{}' exists here to check '{}' against, and none can be "
                                              "built from its defaults; the member may not exist",
-                                             g_.str(g_.do_types[static_cast<size_t>(e.do_type)].name), e.text));
+                                             g_.str(g_.do_types[e.do_type].name), e.text));
                     ok = false;
                 }
             }
             acc.target_num = count;
             shared[{e.do_type, member}] = Targets{ok, acc.target_adr, count, types[k], dirs[k]};
             if (ok) {
-                g_.accesses.push_back(acc);
-                access_ids[k] = static_cast<int32_t>(g_.accesses.size()) - 1;
+                access_ids[k] = g_.accesses.push_back(acc);
             }
         }
         if (!ok) continue;

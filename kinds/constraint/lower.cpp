@@ -63,15 +63,15 @@ void lower(Lowering& lw) {
     j.frame_b = jf.pose();
     j.enabled = lw.boolean("enabled", true);
     g.joints.push_back(j);
-    lw.set_detail(g.joints.size());
+    lw.set_detail(g.joints.count());
 }
 
 // The joint frame, in world coordinates until now, becomes relative to each body.
 void link(Linking& lk) {
     graph::Graph& g = lk.el.g_;
-    auto& j = g.joints[static_cast<size_t>(lk.rec.detail)];
+    auto& j = g.joints[lk.row<graph::Joint>()];
     auto body_frame = [&](int32_t body) {
-        const auto& p = g.bodies[static_cast<size_t>(body)].pose;
+        const auto& p = g.bodies[graph::BodyId(body)].pose;
         Frame f;
         f.p = Eigen::Vector3d(p.p[0], p.p[1], p.p[2]);
         f.q = Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]);

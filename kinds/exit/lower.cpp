@@ -12,12 +12,12 @@ namespace {
 void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     g.exits.push_back({graph::CompId(lw.comp), {}});
-    lw.set_detail(g.exits.size());
+    lw.set_detail(g.exits.count());
 }
 
 void link(Linking& lk) {
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
-        lk.el.g_.exits[static_cast<size_t>(lk.rec.detail)].trigger =
+        lk.el.g_.exits[lk.row<graph::Exit>()].trigger =
             graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
 }
 

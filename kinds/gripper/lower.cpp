@@ -19,26 +19,25 @@ void lower(Lowering& lw) {
     gr.body = {};
     gr.graphics = {};
     g.grippers.push_back(gr);
-    lw.set_detail(g.grippers.size());
+    lw.set_detail(g.grippers.count());
 }
 
 // A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
 void link(Linking& lk) {
     graph::Graph& g = lk.el.g_;
-    auto& gr = g.grippers[static_cast<size_t>(lk.rec.detail)];
+    auto& gr = g.grippers[lk.row<graph::Gripper>()];
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
         gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
-        if (gr.trigger >= 0) {
-            int32_t tslot = g.comps[static_cast<size_t>(g.triggers[static_cast<size_t>(gr.trigger)].comp)].slot_adr +
-                            graph::triggerslot::object;
+        if (gr.trigger.valid()) {
+            const int32_t tslot = (g.comps[g.triggers[gr.trigger].comp].slot_adr + graph::triggerslot::object).v;
             if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
                 lk.el.ref_types_[lk.rec.slot_adr + graph::gripperslot::object] = it->second;
         }
     }
     if (lk.decl.on) {
         auto it = lk.scope.comps.find(lk.on);
-        if (it != lk.scope.comps.end() && g.comps[static_cast<size_t>(it->second)].kind == graph::CompKind::Graphics)
-            gr.graphics = graph::GraphicsId(g.comps[static_cast<size_t>(it->second)].detail);
+        if (it != lk.scope.comps.end() && g.comps[graph::CompId(it->second)].kind == graph::CompKind::Graphics)
+            gr.graphics = graph::GraphicsId(g.comps[graph::CompId(it->second)].detail);
         else
             gr.body = graph::BodyId(lk.on_body());
     }

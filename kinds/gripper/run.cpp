@@ -82,12 +82,12 @@ void start_all(Runtime& r) {
 
 // What a gripper holds moves with it, kinematically.
 void sense_all(Runtime& r) {
-    for (size_t i = 0; i < r.g.grippers.size(); ++i) {
+    for (graph::GripperId i : ids_of(r.g.grippers)) {
         const int32_t obj = r.st.gripper_held[i];
         if (obj < 0) continue;
         const btTransform gp = gripper_frame(r, r.g.grippers[i]);
         for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b)
-            if (r.st.held_by[*b] == int32_t(i)) r.phys.move(*b, gp * r.st.grip_rel[*b]);
+            if (r.st.held_by[*b] == i.v) r.phys.move(*b, gp * r.st.grip_rel[*b]);
     }
 }
 

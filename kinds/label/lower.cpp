@@ -13,7 +13,7 @@ void lower(sema::Lowering& lw) {
     const sema::Value* v = lw.props.get("value");
     graph::Label l{graph::CompId(lw.comp), lw.el.name(v ? v->str : "")};
     g.labels.push_back(l);
-    lw.set_detail(g.labels.size());
+    lw.set_detail(g.labels.count());
     graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::labelslot::value)) = l.value.id;
 }
 

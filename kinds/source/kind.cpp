@@ -21,16 +21,16 @@ constexpr ParamSpec kParams[] = {
 
 // Its pool: the DOs the compiler built for it, each a pooled object of its type.
 bool check(const Graph& g, int32_t row, PluginProblem& problem) {
-    const Source& s = g.sources[size_t(row)];
+    const Source& s = g.sources[SourceId(row)];
     if (s.rate < 0) {
         problem.message = "field 'rate' is negative";
         return false;
     }
-    for (int32_t k = 0; k < s.pool_num; ++k) {
-        const Do& d = g.dos[size_t(s.pool_adr + k)];
+    for (DoId pooled : children(s.pool_adr, s.pool_num)) {
+        const Do& d = g.dos[pooled];
         if (d.pool != s.comp || d.type != s.do_type) {
-            problem.message = fmt::format("DO {} in its pool is not a pooled {} of this source", s.pool_adr + k,
-                                          std::string(g.str(g.do_types[size_t(s.do_type)].name)));
+            problem.message = fmt::format("DO {} in its pool is not a pooled {} of this source", pooled,
+                                          std::string(g.str(g.do_types[s.do_type].name)));
             return false;
         }
     }
@@ -49,7 +49,7 @@ constexpr KindDesc desc{
     .kind = CompKind::Source,
     PLANT_KIND_TABLE(sources),
     .idle_input = sourceslot::issue,
-    .runs_alone = [](const Graph& g, int32_t row) { return g.sources[size_t(row)].rate > 0; },
+    .runs_alone = [](const Graph& g, int32_t row) { return g.sources[SourceId(row)].rate > 0; },
     .idle_warning = "source '{}' never issues: its rate is 0 and nothing drives 'issue'",
 };
 

@@ -36,7 +36,7 @@ void lower(Lowering& lw) {
     s.pool_num = pool;  // the DOs are built by make_pools
     s.pool_adr = {};
     if (const Value* t = lw.props.get("object")) {
-        s.do_type = graph::DoTypeId(el.do_type(t->str, t->span));
+        s.do_type = el.do_type(t->str, t->span);
         el.ref_types_[lw.slot_adr + graph::sourceslot::object] = s.do_type;
     }
     s.id_adr = graph::next_adr(g.ids);
@@ -48,7 +48,7 @@ void lower(Lowering& lw) {
     }
     s.id_num = static_cast<int32_t>(g.ids.size()) - s.id_adr;
     g.sources.push_back(s);
-    lw.set_detail(g.sources.size());
+    lw.set_detail(g.sources.count());
 }
 
 }  // namespace

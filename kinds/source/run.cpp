@@ -24,8 +24,8 @@ struct Sources : KindData {
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     auto s = std::make_unique<Sources>();
-    for (size_t i = 0; i < g.sources.size(); ++i)
-        if (g.sources[i].rate > 0) s->rated.push_back(int32_t(i));
+    for (graph::SourceId i : ids_of(g.sources))
+        if (g.sources[i].rate > 0) s->rated.push_back(i.v);
     return s;
 }
 

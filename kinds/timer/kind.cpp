@@ -23,7 +23,7 @@ constexpr ParamSpec kParams[] = {
 };
 
 bool check(const Graph& g, int32_t row, PluginProblem& problem) {
-    if (g.timers[size_t(row)].period > 0) return true;
+    if (g.timers[Id<Timer>(row)].period > 0) return true;
     problem.message = "field 'period' must be above 0";
     return false;
 }
@@ -40,7 +40,7 @@ constexpr KindDesc desc{
     .modes = kModes,
     PLANT_KIND_TABLE(timers),
     .idle_input = timerslot::start,
-    .runs_alone = [](const Graph& g, int32_t row) { return g.timers[size_t(row)].autostart; },
+    .runs_alone = [](const Graph& g, int32_t row) { return g.timers[Id<Timer>(row)].autostart; },
     .idle_warning = "timer '{}' never runs: nothing drives its 'start' and it does not autostart",
 };
 

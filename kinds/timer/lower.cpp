@@ -16,7 +16,7 @@ void lower(sema::Lowering& lw) {
     t.periodic = lw.mode != "oneshot";
     t.autostart = lw.boolean("autostart", false);
     g.timers.push_back(t);
-    lw.set_detail(g.timers.size());
+    lw.set_detail(g.timers.count());
 }
 
 }  // namespace

@@ -70,10 +70,10 @@ void sense_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
-    Run& ts = timers(r).run[size_t(i)];
+    Run& ts = timers(r).run[i];
     const bool was = ts.running;
     if (a[graph::timerslot::stop]) ts.running = false;
-    if (a[graph::timerslot::start]) ts = {true, 0, r.g.timers[size_t(i)].period};
+    if (a[graph::timerslot::start]) ts = {true, 0, r.g.timers[graph::Id<graph::Timer>(i)].period};
     if (ts.running != was) r.emit(c.slot_adr + graph::timerslot::running, ts.running ? 1 : 0);
 }
 

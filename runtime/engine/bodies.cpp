@@ -58,10 +58,10 @@ void check_bodies(Runtime& r) {
     const size_t n = dyn.size();
     const size_t slices = slice_count(r.phys.workers(), n, 256, r.st.slice_left.size());
     auto look = [&r, n, slices](int i) {
-        const auto [b, e] = slice_of(n, slices, size_t(i));
+        const auto [b, e] = slice_of(n, slices, i);
         bool off = false;
         for (size_t k = b; k < e && !off; ++k) off = body_off(r, r.tab.dyn_bodies[k]);
-        r.st.slice_left[size_t(i)] = off;
+        r.st.slice_left[i] = off;
     };
     if (slices > 1) {
         run_slices(r.phys.workers(), slices, look);

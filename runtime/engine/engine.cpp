@@ -6,6 +6,7 @@
 #include "graph/network.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace plant::engine {
 
@@ -55,9 +56,9 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
 
 std::string_view Runtime::str(int32_t name) const {
     if (name < 0) return {};
-    if (size_t(name) < g.names.size()) return g.names[name];
-    size_t extra = size_t(name) - g.names.size();
-    return extra < extra_names.size() ? std::string_view(extra_names[extra]) : std::string_view{};
+    if (name < count_of(g.names)) return g.names[name];
+    const int32_t extra = name - count_of(g.names);
+    return extra < count_of(extra_names) ? std::string_view(extra_names[extra]) : std::string_view{};
 }
 
 void Runtime::emit_pose(int32_t slot, const Pose& p) {
@@ -69,12 +70,12 @@ void Runtime::emit_pose(int32_t slot, const Pose& p) {
 
 void Runtime::refresh_observers() {
     st.observed_bodies.clear();
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         uint8_t bits = 0;
         for (int i = 0; i < 5; ++i)
             if (st.watched[comp_slot(g.bodies[b].comp, bodyslot::pose + i)]) bits |= uint8_t(1u << i);
         st.body_outputs[b] = bits;
-        if (bits) st.observed_bodies.push_back(int32_t(b));
+        if (bits) st.observed_bodies.push_back(b.v);
     }
 }
 
@@ -112,7 +113,7 @@ void Engine::input(graph::SlotId slot, std::span<const double> value) {
     Runtime& r = *rt_;
     const Slot& s = r.g.slots[slot];
     int w = slot_width(s.type);
-    for (int i = 0; i < w && size_t(i) < value.size(); ++i) r.val(slot)[i] = value[size_t(i)];
+    for (size_t i = 0; std::cmp_less(i, w) && i < value.size(); ++i) r.val(slot)[i] = value[i];
     r.st.pending.push_back(slot);
 }
 
@@ -141,7 +142,7 @@ void Engine::force(graph::SlotId slot, ForceMode mode, std::span<const double> v
     s.force_mode[slot] = uint8_t(mode);
     s.force_edge[slot] = 1;
     if (mode == ForceMode::Stuck)
-        for (int i = 0; i < w && size_t(i) < value.size(); ++i) s.force_value[size_t(r.tab.value_adr[slot] + i)] = value[size_t(i)];
+        for (size_t i = 0; std::cmp_less(i, w) && i < value.size(); ++i) s.force_value[r.tab.value_adr[slot] + i] = value[i];
 }
 
 ForceMode Engine::forced(graph::SlotId slot) const {
@@ -151,12 +152,13 @@ ForceMode Engine::forced(graph::SlotId slot) const {
 
 int32_t Engine::intern(std::string_view s) {
     Runtime& r = *rt_;
-    for (size_t i = 0; i < r.g.names.size(); ++i)
-        if (r.g.names[i] == s) return int32_t(i);
-    for (size_t i = 0; i < r.extra_names.size(); ++i)
-        if (r.extra_names[i] == s) return int32_t(r.g.names.size() + i);
+    const int32_t graph_names = count_of(r.g.names);
+    for (int32_t i = 0; i < graph_names; ++i)
+        if (r.g.names[i] == s) return i;
+    for (int32_t i = 0; i < count_of(r.extra_names); ++i)
+        if (r.extra_names[i] == s) return graph_names + i;
     r.extra_names.emplace_back(s);
-    return int32_t(r.g.names.size() + r.extra_names.size() - 1);
+    return graph_names + count_of(r.extra_names) - 1;
 }
 
 std::string_view Engine::str(int32_t name) const { return rt_->str(name); }
@@ -169,7 +171,8 @@ void Engine::watch(graph::SlotId slot) {
 std::span<const double> Engine::value(graph::SlotId slot) const {
     const Slot& s = rt_->g.slots[slot];
     if (s.value_adr < 0) return {};
-    return {rt_->val(slot), size_t(slot_width(s.type))};
+    const double* v = rt_->val(slot);
+    return {v, v + slot_width(s.type)};
 }
 
 bool Engine::active(graph::SlotId slot) const {

@@ -30,7 +30,7 @@ bool number_unit(std::string_view text, double& v, std::string_view& unit) {
     text = trim(text);
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     if (ec != std::errc() || !std::isfinite(v)) return false;
-    unit = trim(text.substr(size_t(end - text.data())));
+    unit = trim(text.substr(end - text.data()));
     return true;
 }
 
@@ -45,7 +45,7 @@ bool numbers(std::string_view text, std::vector<double>& out, size_t n) {
         auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), v);
         if (ec != std::errc() || !std::isfinite(v)) return false;
         out.push_back(v);
-        rest.remove_prefix(size_t(end - rest.data()));
+        rest.remove_prefix(end - rest.data());
     }
     return out.size() == n;
 }
@@ -110,13 +110,13 @@ bool parse_frequency(std::string_view text, double& hz, std::string& error) {
 
 SlotIndex slot_index(const Graph& g) {
     SlotIndex idx;
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        idx.emplace(g.slot_path(int32_t(s)), SlotTarget{{int32_t(s)}, g.slots[s].type, g.slots[s].dir, false});
-    for (size_t p = 0; p < g.ports.size(); ++p) {
+    for (SlotId s : ids_of(g.slots))
+        idx.emplace(g.slot_path(s), SlotTarget{{s.v}, g.slots[s].type, g.slots[s].dir, false});
+    for (PortId p : ids_of(g.ports)) {
         const Port& pt = g.ports[p];
         SlotTarget t{{}, pt.type, pt.dir, true};
-        for (int32_t k = 0; k < pt.target_num; ++k) t.slots.push_back(g.port_targets[size_t(pt.target_adr + k)].v);
-        idx.emplace(g.port_path(int32_t(p)), std::move(t));  // a slot of the same path wins
+        for (const PortTarget& target : g.port_targets.slice(pt.target_adr, pt.target_num)) t.slots.push_back(target.v.v);
+        idx.emplace(g.port_path(p), std::move(t));  // a slot of the same path wins
     }
     return idx;
 }
@@ -175,15 +175,16 @@ std::string format_event(const Graph& g, const Event& ev, double dt) {
                            ev.mode == ForceMode::Open ? " open" : ev.mode == ForceMode::Invert ? " invert" : "");
     std::string line = ev.force ? fmt::format("{}s force {} stuck", t, ev.path) : fmt::format("{}s {}", t, ev.path);
     if (ev.slots.empty()) return line;
-    if (ev.force && g.slots[size_t(ev.slots[0])].type == SlotType::Void) return line + (ev.value[0] != 0 ? " on" : " off");
-    switch (g.slots[size_t(ev.slots[0])].type) {
+    const SlotType type = g.slots[SlotId(ev.slots[0])].type;
+    if (ev.force && type == SlotType::Void) return line + (ev.value[0] != 0 ? " on" : " off");
+    switch (type) {
     case SlotType::Void: break;
     case SlotType::Bool: line += ev.value[0] != 0 ? " true" : " false"; break;
     case SlotType::String: line += fmt::format(" \"{}\"", ev.text); break;
     case SlotType::Ref: {
         const double d = ev.value[0];
-        line += d >= 0 && d < double(g.dos.size()) && !g.str(g.dos[size_t(d)].path).empty()
-                    ? fmt::format(" {}", g.str(g.dos[size_t(d)].path))
+        line += d >= 0 && d < double(g.dos.size()) && !g.str(g.dos[DoId(d)].path).empty()
+                    ? fmt::format(" {}", g.str(g.dos[DoId(d)].path))
                     : fmt::format(" {}", d);
         break;
     }
@@ -208,7 +209,7 @@ void apply_event(Engine& e, const Event& ev) {
     const Graph& g = e.graph();
     double name[1];
     std::span<const double> value = ev.value;
-    if (g.slots[size_t(ev.slots[0])].type == SlotType::String && (!ev.force || ev.mode == ForceMode::Stuck)) {
+    if (g.slots[SlotId(ev.slots[0])].type == SlotType::String && (!ev.force || ev.mode == ForceMode::Stuck)) {
         name[0] = double(e.intern(ev.text));
         value = name;
     }
@@ -367,19 +368,19 @@ bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::stri
 
 // The body whose physics component has the dotted path `path`, or -1.
 int32_t find_body(const Graph& g, std::string_view path) {
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         const Comp& c = g.comps[g.bodies[b].comp];
         const std::string_view owner = g.str(g.dos[c.owner].path), name = g.str(c.name);
         if (path.size() == (owner.empty() ? 0 : owner.size() + 1) + name.size() && path.ends_with(name) &&
             (owner.empty() || (path.starts_with(owner) && path[owner.size()] == '.')))
-            return int32_t(b);
+            return b.v;
     }
     return -1;
 }
 
 int32_t find_object(const Graph& g, std::string_view path) {
-    for (size_t d = 0; d < g.dos.size(); ++d)
-        if (g.str(g.dos[d].path) == path && !path.empty()) return int32_t(d);
+    for (DoId d : ids_of(g.dos))
+        if (g.str(g.dos[d].path) == path && !path.empty()) return d.v;
     return -1;
 }
 
@@ -497,7 +498,7 @@ bool read_lines(const std::string& path, std::string_view what,
     for (int n = 1; std::getline(in, line); ++n) {
         const std::string_view l = trim(line);
         if (l.empty() || l.front() == '#') continue;
-        if (!f(l, n, size_t(l.data() - line.data()) + 1)) return false;
+        if (!f(l, n, l.data() - line.data() + 1)) return false;
     }
     if (in.bad()) {
         error = fmt::format("{}: cannot read", path);
@@ -529,9 +530,9 @@ std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which) {
 
 std::vector<Event> plant_events(const Graph& g) {
     std::vector<Event> out;
-    for (size_t p = 0; p < g.plugins.size(); ++p)
+    for (PluginId p : ids_of(g.plugins))
         if (const KindBehaviour* b = find_behaviour(g.str(g.plugins[p].kind)); b && b->schedule)
-            b->schedule(g, int32_t(p), out);
+            b->schedule(g, p.v, out);
     std::stable_sort(out.begin(), out.end(), [](const Event& x, const Event& y) { return x.time < y.time; });
     return out;
 }

@@ -39,11 +39,11 @@ int32_t root(std::vector<int32_t>& parent, int32_t x) {
 // membership changed. All arrays are sized by the body count: no allocation.
 void rebuild_groups(Runtime& r) {
     State& s = r.st;
-    const int32_t nb = int32_t(r.g.bodies.size());
+    const int32_t nb = r.g.bodies.count();
     for (int32_t b = 0; b < nb; ++b) s.group_of[b] = b;
-    for (size_t j = 0; j < r.g.joints.size(); ++j) {
+    for (int32_t j = 0; j < r.g.joints.count(); ++j) {
         const Joint& jt = r.g.joints[j];
-        if (jt.kind != JointKind::Fixed || !r.phys.joint_on(int32_t(j)) || jt.body_b < 0) continue;
+        if (jt.kind != JointKind::Fixed || !r.phys.joint_on(j) || jt.body_b < 0) continue;
         if (!r.phys.dynamic_now(jt.body_a) || !r.phys.dynamic_now(jt.body_b)) continue;
         s.group_of[root(s.group_of, jt.body_a)] = root(s.group_of, jt.body_b);
     }
@@ -95,11 +95,11 @@ void build_field_cells(Runtime& r) {
     State& s = r.st;
     s.field_filed.clear();
     s.field_big.clear();
-    for (size_t f = 0; f < r.g.fields.size(); ++f) {
+    for (FieldId f : ids_of(r.g.fields)) {
         if (r.g.fields[f].gain <= 0) continue;
         const State::FieldFrame& ff = s.field_frame[f];
         const btVector3& c = ff.pose.getOrigin();
-        file_box(c.x() - ff.rx, c.y() - ff.ry, c.x() + ff.rx, c.y() + ff.ry, int32_t(f), s.field_filed, s.field_big);
+        file_box(c.x() - ff.rx, c.y() - ff.ry, c.x() + ff.rx, c.y() + ff.ry, f.v, s.field_filed, s.field_big);
     }
     index_cells(s.field_filed, s.field_cells, s.field_cell_adr, s.field_cell_list);  // by cell, then field id
     s.field_cells_valid = true;
@@ -123,9 +123,9 @@ bool gather_fields(Runtime& r, int32_t b) {
     bool have_v = false;
     while (cell != cell_end || big != big_end) {  // the two id-ordered lists, merged
         const int32_t f = big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++;
-        if (!s.field_act[size_t(f)]) continue;
-        const Field& fd = r.g.fields[size_t(f)];
-        const State::FieldFrame& ff = s.field_frame[size_t(f)];
+        if (!s.field_act[f]) continue;
+        const Field& fd = r.g.fields[f];
+        const State::FieldFrame& ff = s.field_frame[f];
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame
@@ -136,11 +136,11 @@ bool gather_fields(Runtime& r, int32_t b) {
             s.ride_step[b] = s.step;
             s.ride_at[b] = p;
         }
-        const btVector3& gain = r.tab.field_gain[size_t(f)];
-        s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[size_t(f)])));
+        const btVector3& gain = r.tab.field_gain[f];
+        s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
         s.body_k[b] += gain[gain.maxAxis()];
         s.body_cap[b] = std::max(s.body_cap[b], fd.max_force > 0 ? fd.max_force : HUGE_VAL);
-        s.force[b] += R * (gain * (s.field_target[size_t(f)] - v * R));
+        s.force[b] += R * (gain * (s.field_target[f] - v * R));
         s.gain[b] += ff.K;
         any = true;
     }
@@ -219,7 +219,7 @@ bool prepare_fields(Runtime& r) {
     const size_t nf = g.fields.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
     const size_t slices = slice_count(r.phys.workers(), nf + nk, 128, s.slice_moved.size());
     auto frames = [&r, &s, &g, nf, nk, slices](int i) {
-        const auto [fb, fe] = slice_of(nf, slices, size_t(i));
+        const auto [fb, fe] = slice_of(nf, slices, i);
         bool moved = false;
         for (size_t f = fb; f < fe; ++f) {
             const Field& fd = g.fields[f];
@@ -231,9 +231,9 @@ bool prepare_fields(Runtime& r) {
             s.field_act[f] = 1;
             s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
         }
-        s.slice_moved[size_t(i)] = moved;
-        const auto [kb, ke] = slice_of(nk, slices, size_t(i));
-        s.slice_left[size_t(i)] = kb < ke && kinematic_left(r, kb, ke);
+        s.slice_moved[i] = moved;
+        const auto [kb, ke] = slice_of(nk, slices, i);
+        s.slice_left[i] = kb < ke && kinematic_left(r, kb, ke);
     };
     run_slices(r.phys.workers(), slices, frames);
     bool moved = !s.field_cells_valid, left = false;
@@ -247,21 +247,21 @@ bool prepare_fields(Runtime& r) {
 void list_field_bodies(Runtime& r) {
     State& s = r.st;
     const int nw = r.phys.worlds();
-    s.world_adr.assign(size_t(nw), 0);
-    s.world_num.assign(size_t(nw), 0);
+    s.world_adr.assign(nw, 0);
+    s.world_num.assign(nw, 0);
     // Not what a gripper or a hand holds: the band slides under it.
     for (int32_t b : r.tab.dyn_bodies)
-        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[size_t(r.phys.world_of(b))];
-    for (int w = 1; w < nw; ++w) s.world_adr[size_t(w)] = s.world_adr[size_t(w - 1)] + s.world_num[size_t(w - 1)];
+        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[r.phys.world_of(b)];
+    for (int w = 1; w < nw; ++w) s.world_adr[w] = s.world_adr[w - 1] + s.world_num[w - 1];
     s.worlds_busy.clear();
     for (int w = 0; w < nw; ++w) {
-        if (s.world_num[size_t(w)]) s.worlds_busy.push_back(w);
-        s.world_num[size_t(w)] = 0;
+        if (s.world_num[w]) s.worlds_busy.push_back(w);
+        s.world_num[w] = 0;
     }
     for (int32_t b : r.tab.dyn_bodies) {
         if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0 || s.in_hand[b] || r.phys.coasting(b)) continue;
-        const size_t w = size_t(r.phys.world_of(b));
-        s.world_list[size_t(s.world_adr[w] + s.world_num[w]++)] = b;
+        const int w = r.phys.world_of(b);
+        s.world_list[s.world_adr[w] + s.world_num[w]++] = b;
     }
 }
 
@@ -277,7 +277,7 @@ void phase_physics(Runtime& r) {
         // jobs first, then the hands, then the worlds.
         if (fields) {
             list_field_bodies(r);
-            auto job = [&r](int i) { fields_of_world(r, r.st.worlds_busy[size_t(i)]); };
+            auto job = [&r](int i) { fields_of_world(r, r.st.worlds_busy[i]); };
             r.phys.workers().run(int(r.st.worlds_busy.size()), job);
         }
         apply_hands(r);
@@ -291,7 +291,7 @@ void phase_physics(Runtime& r) {
             h.ready = [](void* c) { list_field_bodies(*static_cast<Runtime*>(c)); };
             h.before = [](void* c, int w) {
                 Runtime& rt = *static_cast<Runtime*>(c);
-                if (size_t(w) < rt.st.world_num.size() && rt.st.world_num[size_t(w)]) fields_of_world(rt, w);
+                if (w >= 0 && w < count_of(rt.st.world_num) && rt.st.world_num[w]) fields_of_world(rt, w);
             };
             h.ctx = &r;
         }

@@ -39,7 +39,7 @@ Ref ref(Runtime& r, int32_t x) {
     const int32_t adr = r.tab.value_adr[x];
     const int w = slot_width(s.type);
     if (w == 0) return {nullptr, nullptr, nullptr, 0, s.type};
-    return {r.val(x), &r.st.force_natural[size_t(adr)], &r.st.force_value[size_t(adr)], w, s.type};
+    return {r.val(x), &r.st.force_natural[adr], &r.st.force_value[adr], w, s.type};
 }
 
 // The value readers see: stuck at its value, open reads as off (none for references and

@@ -16,7 +16,7 @@ namespace {
 
 Pose sample(const Graph& g, const Animation& a, double t) {
     if (a.key_num <= 0) return Pose{};
-    const Key* k = &g.keys[a.key_adr];
+    const std::span<const Key> k = g.keys.slice(a.key_adr, a.key_num);
     if (t <= k[0].t) return k[0].pose;
     for (int32_t i = 0; i + 1 < a.key_num; ++i) {
         if (t > k[i + 1].t) continue;
@@ -100,7 +100,7 @@ void advance_graphics(Runtime& r) {
     std::vector<uint8_t>& flags = r.st.graphics_flags;
     const size_t slices = slice_count(r.phys.workers(), roots, 256, roots + 1);
     auto poses = [&r, &order, &flags, roots, slices](int i) {
-        const auto [b, e] = slice_of(roots, slices, size_t(i));
+        const auto [b, e] = slice_of(roots, slices, i);
         for (size_t k = b; k < e; ++k) flags[k] = advance_one(r, order[k]);
     };
     run_slices(r.phys.workers(), slices, poses);
@@ -143,8 +143,8 @@ void act_graphics(Runtime& r, const Comp& c, int32_t i) {
     for (int32_t x = c.slot_adr + graphicsslot::count; x < c.slot_adr + c.slot_num; ++x) {
         const int32_t aux = r.tab.slot_aux[x];
         if (!r.st.act[x] || aux < 0) continue;
-        if (size_t(aux) < r.g.animations.size() && r.g.animations[aux].play_slot == x) play_animation(r, aux);
-        else if (size_t(aux) < r.g.variants.size() && r.g.variants[aux].select_slot == x) select_variant(r, aux);
+        if (const AnimationId a(aux); r.g.animations.contains(a) && r.g.animations[a].play_slot == x) play_animation(r, aux);
+        else if (const VariantId v(aux); r.g.variants.contains(v) && r.g.variants[v].select_slot == x) select_variant(r, aux);
     }
 }
 

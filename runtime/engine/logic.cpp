@@ -25,17 +25,17 @@ bool holds(Cond c, bool source, bool target) {
 
 // The slot a dynamic end names now: the access target for the ordinal, among its
 // type, of the object held in the reference slot; -1 (and a warning) if none.
-int32_t resolve(Runtime& r, int32_t access, bool warn) {
+SlotId resolve(Runtime& r, AccessId access, bool warn) {
     const Access& a = r.g.accesses[access];
-    const int32_t d = int32_t(*r.val(a.ref_slot));
-    if (d < 0) {
+    const DoId d(*r.val(a.ref_slot));  // a ref slot's value is a DO id
+    if (!d.valid()) {
         if (warn) r.st.warn.access_null++;
-        return -1;
+        return SlotId{};
     }
-    if (size_t(d) >= r.g.dos.size() || r.g.dos[d].type != a.do_type || r.g.dos[d].ordinal < 0 ||
+    if (!r.g.dos.contains(d) || r.g.dos[d].type != a.do_type || r.g.dos[d].ordinal < 0 ||
         r.g.dos[d].ordinal >= a.target_num) {
         if (warn) r.st.warn.access_type++;
-        return -1;
+        return SlotId{};
     }
     return r.g.access_targets[a.target_adr + r.g.dos[d].ordinal].v;
 }
@@ -50,7 +50,7 @@ void copy(Runtime& r, int32_t from_val, int32_t to_val, int32_t width) {
 // which its condition does not hold: it runs in a step whose condition holds when it did
 // not hold in the step before. Kept as the last step it held, so a step in which the flow is
 // not due (its condition cannot hold) needs no visit.
-bool gate(Runtime& r, int32_t f, bool once, bool ok) {
+bool gate(Runtime& r, FlowId f, bool once, bool ok) {
     if (!once || !ok) return ok;
     int64_t& held = r.st.once_held[f];
     const bool runs = held != r.st.step - 1;
@@ -58,43 +58,42 @@ bool gate(Runtime& r, int32_t f, bool once, bool ok) {
     return runs;
 }
 
-void run_flow(Runtime& r, int32_t f, bool delayed) {
+void run_flow(Runtime& r, FlowId f, bool delayed) {
     const FlowOp& op = r.sched.flows[f];
-    const uint8_t* act = r.st.act.data();
-    int32_t to = op.to;
-    if (op.from_access < 0 && op.to_access < 0) {  // the common, static case
-        if (!gate(r, f, op.once, holds(op.cond, act[op.from], act[to]))) return;
+    const uint8_t* act = r.st.act.data();  // by slot number: the hot path reads it directly
+    SlotId to = op.to;
+    if (!op.from_access.valid() && !op.to_access.valid()) {  // the common, static case
+        if (!gate(r, f, op.once, holds(op.cond, act[op.from.v], act[to.v]))) return;
         copy(r, op.from_val, op.to_val, op.width);
     } else {
         // A dynamic source is active when the reference was (re)published this step
         // or the referenced slot is active: "the object the trigger just saw".
-        int32_t from = op.from;
-        bool source = act[from];
-        if (op.from_access >= 0) {
+        SlotId from = op.from;
+        bool source = act[from.v];
+        if (op.from_access.valid()) {
             from = resolve(r, op.from_access, false);
-            source = source || (from >= 0 && act[from]);
+            source = source || (from.valid() && act[from.v]);
         }
-        if (op.to_access >= 0) to = resolve(r, op.to_access, false);
-        const bool target = to >= 0 && act[to];
+        if (op.to_access.valid()) to = resolve(r, op.to_access, false);
+        const bool target = to.valid() && act[to.v];
         if (!gate(r, f, op.once, holds(op.cond, source, target))) return;
-        if (from < 0 || to < 0) {  // would run, but an object is missing: warn, skip
-            if (op.from_access >= 0 && from < 0) resolve(r, op.from_access, true);
-            if (op.to_access >= 0 && to < 0) resolve(r, op.to_access, true);
+        if (!from.valid() || !to.valid()) {  // would run, but an object is missing: warn, skip
+            if (op.from_access.valid() && !from.valid()) resolve(r, op.from_access, true);
+            if (op.to_access.valid() && !to.valid()) resolve(r, op.to_access, true);
             if (op.once) r.st.once_held[f] = kNeverHeld;  // re-armed: it runs again next step
             return;
         }
         copy(r, r.g.slots[from].value_adr, r.g.slots[to].value_adr, op.width);
     }
-    if (delayed) r.st.pending.push_back(to);
-    else r.activate(to);
+    if (delayed) r.st.pending.push_back(to.v);
+    else r.activate(to.v);
 }
 
-void run_connector(Runtime& r, int32_t i) {
+void run_connector(Runtime& r, LogicId i) {
     const Logic& l = r.g.logics[i];
     const bool all = l.op == LogicOp::And;
     bool v = all;
-    for (int32_t k = 0; k < l.in_num; ++k) {
-        const LogicIn& in = r.g.logic_inputs[l.in_adr + k];
+    for (const LogicIn& in : r.g.logic_inputs.slice(l.in_adr, l.in_num)) {
         const bool a = bool(r.st.act[in.slot]) != in.negated;
         v = all ? (v && a) : (v || a);
     }
@@ -102,7 +101,7 @@ void run_connector(Runtime& r, int32_t i) {
     if (!r.st.forced_out.empty()) force_again(r, l.out_slot);
 }
 
-void run_router(Runtime& r, int32_t comp) {
+void run_router(Runtime& r, CompId comp) {
     const int32_t q = r.comp_slot(comp, routerslot::query);
     if (!r.st.act[q]) return;
     const std::string_view id = r.str(int32_t(*r.val(q)));
@@ -114,7 +113,7 @@ void run_router(Runtime& r, int32_t comp) {
         }
 }
 
-void run_label(Runtime& r, int32_t i) {
+void run_label(Runtime& r, Id<Label> i) {
     const int32_t set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
     if (!r.st.act[set]) return;
     const int32_t out = r.comp_slot(r.g.labels[i].comp, labelslot::value);
@@ -128,13 +127,13 @@ namespace {
 
 void run_op(Runtime& r, const Op& op) {
     switch (op.kind) {
-    case OpKind::Flow: run_flow(r, op.index, false); break;
+    case OpKind::Flow: run_flow(r, op.flow(), false); break;
     case OpKind::Pulse:
-        if (r.st.act[op.from]) r.activate_in(op.to);  // flows end at inputs
+        if (r.st.act[op.from]) r.activate_in(op.to.v);  // flows end at inputs
         break;
-    case OpKind::Logic: run_connector(r, op.index); break;
-    case OpKind::Router: run_router(r, op.index); break;
-    case OpKind::Label: run_label(r, op.index); break;
+    case OpKind::Logic: run_connector(r, op.logic()); break;
+    case OpKind::Router: run_router(r, op.router()); break;
+    case OpKind::Label: run_label(r, op.label()); break;
     }
 }
 
@@ -149,15 +148,18 @@ void run_due(Runtime& r) {
     int32_t ran = -1;  // position of the op that ran last
     auto look = [&] {
         auto due_from = [&](const int32_t* q, const int32_t* end) {
-            for (; q != end; ++q)
-                if (*q > ran) due[size_t(*q) / 64] |= uint64_t(1) << (*q % 64);
+            for (; q != end; ++q) {
+                if (*q <= ran) continue;
+                const size_t p = *q;  // a position, >= 0
+                due[p / 64] |= uint64_t(1) << (p % 64);
+            }
         };
-        auto mark = [&](int32_t x) {
-            due_from(sc.readers.data() + sc.reader_adr[size_t(x)], sc.readers.data() + sc.reader_adr[size_t(x) + 1]);
-            for (int32_t k = sc.group_adr[size_t(x)]; k < sc.group_adr[size_t(x) + 1]; ++k) {
-                const int32_t group = sc.groups[size_t(k)];
-                due_from(sc.group_readers.data() + sc.group_reader_adr[size_t(group)],
-                         sc.group_readers.data() + sc.group_reader_adr[size_t(group) + 1]);
+        auto mark = [&](size_t x) {  // a slot (>= 0)
+            due_from(sc.readers.data() + sc.reader_adr[x], sc.readers.data() + sc.reader_adr[x + 1]);
+            for (int32_t k = sc.group_adr[x]; k < sc.group_adr[x + 1]; ++k) {
+                const size_t group = sc.groups[k];  // >= 0
+                due_from(sc.group_readers.data() + sc.group_reader_adr[group],
+                         sc.group_readers.data() + sc.group_reader_adr[group + 1]);
             }
         };
         for (; out_seen < s.out_list.size(); ++out_seen) mark(s.out_list[out_seen]);
@@ -172,8 +174,9 @@ void run_due(Runtime& r) {
             continue;
         }
         due[w] = bits & (bits - 1);
-        ran = int32_t(w * 64 + size_t(__builtin_ctzll(bits)));
-        run_op(r, sc.ops[size_t(ran)]);
+        const size_t at = w * 64 + __builtin_ctzll(bits);
+        ran = static_cast<int32_t>(at);
+        run_op(r, sc.ops[at]);
         look();
     }
 }
@@ -192,7 +195,7 @@ void phase_logic(Runtime& r) {
     } else {
         for (const Op& op : r.sched.ops) run_op(r, op);
     }
-    for (int32_t f : r.sched.delayed) run_flow(r, f, true);
+    for (FlowId f : r.sched.delayed) run_flow(r, f, true);
     forces_logic_end(r);
 }
 

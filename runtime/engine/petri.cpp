@@ -54,10 +54,9 @@ void phase_petri(Runtime& r) {
     const size_t puts = s.places_touched.size();
 
     s.fired.clear();
-    for (size_t n = 0; n < r.tab.nets.size(); ++n) {
-        if (!s.net_live[n] && !r.tab.net_always_live[n]) continue;
+    for (int32_t net = 0; net < count_of(r.tab.nets); ++net) {
+        if (!s.net_live[net] && !r.tab.net_always_live[net]) continue;
         const size_t before = s.fired.size();
-        const int32_t net = int32_t(n);
         for (const int32_t* t = r.tab.net_transitions.begin(net); t != r.tab.net_transitions.end(net); ++t) {
             const Transition& tr = g.transitions[*t];
             bool enabled = true;
@@ -68,7 +67,7 @@ void phase_petri(Runtime& r) {
             if (enabled) s.fired.push_back(*t);
         }
         // A net that fired is examined again next step; a quiet one waits for a put.
-        s.net_live[n] = s.fired.size() > before;
+        s.net_live[net] = s.fired.size() > before;
     }
     for (int32_t t : s.fired) {
         const Transition& tr = g.transitions[t];

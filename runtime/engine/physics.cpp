@@ -327,7 +327,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
 
 Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     : g_(g), gravity_(to_bt(g.settings.gravity)), contacts_(std::make_unique<BoxHullContacts>()) {
-    const size_t nb = g.bodies.size();
+    const int32_t nb = g.bodies.count();
     local_.resize(nb);
     local_inv_.resize(nb);
     inertia_.resize(nb);
@@ -338,7 +338,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
     coast_.assign(nb, 0);
-    for (size_t b = 0; b < nb; ++b) {
+    for (int32_t b = 0; b < nb; ++b) {
         const Body& body = g.bodies[b];
         BodyShape bs = shapes_.build(g, body);
         contacts_->prepare(*bs.shape);
@@ -361,33 +361,33 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
             rb->forceActivationState(DISABLE_DEACTIVATION);
         }
         bodies_.push_back(std::move(rb));
-        if (!body.collision) set_collision(int32_t(b), false);
-        if (!body.dynamics) set_dynamics(int32_t(b), false);
+        if (!body.collision) set_collision(b, false);
+        if (!body.dynamics) set_dynamics(b, false);
     }
 
     std::vector<std::pair<int32_t, int32_t>> pairs;
     joint_in_.assign(g.joints.size(), 0);
     joint_on_.assign(g.joints.size(), 0);
     joints_.resize(g.joints.size());
-    for (size_t j = 0; j < g.joints.size(); ++j) {
+    for (int32_t j = 0; j < g.joints.count(); ++j) {
         const Joint& jt = g.joints[j];
         joint_on_[j] = jt.enabled;
-        pairs.emplace_back(jt.body_a, int32_t(j));
-        if (jt.body_b >= 0 && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, int32_t(j));
+        pairs.emplace_back(jt.body_a, j);
+        if (jt.body_b >= 0 && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, j);
     }
     std::stable_sort(pairs.begin(), pairs.end(),
                      [](auto& x, auto& y) { return x.first < y.first; });
     body_joints_.adr.assign(nb, 0);
     body_joints_.num.assign(nb, 0);
     for (auto& [b, j] : pairs) {
-        if (body_joints_.num[b]++ == 0) body_joints_.adr[b] = int32_t(body_joints_.list.size());
+        if (body_joints_.num[b]++ == 0) body_joints_.adr[b] = count_of(body_joints_.list);
         body_joints_.list.push_back(j);
     }
     find_welds();
     // A weld's fixed joint is made only while Bullet's world holds it (make_joint): a bottle's
     // weld holds nearly always, and the joint is 2 KiB of Bullet's per pooled bottle.
-    for (size_t j = 0; j < g.joints.size(); ++j)
-        if (weld_joint_[j] < 0) make_joint(int32_t(j));
+    for (int32_t j = 0; j < g.joints.count(); ++j)
+        if (weld_joint_[j] < 0) make_joint(j);
 
     // The regions and their worlds (regions.cpp), then every body joins its world once, in id
     // order; pooled ones are parked. A pool's objects all start at one pose: they join without
@@ -397,20 +397,20 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     contacts_->freeze();
     {
         std::vector<size_t> count(worlds_.size());
-        for (size_t b = 0; b < nb; ++b) ++count[size_t(world_of_[b])];
+        for (int32_t b = 0; b < nb; ++b) ++count[world_of_[b]];
         solvers_.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
         for (size_t w = 0; w < worlds_.size(); ++w) make_world(worlds_[w], bp, count[w]);
     }
     std::vector<char> pool(nb);
-    for (size_t b = 0; b < nb; ++b) {
+    for (int32_t b = 0; b < nb; ++b) {
         pool[b] = pooled(g, t, t.body_do[b]);
         in_world_[b] = 1;
-        set_mode_flags(int32_t(b));  // before joining: Bullet files a body as static or not then
-        add_to_world(int32_t(b), !pool[b]);
+        set_mode_flags(b);  // before joining: Bullet files a body as static or not then
+        add_to_world(b, !pool[b]);
     }
     add_joints_at_start(pool);
-    for (size_t b = 0; b < nb; ++b)
-        if (pool[b]) take_out(int32_t(b));
+    for (int32_t b = 0; b < nb; ++b)
+        if (pool[b]) take_out(b);
     int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::make_unique<Workers>(std::min(n, std::max(1, int(worlds_.size()) - (void_ >= 0))));
     while (int(solvers_.size()) < workers_->threads())
@@ -467,21 +467,21 @@ void Physics::remove_joint(int32_t j) {
 // added in the order that dance leaves them in, worked out on their ids, so that the pooled
 // bottles' weld joints need not be made at all.
 void Physics::add_joints_at_start(const std::vector<char>& pool) {
-    const size_t nj = g_.joints.size();
+    const int32_t nj = g_.joints.count();
     std::vector<std::vector<int32_t>> order(worlds_.size());
     std::vector<int32_t> at(nj, -1);  // a joint's place in its world's list
-    for (size_t j = 0; j < nj; ++j) {
-        std::vector<int32_t>& o = order[size_t(world_of_[g_.joints[j].body_a])];
-        at[j] = int32_t(o.size());
-        o.push_back(int32_t(j));
+    for (int32_t j = 0; j < nj; ++j) {
+        std::vector<int32_t>& o = order[world_of_[g_.joints[j].body_a]];
+        at[j] = count_of(o);
+        o.push_back(j);
     }
-    for (size_t b = 0; b < pool.size(); ++b) {
+    for (int32_t b = 0; b < count_of(pool); ++b) {
         if (!pool[b] || body_joints_.num.empty()) continue;
-        for (const int32_t* j = body_joints_.begin(int32_t(b)); j != body_joints_.end(int32_t(b)); ++j) {
+        for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
             if (at[*j] < 0) continue;  // left with its other body
-            std::vector<int32_t>& o = order[size_t(world_of_[g_.joints[*j].body_a])];
+            std::vector<int32_t>& o = order[world_of_[g_.joints[*j].body_a]];
             const int32_t last = o.back();
-            o[size_t(at[*j])] = last;
+            o[at[*j]] = last;
             at[last] = at[*j];
             o.pop_back();
             at[*j] = -1;
@@ -495,7 +495,7 @@ Physics::~Physics() {
     workers_.reset();
     for (size_t j = joints_.size(); j-- > 0;)
         if (joint_in_[j]) world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
-    for (size_t b = bodies_.size(); b-- > 0;) world_at(int32_t(b)).world->removeRigidBody(bodies_[b].get());
+    for (int32_t b = count_of(bodies_); b-- > 0;) world_at(b).world->removeRigidBody(bodies_[b].get());
     worlds_.clear();
     joints_.clear();
     bodies_.clear();
@@ -508,10 +508,10 @@ void Physics::step(double dt) { step(dt, StepHooks{}); }
 void Physics::step(double dt, const StepHooks& h) {
     StepProfile& prof = workers_->profile();
     auto one = [this, dt, &h](int i) {
-        const int w = to_step_[size_t(i)];
+        const int w = to_step_[i];
         if (h.before) h.before(h.ctx, w);
-        worlds_[size_t(w)].world->setConstraintSolver(solvers_[size_t(worker_slot())].get());  // this thread's
-        worlds_[size_t(w)].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+        worlds_[w].world->setConstraintSolver(solvers_[worker_slot()].get());  // this thread's
+        worlds_[w].world->stepSimulation(btScalar(dt), 0, btScalar(dt));
         follow_world(w);
     };
     to_step_.clear();
@@ -528,12 +528,12 @@ void Physics::step(double dt, const StepHooks& h) {
     prof.lap(StepProfile::FieldsPrep);
     // The worlds with the most movers first: the threads claim them in this order, so the
     // longest jobs do not come last. The order changes nothing in the results.
-    for (size_t w = 0; w < worlds_.size(); ++w) {
+    for (int32_t w = 0; w < count_of(worlds_); ++w) {
         if (!worlds_[w].active) continue;
         size_t k = to_step_.size();
-        to_step_.push_back(int32_t(w));
-        for (; k > 0 && worlds_[size_t(to_step_[k - 1])].movers < worlds_[w].movers; --k) to_step_[k] = to_step_[k - 1];
-        to_step_[k] = int32_t(w);
+        to_step_.push_back(w);
+        for (; k > 0 && worlds_[to_step_[k - 1]].movers < worlds_[w].movers; --k) to_step_[k] = to_step_[k - 1];
+        to_step_[k] = w;
     }
     workers_->run(int(to_step_.size()), one);
 }

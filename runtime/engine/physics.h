@@ -54,7 +54,7 @@ public:
     void step(double dt);
     // Bullet's worlds: one per region, then (with more than one region) the void's.
     int worlds() const { return int(worlds_.size()); }
-    btDiscreteDynamicsWorld& world(int w = 0) { return *worlds_[size_t(w)].world; }
+    btDiscreteDynamicsWorld& world(int w = 0) { return *worlds_[w].world; }
     int world_of(int32_t b) const { return world_of_[b]; }
     int threads() const;
     Workers& workers() { return *workers_; }
@@ -172,7 +172,7 @@ private:
     void add_joint(int32_t j);     // into its world (made first if need be)
     void remove_joint(int32_t j);  // out of its world (a weld's constraint is dropped)
     void add_joints_at_start(const std::vector<char>& pool);
-    World& world_at(int32_t b) { return worlds_[size_t(world_of_[b])]; }
+    World& world_at(int32_t b) { return worlds_[world_of_[b]]; }
     void make_world(World& w, Broadphase bp, size_t bodies);
     // regions.cpp
     void find_regions(bool split);  // split: regions allowed (not with sweep-and-prune)

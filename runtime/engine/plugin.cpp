@@ -81,21 +81,22 @@ double PluginCtx::value(int slot) const {
 double PluginCtx::param(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].num; }
 std::span<double> PluginCtx::state() const {
     const PluginRun& p = r_.tab.plugin_run[plugin_];
-    return {r_.st.plugin_state.data() + p.state_adr, size_t(p.behaviour->state_size)};
+    double* state = r_.st.plugin_state.data() + p.state_adr;
+    return {state, state + p.behaviour->state_size};
 }
 int PluginCtx::entry_count() const { return r_.g.plugins[plugin_].entry_num; }
 const graph::PluginEntry& PluginCtx::entry(int e) const {
     return r_.g.plugin_entries[r_.g.plugins[plugin_].entry_adr + e];
 }
 std::string_view PluginCtx::entry_word(int e) const { return r_.g.str(entry(e).word); }
-bool PluginCtx::entry_active(int e) const { return r_.st.act[r_.g.plugin_entry_slots[entry(e).slot_adr].v] != 0; }
+bool PluginCtx::entry_active(int e) const { return r_.st.act[r_.g.plugin_entry_slots[entry(e).slot_adr.first()].v] != 0; }
 double PluginCtx::entry_option(int e, int k) const { return r_.g.plugin_params[entry(e).param_adr + k].num; }
 double PluginCtx::time() const { return r_.st.time; }
 
 void start_plugins(Runtime& r) {
-    for (size_t i = 0; i < r.g.plugins.size(); ++i)
+    for (graph::PluginId i : graph::ids_of(r.g.plugins))
         if (const auto* b = r.tab.plugin_run[i].behaviour; b->start) {
-            PluginCtx ctx(r, int32_t(i));
+            PluginCtx ctx(r, i.v);
             b->start(ctx);
         }
 }

@@ -91,7 +91,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
         return int64_t(std::clamp(std::floor(v / cell), btScalar(-1e12), btScalar(1e12)));
     };
     for (int32_t i : ids) {
-        const Box& b = boxes[size_t(i)];
+        const Box& b = boxes[i];
         // A box Bullet computed as infinite or NaN (a centre of mass 1e308 m off its body, beyond
         // float's range, say) has no cells: it is compared with every box (and a NaN box
         // overlaps none). Only finite numbers reach idx.
@@ -114,7 +114,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
     const btVector3 g(h, h, h);
     bool merged = false;
     auto test = [&](int32_t a, int32_t b) {
-        const Box &p = boxes[size_t(a)], &q = boxes[size_t(b)];
+        const Box &p = boxes[a], &q = boxes[b];
         if (overlap(p.lo - g, p.hi + g, q.lo - g, q.hi + g)) merged |= uf.unite(a, b);
     };
     for (size_t i = 0; i < filed.size();) {
@@ -133,7 +133,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
 }  // namespace
 
 void Physics::find_regions(bool split) {
-    const size_t nb = g_.bodies.size();
+    const int32_t nb = g_.bodies.count();
     auto is_static = [this](size_t b) { return g_.bodies[b].mode == BodyMode::Static; };
 
     // Groups: bodies joined by joints, numbered in order of their first body.
@@ -143,34 +143,34 @@ void Physics::find_regions(bool split) {
     group_of_.assign(nb, -1);
     std::vector<int32_t> first_of(nb, -1);
     int32_t groups = 0;
-    for (size_t b = 0; b < nb; ++b) {
-        int32_t r = joined.find(int32_t(b));
-        if (first_of[size_t(r)] < 0) first_of[size_t(r)] = groups++;
-        group_of_[b] = first_of[size_t(r)];
+    for (int32_t b = 0; b < nb; ++b) {
+        int32_t r = joined.find(b);
+        if (first_of[r] < 0) first_of[r] = groups++;
+        group_of_[b] = first_of[r];
     }
-    group_bodies_.adr.assign(size_t(groups), 0);
-    group_bodies_.num.assign(size_t(groups), 0);
-    for (size_t b = 0; b < nb; ++b) ++group_bodies_.num[size_t(group_of_[b])];
+    group_bodies_.adr.assign(groups, 0);
+    group_bodies_.num.assign(groups, 0);
+    for (int32_t b = 0; b < nb; ++b) ++group_bodies_.num[group_of_[b]];
     for (int32_t gi = 1; gi < groups; ++gi) group_bodies_.adr[gi] = group_bodies_.adr[gi - 1] + group_bodies_.num[gi - 1];
     group_bodies_.list.assign(nb, -1);
     {
-        std::vector<int32_t> fill(size_t(groups), 0);
-        for (size_t b = 0; b < nb; ++b) {
+        std::vector<int32_t> fill(groups, 0);
+        for (int32_t b = 0; b < nb; ++b) {
             const int32_t gi = group_of_[b];
-            group_bodies_.list[size_t(group_bodies_.adr[gi] + fill[size_t(gi)]++)] = int32_t(b);
+            group_bodies_.list[group_bodies_.adr[gi] + fill[gi]++] = b;
         }
     }
-    anchored_.assign(size_t(groups), 0);
+    anchored_.assign(groups, 0);
     movers_.clear();
-    for (size_t b = 0; b < nb; ++b) {
-        if (is_static(b)) anchored_[size_t(group_of_[b])] = 1;
-        else movers_.push_back(int32_t(b));
+    for (int32_t b = 0; b < nb; ++b) {
+        if (is_static(b)) anchored_[group_of_[b]] = 1;
+        else movers_.push_back(b);
     }
-    void_mark_.assign(size_t(groups), 0);
+    void_mark_.assign(groups, 0);
     free_to_.clear();
     free_groups_.clear();
     for (int32_t gi = 0; gi < groups; ++gi)
-        if (!anchored_[size_t(gi)]) free_groups_.push_back(gi);
+        if (!anchored_[gi]) free_groups_.push_back(gi);
     free_to_.assign(free_groups_.size(), 0);
 
     // s: the largest free group.
@@ -193,11 +193,11 @@ void Physics::find_regions(bool split) {
     // Regions: the anchored groups' bodies, clustered.
     std::vector<Box> boxes(nb);
     std::vector<int32_t> items;
-    for (size_t b = 0; b < nb; ++b) {
-        aabb(int32_t(b), 0, boxes[b].lo, boxes[b].hi);
+    for (int32_t b = 0; b < nb; ++b) {
+        aabb(b, 0, boxes[b].lo, boxes[b].hi);
         if (!(boxes[b].lo.x() <= boxes[b].hi.x()))  // a shape without extent: its origin
             boxes[b].lo = boxes[b].hi = bodies_[b]->getWorldTransform().getOrigin();
-        if (anchored_[size_t(group_of_[b])]) items.push_back(int32_t(b));
+        if (anchored_[group_of_[b]]) items.push_back(b);
     }
     UnionFind cluster(nb);
     for (int32_t b : items) cluster.unite(b, *group_bodies_.begin(group_of_[b]));
@@ -207,15 +207,15 @@ void Physics::find_regions(bool split) {
     do {  // clusters' boxes, kept at their roots (their lowest bodies), until none overlap
         roots.clear();
         for (int32_t b : items)
-            if (cluster.find(b) == b) roots.push_back(b), cbox[size_t(b)] = boxes[size_t(b)];
+            if (cluster.find(b) == b) roots.push_back(b), cbox[b] = boxes[b];
         for (int32_t b : items) {
             const int32_t r = cluster.find(b);
-            cbox[size_t(r)].lo.setMin(boxes[size_t(b)].lo);
-            cbox[size_t(r)].hi.setMax(boxes[size_t(b)].hi);
+            cbox[r].lo.setMin(boxes[b].lo);
+            cbox[r].hi.setMax(boxes[b].hi);
         }
     } while (unite_overlapping(cbox, roots, h, cluster));
 
-    const size_t regions = roots.size();
+    const int32_t regions = count_of(roots);
     world_of_.assign(nb, 0);
     // Sweep-and-prune has a fixed number of handles per world, and bodies move between worlds:
     // with it, one world.
@@ -225,22 +225,22 @@ void Physics::find_regions(bool split) {
         return;
     }
     worlds_.resize(regions + 1);
-    void_ = int(regions);
+    void_ = regions;
     std::vector<int32_t> region_of_root(nb, -1);
-    for (size_t i = 0; i < regions; ++i) {  // roots are in body order
-        region_of_root[size_t(roots[i])] = int32_t(i);
+    for (int32_t i = 0; i < regions; ++i) {  // roots are in body order
+        region_of_root[roots[i]] = i;
         const btVector3 m(kBox, kBox, kBox);
-        worlds_[i].lo = cbox[size_t(roots[i])].lo - m;
-        worlds_[i].hi = cbox[size_t(roots[i])].hi + m;
+        worlds_[i].lo = cbox[roots[i]].lo - m;
+        worlds_[i].hi = cbox[roots[i]].hi + m;
     }
-    for (int32_t b : items) world_of_[size_t(b)] = region_of_root[size_t(cluster.find(b))];
+    for (int32_t b : items) world_of_[b] = region_of_root[cluster.find(b)];
     for (int32_t gi : free_groups_) {
         int to = void_;
         for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi) && to == void_; ++b) {
-            world_of_[size_t(*b)] = void_;
+            world_of_[*b] = void_;
             to = home(*b);
         }
-        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) world_of_[size_t(*b)] = to;
+        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) world_of_[*b] = to;
     }
 }
 
@@ -253,12 +253,12 @@ void Physics::aabb(int32_t b, btScalar grow, btVector3& lo, btVector3& hi) const
 int Physics::home(int32_t b) const {
     const int cur = world_of_[b];
     const btVector3& o = bodies_[b]->getWorldTransform().getOrigin();
-    if (cur != void_ && inside(o, o, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;  // most
+    if (cur != void_ && inside(o, o, worlds_[cur].lo, worlds_[cur].hi)) return cur;  // most
     btVector3 lo, hi;
     aabb(b, kNear, lo, hi);
-    if (cur != void_ && overlap(lo, hi, worlds_[size_t(cur)].lo, worlds_[size_t(cur)].hi)) return cur;
+    if (cur != void_ && overlap(lo, hi, worlds_[cur].lo, worlds_[cur].hi)) return cur;
     for (int w = 0; w < void_; ++w)
-        if (overlap(lo, hi, worlds_[size_t(w)].lo, worlds_[size_t(w)].hi)) return w;
+        if (overlap(lo, hi, worlds_[w].lo, worlds_[w].hi)) return w;
     return void_;
 }
 
@@ -282,7 +282,7 @@ void Physics::assign_worlds() {
     const size_t nf = free_groups_.size();
     const size_t slices = slice_count(*workers_, nf, 128, nf + 1);
     auto decide = [this, &where, nf, slices](int i) {
-        const auto [b, e] = slice_of(nf, slices, size_t(i));
+        const auto [b, e] = slice_of(nf, slices, i);
         for (size_t k = b; k < e; ++k) free_to_[k] = where(free_groups_[k]);
     };
     run_slices(*workers_, slices, decide);
@@ -302,10 +302,10 @@ void Physics::assign_worlds() {
     // that joined one before), in turn until none joins.
     void_home_.assign(void_groups_.size(), void_);
     if (!void_groups_.empty()) {
-        for (int32_t gi : void_groups_) void_mark_[size_t(gi)] = 1;
+        for (int32_t gi : void_groups_) void_mark_[gi] = 1;
         near_.clear();
         for (int32_t m : movers_) {
-            if (!present(m) || void_mark_[size_t(group_of_[m])]) continue;
+            if (!present(m) || void_mark_[group_of_[m]]) continue;
             Near n;
             box(m, n.lo, n.hi);
             n.world = world_of_[m];
@@ -337,17 +337,17 @@ void Physics::assign_worlds() {
                 }
             }
         }
-        for (int32_t gi : void_groups_) void_mark_[size_t(gi)] = 0;
+        for (int32_t gi : void_groups_) void_mark_[gi] = 0;
     }
     for (size_t i = 0; i < void_groups_.size(); ++i)
         if (world_of_[*group_bodies_.begin(void_groups_[i])] != void_home_[i])
             move_group(void_groups_[i], void_home_[i]);
     // Anchored movers reaching out of their region's box: contacts with other worlds' movers.
     for (int32_t b : movers_) {
-        if (!present(b) || !anchored_[size_t(group_of_[b])]) continue;
+        if (!present(b) || !anchored_[group_of_[b]]) continue;
         btVector3 lo, hi;
         box(b, lo, hi);
-        const World& own = worlds_[size_t(world_of_[b])];
+        const World& own = worlds_[world_of_[b]];
         if (inside(lo, hi, own.lo, own.hi)) continue;
         for (int32_t m : movers_) {
             if (!present(m) || world_of_[m] == world_of_[b]) continue;
@@ -359,7 +359,7 @@ void Physics::assign_worlds() {
     for (World& w : worlds_) w.active = false, w.movers = 0;
     for (int32_t b : movers_)
         if (in_world_[b] && !coasting(b)) {  // coasting: moved by us (transport.cpp)
-            World& w = worlds_[size_t(world_of_[b])];
+            World& w = worlds_[world_of_[b]];
             w.active = true;
             ++w.movers;
         }
@@ -369,7 +369,7 @@ void Physics::assign_worlds() {
 // placed outside its region's box).
 void Physics::merge_worlds() {
     if (void_ < 0) return;
-    const int32_t groups = int32_t(group_bodies_.adr.size());
+    const int32_t groups = count_of(group_bodies_.adr);
     for (int32_t gi = 0; gi < groups; ++gi)
         if (world_of_[*group_bodies_.begin(gi)] != 0) move_group(gi, 0);
     worlds_.resize(1);  // the others are empty now

@@ -108,27 +108,27 @@ private:
 }  // namespace
 
 RecordTally::RecordTally(const Graph& g) : g_(g), count_(g.records.size(), 0) {
-    for (size_t r = 0; r < g.records.size(); ++r)
-        if (g.slots[size_t(g.records[r].slot)].type == SlotType::Void) void_records_.push_back(int32_t(r));
+    for (Id<Record> r : ids_of(g.records))
+        if (g.slots[g.records[r].slot].type == SlotType::Void) void_records_.push_back(r);
 }
 
 void RecordTally::step(const Engine& e) {
-    for (int32_t r : void_records_) count_[size_t(r)] += e.active(g_.records[size_t(r)].slot) ? 1 : 0;
+    for (Id<Record> r : void_records_) count_[index(r)] += e.active(g_.records[r].slot) ? 1 : 0;
 }
 
 void RecordTally::finish(const Engine& e) {
-    for (int32_t r : void_records_) count_[size_t(r)] += e.emitted(g_.records[size_t(r)].slot) ? 1 : 0;
+    for (Id<Record> r : void_records_) count_[index(r)] += e.emitted(g_.records[r].slot) ? 1 : 0;
 }
 
 void RecordTally::reset() { std::fill(count_.begin(), count_.end(), 0); }
 
 std::vector<double> RecordTally::values(const Engine& e) const {
     std::vector<double> v(g_.records.size(), 0);
-    for (size_t r = 0; r < g_.records.size(); ++r) {
-        const int32_t sl = g_.records[r].slot;
-        const SlotType t = g_.slots[size_t(sl)].type;
-        if (t == SlotType::Void) v[r] = double(count_[r]);
-        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[r] = e.value(SlotId(sl))[0];
+    for (Id<Record> r : ids_of(g_.records)) {
+        const SlotId sl = g_.records[r].slot;
+        const SlotType t = g_.slots[sl].type;
+        if (t == SlotType::Void) v[index(r)] = double(count_[index(r)]);
+        else if (t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real) v[index(r)] = e.value(sl)[0];
     }
     return v;
 }
@@ -136,26 +136,26 @@ std::vector<double> RecordTally::values(const Engine& e) const {
 MaterialCounts material_counts(const Engine& e) {
     const Graph& g = e.graph();
     MaterialCounts m;
-    std::vector<uint8_t> counted(g.dos.size(), 0);
-    auto name = [&](std::string& list, int64_t n, int32_t d) {
-        if (n <= 5) list += (n > 1 ? ", " : "") + std::string(g.str(g.dos[size_t(d)].path));
+    IdVector<DoId, uint8_t> counted(g.dos.count(), 0);
+    auto name = [&](std::string& list, int64_t n, DoId d) {
+        if (n <= 5) list += (n > 1 ? ", " : "") + std::string(g.str(g.dos[d].path));
         else if (n == 6) list += ", ...";
     };
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         if (g.bodies[b].mode != BodyMode::Dynamic) continue;
-        const int32_t d = g.comps[g.bodies[b].comp].owner;
+        const DoId d = g.comps[g.bodies[b].comp].owner;
         if (counted[d]) continue;
-        if (e.lost_at(DoId(d)) >= 0) {
+        if (e.lost_at(d) >= 0) {
             counted[d] = 1;
             name(m.lost_names, ++m.lost, d);
-        } else if (e.body_in_world(BodyId(int32_t(b)))) {
+        } else if (e.body_in_world(b)) {
             counted[d] = 1;
             ++m.on_line;
-            if (e.stalled_for(BodyId(int32_t(b))) > 30) name(m.stalled_names, ++m.stalled, d);
+            if (e.stalled_for(b) > 30) name(m.stalled_names, ++m.stalled, d);
         }
     }
-    for (size_t s = 0; s < g.sources.size(); ++s) m.issued += e.issued(SourceId(int32_t(s)));
-    for (size_t x = 0; x < g.exits.size(); ++x) m.taken += e.taken(ExitId(int32_t(x)));
+    for (SourceId s : ids_of(g.sources)) m.issued += e.issued(s);
+    for (ExitId x : ids_of(g.exits)) m.taken += e.taken(x);
     m.removed = e.removed();
     return m;
 }
@@ -166,7 +166,7 @@ std::string loss_text(const Engine& e, DoId d) {
     auto mm = [](double v) { return std::round(v * 1000) / 1000 + 0.0; };  // no "-0.000"
     const std::string at = fmt::format("at {} s at ({:.3f} {:.3f} {:.3f}) m", time_text(double(l.field_step) * e.dt(), e.dt()),
                                        mm(l.place[0]), mm(l.place[1]), mm(l.place[2]));
-    return l.field.valid() ? "off " + g.comp_path(g.fields[size_t(l.field)].comp) + " " + at : "on no conveyor " + at;
+    return l.field.valid() ? "off " + g.comp_path(g.fields[l.field].comp) + " " + at : "on no conveyor " + at;
 }
 
 namespace {
@@ -196,14 +196,14 @@ RunSummary summarise(const Engine& e, const Tally& tally, const RecordTally& cou
     o.lost_names = m.lost_names;
     o.stalled_names = m.stalled_names;
     for (const DoId d : e.lost())
-        o.lost_objects.push_back({std::string(g.str(g.dos[size_t(d)].path)), loss_text(e, d), double(e.loss(d).step) * e.dt()});
-    std::vector<uint8_t> seen(g.dos.size(), 0);
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
-        const int32_t d = g.comps[g.bodies[b].comp].owner;
-        if (g.bodies[b].mode != BodyMode::Dynamic || seen[size_t(d)] || e.lost_at(DoId(d)) >= 0) continue;
-        if (!e.body_in_world(BodyId(int32_t(b)))) continue;
-        seen[size_t(d)] = 1;
-        if (e.stalled_for(BodyId(int32_t(b))) > 30) o.stalled_objects.emplace_back(g.str(g.dos[size_t(d)].path));
+        o.lost_objects.push_back({std::string(g.str(g.dos[d].path)), loss_text(e, d), double(e.loss(d).step) * e.dt()});
+    IdVector<DoId, uint8_t> seen(g.dos.count(), 0);
+    for (BodyId b : ids_of(g.bodies)) {
+        const DoId d = g.comps[g.bodies[b].comp].owner;
+        if (g.bodies[b].mode != BodyMode::Dynamic || seen[d] || e.lost_at(d) >= 0) continue;
+        if (!e.body_in_world(b)) continue;
+        seen[d] = 1;
+        if (e.stalled_for(b) > 30) o.stalled_objects.emplace_back(g.str(g.dos[d].path));
     }
     tally.fill(e, counts, s.records);
     const Warnings& w = e.warnings();
@@ -217,8 +217,8 @@ RunSummary summarise(const Engine& e, const Tally& tally, const RecordTally& cou
         {"out_of_range", "places, velocities or belt speeds out of range, not applied", w.out_of_range},
         {"hand_refused", "hands refused (a body not free to take, an object a gripper holds)", w.hand_refused},
     };
-    for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (e.trigger_enters(TriggerId(int32_t(t))) == 0) s.silent_triggers.push_back(g.comp_path(g.triggers[t].comp));
+    for (TriggerId t : ids_of(g.triggers))
+        if (e.trigger_enters(t) == 0) s.silent_triggers.push_back(g.comp_path(g.triggers[t].comp));
     s.warnings = w.total() + int64_t(s.silent_triggers.size());
     forces.fill(s.forces);
     return s;

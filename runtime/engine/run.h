@@ -33,7 +33,7 @@ public:
 
 private:
     const graph::Graph& g_;
-    std::vector<int32_t> void_records_;
+    std::vector<graph::Id<graph::Record>> void_records_;
     std::vector<int64_t> count_;
 };
 

@@ -18,12 +18,12 @@ FlowOp make_op(const Graph& g, const Flow& f) {
     op.to = f.to;
     op.from_access = f.from_access;
     op.to_access = f.to_access;
-    if (f.from_access < 0) op.from_val = g.slots[f.from].value_adr;
-    if (f.to_access < 0) op.to_val = g.slots[f.to].value_adr;
-    int32_t typed = f.to_access < 0 ? f.to : -1;
-    if (typed < 0 && g.accesses[f.to_access].target_num > 0)
-        typed = g.access_targets[g.accesses[f.to_access].target_adr].v;
-    op.width = typed >= 0 ? slot_width(g.slots[typed].type) : 0;
+    if (!f.from_access.valid()) op.from_val = g.slots[f.from].value_adr;
+    if (!f.to_access.valid()) op.to_val = g.slots[f.to].value_adr;
+    SlotId typed = f.to_access.valid() ? SlotId{} : f.to;
+    if (!typed.valid() && g.accesses[f.to_access].target_num > 0)
+        typed = g.access_targets[g.accesses[f.to_access].target_adr.first()].v;
+    op.width = typed.valid() ? slot_width(g.slots[typed].type) : 0;
     op.cond = f.cond;
     op.once = f.once;
     return op;
@@ -45,7 +45,7 @@ void packed(std::vector<std::pair<int32_t, int32_t>>& pairs, size_t keys, std::v
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     adr.assign(keys + 1, 0);
-    for (const auto& [key, at] : pairs) ++adr[size_t(key) + 1];
+    for (const auto& [key, at] : pairs) ++adr[key + 1];
     for (size_t k = 0; k < keys; ++k) adr[k + 1] += adr[k];
     out.resize(pairs.size());
     for (size_t i = 0; i < pairs.size(); ++i) out[i] = pairs[i].second;
@@ -57,21 +57,20 @@ void due_by_slot(const Graph& g, Schedule& s) {
     const AccessGroups ag = access_groups(g);
     s.always.assign((n + 63) / 64, 0);
     std::vector<std::pair<int32_t, int32_t>> reads, group_reads;  // (slot or group, position)
-    for (size_t p = 0; p < n; ++p) {
-        const Op& op = s.ops[p];
-        const int32_t at = int32_t(p);
+    for (int32_t at = 0; const Op& op : s.ops) {
+        const int32_t p = at++;  // its position
         bool always = false;
         switch (op.kind) {
-        case OpKind::Pulse: reads.emplace_back(op.from, at); break;
+        case OpKind::Pulse: reads.emplace_back(op.from.v, p); break;
         case OpKind::Flow: {
-            const FlowOp& f = s.flows[size_t(op.index)];
+            const FlowOp& f = s.flows[op.flow()];
             if (f.cond != Cond::Target) {  // Source, Both, Either: its source (a dynamic one's reference)
-                reads.emplace_back(f.from, at);
-                if (f.from_access >= 0) group_reads.emplace_back(ag.of[size_t(f.from_access)], at);
+                reads.emplace_back(f.from.v, p);
+                if (f.from_access.valid()) group_reads.emplace_back(ag.of[f.from_access].v, p);
             }
             if (f.cond != Cond::Source) {  // Target, Both, Either
-                if (f.to_access >= 0) group_reads.emplace_back(ag.of[size_t(f.to_access)], at);
-                else reads.emplace_back(f.to, at);
+                if (f.to_access.valid()) group_reads.emplace_back(ag.of[f.to_access].v, p);
+                else reads.emplace_back(f.to.v, p);
             }
             break;
         }
@@ -79,18 +78,17 @@ void due_by_slot(const Graph& g, Schedule& s) {
             // An `and` is off while any input that is not negated is inactive: due when one of
             // those is active (always when it has none). An `or` with a negated input is on
             // while that input is inactive: always due.
-            const Logic& l = g.logics[size_t(op.index)];
+            const Logic& l = g.logics[op.logic()];
             bool plain = false, negated = false;
-            for (int32_t k = 0; k < l.in_num; ++k) {
-                const LogicIn& in = g.logic_inputs[size_t(l.in_adr + k)];
+            for (const LogicIn& in : g.logic_inputs.slice(l.in_adr, l.in_num)) {
                 (in.negated ? negated : plain) = true;
-                if (!in.negated || l.op != LogicOp::And) reads.emplace_back(in.slot, at);
+                if (!in.negated || l.op != LogicOp::And) reads.emplace_back(in.slot.v, p);
             }
             always = l.op == LogicOp::And ? !plain : (negated || !plain);
             break;
         }
-        case OpKind::Router: reads.emplace_back(g.comps[size_t(op.index)].slot_adr + routerslot::query, at); break;
-        case OpKind::Label: reads.emplace_back(g.comps[size_t(g.labels[size_t(op.index)].comp)].slot_adr + labelslot::set, at); break;
+        case OpKind::Router: reads.emplace_back((g.comps[op.router()].slot_adr + routerslot::query).v, p); break;
+        case OpKind::Label: reads.emplace_back((g.comps[g.labels[op.label()].comp].slot_adr + labelslot::set).v, p); break;
         }
         if (always) s.always[p / 64] |= uint64_t(1) << (p % 64);
     }
@@ -98,11 +96,10 @@ void due_by_slot(const Graph& g, Schedule& s) {
     packed(group_reads, ag.first.size(), s.group_reader_adr, s.group_readers);
     // Each slot's groups: only groups some op reads.
     std::vector<std::pair<int32_t, int32_t>> slot_groups;  // (slot, group)
-    for (size_t k = 0; k < ag.first.size(); ++k) {
-        if (s.group_reader_adr[k] == s.group_reader_adr[k + 1]) continue;
-        const Access& a = g.accesses[size_t(ag.first[k])];
-        for (int32_t i = 0; i < a.target_num; ++i)
-            slot_groups.emplace_back(g.access_targets[size_t(a.target_adr.v + i)].v, int32_t(k));
+    for (AccessGroupId k : ag.first.ids()) {
+        if (s.group_reader_adr[k.v] == s.group_reader_adr[k.v + 1]) continue;
+        const Access& a = g.accesses[ag.first[k]];
+        for (const AccessTarget& t : g.access_targets.slice(a.target_adr, a.target_num)) slot_groups.emplace_back(t.v.v, k.v);
     }
     packed(slot_groups, g.slots.size(), s.group_adr, s.groups);
 }
@@ -117,8 +114,8 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
     s.delayed = net.delayed;
     for (Op& op : s.ops) {
         if (op.kind != OpKind::Flow) continue;
-        const FlowOp& f = s.flows[op.index];
-        if (f.from_access >= 0 || f.to_access >= 0 || f.cond != Cond::Source || f.once || f.width > 0 ||
+        const FlowOp& f = s.flows[op.flow()];
+        if (f.from_access.valid() || f.to_access.valid() || f.cond != Cond::Source || f.once || f.width > 0 ||
             t.slot_out[f.to])
             continue;
         op = {OpKind::Pulse, op.index, f.from, f.to};

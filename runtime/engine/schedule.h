@@ -12,9 +12,9 @@
 namespace plant::engine {
 
 struct FlowOp {
-    int32_t from = -1, to = -1;          // slots (from: the ref slot of a dynamic source)
+    graph::SlotId from{}, to{};          // from: the ref slot of a dynamic source
     int32_t from_val = -1, to_val = -1;  // value_adr, -1 for void or dynamic ends
-    int32_t from_access = -1, to_access = -1;
+    graph::AccessId from_access{}, to_access{};
     int32_t width = 0;                   // doubles copied
     graph::Cond cond = graph::Cond::Source;
     bool once = false;
@@ -26,8 +26,13 @@ enum class OpKind : uint8_t { Flow, Pulse, Logic, Router, Label };
 
 struct Op {
     OpKind kind;
-    int32_t index;          // flow id, logic id, router comp id, label id
-    int32_t from = -1, to = -1;  // a Pulse's slots
+    int32_t index;          // flow id, logic id, router comp id, label id: as the accessors read it
+    graph::SlotId from{}, to{};  // a Pulse's slots
+
+    graph::FlowId flow() const { return graph::FlowId(index); }
+    graph::LogicId logic() const { return graph::LogicId(index); }
+    graph::CompId router() const { return graph::CompId(index); }
+    graph::Id<graph::Label> label() const { return graph::Id<graph::Label>(index); }
 };
 
 // Most ops do nothing in a step where none of the slots they read is active (a flow whose
@@ -39,9 +44,9 @@ struct Op {
 // its access's group). With a forced output the phase runs every op (a force may take an
 // activity back mid-phase).
 struct Schedule {
-    std::vector<FlowOp> flows;     // by flow id
+    graph::IdVector<graph::FlowId, FlowOp> flows;
     std::vector<Op> ops;           // the logic phase, in order
-    std::vector<int32_t> delayed;  // flows cut out of cycles
+    std::vector<graph::FlowId> delayed;  // flows cut out of cycles
     std::vector<uint64_t> always;  // bit per op position: due every step
     std::vector<int32_t> reader_adr;  // per slot, +1: its readers' positions in `readers`
     std::vector<int32_t> readers;     // op positions, each slot's ascending

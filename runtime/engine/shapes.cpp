@@ -233,7 +233,7 @@ BodyShape ShapeCache::build_welded(const Graph& g, const Body& host, const Body&
     out.local = to_bt(com);
     // The host's shapes about the common centre of mass (the passenger takes no collisions):
     // a lone hull moved there, not wrapped in a compound.
-    const Shape& first = g.shapes[host.shape_adr];
+    const Shape& first = g.shapes[host.shape_adr.first()];
     out.shape = host.shape_num == 1 && first.kind == ShapeKind::Hull ? hull(g, first, pmul(pinv(com), first.local))
                                                                       : compound_in(g, host, com);
     return out;

@@ -47,8 +47,8 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     const size_t n = order_.size();
     const size_t slices = slice_count(w, n, 256, kSlices);
     auto measuring = [this, &ph, aabbs, n, slices](int i) {
-        const auto [b, e] = slice_of(n, slices, size_t(i));
-        slice_max_[size_t(i)] = measure(ph, aabbs, b, e);
+        const auto [b, e] = slice_of(n, slices, i);
+        slice_max_[i] = measure(ph, aabbs, b, e);
     };
     run_slices(w, slices, measuring);
     std::pair<btScalar, btScalar> most{0, 0};

@@ -9,7 +9,7 @@ namespace plant::engine {
 using namespace plant::graph;
 
 void init_state(State& s, const Graph& g, const Tables& t) {
-    s.plugin_state.assign(size_t(t.plugin_state_size), 0.0);
+    s.plugin_state.assign(t.plugin_state_size, 0.0);
     const size_t ns = g.slots.size(), nb = g.bodies.size();
     s.values.resize(g.values.size());
     for (size_t i = 0; i < g.values.size(); ++i) s.values[i] = g.values[i].v;
@@ -47,7 +47,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.field_speed.resize(g.fields.size());
     s.field_on.resize(g.fields.size());
     s.field_frame.resize(g.fields.size());
-    for (size_t f = 0; f < g.fields.size(); ++f) {
+    for (FieldId f : ids_of(g.fields)) {
         s.field_speed[f] = g.fields[f].speed;
         s.field_on[f] = g.fields[f].enabled;
     }
@@ -64,7 +64,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.group_k.assign(nb, 0);
     s.group_mass.assign(nb, 0);
     s.group_of.resize(nb);
-    for (size_t b = 0; b < nb; ++b) s.group_of[b] = int32_t(b);
+    for (BodyId b : ids_of(g.bodies)) s.group_of[b.v] = b.v;
     s.touched.assign(nb, 0);
     s.world_list.assign(nb, 0);
     s.field_act.assign(g.fields.size(), 0);
@@ -72,7 +72,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
 
     const size_t np = g.places.size();
     s.tokens.resize(np);
-    for (size_t p = 0; p < np; ++p) s.tokens[p] = g.places[p].initial;
+    for (PlaceId p : ids_of(g.places)) s.tokens[p] = g.places[p].initial;
     s.consume.assign(np, 0);
     s.produce.assign(np, 0);
     s.place_mark.assign(np, 0);
@@ -100,19 +100,19 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.graphics.resize(g.graphics.size());
     s.graphics_flags.assign(g.graphics.size(), 0);
     s.variant.resize(g.graphics.size());
-    for (size_t i = 0; i < g.graphics.size(); ++i) {
+    for (GraphicsId i : ids_of(g.graphics)) {
         s.graphics[i].base = s.graphics[i].pose = s.graphics[i].prev = g.graphics[i].pose;
         const Graphics& gr = g.graphics[i];
-        s.variant[i] = gr.variant >= 0 ? gr.variant_adr + gr.variant : -1;  // a Variant id
+        s.variant[i] = gr.variant >= 0 ? (gr.variant_adr + gr.variant).v : -1;  // a Variant id
     }
 
     s.sources.resize(g.sources.size());
-    for (size_t i = 0; i < g.sources.size(); ++i) {
+    for (SourceId i : ids_of(g.sources)) {
         const Source& src = g.sources[i];
         SourceState& ss = s.sources[i];
-        ss.ring_adr = int32_t(s.pool_ring.size());
+        ss.ring_adr = count_of(s.pool_ring);
         ss.free = src.pool_num;
-        for (int32_t k = 0; k < src.pool_num; ++k) s.pool_ring.push_back(src.pool_adr + k);
+        for (DoId d : children(src.pool_adr, src.pool_num)) s.pool_ring.push_back(d.v);
     }
     s.exit_count.assign(g.exits.size(), 0);
     s.in_hand.assign(g.bodies.size(), 0);

@@ -1,5 +1,6 @@
 // Everything that changes while a plant runs, apart from Bullet's own objects: flat
-// arrays indexed by graph ids, sized once from the graph's counts. A step only
+// arrays indexed by graph ids (IdVector<XId, T>: indexed by that id type), sized once from
+// the graph's counts. A step only
 // writes into them (the lists are reserved to their bound, so push_back never grows).
 #pragma once
 
@@ -62,46 +63,57 @@ struct Hand {
 inline constexpr int64_t kNeverHeld = INT64_MIN / 2;
 
 struct State {
+    template <class IdT, class T>
+    using IdVector = graph::IdVector<IdT, T>;
+    template <class T>
+    using PerSlot = IdVector<graph::SlotId, T>;
+    template <class T>
+    using PerBody = IdVector<graph::BodyId, T>;
+    template <class T>
+    using PerField = IdVector<graph::FieldId, T>;
+    template <class T>
+    using PerPlace = IdVector<graph::PlaceId, T>;
+
     double time = 0;
     int64_t step = 0;
 
     // Slots: values (a copy of graph.values), activity, and the lists of active slots
     // (so clearing costs what was activated, not the number of slots).
     std::vector<double> values;
-    std::vector<uint8_t> act, seen;
+    PerSlot<uint8_t> act, seen;
     std::vector<int32_t> out_list, seen_list, in_list;
     std::vector<uint64_t> logic_due;  // the logic phase's ops due, a bit per op (schedule.h)
     std::vector<int32_t> pending;       // activated at the start of the next logic phase
-    std::vector<int64_t> once_held;     // per flow: the last step a singular flow's condition held (it runs on a step whose previous did not)
-    std::vector<uint8_t> watched;       // per slot: refreshed although no flow reads it
-    std::vector<uint8_t> body_outputs;  // per body: bit i = output i (from bodyslot::pose) used
+    IdVector<graph::FlowId, int64_t> once_held;  // the last step a singular flow's condition held (it runs on a step whose previous did not)
+    PerSlot<uint8_t> watched;       // refreshed although no flow reads it
+    PerBody<uint8_t> body_outputs;  // bit i = output i (from bodyslot::pose) used
     std::vector<int32_t> observed_bodies;
     std::vector<int32_t> comp_list;     // phase 5: components with an active input
-    std::vector<uint8_t> comp_mark;
+    IdVector<graph::CompId, uint8_t> comp_mark;
 
     // Bodies.
-    std::vector<Vec3> cmd_lin, cmd_ang;  // velocity of a kinematic body, moved by us
+    PerBody<Vec3> cmd_lin, cmd_ang;      // velocity of a kinematic body, moved by us
     std::vector<int32_t> commanded;      // bodies ever given such a velocity, once each
-    std::vector<uint8_t> is_commanded;
-    std::vector<int32_t> held_by;        // gripper holding the body, -1
-    std::vector<btTransform> grip_rel;   // body frame relative to the gripper's
-    std::vector<uint8_t> gone;           // left the world or NaN: warned once, taken out
-    std::vector<double> lost_at;         // per DO: when it left the world, -1
-    std::vector<Loss> loss;              // per DO: where and when (Engine::loss)
+    PerBody<uint8_t> is_commanded;
+    PerBody<int32_t> held_by;            // gripper holding the body, -1
+    PerBody<btTransform> grip_rel;       // body frame relative to the gripper's
+    PerBody<uint8_t> gone;               // left the world or NaN: warned once, taken out
+    IdVector<graph::DoId, double> lost_at;  // when it left the world, -1
+    IdVector<graph::DoId, Loss> loss;       // where and when (Engine::loss)
     std::vector<graph::DoId> lost;       // the DOs lost, in that order (reserved: every DO)
     // Per body: the last acting field its centre of mass was in (-1: none since it was
     // issued), the step count then and the centre of mass (fields.cpp), for Loss.
-    std::vector<int32_t> ride_field;
-    std::vector<int64_t> ride_step;
-    std::vector<btVector3> ride_at;
+    PerBody<int32_t> ride_field;
+    PerBody<int64_t> ride_step;
+    PerBody<btVector3> ride_at;
     // Per body, for Engine::stalled_for: since when it has been slower than a tenth of the
     // running field it is in, and the last step in which it was (-1: never).
-    std::vector<double> stall_since, field_run;  // field_run: scratch, the fastest field's speed
-    std::vector<int64_t> slow_step;
+    PerBody<double> stall_since, field_run;  // field_run: scratch, the fastest field's speed
+    PerBody<int64_t> slow_step;
 
     // Fields: scratch for the conveyor law, and rigid groups (fixed joints).
-    std::vector<double> field_speed;
-    std::vector<uint8_t> field_on;
+    PerField<double> field_speed;
+    PerField<uint8_t> field_on;
     // Each field's pose, gain matrix and reach in x and y, for the Bullet frame its
     // carrier had (most carriers never move: a band).
     struct FieldFrame {
@@ -110,10 +122,10 @@ struct State {
         btScalar rx = 0, ry = 0;
         bool valid = false;
     };
-    std::vector<FieldFrame> field_frame;
+    PerField<FieldFrame> field_frame;
     // Per field, this step: acting (on, gain > 0), target velocity.
-    std::vector<uint8_t> field_act;
-    std::vector<btVector3> field_target;
+    PerField<uint8_t> field_act;
+    PerField<btVector3> field_target;
     // The fields by 1 m cells of (x, y) of their bounding boxes (fields.cpp): cell keys sorted,
     // each with its fields in id order; fields covering very many cells are in `field_big`.
     std::vector<uint64_t> field_cells;
@@ -122,8 +134,8 @@ struct State {
     bool field_cells_valid = false;
     // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
     std::vector<int32_t> world_adr, world_num, world_list, worlds_busy;
-    std::vector<btVector3> force;      // the law at the body's velocity, summed over fields
-    std::vector<btMatrix3x3> gain;     // its gain matrices k·R·diag|d|·R^T, summed
+    PerBody<btVector3> force;          // the law at the body's velocity, summed over fields
+    PerBody<btMatrix3x3> gain;         // its gain matrices k·R·diag|d|·R^T, summed
     std::vector<double> body_k, group_k, group_mass;
     // Slip limit: per body the largest max_force of the fields it is in (+inf: one is
     // unlimited; 0: in none yet), and in a rigid group which members' law saturated and the
@@ -136,11 +148,12 @@ struct State {
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
 
     // Petri nets.
-    std::vector<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
+    PerPlace<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
     std::vector<int32_t> places_touched, fired;
-    std::vector<uint8_t> place_mark, net_live;
+    PerPlace<uint8_t> place_mark;
+    std::vector<uint8_t> net_live;
 
-    std::vector<TriggerState> triggers;
+    IdVector<graph::TriggerId, TriggerState> triggers;
     std::vector<int32_t> inside, inside_prev;  // DO ids, sorted per trigger
     // Found on the physics threads (triggers.cpp): per trigger, how many objects are inside;
     // per slice of the triggers, their lists one after the other.
@@ -149,18 +162,18 @@ struct State {
     // left its room.
     std::vector<uint8_t> slice_moved, slice_left;
     std::vector<std::vector<int32_t>> trigger_slices;
-    std::vector<int32_t> gripper_held;         // DO held, -1
-    std::vector<GraphicsState> graphics;
+    IdVector<graph::GripperId, int32_t> gripper_held;  // DO held, -1
+    IdVector<graph::GraphicsId, GraphicsState> graphics;
     std::vector<uint8_t> graphics_flags;       // per root in graphics_order: what it publishes (graphics.cpp)
-    std::vector<int32_t> variant;              // per graphics: selected variant, -1
-    std::vector<SourceState> sources;
+    IdVector<graph::GraphicsId, int32_t> variant;  // selected variant, -1
+    IdVector<graph::SourceId, SourceState> sources;
     std::vector<int32_t> pool_ring;
-    std::vector<int64_t> exit_count;
+    IdVector<graph::ExitId, int64_t> exit_count;
 
     // Forced slots (forces.cpp), sized by the first Engine::force: per slot its mode and
     // whether the force began or ended since the last logic phase; per value the forced
     // value and the natural one (what the component or the flows wrote underneath).
-    std::vector<uint8_t> force_mode, force_edge;
+    PerSlot<uint8_t> force_mode, force_edge;
     std::vector<double> force_value, force_natural;
     std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
 
@@ -170,7 +183,7 @@ struct State {
 
     // Hands (hands.cpp): reserved at the start, changed between steps only (events).
     std::vector<Hand> hands;
-    std::vector<uint8_t> in_hand;  // per body: its object is in a hand (no conveyor law on it)
+    PerBody<uint8_t> in_hand;  // its object is in a hand (no conveyor law on it)
     int64_t removed = 0;  // objects taken out of the plant by hand (`remove` events)
 
     Warnings warn;

@@ -56,24 +56,24 @@ std::vector<TraceColumn> trace_columns(const Graph& g, TraceSelect sel) {
     }
     if (!sel.any()) sel = {true, true, true};
     if (sel.bodies)
-        for (size_t b = 0; b < g.bodies.size(); ++b) {
+        for (BodyId b : ids_of(g.bodies)) {
             if (g.bodies[b].mode != BodyMode::Dynamic) continue;
             std::string base = g.comp_path(g.bodies[b].comp);
             static const char* const kAxis[] = {".x", ".y", ".z"};
-            for (int i = 0; i < 3; ++i) out.push_back({Kind::BodyAxis, int32_t(b), i, base + kAxis[i]});
-            out.push_back({Kind::BodySpeed, int32_t(b), 0, base + ".speed"});
+            for (int i = 0; i < 3; ++i) out.push_back({Kind::BodyAxis, b.v, i, base + kAxis[i]});
+            out.push_back({Kind::BodySpeed, b.v, 0, base + ".speed"});
         }
     if (sel.places)
-        for (size_t p = 0; p < g.places.size(); ++p) {
+        for (PlaceId p : ids_of(g.places)) {
             const Place& pl = g.places[p];
-            std::string name = pl.tokens_slot >= 0 ? g.slot_path(pl.tokens_slot)
-                                                   : g.comp_path(pl.comp) + "." + std::string(g.str(pl.name));
-            out.push_back({Kind::Tokens, int32_t(p), 0, name});
+            std::string name = pl.tokens_slot.valid() ? g.slot_path(pl.tokens_slot)
+                                                      : g.comp_path(pl.comp) + "." + std::string(g.str(pl.name));
+            out.push_back({Kind::Tokens, p.v, 0, name});
         }
     if (sel.slots)
-        for (size_t s = 0; s < g.slots.size(); ++s)
+        for (SlotId s : ids_of(g.slots))
             if (g.slots[s].type == SlotType::Void && g.slots[s].dir == Dir::Out)
-                out.push_back({Kind::Activity, int32_t(s), 0, g.slot_path(int32_t(s))});
+                out.push_back({Kind::Activity, s.v, 0, g.slot_path(s)});
     return out;
 }
 
@@ -116,13 +116,13 @@ void TraceWriter::row() {
     for (const TraceColumn& c : cols_) {
         buf_.push_back(',');
         switch (c.kind) {
-        case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.slot())[size_t(c.index)]); break;
+        case Kind::Value: fmt::format_to(std::back_inserter(buf_), "{}", e_.value(c.slot())[c.index]); break;
         case Kind::Text: put_text(buf_, e_.str(int32_t(e_.value(c.slot())[0]))); break;
-        case Kind::Activity: fmt::format_to(std::back_inserter(buf_), "{}", counts_[size_t(&c - cols_.data())]); break;
+        case Kind::Activity: fmt::format_to(std::back_inserter(buf_), "{}", counts_[&c - cols_.data()]); break;
         // A parked body (a pooled object not in the world) has empty cells, not the pool's pose.
         case Kind::BodyAxis:
             if (!e_.body_in_world(c.body())) break;
-            fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.body())[size_t(c.index)]); break;
+            fmt::format_to(std::back_inserter(buf_), "{}", e_.body_com(c.body())[c.index]); break;
         case Kind::BodySpeed: {
             if (!e_.body_in_world(c.body())) break;
             Vec3 v = e_.body_velocity(c.body());
@@ -134,7 +134,7 @@ void TraceWriter::row() {
             const std::span<const DoId> lost = e_.lost();
             std::string cell;
             for (; lost_ < lost.size(); ++lost_)
-                cell += fmt::format("{}{} {}", cell.empty() ? "" : ";", e_.graph().str(e_.graph().dos[size_t(lost[lost_])].path),
+                cell += fmt::format("{}{} {}", cell.empty() ? "" : ";", e_.graph().str(e_.graph().dos[lost[lost_]].path),
                                     loss_text(e_, lost[lost_]));
             put_text(buf_, cell);
             break;

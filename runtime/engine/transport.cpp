@@ -134,11 +134,11 @@ void build_grid(Runtime& r) {
     S.hazards.clear();
     S.kinematic.clear();
     S.roaming.clear();
-    for (size_t b = 0; b < r.g.bodies.size(); ++b) {
+    for (int32_t b = 0; b < r.g.bodies.count(); ++b) {
         const BodyMode mode = r.g.bodies[b].mode;
         if (mode == BodyMode::Dynamic) continue;
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, int32_t(b), -1};
-        const btRigidBody& rb = ph.rb(int32_t(b));
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, -1};
+        const btRigidBody& rb = ph.rb(b);
         if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
             const auto* c = static_cast<const btCompoundShape*>(rb.getCollisionShape());
@@ -148,31 +148,31 @@ void build_grid(Runtime& r) {
             }
             continue;
         }
-        body_box(ph, int32_t(b), h.lo, h.hi);
+        body_box(ph, b, h.lo, h.hi);
         if (mode == BodyMode::Kinematic) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
             S.home_lo[b] = h.lo, S.home_hi[b] = h.hi;
             S.home_tr[b] = rb.getWorldTransform();
-            S.kinematic.push_back(int32_t(b));
+            S.kinematic.push_back(b);
         }
         S.hazards.push_back(h);
     }
-    for (size_t t = 0; t < r.g.triggers.size(); ++t) {
+    for (TriggerId t : ids_of(r.g.triggers)) {
         const Trigger& tg = r.g.triggers[t];
-        if (tg.body >= 0 && r.g.bodies[tg.body].mode != BodyMode::Static) {
-            S.roaming.push_back(int32_t(t));
+        if (tg.body.valid() && r.g.bodies[tg.body].mode != BodyMode::Static) {
+            S.roaming.push_back(t.v);
             continue;
         }
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, -1, int32_t(t)};
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, -1, t.v};
         oriented_box(trigger_pose(r, t), to_bt(tg.extent) * btScalar(0.5), h.lo, h.hi);
         S.hazards.push_back(h);
     }
     S.filed.clear();
     S.big.clear();
-    for (size_t i = 0; i < S.hazards.size(); ++i) {
+    for (int32_t i = 0; i < count_of(S.hazards); ++i) {
         const Steady::Hazard& h = S.hazards[i];
-        file_box(h.lo.x(), h.lo.y(), h.hi.x(), h.hi.y(), int32_t(i), S.filed, S.big);
+        file_box(h.lo.x(), h.lo.y(), h.hi.x(), h.hi.y(), i, S.filed, S.big);
     }
     index_cells(S.filed, S.cells, S.cell_adr, S.cell_list);
     S.grid_valid = true;
@@ -192,9 +192,9 @@ int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
     while (cell != cell_end || big != big_end) {
         const int32_t f = cell != cell_end ? *cell++ : *big++;
-        const State::FieldFrame& ff = s.field_frame[size_t(f)];
+        const State::FieldFrame& ff = s.field_frame[f];
         const btMatrix3x3& R = ff.pose.getBasis();
-        const btVector3 h = to_bt(r.g.fields[size_t(f)].extent) * btScalar(0.5);
+        const btVector3 h = to_bt(r.g.fields[f].extent) * btScalar(0.5);
         const btVector3 a = (p - ff.pose.getOrigin()) * R, b = (q - ff.pose.getOrigin()) * R;
         bool in = true, out = false;
         for (int i = 0; i < 3; ++i) {
@@ -203,7 +203,7 @@ int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
                   (-a[i] - h[i] >= kFieldMargin && -b[i] - h[i] >= kFieldMargin);
         }
         if (!in && !out) return -1;  // at a face
-        if (in && s.field_act[size_t(f)]) {
+        if (in && s.field_act[f]) {
             if (found >= 0) return -1;  // two acting fields
             found = f;
         }
@@ -255,12 +255,12 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
     if (ph.frame(b).getBasis()[2][2] < kTilt) return false;
     const int32_t f = field_at(r, ph.com(b), v);
     if (f < 0 || (p >= 0 && field_at(r, ph.com(p), v) != f)) return false;
-    const btMatrix3x3& R = s.field_frame[size_t(f)].pose.getBasis();
-    const btVector3& gain = r.tab.field_gain[size_t(f)];
+    const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+    const btVector3& gain = r.tab.field_gain[f];
     if (R[2][2] < kUpright || gain.z() > 0) return false;
     const btVector3 vl = v * R;
     for (int i = 0; i < 2; ++i)
-        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[size_t(f)][i] : 0)) > kSpeedTol) return false;
+        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > kSpeedTol) return false;
 
     // Statics, triggers, kinematic parts.
     btVector3 lo, hi;
@@ -278,7 +278,7 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
         return true;
     };
     for (int32_t i : S.big)
-        if (!hazard(S.hazards[size_t(i)])) return false;
+        if (!hazard(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return false;
     for (int64_t x = x0; x <= x1; ++x)
@@ -286,7 +286,7 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
             const int32_t *k = nullptr, *end = nullptr;
             cell_ids(S.cells, S.cell_adr, S.cell_list, cell_key(x, y), k, end);
             for (; k != end; ++k)
-                if (!hazard(S.hazards[size_t(*k)])) return false;
+                if (!hazard(S.hazards[*k])) return false;
         }
     if (support < 0) return false;
     for (size_t i = 0; i < S.roaming.size(); ++i)
@@ -327,7 +327,7 @@ uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
     Steady& S = r.steady;
     const int32_t p = ph.passenger(b);
     if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
-        S.settled[size_t(b)] = 0;
+        S.settled[b] = 0;
         return kStay;
     }
     const bool was = ph.coasting(b);
@@ -335,34 +335,34 @@ uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
     bool ok = steady_now(r, b, p, vmax, v);
     uint8_t action = kKeep;
     if (was) {
-        const btVector3 target = ok ? s.field_frame[size_t(v.field)].pose.getBasis() * s.field_target[size_t(v.field)]
+        const btVector3 target = ok ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
                                     : btVector3(0, 0, 0);
-        ok = ok && v.field == S.field[size_t(b)] && v.support == S.support[size_t(b)] && target == S.target[size_t(b)];
+        ok = ok && v.field == S.field[b] && v.support == S.support[b] && target == S.target[b];
         if (!ok) {
-            S.settled[size_t(b)] = 0;
+            S.settled[b] = 0;
             return kLand;
         }
     } else {
         if (!ok) {
-            S.settled[size_t(b)] = 0;
+            S.settled[b] = 0;
             return kStay;
         }
-        if (++S.settled[size_t(b)] < kSettle) return kStay;
-        const size_t f = size_t(v.field);
+        if (++S.settled[b] < kSettle) return kStay;
+        const int32_t f = v.field;
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
         btVector3 point, normal;
         top_face(ph, v.support, point, normal);
-        S.field[size_t(b)] = v.field;
-        S.support[size_t(b)] = v.support;
-        S.target[size_t(b)] = R * s.field_target[f];
-        S.normal[size_t(b)] = normal;
-        S.top[size_t(b)] = point;
-        S.height[size_t(b)] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
-        S.yaw[size_t(b)] = ph.rb(b).getAngularVelocity().z();
+        S.field[b] = v.field;
+        S.support[b] = v.support;
+        S.target[b] = R * s.field_target[f];
+        S.normal[b] = normal;
+        S.top[b] = point;
+        S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
+        S.yaw[b] = ph.rb(b).getAngularVelocity().z();
         const double m = ph.mass(b) + (p >= 0 ? ph.mass(p) : 0.0);
         const btVector3& gain = r.tab.field_gain[f];
         for (int i = 0; i < 3; ++i)
-            S.relax[size_t(b)][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
+            S.relax[b][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
         action = kCoast;
     }
     ride(r, b, v.field);
@@ -411,11 +411,11 @@ bool kinematic_left(const Runtime& r, size_t begin, size_t end) {
         const int32_t k = S.kinematic[i];
         const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
         // Where it was filed and slow: its box grown by m is inside the room (rounding is monotonic).
-        if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[size_t(k)]) continue;
+        if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[k]) continue;
         btVector3 lo, hi;
         body_box(ph, k, lo, hi);
         const btVector3 g(m, m, m);
-        if (!inside(lo - g, hi + g, S.home_lo[size_t(k)], S.home_hi[size_t(k)])) return true;
+        if (!inside(lo - g, hi + g, S.home_lo[k], S.home_hi[k])) return true;
     }
     return false;
 }
@@ -429,7 +429,7 @@ void check_steady(Runtime& r, bool left) {
     // room just after filing would find the same filing again).
     if (!S.grid_valid || S.grid_statics != ph.statics_placed() || left) build_grid(r);
     for (size_t i = 0; i < S.roaming.size(); ++i)
-        oriented_box(trigger_pose(r, size_t(S.roaming[i])), to_bt(r.g.triggers[size_t(S.roaming[i])].extent) * btScalar(0.5),
+        oriented_box(trigger_pose(r, S.roaming[i]), to_bt(r.g.triggers[S.roaming[i]].extent) * btScalar(0.5),
                      S.roam_lo[i], S.roam_hi[i]);
     r.index.refresh(ph, true, ph.workers());
     btScalar vmax = r.index.vmax();
@@ -440,12 +440,12 @@ void check_steady(Runtime& r, bool left) {
     const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
     const size_t slices = slice_count(ph.workers(), dyn.size(), 64, dyn.size() + 1);
     auto deciding = [&r, &dyn, vmax, slices](int i) {
-        const auto [b, e] = slice_of(dyn.size(), slices, size_t(i));
-        for (size_t k = b; k < e; ++k) r.steady.action[size_t(dyn[k])] = decide(r, dyn[k], vmax);
+        const auto [b, e] = slice_of(dyn.size(), slices, i);
+        for (size_t k = b; k < e; ++k) r.steady.action[dyn[k]] = decide(r, dyn[k], vmax);
     };
     run_slices(ph.workers(), slices, deciding);
     for (int32_t b : r.tab.dyn_bodies) {
-        switch (S.action[size_t(b)]) {
+        switch (S.action[b]) {
         case kLand:
             ph.land(b);
             ++S.rejoined;
@@ -466,7 +466,7 @@ void advance_steady(Runtime& r) {
     Physics& ph = r.phys;
     const btScalar dt = btScalar(r.dt);
     for (int32_t b : S.coasting) {
-        const size_t i = size_t(b), f = size_t(S.field[i]);
+        const int32_t i = b, f = S.field[i];
         const btRigidBody& rb = ph.rb(b);
         const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
         const btVector3& target = r.st.field_target[f];

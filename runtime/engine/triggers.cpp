@@ -78,7 +78,7 @@ void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out
             }
             out[k] = obj;
         });
-        s.trigger_found[t] = int32_t(out.size() - adr);
+        s.trigger_found[t] = count_of(std::span(out).subspan(adr));  // found for t
     }
 }
 
@@ -90,7 +90,7 @@ void take(Runtime& r, size_t t, const int32_t* objects) {
     TriggerState& ts = s.triggers[t];
     ts.prev_adr = ts.adr;
     ts.prev_num = ts.num;
-    ts.adr = int32_t(s.inside.size());
+    ts.adr = count_of(s.inside);
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
 
@@ -133,8 +133,8 @@ void sense_triggers(Runtime& r) {
     const size_t nt = g.triggers.size();
     const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
     auto finding = [&r, &s, nt, slices](int i) {
-        const auto [b, e] = slice_of(nt, slices, size_t(i));
-        find_inside(r, b, e, s.trigger_slices[size_t(i)]);
+        const auto [b, e] = slice_of(nt, slices, i);
+        find_inside(r, b, e, s.trigger_slices[i]);
     };
     run_slices(r.phys.workers(), slices, finding);
     s.inside.swap(s.inside_prev);

@@ -130,7 +130,7 @@ void Physics::follow(const Weld& w) {
 // non-static bodies. Each passenger is written by its own carrier's world only.
 void Physics::follow_world(int w) {
     if (welds_.empty()) return;
-    const btCollisionObjectArray& all = worlds_[size_t(w)].world->getCollisionObjectArray();
+    const btCollisionObjectArray& all = worlds_[w].world->getCollisionObjectArray();
     for (int i = 0; i < all.size(); ++i) {
         const int32_t b = all[i]->getUserIndex();
         if (all[i]->isStaticObject() || !carries_[b]) continue;

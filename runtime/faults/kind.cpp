@@ -67,15 +67,15 @@ ForceMode mode_of(std::string_view word) {
 }
 
 const graph::PluginParam* option(const graph::Graph& g, const graph::PluginEntry& e, int k) {
-    return k < e.param_num ? &g.plugin_params[size_t(e.param_adr.v + k)] : nullptr;
+    return k < e.param_num ? &g.plugin_params[e.param_adr + k] : nullptr;
 }
 
 // A release after its force; a stuck value of the slot's type (the compiler checked it
 // against the slot; a graph written by hand is checked here).
 bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
-    const graph::Plugin& p = g.plugins[size_t(plugin)];
+    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     for (int32_t k = 0; k < p.entry_num; ++k) {
-        const graph::PluginEntry& e = g.plugin_entries[size_t(p.entry_adr.v + k)];
+        const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
         const std::string_view word = g.str(e.word);
         if (const graph::PluginParam* u = option(g, e, until); u && u->num != kNever && !(u->num > e.key)) {
             problem = {k, fmt::format("'{}' at {} s: until = {} s is not after it", word, e.key, u->num)};
@@ -84,7 +84,7 @@ bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& p
         if (mode_of(word) != ForceMode::Stuck) continue;
         const graph::PluginParam* v = option(g, e, value);
         for (int32_t s = 0; v && s < e.slot_num; ++s) {
-            const SlotType t = g.slots[size_t(g.plugin_entry_slots[size_t(e.slot_adr.v + s)].v)].type;
+            const SlotType t = g.slots[g.plugin_entry_slots[e.slot_adr + s].v].type;
             const bool ok = t == SlotType::String                      ? v->text.id >= 0
                             : t == SlotType::Void || t == SlotType::Bool ? (v->num == 0 || v->num == 1)
                             : t == SlotType::Int                         ? v->num == std::floor(v->num)
@@ -101,14 +101,14 @@ bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& p
 // One event per entry, named by the shortest path to its slots (what the entry wrote, or
 // the slot a port forwards to), and a release at `until`.
 void schedule_faults(const graph::Graph& g, int32_t plugin, std::vector<engine::Event>& out) {
-    const graph::Plugin& p = g.plugins[size_t(plugin)];
+    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     const engine::SlotIndex index = engine::slot_index(g);
     for (int32_t k = 0; k < p.entry_num; ++k) {
-        const graph::PluginEntry& e = g.plugin_entries[size_t(p.entry_adr.v + k)];
+        const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
         const graph::PluginParam* u = option(g, e, until);
         engine::Event ev;
         ev.time = e.key;
-        for (int32_t s = 0; s < e.slot_num; ++s) ev.slots.push_back(g.plugin_entry_slots[size_t(e.slot_adr.v + s)].v);
+        for (int32_t s = 0; s < e.slot_num; ++s) ev.slots.push_back(g.plugin_entry_slots[e.slot_adr + s].v);
         if (ev.slots.empty()) continue;
         ev.path = engine::path_of(index, ev.slots);
         if (ev.path.empty()) ev.path = g.slot_path(ev.slots[0]);
@@ -117,7 +117,7 @@ void schedule_faults(const graph::Graph& g, int32_t plugin, std::vector<engine::
         ev.planned = true;
         if (ev.mode == ForceMode::Stuck) {
             const graph::PluginParam* v = option(g, e, value);
-            if (g.slots[size_t(ev.slots[0])].type == SlotType::String) ev.text = std::string(g.str(v->text));
+            if (g.slots[graph::SlotId(ev.slots[0])].type == SlotType::String) ev.text = std::string(g.str(v->text));
             else ev.value = {v->num};
         }
         out.push_back(ev);

@@ -40,12 +40,12 @@ std::vector<Operable> operable_inputs(const graph::Graph& g) {
     for (const graph::Plugin& p : g.plugins) {
         if (g.str(p.kind) != kOperableWord) continue;
         for (int32_t k = 0; k < p.entry_num; ++k) {
-            const graph::PluginEntry& e = g.plugin_entries[size_t(p.entry_adr.v + k)];
+            const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
             Operable o;
             o.key = e.key;
-            for (int32_t s = 0; s < e.slot_num; ++s) o.slots.push_back(g.plugin_entry_slots[size_t(e.slot_adr.v + s)].v);
+            for (int32_t s = 0; s < e.slot_num; ++s) o.slots.push_back(g.plugin_entry_slots[e.slot_adr + s].v);
             if (label_option < e.param_num)
-                if (const graph::Name t = g.plugin_params[size_t(e.param_adr.v + label_option)].text; t.id >= 0)
+                if (const graph::Name t = g.plugin_params[e.param_adr + label_option].text; t.id >= 0)
                     o.label = std::string(g.str(t));
             out.push_back(std::move(o));
         }

@@ -43,7 +43,7 @@ constexpr graph::KindDesc kDesc{kWord, "an OPC UA server: the plant's slots as n
                                 kParams, kEntries, graph::PluginPhase::None, graph::PluginPhase::None, check_opcua};
 
 std::string text(const graph::Graph& g, const graph::Plugin& p, int k) {
-    return std::string(g.str(g.plugin_params[size_t(p.param_adr + k)].text));
+    return std::string(g.str(g.plugin_params[p.param_adr + k].text));
 }
 
 int port_of(const graph::Graph& g, const graph::Plugin& p) {
@@ -59,14 +59,14 @@ std::string port_clash(const graph::Graph& g, int32_t plugin, int port) {
     int modbus_port = -1;
     for (size_t k = 0; modbus && k < modbus->params.size(); ++k)
         if (modbus->params[k].name == "port") modbus_port = int(k);
-    for (size_t q = 0; q < g.plugins.size(); ++q) {
-        if (int32_t(q) == plugin) continue;
+    for (graph::PluginId q : graph::ids_of(g.plugins)) {
+        if (q.v == plugin) continue;
         const graph::Plugin& other = g.plugins[q];
         const std::string_view kind = g.str(other.kind);
-        const std::string name(g.str(g.comps[size_t(other.comp.v)].name));
-        if (kind == kWord && int32_t(q) < plugin && port_of(g, other) == port)
+        const std::string name(g.str(g.comps[other.comp].name));
+        if (kind == kWord && q.v < plugin && port_of(g, other) == port)
             return fmt::format("port {} is taken by the OPC UA link '{}': two links cannot serve one port", port, name);
-        if (kind == "modbus" && modbus_port >= 0 && g.plugin_params[size_t(other.param_adr + modbus_port)].num == port)
+        if (kind == "modbus" && modbus_port >= 0 && g.plugin_params[other.param_adr + modbus_port].num == port)
             return fmt::format("port {} is taken by the Modbus link '{}': two links cannot serve one port", port, name);
     }
     return "";
@@ -93,19 +93,19 @@ bool check_opcua(const graph::Graph& g, int32_t plugin, graph::PluginProblem& pr
 
 // The documentation of a slot as its component kind declares it ("" for none).
 std::string slot_doc(const graph::Graph& g, int32_t slot) {
-    const graph::Slot& s = g.slots[size_t(slot)];
-    const graph::Comp& c = g.comps[size_t(s.comp.v)];
+    const graph::Slot& s = g.slots[graph::SlotId(slot)];
+    const graph::Comp& c = g.comps[s.comp];
     const std::span<const graph::SlotSpec> specs = graph::slots_of(g, s.comp.v);
     const int32_t k = slot - c.slot_adr.v;
-    return k >= 0 && size_t(k) < specs.size() ? std::string(specs[size_t(k)].doc) : std::string();
+    return k >= 0 && k < graph::count_of(specs) ? std::string(specs[k].doc) : std::string();
 }
 
 }  // namespace
 
 bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error) {
-    const graph::Plugin& p = g.plugins[size_t(plugin)];
+    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     out = Link{};
-    out.name = std::string(g.str(g.comps[size_t(p.comp.v)].name));
+    out.name = std::string(g.str(g.comps[p.comp].name));
     out.plant = std::string(g.str(g.plant));
     if (const std::string ep = text(g, p, endpoint); !ep.empty()) {
         std::string why;
@@ -127,15 +127,15 @@ bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error)
     out.users = text(g, p, users);
     const engine::SlotIndex index = engine::slot_index(g);
     for (int32_t k = 0; k < p.entry_num; ++k) {
-        const graph::PluginEntry& pe = g.plugin_entries[size_t(p.entry_adr + k)];
+        const graph::PluginEntry& pe = g.plugin_entries[p.entry_adr + k];
         Node n;
         n.id = uint32_t(pe.key);
-        for (int32_t s = 0; s < pe.slot_num; ++s) n.slots.push_back(g.plugin_entry_slots[size_t(pe.slot_adr + s)].v);
+        for (int32_t s = 0; s < pe.slot_num; ++s) n.slots.push_back(g.plugin_entry_slots[pe.slot_adr + s].v);
         if (n.slots.empty()) {
             error = {k, "an entry that names no slot"};
             return false;
         }
-        const graph::Slot& first = g.slots[size_t(n.slots[0])];
+        const graph::Slot& first = g.slots[graph::SlotId(n.slots[0])];
         n.type = first.type;
         n.dir = first.dir;
         n.path = engine::path_of(index, n.slots);
@@ -145,7 +145,7 @@ bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error)
         n.doc = slot_doc(g, n.slots[0]);
         const std::string_view si = slot_si_unit(g, n.slots[0]);
         n.unit = si.empty() ? nullptr : find_unit(si);
-        const std::string written = pe.param_num > unit ? std::string(g.str(g.plugin_params[size_t(pe.param_adr + unit)].text)) : "";
+        const std::string written = pe.param_num > unit ? std::string(g.str(g.plugin_params[pe.param_adr + unit].text)) : "";
         if (!written.empty()) {
             const Unit* u = find_unit(written);
             if (!u) {
@@ -171,11 +171,11 @@ bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error)
 
 std::vector<Link> links_from_graph(const graph::Graph& g) {
     std::vector<Link> out;
-    for (size_t p = 0; p < g.plugins.size(); ++p) {
+    for (graph::PluginId p : graph::ids_of(g.plugins)) {
         if (g.str(g.plugins[p].kind) != kWord) continue;
         Link l;
         NodeError e;
-        link_of(g, int32_t(p), l, e);  // a problem shows in check_link or the kind's check
+        link_of(g, p.v, l, e);  // a problem shows in check_link or the kind's check
         out.push_back(std::move(l));
     }
     return out;

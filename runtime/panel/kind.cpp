@@ -118,20 +118,20 @@ constexpr std::array kParams = {
 
 // ---- checks: the element inside a panel, its parameters in range ----
 const graph::PluginParam& param(const graph::Graph& g, int32_t plugin, int k) {
-    return g.plugin_params[size_t(g.plugins[size_t(plugin)].param_adr.v + k)];
+    return g.plugin_params[g.plugins[graph::PluginId(plugin)].param_adr + k];
 }
 
 // An element's component is named PANEL.NAME, PANEL a panel of the same object (the
 // compiler makes it so; a graph written by hand is checked here).
 bool inside_panel(const graph::Graph& g, int32_t plugin, std::string_view word, graph::PluginProblem& problem) {
-    const graph::Comp& c = g.comps[size_t(g.plugins[size_t(plugin)].comp.v)];
+    const graph::Comp& c = g.comps[g.plugins[graph::PluginId(plugin)].comp];
     const std::string_view name = g.str(c.name);
     const size_t dot = name.rfind('.');
     if (dot != std::string_view::npos)
-        for (size_t k = 0; k < g.comps.size(); ++k) {
+        for (graph::CompId k : graph::ids_of(g.comps)) {
             const graph::Comp& p = g.comps[k];
             if (p.owner == c.owner && g.str(p.name) == name.substr(0, dot)) {
-                const graph::KindDesc* d = graph::plugin_of(g, int32_t(k));
+                const graph::KindDesc* d = graph::plugin_of(g, k);
                 if (d && d->word == "panel") return true;
             }
         }

@@ -80,11 +80,12 @@ bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& pro
         return false;
     }
     if (m.port == 0) return true;
-    for (int32_t q = 0; q < plugin; ++q) {
-        const graph::Plugin& other = g.plugins[size_t(q)];
-        if (g.str(other.kind) != kWord || g.plugin_params[size_t(other.param_adr + port)].num != m.port) continue;
+    for (graph::PluginId q : graph::ids_of(g.plugins)) {
+        if (q.v >= plugin) break;  // the links before this one
+        const graph::Plugin& other = g.plugins[q];
+        if (g.str(other.kind) != kWord || g.plugin_params[other.param_adr + port].num != m.port) continue;
         problem = {-1, fmt::format("port {} is taken by the link '{}': two links cannot serve one port", m.port,
-                                   g.str(g.comps[size_t(other.comp)].name))};
+                                   g.str(g.comps[other.comp].name))};
         return false;
     }
     return true;
@@ -93,13 +94,13 @@ bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& pro
 }  // namespace
 
 bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProblem& problem) {
-    const graph::Plugin& p = g.plugins[size_t(plugin)];
+    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     out = Map{};
-    out.port = int(g.plugin_params[size_t(p.param_adr + port)].num);
-    out.host = std::string(g.str(g.plugin_params[size_t(p.param_adr + host)].text));
+    out.port = int(g.plugin_params[p.param_adr + port].num);
+    out.host = std::string(g.str(g.plugin_params[p.param_adr + host].text));
     const engine::SlotIndex index = engine::slot_index(g);
     for (int32_t k = 0; k < p.entry_num; ++k) {
-        const graph::PluginEntry& pe = g.plugin_entries[size_t(p.entry_adr + k)];
+        const graph::PluginEntry& pe = g.plugin_entries[p.entry_adr + k];
         auto fail = [&](std::string message) {
             problem = {k, std::move(message)};
             return false;
@@ -107,15 +108,16 @@ bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProb
         Entry e;
         e.table = table_of(g.str(pe.word));
         e.address = int32_t(pe.key);
-        for (int32_t s = 0; s < pe.slot_num; ++s) e.slots.push_back(g.plugin_entry_slots[size_t(pe.slot_adr + s)].v);
+        for (int32_t s = 0; s < pe.slot_num; ++s) e.slots.push_back(g.plugin_entry_slots[pe.slot_adr + s].v);
         if (e.slots.empty()) return fail("an entry that names no slot");
-        e.type = g.slots[size_t(e.slots[0])].type;
-        e.dir = g.slots[size_t(e.slots[0])].dir;
+        const graph::Slot& first = g.slots[graph::SlotId(e.slots[0])];
+        e.type = first.type;
+        e.dir = first.dir;
         e.path = engine::path_of(index, e.slots);
-        if (e.path.empty()) e.path = std::string(g.str(g.slots[size_t(e.slots[0])].name));
+        if (e.path.empty()) e.path = std::string(g.str(first.name));
         e.encoding = default_encoding(e, false);
-        if (pe.param_num == int32_t(kRegisterOptions.size())) {
-            auto option = [&](int o) -> const graph::PluginParam& { return g.plugin_params[size_t(pe.param_adr + o)]; };
+        if (pe.param_num == graph::count_of(kRegisterOptions)) {
+            auto option = [&](int o) -> const graph::PluginParam& { return g.plugin_params[pe.param_adr + o]; };
             const std::string_view name = g.str(option(encoding).text);
             const double factor = option(scale).num;
             e.unit = std::string(g.str(option(unit).text));
@@ -148,10 +150,10 @@ bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProb
 Map map_from_graph(const graph::Graph& g, int* links) {
     Map m;
     int n = 0;
-    for (size_t p = 0; p < g.plugins.size(); ++p) {
+    for (graph::PluginId p : graph::ids_of(g.plugins)) {
         if (g.str(g.plugins[p].kind) != kWord) continue;
         graph::PluginProblem problem;
-        if (n++ == 0) link_map(g, int32_t(p), m, problem);  // a problem shows in check_map
+        if (n++ == 0) link_map(g, p.v, m, problem);  // a problem shows in check_map
     }
     if (links) *links = n;
     return m;

@@ -112,7 +112,7 @@ std::vector<ModelProblem> model_problems(const graph::Graph& g, const ModelDirs&
     std::set<std::string> names;
     for (const graph::Graphics& gr : g.graphics) {
         names.emplace(g.str(gr.model));
-        for (int32_t v = 0; v < gr.variant_num; ++v) names.emplace(g.str(g.variants[size_t(gr.variant_adr + v)].model));
+        for (int32_t v = 0; v < gr.variant_num; ++v) names.emplace(g.str(g.variants[gr.variant_adr + v].model));
     }
     std::vector<ModelProblem> out;
     for (const std::string& n : names)

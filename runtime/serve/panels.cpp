@@ -30,8 +30,8 @@ const PanelElement* panel_element(std::string_view kind) {
 }
 
 int32_t panel_slot(const graph::Graph& g, const graph::Comp& c, std::string_view name) {
-    for (int32_t s = c.slot_adr; s < c.slot_adr + c.slot_num; ++s)
-        if (g.str(g.slots[size_t(s)].name) == name) return s;
+    for (graph::SlotId s : graph::children(c.slot_adr, c.slot_num))
+        if (g.str(g.slots[s].name) == name) return s.v;
     return -1;
 }
 
@@ -52,7 +52,7 @@ nlohmann::json panels_json(const graph::Graph& g) {
     each_panel_row(g, [&](size_t p, const PanelElement* e) {
         const graph::Plugin& pl = g.plugins[p];
         const int32_t comp = pl.comp.v;
-        auto param = [&](int k) -> const graph::PluginParam& { return g.plugin_params[size_t(pl.param_adr.v + k)]; };
+        auto param = [&](int k) -> const graph::PluginParam& { return g.plugin_params[pl.param_adr + k]; };
         if (!e) {
             panels.push_back({{"path", g.comp_path(comp)},
                               {"title", pl.param_num > 0 ? std::string(g.str(param(0).text)) : std::string()},
@@ -82,7 +82,7 @@ nlohmann::json panel_values(const engine::Engine& e) {
     nlohmann::json values = nlohmann::json::array();
     each_panel_row(g, [&](size_t p, const PanelElement* el) {
         if (!el) return;
-        const int32_t s = panel_slot(g, g.comps[size_t(g.plugins[p].comp.v)], el->shown);
+        const int32_t s = panel_slot(g, g.comps[g.plugins[p].comp], el->shown);
         values.push_back(s >= 0 ? e.value(graph::SlotId(s))[0] : 0.0);
     });
     return values;

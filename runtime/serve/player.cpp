@@ -397,7 +397,7 @@ private:
         watched_version_ = inspected_version();
         for (const std::string& p : inspected())
             if (watched_.insert(p).second)
-                for (int32_t sl : object_slots(g_, p)) engine_->watch(graph::SlotId(sl));
+                for (graph::SlotId sl : object_slots(g_, p)) engine_->watch(sl);
     }
 
     void publish_frame() override {

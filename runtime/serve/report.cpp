@@ -64,12 +64,12 @@ public:
         // The panels' lamps (runtime/panel): their `state` output, and their label.
         for (const graph::Plugin& p : g_.plugins) {
             if (g_.str(p.kind) != "lamp") continue;
-            const graph::Comp& c = g_.comps[size_t(p.comp.v)];
-            for (int32_t k = c.slot_adr; k < c.slot_adr + c.slot_num; ++k)
-                if (g_.str(g_.slots[size_t(k)].name) == "state") {
+            const graph::Comp& c = g_.comps[p.comp];
+            for (graph::SlotId k : graph::children(c.slot_adr, c.slot_num))
+                if (g_.str(g_.slots[k].name) == "state") {
                     const std::string label =
-                        p.param_num > 0 ? std::string(g_.str(g_.plugin_params[size_t(p.param_adr.v)].text)) : "";
-                    lamps_.push_back({graph::SlotId(k), g_.comp_path(p.comp.v), label, int(e.value(graph::SlotId(k))[0])});
+                        p.param_num > 0 ? std::string(g_.str(g_.plugin_params[p.param_adr.first()].text)) : "";
+                    lamps_.push_back({k, g_.comp_path(p.comp), label, int(e.value(k)[0])});
                 }
         }
     }

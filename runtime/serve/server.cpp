@@ -152,20 +152,21 @@ struct Server::Impl {
                 if (path.empty()) path = player.graph().slot_path(in.slots[0]);
                 list.push_back({{"path", path},
                                 {"label", in.label.empty() ? path : in.label},
-                                {"type", graph::word(player.graph().slots[size_t(in.slots[0])].type)}});
+                                {"type", graph::word(player.graph().slots[graph::SlotId(in.slots[0])].type)}});
             }
         // An operator panel's buttons, emergency stops and selectors are an operator's by
         // nature: their inputs are operable without a list (the page draws the panel itself).
-        for (size_t c = 0; player.live() && c < player.graph().comps.size(); ++c) {
-            const graph::KindDesc* k = graph::plugin_of(player.graph(), int32_t(c));
+        const graph::Graph& g = player.graph();
+        for (graph::CompId c : graph::ids_of(g.comps)) {
+            if (!player.live()) break;
+            const graph::KindDesc* k = graph::plugin_of(g, c);
             if (!k || (k->word != "button" && k->word != "estop" && k->word != "selector")) continue;
-            const graph::Comp& cp = player.graph().comps[c];
-            for (int32_t sl = cp.slot_adr.v; sl < cp.slot_adr.v + cp.slot_num; ++sl)
-                if (player.graph().slots[size_t(sl)].dir == graph::Dir::In) {
-                    operable.insert(sl);
-                    const std::string path = player.graph().slot_path(graph::SlotId(sl));
-                    list.push_back({{"path", path}, {"label", path},
-                                    {"type", graph::word(player.graph().slots[size_t(sl)].type)}, {"panel", true}});
+            const graph::Comp& cp = g.comps[c];
+            for (graph::SlotId sl : graph::children(cp.slot_adr, cp.slot_num))
+                if (g.slots[sl].dir == graph::Dir::In) {
+                    operable.insert(sl.v);
+                    const std::string path = g.slot_path(sl);
+                    list.push_back({{"path", path}, {"label", path}, {"type", graph::word(g.slots[sl].type)}, {"panel", true}});
                 }
         }
         operable_json = list.dump(-1, ' ', false, json::error_handler_t::replace);

@@ -46,21 +46,19 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
 
     // Each object's own inputs and outputs (its ports, its components' slots), relative to
     // its path; objects of one type share one list.
-    std::vector<std::vector<int32_t>> ports_of(g.dos.size());
-    for (size_t p = 0; p < g.ports.size(); ++p) ports_of[size_t(g.ports[p].owner)].push_back(int32_t(p));
+    IdVector<DoId, std::vector<PortId>> ports_of(g.dos.count());
+    for (PortId p : ids_of(g.ports)) ports_of[g.ports[p].owner].push_back(p);
     json dos = json::array(), slot_lists = json::array();
     std::map<std::string, size_t> slot_index;
-    for (size_t d = 0; d < g.dos.size(); ++d) {
+    for (DoId d : ids_of(g.dos)) {
         const Do& o = g.dos[d];
         json list = json::array();
-        for (int32_t p : ports_of[d]) {
-            const Port& pt = g.ports[size_t(p)];
+        for (PortId p : ports_of[d]) {
+            const Port& pt = g.ports[p];
             list.push_back(json::array({g.str(pt.name), word(pt.type), word(pt.dir), true}));
         }
-        for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
-            const Comp& cp = g.comps[size_t(c)];
-            for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl) {
-                const Slot& slot = g.slots[size_t(sl)];
+        for (const Comp& cp : g.comps.slice(o.comp_adr, o.comp_num)) {
+            for (const Slot& slot : g.slots.slice(cp.slot_adr, cp.slot_num)) {
                 list.push_back(json::array({std::string(g.str(cp.name)) + "." + std::string(g.str(slot.name)),
                                             word(slot.type), word(slot.dir), false}));
             }
@@ -69,9 +67,9 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
         if (fresh) slot_lists.push_back(std::move(list));
         dos.push_back({{"id", d},
                        {"path", g.str(o.path)},
-                       {"type", o.type >= 0 ? g.str(g.do_types[size_t(o.type)].name) : g.str(g.plant)},
+                       {"type", o.type.valid() ? g.str(g.do_types[o.type].name) : g.str(g.plant)},
                        {"parent", o.parent},
-                       {"pooled", o.pool >= 0},
+                       {"pooled", o.pool.valid()},
                        {"slots", it->second}});
     }
     s["slot_lists"] = std::move(slot_lists);
@@ -80,11 +78,10 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     // Bodies share their shape lists (every bottle has the same): each distinct list once.
     json bodies = json::array(), shape_lists = json::array();
     std::map<std::string, size_t> shape_index;
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         const Body& body = g.bodies[b];
         json shapes = json::array();
-        for (int32_t k = 0; k < body.shape_num; ++k) {
-            const Shape& sh = g.shapes[size_t(body.shape_adr + k)];
+        for (const Shape& sh : g.shapes.slice(body.shape_adr, body.shape_num)) {
             json j{{"kind", word(sh.kind)}, {"local", pose_json(sh.local)}};
             switch (sh.kind) {
             case ShapeKind::Box: j["size"] = vec_json(sh.size); break;
@@ -93,7 +90,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
             case ShapeKind::Capsule: j["size"] = json::array({sh.size[0], sh.size[1]}); break;
             case ShapeKind::Hull: {
                 json pts = json::array();
-                for (int32_t i = 0; i < sh.point_num; ++i) pts.push_back(vec_json(g.points[size_t(sh.point_adr + i)].p));
+                for (const Point& pt : g.points.slice(sh.point_adr, sh.point_num)) pts.push_back(vec_json(pt.p));
                 j["points"] = std::move(pts);
                 break;
             }
@@ -102,7 +99,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
         }
         const auto [it, fresh] = shape_index.emplace(shapes.dump(), shape_lists.size());
         if (fresh) shape_lists.push_back(std::move(shapes));
-        const int32_t owner = g.comps[size_t(body.comp)].owner;
+        const DoId owner = g.comps[body.comp].owner;
         bodies.push_back({{"id", b},
                           {"do", owner},
                           {"path", g.comp_path(body.comp)},
@@ -115,7 +112,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     s["bodies"] = std::move(bodies);
 
     json fields = json::array();
-    for (size_t f = 0; f < g.fields.size(); ++f) {
+    for (FieldId f : ids_of(g.fields)) {
         const Field& fd = g.fields[f];
         fields.push_back({{"id", f},
                           {"path", g.comp_path(fd.comp)},
@@ -128,7 +125,7 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     s["fields"] = std::move(fields);
 
     json triggers = json::array();
-    for (size_t t = 0; t < g.triggers.size(); ++t) {
+    for (TriggerId t : ids_of(g.triggers)) {
         const Trigger& tr = g.triggers[t];
         triggers.push_back({{"id", t},
                             {"path", g.comp_path(tr.comp)},
@@ -139,11 +136,10 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
     s["triggers"] = std::move(triggers);
 
     json graphics = json::array();
-    for (size_t i = 0; i < g.graphics.size(); ++i) {
+    for (GraphicsId i : ids_of(g.graphics)) {
         const Graphics& gr = g.graphics[i];
         json variants = json::array();
-        for (int32_t v = 0; v < gr.variant_num; ++v) {
-            const Variant& var = g.variants[size_t(gr.variant_adr + v)];
+        for (const Variant& var : g.variants.slice(gr.variant_adr, gr.variant_num)) {
             variants.push_back({{"name", g.str(var.name)},
                                 {"model", g.str(var.model)},
                                 {"model_url", model_url(g.str(var.model))}});
@@ -162,11 +158,11 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
 
     json records = json::array();
     for (const Record& r : g.records)
-        records.push_back({{"column", g.str(r.column)}, {"type", word(g.slots[size_t(r.slot)].type)}});
+        records.push_back({{"column", g.str(r.column)}, {"type", word(g.slots[r.slot].type)}});
     s["records"] = std::move(records);
 
     json places = json::array();
-    for (size_t p = 0; p < g.places.size(); ++p)
+    for (PlaceId p : ids_of(g.places))
         places.push_back({{"id", p},
                           {"path", g.comp_path(g.places[p].comp) + "." + std::string(g.str(g.places[p].name))},
                           {"initial", g.places[p].initial}});
@@ -189,8 +185,8 @@ Frame Frame::sized(size_t bodies, size_t graphics) {
 namespace {
 
 void store_pose(float* d, const Pose& p) {
-    for (int i = 0; i < 3; ++i) d[i] = float(p.p[size_t(i)]);
-    for (int i = 0; i < 4; ++i) d[3 + i] = float(p.q[size_t(i)]);
+    for (size_t i = 0; i < 3; ++i) d[i] = float(p.p[i]);
+    for (size_t i = 0; i < 4; ++i) d[3 + i] = float(p.q[i]);
 }
 
 }  // namespace
@@ -198,12 +194,12 @@ void store_pose(float* d, const Pose& p) {
 FrameTracker::FrameTracker(const Graph& g)
     : g_(g), now_(Frame::sized(g.bodies.size(), g.graphics.size())), body_seq_(g.bodies.size(), 1),
       gfx_seq_(g.graphics.size(), 1) {
-    for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.bodies[b].mode != BodyMode::Static) movable_.push_back(int32_t(b));
+    for (BodyId b : ids_of(g.bodies))
+        if (g.bodies[b].mode != BodyMode::Static) movable_.push_back(b);
     // Static bodies never move: their pose is the graph's.
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
-        store_pose(&now_.body_pose[7 * b], g.bodies[b].pose);
-        now_.body_state[b] = uint8_t(1 | (g.bodies[b].collision ? 2 : 0));
+    for (BodyId b : ids_of(g.bodies)) {
+        store_pose(&now_.body_pose[7 * b.v], g.bodies[b].pose);
+        now_.body_state[b.v] = uint8_t(1 | (g.bodies[b].collision ? 2 : 0));
     }
     prev_ = now_;
 }
@@ -212,12 +208,12 @@ uint64_t FrameTracker::take(const engine::Engine& e) {
     std::swap(now_, prev_);
     now_.time = e.time();
     now_.step = e.steps();
-    for (int32_t b : movable_) store_pose(&now_.body_pose[7 * size_t(b)], e.body_pose(BodyId(b)));
-    for (size_t b = 0; b < g_.bodies.size(); ++b)
-        now_.body_state[b] = uint8_t((e.body_in_world(BodyId(int32_t(b))) ? 1 : 0) | (e.body_collision(BodyId(int32_t(b))) ? 2 : 0));
-    for (size_t i = 0; i < g_.graphics.size(); ++i) {
-        store_pose(&now_.gfx_pose[7 * i], e.graphics_pose(GraphicsId(int32_t(i))));
-        now_.gfx_variant[i] = e.graphics_variant(GraphicsId(int32_t(i)));
+    for (BodyId b : movable_) store_pose(&now_.body_pose[7 * b.v], e.body_pose(b));
+    for (BodyId b : ids_of(g_.bodies))
+        now_.body_state[b.v] = uint8_t((e.body_in_world(b) ? 1 : 0) | (e.body_collision(b) ? 2 : 0));
+    for (GraphicsId i : ids_of(g_.graphics)) {
+        store_pose(&now_.gfx_pose[7 * i.v], e.graphics_pose(i));
+        now_.gfx_variant[i.v] = e.graphics_variant(i);
     }
     return commit();
 }
@@ -262,26 +258,27 @@ bool get_raw(std::string_view& in, T& v) {
 
 void encode_frame(const Frame& f, const std::vector<uint64_t>& body_seq, const std::vector<uint64_t>& gfx_seq,
                   uint64_t since, bool paused, std::string& out) {
+    // Ids on the wire are 4-byte numbers (int32_t), counts and the kind unsigned.
     std::vector<int32_t> bodies, gfx;
-    for (size_t b = 0; b < body_seq.size(); ++b)
-        if (since == 0 || body_seq[b] > since) bodies.push_back(int32_t(b));
-    for (size_t i = 0; i < gfx_seq.size(); ++i)
-        if (since == 0 || gfx_seq[i] > since) gfx.push_back(int32_t(i));
-    put_raw(out, uint32_t(1));
-    put_raw(out, uint32_t(bodies.size()));
+    for (int32_t b = 0; b < count_of(body_seq); ++b)
+        if (since == 0 || body_seq[b] > since) bodies.push_back(b);
+    for (int32_t i = 0; i < count_of(gfx_seq); ++i)
+        if (since == 0 || gfx_seq[i] > since) gfx.push_back(i);
+    put_raw<uint32_t>(out, 1);
+    put_raw<uint32_t>(out, count_of(bodies));
     put_raw(out, f.time);
     put_raw(out, double(f.step));
-    put_raw(out, uint32_t(gfx.size()));
-    put_raw(out, uint32_t((since == 0 ? 1u : 0u) | (paused ? 2u : 0u)));
+    put_raw<uint32_t>(out, count_of(gfx));
+    put_raw<uint32_t>(out, (since == 0 ? 1u : 0u) | (paused ? 2u : 0u));
     for (int32_t b : bodies) put_raw(out, b);
     for (int32_t b : bodies)
-        for (int k = 0; k < 7; ++k) put_raw(out, f.body_pose[7 * size_t(b) + size_t(k)]);
-    for (int32_t b : bodies) put_raw(out, f.body_state[size_t(b)]);
+        for (int32_t k = 0; k < 7; ++k) put_raw(out, f.body_pose[7 * b + k]);
+    for (int32_t b : bodies) put_raw(out, f.body_state[b]);
     out.append((4 - bodies.size() % 4) % 4, '\0');
     for (int32_t i : gfx) put_raw(out, i);
     for (int32_t i : gfx)
-        for (int k = 0; k < 7; ++k) put_raw(out, f.gfx_pose[7 * size_t(i) + size_t(k)]);
-    for (int32_t i : gfx) put_raw(out, f.gfx_variant[size_t(i)]);
+        for (int32_t k = 0; k < 7; ++k) put_raw(out, f.gfx_pose[7 * i + k]);
+    for (int32_t i : gfx) put_raw(out, f.gfx_variant[i]);
 }
 
 bool decode_frame(std::string_view in, Frame& f, bool& full) {
@@ -293,27 +290,28 @@ bool decode_frame(std::string_view in, Frame& f, bool& full) {
     // A step count is a whole number a double holds exactly (2^53), the time a finite number:
     // anything else is a damaged recording, not a frame.
     if (!(step >= 0 && step <= 9007199254740992.0 && step == std::floor(step)) || !std::isfinite(time)) return false;
-    const size_t need = size_t(nb) * (4 + 28 + 1) + (4 - nb % 4) % 4 + size_t(ng) * (4 + 28 + 4);
+    const size_t nbodies = nb, ngfx = ng;  // sizes below in size_t: no 32-bit overflow
+    const size_t need = nbodies * (4 + 28 + 1) + (4 - nb % 4) % 4 + ngfx * (4 + 28 + 4);
     if (nb > f.body_state.size() || ng > f.gfx_variant.size() || in.size() != need) return false;
     const char* ids = in.data();
-    const char* poses = ids + 4 * size_t(nb);
-    const char* states = poses + 28 * size_t(nb);
+    const char* poses = ids + 4 * nbodies;
+    const char* states = poses + 28 * nbodies;
     for (uint32_t k = 0; k < nb; ++k) {
         int32_t b;
         std::memcpy(&b, ids + 4 * k, 4);
-        if (b < 0 || size_t(b) >= f.body_state.size()) return false;
-        std::memcpy(&f.body_pose[7 * size_t(b)], poses + 28 * k, 28);
-        f.body_state[size_t(b)] = uint8_t(states[k]);
+        if (b < 0 || b >= count_of(f.body_state)) return false;
+        std::memcpy(&f.body_pose[7 * b], poses + 28 * k, 28);
+        f.body_state[b] = uint8_t(states[k]);
     }
     const char* gids = states + nb + (4 - nb % 4) % 4;
-    const char* gposes = gids + 4 * size_t(ng);
-    const char* gvars = gposes + 28 * size_t(ng);
+    const char* gposes = gids + 4 * ngfx;
+    const char* gvars = gposes + 28 * ngfx;
     for (uint32_t k = 0; k < ng; ++k) {
         int32_t i;
         std::memcpy(&i, gids + 4 * k, 4);
-        if (i < 0 || size_t(i) >= f.gfx_variant.size()) return false;
-        std::memcpy(&f.gfx_pose[7 * size_t(i)], gposes + 28 * k, 28);
-        std::memcpy(&f.gfx_variant[size_t(i)], gvars + 4 * k, 4);
+        if (i < 0 || i >= count_of(f.gfx_variant)) return false;
+        std::memcpy(&f.gfx_pose[7 * i], gposes + 28 * k, 28);
+        std::memcpy(&f.gfx_variant[i], gvars + 4 * k, 4);
     }
     f.time = time;
     f.step = int64_t(step);
@@ -351,12 +349,11 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
            {"records", tally.values(e)}};
     if (!x.forced.empty()) s["forced"] = json::parse(x.forced, nullptr, false);
     json occupied = json::array();
-    for (size_t t = 0; t < g.triggers.size(); ++t)
-        if (e.trigger_occupied(TriggerId(int32_t(t)))) occupied.push_back(t);
+    for (TriggerId t : ids_of(g.triggers))
+        if (e.trigger_occupied(t)) occupied.push_back(t);
     s["occupied"] = std::move(occupied);
     json fields = json::array();
-    for (size_t f = 0; f < g.fields.size(); ++f)
-        fields.push_back(json::array({e.field_on(FieldId(int32_t(f))) ? 1 : 0, e.field_speed(FieldId(int32_t(f)))}));
+    for (FieldId f : ids_of(g.fields)) fields.push_back(json::array({e.field_on(f) ? 1 : 0, e.field_speed(f)}));
     s["fields"] = std::move(fields);
     // The lost objects, in the order lost (the first kMaxLost): where each left the line
     // (engine::Loss), for a marker where it fell.
@@ -365,7 +362,7 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
     for (size_t i = 0; i < order.size() && i < kMaxLost; ++i) {
         const engine::Loss& l = e.loss(order[i]);
         lost.push_back({{"do", order[i].v},
-                        {"path", std::string(g.str(g.dos[size_t(order[i])].path))},
+                        {"path", std::string(g.str(g.dos[order[i]].path))},
                         {"time", double(l.step) * e.dt()},
                         {"left", double(l.field_step) * e.dt()},
                         {"place", l.place},
@@ -379,15 +376,15 @@ std::string status_json(const engine::Engine& e, const engine::RecordTally& tall
 
 namespace {
 
-int32_t find_do(const Graph& g, std::string_view path) {
-    for (size_t d = 0; d < g.dos.size(); ++d)
-        if (g.str(g.dos[d].path) == path) return int32_t(d);
-    return -1;
+DoId find_do(const Graph& g, std::string_view path) {
+    for (DoId d : ids_of(g.dos))
+        if (g.str(g.dos[d].path) == path) return d;
+    return DoId{};
 }
 
 json slot_value(const engine::Engine& e, SlotId sl) {
     const Graph& g = e.graph();
-    const SlotType t = g.slots[size_t(sl)].type;
+    const SlotType t = g.slots[sl].type;
     const auto v = e.value(sl);
     switch (t) {
     case SlotType::Void: return nullptr;
@@ -398,7 +395,7 @@ json slot_value(const engine::Engine& e, SlotId sl) {
     }
     case SlotType::Ref: {
         const double d = v[0];
-        return d >= 0 && d < double(g.dos.size()) ? json(std::string(g.str(g.dos[size_t(d)].path))) : json(nullptr);
+        return d >= 0 && d < double(g.dos.size()) ? json(std::string(g.str(g.dos[DoId(d)].path))) : json(nullptr);
     }
     case SlotType::Int:
     case SlotType::Real: return v[0];
@@ -408,17 +405,15 @@ json slot_value(const engine::Engine& e, SlotId sl) {
 
 }  // namespace
 
-std::vector<int32_t> object_slots(const Graph& g, std::string_view path) {
-    std::vector<int32_t> out;
-    const int32_t d = find_do(g, path);
-    if (d < 0) return out;
-    const Do& o = g.dos[size_t(d)];
-    for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
-        const Comp& cp = g.comps[size_t(c)];
-        for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl) out.push_back(sl);
-    }
+std::vector<SlotId> object_slots(const Graph& g, std::string_view path) {
+    std::vector<SlotId> out;
+    const DoId d = find_do(g, path);
+    if (!d.valid()) return out;
+    const Do& o = g.dos[d];
+    for (const Comp& cp : g.comps.slice(o.comp_adr, o.comp_num))
+        for (SlotId sl : children(cp.slot_adr, cp.slot_num)) out.push_back(sl);
     for (const Port& p : g.ports)
-        if (p.owner == d && p.dir == Dir::Out) out.push_back(g.port_targets[size_t(p.target_adr)].v);
+        if (p.owner == d && p.dir == Dir::Out) out.push_back(g.port_targets[p.target_adr.first()].v);
     return out;
 }
 
@@ -439,29 +434,27 @@ json force_word(const engine::Engine& e, SlotId slot) {
 
 std::string inspect_json(const engine::Engine& e, std::string_view path, bool forces) {
     const Graph& g = e.graph();
-    const int32_t d = find_do(g, path);
-    if (d < 0) return "null";
-    const Do& o = g.dos[size_t(d)];
+    const DoId d = find_do(g, path);
+    if (!d.valid()) return "null";
+    const Do& o = g.dos[d];
     json slots = json::array();
-    for (size_t p = 0; p < g.ports.size(); ++p) {
+    for (PortId p : ids_of(g.ports)) {
         const Port& pt = g.ports[p];
         if (pt.owner != d) continue;
-        const SlotId first = g.port_targets[size_t(pt.target_adr)].v;
-        slots.push_back({{"path", g.port_path(int32_t(p))},
+        const SlotId first = g.port_targets[pt.target_adr.first()].v;
+        slots.push_back({{"path", g.port_path(p)},
                          {"value", pt.dir == Dir::Out ? slot_value(e, first) : json(nullptr)},
                          {"active", e.active(first)},
                          {"forced", forces ? force_word(e, first) : json(nullptr)}});
     }
     json places = json::array();
-    for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
-        const Comp& cp = g.comps[size_t(c)];
-        for (SlotId sl(cp.slot_adr); sl < cp.slot_adr + cp.slot_num; ++sl)
+    for (const Comp& cp : g.comps.slice(o.comp_adr, o.comp_num)) {
+        for (SlotId sl : children(cp.slot_adr, cp.slot_num))
             slots.push_back({{"path", g.slot_path(sl)}, {"value", slot_value(e, sl)}, {"active", e.active(sl)},
                              {"forced", forces ? force_word(e, sl) : json(nullptr)}});
     }
-    for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.comps[size_t(g.places[p].comp)].owner == d)
-            places.push_back({{"id", p}, {"tokens", e.tokens(PlaceId(int32_t(p)))}});
+    for (PlaceId p : ids_of(g.places))
+        if (g.comps[g.places[p].comp].owner == d) places.push_back({{"id", p}, {"tokens", e.tokens(p)}});
     json j{{"path", path}, {"slots", std::move(slots)}, {"places", std::move(places)}};
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }

@@ -49,7 +49,7 @@ public:
 private:
     uint64_t commit();
     const graph::Graph& g_;
-    std::vector<int32_t> movable_;  // bodies that are not static
+    std::vector<graph::BodyId> movable_;  // bodies that are not static
     Frame now_, prev_;
     std::vector<uint64_t> body_seq_, gfx_seq_;
     uint64_t seq_ = 0;
@@ -82,6 +82,6 @@ std::vector<double> history_sample(const engine::Engine& e, const engine::Record
 std::string inspect_json(const engine::Engine& e, std::string_view path, bool forces = true);
 // The output slots inside the object `path` (its components') that the engine must refresh
 // for an inspector (Engine::watch).
-std::vector<int32_t> object_slots(const graph::Graph& g, std::string_view path);
+std::vector<graph::SlotId> object_slots(const graph::Graph& g, std::string_view path);
 
 }  // namespace plant::view

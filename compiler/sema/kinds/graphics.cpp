@@ -85,7 +85,7 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
         }
     }
     an.duration = duration;
-    an.key_num = static_cast<int32_t>(g.keys.size()) - an.key_adr;
+    an.key_num = g.keys.count() - an.key_adr.v;
     an.play_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span));
     an.finished_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span));
     g.animations.push_back(an);
@@ -106,9 +106,9 @@ void lower_graphics(Lowering& lw) {
     gr.pose = lw.frame.pose();
     gr.variant = -1;
     gr.anim_adr = graph::next_adr(g.animations);
-    const int32_t gid = static_cast<int32_t>(g.graphics.size());
+    const int32_t gid = g.graphics.count();
     for (const auto& a : c.animations) lower_animation(lw, a, gid);
-    gr.anim_num = static_cast<int32_t>(g.animations.size()) - gr.anim_adr;
+    gr.anim_num = g.animations.count() - gr.anim_adr.v;
     gr.variant_adr = graph::next_adr(g.variants);
     for (const auto& v : c.variants) {
         Value m = el.ev_.eval(*v.model, env);
@@ -116,10 +116,10 @@ void lower_graphics(Lowering& lw) {
         int32_t sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
         g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), graph::SlotId(sel)});
     }
-    gr.variant_num = static_cast<int32_t>(g.variants.size()) - gr.variant_adr;
+    gr.variant_num = g.variants.count() - gr.variant_adr.v;
     if (const Value* v = lw.props.get("show")) {
         for (int32_t i = 0; i < gr.variant_num; ++i)
-            if (g.str(g.variants[static_cast<size_t>(gr.variant_adr + i)].name) == v->str) gr.variant = i;
+            if (g.str(g.variants[gr.variant_adr + i].name) == v->str) gr.variant = i;
         if (gr.variant < 0) {
             std::vector<std::string> names;
             for (const auto& var : c.variants) names.push_back(var.name.text);
@@ -132,11 +132,11 @@ void lower_graphics(Lowering& lw) {
         }
     }
     g.graphics.push_back(gr);
-    lw.set_detail(g.graphics.size());
+    lw.set_detail(g.graphics.count());
 }
 
 void link_graphics(Linking& lk) {
-    if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

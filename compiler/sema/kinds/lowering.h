@@ -46,8 +46,8 @@ struct Lowering {
     bool boolean(const char* n, bool def) const;
     void positive(const char* n) const;      // reported when set and not > 0
     void positive_vec(const char* n) const;  // reported when an item is not > 0
-    // The component's detail: the last row of its kind's table, now `size` long.
-    void set_detail(size_t size) const;
+    // The component's detail: the last row of its kind's table, now `rows` long.
+    void set_detail(int32_t rows) const;
 };
 
 // A component whose object's components all exist: references between them resolved.
@@ -63,6 +63,11 @@ struct Linking {
     // The detail id of component `n` of this object, of kind `want`; -1 (reported) if none.
     int32_t find(const std::string& n, Span span, graph::CompKind want, const char* what) const;
     int32_t on_body() const { return find(on, decl.on->span, graph::CompKind::Body, "'on'"); }
+    // The component's row in its kind's table (its detail), as that table's id: row<Joint>().
+    template <class R>
+    graph::Id<R> row() const {
+        return graph::Id<R>(rec.detail);
+    }
     const ast::Property* prop(const char* n) const;
     // The component a reference property names, "" when it does not evaluate to a name.
     std::string ref_name(const ast::Property& p) const;

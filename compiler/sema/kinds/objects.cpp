@@ -23,11 +23,11 @@ void lower_trigger(Lowering& lw) {
     t.pose = lw.frame.pose();
     t.filter = {};
     if (const Value* f = lw.props.get("filter")) {
-        t.filter = graph::DoTypeId(el.do_type(f->str, f->span));
+        t.filter = el.do_type(f->str, f->span);
         el.ref_types_[lw.slot_adr + graph::triggerslot::object] = t.filter;
     }
     g.triggers.push_back(t);
-    lw.set_detail(g.triggers.size());
+    lw.set_detail(g.triggers.count());
 }
 
 void lower_router(Lowering& lw) {
@@ -65,7 +65,7 @@ void lower_router(Lowering& lw) {
 }
 
 void link_trigger(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.triggers[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on) lk.el.g_.triggers[lk.row<graph::Trigger>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

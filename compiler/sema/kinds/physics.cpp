@@ -64,11 +64,12 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
             if (!el.ev_.expect_vec3(p, units::dims::length, "hull point")) { ok = false; break; }
             g.points.push_back({vec(p)});
         }
-        sh.point_num = static_cast<int32_t>(g.points.size()) - sh.point_adr;
+        sh.point_num = g.points.count() - sh.point_adr.v;
+        const std::span<const graph::Point> points = g.points.slice(sh.point_adr, sh.point_num);
         if (ok && sh.point_num < 4) {
             el.sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
             ok = false;
-        } else if (const auto flaw = ok ? graph::hull_flaw(&g.points[size_t(sh.point_adr)], size_t(sh.point_num))
+        } else if (const auto flaw = ok ? graph::hull_flaw(points.data(), points.size())
                                         : graph::HullFlaw::None;
                    flaw != graph::HullFlaw::None) {
             auto& d = el.sink_.report(DiagId::BadShape, sd.span, fmt::format("this convex hull {}", graph::hull_flaw_text(flaw)));
@@ -79,12 +80,11 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
         }
         if (ok) {  // the same points as a hull before it (the same object again): those rows
             std::vector<double> key;
-            key.reserve(3 * size_t(sh.point_num));
-            for (size_t i = size_t(sh.point_adr); i < g.points.size(); ++i)
-                key.insert(key.end(), std::begin(g.points[i].p), std::end(g.points[i].p));
+            key.reserve(3 * points.size());
+            for (const graph::Point& pt : points) key.insert(key.end(), std::begin(pt.p), std::end(pt.p));
             const auto [at, fresh] = el.hulls_.try_emplace(std::move(key), sh.point_adr);
             if (!fresh) {
-                g.points.resize(size_t(sh.point_adr));
+                g.points.resize(graph::index(sh.point_adr));
                 sh.point_adr = at->second;
             }
         }
@@ -148,17 +148,17 @@ void lower_body(Lowering& lw) {
     b.pose = lw.frame.pose();
     b.shape_adr = graph::next_adr(g.shapes);
     for (const auto& sd : c.shapes) lower_shape(lw, sd);
-    b.shape_num = static_cast<int32_t>(g.shapes.size()) - b.shape_adr;
+    b.shape_num = g.shapes.count() - b.shape_adr.v;
     if (c.shapes.empty())
         el.sink_.report(DiagId::MissingProperty, c.name.span,
                         fmt::format("body '{}' needs at least one shape, e.g. shape box(10 cm, 10 cm, 1 cm)", c.name.text));
     g.bodies.push_back(b);
-    lw.set_detail(g.bodies.size());
+    lw.set_detail(g.bodies.count());
     // Output values start at the body's pose.
     const auto& slots = g.slots;
     auto put = [&](int idx, std::initializer_list<double> xs) {
-        int32_t adr = slots[static_cast<size_t>(lw.slot_adr + idx)].value_adr;
-        for (double x : xs) g.values[static_cast<size_t>(adr++)].v = x;
+        int32_t adr = slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
+        for (double x : xs) g.values[adr++].v = x;
     };
     put(graph::bodyslot::pose, {b.pose.p[0], b.pose.p[1], b.pose.p[2], b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
     put(graph::bodyslot::position, {b.pose.p[0], b.pose.p[1], b.pose.p[2]});
@@ -188,13 +188,13 @@ void lower_field(Lowering& lw) {
     lw.positive("max_force");
     f.enabled = lw.boolean("enabled", true);
     g.fields.push_back(f);
-    lw.set_detail(g.fields.size());
+    lw.set_detail(g.fields.count());
     graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::speed)) = f.enabled ? f.speed : 0;
     graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::enabled)) = f.enabled ? 1 : 0;
 }
 
 void link_field(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.fields[static_cast<size_t>(lk.rec.detail)].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on) lk.el.g_.fields[lk.row<graph::Field>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

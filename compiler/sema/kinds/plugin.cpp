@@ -42,7 +42,7 @@ void lower_plugin(Lowering& lw) {
     rec.comp = graph::CompId(lw.comp);
     rec.kind = lw.el.name(kind.word);
     rec.param_adr = graph::next_adr(g.plugin_params);
-    rec.param_num = static_cast<int32_t>(kind.params.size());
+    rec.param_num = graph::count_of(kind.params);
     rec.entry_adr = graph::Adr<graph::PluginEntry>(0);  // set when it has entries
     // A placement: the world pose of a kind that is drawn in the scene (a panel); on any
     // other plugin kind it would be silently dropped, so it is refused.
@@ -53,7 +53,7 @@ void lower_plugin(Lowering& lw) {
     for (const graph::ParamSpec& ps : kind.params)
         g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
     g.plugins.push_back(rec);
-    lw.set_detail(g.plugins.size());
+    lw.set_detail(g.plugins.count());
     // Where its kind's check reports (a panel's button too, which has no entries pass).
     lw.el.plugin_spans_.resize(g.plugins.size());
     lw.el.plugin_spans_.back() = lw.decl.name.span;
@@ -83,12 +83,12 @@ std::string types_text(std::span<const graph::SlotType> types) {
 // The entries of a plugin component, once every slot of the plant can be named: the word
 // one the kind takes, the key an integer in range, the target a slot or port of the entry's
 // direction and types, the options known, set once and of their type and dimension.
-void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, int32_t scope_do) {
+void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do) {
     const graph::KindDesc* kind = graph::plugin_of(g_, comp);
     if (!kind) return;
-    const size_t plugin = static_cast<size_t>(g_.comps[static_cast<size_t>(comp)].detail);
-    if (plugin_spans_.size() <= plugin) plugin_spans_.resize(plugin + 1);
-    plugin_spans_[plugin] = c.name.span;
+    const graph::PluginId plugin(g_.comps[graph::CompId(comp)].detail);
+    if (plugin_spans_.size() <= graph::index(plugin)) plugin_spans_.resize(graph::index(plugin) + 1);
+    plugin_spans_[graph::index(plugin)] = c.name.span;
     if (c.entries.empty()) return;
     g_.plugins[plugin].entry_adr = graph::next_adr(g_.plugin_entries);
     for (const ast::EntryDecl& e : c.entries) {
@@ -150,30 +150,30 @@ void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const En
         rec.word = name(es->word);
         rec.key = key.num;
         rec.slot_adr = graph::next_adr(g_.plugin_entry_slots);
-        rec.slot_num = static_cast<int32_t>(end.slots.size());
+        rec.slot_num = graph::count_of(end.slots);
         for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({graph::SlotId(s)});
         rec.param_adr = graph::next_adr(g_.plugin_params);
-        rec.param_num = static_cast<int32_t>(options.size());
-        g_.plugin_params.insert(g_.plugin_params.end(), options.begin(), options.end());
+        rec.param_num = graph::count_of(options);
+        for (const graph::PluginParam& o : options) g_.plugin_params.push_back(o);
         rec.src = src(e.span);
         g_.plugin_entries.push_back(rec);
         entry_spans_.resize(g_.plugin_entries.size());
         entry_spans_.back() = e.span;
     }
-    g_.plugins[plugin].entry_num = static_cast<int32_t>(g_.plugin_entries.size()) - g_.plugins[plugin].entry_adr;
+    g_.plugins[plugin].entry_num = g_.plugin_entries.count() - g_.plugins[plugin].entry_adr.v;
 }
 
 // Checks a kind makes across entries or components (a Modbus link's overlapping
 // addresses, two links on one port), reported at the entry or the component.
 void Elaborator::check_plugins() {
-    for (size_t p = 0; p < g_.plugins.size(); ++p) {
+    for (graph::PluginId p : ids_of(g_.plugins)) {
         const graph::KindDesc* kind = graph::plugin_of(g_, g_.plugins[p].comp);
         graph::PluginProblem problem;
-        if (!kind || !kind->check || kind->check(g_, static_cast<int32_t>(p), problem)) continue;
-        const size_t row = static_cast<size_t>(g_.plugins[p].entry_adr + problem.entry);
-        const Span at = problem.entry >= 0 && row < entry_spans_.size() ? entry_spans_[row]
-                        : p < plugin_spans_.size()                      ? plugin_spans_[p]
-                                                                        : Span{};
+        if (!kind || !kind->check || kind->check(g_, p.v, problem)) continue;
+        const size_t row = graph::index(g_.plugins[p].entry_adr + problem.entry);
+        const Span at = problem.entry >= 0 && row < entry_spans_.size()  ? entry_spans_[row]
+                        : graph::index(p) < plugin_spans_.size()          ? plugin_spans_[graph::index(p)]
+                                                                          : Span{};
         sink_.report(DiagId::KindCheck, at, problem.message);
     }
 }
@@ -204,7 +204,7 @@ bool Elaborator::entry_options(const ast::EntryDecl& e, const graph::EntrySpec& 
             ok = false;
             continue;
         }
-        const size_t k = static_cast<size_t>(it - es.options.begin());
+        const auto k = it - es.options.begin();
         if (given[k]) {
             sink_.report(DiagId::DuplicateProperty, a.name->span, fmt::format("option '{}' is given twice", a.name->text));
             ok = false;

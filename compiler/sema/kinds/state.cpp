@@ -43,8 +43,8 @@ void lower_state(Lowering& lw) {
         pl.entered_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span));
         pl.tokens_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span));
         graph::slot_value(g, pl.tokens_slot) = pl.initial;
-        place_ids[p.name.text] = static_cast<int32_t>(g.places.size());
-        el.place_spans_[static_cast<int32_t>(g.places.size())] = p.name.span;
+        place_ids[p.name.text] = g.places.count();
+        el.place_spans_[g.places.count()] = p.name.span;
         g.places.push_back(pl);
     }
     std::set<std::string> tnames;
@@ -80,7 +80,7 @@ void lower_state(Lowering& lw) {
                 }
                 g.arcs.push_back({graph::PlaceId(it->second), static_cast<int32_t>(a.weight)});
             }
-            n = static_cast<int32_t>(g.arcs.size()) - adr;
+            n = g.arcs.count() - adr.v;
         };
         arcs(t.inputs, tr.in_adr, tr.in_num);
         arcs(t.outputs, tr.out_adr, tr.out_num);
@@ -88,7 +88,7 @@ void lower_state(Lowering& lw) {
             el.sink_.report(DiagId::EmptyTransition, t.name.span,
                             fmt::format("transition '{}' has no input place, so it would fire in every step", t.name.text));
         tr.fired_slot = graph::SlotId(el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span));
-        el.transition_spans_[static_cast<int32_t>(g.transitions.size())] = t.name.span;
+        el.transition_spans_[g.transitions.count()] = t.name.span;
         g.transitions.push_back(tr);
     }
 }

@@ -163,7 +163,7 @@ Network network_by_slots(const Graph& g) {
         for (size_t i = size_t(pos[size_t(cur)]); i < path.size(); ++i)
             if (nodes[size_t(path[i])].kind == NodeKind::Flow && (cut < 0 || path[i] < cut)) cut = path[i];
         if (cut < 0) cut = cur;
-        if (nodes[size_t(cut)].kind == NodeKind::Flow) net.delayed.push_back(nodes[size_t(cut)].index);
+        if (nodes[size_t(cut)].kind == NodeKind::Flow) net.delayed.push_back(nodes[size_t(cut)].flow());
         else net.order.push_back(nodes[size_t(cut)]);
         gone[size_t(cut)] = 1;
     }
