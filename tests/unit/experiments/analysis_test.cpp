@@ -223,7 +223,7 @@ TEST_CASE("experiments: the gap along the track, on a straight line and around a
 
 TEST_CASE("experiments: reading a trace") {
     std::istringstream good("time,a.x,a.y\n0,1,2\n0.5,3,4e-3\n");
-    Table t;
+    plant::experiments::Table t;
     std::string err;
     REQUIRE(read_csv(good, t, err));
     CHECK(t.rows() == 2);
