@@ -6,6 +6,7 @@
 #include "../stdlib/lookup.h"
 #include "engine/engine.h"
 #include "engine/events.h"
+#include "engine/pose.h"
 #include "engine/runtime.h"
 
 #include <doctest/doctest.h>
@@ -19,24 +20,16 @@ using namespace plant::test;
 
 namespace {
 
-// v turned by the unit quaternion q (x, y, z, w), or by its inverse.
-graph::Vec3 turned(const graph::Quat& q, const graph::Vec3& v, bool inverse = false) {
-    const double s = inverse ? -1 : 1, u[3] = {s * q[0], s * q[1], s * q[2]}, w = q[3];
-    const double t[3] = {2 * (u[1] * v[2] - u[2] * v[1]), 2 * (u[2] * v[0] - u[0] * v[2]), 2 * (u[0] * v[1] - u[1] * v[0])};
-    return {v[0] + w * t[0] + (u[1] * t[2] - u[2] * t[1]), v[1] + w * t[1] + (u[2] * t[0] - u[0] * t[2]),
-            v[2] + w * t[2] + (u[0] * t[1] - u[1] * t[0])};
-}
-
 // Whether point p lies in field f's box (its pose is the box centre in the world).
 bool in_field(const graph::Graph& g, int32_t f, const graph::Vec3& p) {
     const graph::Field& fd = g.fields[size_t(f)];
-    const graph::Vec3 l = turned(fd.pose.q, {p[0] - fd.pose.p[0], p[1] - fd.pose.p[1], p[2] - fd.pose.p[2]}, true);
+    const graph::Vec3 l = engine::qrot(engine::qconj(fd.pose.q), engine::sub(p, fd.pose.p));
     for (int i = 0; i < 3; ++i)
         if (std::abs(l[i]) > fd.extent[i] / 2) return false;
     return true;
 }
 
-double norm(const graph::Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm(const graph::Vec3& v) { return std::sqrt(engine::dot(v, v)); }
 
 double speed_of(const engine::Engine& e, int32_t b) { return norm(e.body_velocity(graph::BodyId(b))); }
 
@@ -49,8 +42,7 @@ double speed_along(const engine::Engine& e, int32_t b) {
     for (size_t f = 0; f < g.fields.size(); ++f) {
         const graph::Field& fd = g.fields[f];
         if (fd.speed == 0 || !in_field(g, int32_t(f), p)) continue;
-        const graph::Vec3 d = turned(fd.pose.q, fd.dir);
-        return std::abs(v[0] * d[0] + v[1] * d[1] + v[2] * d[2]);
+        return std::abs(engine::dot(v, engine::qrot(fd.pose.q, fd.dir)));
     }
     return norm(v);
 }
@@ -163,7 +155,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
     for (size_t k = 0; k < resting.size(); ++k) {
         if (by_arm[size_t(resting[k])]) continue;  // the arm took it from its table meanwhile
         const graph::Vec3 p = e.body_com(graph::BodyId(resting[k]));
-        const double moved = norm({p[0] - at_one[k][0], p[1] - at_one[k][1], p[2] - at_one[k][2]});
+        const double moved = norm(engine::sub(p, at_one[k]));
         farthest = std::max(farthest, moved);
         CAPTURE(g.comp_path(g.bodies[size_t(resting[k])].comp));
         CHECK(moved < 0.03);  // measured 18.5 mm

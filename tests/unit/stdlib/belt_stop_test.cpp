@@ -8,14 +8,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 using namespace plant::test;
 using plant::engine::Engine;
 
+namespace {
+
+// The plant `text` compiled into c (it must compile) and its n bottles' main bodies.
+std::vector<int32_t> compile_bottles(const std::string& text, const std::string& name, plant::Compilation& c, size_t n) {
+    compile_text(text, c, name);
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
+    REQUIRE(bottles.size() == n);
+    return bottles;
+}
+
+}  // namespace
+
 TEST_CASE("std.belts: a stopped belt brakes its bottles to rest, go starts them again") {
     plant::Compilation c;
-    compile_text(R"(
+    const std::vector<int32_t> bottles = compile_bottles(R"(
 import std.belts, std.bottle
 plant Stop {
     belt: Belt(length = 4 m)
@@ -26,11 +41,7 @@ plant Stop {
     flow restart.tick -> belt.go
 }
 )",
-                 c, "belt_stop.plant");
-    INFO(plant::render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    const std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
-    REQUIRE(bottles.size() == 5);
+                                                         "belt_stop.plant", c, 5);
     Engine e(c.graph);
     // The timers send stop at 1 s (every bottle rides at belt speed by then) and go at 3 s.
     for (int i = 0; i < 150; ++i) e.step();
@@ -111,7 +122,7 @@ plant Ports {
 // it only let go, and a bottle coasted on over the frictionless band); go runs it again.
 TEST_CASE("std.transfers: a stopped Corner brakes the bottle on it to rest, go starts it again") {
     plant::Compilation c;
-    compile_text(R"(
+    const std::vector<int32_t> bottles = compile_bottles(R"(
 import std.belts, std.bottle, std.transfers
 plant CornerStop {
     in1:  Belt(length = 1 m)
@@ -124,11 +135,7 @@ plant CornerStop {
     flow restart.tick -> turn.go
 }
 )",
-                 c, "corner_stop.plant");
-    INFO(plant::render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    const std::vector<int32_t> bottles = bodies_ending(c.graph, ".main");
-    REQUIRE(bottles.size() == 1);
+                                                         "corner_stop.plant", c, 1);
     const plant::graph::BodyId b(bottles[0]);
     Engine e(c.graph);
     while (e.time() < 0.06 - 1e-9) e.step();
