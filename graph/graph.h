@@ -285,9 +285,20 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, param_num)                                                          \
     F(Src, src)
 
-#define PLANT_FIELDS_PARAM(F) \
-    F(double, num)            \
-    F(Name, text)
+// A parameter of a plugin component (or an option of an entry), in the order its spec
+// declares them, in the field its type (graph/plugin.h: ParamType) is stored in: a Number,
+// Int or Bool in `num`, a String in `text` (a Value option: either), a Vec3 in `vec`, a Type
+// in `type` (the object type it names), a CompRef in `comp` (a component of the same object),
+// a StringList as the run `list_adr`, `list_num` of plugin_strings. The other fields keep
+// their defaults (0, none, -1).
+#define PLANT_FIELDS_PARAM(F)            \
+    F(double, num)                       \
+    F(Name, text)                        \
+    F(Vec3, vec)                         \
+    F(DoTypeId, type)                    \
+    F(CompId, comp)                      \
+    F(Adr<PluginString>, list_adr)       \
+    F(int32_t, list_num)
 
 #define PLANT_FIELDS_POINT(F) F(Vec3, p)
 #define PLANT_FIELDS_VALUE(F) F(double, v)
@@ -332,6 +343,7 @@ constexpr int slot_width(SlotType t) {
     X(port_targets, PortTarget, port_target, PLANT_FIELDS_SLOTREF)       \
     X(plugins, Plugin, plugin, PLANT_FIELDS_PLUGIN)                  \
     X(plugin_params, PluginParam, plugin_param, PLANT_FIELDS_PARAM)  \
+    X(plugin_strings, PluginString, plugin_string, PLANT_FIELDS_NAMEREF) \
     X(plugin_entries, PluginEntry, plugin_entry, PLANT_FIELDS_PLUGINENTRY) \
     X(plugin_entry_slots, PluginEntrySlot, plugin_entry_slot, PLANT_FIELDS_SLOTREF)
 
@@ -342,7 +354,7 @@ constexpr std::string_view kOptionalIds[] = {
     "flows.to_access", "fields.body",      "joints.body_b",      "places.put_slot",
     "places.entered_slot", "places.tokens_slot", "transitions.fired_slot", "triggers.body",
     "triggers.filter", "grippers.body",    "grippers.graphics",  "graphics.parent",
-    "graphics.body"};
+    "graphics.body",   "plugin_params.type", "plugin_params.comp"};
 constexpr bool optional_id(std::string_view table, std::string_view field) {
     for (std::string_view q : kOptionalIds)
         if (q.size() == table.size() + 1 + field.size() && q.starts_with(table) && q[table.size()] == '.' &&

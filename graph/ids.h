@@ -268,6 +268,7 @@ struct Port;
 struct PortTarget;
 struct Plugin;
 struct PluginParam;
+struct PluginString;
 struct PluginEntry;
 struct PluginEntrySlot;
 

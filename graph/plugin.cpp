@@ -44,8 +44,8 @@ bool register_kind(const KindDesc& desc) {
         !names_unique(desc.slots) || !names_unique(desc.params))
         return false;
     if (desc.kind != CompKind::Plugin) return false;  // a kind on the kind table is in kinds/list.h
-    for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from;
-        if (p.type > ParamType::String) return false;  // plugin_params holds a number or a text
+    for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from
+        if (p.type == ParamType::Value) return false;
     for (size_t i = 0; i < desc.entries.size(); ++i) {
         if (!names_unique(desc.entries[i].options) || desc.entries[i].max_key < 0) return false;
         for (const ParamSpec& o : desc.entries[i].options)

@@ -29,8 +29,10 @@ namespace plant::graph {
 // Value: an entry option whose type is the entry's slot's (void and bool: true or false;
 // int; real: a number in SI units; string), stored as a number or a text accordingly.
 // Vec3 (three numbers in `unit`), StringList, Type (an object type, `Bottle(mass = 40 g)`)
-// and CompRef (a component of the same object, by name) are the built-in kinds' for now: a
-// plugin's parameters are stored in `plugin_params` as one number or one text each.
+// and CompRef (a component of the same object, by name). A plugin's parameters (any type
+// but Value, which only an entry's option has) are rows of `plugin_params`, each in the
+// field of its type (graph.h, PLANT_FIELDS_PARAM); an entry's options are Number, Int,
+// Bool, String or Value.
 enum class ParamType : uint8_t { Number, Int, Bool, String, Value, Vec3, StringList, Type, CompRef };
 
 struct ParamSpec {

@@ -251,7 +251,7 @@ private:
             if (p.param_num != count_of(d->params))
                 return fail(fmt::format("a {} has {} parameters, field 'param_num' is {}", d->word, d->params.size(),
                                         p.param_num));
-            if (!params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word))) return false;
+            if (!params_valid(d->params, p.param_adr, fmt::format("of a {}", d->word), g_.comps[p.comp].owner)) return false;
             if (p.placed && !d->placed) return fail(fmt::format("a {} takes no placement, field 'placed' is true", d->word));
             for (Id<PluginEntry> e : children(p.entry_adr, p.entry_num))
                 if (!plugin_entry(*d, g_.plugin_entries[e], e.v)) return false;
@@ -267,14 +267,24 @@ private:
     }
 
     // Parameters (or an entry's options) as their specs declare them.
-    bool params_valid(std::span<const ParamSpec> specs, Adr<PluginParam> adr, const std::string& of) {
+    // A component reference names a component of the same object (`owner`: the plugin
+    // component's DO; an entry's options have none); one not required may be none, and so
+    // may a type.
+    bool params_valid(std::span<const ParamSpec> specs, Adr<PluginParam> adr, const std::string& of, DoId owner = {}) {
         for (size_t k = 0; k < specs.size(); ++k) {
             const ParamSpec& ps = specs[k];
             const PluginParam& v = g_.plugin_params[adr + k];
-            const bool ok = ps.type == ParamType::String ? v.text.id >= 0
-                            : ps.type == ParamType::Int  ? v.num == std::floor(v.num)
-                            : ps.type == ParamType::Bool ? (v.num == 0 || v.num == 1)
-                                                         : std::isfinite(v.num);  // Number; Value: the kind checks
+            bool ok = true;  // Number, Value (the kind checks), Vec3: every_field() checked them finite
+            switch (ps.type) {
+            case ParamType::String: ok = v.text.id >= 0; break;
+            case ParamType::Int: ok = v.num == std::floor(v.num); break;
+            case ParamType::Bool: ok = v.num == 0 || v.num == 1; break;
+            case ParamType::Type: ok = v.type.valid() || !ps.required; break;
+            case ParamType::CompRef:
+                ok = v.comp.valid() ? owner.valid() && g_.comps[v.comp].owner == owner : !ps.required;
+                break;
+            default: ok = std::isfinite(v.num); break;
+            }
             if (!ok) return fail(fmt::format("parameter '{}' {} is not a valid {}", ps.name, of, word(ps.type)));
         }
         return true;

@@ -59,7 +59,8 @@ void link(Linking& lk) {
     case CompKind::Field: return link_field(lk);
     case CompKind::Graphics: return link_graphics(lk);
     case CompKind::Trigger: return link_trigger(lk);
-    default: return;  // nothing to link (plugin kinds name no other component)
+    case CompKind::Plugin: return link_plugin(lk);
+    default: return;  // nothing to link
     }
 }
 
@@ -90,7 +91,7 @@ void Lowering::set_detail(int32_t rows) const {
     el.g_.comps[graph::CompId(comp)].detail = rows - 1;
 }
 
-int32_t Linking::find(const std::string& n, Span span, CompKind want, const char* what) const {
+graph::CompId Linking::find_comp(const std::string& n, Span span) const {
     auto it = scope.comps.find(n);
     if (it == scope.comps.end()) {
         std::vector<std::string> names;
@@ -98,9 +99,15 @@ int32_t Linking::find(const std::string& n, Span span, CompKind want, const char
         auto& d = el.sink_.report(DiagId::UnknownName, span, fmt::format("no component '{}' in this object", n));
         if (auto hint = closest_name(n, names); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
-        return -1;
+        return {};
     }
-    const auto& target = el.g_.comps[graph::CompId(it->second)];
+    return graph::CompId(it->second);
+}
+
+int32_t Linking::find(const std::string& n, Span span, CompKind want, const char* what) const {
+    const graph::CompId id = find_comp(n, span);
+    if (!id.valid()) return -1;
+    const auto& target = el.g_.comps[id];
     if (target.kind != want) {
         // The words of the language: a Body is written `physics`.
         auto word = [](CompKind k) { return k == CompKind::Body ? std::string_view("physics") : graph::word(k); };

@@ -78,7 +78,15 @@ double PluginCtx::value(int slot) const {
     const int32_t s = slot_adr_ + slot;
     return r_.tab.value_adr[s] >= 0 ? *r_.val(s) : 0;
 }
-double PluginCtx::param(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i].num; }
+const graph::PluginParam& PluginCtx::param_row(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i]; }
+double PluginCtx::param(int i) const { return param_row(i).num; }
+std::string_view PluginCtx::param_text(int i) const { return r_.g.str(param_row(i).text); }
+graph::Vec3 PluginCtx::param_vec3(int i) const { return param_row(i).vec; }
+int PluginCtx::param_list_size(int i) const { return param_row(i).list_num; }
+std::string_view PluginCtx::param_list(int i, int k) const { return r_.g.str(r_.g.plugin_strings[param_row(i).list_adr + k].v); }
+graph::DoTypeId PluginCtx::param_type(int i) const { return param_row(i).type; }
+graph::CompId PluginCtx::param_comp(int i) const { return param_row(i).comp; }
+const graph::Graph& PluginCtx::graph() const { return r_.g; }
 std::span<double> PluginCtx::state() const {
     const PluginRun& p = r_.tab.plugin_run[plugin_];
     double* state = r_.st.plugin_state.data() + p.state_adr;

@@ -32,7 +32,15 @@ public:
     bool active(int slot) const;     // an input activated this step, an output emitted
     void emit(int slot, double v);   // writes an output and makes it active
     double value(int slot) const;    // a slot's (first) number: an input's value this step
-    double param(int i) const;       // Number, Int, Bool (0/1) parameters, in declared order
+    // Parameters, numbered in declared order, each by the accessor of its type:
+    double param(int i) const;                   // Number, Int, Bool (0/1)
+    std::string_view param_text(int i) const;    // String
+    graph::Vec3 param_vec3(int i) const;         // Vec3, in SI units
+    int param_list_size(int i) const;            // StringList: its number of strings,
+    std::string_view param_list(int i, int k) const;  // and its k-th
+    graph::DoTypeId param_type(int i) const;     // Type: the object type (none when not given)
+    graph::CompId param_comp(int i) const;       // CompRef: a component of the same object
+    const graph::Graph& graph() const;           // the plant, read-only: what a type or a component is
     std::span<double> state() const;  // KindBehaviour::state_size numbers, 0 at start
     // Its entries (graph/plugin.h: EntrySpec), in declaration order; for an entry that reads
     // an output, whether that output is active in this step.
@@ -44,6 +52,7 @@ public:
 
 private:
     const graph::PluginEntry& entry(int e) const;
+    const graph::PluginParam& param_row(int i) const;
     Runtime& r_;
     int32_t plugin_;
     int32_t slot_adr_;

@@ -60,6 +60,8 @@ struct Linking {
     graph::Comp rec;
     std::string on;  // the `on` path, "" for none
 
+    // Component `n` of this object, of any kind; none (reported) if there is none.
+    graph::CompId find_comp(const std::string& n, Span span) const;
     // The detail id of component `n` of this object, of kind `want`; -1 (reported) if none.
     int32_t find(const std::string& n, Span span, graph::CompKind want, const char* what) const;
     int32_t on_body() const { return find(on, decl.on->span, graph::CompKind::Body, "'on'"); }
@@ -92,6 +94,7 @@ void link_graphics(Linking& lk);
 void lower_state(Lowering& lw);
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
+void link_plugin(Linking& lk);  // its component references (ParamType::CompRef)
 // A placement on a kind whose row takes none (KindDesc::placed) would be dropped without a
 // word: it is refused (E0311). Whether it was.
 bool refuse_placement(Lowering& lw, const graph::KindDesc& kind);

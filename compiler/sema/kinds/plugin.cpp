@@ -11,13 +11,34 @@
 namespace plant::sema {
 namespace {
 
-// A parameter's (or an entry option's) stored form: the checked value, or its default.
+// A parameter's (or an entry option's) stored form: the checked value, or its default, in
+// the field of its type (graph.h, PLANT_FIELDS_PARAM). A Vec3 not given is default_num in
+// each coordinate, a StringList not given is empty, a Type not given is none; a CompRef is
+// none here and resolved by link_plugin, once the object's components all exist.
 graph::PluginParam stored(Elaborator& el, const graph::ParamSpec& ps, const Value* v) {
-    graph::PluginParam p{ps.default_num, graph::Name{}};
-    const bool text = ps.type == graph::ParamType::String || (ps.type == graph::ParamType::Value && v && v->kind == Value::Kind::Str);
-    if (text) p.text = el.name(v ? std::string_view(v->str) : std::string_view());
-    else if (v && v->kind == Value::Kind::Bool) p.num = v->boolean ? 1 : 0;
-    else if (v) p.num = v->num;
+    using graph::ParamType;
+    graph::PluginParam p;
+    p.num = ps.default_num;
+    switch (ps.type) {
+    case ParamType::Vec3: p.vec = v ? vec(*v) : graph::Vec3{ps.default_num, ps.default_num, ps.default_num}; break;
+    case ParamType::Type:
+        if (v) p.type = el.do_type(v->str, v->span);
+        break;
+    case ParamType::StringList:
+        p.list_adr = graph::next_adr(el.g_.plugin_strings);
+        if (v)
+            for (const Value& item : v->items) el.g_.plugin_strings.push_back({el.name(item.str)});
+        p.list_num = el.g_.plugin_strings.count() - p.list_adr.v;
+        break;
+    case ParamType::CompRef: break;
+    default: {
+        const bool text = ps.type == ParamType::String || (ps.type == ParamType::Value && v && v->kind == Value::Kind::Str);
+        if (text) p.text = el.name(v ? std::string_view(v->str) : std::string_view());
+        else if (v && v->kind == Value::Kind::Bool) p.num = v->boolean ? 1 : 0;
+        else if (v) p.num = v->num;
+        break;
+    }
+    }
     return p;
 }
 
@@ -57,6 +78,20 @@ void lower_plugin(Lowering& lw) {
     // Where its kind's check reports (a panel's button too, which has no entries pass).
     lw.el.plugin_spans_.resize(g.plugins.size());
     lw.el.plugin_spans_.back() = lw.decl.name.span;
+}
+
+void link_plugin(Linking& lk) {
+    graph::Graph& g = lk.el.g_;
+    const graph::Plugin& rec = g.plugins[lk.row<graph::Plugin>()];
+    const graph::KindDesc* kind = graph::find_plugin(g.str(rec.kind));
+    if (!kind) return;
+    for (size_t k = 0; k < kind->params.size(); ++k) {
+        const graph::ParamSpec& ps = kind->params[k];
+        if (ps.type != graph::ParamType::CompRef) continue;
+        const ast::Property* p = lk.prop(std::string(ps.name).c_str());
+        if (!p) continue;
+        if (const std::string n = lk.ref_name(*p); !n.empty()) g.plugin_params[rec.param_adr + k].comp = lk.find_comp(n, p->value->span);
+    }
 }
 
 }  // namespace plant::sema

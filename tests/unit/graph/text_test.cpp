@@ -172,7 +172,7 @@ TEST_SUITE("graph text") {
 
 TEST_CASE("the format, exactly") {
     const char* expected =
-        "plant-graph 2\n"
+        "plant-graph 3\n"
         "plant \"Line\"\n"
         "settings rate=150 gravity=(0 0 -9.81)\n"
         "count files 1\n"
@@ -370,8 +370,8 @@ TEST_CASE("broken input fails with a line number") {
     const Case cases[] = {
         {"empty", "", 1},
         {"wrong header", "plant-graf 1\n", 1},
-        {"wrong version", "plant-graph 3\n", 1},
-        {"only the header", "plant-graph 2\n", 2},
+        {"wrong version", "plant-graph " + std::to_string(kFormatVersion + 1) + "\n", 1},
+        {"only the header", "plant-graph " + std::to_string(kFormatVersion) + "\n", 2},
         {"truncated in a line", good.substr(0, good.find("do 1") + 20), do1},
         {"truncated at a line end", good.substr(0, good.find("do 1")), do1},
         {"no end line", good.substr(0, good.find("end\n")), end},
@@ -429,6 +429,7 @@ TEST_CASE("broken input fails with a line number") {
 TEST_CASE("graph text: the format's version changes whenever its fingerprint does") {
     const std::map<int, uint64_t> fingerprints = {
         {2, 0x25fe5fb91eed1146},  // 2026-11-27: the first version pinned (with the field's `enabled` output, the optional settings.steady_transport and a plugin component's placement)
+        {3, 0x83904d49bc0b3819},  // 2026-11-28: a plugin's parameters of every type (plugin_param's vec, type, comp, list; plugin_strings)
     };
     REQUIRE_MESSAGE(fingerprints.count(kFormatVersion), "kFormatVersion " << kFormatVersion << " has no fingerprint here");
     CHECK_MESSAGE(format_fingerprint() == fingerprints.at(kFormatVersion),
