@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <fmt/format.h>
 #include <set>
 #include <tuple>
+#include <unordered_map>
 
 namespace plant::sema {
 
@@ -82,6 +84,58 @@ Vector3d nearest_on_segment(const Vector3d& p, const Vector3d& a, const Vector3d
     return a + t * ab;
 }
 
+// The boxes near a point, for the two searches below (each would otherwise look at every box
+// for every outlet: 75 % of compiling 166 lines of the bottling plant). A box is listed in
+// every cell of a grid over the ground (x, y) that the square about its centre of half side
+// reach(b) = |half| + kCapture + the widest outlet's half width meets; every box the searches
+// can accept for a point lies within that of the point, so the point's own cell lists all of
+// them, in id order, which is the order the searches break their ties in. A box that would
+// cover more than kMaxCells cells (a floor's field) is listed once, with the boxes near
+// every point.
+class Grid {
+public:
+    static constexpr double kCell = 0.5;  // m
+    static constexpr double kMaxCells = 4096;
+
+    explicit Grid(const std::vector<Box>& boxes) {
+        double widest = 0;
+        for (const Box& b : boxes)
+            if (b.source) widest = std::max(widest, b.half_width);
+        for (size_t i = 0; i < boxes.size(); ++i) {
+            const Box& b = boxes[i];
+            const double r = b.half.norm() + kCapture + widest;
+            const double side = std::floor(2 * r / kCell) + 2;
+            if (side * side > kMaxCells) {
+                big_.push_back(static_cast<int32_t>(i));
+                continue;
+            }
+            const int64_t x0 = cell(b.c.x() - r), x1 = cell(b.c.x() + r);
+            const int64_t y0 = cell(b.c.y() - r), y1 = cell(b.c.y() + r);
+            for (int64_t x = x0; x <= x1; ++x)
+                for (int64_t y = y0; y <= y1; ++y) cells_[key(x, y)].push_back(static_cast<int32_t>(i));
+        }
+    }
+    // The boxes whose reach may hold p, in id order (indices into the boxes).
+    const std::vector<int32_t>& near(const Vector3d& p) {
+        const auto it = cells_.find(key(cell(p.x()), cell(p.y())));
+        const std::vector<int32_t>& here = it == cells_.end() ? none_ : it->second;
+        if (big_.empty()) return here;
+        found_.clear();
+        std::merge(here.begin(), here.end(), big_.begin(), big_.end(), std::back_inserter(found_));
+        return found_;
+    }
+
+private:
+    static int64_t cell(double v) { return static_cast<int64_t>(std::floor(v / kCell)); }
+    // Unique for cells within ±2^31 (a billion metres); beyond, two cells may share a list,
+    // which only adds candidates.
+    static uint64_t key(int64_t x, int64_t y) {
+        return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
+    }
+    std::unordered_map<uint64_t, std::vector<int32_t>> cells_;
+    std::vector<int32_t> big_, found_, none_;
+};
+
 std::string cm(double m) { return fmt::format("{:.1f} cm", m * 100); }
 
 std::string where(const Vector3d& p) { return fmt::format("({:.3f}, {:.3f}, {:.3f}) m", p.x(), p.y(), p.z()); }
@@ -117,6 +171,7 @@ void Elaborator::check_conveyor_ends() {
 
     std::vector<Box> boxes;
     for (graph::FieldId i : ids_of(g_.fields)) boxes.push_back(make_box(g_, i));
+    Grid grid(boxes);
     std::set<std::tuple<int32_t, uint32_t, int32_t, uint32_t>> reported;  // once per pair of declarations
     auto report = [&](const Box& a, const Box& b, std::string message, std::string why) {
         const Span sa = declared(a.field), sb = declared(b.field);
@@ -132,7 +187,8 @@ void Elaborator::check_conveyor_ends() {
         const Box* on = nullptr;     // a box the outlet runs onto, level
         const Box* step = nullptr;   // one it runs onto with a step (the smallest)
         double step_h = 0;
-        for (const Box& b : boxes) {
+        for (int32_t k : grid.near(ahead)) {
+            const Box& b = boxes[static_cast<size_t>(k)];
             if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             const Vector3d l = b.local(ahead);
             if (std::abs(l.x()) > b.half.x() || std::abs(l.y()) > b.half.y()) continue;
@@ -173,7 +229,8 @@ void Elaborator::check_conveyor_ends() {
         const Box* near = nullptr;
         Vector3d miss = Vector3d::Zero();  // from the outlet to where the other conveyor starts
         double near_d = kCapture + 1e-9;
-        for (const Box& b : boxes) {
+        for (int32_t k : grid.near(a.outlet)) {
+            const Box& b = boxes[static_cast<size_t>(k)];
             if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             if ((b.c - a.outlet).norm() > kCapture + a.half_width + b.half.norm()) continue;
             const Vector3d l0 = b.local(a.outlet);

@@ -35,8 +35,10 @@ uint32_t line_of(const std::string& text, const std::string& head) {
     return uint32_t(std::count(text.begin(), text.begin() + std::ptrdiff_t(p), '\n') + 1);
 }
 
-void check_moved(const std::string& at, const std::string& says) {
-    const std::string text = bottling_with_lane_a(at);
+// `extra`: declarations added to the plant's own block (before its closing brace).
+void check_moved(const std::string& at, const std::string& says, const std::string& extra = "") {
+    std::string text = bottling_with_lane_a(at);
+    if (!extra.empty()) text.insert(text.rfind('}'), extra);
     Compilation c;
     test::compile_text(text, c, "bottling_moved.plant", {"lines=2"});
     REQUIRE(c.ok());
@@ -78,4 +80,13 @@ TEST_CASE("geometry: a lane belt 1 cm above its switch's branch exit warns") {
 
 TEST_CASE("geometry: a lane belt 2 cm aside meets its switch off its centre line") {
     check_moved("(x0 + 82 cm + ba, -bl, 0 m)", "1.9 cm off its centre line");
+}
+
+// The search for the conveyor an outlet meets looks only at the boxes near it (a grid over the
+// ground); a box too large for the grid's cells (a 300 m floor's field) is looked at for every
+// outlet: the warning is the same with one far below the line.
+TEST_CASE("geometry: a field as large as a floor changes nothing the search finds") {
+    const std::string floor = "    field floor at (0 m, 0 m, -5 m) { extent = (300 m, 300 m, 1 cm); gain = 1 kg/s }\n";
+    check_moved("(x0 + 80 cm + ba, -bl - 10 cm, 0 m)", "9.7 cm ahead", floor);
+    check_moved("(x0 + 80 cm + ba, -bl, 1 cm)", "a step of 1.0 cm", floor);
 }
