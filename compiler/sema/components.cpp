@@ -182,23 +182,23 @@ Props Elaborator::check_properties(const Scope& sc, const ast::ComponentDecl& c,
         std::string what = fmt::format("'{}'", p.name.text);
         bool ok = v.kind != Value::Kind::None;
         switch (ps->type) {
-        case PropType::Number:
+        case graph::ParamType::Number:
             // Limits take the dimension of the joint: checked when the kind is known.
             if (ps->name == "lower" || ps->name == "upper") ok = ok && ev_.expect_number(v, v.dim, what);
             else ok = ok && ev_.expect_number(v, ps->dim, what);
             break;
-        case PropType::Vec3: ok = ok && ev_.expect_vec3(v, ps->dim, what); break;
-        case PropType::Int: ok = ok && ev_.expect_int(v, what); break;
-        case PropType::Bool: ok = ok && ev_.expect_bool(v, what); break;
-        case PropType::String: ok = ok && ev_.expect_string(v, what); break;
-        case PropType::StringList:
+        case graph::ParamType::Vec3: ok = ok && ev_.expect_vec3(v, ps->dim, what); break;
+        case graph::ParamType::Int: ok = ok && ev_.expect_int(v, what); break;
+        case graph::ParamType::Bool: ok = ok && ev_.expect_bool(v, what); break;
+        case graph::ParamType::String: ok = ok && ev_.expect_string(v, what); break;
+        case graph::ParamType::StringList:
             if (ok && v.kind != Value::Kind::List) {
                 sink_.report(DiagId::ValueTypeMismatch, v.span, fmt::format("{} must be a list of strings", what));
                 ok = false;
             }
             for (const auto& it : v.items) ok = ok && ev_.expect_string(it, "an entry of " + what);
             break;
-        case PropType::Type:
+        case graph::ParamType::Type:
             if (ok && v.kind == Value::Kind::Name && v.str.find('.') == std::string::npos) {
                 std::vector<std::string> known;
                 for (const auto& [n, t] : types_) known.push_back(n);
@@ -214,13 +214,14 @@ Props Elaborator::check_properties(const Scope& sc, const ast::ComponentDecl& c,
                 ok = false;
             }
             break;
-        case PropType::CompRef:
+        case graph::ParamType::CompRef:
             if (ok && v.kind != Value::Kind::Name) {
                 sink_.report(DiagId::ValueTypeMismatch, v.span,
                              fmt::format("{} must name a component of this object, not {}", what, with_article(describe(v))));
                 ok = false;
             }
             break;
+        case graph::ParamType::Value: break;  // an entry's option only (graph::register_kind)
         }
         props.values[p.name.text] = {&p, ok ? v : Value{}};
     }

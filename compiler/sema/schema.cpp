@@ -8,29 +8,21 @@
 namespace plant::sema {
 namespace {
 
-namespace d = units::dims;
 using graph::CompKind;
-using T = PropType;
+using T = graph::ParamType;
+using P = graph::ParamSpec;
+
+// Parameters as the compiler checks them: each with the dimension of its unit.
+std::vector<PropSpec> props_of(std::span<const graph::ParamSpec> params) {
+    std::vector<PropSpec> out;
+    for (const graph::ParamSpec& p : params) out.push_back({p.name, p.type, param_dim(p), p.required, p.doc});
+    return out;
+}
 
 // A kind's row as the compiler's spec: its parameters become properties, so the generic
 // checks of make_component apply to them.
 KindSpec kind_spec(const graph::KindDesc& d) {
-    KindSpec k{d.word, d.kind, {d.modes.begin(), d.modes.end()}, {}};
-    for (const graph::ParamSpec& p : d.params) {
-        PropSpec ps{p.name, T::Number, {}, p.required, p.doc};
-        switch (p.type) {
-        case graph::ParamType::Number: ps.dim = param_dim(p); break;
-        case graph::ParamType::Vec3: ps.type = T::Vec3, ps.dim = param_dim(p); break;
-        case graph::ParamType::Int: ps.type = T::Int; break;
-        case graph::ParamType::Bool: ps.type = T::Bool; break;
-        case graph::ParamType::String: ps.type = T::String; break;
-        case graph::ParamType::StringList: ps.type = T::StringList; break;
-        case graph::ParamType::Type: ps.type = T::Type; break;
-        case graph::ParamType::CompRef: ps.type = T::CompRef; break;
-        case graph::ParamType::Value: break;  // entry options only (graph::register_kind)
-        }
-        k.props.push_back(ps);
-    }
+    KindSpec k{d.word, d.kind, {d.modes.begin(), d.modes.end()}, props_of(d.params)};
     k.doc = d.doc;
     k.children = !d.holds.empty();  // a panel's elements
     k.on = d.on;
@@ -40,34 +32,34 @@ KindSpec kind_spec(const graph::KindDesc& d) {
 
 std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
-    KindSpec graphics{"graphics", CompKind::Graphics, {}, {
-        {"model", T::String, {}, false, "model reference the viewer interprets (never loaded by the runtime)"},
-        {"show", T::String, {}, false, "the variant shown at start; the model itself when absent"},
-    }};
+    KindSpec graphics{"graphics", CompKind::Graphics, {}, props_of(std::array{
+        P{"model", T::String, "", false, 0, "model reference the viewer interprets (never loaded by the runtime)"},
+        P{"show", T::String, "", false, 0, "the variant shown at start; the model itself when absent"},
+    })};
     graphics.animations = graphics.variants = graphics.children = graphics.on = true;
     k.push_back(graphics);
 
-    KindSpec body{"physics", CompKind::Body, {"dynamic", "static", "kinematic"}, {
-        {"mass", T::Number, d::mass, false, "required for dynamic bodies"},
-        {"inertia", T::Vec3, d::inertia, false, "principal moments; computed from the shapes when absent"},
-        {"friction", T::Number, {}, false, "default 0.5"},
-        {"restitution", T::Number, {}, false, "default 0"},
-        {"linear_damping", T::Number, {}, false, "default 0"},
-        {"angular_damping", T::Number, {}, false, "default 0"},
-        {"collision", T::Bool, {}, false, "default true"},
-        {"dynamics", T::Bool, {}, false, "default true"},
-    }};
+    KindSpec body{"physics", CompKind::Body, {"dynamic", "static", "kinematic"}, props_of(std::array{
+        P{"mass", T::Number, "kg", false, 0, "required for dynamic bodies"},
+        P{"inertia", T::Vec3, "kg*m^2", false, 0, "principal moments; computed from the shapes when absent"},
+        P{"friction", T::Number, "", false, 0, "default 0.5"},
+        P{"restitution", T::Number, "", false, 0, "default 0"},
+        P{"linear_damping", T::Number, "", false, 0, "default 0"},
+        P{"angular_damping", T::Number, "", false, 0, "default 0"},
+        P{"collision", T::Bool, "", false, 0, "default true"},
+        P{"dynamics", T::Bool, "", false, 0, "default true"},
+    })};
     body.shapes = true;
     k.push_back(body);
 
-    KindSpec field{"field", CompKind::Field, {}, {
-        {"extent", T::Vec3, d::length, true, "full extents of the box volume"},
-        {"direction", T::Vec3, {}, false, "unit direction in the field's frame, default (1, 0, 0)"},
-        {"speed", T::Number, d::velocity, false, "target speed, default 0"},
-        {"gain", T::Number, d::gain, true, "k in kg/s (N per m/s)"},
-        {"max_force", T::Number, d::force, false, "slip limit: the most the field pulls one body with; default unlimited"},
-        {"enabled", T::Bool, {}, false, "default true"},
-    }};
+    KindSpec field{"field", CompKind::Field, {}, props_of(std::array{
+        P{"extent", T::Vec3, "m", true, 0, "full extents of the box volume"},
+        P{"direction", T::Vec3, "", false, 0, "unit direction in the field's frame, default (1, 0, 0)"},
+        P{"speed", T::Number, "m/s", false, 0, "target speed, default 0"},
+        P{"gain", T::Number, "kg/s", true, 0, "k in kg/s (N per m/s)"},
+        P{"max_force", T::Number, "N", false, 0, "slip limit: the most the field pulls one body with; default unlimited"},
+        P{"enabled", T::Bool, "", false, 0, "default true"},
+    })};
     field.on = true;
     k.push_back(field);
 
@@ -75,10 +67,10 @@ std::vector<KindSpec> make_kinds() {
     state.places = true;
     k.push_back(state);
 
-    KindSpec trigger{"trigger", CompKind::Trigger, {}, {
-        {"extent", T::Vec3, d::length, true, "full extents of the box volume"},
-        {"filter", T::Type, {}, false, "object type it reacts to; any object when absent"},
-    }};
+    KindSpec trigger{"trigger", CompKind::Trigger, {}, props_of(std::array{
+        P{"extent", T::Vec3, "m", true, 0, "full extents of the box volume"},
+        P{"filter", T::Type, "", false, 0, "object type it reacts to; any object when absent"},
+    })};
     trigger.on = true;
     k.push_back(trigger);
 

@@ -15,12 +15,13 @@
 
 namespace plant::sema {
 
-enum class PropType { Number, Vec3, Int, Bool, String, StringList, Type, CompRef };
-
+// A property as the compiler checks it: a parameter of the kind, in the one vocabulary every
+// kind's parameters are written in (graph::ParamSpec, graph/plugin.h), with the dimension its
+// unit names, parsed once.
 struct PropSpec {
     std::string_view name;
-    PropType type;
-    units::Dim dim;   // Number and Vec3
+    graph::ParamType type;
+    units::Dim dim;  // Number and Vec3: the dimension of the parameter's unit
     bool required;
     std::string_view doc;
 };
