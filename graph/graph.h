@@ -201,13 +201,6 @@ constexpr int slot_width(SlotType t) {
     F(PlaceId, place)       \
     F(int32_t, weight)
 
-#define PLANT_FIELDS_TRIGGER(F)                                                \
-    F(CompId, comp)                                                           \
-    F(BodyId, body)       /* Body the volume moves with, -1 for fixed */      \
-    F(Vec3, extent)                                                            \
-    F(Pose, pose)          /* world pose of the box centre at start */         \
-    F(DoTypeId, filter)     /* DoType whose bodies it reacts to, -1 for any */
-
 #define PLANT_FIELDS_ROUTE(F)                                         \
     F(CompId, comp)                                                  \
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \

@@ -45,13 +45,6 @@
     S(speed, "speed", Real, Out, "the speed it drives at: its target speed while enabled, 0 while not") \
     S(enabled, "enabled", Bool, Out, "whether the field pushes")
 
-#define PLANT_SLOTS_TRIGGER(S) \
-    S(on_enter, "on_enter", Void, Out, "an object entered the volume this step") \
-    S(on_stay, "on_stay", Void, Out, "at least one object is inside") \
-    S(on_leave, "on_leave", Void, Out, "an object left the volume this step") \
-    S(object, "object", Ref, Out, "the object that last entered (or is inside)") \
-    S(count_inside, "count", Int, Out, "how many objects are inside")
-
 #define PLANT_SLOTS_ROUTER(S) \
     S(query, "query", String, In, "an ID to route; activates the first matching entry")
 
@@ -81,7 +74,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
 namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) count }; }
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
-namespace triggerslot { enum : int { PLANT_SLOTS_TRIGGER(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.

@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && nets() && triggers() && table_kinds() &&
+               shapes() && fields() && nets() && table_kinds() &&
                routes() && graphics() && animations() && variants() &&
                ports() && plugin_records();
     }
@@ -197,7 +197,6 @@ private:
         case CompKind::Graphics: n = g_.graphics.size(), name = "graphics"; return true;
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
-        case CompKind::Trigger: n = g_.triggers.size(), name = "triggers"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         case CompKind::State:
@@ -443,13 +442,6 @@ private:
         return each("arcs", g_.arcs, [&](const auto& r, Id<Arc>) {
             return check(r.weight >= 1 && r.weight <= kMaxArcWeight,
                          fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
-        });
-    }
-
-    bool triggers() {
-        return each("triggers", g_.triggers, [&](const Trigger& t, TriggerId i) {
-            return owner(t.comp, CompKind::Trigger, i.v) &&
-                   check(t.extent[0] > 0 && t.extent[1] > 0 && t.extent[2] > 0, "field 'extent' must be above 0");
         });
     }
 

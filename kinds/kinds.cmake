@@ -6,7 +6,7 @@
 #   run.cpp   its behaviour: state, start, sense, act (plant_runtime)
 # Adding one is its folder and its word here; kinds/list.h, generated from this list, is
 # how graph/, the compiler and the runtime find the rows.
-set(PLANT_KINDS constraint timer gripper exit source label)
+set(PLANT_KINDS trigger constraint timer gripper exit source label)
 
 set(PLANT_KINDS_GENERATED ${CMAKE_BINARY_DIR}/generated)
 set(plant_kind_includes "")

@@ -41,7 +41,6 @@ void lower(Lowering& lw) {
     case CompKind::Field: return lower_field(lw);
     case CompKind::Graphics: return lower_graphics(lw);
     case CompKind::State: return lower_state(lw);
-    case CompKind::Trigger: return lower_trigger(lw);
     case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
@@ -58,7 +57,6 @@ void link(Linking& lk) {
     switch (lk.rec.kind) {
     case CompKind::Field: return link_field(lk);
     case CompKind::Graphics: return link_graphics(lk);
-    case CompKind::Trigger: return link_trigger(lk);
     case CompKind::Plugin: return link_plugin(lk);
     default: return;  // nothing to link
     }

@@ -67,13 +67,6 @@ std::vector<KindSpec> make_kinds() {
     state.places = true;
     k.push_back(state);
 
-    KindSpec trigger{"trigger", CompKind::Trigger, {}, props_of(std::array{
-        P{"extent", T::Vec3, "m", true, 0, "full extents of the box volume"},
-        P{"filter", T::Type, "", false, 0, "object type it reacts to; any object when absent"},
-    })};
-    trigger.on = true;
-    k.push_back(trigger);
-
     KindSpec router{"router", CompKind::Router, {}, {}};
     router.routes = true;
     k.push_back(router);
@@ -83,7 +76,6 @@ std::vector<KindSpec> make_kinds() {
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
         {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
         {"state", "a Petri net: places holding tokens and transitions that move them"},
-        {"trigger", "a box volume that reports objects entering, staying and leaving"},
         {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
     };
     for (auto& spec : k)

@@ -134,7 +134,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
 
 // A body that takes no collisions is in no broadphase pair at all (group and mask 0),
 // like a parked one: no narrowphase work for it. Triggers do not need its pairs; they
-// read AABBs from our own index (triggers.cpp).
+// read AABBs from our own index (kinds/trigger/run.cpp).
 void Physics::set_collision(int32_t b, bool on) {
     if (bool(coll_on_[b]) == on) return;
     unweld(b);

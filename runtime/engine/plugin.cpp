@@ -1,6 +1,7 @@
 #include "engine/plugin.h"
 
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include <array>
 #include <utility>
@@ -41,8 +42,12 @@ void start_kinds(Runtime& r) {
 }
 
 void sense_kinds(Runtime& r) {
-    for (const KindBehaviour* b : kBuiltinRuns)
-        if (b->sense_all) b->sense_all(r);
+    StepProfile& p = r.phys.workers().profile();
+    for (const KindBehaviour* b : kBuiltinRuns) {
+        if (!b->sense_all) continue;
+        b->sense_all(r);
+        if (b->sense_segment >= 0) p.lap(StepProfile::Segment(b->sense_segment));
+    }
 }
 
 void act_kinds(Runtime& r) {

@@ -76,6 +76,9 @@ struct KindBehaviour {
     std::unique_ptr<KindData> (*make_state)(const graph::Graph& g) = nullptr;
     void (*start_all)(Runtime& r) = nullptr;  // once, in the kind table's order (start_kinds)
     void (*sense_all)(Runtime& r) = nullptr;  // phase 2, in the kind table's order (sense_kinds)
+    // The step profile's segment (StepProfile::Segment, engine/workers.h) that sense_all's
+    // time is counted in; -1: the phase's last, with the plugins'.
+    int sense_segment = -1;
     // Phase 5, for a component with an active input: `c` the component, `row` its detail.
     // nullptr: its inputs are read elsewhere (phases 3, 4), never by phase 5.
     void (*act_one)(Runtime& r, const graph::Comp& c, int32_t row) = nullptr;

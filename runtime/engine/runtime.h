@@ -97,8 +97,6 @@ bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether an
 void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
 void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
 void integrate_group(Runtime& r, int32_t group);
-void start_triggers(Runtime& r);  // triggers.cpp
-void sense_triggers(Runtime& r);
 void start_graphics(Runtime& r);  // graphics.cpp
 void advance_graphics(Runtime& r);
 void act_graphics(Runtime& r, const graph::Comp& c, int32_t i);

@@ -1,6 +1,6 @@
 // Phase 2: what the world looks like after the physics step, as output activity:
 // bodies (outputs, and warnings for bodies that left the world), graphics poses and
-// animations, triggers, the kinds on the kind table (timers, grippers carrying their
+// animations, the kinds on the kind table (triggers, timers, grippers carrying their
 // objects, exits), plugins. Each kind's sensing lives with the rest of its behaviour (runtime.h
 // lists where; a kind on the kind table: its kinds/NAME/run.cpp).
 #include "engine/runtime.h"
@@ -15,9 +15,7 @@ void phase_sensors(Runtime& r) {
     p.lap(StepProfile::Bodies);
     advance_graphics(r);
     p.lap(StepProfile::Graphics);
-    sense_triggers(r);
-    p.lap(StepProfile::Triggers);
-    sense_kinds(r);  // the kind table's, in its order: exits after grippers moved their objects
+    sense_kinds(r);  // the kind table's, in its order: triggers, then exits after grippers moved their objects
     sense_plugins(r);
     p.lap(StepProfile::Others);
 }

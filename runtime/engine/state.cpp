@@ -89,7 +89,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.trigger_found.assign(g.triggers.size(), 0);
     s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
     s.slice_left.assign(64, 0);
-    s.trigger_slices.resize(64);  // at most four per thread, 16 threads (triggers.cpp)
+    s.trigger_slices.resize(64);  // at most four per thread, 16 threads (kinds/trigger/run.cpp)
     for (std::vector<int32_t>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
 
     for (const graph::KindDesc* k : graph::builtin_kinds())  // the kinds on the kind table

@@ -155,9 +155,9 @@ struct State {
 
     IdVector<graph::TriggerId, TriggerState> triggers;
     std::vector<int32_t> inside, inside_prev;  // DO ids, sorted per trigger
-    // Found on the physics threads (triggers.cpp): per trigger, how many objects are inside;
+    // Found on the physics threads (kinds/trigger/run.cpp): per trigger, how many objects are inside;
     // per slice of the triggers, their lists one after the other.
-    std::vector<int32_t> trigger_found;
+    IdVector<graph::TriggerId, int32_t> trigger_found;
     // Per slice of prepare_fields' job (fields.cpp): a field's frame changed, a kinematic part
     // left its room.
     std::vector<uint8_t> slice_moved, slice_left;

@@ -102,8 +102,8 @@ private:
 
 // A loop over ids [0, n) cut into slices, a few per thread, each slice an item of one job
 // (regions.cpp, fields.cpp, transport.cpp, spatial.cpp, bodies.cpp, graphics.cpp,
-// triggers.cpp): an item writes only its own ids' entries (or its slice's), and what touches
-// shared state runs after the job on the calling thread, in id order.
+// kinds/trigger/run.cpp): an item writes only its own ids' entries (or its slice's), and
+// what touches shared state runs after the job on the calling thread, in id order.
 //
 // How many slices: at least `least` ids in each, four per thread at most, and at most `most`
 // (the size of a caller's per-slice scratch); at least one.

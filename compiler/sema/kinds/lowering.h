@@ -4,7 +4,7 @@
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
 // kinds/NAME/lower.cpp (KindLowering); for the others one file per family of kinds holds
-// both: physics.cpp, graphics.cpp, state.cpp, objects.cpp; plugin.cpp lowers every plugin
+// both: physics.cpp, graphics.cpp, state.cpp, objects.cpp (the router); plugin.cpp lowers every plugin
 // kind.
 #pragma once
 
@@ -98,9 +98,7 @@ void link_plugin(Linking& lk);  // its component references (ParamType::CompRef)
 // A placement on a kind whose row takes none (KindDesc::placed) would be dropped without a
 // word: it is refused (E0311). Whether it was.
 bool refuse_placement(Lowering& lw, const graph::KindDesc& kind);
-// objects.cpp
-void lower_trigger(Lowering& lw);
+// objects.cpp: the router
 void lower_router(Lowering& lw);
-void link_trigger(Linking& lk);
 
 }  // namespace plant::sema

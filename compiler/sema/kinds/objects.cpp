@@ -1,4 +1,4 @@
-// The kinds that sense, count and route objects: trigger, router.
+// The router: a table from ID patterns to outputs.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -11,24 +11,6 @@ namespace plant::sema {
 using graph::CompKind;
 using graph::Dir;
 using graph::SlotType;
-
-void lower_trigger(Lowering& lw) {
-    Elaborator& el = lw.el;
-    graph::Graph& g = lw.el.g_;
-    graph::Trigger t;
-    t.comp = graph::CompId(lw.comp);
-    t.body = {};
-    if (const Value* e = lw.props.get("extent")) t.extent = vec(*e);
-    lw.positive_vec("extent");
-    t.pose = lw.frame.pose();
-    t.filter = {};
-    if (const Value* f = lw.props.get("filter")) {
-        t.filter = el.do_type(f->str, f->span);
-        el.ref_types_[lw.slot_adr + graph::triggerslot::object] = t.filter;
-    }
-    g.triggers.push_back(t);
-    lw.set_detail(g.triggers.count());
-}
 
 void lower_router(Lowering& lw) {
     Elaborator& el = lw.el;
@@ -62,10 +44,6 @@ void lower_router(Lowering& lw) {
             g.routes.push_back({graph::CompId(lw.comp), el.name(pv.str), graph::SlotId(it->second)});
         }
     }
-}
-
-void link_trigger(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.triggers[lk.row<graph::Trigger>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

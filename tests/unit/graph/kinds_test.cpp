@@ -109,6 +109,11 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     REQUIRE(gripper);
     CHECK(gripper->on);  // written `gripper g on BODY`
     CHECK_FALSE(timer->on);
+    const KindDesc* trigger = builtin_kind(CompKind::Trigger);
+    REQUIRE(trigger);
+    CHECK(trigger->table == "triggers");
+    CHECK(trigger->on);
+    CHECK(trigger->placed);  // its box stands where it is placed
 }
 
 // Each row's other two parts (kinds/list.h): the compiler's lowering and the runtime's
@@ -130,6 +135,10 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     CHECK_FALSE(bool(plant::engine::builtin_behaviour(CompKind::Label)->act_one));
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Timer)->act_one));
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Source)->act_all));  // a rate's issues
+    // The trigger has no inputs; its sensing is timed apart (StepProfile::Triggers).
+    CHECK_FALSE(bool(plant::engine::builtin_behaviour(CompKind::Trigger)->act_one));
+    CHECK(plant::engine::builtin_behaviour(CompKind::Trigger)->sense_segment >= 0);
+    CHECK(plant::engine::builtin_behaviour(CompKind::Timer)->sense_segment < 0);
     CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
 }
 

@@ -1,9 +1,11 @@
-// Volume triggers. An object is inside while the bounding box of one of its bodies
-// (declared dynamic, in the world, gripped or not) overlaps the trigger's box. The
-// object reported is the body's DO or, with a filter, the nearest DO above it whose
-// type is the filter. Each trigger keeps the sorted list of objects inside; comparing
-// it with the previous step's list gives on_enter / on_leave, for any number of
-// objects at once.
+// The trigger's behaviour. An object is inside while the bounding box of one of its bodies
+// (declared dynamic, in the world, gripped or not) overlaps the trigger's box. The object
+// reported is the body's DO or, with a filter, the nearest DO above it whose type is the
+// filter. Each trigger keeps the sorted list of objects inside; comparing it with the
+// previous step's list gives on_enter / on_leave, for any number of objects at once. What
+// it finds (State::triggers, inside) is read by the gripper and the exit, and by
+// Engine::trigger_occupied; its `object` starts empty.
+#include "engine/plugin.h"
 #include "engine/runtime.h"
 #include "engine/workers.h"
 
@@ -11,18 +13,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
-namespace plant::engine {
+namespace plant::kinds::trigger {
 
-using namespace plant::graph;
+using namespace plant::engine;
+using graph::DoId, graph::DoTypeId, graph::TriggerId;
+namespace slot = plant::graph::triggerslot;
 
 namespace {
 
-int32_t object_of(const Graph& g, int32_t d, int32_t filter) {
-    if (filter < 0) return d;
-    for (size_t guard = 0; d >= 0 && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
+DoId object_of(const graph::Graph& g, DoId d, DoTypeId filter) {
+    if (!filter.valid()) return d;
+    for (size_t guard = 0; d.valid() && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
         if (g.dos[d].type == filter) return d;
-    return -1;
+    return DoId{};
 }
 
 // Separating axes of an axis-aligned box and an oriented one: the three world axes
@@ -43,17 +48,23 @@ bool overlaps(const btVector3& lo, const btVector3& hi, const btTransform& box, 
     return true;
 }
 
-// Which objects are inside triggers [begin, end), found on one of the physics threads: each
+// Slice i of `count` over the triggers, as their ids.
+graph::IdRange<TriggerId> slice_ids(size_t n, size_t count, size_t i) {
+    const auto [b, e] = slice_of(n, count, i);
+    return {static_cast<int32_t>(b), static_cast<int32_t>(e)};
+}
+
+// Which objects are inside the triggers `ids`, found on one of the physics threads: each
 // trigger's pose, and its objects, sorted, appended to `out` (the slice's own list) with
 // their place in it.
-void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out) {
+void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<int32_t>& out) {
     State& s = r.st;
-    const Graph& g = r.g;
+    const graph::Graph& g = r.g;
     out.clear();
-    for (size_t t = begin; t < end; ++t) {
-        const Trigger& tg = g.triggers[t];
+    for (TriggerId t : ids) {
+        const graph::Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
-        ts.pose = tg.body >= 0 ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
+        ts.pose = tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
         const btMatrix3x3& R = ts.pose.getBasis();
         const btVector3 h = to_bt(tg.extent) * btScalar(0.5);
         const btVector3& c = ts.pose.getOrigin();
@@ -64,8 +75,9 @@ void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out
         const size_t adr = out.size();
         r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
             if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) return;
-            const int32_t obj = object_of(g, r.tab.body_do[b], tg.filter);
-            if (obj < 0) return;
+            const DoId found = object_of(g, r.tab.body_do[graph::BodyId(b)], tg.filter);
+            if (!found.valid()) return;
+            const int32_t obj = found.v;
             // Insert sorted, once per object (a bottle has two bodies).
             size_t k = out.size();
             bool dup = false;
@@ -78,19 +90,18 @@ void find_inside(Runtime& r, size_t begin, size_t end, std::vector<int32_t>& out
             }
             out[k] = obj;
         });
-        s.trigger_found[t] = count_of(std::span(out).subspan(adr));  // found for t
+        s.trigger_found[t] = graph::count_of(std::span(out).subspan(adr));  // found for t
     }
 }
 
 // Trigger t's objects this step (`objects`, found by find_inside): its list in State::inside
 // and its events, against the list of the step before.
-void take(Runtime& r, size_t t, const int32_t* objects) {
+void take(Runtime& r, TriggerId t, const int32_t* objects) {
     State& s = r.st;
-    const Trigger& tg = r.g.triggers[t];
     TriggerState& ts = s.triggers[t];
     ts.prev_adr = ts.adr;
     ts.prev_num = ts.num;
-    ts.adr = count_of(s.inside);
+    ts.adr = graph::count_of(s.inside);
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
 
@@ -110,45 +121,47 @@ void take(Runtime& r, size_t t, const int32_t* objects) {
             ++p;
         }
     }
-    const int32_t s0 = r.comp_slot(tg.comp, triggerslot::on_enter);
+    const int32_t s0 = r.comp_slot(r.g.triggers[t].comp, slot::on_enter);
     if (entered) {
         ts.enters += entered;
-        r.activate(s0 + triggerslot::on_enter);
-        r.emit(s0 + triggerslot::object, first_in);
+        r.activate(s0 + slot::on_enter);
+        r.emit(s0 + slot::object, first_in);
     }
-    if (left) r.activate(s0 + triggerslot::on_leave);
-    if (ts.num) r.activate(s0 + triggerslot::on_stay);
-    if (ts.num != ts.prev_num) r.emit(s0 + triggerslot::count_inside, ts.num);
+    if (left) r.activate(s0 + slot::on_leave);
+    if (ts.num) r.activate(s0 + slot::on_stay);
+    if (ts.num != ts.prev_num) r.emit(s0 + slot::count_inside, ts.num);
 }
 
-}  // namespace
-
-void sense_triggers(Runtime& r) {
+// Phase 2: the triggers' contents, a slice of the triggers per item (at least 32 triggers in
+// one, four per thread at most); then, in trigger order on this thread, the lists and events.
+void sense_all(Runtime& r) {
     State& s = r.st;
-    const Graph& g = r.g;
+    const graph::Graph& g = r.g;
     if (g.triggers.empty()) return;
     r.index.refresh(r.phys, true, r.phys.workers());
-    // The triggers' contents, a slice of the triggers per item (at least 32 triggers in one,
-    // four per thread at most); then, in trigger order on this thread, the lists and events.
     const size_t nt = g.triggers.size();
     const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
-    auto finding = [&r, &s, nt, slices](int i) {
-        const auto [b, e] = slice_of(nt, slices, i);
-        find_inside(r, b, e, s.trigger_slices[i]);
-    };
+    auto finding = [&r, &s, nt, slices](int i) { find_inside(r, slice_ids(nt, slices, i), s.trigger_slices[i]); };
     run_slices(r.phys.workers(), slices, finding);
     s.inside.swap(s.inside_prev);
     s.inside.clear();
     for (size_t i = 0; i < slices; ++i) {
-        const auto [b, e] = slice_of(nt, slices, i);
         const int32_t* found = s.trigger_slices[i].data();
-        for (size_t t = b; t < e; found += s.trigger_found[t], ++t) take(r, t, found);
+        for (TriggerId t : slice_ids(nt, slices, i)) {
+            take(r, t, found);
+            found += s.trigger_found[t];
+        }
     }
 }
 
 // The object a trigger last saw starts empty.
-void start_triggers(Runtime& r) {
-    for (const Trigger& t : r.g.triggers) *r.val(r.comp_slot(t.comp, triggerslot::object)) = -1;
+void start_all(Runtime& r) {
+    for (const graph::Trigger& t : r.g.triggers) *r.val(r.comp_slot(t.comp, slot::object)) = -1;
 }
 
-}  // namespace plant::engine
+}  // namespace
+
+constexpr KindBehaviour behaviour{
+    .start_all = start_all, .sense_all = sense_all, .sense_segment = StepProfile::Triggers};
+
+}  // namespace plant::kinds::trigger
