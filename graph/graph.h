@@ -206,37 +206,6 @@ constexpr int slot_width(SlotType t) {
     F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \
     F(SlotId, out_slot)
 
-#define PLANT_FIELDS_GRAPHICS(F)                           \
-    F(CompId, comp)                                       \
-    F(GraphicsId, parent)    /* parent Graphics, -1 */        \
-    F(Name, model)                                         \
-    F(Pose, pose)         /* world pose at start */        \
-    F(BodyId, body)      /* Body it is attached to, -1 */ \
-    F(Adr<Animation>, anim_adr)                                   \
-    F(int32_t, anim_num)                                   \
-    F(Adr<Variant>, variant_adr)                                \
-    F(int32_t, variant_num)                                \
-    F(int32_t, variant)   /* initial variant, among its own (variant_adr + variant), -1: model */
-
-#define PLANT_FIELDS_ANIMATION(F)                            \
-    F(GraphicsId, graphics)                                     \
-    F(Name, name)                                            \
-    F(double, duration)                                      \
-    F(Adr<Key>, key_adr)                                      \
-    F(int32_t, key_num)                                      \
-    F(SlotId, play_slot)                                    \
-    F(SlotId, finished_slot)
-
-#define PLANT_FIELDS_KEY(F) \
-    F(double, t)            \
-    F(Pose, pose)           /* relative to the graphics' start pose */
-
-#define PLANT_FIELDS_VARIANT(F) \
-    F(GraphicsId, graphics)        \
-    F(Name, name)               \
-    F(Name, model)              \
-    F(SlotId, select_slot)
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

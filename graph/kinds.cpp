@@ -7,7 +7,6 @@
 namespace plant::graph {
 namespace {
 
-constexpr std::array kGraphics = {PLANT_SLOTS_GRAPHICS(PLANT_SLOT_SPEC)};
 constexpr std::array kBody = {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)};
 constexpr std::array kField = {PLANT_SLOTS_FIELD(PLANT_SLOT_SPEC)};
 constexpr std::array kRouter = {PLANT_SLOTS_ROUTER(PLANT_SLOT_SPEC)};
@@ -18,7 +17,6 @@ constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
 std::span<const SlotSpec> fixed_slots(CompKind kind) {
     if (const KindDesc* d = builtin_kind(kind)) return d->slots;  // a kind on the kind table
     switch (kind) {
-    case CompKind::Graphics: return kGraphics;
     case CompKind::Body: return kBody;
     case CompKind::Field: return kField;
     case CompKind::State: return {};

@@ -17,11 +17,6 @@
 #include <string_view>
 
 // clang-format off
-#define PLANT_SLOTS_GRAPHICS(S) \
-    S(set_pose, "set_pose", Pose, In, "moves the graphics (and its children) to a pose") \
-    S(pose, "pose", Pose, Out, "the current world pose") \
-    S(shown, "shown", String, Out, "the name of the variant shown (the model's name while none is selected)")
-
 #define PLANT_SLOTS_BODY(S) \
     S(set_pose, "set_pose", Pose, In, "teleports the body") \
     S(set_position, "set_position", Vec3, In, "teleports the body's origin") \
@@ -72,7 +67,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 // The fixed slot indices the runtime relies on, `count` last.
 #define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
 namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
-namespace graphicsslot { enum : int { PLANT_SLOTS_GRAPHICS(PLANT_SLOT_INDEX) count }; }
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
 namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }

@@ -75,6 +75,12 @@ struct PluginProblem {
 // When the runtime calls the kind (docs/runtime.md, "The step").
 enum class PluginPhase : uint8_t { None, Sensors, Actuators };
 
+// The sub-blocks of the language, each a grammar rule of its own, that a component of a kind
+// on the kind table may hold (KindDesc::blocks, a set of these bits). kChildren: components
+// of its own kind inside its block, named `parent.child` and placed relative to it (child
+// graphics), whose lowering gets the parent's row (sema's Lowering::parent_row).
+enum SubBlock : uint8_t { kShapes = 1, kAnimations = 2, kVariants = 4, kPlaces = 8, kRoutes = 16, kChildren = 32 };
+
 struct KindDesc {
     std::string_view word;  // as written in plant files: `counter c { ... }`
     std::string_view doc;   // one line: what the kind is
@@ -105,6 +111,7 @@ struct KindDesc {
     CompKind kind = CompKind::Plugin;                 // its kind in the graph
     std::span<const std::string_view> modes = {};     // `NAME n: MODE`; the first is the default
     bool on = false;                                  // written `NAME n on PATH`: rides a body (or graphics)
+    uint8_t blocks = 0;                               // the sub-blocks it holds (SubBlock bits)
     // The graph table its components' `detail` indexes (PLANT_KIND_TABLE): its name, its row
     // count, each row's component. The loader checks that each row's component is of this
     // kind with the row as its detail, then calls `check` with the row.

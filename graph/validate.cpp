@@ -54,7 +54,7 @@ public:
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
                shapes() && fields() && nets() && table_kinds() &&
-               routes() && graphics() && animations() && variants() &&
+               routes() && animations() && variants() &&
                ports() && plugin_records();
     }
 
@@ -194,7 +194,6 @@ private:
             return true;
         }
         switch (k) {
-        case CompKind::Graphics: n = g_.graphics.size(), name = "graphics"; return true;
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
@@ -462,18 +461,6 @@ private:
         return each("routes", g_.routes, [&](const Route& r, Id<Route>) {
             return check(g_[r.comp].kind == CompKind::Router, "field 'comp' is not a router") &&
                    slot("out_slot", r.out_slot, SlotType::Void, Dir::Out);
-        });
-    }
-
-    bool graphics() {
-        return each("graphics", g_.graphics, [&](const Graphics& gr, GraphicsId i) {
-            if (!owner(gr.comp, CompKind::Graphics, i.v) ||
-                !check(gr.parent.v < i.v, "field 'parent' must name an earlier graphics (or be -1)"))
-                return false;
-            if (gr.variant < -1 || gr.variant >= gr.variant_num)
-                return fail(fmt::format("field 'variant' = {} is not -1 or the index of one of its {} variants",
-                                        gr.variant, gr.variant_num));
-            return true;
         });
     }
 

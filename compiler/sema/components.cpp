@@ -39,7 +39,6 @@ void lower(Lowering& lw) {
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
     case CompKind::Field: return lower_field(lw);
-    case CompKind::Graphics: return lower_graphics(lw);
     case CompKind::State: return lower_state(lw);
     case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
@@ -56,7 +55,6 @@ void link(Linking& lk) {
     }
     switch (lk.rec.kind) {
     case CompKind::Field: return link_field(lk);
-    case CompKind::Graphics: return link_graphics(lk);
     case CompKind::Plugin: return link_plugin(lk);
     default: return;  // nothing to link
     }
@@ -251,7 +249,7 @@ void Elaborator::check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& s
                      fmt::format("a {} component cannot be attached with 'on'", spec.word));
 }
 
-int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
+int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
                                    const std::string& prefix) {
     const KindSpec* spec = find_kind(c.kind.text);
     if (!spec) {
@@ -296,7 +294,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
     Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[graph::CompId(comp)].slot_adr.v, frame,
-                parent_graphics};
+                parent_row};
     lower(lw);
 
     // A plugin kind's own components (a panel's buttons): named parent.child, each of a
@@ -318,11 +316,13 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         }
         return comp;
     }
-    // Child graphics: their own components, named parent.child, posed relative to it.
+    // Children of its own kind (graph::kChildren: child graphics): their own components, named
+    // parent.child, posed relative to it.
     for (const auto& child : c.children) {
-        if (spec->kind != CompKind::Graphics) break;  // reported above: this kind holds no children
-        if (child.kind.text != "graphics") {
-            sink_.report(DiagId::WrongComponentKind, child.kind.span, "only graphics can hold child graphics");
+        if (!spec->children) break;  // reported above: this kind holds no children
+        if (child.kind.text != spec->word) {
+            sink_.report(DiagId::WrongComponentKind, child.kind.span,
+                         fmt::format("only {0} can hold child {0}", spec->word));
             continue;
         }
         Frame saved = sc.frame;

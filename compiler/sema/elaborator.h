@@ -132,7 +132,7 @@ public:
     Props check_properties(const Scope& sc, const ast::ComponentDecl& c, const KindSpec& spec, const Env& env);
     void check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& spec);
     bool inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const;
-    int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_graphics,
+    int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
                            const std::string& prefix);
     int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
     void link_component(Scope& s, int32_t comp, const ast::ComponentDecl& c, const Env& env);

@@ -24,7 +24,12 @@ std::vector<PropSpec> props_of(std::span<const graph::ParamSpec> params) {
 KindSpec kind_spec(const graph::KindDesc& d) {
     KindSpec k{d.word, d.kind, {d.modes.begin(), d.modes.end()}, props_of(d.params)};
     k.doc = d.doc;
-    k.children = !d.holds.empty();  // a panel's elements
+    k.shapes = d.blocks & graph::kShapes;
+    k.animations = d.blocks & graph::kAnimations;
+    k.variants = d.blocks & graph::kVariants;
+    k.places = d.blocks & graph::kPlaces;
+    k.routes = d.blocks & graph::kRoutes;
+    k.children = !d.holds.empty() || (d.blocks & graph::kChildren);  // a panel's elements, child graphics
     k.on = d.on;
     if (d.kind == CompKind::Plugin) k.plugin = &d;
     return k;
@@ -32,13 +37,6 @@ KindSpec kind_spec(const graph::KindDesc& d) {
 
 std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
-    KindSpec graphics{"graphics", CompKind::Graphics, {}, props_of(std::array{
-        P{"model", T::String, "", false, 0, "model reference the viewer interprets (never loaded by the runtime)"},
-        P{"show", T::String, "", false, 0, "the variant shown at start; the model itself when absent"},
-    })};
-    graphics.animations = graphics.variants = graphics.children = graphics.on = true;
-    k.push_back(graphics);
-
     KindSpec body{"physics", CompKind::Body, {"dynamic", "static", "kinematic"}, props_of(std::array{
         P{"mass", T::Number, "kg", false, 0, "required for dynamic bodies"},
         P{"inertia", T::Vec3, "kg*m^2", false, 0, "principal moments; computed from the shapes when absent"},
@@ -72,7 +70,6 @@ std::vector<KindSpec> make_kinds() {
     k.push_back(router);
 
     const std::pair<std::string_view, std::string_view> docs[] = {
-        {"graphics", "what the viewer draws: a model, its animations and variants, child graphics"},
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
         {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
         {"state", "a Petri net: places holding tokens and transitions that move them"},

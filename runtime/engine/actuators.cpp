@@ -25,7 +25,6 @@ void act_on(Runtime& r, int32_t comp) {
     switch (c.kind) {
     case CompKind::Body: act_body(r, c, i); break;
     case CompKind::Field: act_field(r, c, i); break;
-    case CompKind::Graphics: act_graphics(r, c, i); break;
     case CompKind::Plugin: act_plugin(r, i); break;
     default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
         if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c, i);

@@ -65,7 +65,7 @@ struct Runtime {
 
 // The five phases of a step (docs/runtime.md), in this order.
 void phase_physics(Runtime& r);    // 1: kinematic moves, conveyor forces, Bullet step
-void phase_sensors(Runtime& r);    // 2: bodies, graphics, triggers, the kind table's, plugins
+void phase_sensors(Runtime& r);    // 2: bodies, the kind table's, plugins
 void phase_logic(Runtime& r);      // 3: external inputs, flows, connectors, routers, labels
 void phase_petri(Runtime& r);      // 4: clear outputs, puts, all enabled transitions fire
 void phase_actuators(Runtime& r);  // 5: components act on their active inputs
@@ -97,11 +97,6 @@ bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether an
 void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
 void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
 void integrate_group(Runtime& r, int32_t group);
-void start_graphics(Runtime& r);  // graphics.cpp
-void advance_graphics(Runtime& r);
-void act_graphics(Runtime& r, const graph::Comp& c, int32_t i);
-void play_animation(Runtime& r, int32_t anim);
-void select_variant(Runtime& r, int32_t variant);
 // objects.cpp: an object out of the world (an exit, a trainee's hand), back to its pool
 int32_t take_object(Runtime& r, int32_t obj);  // out of the world, back to its pool; its root or -1
 double object_id(Runtime& r, int32_t obj);     // its bar code: its label's text, else its path

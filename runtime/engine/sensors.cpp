@@ -1,8 +1,7 @@
 // Phase 2: what the world looks like after the physics step, as output activity:
-// bodies (outputs, and warnings for bodies that left the world), graphics poses and
-// animations, the kinds on the kind table (triggers, timers, grippers carrying their
-// objects, exits), plugins. Each kind's sensing lives with the rest of its behaviour (runtime.h
-// lists where; a kind on the kind table: its kinds/NAME/run.cpp).
+// bodies (outputs, and warnings for bodies that left the world), the kinds on the kind table,
+// plugins. Each kind's sensing lives with the rest of its behaviour (runtime.h lists where; a
+// kind on the kind table: its kinds/NAME/run.cpp).
 #include "engine/runtime.h"
 #include "engine/workers.h"
 
@@ -13,9 +12,7 @@ void phase_sensors(Runtime& r) {
     check_bodies(r);
     sense_bodies(r);
     p.lap(StepProfile::Bodies);
-    advance_graphics(r);
-    p.lap(StepProfile::Graphics);
-    sense_kinds(r);  // the kind table's, in its order: triggers, then exits after grippers moved their objects
+    sense_kinds(r);  // the kind table's, in its order (kinds/kinds.cmake)
     sense_plugins(r);
     p.lap(StepProfile::Others);
 }

@@ -36,7 +36,7 @@ struct GraphicsState {
     Pose offset;          // animation offset, identity when none ever played
     Pose pose, prev;      // base * offset, now and one step ago
     int32_t anim = -1;    // playing animation
-    int32_t finished = -1;  // the animation that finished this step (graphics.cpp)
+    int32_t finished = -1;  // the animation that finished this step (kinds/graphics/run.cpp)
     double t = 0;         // its time
     // The attached body's Bullet transform `base` was computed from; `base_fresh` false when
     // something else set `base` (set_pose, an object issued), so the body's is taken again.
@@ -164,7 +164,6 @@ struct State {
     std::vector<std::vector<int32_t>> trigger_slices;
     IdVector<graph::GripperId, int32_t> gripper_held;  // DO held, -1
     IdVector<graph::GraphicsId, GraphicsState> graphics;
-    std::vector<uint8_t> graphics_flags;       // per root in graphics_order: what it publishes (graphics.cpp)
     IdVector<graph::GraphicsId, int32_t> variant;  // selected variant, -1
     IdVector<graph::SourceId, SourceState> sources;
     std::vector<int32_t> pool_ring;

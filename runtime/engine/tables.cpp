@@ -134,26 +134,6 @@ Tables::Tables(const Graph& g) {
     for (Id<Route> r : ids_of(g.routes)) pairs.emplace_back(g.routes[r].comp.v, r.v);
     comp_routes = make_csr(g.comps.size(), pairs);
 
-    // Graphics: parents first (depth order; equal depths by id, which is deterministic).
-    IdVector<GraphicsId, int32_t> depth(g.graphics.count(), 0);
-    for (GraphicsId i : ids_of(g.graphics)) {
-        GraphicsId p = g.graphics[i].parent;
-        for (size_t guard = 0; p.valid() && guard <= g.graphics.size(); ++guard) {
-            depth[i]++;
-            p = g.graphics[p].parent;
-        }
-        graphics_order.push_back(i.v);
-    }
-    std::stable_sort(graphics_order.begin(), graphics_order.end(),
-                     [&](int32_t a, int32_t b) { return depth[GraphicsId(a)] < depth[GraphicsId(b)]; });
-    while (graphics_roots < graphics_order.size() && depth[GraphicsId(graphics_order[graphics_roots])] == 0) ++graphics_roots;
-    graphics_local.resize(g.graphics.size());
-    for (GraphicsId i : ids_of(g.graphics)) {
-        const Graphics& gr = g.graphics[i];
-        if (gr.body.valid()) graphics_local[i] = pmul(pinv(g.bodies[gr.body].pose), gr.pose);
-        else if (gr.parent.valid()) graphics_local[i] = pmul(pinv(g.graphics[gr.parent].pose), gr.pose);
-    }
-
     field_local.resize(g.fields.size(), btTransform::getIdentity());
     for (FieldId f : ids_of(g.fields))
         if (g.fields[f].body.valid())

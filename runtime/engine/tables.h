@@ -1,6 +1,6 @@
 // Lookups derived once from the graph so that no phase searches or walks the graph
-// per step: ownership lists as (adr, num) pairs, the role of dynamic slots, the order
-// in which graphics are posed. Constant after construction, like the graph itself.
+// per step: ownership lists as (adr, num) pairs, the role of dynamic slots. Constant after
+// construction, like the graph itself.
 #pragma once
 
 #include "graph/graph.h"
@@ -56,9 +56,6 @@ struct Tables {
     std::vector<uint8_t> net_always_live;  // has a transition without inputs
     Csr comp_routes;                // routes of each Router component (by comp id)
 
-    std::vector<int32_t> graphics_order;  // parents before children
-    size_t graphics_roots = 0;            // its first ones, with no parent (on a body or alone)
-    IdVector<graph::GraphicsId, Pose> graphics_local;       // relative to the parent or attached body
     IdVector<graph::FieldId, btTransform> field_local;      // field box relative to its body frame
     IdVector<graph::FieldId, btVector3> field_gain;         // the law's gain along the field's own axes: k·|d|
     IdVector<graph::TriggerId, btTransform> trigger_local;  // trigger box relative to its body frame

@@ -101,7 +101,7 @@ private:
 };
 
 // A loop over ids [0, n) cut into slices, a few per thread, each slice an item of one job
-// (regions.cpp, fields.cpp, transport.cpp, spatial.cpp, bodies.cpp, graphics.cpp,
+// (regions.cpp, fields.cpp, transport.cpp, spatial.cpp, bodies.cpp, kinds/graphics/run.cpp,
 // kinds/trigger/run.cpp): an item writes only its own ids' entries (or its slice's), and
 // what touches shared state runs after the job on the calling thread, in id order.
 //

@@ -4,7 +4,7 @@
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
 // kinds/NAME/lower.cpp (KindLowering); for the others one file per family of kinds holds
-// both: physics.cpp, graphics.cpp, state.cpp, objects.cpp (the router); plugin.cpp lowers every plugin
+// both: physics.cpp, state.cpp, objects.cpp (the router); plugin.cpp lowers every plugin
 // kind.
 #pragma once
 
@@ -40,7 +40,7 @@ struct Lowering {
     int32_t comp;             // its id
     int32_t slot_adr;         // its first (fixed) slot
     Frame frame;              // its world frame
-    int32_t parent_graphics;  // a child graphics: its parent's Graphics id, else -1
+    int32_t parent_row;       // a child of its own kind (child graphics): its parent's row, else -1
 
     double num(const char* n, double def) const;
     bool boolean(const char* n, bool def) const;
@@ -87,9 +87,6 @@ const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on 
 void lower_body(Lowering& lw);
 void lower_field(Lowering& lw);
 void link_field(Linking& lk);
-// graphics.cpp
-void lower_graphics(Lowering& lw);
-void link_graphics(Linking& lk);
 // state.cpp
 void lower_state(Lowering& lw);
 // plugin.cpp: any plugin kind (graph/plugin.h)

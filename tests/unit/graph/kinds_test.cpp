@@ -114,6 +114,11 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     CHECK(trigger->table == "triggers");
     CHECK(trigger->on);
     CHECK(trigger->placed);  // its box stands where it is placed
+    CHECK(trigger->blocks == 0);
+    const KindDesc* graphics = builtin_kind(CompKind::Graphics);
+    REQUIRE(graphics);
+    CHECK(graphics->table == "graphics");
+    CHECK(graphics->blocks == (kAnimations | kVariants | kChildren));  // its sub-blocks, child graphics
 }
 
 // Each row's other two parts (kinds/list.h): the compiler's lowering and the runtime's
@@ -139,15 +144,24 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     CHECK_FALSE(bool(plant::engine::builtin_behaviour(CompKind::Trigger)->act_one));
     CHECK(plant::engine::builtin_behaviour(CompKind::Trigger)->sense_segment >= 0);
     CHECK(plant::engine::builtin_behaviour(CompKind::Timer)->sense_segment < 0);
+    // The graphics: the order it poses in is its own state; set_pose, play, select act.
+    CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->make_state));
+    CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->act_one));
+    CHECK(plant::engine::builtin_behaviour(CompKind::Graphics)->sense_segment >= 0);
     CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
 }
 
-TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind and a Value parameter") {
+TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, sub-blocks and a Value parameter") {
     constexpr SlotSpec slots[] = {{"in", SlotType::Void, Dir::In, "an input"}};
     const KindDesc timer_word{"timer", "a second timer", slots, {}};
     CHECK_FALSE(register_kind(timer_word));
     const KindDesc as_table{.word = "kinds_test_table", .doc = "claims a CompKind", .slots = slots, .params = {}, .kind = CompKind::Timer};
     CHECK_FALSE(register_kind(as_table));
+    // The built-in sub-blocks (a graphics' animations) are read by a table kind's lowering only.
+    const KindDesc with_blocks{.word = "kinds_test_blocks", .doc = "holds animations", .slots = slots, .params = {},
+                               .blocks = kAnimations};
+    CHECK_FALSE(register_kind(with_blocks));
+    CHECK(find_plugin("kinds_test_blocks") == nullptr);
     // A Value takes its type from an entry's slot; a component's parameter has none. Every
     // other type a plugin stores (tests/unit/plugin/probe_test.cpp).
     const ParamSpec value_param[] = {{"p", ParamType::Value, "", false, 0, "a parameter"}};

@@ -1,5 +1,7 @@
-// The `graphics` kind: what the viewer shows, its animations and model variants; child
-// graphics are made by the generic part (components.cpp).
+// The graphics' lowering: a row of `graphics` with its model, its animations (rows of
+// `animations` and `keys`, each with its play and finished slots) and its variants (rows of
+// `variants`, each with its select slot); child graphics are made by the generic part
+// (components.cpp: a kind that holds children of its own). Its linking: the body it is `on`.
 #include "sema/kinds/lowering.h"
 
 #include <algorithm>
@@ -7,9 +9,9 @@
 #include <numbers>
 #include <fmt/format.h>
 
-namespace plant::sema {
+namespace plant::kinds::graphics {
 
-using graph::CompKind;
+using namespace plant::sema;
 using graph::Dir;
 using graph::SlotType;
 
@@ -91,16 +93,14 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
     g.animations.push_back(an);
 }
 
-}  // namespace
-
-void lower_graphics(Lowering& lw) {
+void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     const Env& env = lw.env;
     graph::Graphics gr;
     gr.comp = graph::CompId(lw.comp);
-    gr.parent = graph::GraphicsId(lw.parent_graphics);
+    gr.parent = graph::GraphicsId(lw.parent_row);
     gr.body = {};
     gr.model = el.name(lw.props.get("model") ? lw.props.get("model")->str : "");
     gr.pose = lw.frame.pose();
@@ -135,8 +135,12 @@ void lower_graphics(Lowering& lw) {
     lw.set_detail(g.graphics.count());
 }
 
-void link_graphics(Linking& lk) {
+void link(Linking& lk) {
     if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = graph::BodyId(lk.on_body());
 }
 
-}  // namespace plant::sema
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower, .link = link};
+
+}  // namespace plant::kinds::graphics

@@ -1,0 +1,202 @@
+// The graphics' behaviour. Graphics are tracked headless: the runtime keeps every pose a
+// viewer would draw. A graphics' pose is its base (the attached body, its parent graphics,
+// or its own start pose / set_pose) times an animation offset. An animation's keys are poses
+// relative to that base at times t (s from the animation's start), interpolated linearly
+// (slerp for orientation); the last key holds after the animation ends. What each graphics
+// shows is published at the start; in phase 2 the poses and the animations advance; in
+// phase 5 it is moved, plays an animation or selects a variant. Its poses (State::graphics,
+// variant) are shared with what follows or moves a graphics (the gripper, the source).
+#include "engine/plugin.h"
+#include "engine/runtime.h"
+#include "engine/workers.h"
+
+#include "graph/kinds.h"
+
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+namespace plant::kinds::graphics {
+
+using namespace plant::engine;
+using graph::AnimationId, graph::GraphicsId, graph::VariantId, graph::CompKind;
+namespace slot = plant::graph::graphicsslot;
+
+namespace {
+
+// What only the graphics' own hooks read: the order in which they are posed, their frames
+// relative to what they ride on, and what each root publishes this step.
+struct GraphicsData : KindData {
+    std::vector<GraphicsId> order;  // parents before children
+    size_t roots = 0;               // its first ones, with no parent (on a body or alone)
+    graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
+    std::vector<uint8_t> flags;     // per root in `order`: what it publishes (advance_one)
+};
+
+std::unique_ptr<KindData> make_state(const graph::Graph& g) {
+    auto s = std::make_unique<GraphicsData>();
+    // Parents first (depth order; equal depths by id, which is deterministic).
+    graph::IdVector<GraphicsId, int32_t> depth(g.graphics.count(), 0);
+    for (GraphicsId i : ids_of(g.graphics)) {
+        GraphicsId p = g.graphics[i].parent;
+        for (size_t guard = 0; p.valid() && guard <= g.graphics.size(); ++guard) {
+            depth[i]++;
+            p = g.graphics[p].parent;
+        }
+        s->order.push_back(i);
+    }
+    std::stable_sort(s->order.begin(), s->order.end(), [&](GraphicsId a, GraphicsId b) { return depth[a] < depth[b]; });
+    while (s->roots < s->order.size() && depth[s->order[s->roots]] == 0) ++s->roots;
+    s->local.resize(g.graphics.size());
+    for (GraphicsId i : ids_of(g.graphics)) {
+        const graph::Graphics& gr = g.graphics[i];
+        if (gr.body.valid()) s->local[i] = pmul(pinv(g.bodies[gr.body].pose), gr.pose);
+        else if (gr.parent.valid()) s->local[i] = pmul(pinv(g.graphics[gr.parent].pose), gr.pose);
+    }
+    s->flags.assign(g.graphics.size(), 0);
+    return s;
+}
+
+GraphicsData& own(Runtime& r) { return kind_data<GraphicsData>(r.st, CompKind::Graphics); }
+
+graph::Pose sample(const graph::Graph& g, const graph::Animation& a, double t) {
+    if (a.key_num <= 0) return graph::Pose{};
+    const std::span<const graph::Key> k = g.keys.slice(a.key_adr, a.key_num);
+    if (t <= k[0].t) return k[0].pose;
+    for (int32_t i = 0; i + 1 < a.key_num; ++i) {
+        if (t > k[i + 1].t) continue;
+        double span = k[i + 1].t - k[i].t;
+        return span > 0 ? pinterp(k[i].pose, k[i + 1].pose, (t - k[i].t) / span) : k[i + 1].pose;
+    }
+    return k[a.key_num - 1].pose;
+}
+
+bool same(const graph::Pose& a, const graph::Pose& b) { return a.p == b.p && a.q == b.q; }
+
+enum : uint8_t { kPoseChanged = 1, kFinished = 2 };
+
+// Graphics i's pose this step; what it must publish is returned as flags (kPoseChanged,
+// kFinished), published by the caller. Reads its body's or its parent's pose, writes only
+// its own state: the graphics with no parent can run on any thread.
+uint8_t advance_one(Runtime& r, const GraphicsData& data, GraphicsId i) {
+    State& s = r.st;
+    const graph::Graph& g = r.g;
+    const graph::Graphics& gr = g.graphics[i];
+    GraphicsState& gs = s.graphics[i];
+    uint8_t flags = 0;
+    if (gr.body.valid()) {
+        // A parked body's graphics keep their pose: nothing to do unless animated.
+        if (!r.phys.in_world(gr.body) && gs.anim < 0) return 0;
+        if (r.phys.in_world(gr.body)) {
+            // Most bodies stand still (bands, rails): their pose is taken again only when
+            // their Bullet transform changed.
+            const btTransform& tr = r.phys.rb(gr.body).getWorldTransform();
+            if (gs.base_fresh && tr == gs.body_tr) {
+                if (gs.anim < 0) {
+                    gs.prev = gs.pose;
+                    return 0;  // base, offset and so the pose are as they were
+                }
+            } else {
+                gs.body_tr = tr;
+                gs.base_fresh = true;
+                gs.base = pmul(r.phys.pose(gr.body), data.local[i]);
+            }
+        }
+    } else if (gr.parent.valid()) {
+        gs.base = pmul(s.graphics[gr.parent].pose, data.local[i]);
+    }
+    if (gs.anim >= 0) {
+        const graph::Animation& a = g.animations[AnimationId(gs.anim)];
+        gs.t += r.dt;
+        gs.offset = sample(g, a, gs.t);
+        if (gs.t + 1e-9 >= a.duration) {
+            flags |= kFinished;
+            gs.finished = gs.anim;
+            gs.anim = -1;
+        }
+    }
+    gs.prev = gs.pose;
+    graph::Pose pose = pmul(gs.base, gs.offset);
+    if (same(pose, gs.pose)) return flags;
+    gs.pose = pose;
+    return flags | kPoseChanged;
+}
+
+void publish(Runtime& r, GraphicsId i, uint8_t flags) {
+    GraphicsState& gs = r.st.graphics[i];
+    if (flags & kFinished) r.activate(r.g.animations[AnimationId(gs.finished)].finished_slot);
+    if (flags & kPoseChanged) {
+        const int32_t out = r.comp_slot(r.g.graphics[i].comp, slot::pose);
+        if (r.st.watched[graph::SlotId(out)]) r.emit_pose(out, gs.pose);
+    }
+}
+
+// Phase 2: the graphics with no parent (the first of `order`) in slices on the physics
+// threads; then, in `order` on this thread, what they publish and the children (parents
+// first).
+void sense_all(Runtime& r) {
+    GraphicsData& data = own(r);
+    const std::vector<GraphicsId>& order = data.order;
+    const size_t roots = data.roots;
+    std::vector<uint8_t>& flags = data.flags;
+    const size_t slices = slice_count(r.phys.workers(), roots, 256, roots + 1);
+    auto poses = [&r, &data, &order, &flags, roots, slices](int i) {
+        const auto [b, e] = slice_of(roots, slices, i);
+        for (size_t k = b; k < e; ++k) flags[k] = advance_one(r, data, order[k]);
+    };
+    run_slices(r.phys.workers(), slices, poses);
+    for (size_t k = 0; k < roots; ++k)
+        if (flags[k]) publish(r, order[k], flags[k]);
+    for (size_t k = roots; k < order.size(); ++k) {
+        const uint8_t f = advance_one(r, data, order[k]);
+        if (f) publish(r, order[k], f);
+    }
+}
+
+void play_animation(Runtime& r, AnimationId anim) {
+    GraphicsState& gs = r.st.graphics[r.g.animations[anim].graphics];
+    gs.anim = anim.v;  // replaces one playing: a graphics plays one animation at a time
+    gs.t = 0;
+}
+
+void select_variant(Runtime& r, VariantId v) {
+    const graph::Variant& var = r.g.variants[v];
+    r.st.variant[var.graphics] = v.v;
+    r.emit(r.comp_slot(r.g.graphics[var.graphics].comp, slot::shown), var.name.id);
+}
+
+// What each graphics shows (its variant's name, or its model) is published once at the start.
+void start_all(Runtime& r) {
+    for (GraphicsId i : ids_of(r.g.graphics)) {
+        const int32_t v = r.st.variant[i];
+        r.emit(r.comp_slot(r.g.graphics[i].comp, slot::shown),
+               v >= 0 ? r.g.variants[VariantId(v)].name.id : r.g.graphics[i].model.id);
+    }
+}
+
+void act_one(Runtime& r, const graph::Comp& c, int32_t row) {
+    const GraphicsId i(row);
+    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    if (a[slot::set_pose] && input_in_range(r, c.slot_adr + slot::set_pose)) {
+        const double* v = r.val(c.slot_adr + slot::set_pose);
+        r.st.graphics[i].base = graph::Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
+        r.st.graphics[i].base_fresh = false;
+    }
+    // Its slots after the fixed ones: an animation's play, a variant's select.
+    for (graph::SlotId x : graph::IdRange<graph::SlotId>{(c.slot_adr + slot::count).v, (c.slot_adr + c.slot_num).v}) {
+        const int32_t aux = r.tab.slot_aux[x];
+        if (!r.st.act[x] || aux < 0) continue;
+        if (const AnimationId an(aux); r.g.animations.contains(an) && r.g.animations[an].play_slot == x) play_animation(r, an);
+        else if (const VariantId v(aux); r.g.variants.contains(v) && r.g.variants[v].select_slot == x) select_variant(r, v);
+    }
+}
+
+}  // namespace
+
+constexpr KindBehaviour behaviour{.make_state = make_state,
+                                  .start_all = start_all,
+                                  .sense_all = sense_all,
+                                  .sense_segment = StepProfile::Graphics,
+                                  .act_one = act_one};
+
+}  // namespace plant::kinds::graphics
