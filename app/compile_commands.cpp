@@ -142,25 +142,25 @@ void print_plant_params(const Compilation& c, std::ostream& out) {
 // ports, then its components' slots, objects in graph order.
 void print_slots(const graph::Graph& g, std::ostream& out) {
     using namespace graph;
-    std::vector<std::vector<int32_t>> ports(g.dos.size());
-    for (size_t p = 0; p < g.ports.size(); ++p) ports[size_t(g.ports[p].owner)].push_back(int32_t(p));
+    IdVector<DoId, std::vector<PortId>> ports(g.dos.count());
+    for (PortId p : ids_of(g.ports)) ports[g.ports[p].owner].push_back(p);
     auto line = [&](Dir dir, SlotType type, const std::string& path, const std::string& note) {
         out << "  " << (dir == Dir::In ? "in " : "out") << "  " << word(type)
             << std::string(size_t(std::max(1, 8 - int(word(type).size()))), ' ') << path << note << "\n";
     };
-    for (size_t d = 0; d < g.dos.size(); ++d) {
-        for (int32_t p : ports[d]) {
-            const Port& pt = g.ports[size_t(p)];
+    for (DoId d : ids_of(g.dos)) {
+        for (PortId p : ports[d]) {
+            const Port& pt = g.ports[p];
             std::string to;
-            for (int32_t k = 0; k < pt.target_num; ++k)
-                to += (k ? ", " : "") + g.slot_path(g.port_targets[pt.target_adr + k].v);
+            for (const PortTarget& t : g.port_targets.slice(pt.target_adr, pt.target_num))
+                to += (to.empty() ? "" : ", ") + g.slot_path(t.v);
             line(pt.dir, pt.type, g.port_path(p), (pt.dir == Dir::In ? "  (port => " : "  (port <= ") + to + ")");
         }
         const Do& o = g.dos[d];
-        for (int32_t c = o.comp_adr; c < o.comp_adr + o.comp_num; ++c) {
-            const Comp& cp = g.comps[size_t(c)];
-            for (int32_t sl = cp.slot_adr; sl < cp.slot_adr + cp.slot_num; ++sl)
-                line(g.slots[size_t(sl)].dir, g.slots[size_t(sl)].type, g.slot_path(sl), "");
+        for (CompId c : children(o.comp_adr, o.comp_num)) {
+            const Comp& cp = g.comps[c];
+            for (SlotId sl : children(cp.slot_adr, cp.slot_num))
+                line(g.slots[sl].dir, g.slots[sl].type, g.slot_path(sl), "");
         }
     }
 }

@@ -30,7 +30,6 @@ CompId add_comp(Graph& g, DoId owner, CompKind kind, std::string_view name, Src 
     c.owner = owner;
     c.slot_adr = next_adr(g.slots);
     c.slot_num = 0;
-    c.detail = -1;
     c.src = src;
     g.comps.push_back(c);
     Do& d = g[c.owner];
@@ -49,9 +48,8 @@ SlotId add_slot(Graph& g, CompId comp, std::string_view name, SlotType type, Dir
     s.type = type;
     s.dir = dir;
     s.comp = comp;
-    s.value_adr = -1;
     if (const int w = slot_width(type); w > 0) {
-        s.value_adr = g.values.count();
+        s.value_adr = next_adr(g.values);
         g.values.resize(g.values.size() + w, Value{0.0});
         if (type == SlotType::Ref || type == SlotType::String) g.values.back().v = -1;
         if (type == SlotType::Quat || type == SlotType::Pose) g.values.back().v = 1;
@@ -78,7 +76,7 @@ FlowId add_flow(Graph& g, SlotId from, SlotId to, Cond cond, bool once, AccessId
 }
 
 double& slot_value(Graph& g, SlotId slot) {
-    return g.values[Id<Value>(g[slot].value_adr)].v;
+    return g.values[g[slot].value_adr.first()].v;
 }
 
 }  // namespace plant::graph

@@ -38,22 +38,22 @@ bool in_range(const std::vector<std::string>& v, int32_t i) {
 
 }  // namespace
 
-std::string Graph::comp_path(int32_t comp) const {
-    if (!comps.contains(CompId(comp))) return fmt::format("<comp {}>", comp);
+std::string Graph::comp_path(CompId comp) const {
+    if (!comps.contains(comp)) return fmt::format("<comp {}>", comp);
     const Comp& c = comps[comp];
     std::string owner = dos.contains(c.owner) ? std::string(str(dos[c.owner].path))
                                                : fmt::format("<do {}>", c.owner);
     return join(owner, str(c.name));
 }
 
-std::string Graph::slot_path(int32_t slot) const {
-    if (!slots.contains(SlotId(slot))) return fmt::format("<slot {}>", slot);
+std::string Graph::slot_path(SlotId slot) const {
+    if (!slots.contains(slot)) return fmt::format("<slot {}>", slot);
     const Slot& s = slots[slot];
     return join(comp_path(s.comp), str(s.name));
 }
 
-std::string Graph::port_path(int32_t port) const {
-    if (!ports.contains(PortId(port))) return fmt::format("<port {}>", port);
+std::string Graph::port_path(PortId port) const {
+    if (!ports.contains(port)) return fmt::format("<port {}>", port);
     const Port& p = ports[port];
     std::string owner = dos.contains(p.owner) ? std::string(str(dos[p.owner].path))
                                                : fmt::format("<do {}>", p.owner);

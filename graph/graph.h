@@ -84,12 +84,12 @@ constexpr int slot_width(SlotType t) {
 
 #define PLANT_FIELDS_DO(F)                                                            \
     F(Name, path)          /* dotted path from the plant root, e.g. "s1.blade" */     \
-    F(DoId, parent)     /* DO id, -1 for the root */                               \
-    F(DoTypeId, type)       /* DoType id, -1 for the plant itself */                   \
+    F(OptId<Do>, parent)     /* DO id, -1 for the root */                               \
+    F(OptId<DoType>, type)       /* DoType id, -1 for the plant itself */                   \
     F(int32_t, ordinal)    /* index among the DOs of the same type */                 \
     F(Adr<Comp>, comp_adr)                                                              \
     F(int32_t, comp_num)                                                              \
-    F(CompId, pool)       /* Source component that owns this DO, -1 if not pooled */ \
+    F(OptId<Comp>, pool)       /* Source component that owns this DO, -1 if not pooled */ \
     F(Pose, pose)          /* world pose at start */                                  \
     F(Src, src)
 
@@ -99,7 +99,7 @@ constexpr int slot_width(SlotType t) {
     F(DoId, owner)   /* DO id */                                           \
     F(Adr<Slot>, slot_adr)                                                      \
     F(int32_t, slot_num)                                                      \
-    F(int32_t, detail)  /* index into the table of its kind, -1 for none */   \
+    F(Detail, detail)  /* its row in the table of its kind (detail_of), -1 for none */ \
     F(Src, src)
 
 #define PLANT_FIELDS_SLOT(F)                                                        \
@@ -107,7 +107,7 @@ constexpr int slot_width(SlotType t) {
     F(SlotType, type)                                                               \
     F(Dir, dir)                                                                     \
     F(CompId, comp)                                                                \
-    F(int32_t, value_adr) /* first double in Graph::values, -1 for void */          \
+    F(Adr<Value>, value_adr) /* first double in Graph::values, -1 for void */       \
     F(Src, src)
 
 // A dynamic end (an Access) keeps its reference slot in from/to, so both always name a
@@ -115,8 +115,8 @@ constexpr int slot_width(SlotType t) {
 #define PLANT_FIELDS_FLOW(F)                                                              \
     F(SlotId, from)        /* output slot; the access's ref_slot when from_access >= 0 */ \
     F(SlotId, to)          /* input slot; the access's ref_slot when to_access >= 0 */  \
-    F(AccessId, from_access) /* Access id for a dynamically addressed source, -1 none */   \
-    F(AccessId, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
+    F(OptId<Access>, from_access) /* Access id for a dynamically addressed source, -1 none */   \
+    F(OptId<Access>, to_access)   /* Access id for a dynamically addressed target, -1 none */   \
     F(Cond, cond)                                                                         \
     F(bool, once)           /* singular: runs once, re-armed by a step where its condition fails */  \
     F(Src, src)
@@ -169,7 +169,7 @@ constexpr int slot_width(SlotType t) {
 
 #define PLANT_FIELDS_FIELD(F)                                                       \
     F(CompId, comp)                                                                \
-    F(BodyId, body)     /* Body id the field is attached to, -1 for none */        \
+    F(OptId<Body>, body)     /* Body id the field is attached to, -1 for none */        \
     F(Vec3, extent)      /* full extents of the box volume */                       \
     F(Pose, pose)        /* world pose of the box centre */                         \
     F(Vec3, dir)         /* unit direction, in the field's local frame */           \
@@ -182,9 +182,9 @@ constexpr int slot_width(SlotType t) {
     F(CompId, comp)           \
     F(Name, name)              \
     F(int32_t, initial)        \
-    F(SlotId, put_slot)       /* void in: adds one token */ \
-    F(SlotId, entered_slot)   /* void out: active in a step a token was put */ \
-    F(SlotId, tokens_slot)    /* int out: the marking */ \
+    F(OptId<Slot>, put_slot)       /* void in: adds one token */ \
+    F(OptId<Slot>, entered_slot)   /* void out: active in a step a token was put */ \
+    F(OptId<Slot>, tokens_slot)    /* int out: the marking */ \
     F(Src, src)
 
 #define PLANT_FIELDS_TRANSITION(F) \
@@ -194,7 +194,7 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, in_num)             \
     F(Adr<Arc>, out_adr) /* into arcs: produced */ \
     F(int32_t, out_num)            \
-    F(SlotId, fired_slot) /* void out */ \
+    F(OptId<Slot>, fired_slot) /* void out */ \
     F(Src, src)
 
 #define PLANT_FIELDS_ARC(F) \
@@ -257,8 +257,8 @@ constexpr int slot_width(SlotType t) {
     F(double, num)                       \
     F(Name, text)                        \
     F(Vec3, vec)                         \
-    F(DoTypeId, type)                    \
-    F(CompId, comp)                      \
+    F(OptId<DoType>, type)               \
+    F(OptId<Comp>, comp)                 \
     F(Adr<PluginString>, list_adr)       \
     F(int32_t, list_num)
 
@@ -308,22 +308,6 @@ constexpr int slot_width(SlotType t) {
     X(plugin_strings, PluginString, plugin_string, PLANT_FIELDS_NAMEREF) \
     X(plugin_entries, PluginEntry, plugin_entry, PLANT_FIELDS_PLUGINENTRY) \
     X(plugin_entry_slots, PluginEntrySlot, plugin_entry_slot, PLANT_FIELDS_SLOTREF)
-
-// The id fields that may be -1 ("none"): every other Id<R> field of a record names a row
-// of R's table, which the loader checks from the field types (validate.cpp).
-constexpr std::string_view kOptionalIds[] = {
-    "dos.parent",      "dos.type",         "dos.pool",           "flows.from_access",
-    "flows.to_access", "fields.body",      "joints.body_b",      "places.put_slot",
-    "places.entered_slot", "places.tokens_slot", "transitions.fired_slot", "triggers.body",
-    "triggers.filter", "grippers.body",    "grippers.graphics",  "graphics.parent",
-    "graphics.body",   "plugin_params.type", "plugin_params.comp"};
-constexpr bool optional_id(std::string_view table, std::string_view field) {
-    for (std::string_view q : kOptionalIds)
-        if (q.size() == table.size() + 1 + field.size() && q.starts_with(table) && q[table.size()] == '.' &&
-            q.ends_with(field))
-            return true;
-    return false;
-}
 
 // Tables the text form leaves out when they are empty (the loader then reads them as
 // empty): a graph without plugin components reads and writes as before plugins existed.
@@ -385,9 +369,9 @@ struct Graph {
     std::string_view str(Name n) const { return n.id < 0 ? std::string_view{} : names[n.id]; }
 
     // The dotted path of a slot: "<do path>.<comp>.<slot>".
-    std::string slot_path(int32_t slot) const;
-    std::string comp_path(int32_t comp) const;
-    std::string port_path(int32_t port) const;  // "<do path>.<port>"
+    std::string slot_path(SlotId slot) const;
+    std::string comp_path(CompId comp) const;
+    std::string port_path(PortId port) const;  // "<do path>.<port>"
     std::string src_text(Src s) const;  // "file:line:col" or "-"
 
     // Compares every table field by field (names by text, not by id).
@@ -407,6 +391,15 @@ constexpr std::string_view table_name();
     constexpr std::string_view table_name<Record>() { return #member; }
 PLANT_GRAPH_TABLES(PLANT_DEFINE_ROWS)
 #undef PLANT_DEFINE_ROWS
+
+// A component's row in its kind's table, as that table's id: detail_of<Timer>(comp). The
+// kind's row says which table (KindDesc::table), and the loader checks that the row it
+// names is the component's own (validate.cpp), so the id is right for a component of the
+// kind whose table is R's.
+template <class R>
+constexpr Id<R> detail_of(const Comp& c) {
+    return Id<R>(c.detail.v);
+}
 
 // Word of an enum value in the text form, and the reverse (false if unknown).
 std::string_view word(SlotType);

@@ -8,6 +8,7 @@
 // Id<R> names a row of R's table; Adr<R> is the first row of a child list, the `adr` of
 // an (adr, num) pair. Both read as their int32_t number (indexing, arithmetic), so the
 // step's code is the integer code it was; building one from a number is explicit.
+// OptId<R> is an Id<R> field that may be -1; Detail a component's row in its kind's table.
 // The loader checks every field of these types against its table (validate.cpp).
 #pragma once
 
@@ -52,6 +53,7 @@ struct TypedId {
     }
 
     friend constexpr bool operator==(TypedId, TypedId) = default;
+    friend constexpr auto operator<=>(TypedId, TypedId) = default;  // row order (a sorted key)
     // Ids of two tables never compare (they would through int32_t).
     template <class R2, IdRole Role2>
     friend bool operator==(TypedId, TypedId<R2, Role2>) = delete;
@@ -62,10 +64,44 @@ using Id = TypedId<Record, IdRole::Row>;
 template <class Record>
 using Adr = TypedId<Record, IdRole::Adr>;
 
+// An id field that may be -1, "none" (`Do::parent`, `Field::body`): the loader accepts -1
+// there and in no other id field, knowing which from the type (validate.cpp). It is an
+// Id<R> (indexes R's table, compares, passes where an Id<R> is taken), and an Id<R> is
+// stored into it as it is.
+template <class Record>
+struct OptId : Id<Record> {
+    using Id<Record>::Id;
+    constexpr OptId() = default;
+    constexpr OptId(Id<Record> id) : Id<Record>(id) {}
+};
+
+// A component's row in the table of its kind (Comp::detail): which table depends on the
+// component's kind, so it is no Id<R> of one table. Read it as the id of the kind's table,
+// detail_of<Timer>(comp) (graph.h), and store it from one, Detail(timer_id); code over every
+// kind (the loader, the kind table's hooks) reads the number, .v. -1: none (a state, a router).
+struct Detail {
+    int32_t v = -1;
+
+    constexpr Detail() = default;
+    template <class R>
+    constexpr explicit Detail(Id<R> row) : v(row.v) {}
+    constexpr bool valid() const { return v >= 0; }
+    friend constexpr bool operator==(Detail, Detail) = default;
+    // As the number it was (`detail >= 0`: it has a row), for code that reads no table.
+    friend constexpr bool operator==(Detail d, int32_t n) { return d.v == n; }
+    friend constexpr auto operator<=>(Detail d, int32_t n) { return d.v <=> n; }
+};
+
 template <class T>
 constexpr bool is_typed_id = false;
 template <class R, IdRole Role>
 constexpr bool is_typed_id<TypedId<R, Role>> = true;
+template <class R>
+constexpr bool is_typed_id<OptId<R>> = true;
+template <class T>
+constexpr bool is_optional_id = false;
+template <class R>
+constexpr bool is_optional_id<OptId<R>> = true;
 
 // Adr<R> + k is the id of the k-th row of the child list it starts.
 template <class R, class I>
@@ -239,6 +275,7 @@ struct DoType;
 struct Do;
 struct Comp;
 struct Slot;
+struct Value;
 struct Flow;
 struct Access;
 struct AccessTarget;
@@ -304,3 +341,12 @@ struct fmt::formatter<plant::graph::TypedId<R, Role>> : fmt::formatter<int32_t> 
         return fmt::formatter<int32_t>::format(id.v, ctx);
     }
 };
+template <>
+struct fmt::formatter<plant::graph::Detail> : fmt::formatter<int32_t> {
+    template <class Ctx>
+    auto format(plant::graph::Detail d, Ctx& ctx) const {
+        return fmt::formatter<int32_t>::format(d.v, ctx);
+    }
+};
+template <class R>
+struct fmt::formatter<plant::graph::OptId<R>> : fmt::formatter<plant::graph::Id<R>> {};

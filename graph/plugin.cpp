@@ -66,18 +66,17 @@ const KindDesc* find_plugin(std::string_view word) {
 
 std::span<const KindDesc* const> plugins() { return registry(); }
 
-const KindDesc* plugin_of(const Graph& g, int32_t comp) {
-    const CompId id(comp);
-    if (!g.comps.contains(id)) return nullptr;
-    const Comp& c = g.comps[id];
-    const PluginId plugin(c.detail);
+const KindDesc* plugin_of(const Graph& g, CompId comp) {
+    if (!g.comps.contains(comp)) return nullptr;
+    const Comp& c = g.comps[comp];
+    const PluginId plugin = detail_of<Plugin>(c);
     if (c.kind != CompKind::Plugin || !g.plugins.contains(plugin)) return nullptr;
     return find_plugin(g.str(g.plugins[plugin].kind));
 }
 
-std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp) {
+std::span<const SlotSpec> slots_of(const Graph& g, CompId comp) {
     if (const KindDesc* d = plugin_of(g, comp)) return d->slots;
-    if (const CompId id(comp); g.comps.contains(id)) return fixed_slots(g.comps[id].kind);
+    if (g.comps.contains(comp)) return fixed_slots(g.comps[comp].kind);
     return {};
 }
 

@@ -92,7 +92,9 @@ struct KindDesc {
     // Checks across a component's entries, or across components of the kind (two Modbus
     // links on one port), once the whole graph is built: the compiler reports a problem at
     // the entry (or the component), the loader refuses the graph. nullptr: nothing to check.
-    bool (*check)(const Graph& g, int32_t plugin, PluginProblem& problem) = nullptr;
+    // `row`: the component's row in its kind's table (Graph::plugins for a plugin kind,
+    // which writes its check over a PluginId and names it plugin_check<its_check>).
+    bool (*check)(const Graph& g, int32_t row, PluginProblem& problem) = nullptr;
     // Components of other plugin kinds written inside this one's block (a panel's buttons
     // and lamps): each becomes a component of its own, named `parent.child` like a child
     // graphics, so its slots are `parent.child.slot`. Empty: the kind holds none.
@@ -126,6 +128,12 @@ struct KindDesc {
     std::string_view idle_warning = {};
 };
 
+// A plugin kind's check (KindDesc::check) written over its component's PluginId.
+template <bool (*Check)(const Graph&, PluginId, PluginProblem&)>
+bool plugin_check(const Graph& g, int32_t row, PluginProblem& problem) {
+    return Check(g, PluginId(row), problem);
+}
+
 // The table fields of a kind on the kind table, from its graph table's member name:
 // `.table = ...` written `PLANT_KIND_TABLE(member)`.
 #define PLANT_KIND_TABLE(member)                                                          \
@@ -144,10 +152,10 @@ const KindDesc* find_plugin(std::string_view word);
 std::span<const KindDesc* const> plugins();
 
 // The descriptor of a plugin component, nullptr for a built-in kind or a broken graph.
-const KindDesc* plugin_of(const Graph& g, int32_t comp);
+const KindDesc* plugin_of(const Graph& g, CompId comp);
 // The slot table of any component: the fixed slots of a built-in kind, the descriptor's
 // slots of a plugin.
-std::span<const SlotSpec> slots_of(const Graph& g, int32_t comp);
+std::span<const SlotSpec> slots_of(const Graph& g, CompId comp);
 
 const EntrySpec* find_entry(const KindDesc& desc, std::string_view word);
 

@@ -86,10 +86,10 @@ private:
 bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
 bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
 
-std::string_view input_range(const Graph& g, int32_t slot, const double* v) {
-    const Slot& s = g.slots[SlotId(slot)];
+std::string_view input_range(const Graph& g, SlotId slot, const double* v) {
+    const Slot& s = g.slots[slot];
     const Comp& c = g[s.comp];
-    const int32_t i = slot - c.slot_adr.v;
+    const int32_t i = slot.v - c.slot_adr.v;  // which of its kind's slots
     const bool body = c.kind == CompKind::Body, field = c.kind == CompKind::Field;
     // Each axis within `limit`; NaN is never (a value the plant's logic computed may be one).
     auto within = [v](int n, double limit) {

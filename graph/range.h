@@ -61,7 +61,7 @@ bool gravity_in_range(const double* g);
 // set_position a place within kMaxLength, a body's set_velocity kMaxSpeed and
 // set_angular_velocity kMaxTurnRate on each axis, a field's set_speed kMaxSpeed. Empty when
 // `v` (the slot's width of finite values) is in range; else the range, in words.
-std::string_view input_range(const Graph& g, int32_t slot, const double* v);
+std::string_view input_range(const Graph& g, SlotId slot, const double* v);
 
 struct RangeFlaw {
     std::string_view table;  // as in the text form's tables: "dos", "bodies", ...

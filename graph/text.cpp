@@ -38,6 +38,7 @@ public:
     void put(int32_t v) { fmt::format_to(out(), "{}", v); }
     template <class R, IdRole Role>
     void put(TypedId<R, Role> id) { put(id.v); }
+    void put(Detail d) { put(d.v); }
     void put(double v) { fmt::format_to(out(), "{}", v); }  // shortest round-trip form
     void put(bool v) { o_ += v ? "true" : "false"; }
     template <class E>
@@ -128,6 +129,7 @@ std::string_view element_word(std::string_view member) {
 constexpr std::string_view what(int32_t) { return "integer"; }
 template <class R, IdRole Role>
 constexpr std::string_view what(TypedId<R, Role>) { return "integer"; }
+constexpr std::string_view what(Detail) { return "integer"; }
 constexpr std::string_view what(double) { return "number"; }
 constexpr std::string_view what(bool) { return "bool"; }
 template <class E>
@@ -291,6 +293,7 @@ private:
     bool get(int32_t& v) { return number(v); }
     template <class R, IdRole Role>
     bool get(TypedId<R, Role>& id) { return number(id.v); }
+    bool get(Detail& d) { return number(d.v); }
     bool get(double& v) { return number(v); }
     bool get(bool& v) {
         if (lit("true")) v = true;
@@ -446,6 +449,26 @@ constexpr std::string_view kSchema = "settings rate gravity [steady_transport]\n
 #undef PLANT_SCHEMA_TABLE
 #undef PLANT_SCHEMA_FIELD
 
+// The schema as the fingerprint reads it: a field's type as the text form knows it. An
+// OptId<R> is written as R's id is (it only may be -1, which the loader decides), and
+// Detail and Adr<Value> as the int32_t they were before they were typed: the text is the
+// same, so the fingerprint and the version stay.
+std::string schema_as_written() {
+    std::string s(kSchema);
+    auto replace_all = [&s](std::string_view from, std::string_view to) {
+        for (size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+            s.replace(at, from.size(), to);
+    };
+    replace_all("Detail ", "int32_t ");
+    replace_all("Adr<Value> ", "int32_t ");
+    for (size_t at = s.find("OptId<"); at != std::string::npos; at = s.find("OptId<", at)) {
+        const size_t close = s.find('>', at);
+        const std::string record = s.substr(at + 6, close - at - 6);
+        s.replace(at, close + 1 - at, record + "Id");
+    }
+    return s;
+}
+
 template <class E>
 uint64_t hash_words(uint64_t h, E last) {
     for (int i = 0; i <= int(last); ++i) h = fnv1a(std::string(word(E(i))) + ",", h);
@@ -455,7 +478,7 @@ uint64_t hash_words(uint64_t h, E last) {
 }  // namespace
 
 uint64_t format_fingerprint() {
-    uint64_t h = fnv1a(kSchema, 14695981039346656037ull);
+    uint64_t h = fnv1a(schema_as_written(), 14695981039346656037ull);
     h = hash_words(h, SlotType::Ref);
     h = hash_words(h, Dir::Out);
     h = hash_words(h, CompKind::Plugin);

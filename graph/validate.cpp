@@ -107,21 +107,21 @@ private:
     // The component `c` is of `kind` and its detail is this record.
     bool owner(CompId c, CompKind kind, int32_t self) {
         const Comp& cp = g_.comps[c];
-        if (cp.kind != kind || cp.detail != self)
+        if (cp.kind != kind || cp.detail.v != self)
             return fail(fmt::format("field 'comp' = {}: that component is a {} whose detail is {}, not this {}", c,
                                     word(cp.kind), cp.detail, word(kind)));
         return true;
     }
 
     // Every double finite, every written rotation a unit quaternion, every source
-    // position in a known file; every Id<R> field a row of R's table (or -1 where graph.h's
-    // kOptionalIds allows it), every Adr<R> field and the `_num` after it a range of R's table.
+    // position in a known file; every Id<R> field a row of R's table (or -1 where
+    // its type is an OptId<R>), every Adr<R> field and the `_num` after it a range of R's table.
     bool every_field() {
 #define PLANT_CHECK_FIELD(T_, f_)                                                         \
     if (!finite(r.f_)) return fail(fmt::format("field '{}' is not a finite number", #f_)); \
     if (!unit_quats(r.f_)) return fail(fmt::format("field '{}' has a rotation that is not a unit quaternion", #f_)); \
     if (!src_ok(r.f_)) return fail(fmt::format("field '{}' names file {}, not one of the {} files", #f_, src_file(r.f_), g_.files.size())); \
-    if (!reference(#f_, r.f_, std::bool_constant<optional_id(table, #f_)>{})) return false;
+    if (!reference(#f_, r.f_)) return false;
 #define PLANT_CHECK_TABLE(member, Record, elem, FIELDS)     \
     for (Id<Record> i : g_.member.ids()) {                  \
         constexpr std::string_view table = #member;         \
@@ -134,14 +134,15 @@ private:
 #undef PLANT_CHECK_FIELD
         return true;
     }
-    // `optional` is whether the field may be -1, decided at compile time (a string search
-    // per row made loading a large graph slow).
+    // Whether the field may be -1 is its type's (OptId<R>), decided at compile time.
     template <class T>
-    bool reference(std::string_view field, const T& v, bool optional) {
+    bool reference(std::string_view field, const T& v) {
         if constexpr (is_typed_id<T>) {
             using R = typename T::record;
             if constexpr (T::role == IdRole::Row)
-                return id(field, v.v, g_.rows<R>().size(), table_name<R>(), optional);
+                return id(field, v.v, g_.rows<R>().size(), table_name<R>(), is_optional_id<T>);
+            // A slot's values: as many as its type's width, -1 for none (slots() checks it).
+            if constexpr (std::is_same_v<R, Value>) return true;
             adr_ = {field, v.v, g_.rows<R>().size(), table_name<R>()};
         } else if constexpr (std::is_same_v<T, int32_t>) {
             if (!adr_.table.empty() && field.ends_with("_num")) {
@@ -210,15 +211,15 @@ private:
             size_t n = 0;
             std::string_view table;
             if (detail_table(cp.kind, n, table)) {
-                if (!id("detail", cp.detail, n, table)) return false;
-            } else if (!check(cp.detail == -1, "field 'detail' must be -1 for this kind")) {
+                if (!id("detail", cp.detail.v, n, table)) return false;
+            } else if (!check(cp.detail.v == -1, "field 'detail' must be -1 for this kind")) {
                 return false;
             }
             // A plugin's detail is a row of `plugins` by now; plugin_records() checks the rest.
             const KindDesc* plugin = cp.kind == CompKind::Plugin ? plugin_of(g_, c) : nullptr;
             if (cp.kind == CompKind::Plugin && !plugin)
                 return fail(fmt::format("a component of kind '{}', which this program does not have (a plugin it "
-                                        "was not built with)", g_.str(g_.plugins[PluginId(cp.detail)].kind)));
+                                        "was not built with)", g_.str(g_.plugins[detail_of<Plugin>(cp)].kind)));
             const auto fixed = slots_of(g_, c);
             if (plugin && cp.slot_num != count_of(fixed))
                 return fail(fmt::format("a {} has {} slots, field 'slot_num' is {}", plugin->word, fixed.size(),
@@ -321,7 +322,7 @@ private:
         return each("slots", g_.slots, [&](const Slot& sl, SlotId) {
             const int w = slot_width(sl.type);
             if (w == 0) return true;
-            if (sl.value_adr < 0 || std::cmp_greater(int64_t{sl.value_adr} + w, g_.values.size()))
+            if (!sl.value_adr.valid() || std::cmp_greater(int64_t{sl.value_adr.v} + w, g_.values.size()))
                 return fail(fmt::format("field 'value_adr' = {}: a {} slot needs {} values there, the graph has {}",
                                         sl.value_adr, word(sl.type), w, g_.values.size()));
             return true;

@@ -52,8 +52,8 @@ public:
         time_ = e.time();
         dt_ = e.dt();
     }
-    std::vector<int32_t> forceable() const override {
-        std::vector<int32_t> out;
+    std::vector<graph::SlotId> forceable() const override {
+        std::vector<graph::SlotId> out;
         for (const faults::Drill& d : drills_.list())
             if (d.event.force) out.insert(out.end(), d.event.slots.begin(), d.event.slots.end());
         return out;

@@ -21,7 +21,7 @@ using namespace plant::graph;
 
 // A loaded graph may be unsound (dot draws what it is given): every id is looked up checked.
 template <class IdT, class T>
-bool in_range(const IdVector<IdT, T>& v, IdT i) {
+bool in_range(const IdVector<IdT, T>& v, std::type_identity_t<IdT> i) {  // an OptId<R> too
     return v.contains(i);
 }
 
@@ -61,7 +61,7 @@ DoId owner_of_slot(const Graph& g, SlotId slot) {
 // A component's kind as written in plant files: a plugin's own word (`faults`), not "plugin".
 std::string kind_word(const Graph& g, CompId c) {
     const Comp& k = g.comps[c];
-    if (const PluginId p(k.detail); k.kind == CompKind::Plugin && in_range(g.plugins, p)) return std::string(g.str(g.plugins[p].kind));
+    if (const PluginId p = detail_of<Plugin>(k); k.kind == CompKind::Plugin && in_range(g.plugins, p)) return std::string(g.str(g.plugins[p].kind));
     return std::string(word(k.kind));
 }
 
@@ -227,7 +227,7 @@ void Writer::component(CompId c, int depth) {
     if (k.kind == CompKind::State) return net(c, depth);
     if (k.kind == CompKind::Logic) {
         std::string_view op = "logic";
-        if (const LogicId l(k.detail); in_range(g_.logics, l)) op = word(g_.logics[l].op);
+        if (const LogicId l = detail_of<Logic>(k); in_range(g_.logics, l)) op = word(g_.logics[l].op);
         o_ << in << id << " [shape=diamond, width=0.4, height=0.4, fontsize=8, label=" << q(op)
            << ", xlabel=" << q(g_.str(k.name)) << "];\n";
         return;

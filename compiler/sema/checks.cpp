@@ -110,7 +110,7 @@ void Elaborator::check_unused() {
         auto slot = [&](int idx) { return comp.slot_adr + idx; };
         // A kind on the kind table says which input it needs (graph/plugin.h: idle_input).
         if (const graph::KindDesc* k = graph::builtin_kind(comp.kind); k && k->idle_input >= 0) {
-            if (!(k->runs_alone && k->runs_alone(g_, comp.detail)) && !driven[slot(k->idle_input)])
+            if (!(k->runs_alone && k->runs_alone(g_, comp.detail.v)) && !driven[slot(k->idle_input)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format(fmt::runtime(k->idle_warning), cname));
             continue;
         }

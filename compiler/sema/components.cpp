@@ -84,7 +84,7 @@ void Lowering::positive_vec(const char* n) const {
 }
 
 void Lowering::set_detail(int32_t rows) const {
-    el.g_.comps[graph::CompId(comp)].detail = rows - 1;
+    el.g_.comps[graph::CompId(comp)].detail.v = rows - 1;  // the row just appended
 }
 
 graph::CompId Linking::find_comp(const std::string& n, Span span) const {
@@ -112,7 +112,7 @@ int32_t Linking::find(const std::string& n, Span span, CompKind want, const char
                                     word(want)));
         return -1;
     }
-    return target.detail;
+    return target.detail.v;
 }
 
 const ast::Property* Linking::prop(const char* n) const {
@@ -327,7 +327,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         }
         Frame saved = sc.frame;
         sc.frame = frame;
-        make_component(sc, child, env, g_.comps[graph::CompId(comp)].detail, cname);
+        make_component(sc, child, env, g_.comps[graph::CompId(comp)].detail.v, cname);
         sc.frame = saved;
     }
     return comp;
@@ -337,7 +337,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 bool Elaborator::inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const {
     auto it = sc.comps.find(holder);
     if (holder.empty() || it == sc.comps.end()) return false;
-    const graph::KindDesc* d = graph::plugin_of(g_, it->second);
+    const graph::KindDesc* d = graph::plugin_of(g_, graph::CompId(it->second));
     return d && d->word == word;
 }
 
@@ -376,7 +376,7 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
         g_.logic_inputs.push_back({graph::SlotId(s), l.terms[i].negated});
     }
     lg.in_num = graph::count_of(l.terms);
-    g_.comps[comp].detail = g_.logics.count();
+    g_.comps[comp].detail = graph::Detail(graph::next_id(g_.logics));
     g_.logics.push_back(lg);
 }
 

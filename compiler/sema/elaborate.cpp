@@ -662,7 +662,7 @@ void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
         auto found = scopes_[do_id].comps.find(c->name.text);
         if (found == scopes_[do_id].comps.end()) continue;
         const graph::CompId comp(found->second);
-        auto& src_rec = g_.sources[graph::SourceId(g_.comps[comp].detail)];
+        auto& src_rec = g_.sources[graph::detail_of<graph::Source>(g_.comps[comp])];
         const ast::Property* obj = nullptr;
         for (const auto& p : c->properties)
             if (p.name.text == "object") obj = &p;
@@ -696,7 +696,7 @@ void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
             scopes_[do_id].children[iname] = d;
             made.push_back(d);
         }
-        g_.sources[graph::SourceId(g_.comps[comp].detail)].pool_adr = graph::Adr<graph::Do>(made.front().v);
+        g_.sources[graph::detail_of<graph::Source>(g_.comps[comp])].pool_adr = graph::Adr<graph::Do>(made.front().v);
         type_stack_.push_back(type->name.text);
         for (graph::DoId d : made) elaborate_do(d, *type, type_module, env);
         type_stack_.pop_back();

@@ -33,7 +33,7 @@ std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
 std::string_view kind_word(graph::CompKind k) { return k == graph::CompKind::Body ? "physics" : graph::word(k); }
 // The word a plant file uses for a component's kind, a plugin's own among them.
 std::string_view kind_word(const graph::Graph& g, int32_t comp) {
-    if (const graph::KindDesc* d = graph::plugin_of(g, comp)) return d->word;
+    if (const graph::KindDesc* d = graph::plugin_of(g, graph::CompId(comp))) return d->word;
     return kind_word(g.comps[graph::CompId(comp)].kind);
 }
 
@@ -313,7 +313,7 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
     if (it == s.comps.end() || g_.comps[graph::CompId(it->second)].kind != graph::CompKind::Logic ||
         comp_spans_[it->second].begin != l.name.span.begin || comp_spans_[it->second].file != l.name.span.file)
         return;
-    const auto& lg = g_.logics[graph::LogicId(g_.comps[graph::CompId(it->second)].detail)];
+    const auto& lg = g_.logics[graph::detail_of<graph::Logic>(g_.comps[graph::CompId(it->second)])];
     for (size_t i = 0; i < l.terms.size(); ++i) {
         Endpoint e = resolve(s.do_id, l.terms[i].path, env);
         if (!e.ok) continue;

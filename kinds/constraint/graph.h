@@ -15,7 +15,7 @@
     F(CompId, comp)                                                             \
     F(JointKind, kind)                                                           \
     F(BodyId, body_a)                                                           \
-    F(BodyId, body_b)                                                           \
+    F(OptId<Body>, body_b)                                                         \
     F(Pose, frame_a)     /* joint frame relative to body a */                    \
     F(Pose, frame_b)     /* joint frame relative to body b */                    \
     F(double, lower)     /* hinge: rad, slider: m; lower > upper means free */   \

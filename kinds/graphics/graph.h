@@ -14,10 +14,10 @@
 
 #define PLANT_FIELDS_GRAPHICS(F)                           \
     F(CompId, comp)                                       \
-    F(GraphicsId, parent)    /* parent Graphics, -1 */        \
+    F(OptId<Graphics>, parent)    /* parent Graphics, -1 */        \
     F(Name, model)                                         \
     F(Pose, pose)         /* world pose at start */        \
-    F(BodyId, body)      /* Body it is attached to, -1 */ \
+    F(OptId<Body>, body)      /* Body it is attached to, -1 */ \
     F(Adr<Animation>, anim_adr)                                   \
     F(int32_t, anim_num)                                   \
     F(Adr<Variant>, variant_adr)                                \

@@ -15,6 +15,6 @@
 #define PLANT_FIELDS_GRIPPER(F)                                  \
     F(CompId, comp)                                             \
     F(TriggerId, trigger)  /* Trigger that catches objects */     \
-    F(BodyId, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
-    F(GraphicsId, graphics) /* Graphics whose pose it follows when body is -1 */
+    F(OptId<Body>, body)     /* Body whose pose the gripped object follows, -1: the graphics/DO pose */ \
+    F(OptId<Graphics>, graphics) /* Graphics whose pose it follows when body is -1 */
 // clang-format on

@@ -37,7 +37,7 @@ void link(Linking& lk) {
     if (lk.decl.on) {
         auto it = lk.scope.comps.find(lk.on);
         if (it != lk.scope.comps.end() && g.comps[graph::CompId(it->second)].kind == graph::CompKind::Graphics)
-            gr.graphics = graph::GraphicsId(g.comps[graph::CompId(it->second)].detail);
+            gr.graphics = graph::detail_of<graph::Graphics>(g.comps[graph::CompId(it->second)]);
         else
             gr.body = graph::BodyId(lk.on_body());
     }

@@ -15,8 +15,8 @@
 
 #define PLANT_FIELDS_TRIGGER(F)                                                \
     F(CompId, comp)                                                           \
-    F(BodyId, body)       /* Body the volume moves with, -1 for fixed */      \
+    F(OptId<Body>, body)       /* Body the volume moves with, -1 for fixed */      \
     F(Vec3, extent)                                                            \
     F(Pose, pose)          /* world pose of the box centre at start */         \
-    F(DoTypeId, filter)     /* DoType whose bodies it reacts to, -1 for any */
+    F(OptId<DoType>, filter)     /* DoType whose bodies it reacts to, -1 for any */
 // clang-format on

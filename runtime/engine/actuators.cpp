@@ -21,11 +21,11 @@ namespace {
 // acts in phase 4, routers, connectors and labels in phase 3, the rest has no inputs.
 void act_on(Runtime& r, int32_t comp) {
     const Comp& c = r.g.comps[comp];
-    const int32_t i = c.detail;
+    const int32_t i = c.detail.v;  // the row of its kind's table
     switch (c.kind) {
     case CompKind::Body: act_body(r, c, i); break;
     case CompKind::Field: act_field(r, c, i); break;
-    case CompKind::Plugin: act_plugin(r, i); break;
+    case CompKind::Plugin: act_plugin(r, detail_of<Plugin>(c)); break;
     default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
         if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c, i);
         break;

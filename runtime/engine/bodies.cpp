@@ -121,7 +121,7 @@ void sense_bodies(Runtime& r) {
 }
 
 // Only the plant's logic can send a value out of range: events are refused when read.
-bool input_in_range(Runtime& r, int32_t slot) {
+bool input_in_range(Runtime& r, graph::SlotId slot) {
     if (graph::input_range(r.g, slot, r.val(slot)).empty()) return true;
     ++r.st.warn.out_of_range;
     return false;
@@ -135,7 +135,7 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
     if (a[bodyslot::collision_on]) ph.set_collision(b, true);
     if (!held && a[bodyslot::dynamics_off]) ph.set_dynamics(b, false);
     if (!held && a[bodyslot::dynamics_on]) ph.set_dynamics(b, true);
-    const int32_t s0 = c.slot_adr;
+    const graph::Adr<graph::Slot> s0 = c.slot_adr;
     const bool pose_in = !a[bodyslot::set_pose] || input_in_range(r, s0 + bodyslot::set_pose);
     const bool position_in = !a[bodyslot::set_position] || input_in_range(r, s0 + bodyslot::set_position);
     const bool pose_ok = pose_in && position_in;  // a move out of range is not made at all

@@ -111,11 +111,11 @@ bool parse_frequency(std::string_view text, double& hz, std::string& error) {
 SlotIndex slot_index(const Graph& g) {
     SlotIndex idx;
     for (SlotId s : ids_of(g.slots))
-        idx.emplace(g.slot_path(s), SlotTarget{{s.v}, g.slots[s].type, g.slots[s].dir, false});
+        idx.emplace(g.slot_path(s), SlotTarget{{s}, g.slots[s].type, g.slots[s].dir, false});
     for (PortId p : ids_of(g.ports)) {
         const Port& pt = g.ports[p];
         SlotTarget t{{}, pt.type, pt.dir, true};
-        for (const PortTarget& target : g.port_targets.slice(pt.target_adr, pt.target_num)) t.slots.push_back(target.v.v);
+        for (const PortTarget& target : g.port_targets.slice(pt.target_adr, pt.target_num)) t.slots.push_back(target.v);
         idx.emplace(g.port_path(p), std::move(t));  // a slot of the same path wins
     }
     return idx;
@@ -175,7 +175,7 @@ std::string format_event(const Graph& g, const Event& ev, double dt) {
                            ev.mode == ForceMode::Open ? " open" : ev.mode == ForceMode::Invert ? " invert" : "");
     std::string line = ev.force ? fmt::format("{}s force {} stuck", t, ev.path) : fmt::format("{}s {}", t, ev.path);
     if (ev.slots.empty()) return line;
-    const SlotType type = g.slots[SlotId(ev.slots[0])].type;
+    const SlotType type = g.slots[ev.slots[0]].type;
     if (ev.force && type == SlotType::Void) return line + (ev.value[0] != 0 ? " on" : " off");
     switch (type) {
     case SlotType::Void: break;
@@ -197,10 +197,10 @@ void apply_event(Engine& e, const Event& ev) {
     if (ev.hand != HandAct::None) {
         const Vec3 p = ev.value.size() == 3 ? Vec3{ev.value[0], ev.value[1], ev.value[2]} : Vec3{0, 0, 0};
         switch (ev.hand) {
-        case HandAct::Grab: e.hand_grab(BodyId(ev.target), p); break;
-        case HandAct::Move: e.hand_move(BodyId(ev.target), p); break;
-        case HandAct::Drop: e.hand_drop(BodyId(ev.target)); break;
-        case HandAct::Remove: e.remove_object(DoId(ev.target)); break;
+        case HandAct::Grab: e.hand_grab(ev.body, p); break;
+        case HandAct::Move: e.hand_move(ev.body, p); break;
+        case HandAct::Drop: e.hand_drop(ev.body); break;
+        case HandAct::Remove: e.remove_object(ev.object); break;
         case HandAct::None: break;
         }
         return;
@@ -209,13 +209,13 @@ void apply_event(Engine& e, const Event& ev) {
     const Graph& g = e.graph();
     double name[1];
     std::span<const double> value = ev.value;
-    if (g.slots[SlotId(ev.slots[0])].type == SlotType::String && (!ev.force || ev.mode == ForceMode::Stuck)) {
+    if (g.slots[ev.slots[0]].type == SlotType::String && (!ev.force || ev.mode == ForceMode::Stuck)) {
         name[0] = double(e.intern(ev.text));
         value = name;
     }
-    for (int32_t s : ev.slots) {
-        if (ev.force) e.force(SlotId(s), ev.mode, value);
-        else e.input(SlotId(s), value);
+    for (SlotId s : ev.slots) {
+        if (ev.force) e.force(s, ev.mode, value);
+        else e.input(s, value);
     }
 }
 
@@ -262,9 +262,9 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
         break;
     case SlotType::Ref: {
         ok = false;
-        for (size_t d = 0; d < g.dos.size() && !ok; ++d)
-            if (g.str(g.dos[d].path) == value) {
-                ev.value = {double(d)};
+        for (DoId d : ids_of(g.dos))
+            if (!ok && g.str(g.dos[d].path) == value) {
+                ev.value = {double(d.v)};
                 ok = true;
             }
         if (!ok)  // a DO id, or -1 for none
@@ -288,7 +288,7 @@ bool parse_value(const Graph& g, SlotType type, const std::string& path, std::st
 // beyond 100 km, a speed beyond 100 km/s, ...) is refused like a malformed one, whichever way
 // in it takes (--event, an events file, a forced value, the viewer).
 bool in_range(const Graph& g, const Event& ev, std::string_view value, std::string& error) {
-    for (int32_t s : ev.slots)
+    for (SlotId s : ev.slots)
         if (const std::string_view r = input_range(g, s, ev.value.data()); !r.empty()) {
             error = fmt::format("'{}' is out of range for '{}': it takes {}", value, ev.path, r);
             return false;
@@ -366,22 +366,22 @@ bool parse_force(const Graph& g, const SlotIndex& slots, bool release, std::stri
     return parse_value(g, type, path, value, ev, error) && in_range(g, ev, value, error);
 }
 
-// The body whose physics component has the dotted path `path`, or -1.
-int32_t find_body(const Graph& g, std::string_view path) {
+// The body whose physics component has the dotted path `path`, or none.
+BodyId find_body(const Graph& g, std::string_view path) {
     for (BodyId b : ids_of(g.bodies)) {
         const Comp& c = g.comps[g.bodies[b].comp];
         const std::string_view owner = g.str(g.dos[c.owner].path), name = g.str(c.name);
         if (path.size() == (owner.empty() ? 0 : owner.size() + 1) + name.size() && path.ends_with(name) &&
             (owner.empty() || (path.starts_with(owner) && path[owner.size()] == '.')))
-            return b.v;
+            return b;
     }
-    return -1;
+    return {};
 }
 
-int32_t find_object(const Graph& g, std::string_view path) {
+DoId find_object(const Graph& g, std::string_view path) {
     for (DoId d : ids_of(g.dos))
-        if (g.str(g.dos[d].path) == path && !path.empty()) return d.v;
-    return -1;
+        if (g.str(g.dos[d].path) == path && !path.empty()) return d;
+    return {};
 }
 
 // The dynamic bodies' paths closest to a misspelt one, for "did you mean".
@@ -389,7 +389,7 @@ std::string closest_body(const Graph& g, std::string_view path) {
     const size_t limit = std::min<size_t>(4, std::max<size_t>(1, path.size() / 3));
     std::string best;
     size_t best_d = limit + 1;
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         if (g.bodies[b].mode != BodyMode::Dynamic) continue;
         const std::string p = g.comp_path(g.bodies[b].comp);
         const size_t d = edits(path, p, std::min(limit, best_d));
@@ -408,9 +408,9 @@ bool parse_hand(const Graph& g, std::string_view verb, std::string_view rest, Ev
     ev.force = false;
     ev.mode = ForceMode::None;
     if (verb == "remove") {
-        int32_t d = find_object(g, path);
-        if (const int32_t b = d < 0 ? find_body(g, path) : -1; b >= 0) d = g.comps[g.bodies[b].comp].owner;
-        if (d < 0) {
+        DoId d = find_object(g, path);
+        if (const BodyId b = d.valid() ? BodyId{} : find_body(g, path); b.valid()) d = g.comps[g.bodies[b].comp].owner;
+        if (!d.valid()) {
             error = fmt::format("remove '{}': no object of that path (an object's path, e.g. a bottle's)", path);
             return false;
         }
@@ -419,12 +419,12 @@ bool parse_hand(const Graph& g, std::string_view verb, std::string_view rest, Ev
             return false;
         }
         ev.hand = HandAct::Remove;
-        ev.target = d;
+        ev.object = d;
         ev.path = std::string(g.str(g.dos[d].path));
         return true;
     }
-    const int32_t b = find_body(g, path);
-    if (b < 0) {
+    const BodyId b = find_body(g, path);
+    if (!b.valid()) {
         const std::string hint = closest_body(g, path);
         error = hint.empty() ? fmt::format("{} '{}': no body of that path (a physics component's path)", verb, path)
                              : fmt::format("{} '{}': no body of that path; did you mean '{}'?", verb, path, hint);
@@ -436,7 +436,7 @@ bool parse_hand(const Graph& g, std::string_view verb, std::string_view rest, Ev
         return false;
     }
     ev.path = path;
-    ev.target = b;
+    ev.body = b;
     if (verb == "drop") {
         ev.hand = HandAct::Drop;
         if (!tail.empty()) error = fmt::format("drop '{}': unexpected '{}'", path, tail);
@@ -462,7 +462,8 @@ bool parse_input(const Graph& g, const SlotIndex& slots, std::string_view rest, 
     }
     const auto [head, tail] = first_word(rest);
     ev.hand = HandAct::None;
-    ev.target = -1;
+    ev.body = {};
+    ev.object = {};
     if ((head == "force" || head == "release") && !tail.empty() && !slots.count(std::string(head)))
         return parse_force(g, slots, head == "release", tail, ev, error);
     if ((head == "grab" || head == "move" || head == "drop" || head == "remove") && !tail.empty() &&
@@ -520,7 +521,7 @@ bool load_events(const Graph& g, const SlotIndex& slots, const std::string& path
     }, error);
 }
 
-std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which) {
+std::string path_of(const SlotIndex& slots, const std::vector<SlotId>& which) {
     std::string best;
     for (const auto& [path, target] : slots)
         if (target.slots == which && (best.empty() || path.size() < best.size() || (path.size() == best.size() && path < best)))
@@ -532,7 +533,7 @@ std::vector<Event> plant_events(const Graph& g) {
     std::vector<Event> out;
     for (PluginId p : ids_of(g.plugins))
         if (const KindBehaviour* b = find_behaviour(g.str(g.plugins[p].kind)); b && b->schedule)
-            b->schedule(g, p.v, out);
+            b->schedule(g, p, out);
     std::stable_sort(out.begin(), out.end(), [](const Event& x, const Event& y) { return x.time < y.time; });
     return out;
 }

@@ -31,7 +31,7 @@ enum class HandAct : uint8_t { None, Grab, Move, Drop, Remove };
 struct Event {
     double time = 0;
     std::string path;            // as addressed
-    std::vector<int32_t> slots;  // the input slots it feeds (several for a port)
+    std::vector<graph::SlotId> slots;  // the input slots it feeds (several for a port)
     std::vector<double> value;
     std::string text;  // string slots: interned into the engine when the run starts
     // A force ("force PATH stuck VALUE | open | invert") or, with mode None, its release
@@ -39,15 +39,16 @@ struct Event {
     bool force = false;
     ForceMode mode = ForceMode::None;
     bool planned = false;  // declared in the plant file (plant_events), not given to the run
-    // A hand's act (no slots then): `target` the body's id (remove: the object's), `value`
+    // A hand's act (no slots then): grab, move and drop a `body`, remove an `object`; `value`
     // the point (grab: the point taken, move: where to).
     HandAct hand = HandAct::None;
-    int32_t target = -1;
+    graph::BodyId body;
+    graph::DoId object;
 };
 
 // Every addressable input and output by its dotted path: component slots and ports.
 struct SlotTarget {
-    std::vector<int32_t> slots;
+    std::vector<graph::SlotId> slots;
     graph::SlotType type = graph::SlotType::Void;
     graph::Dir dir = graph::Dir::In;
     bool port = false;
@@ -56,7 +57,7 @@ using SlotIndex = std::unordered_map<std::string, SlotTarget>;
 SlotIndex slot_index(const graph::Graph& g);
 // The dotted path that names exactly `slots` (a slot, or a port forwarding to them all):
 // the shortest ("" when none does).
-std::string path_of(const SlotIndex& slots, const std::vector<int32_t>& which);
+std::string path_of(const SlotIndex& slots, const std::vector<graph::SlotId>& which);
 // The closest path in the index to a misspelt one ("" when nothing is close).
 std::string closest_path(const SlotIndex& slots, std::string_view path);
 

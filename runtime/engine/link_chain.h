@@ -29,10 +29,10 @@ public:
     void after_step(const Engine& e) override {
         for (RunLink* l : links_) l->after_step(e);
     }
-    std::vector<int32_t> forceable() const override {
-        std::vector<int32_t> out;
+    std::vector<graph::SlotId> forceable() const override {
+        std::vector<graph::SlotId> out;
         for (const RunLink* l : links_) {
-            const std::vector<int32_t> f = l->forceable();
+            const std::vector<graph::SlotId> f = l->forceable();
             out.insert(out.end(), f.begin(), f.end());
         }
         return out;

@@ -70,18 +70,18 @@ const KindBehaviour* find_behaviour(std::string_view word) {
     return nullptr;
 }
 
-PluginCtx::PluginCtx(Runtime& r, int32_t plugin)
+PluginCtx::PluginCtx(Runtime& r, graph::PluginId plugin)
     : r_(r), plugin_(plugin), slot_adr_(r.g.comps[r.g.plugins[plugin].comp].slot_adr) {}
 
 bool PluginCtx::active(int slot) const { return r_.st.act[slot_adr_ + slot] != 0; }
 void PluginCtx::emit(int slot, double v) {
-    const int32_t s = slot_adr_ + slot;
-    if (r_.tab.value_adr[s] >= 0) *r_.val(s) = v;
+    const graph::SlotId s = slot_adr_ + slot;
+    if (r_.tab.value_adr[s].valid()) *r_.val(s) = v;
     r_.activate_out(s);
 }
 double PluginCtx::value(int slot) const {
-    const int32_t s = slot_adr_ + slot;
-    return r_.tab.value_adr[s] >= 0 ? *r_.val(s) : 0;
+    const graph::SlotId s = slot_adr_ + slot;
+    return r_.tab.value_adr[s].valid() ? *r_.val(s) : 0;
 }
 const graph::PluginParam& PluginCtx::param_row(int i) const { return r_.g.plugin_params[r_.g.plugins[plugin_].param_adr + i]; }
 double PluginCtx::param(int i) const { return param_row(i).num; }
@@ -109,19 +109,19 @@ double PluginCtx::time() const { return r_.st.time; }
 void start_plugins(Runtime& r) {
     for (graph::PluginId i : graph::ids_of(r.g.plugins))
         if (const auto* b = r.tab.plugin_run[i].behaviour; b->start) {
-            PluginCtx ctx(r, i.v);
+            PluginCtx ctx(r, i);
             b->start(ctx);
         }
 }
 
 void sense_plugins(Runtime& r) {
-    for (int32_t i : r.tab.sensing_plugins) {
+    for (graph::PluginId i : r.tab.sensing_plugins) {
         PluginCtx ctx(r, i);
         r.tab.plugin_run[i].behaviour->sense(ctx);
     }
 }
 
-void act_plugin(Runtime& r, int32_t plugin) {
+void act_plugin(Runtime& r, graph::PluginId plugin) {
     if (const auto* b = r.tab.plugin_run[plugin].behaviour; b->act) {
         PluginCtx ctx(r, plugin);
         b->act(ctx);

@@ -25,7 +25,7 @@ struct Runtime;
 // One plugin component while it runs. Slots are numbered as in the descriptor's table.
 class PluginCtx {
 public:
-    PluginCtx(Runtime& r, int32_t plugin);  // plugin: a row of Graph::plugins
+    PluginCtx(Runtime& r, graph::PluginId plugin);
 
     // What the kinds so far use; a kind that needs more (an input's value, a text parameter)
     // adds its accessor here, with a test.
@@ -54,8 +54,8 @@ private:
     const graph::PluginEntry& entry(int e) const;
     const graph::PluginParam& param_row(int i) const;
     Runtime& r_;
-    int32_t plugin_;
-    int32_t slot_adr_;
+    graph::PluginId plugin_;
+    graph::Adr<graph::Slot> slot_adr_;
 };
 
 struct Event;  // engine/events.h
@@ -69,7 +69,7 @@ struct KindBehaviour {
     // Timed inputs the component declares (a fault scheduled in the plant file): appended to
     // `out` before a run starts, they are applied like --event's, by apply_event
     // (plant_events in engine/events.h). Outside the step: may allocate.
-    void (*schedule)(const graph::Graph& g, int32_t plugin, std::vector<Event>& out) = nullptr;
+    void (*schedule)(const graph::Graph& g, graph::PluginId plugin, std::vector<Event>& out) = nullptr;
 
     // ---- A kind on the kind table: its whole table at a time ----
     // Its state (State::kinds[its CompKind]), made when the engine is built; nullptr: none.

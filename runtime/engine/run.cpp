@@ -49,7 +49,7 @@ public:
                 const double minutes = e.time() / 60;
                 r.per_minute = minutes > 0 ? double(r.count) / minutes : 0.0;
             } else {
-                for (int32_t x : c.slots) r.value += e.value(SlotId(x))[0];
+                for (SlotId x : c.slots) r.value += e.value(x)[0];
             }
             out.push_back(std::move(r));
         }
@@ -59,7 +59,7 @@ private:
     struct Column {
         std::string name;
         bool events;
-        std::vector<int32_t> slots;
+        std::vector<SlotId> slots;
         std::vector<size_t> records;
     };
     std::vector<Column> cols_;
@@ -70,16 +70,16 @@ private:
 class ForceLog {
 public:
     // `events`' forces and `more` slots (a link's) may force.
-    ForceLog(const std::vector<Event>& events, const std::vector<int32_t>& more) {
-        auto add = [&](int32_t s) {
+    ForceLog(const std::vector<Event>& events, const std::vector<SlotId>& more) {
+        auto add = [&](SlotId s) {
             if (std::find(slots_.begin(), slots_.end(), s) == slots_.end()) slots_.push_back(s);
         };
         for (const Event& ev : events)
             if (ev.force)
-                for (int32_t s : ev.slots) add(s);
-        for (int32_t s : more) add(s);
+                for (SlotId s : ev.slots) add(s);
+        for (SlotId s : more) add(s);
     }
-    const std::vector<int32_t>& slots() const { return slots_; }
+    const std::vector<SlotId>& slots() const { return slots_; }
     void applied(const graph::Graph& g, const Event& ev, double at) {
         if (!ev.force) return;
         for (Entry& x : log_)
@@ -101,7 +101,7 @@ private:
         std::string path, how;
         double from, until;
     };
-    std::vector<int32_t> slots_;
+    std::vector<SlotId> slots_;
     std::vector<Entry> log_;
 };
 
@@ -247,7 +247,7 @@ int run(const Graph& g, const RunOptions& o, std::ostream& err, RunObserver* obs
     Tally tally(g);
     RecordTally counts(g);
 
-    ForceLog forces(o.events, link ? link->forceable() : std::vector<int32_t>{});
+    ForceLog forces(o.events, link ? link->forceable() : std::vector<SlotId>{});
     std::unique_ptr<TraceWriter> trace;
     if (trace_file.is_open()) {
         std::vector<TraceColumn> columns = trace_columns(g, o.select);

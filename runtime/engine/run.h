@@ -65,7 +65,7 @@ public:
     virtual void after_step(const Engine& e) = 0;
     // The slots its clients can force (the PLC link's fault block): the trace's `forced`
     // column watches them from the start.
-    virtual std::vector<int32_t> forceable() const { return {}; }
+    virtual std::vector<graph::SlotId> forceable() const { return {}; }
 };
 
 // What a run does, as `plant run`'s flags say it (app/run_flags.h reads them).

@@ -32,8 +32,8 @@ struct Runtime {
     Runtime(const graph::Graph& graph, const Options& opt);
 
     std::string_view str(int32_t name) const;
-    double* val(int32_t slot) { return st.values.data() + tab.value_adr[slot]; }
-    const double* val(int32_t slot) const { return st.values.data() + tab.value_adr[slot]; }
+    double* val(int32_t slot) { return st.values.data() + tab.value_adr[slot].v; }
+    const double* val(int32_t slot) const { return st.values.data() + tab.value_adr[slot].v; }
 
     // Marks a slot active for this step; each slot enters its list at most once.
     void activate(int32_t slot) {
@@ -89,7 +89,7 @@ void sense_bodies(Runtime& r);
 void act_body(Runtime& r, const graph::Comp& c, int32_t i);
 // Whether the value of an active input that moves the physics may be applied (bodies.cpp):
 // one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
-bool input_in_range(Runtime& r, int32_t slot);
+bool input_in_range(Runtime& r, graph::SlotId slot);
 void take_body_out(Runtime& r, int32_t body);
 void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
 void act_field(Runtime& r, const graph::Comp& c, int32_t i);
@@ -106,7 +106,7 @@ bool glob_match(std::string_view pattern, std::string_view text);
 // Plugin components (plugin.cpp): started once, sensing in phase 2, acting in phase 5.
 void start_plugins(Runtime& r);
 void sense_plugins(Runtime& r);
-void act_plugin(Runtime& r, int32_t plugin);
+void act_plugin(Runtime& r, graph::PluginId plugin);
 // The kinds on the kind table (plugin.cpp; each in kinds/NAME/run.cpp): their start, sense
 // and act_all hooks in the table's order; their act_one hooks through builtin_behaviour().
 void start_kinds(Runtime& r);

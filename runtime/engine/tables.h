@@ -35,7 +35,7 @@ struct Tables {
     using IdVector = graph::IdVector<IdT, T>;
 
     IdVector<graph::SlotId, uint8_t> slot_out;  // 1 for outputs
-    IdVector<graph::SlotId, int32_t> value_adr; // Slot::value_adr, packed: the hot lookup of every step
+    IdVector<graph::SlotId, graph::Adr<graph::Value>> value_adr; // Slot::value_adr, packed: the hot lookup of every step
     IdVector<graph::SlotId, uint8_t> slot_acts; // 1 for inputs of components that act in phase 5
     // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
     // every other slot.

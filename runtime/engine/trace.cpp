@@ -83,7 +83,7 @@ bool can_lose(const Graph& g) {
 
 TraceColumn lost_column() { return TraceColumn{TraceColumn::Kind::Lost, -1, 0, "lost"}; }
 
-TraceColumn forced_column(std::vector<int32_t> slots) {
+TraceColumn forced_column(std::vector<SlotId> slots) {
     TraceColumn c{TraceColumn::Kind::Forced, -1, 0, "forced", std::move(slots)};
     return c;
 }
@@ -141,8 +141,8 @@ void TraceWriter::row() {
         }
         case Kind::Forced: {
             std::string cell;
-            for (int32_t s : c.slots) {
-                const ForceMode m = e_.forced(SlotId(s));
+            for (SlotId s : c.slots) {
+                const ForceMode m = e_.forced(s);
                 if (m == ForceMode::None) continue;
                 cell += fmt::format("{}{}={}", cell.empty() ? "" : ";", e_.graph().slot_path(s),
                                     m == ForceMode::Stuck ? "stuck" : m == ForceMode::Open ? "open" : "invert");

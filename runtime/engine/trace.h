@@ -31,7 +31,7 @@ struct TraceColumn {
     int32_t id;     // slot, body or place
     int32_t index;  // component of a value, axis of a body
     std::string name;
-    std::vector<int32_t> slots = {};  // Forced: the slots that may be forced
+    std::vector<graph::SlotId> slots = {};  // Forced: the slots that may be forced
 
     graph::SlotId slot() const { return graph::SlotId(id); }
     graph::BodyId body() const { return graph::BodyId(id); }
@@ -48,7 +48,7 @@ std::vector<TraceColumn> trace_columns(const graph::Graph& g, TraceSelect sel);
 bool can_lose(const graph::Graph& g);
 TraceColumn lost_column();
 // The `forced` column over the slots some event forces (ids, once each, in order).
-TraceColumn forced_column(std::vector<int32_t> slots);
+TraceColumn forced_column(std::vector<graph::SlotId> slots);
 
 class TraceWriter {
 public:

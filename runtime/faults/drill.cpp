@@ -33,16 +33,16 @@ const engine::SlotTarget* find_slot(const engine::SlotIndex& slots, std::string_
 
 // The dynamic bodies a hand can take that `path` names: a body's component path, or an
 // object's path (and every object inside it: `line[0]` names every bottle of the line).
-std::vector<int32_t> hand_bodies(const graph::Graph& g, std::string_view path) {
-    std::vector<int32_t> out;
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+std::vector<graph::BodyId> hand_bodies(const graph::Graph& g, std::string_view path) {
+    std::vector<graph::BodyId> out;
+    for (graph::BodyId b : graph::ids_of(g.bodies)) {
         const graph::Body& body = g.bodies[b];
         if (body.mode != graph::BodyMode::Dynamic) continue;
-        const int32_t comp = body.comp.v;
-        const std::string_view owner = g.str(g.dos[size_t(g.comps[size_t(comp)].owner)].path);
+        const graph::CompId comp = body.comp;
+        const std::string_view owner = g.str(g.dos[g.comps[comp].owner].path);
         const bool inside = owner == path || (owner.size() > path.size() && owner.starts_with(path) &&
                                               (owner[path.size()] == '.' || owner[path.size()] == '['));
-        if (inside || g.comp_path(comp) == path) out.push_back(int32_t(b));
+        if (inside || g.comp_path(comp) == path) out.push_back(b);
     }
     return out;
 }
@@ -218,8 +218,8 @@ void Drills::due(engine::Engine& e, std::vector<Fired>& out) {
     for (size_t i = 0; i < drills_.size(); ++i) {
         Drill& d = drills_[i];
         if (!d.watched) {  // read every step from now on (watching changes no result)
-            for (int32_t s : d.when_slots) e.watch(graph::SlotId(s));
-            for (int32_t s : d.repair_slots) e.watch(graph::SlotId(s));
+            for (graph::SlotId s : d.when_slots) e.watch(s);
+            for (graph::SlotId s : d.repair_slots) e.watch(s);
             d.watched = true;
         }
         if (d.state == Drill::State::Waiting) {
@@ -231,8 +231,8 @@ void Drills::due(engine::Engine& e, std::vector<Fired>& out) {
             } else if (d.when_void) {
                 // The times the slot was active, one look per step (the last step's).
                 if (e.steps() > d.counted_to && e.steps() > 0) {
-                    for (int32_t s : d.when_slots)
-                        if (e.active(graph::SlotId(s))) {
+                    for (graph::SlotId s : d.when_slots)
+                        if (e.active(s)) {
                             ++d.count;
                             break;
                         }
@@ -240,7 +240,7 @@ void Drills::due(engine::Engine& e, std::vector<Fired>& out) {
                 }
                 fire = double(d.count) >= d.threshold;
             } else {
-                for (int32_t s : d.when_slots) fire = fire || e.value(graph::SlotId(s))[0] >= d.threshold;
+                for (graph::SlotId s : d.when_slots) fire = fire || e.value(s)[0] >= d.threshold;
             }
             if (!fire) continue;
             Fired f{d.event, i, false};
@@ -253,16 +253,16 @@ void Drills::due(engine::Engine& e, std::vector<Fired>& out) {
         }
         if (d.state != Drill::State::Holding || d.event.slots.empty()) continue;
         // Released by someone (the instructor, a drill, a link): the drill ends.
-        if (e.forced(graph::SlotId(d.event.slots[0])) == engine::ForceMode::None) {
+        if (e.forced(d.event.slots[0]) == engine::ForceMode::None) {
             d.state = Drill::State::Released;
             d.ended = double(e.steps()) * e.dt();
             continue;
         }
         bool repaired = false;
-        for (int32_t s : d.repair_slots) repaired = repaired || e.active(graph::SlotId(s));
+        for (graph::SlotId s : d.repair_slots) repaired = repaired || e.active(s);
         if (d.repair_hand) {  // held by a hand at an earlier boundary, let go of by this one
             bool held = false;
-            for (int32_t b : d.repair_bodies) held = held || e.held(graph::BodyId(b));
+            for (graph::BodyId b : d.repair_bodies) held = held || e.held(b);
             repaired = d.hand_held && !held;
             d.hand_held = d.hand_held || held;
         }

@@ -31,17 +31,17 @@ struct Drill {
     Trigger trigger = Trigger::Now;
     double at = 0;                    // At: plant time
     std::string when_path;            // When: the slot (or port) watched
-    std::vector<int32_t> when_slots;  //   its slots
+    std::vector<graph::SlotId> when_slots;  //   its slots
     bool when_void = false;           //   a void slot: the times it was active so far
     double threshold = 0;             //   fires when the value (or count) is >= threshold
     engine::Event event;              // what it does (time set when it fires)
     std::string repair_path;          // "" none: an input whose operation releases the fault
-    std::vector<int32_t> repair_slots;
+    std::vector<graph::SlotId> repair_slots;
     // `repaired by hand PATH`: the fault is released once a hand has let go of a part PATH
     // names (an object, the objects inside it, or a body: their dynamic bodies), having held
     // it since the fault was set — the part taken and put back, or taken off the line.
     bool repair_hand = false;
-    std::vector<int32_t> repair_bodies;
+    std::vector<graph::BodyId> repair_bodies;
     bool shown = false;  // trainees see it (its force, its release); hidden by default
     std::string text;    // the line as written
     std::string by, role;  // who scheduled it ("drill file", "page 2"), their role

@@ -49,8 +49,8 @@ constexpr std::array kEntries = {
               true},
 };
 
-bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem);
-void schedule_faults(const graph::Graph& g, int32_t plugin, std::vector<engine::Event>& out);
+bool check_faults(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem);
+void schedule_faults(const graph::Graph& g, graph::PluginId plugin, std::vector<engine::Event>& out);
 
 constexpr graph::KindDesc kDesc{"faults",
                                 "faults scheduled in the plant: slots forced and released at times (docs/plc.md)",
@@ -59,7 +59,7 @@ constexpr graph::KindDesc kDesc{"faults",
                                 kEntries,
                                 graph::PluginPhase::None,
                                 graph::PluginPhase::None,
-                                check_faults};
+                                graph::plugin_check<check_faults>};
 
 ForceMode mode_of(std::string_view word) {
     return word == "stuck" ? ForceMode::Stuck : word == "open" ? ForceMode::Open : word == "invert" ? ForceMode::Invert
@@ -72,8 +72,8 @@ const graph::PluginParam* option(const graph::Graph& g, const graph::PluginEntry
 
 // A release after its force; a stuck value of the slot's type (the compiler checked it
 // against the slot; a graph written by hand is checked here).
-bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
-    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
+bool check_faults(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
+    const graph::Plugin& p = g.plugins[plugin];
     for (int32_t k = 0; k < p.entry_num; ++k) {
         const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
         const std::string_view word = g.str(e.word);
@@ -100,15 +100,15 @@ bool check_faults(const graph::Graph& g, int32_t plugin, graph::PluginProblem& p
 
 // One event per entry, named by the shortest path to its slots (what the entry wrote, or
 // the slot a port forwards to), and a release at `until`.
-void schedule_faults(const graph::Graph& g, int32_t plugin, std::vector<engine::Event>& out) {
-    const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
+void schedule_faults(const graph::Graph& g, graph::PluginId plugin, std::vector<engine::Event>& out) {
+    const graph::Plugin& p = g.plugins[plugin];
     const engine::SlotIndex index = engine::slot_index(g);
     for (int32_t k = 0; k < p.entry_num; ++k) {
         const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
         const graph::PluginParam* u = option(g, e, until);
         engine::Event ev;
         ev.time = e.key;
-        for (int32_t s = 0; s < e.slot_num; ++s) ev.slots.push_back(g.plugin_entry_slots[e.slot_adr + s].v);
+        for (const graph::PluginEntrySlot& s : g.plugin_entry_slots.slice(e.slot_adr, e.slot_num)) ev.slots.push_back(s.v);
         if (ev.slots.empty()) continue;
         ev.path = engine::path_of(index, ev.slots);
         if (ev.path.empty()) ev.path = g.slot_path(ev.slots[0]);

@@ -43,7 +43,7 @@ std::vector<Operable> operable_inputs(const graph::Graph& g) {
             const graph::PluginEntry& e = g.plugin_entries[p.entry_adr + k];
             Operable o;
             o.key = e.key;
-            for (int32_t s = 0; s < e.slot_num; ++s) o.slots.push_back(g.plugin_entry_slots[e.slot_adr + s].v);
+            for (const graph::PluginEntrySlot& s : g.plugin_entry_slots.slice(e.slot_adr, e.slot_num)) o.slots.push_back(s.v);
             if (label_option < e.param_num)
                 if (const graph::Name t = g.plugin_params[e.param_adr + label_option].text; t.id >= 0)
                     o.label = std::string(g.str(t));

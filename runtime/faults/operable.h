@@ -24,7 +24,7 @@ void register_operable_kind();
 
 struct Operable {
     double key = 0;              // its place in the list
-    std::vector<int32_t> slots;  // the inputs it names
+    std::vector<graph::SlotId> slots;  // the inputs it names
     std::string label;           // "" when not given
 };
 // Every `operable` entry of the graph, in key order (then as written).

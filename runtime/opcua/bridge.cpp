@@ -177,7 +177,7 @@ struct Bridge::Impl {
             if (std::fabs(v) > 9007199254740992.0) return status::BadOutOfRange;
         }
         if (n.dir == graph::Dir::In)  // graph/range.h: a belt's speed within 100 km/s, ...
-            for (int32_t s : n.slots)
+            for (graph::SlotId s : n.slots)
                 if (!graph::input_range(g, s, &v).empty()) return status::BadOutOfRange;
         return status::Good;
     }

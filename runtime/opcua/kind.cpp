@@ -37,10 +37,10 @@ constexpr std::array kEntries = {
                      Dir::In, kNodeTypes, kNodeOptions, int32_t(kMaxNodeId), graph::EntryKey::Index, true},
 };
 
-bool check_opcua(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem);
+bool check_opcua(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem);
 
 constexpr graph::KindDesc kDesc{kWord, "an OPC UA server: the plant's slots as nodes of an address space (docs/plc.md)", {},
-                                kParams, kEntries, graph::PluginPhase::None, graph::PluginPhase::None, check_opcua};
+                                kParams, kEntries, graph::PluginPhase::None, graph::PluginPhase::None, graph::plugin_check<check_opcua>};
 
 std::string text(const graph::Graph& g, const graph::Plugin& p, int k) {
     return std::string(g.str(g.plugin_params[p.param_adr + k].text));
@@ -54,7 +54,7 @@ int port_of(const graph::Graph& g, const graph::Plugin& p) {
 }
 
 // Another link that serves the same port: an opcua link, or a Modbus link (its `port`).
-std::string port_clash(const graph::Graph& g, int32_t plugin, int port) {
+std::string port_clash(const graph::Graph& g, graph::PluginId plugin, int port) {
     const graph::KindDesc* modbus = graph::find_plugin("modbus");
     int modbus_port = -1;
     for (size_t k = 0; modbus && k < modbus->params.size(); ++k)
@@ -72,7 +72,7 @@ std::string port_clash(const graph::Graph& g, int32_t plugin, int port) {
     return "";
 }
 
-bool check_opcua(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_opcua(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     Link link;
     NodeError error;
     if (!link_of(g, plugin, link, error)) {
@@ -92,17 +92,17 @@ bool check_opcua(const graph::Graph& g, int32_t plugin, graph::PluginProblem& pr
 }
 
 // The documentation of a slot as its component kind declares it ("" for none).
-std::string slot_doc(const graph::Graph& g, int32_t slot) {
-    const graph::Slot& s = g.slots[graph::SlotId(slot)];
+std::string slot_doc(const graph::Graph& g, graph::SlotId slot) {
+    const graph::Slot& s = g.slots[slot];
     const graph::Comp& c = g.comps[s.comp];
-    const std::span<const graph::SlotSpec> specs = graph::slots_of(g, s.comp.v);
-    const int32_t k = slot - c.slot_adr.v;
+    const std::span<const graph::SlotSpec> specs = graph::slots_of(g, s.comp);
+    const int32_t k = slot.v - c.slot_adr.v;  // which of its kind's slots
     return k >= 0 && k < graph::count_of(specs) ? std::string(specs[k].doc) : std::string();
 }
 
 }  // namespace
 
-bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error) {
+bool link_of(const graph::Graph& g, graph::PluginId plugin, Link& out, NodeError& error) {
     const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     out = Link{};
     out.name = std::string(g.str(g.comps[p.comp].name));
@@ -130,12 +130,12 @@ bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error)
         const graph::PluginEntry& pe = g.plugin_entries[p.entry_adr + k];
         Node n;
         n.id = uint32_t(pe.key);
-        for (int32_t s = 0; s < pe.slot_num; ++s) n.slots.push_back(g.plugin_entry_slots[pe.slot_adr + s].v);
+        for (const graph::PluginEntrySlot& s : g.plugin_entry_slots.slice(pe.slot_adr, pe.slot_num)) n.slots.push_back(s.v);
         if (n.slots.empty()) {
             error = {k, "an entry that names no slot"};
             return false;
         }
-        const graph::Slot& first = g.slots[graph::SlotId(n.slots[0])];
+        const graph::Slot& first = g.slots[n.slots[0]];
         n.type = first.type;
         n.dir = first.dir;
         n.path = engine::path_of(index, n.slots);
@@ -175,7 +175,7 @@ std::vector<Link> links_from_graph(const graph::Graph& g) {
         if (g.str(g.plugins[p].kind) != kWord) continue;
         Link l;
         NodeError e;
-        link_of(g, p.v, l, e);  // a problem shows in check_link or the kind's check
+        link_of(g, p, l, e);  // a problem shows in check_link or the kind's check
         out.push_back(std::move(l));
     }
     return out;

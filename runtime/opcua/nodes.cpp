@@ -98,7 +98,7 @@ std::vector<NodeError> check_link(const Link& link, const graph::Graph& g) {
                                        "elsewhere Basic256Sha256",
                                        link.host)});
     std::map<uint32_t, size_t> ids;
-    std::map<std::vector<int32_t>, size_t> slots;
+    std::map<std::vector<graph::SlotId>, size_t> slots;
     std::map<std::string, size_t> objects;  // every object a node's path passes through
     for (size_t i = 0; i < link.nodes.size(); ++i) {
         std::string prefix;
@@ -111,7 +111,7 @@ std::vector<NodeError> check_link(const Link& link, const graph::Graph& g) {
         const Node& n = link.nodes[i];
         auto error = [&](std::string m) { out.push_back({int32_t(i), std::move(m)}); };
         bool bad_slot = n.slots.empty();
-        for (int32_t s : n.slots) bad_slot |= s < 0 || size_t(s) >= g.slots.size();
+        for (graph::SlotId s : n.slots) bad_slot |= !g.slots.contains(s);
         if (bad_slot) {
             error(fmt::format("'{}': a slot id out of the graph's range", n.path));
             continue;

@@ -28,7 +28,7 @@ struct Node {
     uint32_t id = 0;                  // ns=<plant namespace>;i=id
     std::string path;                 // the slot's (or port's) dotted path
     std::vector<std::string> browse;  // its steps: objects, then the node's browse name
-    std::vector<int32_t> slots;       // what it feeds (an input port: several) or shows
+    std::vector<graph::SlotId> slots;       // what it feeds (an input port: several) or shows
     graph::SlotType type = graph::SlotType::Bool;
     graph::Dir dir = graph::Dir::Out;
     NodeClass cls = NodeClass::Variable;
@@ -76,7 +76,7 @@ struct NodeError {
 
 // The link of the `opcua` component `plugin` (a row of Graph::plugins); false with `error`
 // for what makes no link at all (a bad endpoint, security or unit word).
-bool link_of(const graph::Graph& g, int32_t plugin, Link& out, NodeError& error);
+bool link_of(const graph::Graph& g, graph::PluginId plugin, Link& out, NodeError& error);
 // What two nodes (or a node and the rest of the plant) cannot share: a NodeId, a slot, a
 // browse path; an id of 0; a unit on a slot that is not real, or of another dimension.
 std::vector<NodeError> check_link(const Link& link, const graph::Graph& g);

@@ -80,8 +80,8 @@ bool ServerLink::wait(std::string& error) {
     return false;
 }
 
-std::vector<int32_t> ServerLink::forceable() const {
-    std::vector<int32_t> out;
+std::vector<graph::SlotId> ServerLink::forceable() const {
+    std::vector<graph::SlotId> out;
     for (const Node& n : bridge_.link().nodes) out.insert(out.end(), n.slots.begin(), n.slots.end());
     return out;
 }

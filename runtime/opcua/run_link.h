@@ -41,7 +41,7 @@ public:
     void before_step(engine::Engine& e) override { bridge_.before_step(e); }
     std::span<const engine::Event* const> applied() const override { return bridge_.applied(); }
     void after_step(const engine::Engine& e) override { bridge_.after_step(e); }
-    std::vector<int32_t> forceable() const override;  // every node's slots: Link.Force reaches them
+    std::vector<graph::SlotId> forceable() const override;  // every node's slots: Link.Force reaches them
     Bridge& bridge() { return bridge_; }
     // Starts the server process and waits until it listens; false with `error`.
     bool start(const std::string& config, std::string& ready, std::string& error);

@@ -117,14 +117,14 @@ constexpr std::array kParams = {
 }  // namespace display
 
 // ---- checks: the element inside a panel, its parameters in range ----
-const graph::PluginParam& param(const graph::Graph& g, int32_t plugin, int k) {
-    return g.plugin_params[g.plugins[graph::PluginId(plugin)].param_adr + k];
+const graph::PluginParam& param(const graph::Graph& g, graph::PluginId plugin, int k) {
+    return g.plugin_params[g.plugins[plugin].param_adr + k];
 }
 
 // An element's component is named PANEL.NAME, PANEL a panel of the same object (the
 // compiler makes it so; a graph written by hand is checked here).
-bool inside_panel(const graph::Graph& g, int32_t plugin, std::string_view word, graph::PluginProblem& problem) {
-    const graph::Comp& c = g.comps[g.plugins[graph::PluginId(plugin)].comp];
+bool inside_panel(const graph::Graph& g, graph::PluginId plugin, std::string_view word, graph::PluginProblem& problem) {
+    const graph::Comp& c = g.comps[g.plugins[plugin].comp];
     const std::string_view name = g.str(c.name);
     const size_t dot = name.rfind('.');
     if (dot != std::string_view::npos)
@@ -139,7 +139,7 @@ bool inside_panel(const graph::Graph& g, int32_t plugin, std::string_view word, 
     return false;
 }
 
-bool color_known(const graph::Graph& g, int32_t plugin, int k, std::string_view word, graph::PluginProblem& problem) {
+bool color_known(const graph::Graph& g, graph::PluginId plugin, int k, std::string_view word, graph::PluginProblem& problem) {
     const std::string_view color = g.str(param(g, plugin, k).text);
     if (color.empty()) return true;
     for (std::string_view c : kColors)
@@ -148,17 +148,17 @@ bool color_known(const graph::Graph& g, int32_t plugin, int k, std::string_view 
     return false;
 }
 
-bool check_button(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_button(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     return inside_panel(g, plugin, "button", problem) && color_known(g, plugin, 1, "button", problem);
 }
-bool check_estop(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_estop(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     return inside_panel(g, plugin, "estop", problem);
 }
-bool check_lamp(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_lamp(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     return inside_panel(g, plugin, "lamp", problem) && color_known(g, plugin, 1, "lamp", problem);
 }
 
-bool check_selector(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_selector(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     if (!inside_panel(g, plugin, "selector", problem)) return false;
     const double n = param(g, plugin, selector::positions).num;
     if (n != 2 && n != 3) {
@@ -181,7 +181,7 @@ bool check_selector(const graph::Graph& g, int32_t plugin, graph::PluginProblem&
     return true;
 }
 
-bool check_display(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_display(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     if (!inside_panel(g, plugin, "display", problem)) return false;
     const double d = param(g, plugin, display::digits).num;
     if (d < 0 || d > 6 || d != std::floor(d)) {
@@ -279,19 +279,19 @@ constexpr KindDesc kPanel{"panel",   "an operator panel: buttons, selectors, an 
                           true};  // placed: drawn in the scene as well as on the page
 constexpr KindDesc kButton{"button", "a push button of a panel: down while held",
                            button::kSlots, button::kParams, {}, PluginPhase::None, PluginPhase::Actuators,
-                           check_button, {}, "panel"};
+                           graph::plugin_check<check_button>, {}, "panel"};
 constexpr KindDesc kEstop{"estop", "an emergency stop of a panel: latches when struck, released by a reset",
                           estop::kSlots, estop::kParams, {}, PluginPhase::Sensors, PluginPhase::Actuators,
-                          check_estop, {}, "panel"};
+                          graph::plugin_check<check_estop>, {}, "panel"};
 constexpr KindDesc kSelector{"selector", "a selector switch of a panel: 2 or 3 positions",
                              selector::kSlots, selector::kParams, {}, PluginPhase::Sensors, PluginPhase::Actuators,
-                             check_selector, {}, "panel"};
+                             graph::plugin_check<check_selector>, {}, "panel"};
 constexpr KindDesc kLamp{"lamp", "a lamp of a panel: off, on or blinking",
                          lamp::kSlots, lamp::kParams, {}, PluginPhase::None, PluginPhase::Actuators,
-                         check_lamp, {}, "panel"};
+                         graph::plugin_check<check_lamp>, {}, "panel"};
 constexpr KindDesc kDisplay{"display", "a numeric display of a panel",
                             display::kSlots, display::kParams, {}, PluginPhase::None, PluginPhase::Actuators,
-                            check_display, {}, "panel"};
+                            graph::plugin_check<check_display>, {}, "panel"};
 
 }  // namespace
 

@@ -45,10 +45,10 @@ constexpr std::array kEntries = {
                      kRegisterOptions, kMaxAddress},
 };
 
-bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem);
+bool check_link(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem);
 
 constexpr graph::KindDesc kDesc{kWord, "a Modbus TCP link: the plant's slots as a PLC's registers (docs/plc.md)", {},
-                                kParams, kEntries, graph::PluginPhase::None, graph::PluginPhase::None, check_link};
+                                kParams, kEntries, graph::PluginPhase::None, graph::PluginPhase::None, graph::plugin_check<check_link>};
 
 Table table_of(std::string_view word) {
     if (word == "coil") return Table::Coil;
@@ -72,7 +72,7 @@ Encoding default_encoding(const Entry& e, bool scaled) {
     }
 }
 
-bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& problem) {
+bool check_link(const graph::Graph& g, graph::PluginId plugin, graph::PluginProblem& problem) {
     Map m;
     if (!link_map(g, plugin, m, problem)) return false;
     if (const std::vector<MapError> errors = check_map(m, g); !errors.empty()) {
@@ -93,7 +93,7 @@ bool check_link(const graph::Graph& g, int32_t plugin, graph::PluginProblem& pro
 
 }  // namespace
 
-bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProblem& problem) {
+bool link_map(const graph::Graph& g, graph::PluginId plugin, Map& out, graph::PluginProblem& problem) {
     const graph::Plugin& p = g.plugins[graph::PluginId(plugin)];
     out = Map{};
     out.port = int(g.plugin_params[p.param_adr + port].num);
@@ -108,7 +108,7 @@ bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProb
         Entry e;
         e.table = table_of(g.str(pe.word));
         e.address = int32_t(pe.key);
-        for (int32_t s = 0; s < pe.slot_num; ++s) e.slots.push_back(g.plugin_entry_slots[pe.slot_adr + s].v);
+        for (const graph::PluginEntrySlot& s : g.plugin_entry_slots.slice(pe.slot_adr, pe.slot_num)) e.slots.push_back(s.v);
         if (e.slots.empty()) return fail("an entry that names no slot");
         const graph::Slot& first = g.slots[graph::SlotId(e.slots[0])];
         e.type = first.type;
@@ -153,7 +153,7 @@ Map map_from_graph(const graph::Graph& g, int* links) {
     for (graph::PluginId p : graph::ids_of(g.plugins)) {
         if (g.str(g.plugins[p].kind) != kWord) continue;
         graph::PluginProblem problem;
-        if (n++ == 0) link_map(g, p.v, m, problem);  // a problem shows in check_map
+        if (n++ == 0) link_map(g, p, m, problem);  // a problem shows in check_map
     }
     if (links) *links = n;
     return m;

@@ -26,6 +26,6 @@ void register_modbus_kind();
 // The map of the link component `plugin` (a row of Graph::plugins of kind modbus), its
 // declared port (0: none) and host (""): false with `problem` when an entry's options do
 // not make an encoding. check_map has not run on it.
-bool link_map(const graph::Graph& g, int32_t plugin, Map& out, graph::PluginProblem& problem);
+bool link_map(const graph::Graph& g, graph::PluginId plugin, Map& out, graph::PluginProblem& problem);
 
 }  // namespace plant::plc

@@ -106,7 +106,7 @@ std::vector<MapError> check_map(const Map& map, const graph::Graph& g) {
             continue;
         }
         bool bad_slot = false;
-        for (int32_t s : e.slots) bad_slot |= s < 0 || size_t(s) >= g.slots.size();
+        for (graph::SlotId s : e.slots) bad_slot |= !g.slots.contains(s);
         if (bad_slot) {
             error(fmt::format("'{}': a slot id out of the graph's range", e.path));
             continue;

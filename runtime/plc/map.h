@@ -34,7 +34,7 @@ struct Entry {
     Table table = Table::Coil;
     int32_t address = 0;           // 0-based, in its table
     std::string path;              // the slot's (or port's) dotted path
-    std::vector<int32_t> slots;    // what the path feeds (an input port: several) or shows
+    std::vector<graph::SlotId> slots;    // what the path feeds (an input port: several) or shows
     graph::SlotType type = graph::SlotType::Bool;
     graph::Dir dir = graph::Dir::In;
     Encoding encoding = Encoding::Bit;

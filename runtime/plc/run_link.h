@@ -28,16 +28,16 @@ public:
     void before_step(engine::Engine& e) override { server_.before_step(e); }
     std::span<const engine::Event* const> applied() const override { return server_.applied(); }
     void after_step(const engine::Engine& e) override { server_.after_step(e); }
-    std::vector<int32_t> forceable() const override { return forceable_; }  // the fault block's reach
+    std::vector<graph::SlotId> forceable() const override { return forceable_; }  // the fault block's reach
     void set_lockstep(bool on) { lockstep_ = on; }
 
 private:
-    static std::vector<int32_t> mapped_slots(const Map& m) {
-        std::vector<int32_t> out;
+    static std::vector<graph::SlotId> mapped_slots(const Map& m) {
+        std::vector<graph::SlotId> out;
         for (const Entry& e : m.entries) out.insert(out.end(), e.slots.begin(), e.slots.end());
         return out;
     }
-    std::vector<int32_t> forceable_;
+    std::vector<graph::SlotId> forceable_;
     Server server_;
     bool lockstep_ = false;
 };

@@ -58,7 +58,7 @@ struct Client {
 // Whether a written value stays within the range of the physics it moves (graph/range.h: a
 // belt's speed within 100 km/s): out of it, it is refused like a value that is not finite.
 bool in_range(const engine::Engine& e, const engine::Event& ev, double v) {
-    for (int32_t s : ev.slots)
+    for (graph::SlotId s : ev.slots)
         if (!graph::input_range(e.graph(), s, &v).empty()) return false;
     return true;
 }

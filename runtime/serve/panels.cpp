@@ -29,16 +29,16 @@ const PanelElement* panel_element(std::string_view kind) {
     return nullptr;
 }
 
-int32_t panel_slot(const graph::Graph& g, const graph::Comp& c, std::string_view name) {
+graph::SlotId panel_slot(const graph::Graph& g, const graph::Comp& c, std::string_view name) {
     for (graph::SlotId s : graph::children(c.slot_adr, c.slot_num))
-        if (g.str(g.slots[s].name) == name) return s.v;
-    return -1;
+        if (g.str(g.slots[s].name) == name) return s;
+    return {};
 }
 
 // Calls f(plugin row, element or nullptr for the panel) over every panel and its elements.
 template <class F>
 void each_panel_row(const graph::Graph& g, F f) {
-    for (size_t p = 0; p < g.plugins.size(); ++p) {
+    for (graph::PluginId p : graph::ids_of(g.plugins)) {
         const std::string_view kind = g.str(g.plugins[p].kind);
         if (kind == "panel") f(p, nullptr);
         else if (const PanelElement* e = panel_element(kind)) f(p, e);
@@ -49,9 +49,9 @@ void each_panel_row(const graph::Graph& g, F f) {
 
 nlohmann::json panels_json(const graph::Graph& g) {
     nlohmann::json panels = nlohmann::json::array();
-    each_panel_row(g, [&](size_t p, const PanelElement* e) {
+    each_panel_row(g, [&](graph::PluginId p, const PanelElement* e) {
         const graph::Plugin& pl = g.plugins[p];
-        const int32_t comp = pl.comp.v;
+        const graph::CompId comp = pl.comp;
         auto param = [&](int k) -> const graph::PluginParam& { return g.plugin_params[pl.param_adr + k]; };
         if (!e) {
             panels.push_back({{"path", g.comp_path(comp)},
@@ -80,10 +80,10 @@ nlohmann::json panels_json(const graph::Graph& g) {
 nlohmann::json panel_values(const engine::Engine& e) {
     const graph::Graph& g = e.graph();
     nlohmann::json values = nlohmann::json::array();
-    each_panel_row(g, [&](size_t p, const PanelElement* el) {
+    each_panel_row(g, [&](graph::PluginId p, const PanelElement* el) {
         if (!el) return;
-        const int32_t s = panel_slot(g, g.comps[g.plugins[p].comp], el->shown);
-        values.push_back(s >= 0 ? e.value(graph::SlotId(s))[0] : 0.0);
+        const graph::SlotId s = panel_slot(g, g.comps[g.plugins[p].comp], el->shown);
+        values.push_back(s.valid() ? e.value(s)[0] : 0.0);
     });
     return values;
 }

@@ -150,7 +150,7 @@ void Player::note_force(const engine::Event& ev, const std::string& line, const 
     // A force on a slot replaces any earlier one on it; a release ends it.
     std::erase_if(forces_, [&](const ForceNote& n) {
         return std::any_of(n.slots.begin(), n.slots.end(),
-                           [&](int32_t s) { return std::find(ev.slots.begin(), ev.slots.end(), s) != ev.slots.end(); });
+                           [&](graph::SlotId s) { return std::find(ev.slots.begin(), ev.slots.end(), s) != ev.slots.end(); });
     });
     if (ev.mode == engine::ForceMode::None) return;
     // How, as the events-file line says it after the path ("open", "stuck 0.25").

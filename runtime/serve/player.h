@@ -144,7 +144,7 @@ private:
     std::atomic<uint64_t> history_version_{0};
     struct ForceNote {
         std::string path, how, by;
-        std::vector<int32_t> slots;
+        std::vector<graph::SlotId> slots;
         double since = 0;
         bool shown = false;
     };

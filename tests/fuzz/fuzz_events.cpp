@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         plant::engine::Event ev2;
         if (!plant::engine::parse_event(g, f.idx, back, ev2, error)) plant::fuzz::broken("a formatted event does not parse");
         if (ev2.slots != ev.slots || ev2.force != ev.force || ev2.mode != ev.mode || ev2.hand != ev.hand ||
-            ev2.target != ev.target)
+            ev2.body != ev.body || ev2.object != ev.object)
             plant::fuzz::broken("an event does not round-trip");
         if (!e) e = std::make_unique<plant::engine::Engine>(g);
         plant::engine::apply_event(*e, ev);

@@ -36,7 +36,7 @@ struct Link {
             x.table = t;
             x.address = a;
             x.path = "p";
-            x.slots = {0};
+            x.slots = {plant::graph::SlotId(0)};
             x.type = type;
             x.dir = d;
             x.encoding = e;

@@ -68,7 +68,7 @@ struct Linking {
     // The component's row in its kind's table (its detail), as that table's id: row<Joint>().
     template <class R>
     graph::Id<R> row() const {
-        return graph::Id<R>(rec.detail);
+        return graph::detail_of<R>(rec);
     }
     const ast::Property* prop(const char* n) const;
     // The component a reference property names, "" when it does not evaluate to a name.

@@ -31,7 +31,7 @@ int put_comp(Graph& g, int owner, CompKind kind, std::string_view name, int deta
     c.kind = kind;
     c.owner = DoId(owner);
     c.slot_adr = next_adr(g.slots);
-    c.detail = detail;
+    c.detail.v = detail;
     g.comps.push_back(c);
     int id = static_cast<int>(g.comps.size()) - 1;
     for (const SlotSpec& s : fixed_slots(kind)) put_slot(g, id, s.name, s.type, s.dir);

@@ -22,7 +22,7 @@ Graph plant_graph() {
 std::vector<double> values_of(const Graph& g, int32_t slot) {
     const Slot& s = g.slots[size_t(slot)];
     std::vector<double> out;
-    for (int i = 0; i < slot_width(s.type); ++i) out.push_back(g.values[size_t(s.value_adr + i)].v);
+    for (int i = 0; i < slot_width(s.type); ++i) out.push_back(g.values[s.value_adr + i].v);
     return out;
 }
 
@@ -65,7 +65,7 @@ TEST_CASE("add_slot: after the fixed ones, value storage by type with its start 
     const SlotId p = add_slot(g, c, "p", SlotType::Pose, Dir::Out);
     CHECK(v == g.comps[size_t(c)].slot_adr + fixed);
     CHECK(g.comps[size_t(c)].slot_num == fixed + 5);
-    CHECK(g.slots[size_t(v)].value_adr == -1);
+    CHECK(!g[v].value_adr.valid());
     CHECK(values_of(g, b) == std::vector<double>{0});
     CHECK(values_of(g, r) == std::vector<double>{-1});  // no object
     CHECK(values_of(g, q) == std::vector<double>{0, 0, 0, 1});
@@ -75,7 +75,7 @@ TEST_CASE("add_slot: after the fixed ones, value storage by type with its start 
     slot_value(g, b) = 1;
     CHECK(values_of(g, b) == std::vector<double>{1});
     // Value storage is contiguous in slot order.
-    CHECK(g.slots[size_t(p)].value_adr + 7 == int32_t(g.values.size()));
+    CHECK(g[p].value_adr + 7 == next_id(g.values));
 }
 
 TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per type") {
@@ -104,10 +104,10 @@ TEST_CASE("a graph built through the API keeps the loader's promises") {
     Graph g = plant_graph();
     const CompId t = add_comp(g, DoId(0), CompKind::Timer, "t");
     g.timers.push_back({t, 0.5, true, true});
-    g.comps[size_t(t)].detail = 0;
+    g[t].detail = Detail(Id<Timer>(0));
     const CompId l = add_comp(g, DoId(0), CompKind::Label, "l");
     g.labels.push_back({l, g.intern("")});
-    g.comps[size_t(l)].detail = 0;
+    g[l].detail = Detail(Id<Label>(0));
     const SlotId tick(g[t].slot_adr + timerslot::tick);
     const SlotId stop(g[t].slot_adr + timerslot::stop);
     const FlowId f = add_flow(g, tick, stop, Cond::Source, true);

@@ -18,15 +18,15 @@ using namespace plant::graph;
 namespace {
 
 int32_t slot_at_path(const Graph& g, const std::string& path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    for (SlotId s : ids_of(g.slots))
+        if (g.slot_path(s) == path) return s.v;
     FAIL("no slot " << path);
     return -1;
 }
 
-std::vector<std::string> paths(const Graph& g, const std::vector<int32_t>& slots) {
+std::vector<std::string> paths(const Graph& g, const std::vector<SlotId>& slots) {
     std::vector<std::string> out;
-    for (int32_t s : slots) out.push_back(g.slot_path(s));
+    for (SlotId s : slots) out.push_back(g.slot_path(s));
     return out;
 }
 
@@ -38,15 +38,15 @@ TEST_CASE("network: a dynamic end is every access target, a dynamic source also 
     REQUIRE(c.ok());
     const Graph& g = c.graph;
     const int32_t object = slot_at_path(g, "seen.object");
-    std::vector<int32_t> read, written;
+    std::vector<SlotId> read, written;
     for (const Flow& f : g.flows) {
         if (f.from_access >= 0) {
             CHECK(f.from == object);  // the contract: from holds the reference slot
-            each_read_slot(g, f, [&](int32_t s) { read.push_back(s); });
+            each_read_slot(g, f, [&](SlotId s) { read.push_back(s); });
         }
         if (f.to_access >= 0) {
             CHECK(f.to == object);
-            each_written_slot(g, f, [&](int32_t s) { written.push_back(s); });
+            each_written_slot(g, f, [&](SlotId s) { written.push_back(s); });
         }
     }
     CHECK(paths(g, read) == std::vector<std::string>{"seen.object", "t1.code.value", "t2.code.value"});

@@ -54,6 +54,7 @@ struct Filler {
     void operator()(int32_t& v) { v = pick(kInts); }
     template <class R, IdRole Role>
     void operator()(TypedId<R, Role>& id) { (*this)(id.v); }
+    void operator()(Detail& d) { (*this)(d.v); }
     void operator()(double& v) { v = pick(kDoubles); }
     void operator()(bool& v) { v = flips++ % 2 == 0; }
     template <class E>
@@ -86,13 +87,13 @@ Graph tiny_graph() {
                      .comp_adr = Adr<Comp>(1), .comp_num = 1, .pool = CompId{},
                      .pose = {{1, 0.1, 0}, {0, 0, 0, 1}}, .src = {0, 12, 3}});
     g.comps.push_back({.name = g.intern("clock"), .kind = CompKind::Timer, .owner = DoId(0),
-                       .slot_adr = Adr<Slot>(0), .slot_num = 1, .detail = 0, .src = {0, 20, 5}});
+                       .slot_adr = Adr<Slot>(0), .slot_num = 1, .detail = Detail(Id<Timer>(0)), .src = {0, 20, 5}});
     g.comps.push_back({.name = g.intern("conveyor"), .kind = CompKind::Field, .owner = DoId(1),
-                       .slot_adr = Adr<Slot>(1), .slot_num = 1, .detail = 0, .src = {0, 13, 5}});
+                       .slot_adr = Adr<Slot>(1), .slot_num = 1, .detail = Detail(FieldId(0)), .src = {0, 13, 5}});
     g.slots.push_back({.name = g.intern("tick"), .type = SlotType::Void, .dir = Dir::Out,
-                       .comp = CompId(0), .value_adr = -1, .src = {0, 20, 5}});
+                       .comp = CompId(0), .value_adr = Adr<Value>{}, .src = {0, 20, 5}});
     g.slots.push_back({.name = g.intern("set_speed"), .type = SlotType::Real, .dir = Dir::In,
-                       .comp = CompId(1), .value_adr = 0, .src = {0, 13, 5}});
+                       .comp = CompId(1), .value_adr = Adr<Value>(0), .src = {0, 13, 5}});
     g.values.push_back({.v = 0.5});
     g.fields.push_back({.comp = CompId(1), .body = BodyId{}, .extent = {2, 0.5, 0.1}, .pose = {},
                         .dir = {1, 0, 0}, .speed = 0.5, .gain = 20, .enabled = true});
@@ -155,6 +156,7 @@ void replace(std::string& s, std::string_view from, std::string_view to) {
 void bump(Graph&, int32_t& v) { v = v == 1 ? 2 : 1; }
 template <class R, IdRole Role>
 void bump(Graph& g, TypedId<R, Role>& id) { bump(g, id.v); }
+void bump(Graph& g, Detail& d) { bump(g, d.v); }
 void bump(Graph&, double& v) { v = v == 1.5 ? 2.5 : 1.5; }
 void bump(Graph&, bool& v) { v = !v; }
 template <class E>
@@ -502,12 +504,12 @@ TEST_CASE("intern") {
 
 TEST_CASE("paths and source positions") {
     Graph g = tiny_graph();
-    CHECK(g.comp_path(0) == "clock");  // on the root: no leading dot
-    CHECK(g.slot_path(0) == "clock.tick");
-    CHECK(g.comp_path(1) == "belt1.conveyor");
-    CHECK(g.slot_path(1) == "belt1.conveyor.set_speed");
-    CHECK(g.slot_path(99) == "<slot 99>");
-    CHECK(g.comp_path(-1) == "<comp -1>");
+    CHECK(g.comp_path(CompId(0)) == "clock");  // on the root: no leading dot
+    CHECK(g.slot_path(SlotId(0)) == "clock.tick");
+    CHECK(g.comp_path(CompId(1)) == "belt1.conveyor");
+    CHECK(g.slot_path(SlotId(1)) == "belt1.conveyor.set_speed");
+    CHECK(g.slot_path(SlotId(99)) == "<slot 99>");
+    CHECK(g.comp_path(CompId{}) == "<comp -1>");
 
     CHECK(g.src_text(g.slots[1].src) == "examples/belt.plant:13:5");
     CHECK(g.src_text(Src{}) == "-");

@@ -143,13 +143,13 @@ TEST_CASE("opcua kind: an object on the way to a node cannot be a node itself") 
     shadow.id = 2;
     shadow.path = "b1";
     shadow.browse = {"b1"};
-    shadow.slots = {shadow.slots[0] + 1};
+    shadow.slots = {graph::SlotId(shadow.slots[0].v + 1)};
     l.nodes.push_back(shadow);
     const std::vector<opcua::NodeError> errors = opcua::check_link(l, c.graph);
     REQUIRE(errors.size() == 1);
     CHECK(errors[0].entry == 1);
     CHECK(errors[0].message == "'b1' is an object on the way to 'b1.stop': a node cannot have its browse path");
-    l.nodes[1].slots = {int32_t(c.graph.slots.size())};
+    l.nodes[1].slots = {c.graph.slots.next_id()};
     CHECK(opcua::check_link(l, c.graph).at(0).message == "'b1': a slot id out of the graph's range");
 }
 

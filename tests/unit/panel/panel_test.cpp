@@ -39,8 +39,8 @@ constexpr const char* kDeskPlant = R"(plant Desk {
 )";
 
 int32_t desk_slot(const graph::Graph& g, std::string_view path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+        if (g.slot_path(s) == path) return s.v;
     FAIL("no slot " << path);
     return -1;
 }

@@ -49,8 +49,8 @@ int32_t field_named(const graph::Graph& g, const std::string& path) {
 }
 
 int32_t slot_of(const graph::Graph& g, const std::string& path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+        if (g.slot_path(s) == path) return s.v;
     return -1;
 }
 

@@ -24,8 +24,8 @@ constexpr const char* kPlant = R"(plant Counting {
 )";
 
 int32_t slot(const graph::Graph& g, std::string_view path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+        if (g.slot_path(s) == path) return s.v;
     FAIL("no slot " << path);
     return -1;
 }
@@ -170,8 +170,8 @@ plant Tapped {
     // An input port stands for every input it forwards to.
     const graph::PluginEntry& notify = g.plugin_entries[2];
     REQUIRE(notify.slot_num == 2);
-    CHECK(g.slot_path(g.plugin_entry_slots[size_t(notify.slot_adr)].v) == "g.t.start");
-    CHECK(g.slot_path(g.plugin_entry_slots[size_t(notify.slot_adr + 1)].v) == "g.t2.start");
+    CHECK(g.slot_path(g.plugin_entry_slots[notify.slot_adr + 0].v) == "g.t.start");
+    CHECK(g.slot_path(g.plugin_entry_slots[notify.slot_adr + 1].v) == "g.t2.start");
 
     // Through the text form and the loader, then run for 1 s: fast ticks 10 times (x2), slow 4.
     const std::string text = graph::to_text(g);

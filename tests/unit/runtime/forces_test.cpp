@@ -28,7 +28,7 @@ struct SwitchRun {
         FAIL("no exit ", path);
         return -1;
     }
-    int32_t slot_of(const std::string& path) const {
+    graph::SlotId slot_of(const std::string& path) const {
         auto it = idx.find(path);
         REQUIRE_MESSAGE(it != idx.end(), path);
         return it->second.slots[0];
@@ -65,10 +65,10 @@ TEST_CASE("forces: the reader's output cut open sends every bottle straight on, 
     s.run(e, 15, {s.event("0s force sw.id open")});
     CHECK(e.taken(plant::graph::ExitId(aside)) == 0);
     CHECK(e.taken(plant::graph::ExitId(ahead)) >= 6);
-    CHECK(e.forced(plant::graph::SlotId(s.slot_of("sw.id"))) == engine::ForceMode::Open);
+    CHECK(e.forced(s.slot_of("sw.id")) == engine::ForceMode::Open);
     const int64_t before = e.taken(plant::graph::ExitId(aside));
     s.run(e, 15, {s.event("0s release sw.id")});
-    CHECK(e.forced(plant::graph::SlotId(s.slot_of("sw.id"))) == engine::ForceMode::None);
+    CHECK(e.forced(s.slot_of("sw.id")) == engine::ForceMode::None);
     CHECK(e.taken(plant::graph::ExitId(aside)) > before);
 }
 
@@ -85,46 +85,46 @@ TEST_CASE("forces: a switch held in its working position sends every bottle asid
 TEST_CASE("forces: a string output stuck at a value is what the logic reads, the component goes on underneath") {
     SwitchRun s;
     const int32_t aside = s.exit_of("aside_exit"), ahead = s.exit_of("ahead_exit");
-    const int32_t id = s.slot_of("sw.id");
+    const graph::SlotId id = s.slot_of("sw.id");
     engine::Engine e(s.g());
     s.run(e, 15, {s.event("0s force sw.id stuck \"F-99\"")});
-    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])) == "F-99");  // readers after the step see it too
+    CHECK(e.str(int32_t(e.value(id)[0])) == "F-99");  // readers after the step see it too
     CHECK(e.taken(plant::graph::ExitId(ahead)) == 0);
     CHECK(e.taken(plant::graph::ExitId(aside)) >= 6);
     // Released: the reader's own last value shows again (a bar code of this run).
     s.run(e, 0.1, {s.event("0s release sw.id")});
-    const std::string natural(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])));
+    const std::string natural(e.str(int32_t(e.value(id)[0])));
     CHECK(natural != "F-99");
     CHECK(natural.size() == 3);
 }
 
 TEST_CASE("forces: a void output stuck on is active every step, invert negates a bool") {
     SwitchRun s;
-    const int32_t seen = s.slot_of("ahead_end.seen");
+    const graph::SlotId seen = s.slot_of("ahead_end.seen");
     engine::Engine e(s.g());
     s.run(e, 0.5, {s.event("0s force ahead_end.seen stuck on")});
-    CHECK(e.active(plant::graph::SlotId(seen)));
+    CHECK(e.active(seen));
     s.run(e, 0.1);
-    CHECK(e.active(plant::graph::SlotId(seen)));
+    CHECK(e.active(seen));
     s.run(e, 0.1, {s.event("0s force ahead_end.seen stuck off")});
-    CHECK_FALSE(e.active(plant::graph::SlotId(seen)));
-    CHECK(e.forced(plant::graph::SlotId(seen)) == engine::ForceMode::Open);  // stuck off is kept as open
+    CHECK_FALSE(e.active(seen));
+    CHECK(e.forced(seen) == engine::ForceMode::Open);  // stuck off is kept as open
     s.run(e, 0.1, {s.event("0s release ahead_end.seen")});
-    CHECK(e.forced(plant::graph::SlotId(seen)) == engine::ForceMode::None);
+    CHECK(e.forced(seen) == engine::ForceMode::None);
 
     // A bool output inverted reads the negation of the component's value.
-    int32_t occupied = -1;
+    graph::SlotId occupied;
     for (const auto& [path, t] : s.idx)
         if (t.type == graph::SlotType::Bool && t.dir == graph::Dir::Out && !t.port) occupied = t.slots[0];
-    REQUIRE(occupied >= 0);
+    REQUIRE(occupied.valid());
     const std::string path = s.g().slot_path(occupied);
     engine::Engine f(s.g());
     s.run(f, 1);
-    const double natural = f.value(plant::graph::SlotId(occupied))[0];
+    const double natural = f.value(occupied)[0];
     s.run(f, 0.01, {s.event("0s force " + path + " invert")});
-    CHECK(f.value(plant::graph::SlotId(occupied))[0] == (natural != 0 ? 0 : 1));
+    CHECK(f.value(occupied)[0] == (natural != 0 ? 0 : 1));
     s.run(f, 0.01, {s.event("0s release " + path)});
-    CHECK(f.value(plant::graph::SlotId(occupied))[0] == natural);
+    CHECK(f.value(occupied)[0] == natural);
 }
 
 TEST_CASE("forces: the events-file lines replay as they went out, bad forces are refused") {

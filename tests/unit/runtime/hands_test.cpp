@@ -51,7 +51,7 @@ struct HandsRun {
         FAIL("no bottle");
         return graph::BodyId(-1);
     }
-    std::string path(graph::BodyId b) const { return g().comp_path(g().bodies[size_t(int32_t(b))].comp); }
+    std::string path(graph::BodyId b) const { return g().comp_path(g().bodies[b].comp); }
     engine::Event event(const std::string& line) const {
         engine::Event ev;
         std::string err;
@@ -89,7 +89,7 @@ TEST_CASE("hands: grab, move, drop and remove parse, format back and refuse what
     const std::string body = s.path(s.bottle());
     const engine::Event grab = s.event("1.5s grab " + body + " at 0.5,0,0.08");
     CHECK(grab.hand == engine::HandAct::Grab);
-    CHECK(grab.target == int32_t(s.bottle()));
+    CHECK(grab.body == s.bottle());
     CHECK(grab.slots.empty());
     CHECK(grab.value == std::vector<double>{0.5, 0, 0.08});
     // Times as engine/times.h prints them at the plant's rate (three decimals at 150 Hz).
@@ -99,7 +99,8 @@ TEST_CASE("hands: grab, move, drop and remove parse, format back and refuse what
         CHECK(engine::format_event(s.g(), ev) == line);
         const engine::Event back = s.event(engine::format_event(s.g(), ev));
         CHECK(back.hand == ev.hand);
-        CHECK(back.target == ev.target);
+        CHECK(back.body == ev.body);
+        CHECK(back.object == ev.object);
         CHECK(back.value == ev.value);
     }
     // A body's path to remove names its object.

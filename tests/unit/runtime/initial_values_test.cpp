@@ -23,10 +23,10 @@ plant Sorter {
     for (const graph::Slot& s : g.slots) {
         // Labels publish their text, fields their speed, places their tokens from the start.
         const graph::CompKind kind = g.comps[size_t(s.comp)].kind;
-        if (s.value_adr < 0 || kind == graph::CompKind::Label || kind == graph::CompKind::Field ||
+        if (!s.value_adr.valid() || kind == graph::CompKind::Label || kind == graph::CompKind::Field ||
             kind == graph::CompKind::State)
             continue;
-        const double* v = &g.values[size_t(s.value_adr)].v;
+        const double* v = &g.values[s.value_adr.first()].v;
         switch (s.type) {
         case graph::SlotType::String: CHECK(v[0] == -1); ++strings; break;
         case graph::SlotType::Ref: CHECK(v[0] == -1); ++refs; break;
@@ -39,14 +39,14 @@ plant Sorter {
     CHECK(refs > 0);
     // The source's id before its first bottle: "", not the plant's name (names[0]).
     engine::Engine e(g);
-    int32_t id_slot = -1, object_slot = -1;
-    for (size_t s = 0; s < g.slots.size(); ++s) {
-        if (g.slot_path(int32_t(s)) == "store.id") id_slot = int32_t(s);
-        if (g.slot_path(int32_t(s)) == "store.object") object_slot = int32_t(s);
+    plant::graph::SlotId id_slot, object_slot;
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots)) {
+        if (g.slot_path(s) == "store.id") id_slot = s;
+        if (g.slot_path(s) == "store.object") object_slot = s;
     }
-    REQUIRE(id_slot >= 0);
-    e.watch(plant::graph::SlotId(id_slot));
+    REQUIRE(id_slot.valid());
+    e.watch(id_slot);
     for (int i = 0; i < 10; ++i) e.step();
-    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(id_slot))[0])).empty());
-    CHECK(e.value(plant::graph::SlotId(object_slot))[0] == -1);
+    CHECK(e.str(int32_t(e.value(id_slot)[0])).empty());
+    CHECK(e.value(object_slot)[0] == -1);
 }

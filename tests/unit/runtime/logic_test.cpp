@@ -21,8 +21,8 @@ struct CondScene {
         t1 = b.g.triggers[b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50))].comp;
         t3 = b.g.triggers[b.trigger(0, "t3", {1, 1, 1}, at(0, 0, 50))].comp;
         f2 = b.g.fields[b.field(0, "f2", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1)].comp;
-        b.g.values[size_t(b.g.slots[size_t(b.S(t1, "count"))].value_adr)].v = 1;  // what each copies,
-        b.g.values[size_t(b.g.slots[size_t(b.S(t3, "count"))].value_adr)].v = 3;  // active or not
+        b.g.values[b.g.slots[size_t(b.S(t1, "count"))].value_adr.first()].v = 1;  // what each copies,
+        b.g.values[b.g.slots[size_t(b.S(t3, "count"))].value_adr.first()].v = 3;  // active or not
         b.flow(b.S(t1, "count"), b.S(f2, "set_speed"), cond);  // under test (flow 0)
         b.flow(b.S(t3, "count"), b.S(f2, "set_speed"));        // activates the target (flow 1)
     }

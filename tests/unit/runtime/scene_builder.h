@@ -56,7 +56,7 @@ struct SceneBuilder {
     // right after creating it.
     int32_t comp(int32_t owner, CompKind kind, std::string_view n, int32_t detail) {
         const int32_t id = add_comp(g, DoId(owner), kind, n);
-        g.comps[id].detail = detail;
+        g.comps[graph::CompId(id)].detail.v = detail;
         return id;
     }
 

@@ -132,8 +132,8 @@ plant P {
     REQUIRE(c.ok());
     Engine e(c.graph);
     auto shown = [&](const char* path) {
-        for (size_t s = 0; s < c.graph.slots.size(); ++s)
-            if (c.graph.slot_path(int32_t(s)) == path) return std::string(e.str(int32_t(e.value(plant::graph::SlotId(int32_t(s)))[0])));
+        for (plant::graph::SlotId s : plant::graph::ids_of(c.graph.slots))
+            if (c.graph.slot_path(s) == path) return std::string(e.str(int32_t(e.value(s)[0])));
         FAIL("no slot " << path);
         return std::string();
     };

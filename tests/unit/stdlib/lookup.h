@@ -21,8 +21,8 @@ inline double tilt_deg(const graph::Quat& q) {
 
 // The slot at a dotted path (Graph::slot_path), or -1.
 inline int32_t slot_named(const graph::Graph& g, std::string_view path) {
-    for (size_t s = 0; s < g.slots.size(); ++s)
-        if (g.slot_path(int32_t(s)) == path) return int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+        if (g.slot_path(s) == path) return s.v;
     return -1;
 }
 

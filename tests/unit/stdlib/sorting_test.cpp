@@ -21,7 +21,7 @@ TEST_CASE("stdlib: a sorting line of RoutedSwitches sends every bottle into the 
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     std::map<std::string, int32_t> slot;
-    for (size_t s = 0; s < g.slots.size(); ++s) slot[g.slot_path(int32_t(s))] = int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots)) slot[g.slot_path(s)] = s.v;
     struct Lane {
         std::string exit;
         char code;  // the first letter its bottles carry; 0: none of A, B, C
@@ -91,7 +91,7 @@ plant Overfed {
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     std::map<std::string, int32_t> slot;
-    for (size_t s = 0; s < g.slots.size(); ++s) slot[g.slot_path(int32_t(s))] = int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots)) slot[g.slot_path(s)] = s.v;
     engine::Engine e(g);
     const plant::graph::SlotId tick(slot.at("fill.core.work.tick"));
     std::vector<plant::graph::SlotId> exits;
@@ -148,7 +148,7 @@ plant FastFeed {
     }
     REQUIRE(mains.size() == 40);
     std::map<std::string, int32_t> slot;
-    for (size_t s = 0; s < g.slots.size(); ++s) slot[g.slot_path(int32_t(s))] = int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots)) slot[g.slot_path(s)] = s.v;
     const plant::graph::SlotId released(slot.at("sep.bp.left.look.close.finished"));
     engine::Engine e(g);
     int releases = 0, longest = 0;

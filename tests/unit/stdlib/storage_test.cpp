@@ -28,7 +28,7 @@ plant Store {
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     std::map<std::string, int32_t> slot;
-    for (size_t s = 0; s < g.slots.size(); ++s) slot[g.slot_path(int32_t(s))] = int32_t(s);
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots)) slot[g.slot_path(s)] = s.v;
     const int32_t issued = slot.at("store.store.issued"), id = slot.at("store.store.id"),
                   bottle = slot.at("store.store.object"), taken = slot.at("done.away.taken");
     engine::Engine e(g);
