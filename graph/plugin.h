@@ -138,7 +138,9 @@ bool plugin_check(const Graph& g, int32_t row, PluginProblem& problem) {
 // `.table = ...` written `PLANT_KIND_TABLE(member)`.
 #define PLANT_KIND_TABLE(member)                                                          \
     .table = #member, .rows = [](const ::plant::graph::Graph& g) { return g.member.size(); }, \
-    .comp_of = [](const ::plant::graph::Graph& g, int32_t row) { return g.member[size_t(row)].comp; }
+    .comp_of = [](const ::plant::graph::Graph& g, int32_t row) {                          \
+        return g.member[std::remove_cvref_t<decltype(g.member)>::id_type(row)].comp;        \
+    }
 
 // The kinds on the kind table (kinds/list.h), in its order; a built-in kind's row, nullptr
 // for one not on the table (yet) and for Plugin.

@@ -22,7 +22,7 @@ constexpr ParamSpec kParams[] = {
 };
 
 bool check(const Graph& g, int32_t row, PluginProblem& problem) {
-    const Joint& j = g.joints[size_t(row)];
+    const Joint& j = g.joints[JointId(row)];
     if (j.body_a == j.body_b) problem.message = "a joint joins two different bodies";
     else if (j.kind == JointKind::Hinge && j.lower <= j.upper && j.upper - j.lower > kMaxHingeSpan)
         problem.message = "a hinge's limits span more than a turn (Bullet's hinge would have none)";

@@ -19,7 +19,7 @@ namespace {
 // Each kind's acting lives with the rest of its behaviour (runtime.h lists where; a kind on
 // the kind table: its kinds/NAME/run.cpp); state
 // acts in phase 4, routers, connectors and labels in phase 3, the rest has no inputs.
-void act_on(Runtime& r, int32_t comp) {
+void act_on(Runtime& r, CompId comp) {
     const Comp& c = r.g.comps[comp];
     const int32_t i = c.detail.v;  // the row of its kind's table
     switch (c.kind) {
@@ -37,15 +37,15 @@ void act_on(Runtime& r, int32_t comp) {
 void phase_actuators(Runtime& r) {
     State& s = r.st;
     s.comp_list.clear();
-    for (int32_t x : s.in_list) {
+    for (SlotId x : s.in_list) {
         if (!r.tab.slot_acts[x]) continue;
-        const int32_t c = r.g.slots[x].comp;
+        const CompId c = r.g.slots[x].comp;
         if (s.comp_mark[c]) continue;
         s.comp_mark[c] = 1;
         s.comp_list.push_back(c);
     }
     std::sort(s.comp_list.begin(), s.comp_list.end());
-    for (int32_t c : s.comp_list) {
+    for (CompId c : s.comp_list) {
         s.comp_mark[c] = 0;
         act_on(r, c);
     }

@@ -90,32 +90,32 @@ void check_bodies(Runtime& r) {
 }
 
 void sense_bodies(Runtime& r) {
-    for (int32_t b : r.st.observed_bodies) {
+    for (BodyId b : r.st.observed_bodies) {
         if (!r.phys.in_world(b)) continue;
         const uint8_t bits = r.st.body_outputs[b];
-        const int32_t s0 = r.comp_slot(r.g.bodies[b].comp, bodyslot::pose);
+        const Adr<Slot> s0 = r.g.comps[r.g.bodies[b].comp].slot_adr;
         if (bits & 7) {
             const Pose p = r.phys.pose(b);
-            if (bits & 1) r.emit_pose(s0, p);
+            if (bits & 1) r.emit_pose(s0 + bodyslot::pose, p);
             if (bits & 2) {
-                double* v = r.val(s0 + 1);
+                double* v = r.val(s0 + (bodyslot::pose + 1));
                 for (int i = 0; i < 3; ++i) v[i] = p.p[i];
-                r.activate(s0 + 1);
+                r.activate(s0 + (bodyslot::pose + 1));
             }
             if (bits & 4) {
-                double* v = r.val(s0 + 2);
+                double* v = r.val(s0 + (bodyslot::pose + 2));
                 for (int i = 0; i < 4; ++i) v[i] = p.q[i];
-                r.activate(s0 + 2);
+                r.activate(s0 + (bodyslot::pose + 2));
             }
         }
         for (int k = 3; k < 5; ++k) {
             if (!(bits & (1u << k))) continue;
             const btVector3 v = k == 3 ? r.phys.velocity(b) : r.phys.angular_velocity(b);
-            double* out = r.val(s0 + k);
+            double* out = r.val(s0 + (bodyslot::pose + k));
             out[0] = v.x();
             out[1] = v.y();
             out[2] = v.z();
-            r.activate(s0 + k);
+            r.activate(s0 + (bodyslot::pose + k));
         }
     }
 }

@@ -36,11 +36,11 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     st.logic_due.assign(sched.always.size(), 0);
     start_steady(*this, opt.steady_transport && graph.settings.steady_transport);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
-    for (const Flow& f : g.flows) each_read_slot(g, f, [&](int32_t s) { st.watched[s] = 1; });
+    for (const Flow& f : g.flows) each_read_slot(g, f, [&](SlotId s) { st.watched[s] = 1; });
     for (const Record& rec : g.records) st.watched[rec.slot] = 1;
     for (const PluginEntry& e : g.plugin_entries)  // outputs a plugin component reads
-        for (int32_t k = 0; k < e.slot_num; ++k)
-            if (const int32_t s = g.plugin_entry_slots[e.slot_adr + k].v; g.slots[s].dir == Dir::Out) st.watched[s] = 1;
+        for (const PluginEntrySlot& es : g.plugin_entry_slots.slice(e.slot_adr, e.slot_num))
+            if (g.slots[es.v].dir == Dir::Out) st.watched[es.v] = 1;
     refresh_observers();
 
     // Each kind's start (runtime.h): references start empty; state outputs are published,
@@ -59,7 +59,7 @@ std::string_view Runtime::str(int32_t name) const {
     return extra < count_of(extra_names) ? std::string_view(extra_names[extra]) : std::string_view{};
 }
 
-void Runtime::emit_pose(int32_t slot, const Pose& p) {
+void Runtime::emit_pose(SlotId slot, const Pose& p) {
     double* v = val(slot);
     for (int i = 0; i < 3; ++i) v[i] = p.p[i];
     for (int i = 0; i < 4; ++i) v[3 + i] = p.q[i];
@@ -73,7 +73,7 @@ void Runtime::refresh_observers() {
         for (int i = 0; i < 5; ++i)
             if (st.watched[comp_slot(g.bodies[b].comp, bodyslot::pose + i)]) bits |= uint8_t(1u << i);
         st.body_outputs[b] = bits;
-        if (bits) st.observed_bodies.push_back(b.v);
+        if (bits) st.observed_bodies.push_back(b);
     }
 }
 
@@ -130,17 +130,17 @@ void Engine::force(graph::SlotId slot, ForceMode mode, std::span<const double> v
     const int w = slot_width(sl.type);
     if (w == 0 && mode == ForceMode::Stuck && !value.empty() && value[0] == 0) mode = ForceMode::Open;  // stuck off
     const bool out = r.tab.slot_out[slot] != 0;
-    std::vector<int32_t>& list = out ? s.forced_out : s.forced_in;
+    std::vector<SlotId>& list = out ? s.forced_out : s.forced_in;
     const bool listed = std::find(list.begin(), list.end(), slot) != list.end();
     if (!listed) {
         if (mode == ForceMode::None) return;  // not forced: nothing to release
         list.push_back(slot);
-        if (w) std::copy(r.val(slot), r.val(slot) + w, s.force_natural.begin() + r.tab.value_adr[slot]);
+        if (w) std::copy(r.val(slot), r.val(slot) + w, s.force_natural.begin() + r.tab.value_adr[slot].v);
     }
     s.force_mode[slot] = uint8_t(mode);
     s.force_edge[slot] = 1;
     if (mode == ForceMode::Stuck)
-        for (size_t i = 0; std::cmp_less(i, w) && i < value.size(); ++i) s.force_value[r.tab.value_adr[slot] + i] = value[i];
+        for (size_t i = 0; std::cmp_less(i, w) && i < value.size(); ++i) s.force_value[r.tab.value_adr[slot].v + i] = value[i];
 }
 
 ForceMode Engine::forced(graph::SlotId slot) const {

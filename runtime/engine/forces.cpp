@@ -15,12 +15,12 @@ using namespace plant::graph;
 
 namespace {
 
-void unlist(std::vector<int32_t>& list, int32_t x) {
+void unlist(std::vector<SlotId>& list, SlotId x) {
     auto it = std::find(list.begin(), list.end(), x);
     if (it != list.end()) list.erase(it);  // keeps the order the phases see
 }
 
-void deactivate(Runtime& r, int32_t x, bool out) {
+void deactivate(Runtime& r, SlotId x, bool out) {
     if (!r.st.act[x]) return;
     r.st.act[x] = 0;
     unlist(out ? r.st.out_list : r.st.in_list, x);
@@ -34,9 +34,9 @@ struct Ref {
     SlotType type;
 };
 
-Ref ref(Runtime& r, int32_t x) {
+Ref ref(Runtime& r, SlotId x) {
     const Slot& s = r.g.slots[x];
-    const int32_t adr = r.tab.value_adr[x];
+    const int32_t adr = r.tab.value_adr[x].v;  // the slot's values' place in each per-value array
     const int w = slot_width(s.type);
     if (w == 0) return {nullptr, nullptr, nullptr, 0, s.type};
     return {r.val(x), &r.st.force_natural[adr], &r.st.force_value[adr], w, s.type};
@@ -63,7 +63,7 @@ void restore_natural(const Ref& v) { std::copy(v.natural, v.natural + v.width, v
 // when its writer made it so and once when the force begins or ends, except open, which
 // is never active, but once when it begins on a bool or number (the reader sees the signal
 // drop to off); a string or reference cut open carries no message at all.
-void activity(Runtime& r, int32_t x, bool out, ForceMode m, int width) {
+void activity(Runtime& r, SlotId x, bool out, ForceMode m, int width) {
     const bool edge = r.st.force_edge[x] != 0;
     const SlotType t = r.g.slots[x].type;
     const bool level = t == SlotType::Bool || t == SlotType::Int || t == SlotType::Real;  // has an "off"
@@ -80,7 +80,7 @@ void activity(Runtime& r, int32_t x, bool out, ForceMode m, int width) {
 
 // Applies the force on `x` now: the natural value kept (outputs always, inputs when the
 // flows wrote them this step), the forced one shown, the activity set.
-void apply(Runtime& r, int32_t x, bool out) {
+void apply(Runtime& r, SlotId x, bool out) {
     const ForceMode m = ForceMode(r.st.force_mode[x]);
     const Ref v = ref(r, x);
     if (v.width) {
@@ -92,9 +92,9 @@ void apply(Runtime& r, int32_t x, bool out) {
 
 // Ends the logic phase's (or the acting phases') view of a list: edges are spent and
 // released slots leave it.
-void settle(Runtime& r, std::vector<int32_t>& list) {
+void settle(Runtime& r, std::vector<SlotId>& list) {
     for (size_t i = 0; i < list.size();) {
-        const int32_t x = list[i];
+        const SlotId x = list[i];
         r.st.force_edge[x] = 0;
         if (ForceMode(r.st.force_mode[x]) == ForceMode::None) list.erase(list.begin() + ptrdiff_t(i));
         else ++i;
@@ -104,29 +104,29 @@ void settle(Runtime& r, std::vector<int32_t>& list) {
 }  // namespace
 
 void forces_step_begin(Runtime& r) {
-    for (int32_t x : r.st.forced_out)
-        if (r.tab.value_adr[x] >= 0) restore_natural(ref(r, x));
+    for (SlotId x : r.st.forced_out)
+        if (r.tab.value_adr[x].valid()) restore_natural(ref(r, x));
 }
 
 void forces_logic_begin(Runtime& r) {
-    for (int32_t x : r.st.forced_out) apply(r, x, true);
+    for (SlotId x : r.st.forced_out) apply(r, x, true);
 }
 
-void force_again(Runtime& r, int32_t x) {
+void force_again(Runtime& r, SlotId x) {
     if (ForceMode(r.st.force_mode[x]) != ForceMode::None) apply(r, x, true);
 }
 
 void forces_logic_end(Runtime& r) {
-    for (int32_t x : r.st.forced_out)
-        if (r.tab.value_adr[x] >= 0) restore_natural(ref(r, x));
+    for (SlotId x : r.st.forced_out)
+        if (r.tab.value_adr[x].valid()) restore_natural(ref(r, x));
     settle(r, r.st.forced_out);
-    for (int32_t x : r.st.forced_in) apply(r, x, false);
+    for (SlotId x : r.st.forced_in) apply(r, x, false);
     settle(r, r.st.forced_in);
 }
 
 void forces_step_end(Runtime& r) {
-    for (int32_t x : r.st.forced_out) {
-        if (r.tab.value_adr[x] < 0) continue;
+    for (SlotId x : r.st.forced_out) {
+        if (!r.tab.value_adr[x].valid()) continue;
         const Ref v = ref(r, x);
         keep_natural(v);
         show(v, ForceMode(r.st.force_mode[x]));

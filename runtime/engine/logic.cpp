@@ -40,10 +40,10 @@ SlotId resolve(Runtime& r, AccessId access, bool warn) {
     return r.g.access_targets[a.target_adr + r.g.dos[d].ordinal].v;
 }
 
-void copy(Runtime& r, int32_t from_val, int32_t to_val, int32_t width) {
-    if (width <= 0 || from_val < 0 || to_val < 0) return;
+void copy(Runtime& r, Adr<Value> from, Adr<Value> to, int32_t width) {
+    if (width <= 0 || !from.valid() || !to.valid()) return;
     double* v = r.st.values.data();
-    for (int32_t i = 0; i < width; ++i) v[to_val + i] = v[from_val + i];
+    for (int32_t i = 0; i < width; ++i) v[to.v + i] = v[from.v + i];
 }
 
 // A singular flow runs once when its condition holds, and is re-armed by a step in
@@ -85,8 +85,8 @@ void run_flow(Runtime& r, FlowId f, bool delayed) {
         }
         copy(r, r.g.slots[from].value_adr, r.g.slots[to].value_adr, op.width);
     }
-    if (delayed) r.st.pending.push_back(to.v);
-    else r.activate(to.v);
+    if (delayed) r.st.pending.push_back(to);
+    else r.activate(to);
 }
 
 void run_connector(Runtime& r, LogicId i) {
@@ -102,7 +102,7 @@ void run_connector(Runtime& r, LogicId i) {
 }
 
 void run_router(Runtime& r, CompId comp) {
-    const int32_t q = r.comp_slot(comp, routerslot::query);
+    const SlotId q = r.comp_slot(comp, routerslot::query);
     if (!r.st.act[q]) return;
     const std::string_view id = r.str(int32_t(*r.val(q)));
     for (const int32_t* k = r.tab.comp_routes.begin(comp); k != r.tab.comp_routes.end(comp); ++k)
@@ -114,9 +114,9 @@ void run_router(Runtime& r, CompId comp) {
 }
 
 void run_label(Runtime& r, Id<Label> i) {
-    const int32_t set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
+    const SlotId set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
     if (!r.st.act[set]) return;
-    const int32_t out = r.comp_slot(r.g.labels[i].comp, labelslot::value);
+    const SlotId out = r.comp_slot(r.g.labels[i].comp, labelslot::value);
     r.emit(out, *r.val(set));
     if (!r.st.forced_out.empty()) force_again(r, out);
 }
@@ -129,7 +129,7 @@ void run_op(Runtime& r, const Op& op) {
     switch (op.kind) {
     case OpKind::Flow: run_flow(r, op.flow(), false); break;
     case OpKind::Pulse:
-        if (r.st.act[op.from]) r.activate_in(op.to.v);  // flows end at inputs
+        if (r.st.act[op.from]) r.activate_in(op.to);  // flows end at inputs
         break;
     case OpKind::Logic: run_connector(r, op.logic()); break;
     case OpKind::Router: run_router(r, op.router()); break;
@@ -162,8 +162,8 @@ void run_due(Runtime& r) {
                          sc.group_readers.data() + sc.group_reader_adr[group + 1]);
             }
         };
-        for (; out_seen < s.out_list.size(); ++out_seen) mark(s.out_list[out_seen]);
-        for (; in_seen < s.in_list.size(); ++in_seen) mark(s.in_list[in_seen]);
+        for (; out_seen < s.out_list.size(); ++out_seen) mark(index(s.out_list[out_seen]));
+        for (; in_seen < s.in_list.size(); ++in_seen) mark(index(s.in_list[in_seen]));
     };
     look();
     const size_t words = sc.always.size();
@@ -185,9 +185,9 @@ void run_due(Runtime& r) {
 
 void phase_logic(Runtime& r) {
     State& s = r.st;
-    for (int32_t x : s.in_list) s.act[x] = 0;
+    for (SlotId x : s.in_list) s.act[x] = 0;
     s.in_list.clear();
-    for (int32_t x : s.pending) r.activate(x);
+    for (SlotId x : s.pending) r.activate(x);
     s.pending.clear();
     forces_logic_begin(r);
     if (s.forced_out.empty() && !r.logic_every_node) {

@@ -20,16 +20,16 @@ using namespace plant::graph;
 namespace {
 
 void clear_outputs(State& s) {
-    for (int32_t x : s.seen_list) s.seen[x] = 0;
+    for (SlotId x : s.seen_list) s.seen[x] = 0;
     s.seen_list.swap(s.out_list);
     s.out_list.clear();
-    for (int32_t x : s.seen_list) {
+    for (SlotId x : s.seen_list) {
         s.seen[x] = 1;
         s.act[x] = 0;
     }
 }
 
-void touch(State& s, int32_t p) {
+void touch(State& s, PlaceId p) {
     if (s.place_mark[p]) return;
     s.place_mark[p] = 1;
     s.places_touched.push_back(p);
@@ -43,9 +43,9 @@ void phase_petri(Runtime& r) {
     clear_outputs(s);
     if (g.places.empty()) return;
 
-    for (int32_t x : s.in_list) {
-        const int32_t p = r.tab.put_place[x];
-        if (p < 0) continue;
+    for (SlotId x : s.in_list) {
+        const PlaceId p = r.tab.put_place[x];
+        if (!p.valid()) continue;
         s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
         touch(s, p);
         s.net_live[r.tab.place_net[p]] = 1;
@@ -58,39 +58,38 @@ void phase_petri(Runtime& r) {
         if (!s.net_live[net] && !r.tab.net_always_live[net]) continue;
         const size_t before = s.fired.size();
         for (const int32_t* t = r.tab.net_transitions.begin(net); t != r.tab.net_transitions.end(net); ++t) {
-            const Transition& tr = g.transitions[*t];
+            const TransitionId id(*t);  // the table's list holds transition ids
+            const Transition& tr = g.transitions[id];
             bool enabled = true;
-            for (int32_t k = 0; k < tr.in_num && enabled; ++k) {
-                const Arc& a = g.arcs[tr.in_adr + k];
+            for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {
                 enabled = s.tokens[a.place] >= a.weight;
+                if (!enabled) break;
             }
-            if (enabled) s.fired.push_back(*t);
+            if (enabled) s.fired.push_back(id);
         }
         // A net that fired is examined again next step; a quiet one waits for a put.
         s.net_live[net] = s.fired.size() > before;
     }
-    for (int32_t t : s.fired) {
+    for (TransitionId t : s.fired) {
         const Transition& tr = g.transitions[t];
-        for (int32_t k = 0; k < tr.in_num; ++k) {
-            const Arc& a = g.arcs[tr.in_adr + k];
+        for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {
             s.consume[a.place] += a.weight;
             touch(s, a.place);
         }
-        for (int32_t k = 0; k < tr.out_num; ++k) {
-            const Arc& a = g.arcs[tr.out_adr + k];
+        for (const Arc& a : g.arcs.slice(tr.out_adr, tr.out_num)) {
             s.produce[a.place] += a.weight;
             touch(s, a.place);
         }
-        if (tr.fired_slot >= 0) r.activate_out(tr.fired_slot);
+        if (tr.fired_slot.valid()) r.activate_out(tr.fired_slot);
     }
     for (size_t i = 0; i < s.places_touched.size(); ++i) {
-        const int32_t p = s.places_touched[i];
+        const PlaceId p = s.places_touched[i];
         const int64_t before = s.tokens[p] - (i < puts ? 1 : 0);
         // A full place stays full (graph.h): the count never wraps, nor loses exactness.
         const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - s.consume[p]) + s.produce[p], kMaxTokens);
-        const int32_t entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
-        if ((i < puts || s.produce[p] > 0) && entered >= 0) r.activate_out(entered);
-        if (after != before && tokens >= 0) r.emit(tokens, double(after));
+        const SlotId entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
+        if ((i < puts || s.produce[p] > 0) && entered.valid()) r.activate_out(entered);
+        if (after != before && tokens.valid()) r.emit(tokens, double(after));
         s.tokens[p] = after;
         s.consume[p] = s.produce[p] = 0;
         s.place_mark[p] = 0;
@@ -100,8 +99,8 @@ void phase_petri(Runtime& r) {
 
 // Each place's tokens are published once at the start.
 void start_places(Runtime& r) {
-    for (size_t p = 0; p < r.g.places.size(); ++p)
-        if (r.g.places[p].tokens_slot >= 0) r.emit(r.g.places[p].tokens_slot, double(r.st.tokens[p]));
+    for (PlaceId p : ids_of(r.g.places))
+        if (r.g.places[p].tokens_slot.valid()) r.emit(r.g.places[p].tokens_slot, double(r.st.tokens[p]));
 }
 
 }  // namespace plant::engine

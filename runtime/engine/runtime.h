@@ -32,33 +32,40 @@ struct Runtime {
     Runtime(const graph::Graph& graph, const Options& opt);
 
     std::string_view str(int32_t name) const;
-    double* val(int32_t slot) { return st.values.data() + tab.value_adr[slot].v; }
-    const double* val(int32_t slot) const { return st.values.data() + tab.value_adr[slot].v; }
+    double* val(graph::SlotId slot) { return st.values.data() + tab.value_adr[slot].v; }
+    const double* val(graph::SlotId slot) const { return st.values.data() + tab.value_adr[slot].v; }
 
     // Marks a slot active for this step; each slot enters its list at most once.
-    void activate(int32_t slot) {
+    void activate(graph::SlotId slot) {
         if (st.act[slot]) return;
         st.act[slot] = 1;
         (tab.slot_out[slot] ? st.out_list : st.in_list).push_back(slot);
     }
     // The same, for a slot whose direction the caller knows (hot paths).
-    void activate_in(int32_t slot) {
+    void activate_in(graph::SlotId slot) {
         if (st.act[slot]) return;
         st.act[slot] = 1;
         st.in_list.push_back(slot);
     }
-    void activate_out(int32_t slot) {
+    void activate_out(graph::SlotId slot) {
         if (st.act[slot]) return;
         st.act[slot] = 1;
         st.out_list.push_back(slot);
     }
     // Writes an output's value and makes it active.
-    void emit(int32_t slot, double v) {
+    void emit(graph::SlotId slot, double v) {
         *val(slot) = v;
         activate(slot);
     }
-    void emit_pose(int32_t slot, const Pose& p);
-    int32_t comp_slot(int32_t comp, int index) const { return g.comps[comp].slot_adr + index; }
+    void emit_pose(graph::SlotId slot, const Pose& p);
+    graph::SlotId comp_slot(graph::CompId comp, int index) const { return g.comps[comp].slot_adr + index; }
+    // Transitional: a slot by its number, for runtime/engine/triggers.cpp and graphics.cpp
+    // until they move to kinds/ with typed slots (then these go).
+    double* val(int32_t slot) { return val(graph::SlotId(slot)); }
+    const double* val(int32_t slot) const { return val(graph::SlotId(slot)); }
+    void activate(int32_t slot) { activate(graph::SlotId(slot)); }
+    void emit(int32_t slot, double v) { emit(graph::SlotId(slot), v); }
+    void emit_pose(int32_t slot, const Pose& p) { emit_pose(graph::SlotId(slot), p); }
 
     void refresh_observers();  // after watch(): which body outputs to refresh per step
 };
@@ -78,7 +85,7 @@ void forces_logic_begin(Runtime& r);  // after the pending inputs are activated
 void forces_logic_end(Runtime& r);
 // An output the logic phase itself computes (a connector, a router entry, a label), forced
 // again after its op ran; callers test `!st.forced_out.empty()` first.
-void force_again(Runtime& r, int32_t slot);
+void force_again(Runtime& r, graph::SlotId slot);
 void forces_step_end(Runtime& r);
 
 // Each built-in kind not yet on the kind table has its behaviour in its own file: `start_*` once when the engine is built

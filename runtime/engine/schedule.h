@@ -13,7 +13,7 @@ namespace plant::engine {
 
 struct FlowOp {
     graph::SlotId from{}, to{};          // from: the ref slot of a dynamic source
-    int32_t from_val = -1, to_val = -1;  // value_adr, -1 for void or dynamic ends
+    graph::Adr<graph::Value> from_val, to_val;  // value_adr, -1 for void or dynamic ends
     graph::AccessId from_access{}, to_access{};
     int32_t width = 0;                   // doubles copied
     graph::Cond cond = graph::Cond::Source;

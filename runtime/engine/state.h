@@ -81,14 +81,14 @@ struct State {
     // (so clearing costs what was activated, not the number of slots).
     std::vector<double> values;
     PerSlot<uint8_t> act, seen;
-    std::vector<int32_t> out_list, seen_list, in_list;
+    std::vector<graph::SlotId> out_list, seen_list, in_list;
     std::vector<uint64_t> logic_due;  // the logic phase's ops due, a bit per op (schedule.h)
-    std::vector<int32_t> pending;       // activated at the start of the next logic phase
+    std::vector<graph::SlotId> pending;  // activated at the start of the next logic phase
     IdVector<graph::FlowId, int64_t> once_held;  // the last step a singular flow's condition held (it runs on a step whose previous did not)
     PerSlot<uint8_t> watched;       // refreshed although no flow reads it
     PerBody<uint8_t> body_outputs;  // bit i = output i (from bodyslot::pose) used
-    std::vector<int32_t> observed_bodies;
-    std::vector<int32_t> comp_list;     // phase 5: components with an active input
+    std::vector<graph::BodyId> observed_bodies;
+    std::vector<graph::CompId> comp_list;  // phase 5: components with an active input
     IdVector<graph::CompId, uint8_t> comp_mark;
 
     // Bodies.
@@ -149,7 +149,8 @@ struct State {
 
     // Petri nets.
     PerPlace<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
-    std::vector<int32_t> places_touched, fired;
+    std::vector<graph::PlaceId> places_touched;
+    std::vector<graph::TransitionId> fired;
     PerPlace<uint8_t> place_mark;
     std::vector<uint8_t> net_live;
 
@@ -174,7 +175,7 @@ struct State {
     // value and the natural one (what the component or the flows wrote underneath).
     PerSlot<uint8_t> force_mode, force_edge;
     std::vector<double> force_value, force_natural;
-    std::vector<int32_t> forced_in, forced_out;  // forced or just released, once each
+    std::vector<graph::SlotId> forced_in, forced_out;  // forced or just released, once each
 
     std::vector<double> plugin_state;  // Tables::plugin_run's state_adr into it
     // The kinds on the kind table: their state, by CompKind (nullptr: none).
