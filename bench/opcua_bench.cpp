@@ -81,7 +81,7 @@ std::string plant_with_link(const plant::graph::Graph& g, const std::string& sou
             all.push_back(path);
     std::sort(all.begin(), all.end());
     std::vector<std::string> paths;  // one per slot: a port and the slot it shows are one node
-    std::set<std::vector<int32_t>> taken;
+    std::set<std::vector<plant::graph::SlotId>> taken;
     for (const std::string& p : all)
         if (paths.size() < 100 && taken.insert(idx.at(p).slots).second) paths.push_back(p);
     std::string link = "    opcua bench {\n";
