@@ -1,6 +1,7 @@
 // A plugin kind through the whole path: descriptor, compile (properties checked against
 // its parameters), graph text form and loader, runtime hooks in phases 2 and 5.
 #include "counter_kind.h"
+#include "graph_edit.h"
 
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
@@ -187,17 +188,7 @@ plant Tapped {
     CHECK(e.value(plant::graph::SlotId(value))[0] == 2 * 10 + 4);
 
     // The loader checks entries as the compiler does.
-    auto load = [&](std::string_view from, std::string_view to) {
-        std::string t = text;
-        const size_t at = t.find(from);
-        REQUIRE(at != std::string::npos);
-        t.replace(at, from.size(), to);
-        graph::Graph g2;
-        std::string err;
-        std::istringstream in2(t);
-        graph::read_text(in2, g2, err);
-        return err;
-    };
+    auto load = [&](std::string_view from, std::string_view to) { return test::load_edited(text, from, to); };
     CHECK(load("word=\"notify\"", "word=\"poke\"").find("a counter takes no entry 'poke'") != std::string::npos);
     CHECK(load("key=7", "key=100").find("key 100 is not a whole number between 0 and 99") != std::string::npos);
     CHECK(load("plugin_entry_slot 0 v=", "plugin_entry_slot 0 v=1").find("which a 'tap' entry cannot name") !=

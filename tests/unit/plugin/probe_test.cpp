@@ -4,6 +4,8 @@
 // by the loader and read by the runtime hooks.
 #include "probe_kind.h"
 
+#include "graph_edit.h"
+
 #include "../compiler/compile_helper.h"
 #include "engine/engine.h"
 #include "graph/plugin.h"
@@ -36,10 +38,7 @@ std::string probe_diagnostics(const std::string& text) {
 }
 
 double output(engine::Engine& e, const graph::Graph& g, std::string_view path) {
-    for (graph::SlotId s : graph::ids_of(g.slots))
-        if (g.slot_path(s) == path) return e.value(s)[0];
-    FAIL("no slot " << path);
-    return -1;
+    return e.value(test::slot_of(g, path))[0];
 }
 
 }  // namespace
@@ -144,17 +143,7 @@ plant Two {
         if (g.comp_path(k) == "b.inner") inner = k;
     REQUIRE(inner.valid());
     const std::string text = graph::to_text(g);
-    auto load = [&](std::string_view from, std::string_view to) {
-        std::string t = text;
-        const size_t at = t.find(from);
-        REQUIRE(at != std::string::npos);
-        t.replace(at, from.size(), to);
-        graph::Graph g2;
-        std::string err;
-        std::istringstream in(t);
-        graph::read_text(in, g2, err);
-        return err;
-    };
+    auto load = [&](std::string_view from, std::string_view to) { return test::load_edited(text, from, to); };
     const std::string was = fmt::format("comp={} list_adr", watch.comp.v);
     CHECK(load(was, fmt::format("comp={} list_adr", inner.v)).find("parameter 'watch' of a probe is not a valid component reference") !=
           std::string::npos);
