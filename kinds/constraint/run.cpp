@@ -16,7 +16,8 @@ void start_all(Runtime& r) {
     for (const graph::Joint& j : r.g.joints) r.emit(r.comp_slot(j.comp, enabled), j.enabled ? 1 : 0);
 }
 
-void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
+void act_one(Runtime& r, const graph::Comp& c) {
+    const graph::JointId i = graph::detail_of<graph::Joint>(c);
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     if (a[disable]) r.phys.set_joint(i, false);
     if (a[enable]) r.phys.set_joint(i, true);

@@ -12,12 +12,12 @@ namespace slot = plant::graph::exitslot;
 
 namespace {
 
-void take(Runtime& r, size_t e, int32_t obj) {
-    const int32_t root = take_object(r, obj);
-    if (root < 0) return;
-    const int32_t s0 = r.g.comps[r.g.exits[e].comp].slot_adr;
+void take(Runtime& r, graph::ExitId e, graph::DoId obj) {
+    const graph::DoId root = take_object(r, obj);
+    if (!root.valid()) return;
+    const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.exits[e].comp].slot_adr;
     r.activate(s0 + slot::taken);
-    r.emit(s0 + slot::object, root);
+    r.emit(s0 + slot::object, root.v);
     r.emit(s0 + slot::id, object_id(r, root));
     r.emit(s0 + slot::taken_count, double(++r.st.exit_count[e]));
 }
@@ -27,9 +27,9 @@ void start_all(Runtime& r) {
 }
 
 void sense_all(Runtime& r) {
-    for (size_t e = 0; e < r.g.exits.size(); ++e) {
-        const int32_t t = r.g.exits[e].trigger;
-        if (t < 0) continue;
+    for (graph::ExitId e : ids_of(r.g.exits)) {
+        const graph::TriggerId t = r.g.exits[e].trigger;
+        if (!t.valid()) continue;
         const TriggerState& ts = r.st.triggers[t];
         for (int32_t k = 0; k < ts.num; ++k) take(r, e, r.st.inside[ts.adr + k]);
     }

@@ -126,8 +126,8 @@ void publish(Runtime& r, GraphicsId i, uint8_t flags) {
     GraphicsState& gs = r.st.graphics[i];
     if (flags & kFinished) r.activate(r.g.animations[AnimationId(gs.finished)].finished_slot);
     if (flags & kPoseChanged) {
-        const int32_t out = r.comp_slot(r.g.graphics[i].comp, slot::pose);
-        if (r.st.watched[graph::SlotId(out)]) r.emit_pose(out, gs.pose);
+        const graph::SlotId out = r.comp_slot(r.g.graphics[i].comp, slot::pose);
+        if (r.st.watched[out]) r.emit_pose(out, gs.pose);
     }
 }
 
@@ -174,8 +174,8 @@ void start_all(Runtime& r) {
     }
 }
 
-void act_one(Runtime& r, const graph::Comp& c, int32_t row) {
-    const GraphicsId i(row);
+void act_one(Runtime& r, const graph::Comp& c) {
+    const GraphicsId i = graph::detail_of<graph::Graphics>(c);
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     if (a[slot::set_pose] && input_in_range(r, c.slot_adr + slot::set_pose)) {
         const double* v = r.val(c.slot_adr + slot::set_pose);

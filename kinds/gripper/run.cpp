@@ -14,64 +14,64 @@ namespace slot = plant::graph::gripperslot;
 namespace {
 
 btTransform gripper_frame(const Runtime& r, const graph::Gripper& gr) {
-    if (gr.body >= 0) return r.phys.frame(gr.body);
-    if (gr.graphics >= 0) return to_bt(r.st.graphics[gr.graphics].pose);
+    if (gr.body.valid()) return r.phys.frame(gr.body);
+    if (gr.graphics.valid()) return to_bt(r.st.graphics[gr.graphics].pose);
     return btTransform::getIdentity();
 }
 
-void grip(Runtime& r, int32_t i) {
+void grip(Runtime& r, graph::GripperId i) {
     const graph::Gripper& gr = r.g.grippers[i];
-    if (r.st.gripper_held[i] >= 0 || gr.trigger < 0) return;
+    if (r.st.gripper_held[i].valid() || !gr.trigger.valid()) return;
     const TriggerState& ts = r.st.triggers[gr.trigger];
     if (ts.num == 0) return;
     // The object the trigger reports, if still inside; else the lowest id inside.
-    int32_t obj = r.st.inside[ts.adr];
-    const int32_t seen = int32_t(*r.val(r.comp_slot(r.g.triggers[gr.trigger].comp, graph::triggerslot::object)));
+    graph::DoId obj = r.st.inside[ts.adr];
+    const graph::DoId seen(int32_t(*r.val(r.comp_slot(r.g.triggers[gr.trigger].comp, graph::triggerslot::object))));
     for (int32_t k = 0; k < ts.num; ++k)
         if (r.st.inside[ts.adr + k] == seen) obj = seen;
     const btTransform inv = gripper_frame(r, gr).inverse();
     bool any = false;
-    for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b) {
-        if (!r.phys.in_world(*b) || !r.phys.declared_dynamic(*b) || r.st.held_by[*b] >= 0) continue;
-        r.st.held_by[*b] = i;
-        r.st.grip_rel[*b] = inv * r.phys.frame(*b);
-        r.phys.set_dynamics(*b, false);
+    for (graph::BodyId b : r.tab.do_bodies[obj]) {
+        if (!r.phys.in_world(b) || !r.phys.declared_dynamic(b) || r.st.held_by[b].valid()) continue;
+        r.st.held_by[b] = i;
+        r.st.grip_rel[b] = inv * r.phys.frame(b);
+        r.phys.set_dynamics(b, false);
         any = true;
     }
     if (!any) return;
     r.st.gripper_held[i] = obj;
-    const int32_t s0 = r.g.comps[gr.comp].slot_adr;
+    const graph::Adr<graph::Slot> s0 = r.g.comps[gr.comp].slot_adr;
     r.activate(s0 + slot::gripped);
-    r.emit(s0 + slot::object, obj);
+    r.emit(s0 + slot::object, obj.v);
 }
 
-void release(Runtime& r, int32_t i) {
-    const int32_t obj = r.st.gripper_held[i];
-    if (obj < 0) return;
+void release(Runtime& r, graph::GripperId i) {
+    const graph::DoId obj = r.st.gripper_held[i];
+    if (!obj.valid()) return;
     const graph::Gripper& gr = r.g.grippers[i];
     // The gripper's motion: its body's (Bullet derives it for kinematic bodies), or
     // the followed graphics' change over the last step.
     btVector3 v(0, 0, 0), w(0, 0, 0), p(0, 0, 0);
-    if (gr.body >= 0) {
+    if (gr.body.valid()) {
         v = r.phys.velocity(gr.body);
         w = r.phys.angular_velocity(gr.body);
         p = r.phys.com(gr.body);
-    } else if (gr.graphics >= 0) {
+    } else if (gr.graphics.valid()) {
         const GraphicsState& gs = r.st.graphics[gr.graphics];
         v = to_bt(scale(sub(gs.pose.p, gs.prev.p), 1.0 / r.dt));
         w = to_bt(angular_velocity(gs.prev.q, gs.pose.q, r.dt));
         p = to_bt(gs.pose.p);
     }
-    for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b) {
-        if (r.st.held_by[*b] != i) continue;
-        r.st.held_by[*b] = -1;
-        r.phys.set_dynamics(*b, true);
-        btRigidBody& rb = r.phys.write(*b);
+    for (graph::BodyId b : r.tab.do_bodies[obj]) {
+        if (r.st.held_by[b] != i) continue;
+        r.st.held_by[b] = graph::GripperId{};
+        r.phys.set_dynamics(b, true);
+        btRigidBody& rb = r.phys.write(b);
         rb.setLinearVelocity(v + w.cross(rb.getWorldTransform().getOrigin() - p));
         rb.setAngularVelocity(w);
     }
-    r.st.gripper_held[i] = -1;
-    const int32_t s0 = r.g.comps[gr.comp].slot_adr;
+    r.st.gripper_held[i] = graph::DoId{};
+    const graph::Adr<graph::Slot> s0 = r.g.comps[gr.comp].slot_adr;
     r.activate(s0 + slot::released);
     r.emit(s0 + slot::object, -1);
 }
@@ -83,15 +83,16 @@ void start_all(Runtime& r) {
 // What a gripper holds moves with it, kinematically.
 void sense_all(Runtime& r) {
     for (graph::GripperId i : ids_of(r.g.grippers)) {
-        const int32_t obj = r.st.gripper_held[i];
-        if (obj < 0) continue;
+        const graph::DoId obj = r.st.gripper_held[i];
+        if (!obj.valid()) continue;
         const btTransform gp = gripper_frame(r, r.g.grippers[i]);
-        for (const int32_t* b = r.tab.do_bodies.begin(obj); b != r.tab.do_bodies.end(obj); ++b)
-            if (r.st.held_by[*b] == i.v) r.phys.move(*b, gp * r.st.grip_rel[*b]);
+        for (graph::BodyId b : r.tab.do_bodies[obj])
+            if (r.st.held_by[b] == i) r.phys.move(b, gp * r.st.grip_rel[b]);
     }
 }
 
-void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
+void act_one(Runtime& r, const graph::Comp& c) {
+    const graph::GripperId i = graph::detail_of<graph::Gripper>(c);
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     if (a[slot::release]) release(r, i);
     if (a[slot::grip]) grip(r, i);

@@ -19,54 +19,55 @@ namespace slot = plant::graph::sourceslot;
 namespace {
 
 struct Sources : KindData {
-    std::vector<int32_t> rated;  // the rows of `sources` with a rate, in order
+    std::vector<graph::SourceId> rated;  // the rows of `sources` with a rate, in order
 };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     auto s = std::make_unique<Sources>();
     for (graph::SourceId i : ids_of(g.sources))
-        if (g.sources[i].rate > 0) s->rated.push_back(i.v);
+        if (g.sources[i].rate > 0) s->rated.push_back(i);
     return s;
 }
 
 // The next free object of the pool to the source's pose, as it was built (every part moves
 // as the DO moves), its bar code handed out; counted in Warnings::pool_empty when none is.
-void issue(Runtime& r, int32_t src) {
+void issue(Runtime& r, graph::SourceId src) {
     SourceState& ss = r.st.sources[src];
     const graph::Source& S = r.g.sources[src];
     if (ss.free == 0) {
         r.st.warn.pool_empty++;
         return;
     }
-    const int32_t d = r.st.pool_ring[ss.ring_adr + ss.head];
+    const graph::DoId d = r.st.pool_ring[ss.ring_adr + ss.head];
     ss.head = (ss.head + 1) % S.pool_num;
     ss.free--;
     // Pooled objects keep their shape: every part moves as the DO moves to the source.
     const graph::Pose to = pmul(S.pose, pinv(r.g.dos[d].pose));
-    for (const int32_t* b = r.tab.do_bodies.begin(d); b != r.tab.do_bodies.end(d); ++b) {
-        const graph::Body& body = r.g.bodies[*b];
-        r.phys.set_dynamics(*b, body.dynamics);
-        r.phys.set_collision(*b, body.collision);
-        r.phys.place(*b, to_bt(pmul(to, body.pose)));
-        btRigidBody& rb = r.phys.write(*b);
+    for (graph::BodyId b : r.tab.do_bodies[d]) {
+        const graph::Body& body = r.g.bodies[b];
+        r.phys.set_dynamics(b, body.dynamics);
+        r.phys.set_collision(b, body.collision);
+        r.phys.place(b, to_bt(pmul(to, body.pose)));
+        btRigidBody& rb = r.phys.write(b);
         rb.setLinearVelocity(btVector3(0, 0, 0));
         rb.setAngularVelocity(btVector3(0, 0, 0));
         rb.clearForces();
-        r.st.gone[*b] = 0;
-        r.st.ride_field[*b] = -1;  // a new life: where it rides starts again (Loss)
-        r.st.ride_step[*b] = -1;
-        r.phys.insert(*b);
+        r.st.gone[b] = 0;
+        r.st.ride_field[b] = graph::FieldId{};  // a new life: where it rides starts again (Loss)
+        r.st.ride_step[b] = -1;
+        r.phys.insert(b);
     }
-    for (const int32_t* i = r.tab.do_graphics.begin(d); i != r.tab.do_graphics.end(d); ++i) {
-        r.st.graphics[*i].base = pmul(to, r.g.graphics[*i].pose);
-        r.st.graphics[*i].base_fresh = false;
+    for (graph::GraphicsId i : r.tab.do_graphics[d]) {
+        r.st.graphics[i].base = pmul(to, r.g.graphics[i].pose);
+        r.st.graphics[i].base_fresh = false;
     }
     const double code = S.id_num > 0 ? r.g.ids[S.id_adr + ss.issued % S.id_num].v.id : r.g.dos[d].path.id;
-    if (int32_t l = r.tab.do_label[d]; l >= 0) r.emit(r.comp_slot(r.g.labels[l].comp, graph::labelslot::value), code);
+    if (const graph::Id<graph::Label> l = r.tab.do_label[d]; l.valid())
+        r.emit(r.comp_slot(r.g.labels[l].comp, graph::labelslot::value), code);
     ss.issued++;
-    const int32_t s0 = r.g.comps[S.comp].slot_adr;
+    const graph::Adr<graph::Slot> s0 = r.g.comps[S.comp].slot_adr;
     r.activate(s0 + slot::issued);
-    r.emit(s0 + slot::object, d);
+    r.emit(s0 + slot::object, d.v);
     r.emit(s0 + slot::id, code);
     r.emit(s0 + slot::issued_count, double(ss.issued));
 }
@@ -75,12 +76,12 @@ void start_all(Runtime& r) {
     for (const graph::Source& s : r.g.sources) *r.val(r.comp_slot(s.comp, slot::object)) = -1;
 }
 
-void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
-    if (r.st.act[c.slot_adr + slot::issue]) issue(r, i);
+void act_one(Runtime& r, const graph::Comp& c) {
+    if (r.st.act[c.slot_adr + slot::issue]) issue(r, graph::detail_of<graph::Source>(c));
 }
 
 void act_all(Runtime& r) {
-    for (int32_t src : kind_data<Sources>(r.st, CompKind::Source).rated) {
+    for (graph::SourceId src : kind_data<Sources>(r.st, CompKind::Source).rated) {
         SourceState& ss = r.st.sources[src];
         if (r.st.time + 1e-9 < ss.next_issue) continue;
         ss.next_issue += 1.0 / r.g.sources[src].rate;

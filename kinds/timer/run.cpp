@@ -21,9 +21,11 @@ struct Run {
     double deadline = 0;  // next tick, seconds since start
 };
 
+using TimerId = graph::Id<graph::Timer>;
+
 struct Timers : KindData {
-    std::vector<Run> run;      // per row of `timers`
-    std::vector<int32_t> s0;   // the first slot of each timer's component
+    graph::IdVector<TimerId, Run> run;                     // per row of `timers`
+    graph::IdVector<TimerId, graph::Adr<graph::Slot>> s0;  // the first slot of each timer's component
 };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
@@ -38,7 +40,7 @@ Timers& timers(Runtime& r) { return kind_data<Timers>(r.st, CompKind::Timer); }
 // Autostarting timers run from the first step; `running` is published once.
 void start_all(Runtime& r) {
     Timers& t = timers(r);
-    for (size_t i = 0; i < r.g.timers.size(); ++i) {
+    for (TimerId i : ids_of(r.g.timers)) {
         if (r.g.timers[i].autostart) t.run[i] = {true, 0, r.g.timers[i].period};
         r.emit(t.s0[i] + graph::timerslot::running, t.run[i].running ? 1 : 0);
     }
@@ -47,10 +49,10 @@ void start_all(Runtime& r) {
 // Ticks at n·dt >= deadline: counting steps, not adding dt, so periods do not drift.
 void sense_all(Runtime& r) {
     Timers& t = timers(r);
-    for (size_t i = 0; i < r.g.timers.size(); ++i) {
+    for (TimerId i : ids_of(r.g.timers)) {
         Run& ts = t.run[i];
         if (!ts.running) continue;
-        const int32_t s0 = t.s0[i];
+        const graph::Adr<graph::Slot> s0 = t.s0[i];
         ts.n++;
         const double elapsed = double(ts.n) * r.dt;
         // Only a read or watched `elapsed` is made active: most timers just tick.
@@ -68,12 +70,13 @@ void sense_all(Runtime& r) {
     }
 }
 
-void act_one(Runtime& r, const graph::Comp& c, int32_t i) {
+void act_one(Runtime& r, const graph::Comp& c) {
+    const TimerId i = graph::detail_of<graph::Timer>(c);
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     Run& ts = timers(r).run[i];
     const bool was = ts.running;
     if (a[graph::timerslot::stop]) ts.running = false;
-    if (a[graph::timerslot::start]) ts = {true, 0, r.g.timers[graph::Id<graph::Timer>(i)].period};
+    if (a[graph::timerslot::start]) ts = {true, 0, r.g.timers[i].period};
     if (ts.running != was) r.emit(c.slot_adr + graph::timerslot::running, ts.running ? 1 : 0);
 }
 

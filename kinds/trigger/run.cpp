@@ -48,16 +48,10 @@ bool overlaps(const btVector3& lo, const btVector3& hi, const btTransform& box, 
     return true;
 }
 
-// Slice i of `count` over the triggers, as their ids.
-graph::IdRange<TriggerId> slice_ids(size_t n, size_t count, size_t i) {
-    const auto [b, e] = slice_of(n, count, i);
-    return {static_cast<int32_t>(b), static_cast<int32_t>(e)};
-}
-
 // Which objects are inside the triggers `ids`, found on one of the physics threads: each
 // trigger's pose, and its objects, sorted, appended to `out` (the slice's own list) with
 // their place in it.
-void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<int32_t>& out) {
+void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<DoId>& out) {
     State& s = r.st;
     const graph::Graph& g = r.g;
     out.clear();
@@ -73,11 +67,10 @@ void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<int32_t>
         const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z() +
                             r.index.reach();
         const size_t adr = out.size();
-        r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](int32_t b) {
+        r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](graph::BodyId b) {
             if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) return;
-            const DoId found = object_of(g, r.tab.body_do[graph::BodyId(b)], tg.filter);
-            if (!found.valid()) return;
-            const int32_t obj = found.v;
+            const DoId obj = object_of(g, r.tab.body_do[b], tg.filter);
+            if (!obj.valid()) return;
             // Insert sorted, once per object (a bottle has two bodies).
             size_t k = out.size();
             bool dup = false;
@@ -96,7 +89,7 @@ void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<int32_t>
 
 // Trigger t's objects this step (`objects`, found by find_inside): its list in State::inside
 // and its events, against the list of the step before.
-void take(Runtime& r, TriggerId t, const int32_t* objects) {
+void take(Runtime& r, TriggerId t, const DoId* objects) {
     State& s = r.st;
     TriggerState& ts = s.triggers[t];
     ts.prev_adr = ts.adr;
@@ -106,9 +99,10 @@ void take(Runtime& r, TriggerId t, const int32_t* objects) {
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
 
     // Merge the two sorted lists.
-    int32_t entered = 0, left = 0, first_in = -1;
-    const int32_t *a = s.inside.data() + ts.adr, *ae = a + ts.num;
-    const int32_t *p = s.inside_prev.data() + ts.prev_adr, *pe = p + ts.prev_num;
+    int32_t entered = 0, left = 0;
+    DoId first_in;
+    const DoId *a = s.inside.data() + ts.adr, *ae = a + ts.num;
+    const DoId *p = s.inside_prev.data() + ts.prev_adr, *pe = p + ts.prev_num;
     while (a != ae || p != pe) {
         if (p == pe || (a != ae && *a < *p)) {
             if (entered++ == 0) first_in = *a;
@@ -121,11 +115,11 @@ void take(Runtime& r, TriggerId t, const int32_t* objects) {
             ++p;
         }
     }
-    const int32_t s0 = r.comp_slot(r.g.triggers[t].comp, slot::on_enter);
+    const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.triggers[t].comp].slot_adr;
     if (entered) {
         ts.enters += entered;
         r.activate(s0 + slot::on_enter);
-        r.emit(s0 + slot::object, first_in);
+        r.emit(s0 + slot::object, first_in.v);
     }
     if (left) r.activate(s0 + slot::on_leave);
     if (ts.num) r.activate(s0 + slot::on_stay);
@@ -141,13 +135,13 @@ void sense_all(Runtime& r) {
     r.index.refresh(r.phys, true, r.phys.workers());
     const size_t nt = g.triggers.size();
     const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
-    auto finding = [&r, &s, nt, slices](int i) { find_inside(r, slice_ids(nt, slices, i), s.trigger_slices[i]); };
+    auto finding = [&r, &s, nt, slices](int i) { find_inside(r, slice_ids<TriggerId>(nt, slices, i), s.trigger_slices[i]); };
     run_slices(r.phys.workers(), slices, finding);
     s.inside.swap(s.inside_prev);
     s.inside.clear();
     for (size_t i = 0; i < slices; ++i) {
-        const int32_t* found = s.trigger_slices[i].data();
-        for (TriggerId t : slice_ids(nt, slices, i)) {
+        const DoId* found = s.trigger_slices[i].data();
+        for (TriggerId t : slice_ids<TriggerId>(nt, slices, i)) {
             take(r, t, found);
             found += s.trigger_found[t];
         }

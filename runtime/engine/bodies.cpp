@@ -19,19 +19,19 @@ bool finite(const btVector3& v) { return std::isfinite(v.x()) && std::isfinite(v
 
 // Where and when object d was lost, one of its bodies leaving the world at p: the last field one of its
 // bodies rode (the latest; the first body of a tie), or where b left when none did.
-void note_loss(Runtime& r, int32_t d, const btVector3& p) {
-    r.st.lost.push_back(DoId(d));  // once per DO: within its reserve
+void note_loss(Runtime& r, DoId d, const btVector3& p) {
+    r.st.lost.push_back(d);  // once per DO: within its reserve
     Loss& l = r.st.loss[d];
     l.step = r.st.step;
     l.out = from_bt(p);
     l.field = FieldId{};
     l.field_step = r.st.step;
     l.place = l.out;
-    for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
-        if (r.st.ride_field[*x] < 0 || (l.field.valid() && r.st.ride_step[*x] <= l.field_step)) continue;
-        l.field = FieldId(r.st.ride_field[*x]);
-        l.field_step = r.st.ride_step[*x];
-        l.place = from_bt(r.st.ride_at[*x]);
+    for (BodyId x : r.tab.do_bodies[d]) {
+        if (!r.st.ride_field[x].valid() || (l.field.valid() && r.st.ride_step[x] <= l.field_step)) continue;
+        l.field = r.st.ride_field[x];
+        l.field_step = r.st.ride_step[x];
+        l.place = from_bt(r.st.ride_at[x]);
     }
 }
 
@@ -41,7 +41,7 @@ void note_loss(Runtime& r, int32_t d, const btVector3& p) {
 // with one warning.
 namespace {
 
-bool body_off(const Runtime& r, int32_t b) {
+bool body_off(const Runtime& r, BodyId b) {
     if (!r.phys.in_world(b) || r.st.gone[b]) return false;
     const btRigidBody& rb = r.phys.rb(b);
     const btVector3& p = rb.getWorldTransform().getOrigin();
@@ -54,7 +54,7 @@ bool body_off(const Runtime& r, int32_t b) {
 void check_bodies(Runtime& r) {
     // Whether any body left the world or went NaN: looked for on the physics threads, in
     // slices of the bodies (reads only); the rare step that has one then handles them here.
-    const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
+    const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
     const size_t n = dyn.size();
     const size_t slices = slice_count(r.phys.workers(), n, 256, r.st.slice_left.size());
     auto look = [&r, n, slices](int i) {
@@ -69,22 +69,22 @@ void check_bodies(Runtime& r) {
         for (size_t i = 0; i < slices; ++i) any |= r.st.slice_left[i] != 0;
         if (!any) return;
     }
-    for (int32_t b : dyn) {
+    for (BodyId b : dyn) {
         if (!r.phys.in_world(b) || r.st.gone[b]) continue;
         const btRigidBody& rb = r.phys.rb(b);
         const btVector3& p = rb.getWorldTransform().getOrigin();
         const bool nan = !finite(p) || !finite(rb.getLinearVelocity()) || !finite(rb.getAngularVelocity());
         if (!nan && p.z() >= -10 && p.length2() <= 1e6) continue;
         (nan ? r.st.warn.nan_state : r.st.warn.left_world)++;
-        const int32_t d = r.tab.body_do[b];
+        const DoId d = r.tab.body_do[b];
         if (r.st.lost_at[d] < 0) {
             r.st.lost_at[d] = r.st.time;
             note_loss(r, d, p);
         }
-        for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) {
-            if (r.st.gone[*x]) continue;
-            r.st.gone[*x] = 1;
-            if (r.phys.in_world(*x)) take_body_out(r, *x);
+        for (BodyId x : r.tab.do_bodies[d]) {
+            if (r.st.gone[x]) continue;
+            r.st.gone[x] = 1;
+            if (r.phys.in_world(x)) take_body_out(r, x);
         }
     }
 }
@@ -127,10 +127,10 @@ bool input_in_range(Runtime& r, graph::SlotId slot) {
     return false;
 }
 
-void act_body(Runtime& r, const Comp& c, int32_t b) {
+void act_body(Runtime& r, const Comp& c, BodyId b) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     Physics& ph = r.phys;
-    const bool held = r.st.held_by[b] >= 0;  // a gripper owns its mode and pose
+    const bool held = r.st.held_by[b].valid();  // a gripper owns its mode and pose
     if (a[bodyslot::collision_off]) ph.set_collision(b, false);
     if (a[bodyslot::collision_on]) ph.set_collision(b, true);
     if (!held && a[bodyslot::dynamics_off]) ph.set_dynamics(b, false);
@@ -179,15 +179,14 @@ void act_body(Runtime& r, const Comp& c, int32_t b) {
     }
 }
 
-void take_body_out(Runtime& r, int32_t b) {
-    int32_t gr = r.st.held_by[b];
-    r.st.held_by[b] = -1;
-    if (gr >= 0) {  // a gripper loses what it held when it is taken away
+void take_body_out(Runtime& r, BodyId b) {
+    const GripperId gr = r.st.held_by[b];
+    r.st.held_by[b] = GripperId{};
+    if (gr.valid()) {  // a gripper loses what it held when it is taken away
         bool any = false;
-        for (const int32_t* x = r.tab.do_bodies.begin(r.st.gripper_held[gr]);
-             x != r.tab.do_bodies.end(r.st.gripper_held[gr]); ++x)
-            any = any || r.st.held_by[*x] == gr;
-        if (!any) r.st.gripper_held[gr] = -1;
+        for (BodyId x : r.tab.do_bodies[r.st.gripper_held[gr]])
+            any = any || r.st.held_by[x] == gr;
+        if (!any) r.st.gripper_held[gr] = DoId{};
     }
     r.st.cmd_lin[b] = Vec3{0, 0, 0};
     r.st.cmd_ang[b] = Vec3{0, 0, 0};

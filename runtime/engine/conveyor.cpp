@@ -37,7 +37,7 @@ double inv_stretch(double a) { return a > 1e-12 ? std::max(a / std::expm1(std::m
 // One body alone: (m/s + dt·K)·Δv = dt·F, applied as the force m·Δv/dt; past the
 // slip limit the band slips and pulls with the limit instead, in the same direction
 // (less than the exact step's force, so a free body cannot overshoot the belt speed).
-void integrate_single(Runtime& r, int32_t b) {
+void integrate_single(Runtime& r, graph::BodyId b) {
     State& s = r.st;
     const double m = r.phys.mass(b), dt = r.dt;
     const double inv_s = inv_stretch(s.body_k[b] * dt / m);
@@ -55,10 +55,10 @@ void integrate_single(Runtime& r, int32_t b) {
 // Slip limit: a member whose law force over the step, s·(F − K·J·x), exceeds its limit
 // pulls with the limit instead (a constant force, no stiffness), and the group is solved
 // again until no further member saturates (at most once per member).
-void integrate_group(Runtime& r, int32_t grp) {
+void integrate_group(Runtime& r, graph::BodyId grp) {
     State& s = r.st;
     const double dt = r.dt, mass = s.group_mass[grp];
-    const int32_t* mem = s.group_list.data() + s.group_adr[grp];
+    const graph::BodyId* mem = s.group_list.data() + s.group_adr[grp];
     const int32_t n = s.group_num[grp];
     Vec3d c = Vec3d::Zero();
     for (int32_t i = 0; i < n; ++i) c += r.phys.mass(mem[i]) * eig(r.phys.com(mem[i]));
@@ -97,7 +97,7 @@ void integrate_group(Runtime& r, int32_t grp) {
         dv = x.head<3>(), dw = x.tail<3>();
         bool more = false;
         for (int32_t i = 0; i < n; ++i) {
-            const int32_t b = mem[i];
+            const graph::BodyId b = mem[i];
             if (s.body_k[b] == 0 || s.law_sat[b] || s.body_cap[b] == HUGE_VAL) continue;
             const Vec3d rel = eig(r.phys.com(b)) - c;
             const Vec3d G = (eig(s.force[b]) - eig(s.gain[b]) * (dv + dw.cross(rel))) / inv_s;

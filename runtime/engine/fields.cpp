@@ -30,7 +30,7 @@ using namespace plant::graph;
 
 namespace {
 
-int32_t root(std::vector<int32_t>& parent, int32_t x) {
+BodyId root(State::PerBody<BodyId>& parent, BodyId x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
 }
@@ -39,45 +39,45 @@ int32_t root(std::vector<int32_t>& parent, int32_t x) {
 // membership changed. All arrays are sized by the body count: no allocation.
 void rebuild_groups(Runtime& r) {
     State& s = r.st;
-    const int32_t nb = r.g.bodies.count();
-    for (int32_t b = 0; b < nb; ++b) s.group_of[b] = b;
-    for (int32_t j = 0; j < r.g.joints.count(); ++j) {
+    for (BodyId b : ids_of(r.g.bodies)) s.group_of[b] = b;
+    for (JointId j : ids_of(r.g.joints)) {
         const Joint& jt = r.g.joints[j];
-        if (jt.kind != JointKind::Fixed || !r.phys.joint_on(j) || jt.body_b < 0) continue;
+        if (jt.kind != JointKind::Fixed || !r.phys.joint_on(j) || !jt.body_b.valid()) continue;
         if (!r.phys.dynamic_now(jt.body_a) || !r.phys.dynamic_now(jt.body_b)) continue;
         s.group_of[root(s.group_of, jt.body_a)] = root(s.group_of, jt.body_b);
     }
-    for (int32_t b = 0; b < nb; ++b) {
+    for (BodyId b : ids_of(r.g.bodies)) {
         s.group_of[b] = root(s.group_of, b);
         s.group_mass[b] = 0;
         s.group_num[b] = 0;
     }
-    for (int32_t b = 0; b < nb; ++b)
+    for (BodyId b : ids_of(r.g.bodies))
         if (r.phys.dynamic_now(b)) {
             s.group_mass[s.group_of[b]] += r.phys.mass(b);
             s.group_num[s.group_of[b]]++;
         }
-    for (int32_t b = 0, adr = 0; b < nb; ++b) {
+    int32_t adr = 0;
+    for (BodyId b : ids_of(r.g.bodies)) {
         s.group_adr[b] = adr;
         adr += s.group_num[b];
         s.group_num[b] = 0;
     }
-    for (int32_t b = 0; b < nb; ++b)
+    for (BodyId b : ids_of(r.g.bodies))
         if (r.phys.dynamic_now(b)) {
-            const int32_t g = s.group_of[b];
+            const BodyId g = s.group_of[b];
             s.group_list[s.group_adr[g] + s.group_num[g]++] = b;
         }
     s.groups_version = r.phys.version();
 }
 
 // The field's frame, recomputed only when its carrier has moved. Returns whether it changed.
-bool field_frame(Runtime& r, size_t f) {
+bool field_frame(Runtime& r, FieldId f) {
     const Field& fd = r.g.fields[f];
     State::FieldFrame& ff = r.st.field_frame[f];
-    const btTransform carrier = fd.body >= 0 ? r.phys.rb(fd.body).getWorldTransform() : btTransform::getIdentity();
+    const btTransform carrier = fd.body.valid() ? r.phys.rb(fd.body).getWorldTransform() : btTransform::getIdentity();
     if (ff.valid && carrier == ff.carrier) return false;
     ff.carrier = carrier;
-    ff.pose = fd.body >= 0 ? r.phys.frame(fd.body) * r.tab.field_local[f] : to_bt(fd.pose);
+    ff.pose = fd.body.valid() ? r.phys.frame(fd.body) * r.tab.field_local[f] : to_bt(fd.pose);
     const btMatrix3x3& R = ff.pose.getBasis();
     ff.K = R.scaled(r.tab.field_gain[f]) * R.transpose();  // R·diag(gain)·R^T
     const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
@@ -107,7 +107,7 @@ void build_field_cells(Runtime& r) {
 
 // The law of every field body b's centre of mass is in, summed in field id order (so the sums
 // do not depend on how bodies are split among threads). Returns whether any field acts on it.
-bool gather_fields(Runtime& r, int32_t b) {
+bool gather_fields(Runtime& r, BodyId b) {
     State& s = r.st;
     const btVector3 p = r.phys.com(b);
     int64_t ix, iy;
@@ -122,7 +122,7 @@ bool gather_fields(Runtime& r, int32_t b) {
     btVector3 v(0, 0, 0);
     bool have_v = false;
     while (cell != cell_end || big != big_end) {  // the two id-ordered lists, merged
-        const int32_t f = big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++;
+        const FieldId f(big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++);  // filed as numbers
         if (!s.field_act[f]) continue;
         const Field& fd = r.g.fields[f];
         const State::FieldFrame& ff = s.field_frame[f];
@@ -152,15 +152,15 @@ bool gather_fields(Runtime& r, int32_t b) {
 // rigid groups (which share their world), so worlds can run on several threads at once.
 void fields_of_world(Runtime& r, int32_t w) {
     State& s = r.st;
-    const int32_t* list = s.world_list.data() + s.world_adr[w];
-    int32_t* touched = s.touched.data() + s.world_adr[w];
+    const BodyId* list = s.world_list.data() + s.world_adr[w];
+    BodyId* touched = s.touched.data() + s.world_adr[w];
     int32_t n = 0;
     for (int32_t i = 0; i < s.world_num[w]; ++i) {
-        const int32_t b = list[i];
+        const BodyId b = list[i];
         if (gather_fields(r, b)) touched[n++] = b;
     }
     for (int32_t i = 0; i < n; ++i) {
-        const int32_t b = touched[i];
+        const BodyId b = touched[i];
         // Stalled: slower than a tenth of the running field it is in, as the last
         // physics step left it (a bottle held at a gate, a jam).
         if (s.field_run[b] > 0 && r.phys.velocity(b).length() < 0.1 * s.field_run[b]) {
@@ -170,8 +170,8 @@ void fields_of_world(Runtime& r, int32_t w) {
         s.field_run[b] = 0;
     }
     for (int32_t i = 0; i < n; ++i) {
-        const int32_t b = touched[i];
-        const int32_t grp = s.group_of[b];
+        const BodyId b = touched[i];
+        const BodyId grp = s.group_of[b];
         if (s.group_num[grp] <= 1) {
             integrate_single(r, b);
             r.phys.rb(b).activate();
@@ -181,7 +181,7 @@ void fields_of_world(Runtime& r, int32_t w) {
         }
     }
     for (int32_t i = 0; i < n; ++i) {
-        const int32_t b = touched[i];
+        const BodyId b = touched[i];
         s.group_mark[s.group_of[b]] = 0;
         s.force[b].setZero();
         s.gain[b].setValue(0, 0, 0, 0, 0, 0, 0, 0, 0);
@@ -192,10 +192,10 @@ void fields_of_world(Runtime& r, int32_t w) {
 
 void move_kinematic(Runtime& r) {
     State& s = r.st;
-    for (const int32_t b : s.commanded) {
+    for (const BodyId b : s.commanded) {
         const Vec3 &v = s.cmd_lin[b], &w = s.cmd_ang[b];
         if (v == Vec3{0, 0, 0} && w == Vec3{0, 0, 0}) continue;
-        if (!r.phys.in_world(b) || r.phys.dynamic_now(b) || s.held_by[b] >= 0) continue;
+        if (!r.phys.in_world(b) || r.phys.dynamic_now(b) || s.held_by[b].valid()) continue;
         btRigidBody& rb = r.phys.write(b);
         btTransform next;
         btTransformUtil::integrateTransform(rb.getWorldTransform(), to_bt(v), to_bt(w), btScalar(r.dt), next);
@@ -219,9 +219,8 @@ bool prepare_fields(Runtime& r) {
     const size_t nf = g.fields.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
     const size_t slices = slice_count(r.phys.workers(), nf + nk, 128, s.slice_moved.size());
     auto frames = [&r, &s, &g, nf, nk, slices](int i) {
-        const auto [fb, fe] = slice_of(nf, slices, i);
         bool moved = false;
-        for (size_t f = fb; f < fe; ++f) {
+        for (FieldId f : slice_ids<FieldId>(nf, slices, i)) {
             const Field& fd = g.fields[f];
             s.field_act[f] = 0;
             if (fd.gain <= 0) continue;
@@ -250,16 +249,16 @@ void list_field_bodies(Runtime& r) {
     s.world_adr.assign(nw, 0);
     s.world_num.assign(nw, 0);
     // Not what a gripper or a hand holds: the band slides under it.
-    for (int32_t b : r.tab.dyn_bodies)
-        if (r.phys.dynamic_now(b) && s.held_by[b] < 0 && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[r.phys.world_of(b)];
+    for (BodyId b : r.tab.dyn_bodies)
+        if (r.phys.dynamic_now(b) && !s.held_by[b].valid() && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[r.phys.world_of(b)];
     for (int w = 1; w < nw; ++w) s.world_adr[w] = s.world_adr[w - 1] + s.world_num[w - 1];
     s.worlds_busy.clear();
     for (int w = 0; w < nw; ++w) {
         if (s.world_num[w]) s.worlds_busy.push_back(w);
         s.world_num[w] = 0;
     }
-    for (int32_t b : r.tab.dyn_bodies) {
-        if (!r.phys.dynamic_now(b) || s.held_by[b] >= 0 || s.in_hand[b] || r.phys.coasting(b)) continue;
+    for (BodyId b : r.tab.dyn_bodies) {
+        if (!r.phys.dynamic_now(b) || s.held_by[b].valid() || s.in_hand[b] || r.phys.coasting(b)) continue;
         const int w = r.phys.world_of(b);
         s.world_list[s.world_adr[w] + s.world_num[w]++] = b;
     }
@@ -308,14 +307,14 @@ void phase_physics(Runtime& r) {
 // at (its target while enabled, 0 while not: a stopped belt's band stands still) and whether
 // it is enabled.
 void start_fields(Runtime& r) {
-    for (size_t f = 0; f < r.g.fields.size(); ++f) {
-        const int32_t s0 = r.comp_slot(r.g.fields[f].comp, 0);
+    for (FieldId f : ids_of(r.g.fields)) {
+        const Adr<Slot> s0 = r.g.comps[r.g.fields[f].comp].slot_adr;
         r.emit(s0 + fieldslot::speed, r.st.field_on[f] ? r.st.field_speed[f] : 0.0);
         r.emit(s0 + fieldslot::enabled, r.st.field_on[f] ? 1.0 : 0.0);
     }
 }
 
-void act_field(Runtime& r, const Comp& c, int32_t i) {
+void act_field(Runtime& r, const Comp& c, FieldId i) {
     const uint8_t* a = r.st.act.data() + c.slot_adr;
     const uint8_t was_on = r.st.field_on[i];
     const double was = was_on ? r.st.field_speed[i] : 0.0;

@@ -34,7 +34,7 @@ btVector3 hand_clamped(const btVector3& v, double most) {
 // carried, the held point driven towards the target), and a torque on the held body that
 // turns it back upright (the axis that was up when the plant was built).
 void hand_pull(Runtime& r, const Hand& h) {
-    const int32_t b = h.body;
+    const BodyId b = h.body;
     const double dt = r.dt;
     const btTransform frame = r.phys.frame(b);
     const btVector3 p = frame * h.anchor;
@@ -45,9 +45,8 @@ void hand_pull(Runtime& r, const Hand& h) {
     // The velocity step's exact decay over dt, as the conveyor law's: stable at any rate.
     btVector3 a = hand_clamped((wanted - v) * btScalar(-std::expm1(-dt / kHandTauVel) / dt), kHandAccel);
     a -= to_bt(r.g.settings.gravity);
-    const int32_t d = r.tab.body_do[b];
-    for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x)
-        if (r.phys.dynamic_now(*x)) r.phys.apply(*x, a * btScalar(r.phys.mass(*x)), btVector3(0, 0, 0));
+    for (BodyId x : r.tab.do_bodies[r.tab.body_do[b]])
+        if (r.phys.dynamic_now(x)) r.phys.apply(x, a * btScalar(r.phys.mass(x)), btVector3(0, 0, 0));
 
     const Vec3 up_local = qrot(qconj(r.g.bodies[b].pose.q), Vec3{0, 0, 1});
     const btVector3 axis = frame.getBasis() * to_bt(up_local);
@@ -63,14 +62,13 @@ void hand_pull(Runtime& r, const Hand& h) {
 
 // Marks the bodies of the held body's object as in a hand (or not): the conveyor law leaves
 // them alone while held (fields.cpp).
-void mark_object(Runtime& r, int32_t b, uint8_t on) {
-    const int32_t d = r.tab.body_do[b];
-    for (const int32_t* x = r.tab.do_bodies.begin(d); x != r.tab.do_bodies.end(d); ++x) r.st.in_hand[*x] = on;
+void mark_object(Runtime& r, BodyId b, uint8_t on) {
+    for (BodyId x : r.tab.do_bodies[r.tab.body_do[b]]) r.st.in_hand[x] = on;
 }
 
 // A body a hand may take: declared dynamic, in the world, simulated, not in a gripper.
-bool hand_free_to_take(const Runtime& r, int32_t b) {
-    return r.phys.declared_dynamic(b) && r.phys.dynamic_now(b) && r.st.held_by[b] < 0;
+bool hand_free_to_take(const Runtime& r, BodyId b) {
+    return r.phys.declared_dynamic(b) && r.phys.dynamic_now(b) && !r.st.held_by[b].valid();
 }
 
 }  // namespace
@@ -89,9 +87,8 @@ void apply_hands(Runtime& r) {
     hands.resize(keep);  // shrinks: no allocation
 }
 
-void Engine::hand_grab(BodyId body, const Vec3& at) {
+void Engine::hand_grab(BodyId b, const Vec3& at) {
     Runtime& r = *rt_;
-    const int32_t b = body;
     if (!hand_free_to_take(r, b)) {
         r.st.warn.hand_refused++;
         return;
@@ -109,36 +106,36 @@ void Engine::hand_grab(BodyId body, const Vec3& at) {
 
 void Engine::hand_move(BodyId body, const Vec3& to) {
     for (Hand& h : rt_->st.hands)
-        if (h.body == int32_t(body)) h.target = to_bt(to);
+        if (h.body == body) h.target = to_bt(to);
 }
 
 void Engine::hand_drop(BodyId body) {
     std::vector<Hand>& hands = rt_->st.hands;
     if (held(body)) mark_object(*rt_, body, 0);
-    hands.erase(std::remove_if(hands.begin(), hands.end(), [&](const Hand& h) { return h.body == int32_t(body); }),
+    hands.erase(std::remove_if(hands.begin(), hands.end(), [&](const Hand& h) { return h.body == body; }),
                 hands.end());
 }
 
 void Engine::remove_object(DoId object) {
     Runtime& r = *rt_;
-    int32_t root = object;
-    for (int32_t d = object; d >= 0; d = r.g.dos[d].parent)
-        if (r.tab.do_source[d] >= 0) {
+    DoId root = object;
+    for (DoId d = object; d.valid(); d = r.g.dos[d].parent)
+        if (r.tab.do_source[d].valid()) {
             root = d;
             break;
         }
-    for (const int32_t* b = r.tab.do_bodies.begin(root); b != r.tab.do_bodies.end(root); ++b)
-        if (r.st.held_by[*b] >= 0) {  // in a gripper: the arm holds it
+    for (BodyId b : r.tab.do_bodies[root])
+        if (r.st.held_by[b].valid()) {  // in a gripper: the arm holds it
             r.st.warn.hand_refused++;
             return;
         }
-    for (const int32_t* b = r.tab.do_bodies.begin(root); b != r.tab.do_bodies.end(root); ++b) hand_drop(BodyId(*b));
-    if (take_object(r, root) >= 0) r.st.removed++;
+    for (BodyId b : r.tab.do_bodies[root]) hand_drop(b);
+    if (take_object(r, root).valid()) r.st.removed++;
 }
 
 bool Engine::held(BodyId body) const {
     for (const Hand& h : rt_->st.hands)
-        if (h.body == int32_t(body)) return true;
+        if (h.body == body) return true;
     return false;
 }
 

@@ -105,10 +105,10 @@ void run_router(Runtime& r, CompId comp) {
     const SlotId q = r.comp_slot(comp, routerslot::query);
     if (!r.st.act[q]) return;
     const std::string_view id = r.str(int32_t(*r.val(q)));
-    for (const int32_t* k = r.tab.comp_routes.begin(comp); k != r.tab.comp_routes.end(comp); ++k)
-        if (glob_match(r.str(r.g.routes[*k].pattern.id), id)) {
-            r.activate(r.g.routes[*k].out_slot);
-            if (!r.st.forced_out.empty()) force_again(r, r.g.routes[*k].out_slot);
+    for (Id<Route> k : r.tab.comp_routes[comp])
+        if (glob_match(r.str(r.g.routes[k].pattern.id), id)) {
+            r.activate(r.g.routes[k].out_slot);
+            if (!r.st.forced_out.empty()) force_again(r, r.g.routes[k].out_slot);
             return;
         }
 }

@@ -21,7 +21,7 @@ constexpr int kStatic = btBroadphaseProxy::StaticFilter;
 constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
 }  // namespace
 
-void Physics::add_to_world(int32_t b, bool filtered) {
+void Physics::add_to_world(BodyId b, bool filtered) {
     switch (g_.bodies[b].mode) {
     case BodyMode::Dynamic: group_[b] = btBroadphaseProxy::DefaultFilter, mask_[b] = kAll; break;
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
@@ -35,7 +35,7 @@ void Physics::add_to_world(int32_t b, bool filtered) {
 // Bullet's static/kinematic flags as the body's mode and dynamics switch say. A parked
 // body is flagged static: Bullet integrates every non-static body of its world each step
 // (predictIntegratedTransform, without looking at its activation), parked or not.
-void Physics::set_mode_flags(int32_t b) {
+void Physics::set_mode_flags(BodyId b) {
     btRigidBody& r = *bodies_[b];
     int f = r.getCollisionFlags() & ~(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_KINEMATIC_OBJECT);
     const BodyMode mode = g_.bodies[b].mode;
@@ -44,21 +44,21 @@ void Physics::set_mode_flags(int32_t b) {
     r.setCollisionFlags(f);
 }
 
-void Physics::sync_joints(int32_t b) {
+void Physics::sync_joints(BodyId b) {
     if (body_joints_.num.empty()) return;
-    for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
-        const Joint& jt = g_.joints[*j];
+    for (JointId j : body_joints_[b]) {
+        const Joint& jt = g_.joints[j];
         bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
-        if (want == bool(joint_in_[*j])) continue;
-        if (want) add_joint(*j);
-        else remove_joint(*j);
+        if (want == bool(joint_in_[j])) continue;
+        if (want) add_joint(j);
+        else remove_joint(j);
     }
 }
 
 // A body out of the world stays in Bullet's world, parked: not simulated, in no
 // broadphase pair. Removing and re-adding would allocate a broadphase proxy each time
 // an object is issued or taken; parking costs nothing per step.
-void Physics::insert(int32_t b) {
+void Physics::insert(BodyId b) {
     if (in_world_[b]) return;
     unweld(b);
     btRigidBody& r = *bodies_[b];
@@ -70,7 +70,7 @@ void Physics::insert(int32_t b) {
     sync_joints(b);
 }
 
-void Physics::take_out(int32_t b) {
+void Physics::take_out(BodyId b) {
     if (!in_world_[b]) return;
     unweld(b);
     in_world_[b] = 0;
@@ -85,7 +85,7 @@ void Physics::take_out(int32_t b) {
     park(b);
 }
 
-void Physics::park(int32_t b) {
+void Physics::park(BodyId b) {
     btBroadphaseProxy* proxy = bodies_[b]->getBroadphaseHandle();
     proxy->m_collisionFilterGroup = 0;
     proxy->m_collisionFilterMask = 0;
@@ -112,7 +112,7 @@ void Physics::park(int32_t b) {
 
 // Dynamic and kinematic bodies share Bullet's list of non-static bodies and our
 // broadphase group: switching needs flags and mass only, no re-adding.
-void Physics::set_dynamics(int32_t b, bool on) {
+void Physics::set_dynamics(BodyId b, bool on) {
     if (!declared_dynamic(b) || bool(dyn_on_[b]) == on) return;
     unweld(b);
     btRigidBody& r = *bodies_[b];
@@ -135,7 +135,7 @@ void Physics::set_dynamics(int32_t b, bool on) {
 // A body that takes no collisions is in no broadphase pair at all (group and mask 0),
 // like a parked one: no narrowphase work for it. Triggers do not need its pairs; they
 // read AABBs from our own index (kinds/trigger/run.cpp).
-void Physics::set_collision(int32_t b, bool on) {
+void Physics::set_collision(BodyId b, bool on) {
     if (bool(coll_on_[b]) == on) return;
     unweld(b);
     coll_on_[b] = on;
@@ -144,7 +144,7 @@ void Physics::set_collision(int32_t b, bool on) {
 
 // Gives an in-world body's proxy the filter its mode and collision switch ask for and
 // makes the broadphase look for its pairs again.
-void Physics::refilter(int32_t b) {
+void Physics::refilter(BodyId b) {
     btRigidBody& r = *bodies_[b];
     World& w = world_at(b);
     btBroadphaseProxy* proxy = r.getBroadphaseHandle();
@@ -161,17 +161,17 @@ void Physics::refilter(int32_t b) {
     w.world->updateSingleAabb(&r);
 }
 
-void Physics::set_joint(int32_t j, bool on) {
+void Physics::set_joint(JointId j, bool on) {
     if (weld_joint_[j] >= 0) unweld(welds_[weld_joint_[j]].host);
     if (joints_[j]) joints_[j]->setEnabled(on);  // a weld's joint is made with joint_on_
     joint_on_[j] = on;
     ++version_;
 }
 
-btTransform Physics::frame(int32_t b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
-Pose Physics::pose(int32_t b) const { return from_bt(frame(b)); }
+btTransform Physics::frame(BodyId b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
+Pose Physics::pose(BodyId b) const { return from_bt(frame(b)); }
 
-void Physics::place(int32_t b, const btTransform& f) {
+void Physics::place(BodyId b, const btTransform& f) {
     unweld(b);
     btRigidBody& r = *bodies_[b];
     btTransform t = f * local_[b];
@@ -182,6 +182,6 @@ void Physics::place(int32_t b, const btTransform& f) {
     if (void_ >= 0 && g_.bodies[b].mode == BodyMode::Static) placed_static(b);
 }
 
-void Physics::move(int32_t b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
+void Physics::move(BodyId b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
 
 }  // namespace plant::engine

@@ -57,8 +57,7 @@ void phase_petri(Runtime& r) {
     for (int32_t net = 0; net < count_of(r.tab.nets); ++net) {
         if (!s.net_live[net] && !r.tab.net_always_live[net]) continue;
         const size_t before = s.fired.size();
-        for (const int32_t* t = r.tab.net_transitions.begin(net); t != r.tab.net_transitions.end(net); ++t) {
-            const TransitionId id(*t);  // the table's list holds transition ids
+        for (TransitionId id : r.tab.net_transitions[net]) {
             const Transition& tr = g.transitions[id];
             bool enabled = true;
             for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {

@@ -270,9 +270,9 @@ private:
     IslandSolver islands_;
 };
 
-bool pooled(const Graph& g, const Tables& t, int32_t d) {
-    for (size_t guard = 0; d >= 0 && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
-        if (t.do_source[d] >= 0) return true;
+bool pooled(const Graph& g, const Tables& t, DoId d) {
+    for (size_t guard = 0; d.valid() && guard <= g.dos.size(); ++guard, d = g.dos[d].parent)
+        if (t.do_source[d].valid()) return true;
     return false;
 }
 
@@ -338,7 +338,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
     coast_.assign(nb, 0);
-    for (int32_t b = 0; b < nb; ++b) {
+    for (BodyId b : ids_of(g.bodies)) {
         const Body& body = g.bodies[b];
         BodyShape bs = shapes_.build(g, body);
         contacts_->prepare(*bs.shape);
@@ -353,7 +353,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         ci.m_linearDamping = btScalar(body.linear_damping);
         ci.m_angularDamping = btScalar(body.angular_damping);
         auto rb = std::make_unique<btRigidBody>(ci);
-        rb->setUserIndex(int(b));
+        rb->setUserIndex(b.v);
         if (body.mode == BodyMode::Static) {
             rb->setActivationState(ISLAND_SLEEPING);
         } else {
@@ -365,15 +365,15 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         if (!body.dynamics) set_dynamics(b, false);
     }
 
-    std::vector<std::pair<int32_t, int32_t>> pairs;
+    std::vector<std::pair<BodyId, JointId>> pairs;
     joint_in_.assign(g.joints.size(), 0);
     joint_on_.assign(g.joints.size(), 0);
     joints_.resize(g.joints.size());
-    for (int32_t j = 0; j < g.joints.count(); ++j) {
+    for (JointId j : ids_of(g.joints)) {
         const Joint& jt = g.joints[j];
         joint_on_[j] = jt.enabled;
         pairs.emplace_back(jt.body_a, j);
-        if (jt.body_b >= 0 && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, j);
+        if (jt.body_b.valid() && jt.body_b != jt.body_a) pairs.emplace_back(jt.body_b, j);
     }
     std::stable_sort(pairs.begin(), pairs.end(),
                      [](auto& x, auto& y) { return x.first < y.first; });
@@ -386,7 +386,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     find_welds();
     // A weld's fixed joint is made only while Bullet's world holds it (make_joint): a bottle's
     // weld holds nearly always, and the joint is 2 KiB of Bullet's per pooled bottle.
-    for (int32_t j = 0; j < g.joints.count(); ++j)
+    for (JointId j : ids_of(g.joints))
         if (weld_joint_[j] < 0) make_joint(j);
 
     // The regions and their worlds (regions.cpp), then every body joins its world once, in id
@@ -397,19 +397,19 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     contacts_->freeze();
     {
         std::vector<size_t> count(worlds_.size());
-        for (int32_t b = 0; b < nb; ++b) ++count[world_of_[b]];
+        for (BodyId b : ids_of(g.bodies)) ++count[world_of_[b]];
         solvers_.push_back(std::make_unique<btSequentialImpulseConstraintSolver>());
         for (size_t w = 0; w < worlds_.size(); ++w) make_world(worlds_[w], bp, count[w]);
     }
-    std::vector<char> pool(nb);
-    for (int32_t b = 0; b < nb; ++b) {
+    PerBody<char> pool(nb);
+    for (BodyId b : ids_of(g.bodies)) {
         pool[b] = pooled(g, t, t.body_do[b]);
         in_world_[b] = 1;
         set_mode_flags(b);  // before joining: Bullet files a body as static or not then
         add_to_world(b, !pool[b]);
     }
     add_joints_at_start(pool);
-    for (int32_t b = 0; b < nb; ++b)
+    for (BodyId b : ids_of(g.bodies))
         if (pool[b]) take_out(b);
     int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::make_unique<Workers>(std::min(n, std::max(1, int(worlds_.size()) - (void_ >= 0))));
@@ -420,12 +420,12 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
 // Bullet's constraint for joint j, made from the graph (make_joint); a weld's is made when
 // Bullet's world takes it and dropped when the weld forms again (its memory goes back to
 // Bullet's recycled blocks).
-void Physics::make_joint(int32_t j) {
+void Physics::make_joint(JointId j) {
     const Joint& jt = g_.joints[j];
     btRigidBody& a = *bodies_[jt.body_a];
     btTransform fa = local_inv_[jt.body_a] * to_bt(jt.frame_a);
-    btRigidBody& b = jt.body_b >= 0 ? *bodies_[jt.body_b] : btTypedConstraint::getFixedBody();
-    btTransform fb = jt.body_b >= 0 ? local_inv_[jt.body_b] * to_bt(jt.frame_b) : to_bt(jt.frame_b);
+    btRigidBody& b = jt.body_b.valid() ? *bodies_[jt.body_b] : btTypedConstraint::getFixedBody();
+    btTransform fb = jt.body_b.valid() ? local_inv_[jt.body_b] * to_bt(jt.frame_b) : to_bt(jt.frame_b);
     const bool limited = jt.lower <= jt.upper;
     std::unique_ptr<btTypedConstraint> c;
     switch (jt.kind) {
@@ -444,18 +444,18 @@ void Physics::make_joint(int32_t j) {
         break;
     }
     }
-    c->setUserConstraintId(int(j));
+    c->setUserConstraintId(j.v);
     c->setEnabled(joint_on_[j]);
     joints_[j] = std::move(c);
 }
 
-void Physics::add_joint(int32_t j) {
+void Physics::add_joint(JointId j) {
     if (!joints_[j]) make_joint(j);
     world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);  // linked bodies do not collide
     joint_in_[j] = 1;
 }
 
-void Physics::remove_joint(int32_t j) {
+void Physics::remove_joint(JointId j) {
     world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
     joint_in_[j] = 0;
     if (weld_joint_[j] >= 0) joints_[j].reset();
@@ -466,36 +466,35 @@ void Physics::remove_joint(int32_t j) {
 // of a world's constraints is the order its solver sees them in: the joints that stay are
 // added in the order that dance leaves them in, worked out on their ids, so that the pooled
 // bottles' weld joints need not be made at all.
-void Physics::add_joints_at_start(const std::vector<char>& pool) {
-    const int32_t nj = g_.joints.count();
-    std::vector<std::vector<int32_t>> order(worlds_.size());
-    std::vector<int32_t> at(nj, -1);  // a joint's place in its world's list
-    for (int32_t j = 0; j < nj; ++j) {
-        std::vector<int32_t>& o = order[world_of_[g_.joints[j].body_a]];
+void Physics::add_joints_at_start(const PerBody<char>& pool) {
+    std::vector<std::vector<JointId>> order(worlds_.size());
+    PerJoint<int32_t> at(g_.joints.count(), -1);  // a joint's place in its world's list
+    for (JointId j : ids_of(g_.joints)) {
+        std::vector<JointId>& o = order[world_of_[g_.joints[j].body_a]];
         at[j] = count_of(o);
         o.push_back(j);
     }
-    for (int32_t b = 0; b < count_of(pool); ++b) {
+    for (BodyId b : ids_of(pool)) {
         if (!pool[b] || body_joints_.num.empty()) continue;
-        for (const int32_t* j = body_joints_.begin(b); j != body_joints_.end(b); ++j) {
-            if (at[*j] < 0) continue;  // left with its other body
-            std::vector<int32_t>& o = order[world_of_[g_.joints[*j].body_a]];
-            const int32_t last = o.back();
-            o[at[*j]] = last;
-            at[last] = at[*j];
+        for (JointId j : body_joints_[b]) {
+            if (at[j] < 0) continue;  // left with its other body
+            std::vector<JointId>& o = order[world_of_[g_.joints[j].body_a]];
+            const JointId last = o.back();
+            o[at[j]] = last;
+            at[last] = at[j];
             o.pop_back();
-            at[*j] = -1;
+            at[j] = -1;
         }
     }
-    for (const std::vector<int32_t>& o : order)
-        for (int32_t j : o) add_joint(j);
+    for (const std::vector<JointId>& o : order)
+        for (JointId j : o) add_joint(j);
 }
 
 Physics::~Physics() {
     workers_.reset();
-    for (size_t j = joints_.size(); j-- > 0;)
+    for (JointId j(joints_.count()); j.v-- > 0;)
         if (joint_in_[j]) world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
-    for (int32_t b = count_of(bodies_); b-- > 0;) world_at(b).world->removeRigidBody(bodies_[b].get());
+    for (BodyId b(bodies_.count()); b.v-- > 0;) world_at(b).world->removeRigidBody(bodies_[b].get());
     worlds_.clear();
     joints_.clear();
     bodies_.clear();

@@ -79,9 +79,9 @@ struct KindBehaviour {
     // The step profile's segment (StepProfile::Segment, engine/workers.h) that sense_all's
     // time is counted in; -1: the phase's last, with the plugins'.
     int sense_segment = -1;
-    // Phase 5, for a component with an active input: `c` the component, `row` its detail.
+    // Phase 5, for a component with an active input `c` (its row: detail_of<R>(c)).
     // nullptr: its inputs are read elsewhere (phases 3, 4), never by phase 5.
-    void (*act_one)(Runtime& r, const graph::Comp& c, int32_t row) = nullptr;
+    void (*act_one)(Runtime& r, const graph::Comp& c) = nullptr;
     // Phase 5, once every component with an active input acted: the whole table, in the
     // kind table's order (act_kinds); a source with a rate issues.
     void (*act_all)(Runtime& r) = nullptr;

@@ -134,35 +134,36 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
 
 void Physics::find_regions(bool split) {
     const int32_t nb = g_.bodies.count();
-    auto is_static = [this](size_t b) { return g_.bodies[b].mode == BodyMode::Static; };
+    auto is_static = [this](BodyId b) { return g_.bodies[b].mode == BodyMode::Static; };
 
-    // Groups: bodies joined by joints, numbered in order of their first body.
+    // Groups: bodies joined by joints, numbered in order of their first body. The union-find
+    // works on the bodies' numbers.
     UnionFind joined(nb);
     for (const Joint& j : g_.joints)
-        if (j.body_b >= 0) joined.unite(j.body_a, j.body_b);
+        if (j.body_b.valid()) joined.unite(j.body_a.v, j.body_b.v);
     group_of_.assign(nb, -1);
     std::vector<int32_t> first_of(nb, -1);
     int32_t groups = 0;
-    for (int32_t b = 0; b < nb; ++b) {
-        int32_t r = joined.find(b);
+    for (BodyId b : ids_of(g_.bodies)) {
+        int32_t r = joined.find(b.v);
         if (first_of[r] < 0) first_of[r] = groups++;
         group_of_[b] = first_of[r];
     }
     group_bodies_.adr.assign(groups, 0);
     group_bodies_.num.assign(groups, 0);
-    for (int32_t b = 0; b < nb; ++b) ++group_bodies_.num[group_of_[b]];
+    for (BodyId b : ids_of(g_.bodies)) ++group_bodies_.num[group_of_[b]];
     for (int32_t gi = 1; gi < groups; ++gi) group_bodies_.adr[gi] = group_bodies_.adr[gi - 1] + group_bodies_.num[gi - 1];
-    group_bodies_.list.assign(nb, -1);
+    group_bodies_.list.assign(nb, BodyId{});
     {
         std::vector<int32_t> fill(groups, 0);
-        for (int32_t b = 0; b < nb; ++b) {
+        for (BodyId b : ids_of(g_.bodies)) {
             const int32_t gi = group_of_[b];
             group_bodies_.list[group_bodies_.adr[gi] + fill[gi]++] = b;
         }
     }
     anchored_.assign(groups, 0);
     movers_.clear();
-    for (int32_t b = 0; b < nb; ++b) {
+    for (BodyId b : ids_of(g_.bodies)) {
         if (is_static(b)) anchored_[group_of_[b]] = 1;
         else movers_.push_back(b);
     }
@@ -177,10 +178,10 @@ void Physics::find_regions(bool split) {
     btScalar s = 0;
     for (int32_t gi : free_groups_) {
         btScalar size = 0;
-        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+        for (BodyId b : group_bodies_[gi]) {
             btVector3 c;
             btScalar r = 0;
-            bodies_[*b]->getCollisionShape()->getBoundingSphere(c, r);
+            bodies_[b]->getCollisionShape()->getBoundingSphere(c, r);
             size += 2 * r;
         }
         s = std::max(s, size);
@@ -190,17 +191,18 @@ void Physics::find_regions(bool split) {
     // by infinity (inf - inf is NaN).
     const btScalar h = std::isfinite(s) ? s + kGrow : btScalar(1e30);
 
-    // Regions: the anchored groups' bodies, clustered.
+    // Regions: the anchored groups' bodies, clustered (by their numbers, as the boxes are).
     std::vector<Box> boxes(nb);
     std::vector<int32_t> items;
-    for (int32_t b = 0; b < nb; ++b) {
-        aabb(b, 0, boxes[b].lo, boxes[b].hi);
-        if (!(boxes[b].lo.x() <= boxes[b].hi.x()))  // a shape without extent: its origin
-            boxes[b].lo = boxes[b].hi = bodies_[b]->getWorldTransform().getOrigin();
-        if (anchored_[group_of_[b]]) items.push_back(b);
+    for (BodyId b : ids_of(g_.bodies)) {
+        Box& box = boxes[index(b)];
+        aabb(b, 0, box.lo, box.hi);
+        if (!(box.lo.x() <= box.hi.x()))  // a shape without extent: its origin
+            box.lo = box.hi = bodies_[b]->getWorldTransform().getOrigin();
+        if (anchored_[group_of_[b]]) items.push_back(b.v);
     }
     UnionFind cluster(nb);
-    for (int32_t b : items) cluster.unite(b, *group_bodies_.begin(group_of_[b]));
+    for (int32_t b : items) cluster.unite(b, group_bodies_[group_of_[BodyId(b)]].front().v);
     unite_overlapping(boxes, items, h, cluster);
     std::vector<Box> cbox(nb);
     std::vector<int32_t> roots;
@@ -233,24 +235,25 @@ void Physics::find_regions(bool split) {
         worlds_[i].lo = cbox[roots[i]].lo - m;
         worlds_[i].hi = cbox[roots[i]].hi + m;
     }
-    for (int32_t b : items) world_of_[b] = region_of_root[cluster.find(b)];
+    for (int32_t b : items) world_of_[BodyId(b)] = region_of_root[cluster.find(b)];
     for (int32_t gi : free_groups_) {
         int to = void_;
-        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi) && to == void_; ++b) {
-            world_of_[*b] = void_;
-            to = home(*b);
+        for (BodyId b : group_bodies_[gi]) {
+            if (to != void_) break;
+            world_of_[b] = void_;
+            to = home(b);
         }
-        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) world_of_[*b] = to;
+        for (BodyId b : group_bodies_[gi]) world_of_[b] = to;
     }
 }
 
-void Physics::aabb(int32_t b, btScalar grow, btVector3& lo, btVector3& hi) const {
+void Physics::aabb(BodyId b, btScalar grow, btVector3& lo, btVector3& hi) const {
     bodies_[b]->getCollisionShape()->getAabb(bodies_[b]->getWorldTransform(), lo, hi);
     const btVector3 m(grow, grow, grow);
     lo -= m, hi += m;
 }
 
-int Physics::home(int32_t b) const {
+int Physics::home(BodyId b) const {
     const int cur = world_of_[b];
     const btVector3& o = bodies_[b]->getWorldTransform().getOrigin();
     if (cur != void_ && inside(o, o, worlds_[cur].lo, worlds_[cur].hi)) return cur;  // most
@@ -263,18 +266,18 @@ int Physics::home(int32_t b) const {
 }
 
 void Physics::assign_worlds() {
-    auto present = [this](int32_t b) { return in_world_[b] && !carried(b); };  // and in Bullet's
-    auto box = [this](int32_t b, btVector3& lo, btVector3& hi) { aabb(b, kNear, lo, hi); };
+    auto present = [this](BodyId b) { return in_world_[b] && !carried(b); };  // and in Bullet's
+    auto box = [this](BodyId b, btVector3& lo, btVector3& hi) { aabb(b, kNear, lo, hi); };
     // Free groups: to the region whose box they meet. Where each goes, on the physics threads
     // in slices of the groups (a group's decision reads its own bodies' worlds, which only its
     // own move changes); the moves on this thread in group order.
     constexpr int kParked = -2, kVoid = -1;
     auto where = [this, &present](int32_t gi) {
         bool any = false;
-        for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-            if (!present(*b)) continue;
+        for (BodyId b : group_bodies_[gi]) {
+            if (!present(b)) continue;
             any = true;
-            const int h = home(*b);
+            const int h = home(b);
             if (h != void_) return h;
         }
         return any ? kVoid : kParked;  // parked: waits in the void's world, which is not stepped for it
@@ -291,10 +294,10 @@ void Physics::assign_worlds() {
         const int32_t gi = free_groups_[i];
         const int to = free_to_[i];
         if (to == kParked) {
-            if (world_of_[*group_bodies_.begin(gi)] != void_) move_group(gi, void_);
+            if (world_of_[group_bodies_[gi].front()] != void_) move_group(gi, void_);
         } else if (to == kVoid) {
             void_groups_.push_back(gi);
-        } else if (world_of_[*group_bodies_.begin(gi)] != to) {
+        } else if (world_of_[group_bodies_[gi].front()] != to) {
             move_group(gi, to);
         }
     }
@@ -304,7 +307,7 @@ void Physics::assign_worlds() {
     if (!void_groups_.empty()) {
         for (int32_t gi : void_groups_) void_mark_[gi] = 1;
         near_.clear();
-        for (int32_t m : movers_) {
+        for (BodyId m : movers_) {
             if (!present(m) || void_mark_[group_of_[m]]) continue;
             Near n;
             box(m, n.lo, n.hi);
@@ -317,10 +320,10 @@ void Physics::assign_worlds() {
                 if (void_home_[i] != void_) continue;
                 const int32_t gi = void_groups_[i];
                 const size_t known = near_.size();
-                for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-                    if (!present(*b)) continue;
+                for (BodyId b : group_bodies_[gi]) {
+                    if (!present(b)) continue;
                     btVector3 lo, hi;
-                    box(*b, lo, hi);
+                    box(b, lo, hi);
                     for (size_t k = 0; k < known; ++k) {
                         if (!overlap(lo, hi, near_[k].lo, near_[k].hi)) continue;
                         if (void_home_[i] == void_) void_home_[i] = near_[k].world, changed = true;
@@ -328,10 +331,10 @@ void Physics::assign_worlds() {
                     }
                 }
                 if (void_home_[i] == void_) continue;
-                for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-                    if (!present(*b)) continue;
+                for (BodyId b : group_bodies_[gi]) {
+                    if (!present(b)) continue;
                     Near n;
-                    box(*b, n.lo, n.hi);
+                    box(b, n.lo, n.hi);
                     n.world = void_home_[i];
                     near_.push_back(n);
                 }
@@ -340,16 +343,16 @@ void Physics::assign_worlds() {
         for (int32_t gi : void_groups_) void_mark_[gi] = 0;
     }
     for (size_t i = 0; i < void_groups_.size(); ++i)
-        if (world_of_[*group_bodies_.begin(void_groups_[i])] != void_home_[i])
+        if (world_of_[group_bodies_[void_groups_[i]].front()] != void_home_[i])
             move_group(void_groups_[i], void_home_[i]);
     // Anchored movers reaching out of their region's box: contacts with other worlds' movers.
-    for (int32_t b : movers_) {
+    for (BodyId b : movers_) {
         if (!present(b) || !anchored_[group_of_[b]]) continue;
         btVector3 lo, hi;
         box(b, lo, hi);
         const World& own = worlds_[world_of_[b]];
         if (inside(lo, hi, own.lo, own.hi)) continue;
-        for (int32_t m : movers_) {
+        for (BodyId m : movers_) {
             if (!present(m) || world_of_[m] == world_of_[b]) continue;
             btVector3 mlo, mhi;
             box(m, mlo, mhi);
@@ -357,7 +360,7 @@ void Physics::assign_worlds() {
         }
     }
     for (World& w : worlds_) w.active = false, w.movers = 0;
-    for (int32_t b : movers_)
+    for (BodyId b : movers_)
         if (in_world_[b] && !coasting(b)) {  // coasting: moved by us (transport.cpp)
             World& w = worlds_[world_of_[b]];
             w.active = true;
@@ -371,12 +374,12 @@ void Physics::merge_worlds() {
     if (void_ < 0) return;
     const int32_t groups = count_of(group_bodies_.adr);
     for (int32_t gi = 0; gi < groups; ++gi)
-        if (world_of_[*group_bodies_.begin(gi)] != 0) move_group(gi, 0);
+        if (world_of_[group_bodies_[gi].front()] != 0) move_group(gi, 0);
     worlds_.resize(1);  // the others are empty now
     void_ = -1;
 }
 
-void Physics::placed_static(int32_t b) {
+void Physics::placed_static(BodyId b) {
     btVector3 lo, hi;
     aabb(b, 0, lo, hi);
     const World& w = world_at(b);
@@ -386,33 +389,33 @@ void Physics::placed_static(int32_t b) {
 // Takes a group's bodies and joints out of their Bullet world and puts them into another, as
 // they were: filters, parked or not, joints in or out.
 void Physics::move_group(int32_t gi, int to) {
-    std::vector<int32_t>& joints = moved_joints_;
+    std::vector<JointId>& joints = moved_joints_;
     joints.clear();
-    for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
+    for (BodyId b : group_bodies_[gi]) {
         if (body_joints_.num.empty()) break;
-        for (const int32_t* j = body_joints_.begin(*b); j != body_joints_.end(*b); ++j) {
-            if (!joint_in_[*j] || std::find(joints.begin(), joints.end(), *j) != joints.end()) continue;
-            world_at(g_.joints[*j].body_a).world->removeConstraint(joints_[*j].get());
-            joints.push_back(*j);
+        for (JointId j : body_joints_[b]) {
+            if (!joint_in_[j] || std::find(joints.begin(), joints.end(), j) != joints.end()) continue;
+            world_at(g_.joints[j].body_a).world->removeConstraint(joints_[j].get());
+            joints.push_back(j);
         }
     }
-    for (const int32_t* b = group_bodies_.begin(gi); b != group_bodies_.end(gi); ++b) {
-        if (!carried(*b)) world_at(*b).world->removeRigidBody(bodies_[*b].get());
-        world_of_[*b] = to;
-        if (carried(*b)) continue;
+    for (BodyId b : group_bodies_[gi]) {
+        if (!carried(b)) world_at(b).world->removeRigidBody(bodies_[b].get());
+        world_of_[b] = to;
+        if (carried(b)) continue;
         // Bullet files a body as static or not when it joins: a parked one joins as if it were
         // in the world, so that it is simulated once it is inserted again.
-        const int state = bodies_[*b]->getActivationState();
-        const bool parked = !in_world_[*b];
-        in_world_[*b] = 1;
-        set_mode_flags(*b);
-        add_to_world(*b, !parked);
-        in_world_[*b] = !parked;
-        set_mode_flags(*b);
-        bodies_[*b]->forceActivationState(state);
-        if (parked) park(*b);
+        const int state = bodies_[b]->getActivationState();
+        const bool parked = !in_world_[b];
+        in_world_[b] = 1;
+        set_mode_flags(b);
+        add_to_world(b, !parked);
+        in_world_[b] = !parked;
+        set_mode_flags(b);
+        bodies_[b]->forceActivationState(state);
+        if (parked) park(b);
     }
-    for (int32_t j : joints) world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);
+    for (JointId j : joints) world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);
 }
 
 }  // namespace plant::engine

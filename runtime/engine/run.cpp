@@ -30,7 +30,7 @@ namespace {
 class Tally {
 public:
     explicit Tally(const Graph& g) {
-        for (size_t r = 0; r < g.records.size(); ++r) {
+        for (Id<Record> r : ids_of(g.records)) {
             const Record& rec = g.records[r];
             const SlotType t = g.slots[rec.slot].type;
             if (t != SlotType::Void && t != SlotType::Bool && t != SlotType::Int && t != SlotType::Real) continue;
@@ -38,7 +38,7 @@ public:
             auto it = std::find_if(cols_.begin(), cols_.end(), [&](const Column& c) { return c.name == col; });
             if (it == cols_.end()) it = cols_.insert(cols_.end(), Column{col, t == SlotType::Void, {}, {}});
             it->slots.push_back(rec.slot);
-            it->records.push_back(r);
+            it->records.push_back(index(r));
         }
     }
     void fill(const Engine& e, const RecordTally& counts, std::vector<RunSummary::Record>& out) const {

@@ -90,23 +90,23 @@ void forces_step_end(Runtime& r);
 
 // Each built-in kind not yet on the kind table has its behaviour in its own file: `start_*` once when the engine is built
 // (in the order Runtime's constructor calls them), `sense_*` in phase 2, `act_*` in phase 5
-// for a component with an active input (`c` the component, `i` its detail row).
+// for a component with an active input (`c` the component, `b` / `f` its row).
 void check_bodies(Runtime& r);  // bodies.cpp: what left the world is taken out
 void sense_bodies(Runtime& r);
-void act_body(Runtime& r, const graph::Comp& c, int32_t i);
+void act_body(Runtime& r, const graph::Comp& c, graph::BodyId b);
 // Whether the value of an active input that moves the physics may be applied (bodies.cpp):
 // one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
 bool input_in_range(Runtime& r, graph::SlotId slot);
-void take_body_out(Runtime& r, int32_t body);
+void take_body_out(Runtime& r, graph::BodyId body);
 void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
-void act_field(Runtime& r, const graph::Comp& c, int32_t i);
+void act_field(Runtime& r, const graph::Comp& c, graph::FieldId f);
 bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether any field acts
 void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
-void integrate_single(Runtime& r, int32_t body);  // the conveyor law's step
-void integrate_group(Runtime& r, int32_t group);
+void integrate_single(Runtime& r, graph::BodyId body);  // the conveyor law's step
+void integrate_group(Runtime& r, graph::BodyId group);  // a rigid group, by its root body
 // objects.cpp: an object out of the world (an exit, a trainee's hand), back to its pool
-int32_t take_object(Runtime& r, int32_t obj);  // out of the world, back to its pool; its root or -1
-double object_id(Runtime& r, int32_t obj);     // its bar code: its label's text, else its path
+graph::DoId take_object(Runtime& r, graph::DoId obj);  // out of the world, back to its pool; its root or -1
+double object_id(Runtime& r, graph::DoId obj);         // its bar code: its label's text, else its path
 void apply_hands(Runtime& r);  // hands.cpp: trainees' hands pull what they hold, in phase 1
 void start_places(Runtime& r);  // petri.cpp: state acts in phase 4
 bool glob_match(std::string_view pattern, std::string_view text);

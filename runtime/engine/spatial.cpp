@@ -7,7 +7,7 @@
 
 namespace plant::engine {
 
-Spatial::Spatial(const Tables& t, size_t bodies) : t_(t), com_(bodies), lo_(bodies), hi_(bodies) {
+Spatial::Spatial(const Tables& t, int32_t bodies) : t_(t), com_(bodies), lo_(bodies), hi_(bodies) {
     order_.reserve(t.dyn_bodies.size());
 }
 
@@ -39,7 +39,7 @@ std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, si
 void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     if (version_ != ph.version()) {
         order_.clear();
-        for (int32_t b : t_.dyn_bodies)
+        for (graph::BodyId b : t_.dyn_bodies)
             if (ph.in_world(b)) order_.push_back({0, 0, b});
         version_ = ph.version();
     }

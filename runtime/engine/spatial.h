@@ -20,7 +20,7 @@ class Workers;
 
 class Spatial {
 public:
-    Spatial(const Tables& t, size_t bodies);
+    Spatial(const Tables& t, int32_t bodies);
 
     // Reads positions (and, with `aabbs`, bounding boxes) from Bullet, a slice of the bodies per
     // item of a job on `w`'s threads, and re-sorts on the calling thread.
@@ -39,9 +39,9 @@ public:
             for (size_t i = first(c, xlo); i < order_.size() && order_[i].cell == c && order_[i].x <= xhi; ++i)
                 f(order_[i].body);
     }
-    const btVector3& com(int32_t b) const { return com_[b]; }
-    const btVector3& lo(int32_t b) const { return lo_[b]; }
-    const btVector3& hi(int32_t b) const { return hi_[b]; }
+    const btVector3& com(graph::BodyId b) const { return com_[b]; }
+    const btVector3& lo(graph::BodyId b) const { return lo_[b]; }
+    const btVector3& hi(graph::BodyId b) const { return hi_[b]; }
     // Largest distance along x or y from a body's centre to its bounding box (for triggers).
     btScalar reach() const { return reach_; }
     // The largest speed of the bodies (NaN skipped), as of the last refresh.
@@ -52,7 +52,7 @@ private:
     struct Entry {
         int32_t cell;
         btScalar x;
-        int32_t body;
+        graph::BodyId body;
     };
     static constexpr size_t kSlices = 64;
     static int32_t cell(btScalar y);
@@ -62,7 +62,7 @@ private:
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     const Tables& t_;
     std::vector<Entry> order_;
-    std::vector<btVector3> com_, lo_, hi_;
+    graph::IdVector<graph::BodyId, btVector3> com_, lo_, hi_;
     btScalar reach_ = 0, vmax_ = 0;
     std::array<std::pair<btScalar, btScalar>, kSlices> slice_max_{};
     uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership

@@ -12,7 +12,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.plugin_state.assign(t.plugin_state_size, 0.0);
     const size_t ns = g.slots.size(), nb = g.bodies.size();
     s.values.resize(g.values.size());
-    for (size_t i = 0; i < g.values.size(); ++i) s.values[i] = g.values[i].v;
+    for (Id<Value> i : ids_of(g.values)) s.values[index(i)] = g.values[i].v;
     s.act.assign(ns, 0);
     s.seen.assign(ns, 0);
     // Each slot is in a list at most once per step: the slot count bounds them.
@@ -31,13 +31,13 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.cmd_ang.assign(nb, Vec3{0, 0, 0});
     s.commanded.reserve(nb);  // the step allocates nothing
     s.is_commanded.assign(nb, 0);
-    s.held_by.assign(nb, -1);
+    s.held_by.assign(nb, GripperId{});
     s.grip_rel.assign(nb, btTransform::getIdentity());
     s.gone.assign(nb, 0);
     s.lost_at.assign(g.dos.size(), -1.0);
     s.loss.assign(g.dos.size(), Loss{});
     s.lost.reserve(g.dos.size());
-    s.ride_field.assign(nb, -1);
+    s.ride_field.assign(nb, FieldId{});
     s.ride_step.assign(nb, -1);
     s.ride_at.assign(nb, btVector3(0, 0, 0));
     s.stall_since.assign(nb, 0.0);
@@ -55,18 +55,17 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.gain.assign(nb, btMatrix3x3(0, 0, 0, 0, 0, 0, 0, 0, 0));
     s.group_adr.assign(nb, 0);
     s.group_num.assign(nb, 0);
-    s.group_list.assign(nb, 0);
+    s.group_list.assign(nb, BodyId{});
     s.group_mark.assign(nb, 0);
     s.body_k.assign(nb, 0);
     s.body_cap.assign(nb, 0);
     s.law_sat.assign(nb, 0);
     s.sat_force.assign(nb, btVector3(0, 0, 0));
-    s.group_k.assign(nb, 0);
     s.group_mass.assign(nb, 0);
     s.group_of.resize(nb);
-    for (BodyId b : ids_of(g.bodies)) s.group_of[b.v] = b.v;
-    s.touched.assign(nb, 0);
-    s.world_list.assign(nb, 0);
+    for (BodyId b : ids_of(g.bodies)) s.group_of[b] = b;
+    s.touched.assign(nb, BodyId{});
+    s.world_list.assign(nb, BodyId{});
     s.field_act.assign(g.fields.size(), 0);
     s.field_target.assign(g.fields.size(), btVector3(0, 0, 0));
 
@@ -90,12 +89,12 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
     s.slice_left.assign(64, 0);
     s.trigger_slices.resize(64);  // at most four per thread, 16 threads (kinds/trigger/run.cpp)
-    for (std::vector<int32_t>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
+    for (std::vector<DoId>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
 
     for (const graph::KindDesc* k : graph::builtin_kinds())  // the kinds on the kind table
         if (const KindBehaviour* b = builtin_behaviour(k->kind); b->make_state) s.kinds[size_t(k->kind)] = b->make_state(g);
 
-    s.gripper_held.assign(g.grippers.size(), -1);
+    s.gripper_held.assign(g.grippers.size(), DoId{});
 
     s.graphics.resize(g.graphics.size());
     s.variant.resize(g.graphics.size());
@@ -111,7 +110,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
         SourceState& ss = s.sources[i];
         ss.ring_adr = count_of(s.pool_ring);
         ss.free = src.pool_num;
-        for (DoId d : children(src.pool_adr, src.pool_num)) s.pool_ring.push_back(d.v);
+        for (DoId d : children(src.pool_adr, src.pool_num)) s.pool_ring.push_back(d);
     }
     s.exit_count.assign(g.exits.size(), 0);
     s.in_hand.assign(g.bodies.size(), 0);

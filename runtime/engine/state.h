@@ -54,7 +54,7 @@ struct SourceState {
 // A trainee's hand on a dynamic body (hands.cpp): the point it holds, in the body frame,
 // and where it pulls that point to, in the world.
 struct Hand {
-    int32_t body = -1;
+    graph::BodyId body;
     btVector3 anchor{0, 0, 0};
     btVector3 target{0, 0, 0};
 };
@@ -93,9 +93,9 @@ struct State {
 
     // Bodies.
     PerBody<Vec3> cmd_lin, cmd_ang;      // velocity of a kinematic body, moved by us
-    std::vector<int32_t> commanded;      // bodies ever given such a velocity, once each
+    std::vector<graph::BodyId> commanded;  // bodies ever given such a velocity, once each
     PerBody<uint8_t> is_commanded;
-    PerBody<int32_t> held_by;            // gripper holding the body, -1
+    PerBody<graph::GripperId> held_by;   // gripper holding the body, -1
     PerBody<btTransform> grip_rel;       // body frame relative to the gripper's
     PerBody<uint8_t> gone;               // left the world or NaN: warned once, taken out
     IdVector<graph::DoId, double> lost_at;  // when it left the world, -1
@@ -103,7 +103,7 @@ struct State {
     std::vector<graph::DoId> lost;       // the DOs lost, in that order (reserved: every DO)
     // Per body: the last acting field its centre of mass was in (-1: none since it was
     // issued), the step count then and the centre of mass (fields.cpp), for Loss.
-    PerBody<int32_t> ride_field;
+    PerBody<graph::FieldId> ride_field;
     PerBody<int64_t> ride_step;
     PerBody<btVector3> ride_at;
     // Per body, for Engine::stalled_for: since when it has been slower than a tenth of the
@@ -133,18 +133,24 @@ struct State {
     std::vector<std::pair<uint64_t, int32_t>> field_filed;  // scratch of the build
     bool field_cells_valid = false;
     // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
-    std::vector<int32_t> world_adr, world_num, world_list, worlds_busy;
+    std::vector<int32_t> world_adr, world_num, worlds_busy;
+    std::vector<graph::BodyId> world_list, touched;
     PerBody<btVector3> force;          // the law at the body's velocity, summed over fields
     PerBody<btMatrix3x3> gain;         // its gain matrices k·R·diag|d|·R^T, summed
-    std::vector<double> body_k, group_k, group_mass;
+    PerBody<double> body_k;
+    // Rigid groups, each by its root body: per body its group, per root the group's
+    // mass and list (group_list[group_adr .. + group_num]) (fields.cpp).
+    PerBody<graph::BodyId> group_of;
+    PerBody<double> group_mass;
+    PerBody<int32_t> group_adr, group_num;
+    PerBody<uint8_t> group_mark;
+    std::vector<graph::BodyId> group_list;
     // Slip limit: per body the largest max_force of the fields it is in (+inf: one is
     // unlimited; 0: in none yet), and in a rigid group which members' law saturated and the
     // constant force each then gets (conveyor.cpp).
-    std::vector<double> body_cap;
-    std::vector<uint8_t> law_sat;
-    std::vector<btVector3> sat_force;
-    std::vector<int32_t> group_of, group_adr, group_num, group_list, touched;
-    std::vector<uint8_t> group_mark;
+    PerBody<double> body_cap;
+    PerBody<uint8_t> law_sat;
+    PerBody<btVector3> sat_force;
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
 
     // Petri nets.
@@ -155,19 +161,19 @@ struct State {
     std::vector<uint8_t> net_live;
 
     IdVector<graph::TriggerId, TriggerState> triggers;
-    std::vector<int32_t> inside, inside_prev;  // DO ids, sorted per trigger
+    std::vector<graph::DoId> inside, inside_prev;  // objects (DOs), sorted per trigger
     // Found on the physics threads (kinds/trigger/run.cpp): per trigger, how many objects are inside;
     // per slice of the triggers, their lists one after the other.
     IdVector<graph::TriggerId, int32_t> trigger_found;
     // Per slice of prepare_fields' job (fields.cpp): a field's frame changed, a kinematic part
     // left its room.
     std::vector<uint8_t> slice_moved, slice_left;
-    std::vector<std::vector<int32_t>> trigger_slices;
-    IdVector<graph::GripperId, int32_t> gripper_held;  // DO held, -1
+    std::vector<std::vector<graph::DoId>> trigger_slices;
+    IdVector<graph::GripperId, graph::DoId> gripper_held;  // DO held, -1
     IdVector<graph::GraphicsId, GraphicsState> graphics;
     IdVector<graph::GraphicsId, int32_t> variant;  // selected variant, -1
     IdVector<graph::SourceId, SourceState> sources;
-    std::vector<int32_t> pool_ring;
+    std::vector<graph::DoId> pool_ring;
     IdVector<graph::ExitId, int64_t> exit_count;
 
     // Forced slots (forces.cpp), sized by the first Engine::force: per slot its mode and

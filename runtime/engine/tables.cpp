@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace plant::engine {
 
@@ -15,14 +16,16 @@ using namespace plant::graph;
 namespace {
 
 // Builds a Csr from (key, value) pairs; values keep their order within a key.
-Csr make_csr(size_t keys, const std::vector<std::pair<int32_t, int32_t>>& pairs) {
-    Csr c;
+template <class Key, class Val>
+Csr<Key, Val> make_csr(size_t keys, const std::vector<std::pair<Key, Val>>& pairs) {
+    Csr<Key, Val> c;
     c.adr.assign(keys, 0);
     c.num.assign(keys, 0);
     for (auto& [k, v] : pairs) c.num[k]++;
-    for (size_t i = 1; i < keys; ++i) c.adr[i] = c.adr[i - 1] + c.num[i - 1];
+    std::exclusive_scan(c.num.begin(), c.num.end(), c.adr.begin(), 0);
     c.list.resize(pairs.size());
-    std::vector<int32_t> fill(keys, 0);
+    typename Csr<Key, Val>::template PerKey<int32_t> fill;
+    fill.assign(keys, 0);
     for (auto& [k, v] : pairs) c.list[c.adr[k] + fill[k]++] = v;
     return c;
 }
@@ -82,22 +85,22 @@ Tables::Tables(const Graph& g) {
     for (AnimationId i : ids_of(g.animations)) set_aux(g.animations[i].play_slot, i.v);
     for (VariantId i : ids_of(g.variants)) set_aux(g.variants[i].select_slot, i.v);
 
-    std::vector<std::pair<int32_t, int32_t>> pairs;
+    std::vector<std::pair<DoId, BodyId>> do_body;
     body_do.resize(g.bodies.size());
     for (BodyId b : ids_of(g.bodies)) {
         body_do[b] = g.comps[g.bodies[b].comp].owner;
-        if (g.bodies[b].mode == BodyMode::Dynamic) dyn_bodies.push_back(b.v);
-        for_ancestors(g, body_do[b], [&](DoId a) { pairs.emplace_back(a.v, b.v); });
+        if (g.bodies[b].mode == BodyMode::Dynamic) dyn_bodies.push_back(b);
+        for_ancestors(g, body_do[b], [&](DoId a) { do_body.emplace_back(a, b); });
     }
-    do_bodies = make_csr(ndo, pairs);
+    do_bodies = make_csr(ndo, do_body);
 
-    pairs.clear();
+    std::vector<std::pair<DoId, GraphicsId>> do_gr;
     for (GraphicsId i : ids_of(g.graphics)) {
         const Graphics& gr = g.graphics[i];
         if (gr.body.valid() || gr.parent.valid()) continue;
-        for_ancestors(g, g.comps[gr.comp].owner, [&](DoId a) { pairs.emplace_back(a.v, i.v); });
+        for_ancestors(g, g.comps[gr.comp].owner, [&](DoId a) { do_gr.emplace_back(a, i); });
     }
-    do_graphics = make_csr(ndo, pairs);
+    do_graphics = make_csr(ndo, do_gr);
 
     do_label.assign(ndo, Id<Label>{});
     for (Id<Label> i : ids_of(g.labels))
@@ -119,20 +122,20 @@ Tables::Tables(const Graph& g) {
             net_of_comp[c] = count_of(nets);
             nets.push_back(c);
         }
-    pairs.clear();
+    std::vector<std::pair<int32_t, TransitionId>> net_tr;
     net_always_live.assign(nets.size(), 0);
     for (TransitionId t : ids_of(g.transitions)) {
         int32_t n = net_of_comp[g.transitions[t].comp];
-        pairs.emplace_back(n, t.v);
+        net_tr.emplace_back(n, t);
         if (g.transitions[t].in_num == 0) net_always_live[n] = 1;
     }
-    net_transitions = make_csr(nets.size(), pairs);
+    net_transitions = make_csr(nets.size(), net_tr);
     place_net.resize(g.places.size());
     for (PlaceId p : ids_of(g.places)) place_net[p] = net_of_comp[g.places[p].comp];
 
-    pairs.clear();
-    for (Id<Route> r : ids_of(g.routes)) pairs.emplace_back(g.routes[r].comp.v, r.v);
-    comp_routes = make_csr(g.comps.size(), pairs);
+    std::vector<std::pair<CompId, Id<Route>>> comp_route;
+    for (Id<Route> r : ids_of(g.routes)) comp_route.emplace_back(g.routes[r].comp, r);
+    comp_routes = make_csr(g.comps.size(), comp_route);
 
     field_local.resize(g.fields.size(), btTransform::getIdentity());
     for (FieldId f : ids_of(g.fields))

@@ -10,15 +10,25 @@
 #include <LinearMath/btTransform.h>
 
 #include <cstdint>
+#include <span>
+#include <type_traits>
 #include <vector>
 
 namespace plant::engine {
 
-// A child list in the style of the graph: list[adr .. adr + num).
+// Per key, a list of ids in one array, in the style of the graph's child lists:
+// list[adr[k] .. adr[k] + num[k]); csr[k] is key k's list (for (BodyId b : do_bodies[d])).
+// A key is a typed id, or a plain position (int32_t) where no table names it.
+template <class Key, class Val>
 struct Csr {
-    std::vector<int32_t> adr, num, list;
-    const int32_t* begin(int32_t i) const { return list.data() + adr[i]; }
-    const int32_t* end(int32_t i) const { return list.data() + adr[i] + num[i]; }
+    template <class T>
+    using PerKey = std::conditional_t<graph::is_typed_id<Key>, graph::IdVector<Key, T>, std::vector<T>>;
+    PerKey<int32_t> adr, num;
+    std::vector<Val> list;
+    std::span<const Val> operator[](Key k) const {
+        const Val* first = list.data() + adr[k];
+        return {first, first + num[k]};
+    }
 };
 
 struct KindBehaviour;  // engine/plugin.h
@@ -44,17 +54,17 @@ struct Tables {
     IdVector<graph::PlaceId, graph::SlotId> place_entered, place_tokens;  // its output slots, -1
 
     IdVector<graph::BodyId, graph::DoId> body_do;  // owner DO of each body
-    std::vector<int32_t> dyn_bodies;  // bodies declared dynamic: what fields and triggers see
-    Csr do_bodies;                  // bodies of a DO and of the DOs below it
-    Csr do_graphics;                // graphics of a DO and below, not attached to a body
+    std::vector<graph::BodyId> dyn_bodies;  // bodies declared dynamic: what fields and triggers see
+    Csr<graph::DoId, graph::BodyId> do_bodies;        // bodies of a DO and of the DOs below it
+    Csr<graph::DoId, graph::GraphicsId> do_graphics;  // graphics of a DO and below, not attached to a body
     IdVector<graph::DoId, graph::Id<graph::Label>> do_label;  // the first Label of a DO or below, -1
     IdVector<graph::DoId, graph::SourceId> do_source;         // Source whose pool holds this DO, -1
 
     std::vector<graph::CompId> nets;  // State components, in id order
-    Csr net_transitions;              // by position in `nets`
+    Csr<int32_t, graph::TransitionId> net_transitions;  // by position in `nets`
     IdVector<graph::PlaceId, int32_t> place_net;  // position in `nets` of each place
     std::vector<uint8_t> net_always_live;  // has a transition without inputs
-    Csr comp_routes;                // routes of each Router component (by comp id)
+    Csr<graph::CompId, graph::Id<graph::Route>> comp_routes;  // routes of each Router component
 
     IdVector<graph::FieldId, btTransform> field_local;      // field box relative to its body frame
     IdVector<graph::FieldId, btVector3> field_gain;         // the law's gain along the field's own axes: k·|d|

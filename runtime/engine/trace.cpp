@@ -16,17 +16,17 @@ namespace {
 
 using Kind = TraceColumn::Kind;
 
-void add_slot(const Graph& g, int32_t slot, const std::string& name, std::vector<TraceColumn>& out) {
+void add_slot(const Graph& g, SlotId slot, const std::string& name, std::vector<TraceColumn>& out) {
     static const char* const kPose[] = {".x", ".y", ".z", ".qx", ".qy", ".qz", ".qw"};
     static const char* const kQuat[] = {".qx", ".qy", ".qz", ".qw"};
     const SlotType t = g.slots[slot].type;
     const int w = slot_width(t);
-    if (t == SlotType::Void) out.push_back({Kind::Activity, slot, 0, name});
-    else if (t == SlotType::String) out.push_back({Kind::Text, slot, 0, name});
-    else if (w == 1) out.push_back({Kind::Value, slot, 0, name});
+    if (t == SlotType::Void) out.push_back({Kind::Activity, slot.v, 0, name});
+    else if (t == SlotType::String) out.push_back({Kind::Text, slot.v, 0, name});
+    else if (w == 1) out.push_back({Kind::Value, slot.v, 0, name});
     else
         for (int i = 0; i < w; ++i)
-            out.push_back({Kind::Value, slot, i, name + (t == SlotType::Quat ? kQuat[i] : kPose[i])});
+            out.push_back({Kind::Value, slot.v, i, name + (t == SlotType::Quat ? kQuat[i] : kPose[i])});
 }
 
 // CSV needs quotes around text with separators or quotes in it.

@@ -56,7 +56,7 @@ using namespace plant::graph;
 
 // ---- Physics: leaving the solver and coming back.
 
-void Physics::coast(int32_t b) {
+void Physics::coast(BodyId b) {
     coast_[b] = 1;
     btRigidBody& r = *bodies_[b];
     r.clearForces();
@@ -65,7 +65,7 @@ void Physics::coast(int32_t b) {
     park(b);
 }
 
-void Physics::land(int32_t b) {
+void Physics::land(BodyId b) {
     if (!coast_[b]) return;
     coast_[b] = 0;
     btRigidBody& r = *bodies_[b];
@@ -77,7 +77,7 @@ void Physics::land(int32_t b) {
     refilter(b);  // its pairs are found again in this step
 }
 
-void Physics::coast_to(int32_t b, const btTransform& t, const btVector3& v, const btVector3& w) {
+void Physics::coast_to(BodyId b, const btTransform& t, const btVector3& v, const btVector3& w) {
     btRigidBody& r = *bodies_[b];
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
@@ -109,7 +109,7 @@ bool inside(const btVector3& lo, const btVector3& hi, const btVector3& blo, cons
            hi.z() <= bhi.z();
 }
 
-void body_box(const Physics& ph, int32_t b, btVector3& lo, btVector3& hi) {
+void body_box(const Physics& ph, BodyId b, btVector3& lo, btVector3& hi) {
     const btRigidBody& r = ph.rb(b);
     r.getCollisionShape()->getAabb(r.getWorldTransform(), lo, hi);
 }
@@ -121,9 +121,9 @@ void oriented_box(const btTransform& t, const btVector3& h, btVector3& lo, btVec
     lo = t.getOrigin() - e, hi = t.getOrigin() + e;
 }
 
-btTransform trigger_pose(Runtime& r, size_t t) {
+btTransform trigger_pose(Runtime& r, TriggerId t) {
     const Trigger& tg = r.g.triggers[t];
-    return tg.body >= 0 ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
+    return tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
 }
 
 // Files the static geometry into cells (when starting and after a static body was placed or a
@@ -134,10 +134,10 @@ void build_grid(Runtime& r) {
     S.hazards.clear();
     S.kinematic.clear();
     S.roaming.clear();
-    for (int32_t b = 0; b < r.g.bodies.count(); ++b) {
+    for (BodyId b : ids_of(r.g.bodies)) {
         const BodyMode mode = r.g.bodies[b].mode;
         if (mode == BodyMode::Dynamic) continue;
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, -1};
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, TriggerId{}};
         const btRigidBody& rb = ph.rb(b);
         if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
@@ -161,10 +161,10 @@ void build_grid(Runtime& r) {
     for (TriggerId t : ids_of(r.g.triggers)) {
         const Trigger& tg = r.g.triggers[t];
         if (tg.body.valid() && r.g.bodies[tg.body].mode != BodyMode::Static) {
-            S.roaming.push_back(t.v);
+            S.roaming.push_back(t);
             continue;
         }
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, -1, t.v};
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, BodyId{}, t};
         oriented_box(trigger_pose(r, t), to_bt(tg.extent) * btScalar(0.5), h.lo, h.hi);
         S.hazards.push_back(h);
     }
@@ -181,17 +181,17 @@ void build_grid(Runtime& r) {
 
 // The one acting field whose box holds the path from p over two steps at v (1 mm inside), with
 // no field's face within 1 mm of it; -1 if none or not so.
-int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
+FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     State& s = r.st;
     int64_t ix, iy;
-    if (!cell_of(p.x(), p.y(), ix, iy)) return -1;
+    if (!cell_of(p.x(), p.y(), ix, iy)) return FieldId{};
     const int32_t *cell = nullptr, *cell_end = nullptr;
     cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, cell_end);
     const btVector3 q = p + v * btScalar(2 * r.dt);
-    int32_t found = -1;
+    FieldId found;
     const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
     while (cell != cell_end || big != big_end) {
-        const int32_t f = cell != cell_end ? *cell++ : *big++;
+        const FieldId f(cell != cell_end ? *cell++ : *big++);  // filed as numbers
         const State::FieldFrame& ff = s.field_frame[f];
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3 h = to_bt(r.g.fields[f].extent) * btScalar(0.5);
@@ -202,9 +202,9 @@ int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
             out = out || (a[i] - h[i] >= kFieldMargin && b[i] - h[i] >= kFieldMargin) ||
                   (-a[i] - h[i] >= kFieldMargin && -b[i] - h[i] >= kFieldMargin);
         }
-        if (!in && !out) return -1;  // at a face
+        if (!in && !out) return FieldId{};  // at a face
         if (in && s.field_act[f]) {
-            if (found >= 0) return -1;  // two acting fields
+            if (found.valid()) return FieldId{};  // two acting fields
             found = f;
         }
     }
@@ -212,7 +212,7 @@ int32_t field_at(Runtime& r, const btVector3& p, const btVector3& v) {
 }
 
 // The top face of a box (or of a compound of one box): a point of it and its normal.
-bool top_face(const Physics& ph, int32_t b, btVector3& point, btVector3& normal) {
+bool top_face(const Physics& ph, BodyId b, btVector3& point, btVector3& normal) {
     const btRigidBody& r = ph.rb(b);
     const btCollisionShape* shape = r.getCollisionShape();
     btTransform t = r.getWorldTransform();
@@ -236,25 +236,26 @@ bool top_face(const Physics& ph, int32_t b, btVector3& point, btVector3& normal)
 }
 
 struct Verdict {
-    int32_t field = -1, support = -1;
+    FieldId field;
+    BodyId support;
 };
 
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
-bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
+bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
-    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b] >= 0 || s.in_hand[b] ||
+    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
         s.body_outputs[b])
         return false;
-    if (p >= 0 && (s.gone[p] || s.held_by[p] >= 0 || s.in_hand[p] || s.body_outputs[p])) return false;
+    if (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p] || s.body_outputs[p])) return false;
     const btRigidBody& rb = ph.rb(b);
     const btVector3 v = rb.getLinearVelocity();
     const btVector3& w = rb.getAngularVelocity();
     if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return false;
     if (ph.frame(b).getBasis()[2][2] < kTilt) return false;
-    const int32_t f = field_at(r, ph.com(b), v);
-    if (f < 0 || (p >= 0 && field_at(r, ph.com(p), v) != f)) return false;
+    const FieldId f = field_at(r, ph.com(b), v);
+    if (!f.valid() || (p.valid() && field_at(r, ph.com(p), v) != f)) return false;
     const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
     const btVector3& gain = r.tab.field_gain[f];
     if (R[2][2] < kUpright || gain.z() > 0) return false;
@@ -268,12 +269,12 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
     const btScalar motion = btScalar(2 * r.dt) * v.length(), reach = kMargin + motion, sreach = kStaticMargin + motion;
     const btVector3 g(reach, reach, reach), glo = lo - g, ghi = hi + g;
     const btVector3 sg(sreach, sreach, sreach), slo = lo - sg, shi = hi + sg;
-    int32_t support = -1;
+    BodyId support;
     auto hazard = [&](const Steady::Hazard& h) {
-        const bool fixed = h.body >= 0 && r.g.bodies[h.body].mode == BodyMode::Static;
+        const bool fixed = h.body.valid() && r.g.bodies[h.body].mode == BodyMode::Static;
         if (fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
-        if (h.trigger >= 0 || r.g.bodies[h.body].mode != BodyMode::Static) return false;
-        if (h.hi.z() > lo.z() + kSink || (support >= 0 && support != h.body)) return false;
+        if (h.trigger.valid() || r.g.bodies[h.body].mode != BodyMode::Static) return false;
+        if (h.hi.z() > lo.z() + kSink || (support.valid() && support != h.body)) return false;
         support = h.body;
         return true;
     };
@@ -288,7 +289,7 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
             for (; k != end; ++k)
                 if (!hazard(S.hazards[*k])) return false;
         }
-    if (support < 0) return false;
+    if (!support.valid()) return false;
     for (size_t i = 0; i < S.roaming.size(); ++i)
         if (overlap(glo, ghi, S.roam_lo[i], S.roam_hi[i])) return false;
     btVector3 point, normal;
@@ -297,7 +298,7 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
     // Other bodies.
     const btScalar far = reach + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
     bool clear = true;
-    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](int32_t o) {
+    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](BodyId o) {
         if (!clear || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
         const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (ph.dynamic_now(o) ? 0 : kNotSimulated);
         const btVector3 go(ro, ro, ro);
@@ -309,7 +310,7 @@ bool steady_now(Runtime& r, int32_t b, int32_t p, btScalar vmax, Verdict& out) {
     return true;
 }
 
-void ride(Runtime& r, int32_t b, int32_t f) {
+void ride(Runtime& r, BodyId b, FieldId f) {
     State& s = r.st;
     s.ride_field[b] = f;
     s.ride_step[b] = s.step;
@@ -321,12 +322,12 @@ enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
 // Unit b's verdict this step and what follows from it: its count of steady steps, and when it
 // leaves the solver or goes on coasting, what it rides (S.field ... S.relax, State::ride_*).
 // Writes only the unit's own entries; the caller lands or coasts it (kLand, kCoast).
-uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
+uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
-    const int32_t p = ph.passenger(b);
-    if (!ph.in_world(b) || (p < 0 && !ph.lone(b))) {
+    const BodyId p = ph.passenger(b);
+    if (!ph.in_world(b) || (!p.valid() && !ph.lone(b))) {
         S.settled[b] = 0;
         return kStay;
     }
@@ -348,7 +349,7 @@ uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
             return kStay;
         }
         if (++S.settled[b] < kSettle) return kStay;
-        const int32_t f = v.field;
+        const FieldId f = v.field;
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
         btVector3 point, normal;
         top_face(ph, v.support, point, normal);
@@ -359,14 +360,14 @@ uint8_t decide(Runtime& r, int32_t b, btScalar vmax) {
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
         S.yaw[b] = ph.rb(b).getAngularVelocity().z();
-        const double m = ph.mass(b) + (p >= 0 ? ph.mass(p) : 0.0);
+        const double m = ph.mass(b) + (p.valid() ? ph.mass(p) : 0.0);
         const btVector3& gain = r.tab.field_gain[f];
         for (int i = 0; i < 3; ++i)
-            S.relax[b][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p >= 0 ? 2 : 1) * r.dt / m)) : 1;
+            S.relax[b][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p.valid() ? 2 : 1) * r.dt / m)) : 1;
         action = kCoast;
     }
     ride(r, b, v.field);
-    if (p >= 0) ride(r, p, v.field);
+    if (p.valid()) ride(r, p, v.field);
     return action;
 }
 
@@ -377,8 +378,8 @@ void start_steady(Runtime& r, bool on) {
     S.on = on;
     const size_t nb = r.g.bodies.size();
     S.settled.assign(nb, 0);
-    S.field.assign(nb, -1);
-    S.support.assign(nb, -1);
+    S.field.assign(nb, FieldId{});
+    S.support.assign(nb, BodyId{});
     S.target.assign(nb, btVector3(0, 0, 0));
     S.normal.assign(nb, btVector3(0, 0, 1));
     S.top.assign(nb, btVector3(0, 0, 0));
@@ -408,7 +409,7 @@ bool kinematic_left(const Runtime& r, size_t begin, size_t end) {
     const Physics& ph = r.phys;
     if (!S.on || !S.grid_valid) return false;
     for (size_t i = begin; i < end && i < S.kinematic.size(); ++i) {
-        const int32_t k = S.kinematic[i];
+        const BodyId k = S.kinematic[i];
         const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
         // Where it was filed and slow: its box grown by m is inside the room (rounding is monotonic).
         if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[k]) continue;
@@ -437,14 +438,14 @@ void check_steady(Runtime& r, bool left) {
     // Each unit's verdict and what follows from it, in slices of the units on the physics
     // threads (each writes its units' own entries and reads what no verdict changes); then
     // leaving and rejoining the solver, which touch the worlds, on this thread in id order.
-    const std::vector<int32_t>& dyn = r.tab.dyn_bodies;
+    const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
     const size_t slices = slice_count(ph.workers(), dyn.size(), 64, dyn.size() + 1);
     auto deciding = [&r, &dyn, vmax, slices](int i) {
         const auto [b, e] = slice_of(dyn.size(), slices, i);
         for (size_t k = b; k < e; ++k) r.steady.action[dyn[k]] = decide(r, dyn[k], vmax);
     };
     run_slices(ph.workers(), slices, deciding);
-    for (int32_t b : r.tab.dyn_bodies) {
+    for (BodyId b : r.tab.dyn_bodies) {
         switch (S.action[b]) {
         case kLand:
             ph.land(b);
@@ -465,23 +466,23 @@ void advance_steady(Runtime& r) {
     Steady& S = r.steady;
     Physics& ph = r.phys;
     const btScalar dt = btScalar(r.dt);
-    for (int32_t b : S.coasting) {
-        const int32_t i = b, f = S.field[i];
+    for (BodyId b : S.coasting) {
+        const FieldId f = S.field[b];
         const btRigidBody& rb = ph.rb(b);
         const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
         const btVector3& target = r.st.field_target[f];
         btVector3 vl = rb.getLinearVelocity() * R;
         for (int k = 0; k < 3; ++k)
-            if (S.relax[i][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[i][k];
+            if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
         btVector3 v = R * vl;
-        const btVector3& n = S.normal[i];
+        const btVector3& n = S.normal[b];
         v.setZ(-(n.x() * v.x() + n.y() * v.y()) / n.z());  // along the band's top face
         btTransform t = rb.getWorldTransform();
         btVector3 c = t.getOrigin() + v * dt;
-        c.setZ(c.z() + (S.height[i] - n.dot(c - S.top[i])) / n.z());
+        c.setZ(c.z() + (S.height[b] - n.dot(c - S.top[b])) / n.z());
         t.setOrigin(c);
         // It turns about the vertical as it turned when it left (no torque about it), no other way.
-        const btScalar yaw = S.yaw[i];
+        const btScalar yaw = S.yaw[b];
         if (yaw != 0) t.setBasis(btMatrix3x3(btQuaternion(btVector3(0, 0, 1), yaw * dt)) * t.getBasis());
         ph.coast_to(b, t, v, btVector3(0, 0, yaw));
     }

@@ -4,6 +4,8 @@
 // step before anything could touch it.
 #pragma once
 
+#include "graph/ids.h"
+
 #include <LinearMath/btTransform.h>
 
 #include <cstdint>
@@ -16,18 +18,20 @@ struct Runtime;
 
 struct Steady {
     bool on = false;  // Options::steady_transport and the plant's settings.steady_transport
+    template <class T>
+    using PerBody = graph::IdVector<graph::BodyId, T>;
     // Per body (a lone body or a weld's host: a unit).
-    std::vector<int16_t> settled;        // consecutive steps the unit was steady
-    std::vector<int32_t> field;          // coasting: the field it rides
-    std::vector<int32_t> support;        // coasting: the static body it stands on
-    std::vector<btVector3> target;       // coasting: the field's target velocity, in the world
-    std::vector<btVector3> normal;       // coasting: the support's top face's normal
-    std::vector<btScalar> height;        // coasting: its centre of mass above the top face's plane
-    std::vector<btScalar> yaw;           // coasting: its angular velocity about the vertical
-    std::vector<btVector3> relax;        // coasting: exp(-a) per field axis (1: free axis)
-    std::vector<int32_t> coasting;       // the units coasting this step, in id order
-    std::vector<uint8_t> action;         // per unit, this step's decision (check_steady)
-    std::vector<btVector3> top;          // coasting: a point of the support's top face
+    PerBody<int16_t> settled;            // consecutive steps the unit was steady
+    PerBody<graph::FieldId> field;       // coasting: the field it rides
+    PerBody<graph::BodyId> support;      // coasting: the static body it stands on
+    PerBody<btVector3> target;           // coasting: the field's target velocity, in the world
+    PerBody<btVector3> normal;           // coasting: the support's top face's normal
+    PerBody<btScalar> height;            // coasting: its centre of mass above the top face's plane
+    PerBody<btScalar> yaw;               // coasting: its angular velocity about the vertical
+    PerBody<btVector3> relax;            // coasting: exp(-a) per field axis (1: free axis)
+    std::vector<graph::BodyId> coasting; // the units coasting this step, in id order
+    PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
+    PerBody<btVector3> top;              // coasting: a point of the support's top face
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
 
     // Static geometry near which nothing coasts: static bodies (a support aside), triggers
@@ -35,17 +39,17 @@ struct Steady {
     // or a blade moving inside it); filed in cells of 1 m over (x, y).
     struct Hazard {
         btVector3 lo, hi;
-        int32_t body;     // the static or kinematic body, or -1
-        int32_t trigger;  // the trigger, or -1
+        graph::BodyId body;        // the static or kinematic body, or -1
+        graph::TriggerId trigger;  // the trigger, or -1
     };
     std::vector<Hazard> hazards;
     std::vector<uint64_t> cells;
     std::vector<int32_t> cell_adr, cell_list, big;
     std::vector<std::pair<uint64_t, int32_t>> filed;
-    std::vector<int32_t> kinematic;            // declared kinematic bodies (and dynamic ones off)
-    std::vector<btVector3> home_lo, home_hi;   // per body: the box its hazard was filed with
-    std::vector<btTransform> home_tr;          // ... and its transform then
-    std::vector<int32_t> roaming;              // triggers on moving bodies
+    std::vector<graph::BodyId> kinematic;      // declared kinematic bodies (and dynamic ones off)
+    PerBody<btVector3> home_lo, home_hi;       // per body: the box its hazard was filed with
+    PerBody<btTransform> home_tr;              // ... and its transform then
+    std::vector<graph::TriggerId> roaming;     // triggers on moving bodies
     std::vector<btVector3> roam_lo, roam_hi;   // their boxes this step
     bool grid_valid = false;
     uint64_t grid_statics = 0;                 // Physics::statics_placed when built

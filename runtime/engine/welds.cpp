@@ -33,17 +33,17 @@ void Physics::find_welds() {
     carries_.assign(g_.bodies.size(), 0);
     carried_.assign(g_.bodies.size(), 0);
     weld_joint_.assign(g_.joints.size(), -1);
-    for (size_t j = 0; j < g_.joints.size(); ++j) {
+    for (JointId j : ids_of(g_.joints)) {
         const Joint& jt = g_.joints[j];
-        if (jt.kind != JointKind::Fixed || jt.body_b < 0 || jt.body_a == jt.body_b) continue;
-        const int32_t a = jt.body_a, b = jt.body_b;
+        if (jt.kind != JointKind::Fixed || !jt.body_b.valid() || jt.body_a == jt.body_b) continue;
+        const BodyId a = jt.body_a, b = jt.body_b;
         if (!declared_dynamic(a) || !declared_dynamic(b) || mass_[a] <= 0 || mass_[b] <= 0) continue;
         const bool a_solid = g_.bodies[a].collision, b_solid = g_.bodies[b].collision;
         if (a_solid == b_solid) continue;  // the passenger is the one without collisions
         Weld w;
         w.host = a_solid ? a : b;
         w.pass = a_solid ? b : a;
-        w.joint = int32_t(j);
+        w.joint = j;
         if (body_joints_.num[w.pass] != 1 || weld_of_[w.host] >= 0 || weld_of_[w.pass] >= 0) continue;
         // The joint holds frame_a on a where frame_b is on b.
         w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
@@ -51,7 +51,7 @@ void Physics::find_welds() {
         w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
         contacts_->prepare(*w.both.shape);  // not at its first contact, inside a step
         w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
-        weld_of_[w.host] = weld_of_[w.pass] = weld_joint_[j] = int32_t(welds_.size());
+        weld_of_[w.host] = weld_of_[w.pass] = weld_joint_[j] = count_of(welds_);
         welds_.push_back(w);
     }
 }
@@ -67,7 +67,7 @@ void Physics::update_welds() {
     }
 }
 
-void Physics::unweld(int32_t b) {
+void Physics::unweld(BodyId b) {
     if (!coast_.empty() && coasting(b)) land(coast_[b] ? b : welds_[weld_of_[b]].host);  // its state is written
     if (weld_of_.empty() || weld_of_[b] < 0) return;  // (none yet while the constructor runs)
     Weld& w = welds_[weld_of_[b]];
@@ -77,7 +77,7 @@ void Physics::unweld(int32_t b) {
 
 // Gives body b's Bullet body another shape and mass, keeping its body frame and the
 // velocity of every point of it.
-void Physics::reshape(int32_t b, const BodyShape& s) {
+void Physics::reshape(BodyId b, const BodyShape& s) {
     btRigidBody& r = *bodies_[b];
     const btTransform body = frame(b);
     const btVector3 v = r.getLinearVelocity(), w = r.getAngularVelocity(), c = r.getCenterOfMassPosition();
@@ -132,30 +132,30 @@ void Physics::follow_world(int w) {
     if (welds_.empty()) return;
     const btCollisionObjectArray& all = worlds_[w].world->getCollisionObjectArray();
     for (int i = 0; i < all.size(); ++i) {
-        const int32_t b = all[i]->getUserIndex();
+        const BodyId b(all[i]->getUserIndex());  // its graph id (physics.cpp)
         if (all[i]->isStaticObject() || !carries_[b]) continue;
         follow(welds_[weld_of_[b]]);
     }
 }
 
-btRigidBody& Physics::write(int32_t b) {
+btRigidBody& Physics::write(BodyId b) {
     unweld(b);
     return *bodies_[b];
 }
 
-btVector3 Physics::host_com(int32_t b) const { return frame(b) * welds_[weld_of_[b]].own.local.getOrigin(); }
+btVector3 Physics::host_com(BodyId b) const { return frame(b) * welds_[weld_of_[b]].own.local.getOrigin(); }
 
-btVector3 Physics::host_velocity(int32_t b) const {
+btVector3 Physics::host_velocity(BodyId b) const {
     const btRigidBody& r = *bodies_[b];
     return r.getLinearVelocity() + r.getAngularVelocity().cross(host_com(b) - r.getCenterOfMassPosition());
 }
 
-btMatrix3x3 Physics::inertia_world(int32_t b) const {
+btMatrix3x3 Physics::inertia_world(BodyId b) const {
     const btMatrix3x3 R = (frame(b) * (carries_[b] ? welds_[weld_of_[b]].own.local : local_[b])).getBasis();
     return R.scaled(inertia_[b]) * R.transpose();
 }
 
-void Physics::apply(int32_t b, const btVector3& force, const btVector3& torque) {
+void Physics::apply(BodyId b, const btVector3& force, const btVector3& torque) {
     btRigidBody& carrier = *bodies_[welded(b) ? welds_[weld_of_[b]].host : b];
     carrier.applyForce(force, com(b) - carrier.getCenterOfMassPosition());
     carrier.applyTorque(torque);

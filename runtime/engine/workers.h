@@ -3,6 +3,8 @@
 // items must be independent of each other.
 #pragma once
 
+#include "graph/ids.h"
+
 #include <atomic>
 #include <cstdint>
 #include <thread>
@@ -116,6 +118,12 @@ inline size_t slice_count(const Workers& w, size_t n, size_t least, size_t most)
 inline std::pair<size_t, size_t> slice_of(size_t n, size_t count, size_t i) {
     const size_t per = (n + count - 1) / count, b = i * per < n ? i * per : n;
     return {b, b + per < n ? b + per : n};
+}
+// Slice i of `count` over a table of n rows, as their ids.
+template <class IdT>
+graph::IdRange<IdT> slice_ids(size_t n, size_t count, size_t i) {
+    const auto [b, e] = slice_of(n, count, i);
+    return {static_cast<int32_t>(b), static_cast<int32_t>(e)};
 }
 // Calls f(i) for every slice i in [0, count): on the threads, or here when there is one.
 template <class F>

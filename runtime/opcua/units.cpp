@@ -52,8 +52,8 @@ int32_t unit_id(std::string_view code) {
     return id;
 }
 
-std::string_view slot_si_unit(const graph::Graph& g, int32_t slot) {
-    const graph::Slot& s = g.slots[size_t(slot)];
+std::string_view slot_si_unit(const graph::Graph& g, graph::SlotId slot) {
+    const graph::Slot& s = g.slots[slot];
     if (s.type != graph::SlotType::Real) return "";
     const graph::CompKind kind = g.comps[s.comp].kind;
     const std::string_view name = g.str(s.name);

@@ -29,6 +29,6 @@ int32_t unit_id(std::string_view code);
 
 // The SI unit of a built-in real slot ("m/s" for a force field's speed; what a kind's row
 // says, graph::SlotSpec::unit); "" when the slot has none we know of (an int, a bool).
-std::string_view slot_si_unit(const graph::Graph& g, int32_t slot);
+std::string_view slot_si_unit(const graph::Graph& g, graph::SlotId slot);
 
 }  // namespace plant::opcua

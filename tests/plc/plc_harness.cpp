@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     }
     int32_t drive = -1;
     for (size_t f = 0; f < c.graph.fields.size(); ++f)
-        if (c.graph.comp_path(c.graph.fields[f].comp) == "line[0].b1.drive") drive = int32_t(f);
+        if (c.graph.comp_path(c.graph.fields[plant::graph::FieldId(f)].comp) == "line[0].b1.drive") drive = int32_t(f);
     const plant::plc::ServerStats s = server.stats();
     std::printf("steps: %lld\nrequests: %lld (%lld exceptions)\nclients: %lld accepted, %lld left, %lld dropped\n"
                 "events applied: %lld\nline[0].b1.drive: %s\n",

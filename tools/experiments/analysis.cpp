@@ -44,13 +44,13 @@ bool inside(const graph::Field& f, const Vec3& p) {
 
 int32_t body_named(const graph::Graph& g, const std::string& path) {
     for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.comp_path(g.bodies[b].comp) == path) return int32_t(b);
+        if (g.comp_path(g.bodies[graph::BodyId(b)].comp) == path) return int32_t(b);
     return -1;
 }
 
 int32_t field_at(const graph::Graph& g, const Vec3& p) {
     for (size_t i = 0; i < g.fields.size(); ++i)
-        if (g.fields[i].body < 0 && g.fields[i].enabled && inside(g.fields[i], p)) return int32_t(i);
+        if (g.fields[graph::FieldId(i)].body < 0 && g.fields[graph::FieldId(i)].enabled && inside(g.fields[graph::FieldId(i)], p)) return int32_t(i);
     return -1;
 }
 
@@ -76,15 +76,15 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
                 std::string(name) + ".bottom)";
         return false;
     }
-    const graph::Body& m = g.bodies[size_t(b.main)];
-    const graph::Body& f = g.bodies[size_t(b.bottom)];
+    const graph::Body& m = g.bodies[graph::BodyId(b.main)];
+    const graph::Body& f = g.bodies[graph::BodyId(b.bottom)];
     b.m_main = m.mass;
     b.m_bottom = f.mass;
     for (int32_t body : {b.main, b.bottom}) {
-        const Vec3 p = g.bodies[size_t(body)].pose.p;  // the centre of mass is the body frame's origin
+        const Vec3 p = g.bodies[graph::BodyId(body)].pose.p;  // the centre of mass is the body frame's origin
         double k = 0;
         for (size_t i = 0; i < g.fields.size(); ++i) {
-            const graph::Field& fd = g.fields[i];
+            const graph::Field& fd = g.fields[graph::FieldId(i)];
             if (fd.body >= 0 || !fd.enabled || !inside(fd, p)) continue;
             k += fd.gain;
             if (b.field < 0) {  // the main body's field, else the bottom body's
@@ -118,8 +118,8 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
                 const double c_j = dot(u, rotate(body->pose.q, e));
                 own += body->inertia[size_t(j)] * c_j * c_j;
             }
-        } else if (body->shape_num == 1 && g.shapes[size_t(body->shape_adr)].kind == graph::ShapeKind::Sphere) {
-            const double r = g.shapes[size_t(body->shape_adr)].size[0];
+        } else if (body->shape_num == 1 && g.shapes[graph::Id<graph::Shape>(body->shape_adr)].kind == graph::ShapeKind::Sphere) {
+            const double r = g.shapes[graph::Id<graph::Shape>(body->shape_adr)].size[0];
             own = 0.4 * body->mass * r * r;  // Bullet's solid sphere
         } else {
             error = "the bottle's body '" + g.comp_path(body->comp) +

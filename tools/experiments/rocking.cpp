@@ -43,10 +43,10 @@ int rocking(const fs::path& out, std::vector<Run>& runs) {
         const int32_t main = body_named(r.g, "bottle.main"), bottom = body_named(r.g, "bottle.bottom");
         if (main < 0 || bottom < 0) fail(r.graph_path + ": the plant has no bottle (bodies bottle.main and bottle.bottom)");
         RockRun x;
-        x.mass = r.g.bodies[size_t(main)].mass + r.g.bodies[size_t(bottom)].mass;
-        if (const int32_t f = field_at(r.g, r.g.bodies[size_t(bottom)].pose.p); f >= 0) {
-            x.k = r.g.fields[size_t(f)].gain;
-            x.limit = r.g.fields[size_t(f)].max_force;
+        x.mass = r.g.bodies[graph::BodyId(main)].mass + r.g.bodies[graph::BodyId(bottom)].mass;
+        if (const int32_t f = field_at(r.g, r.g.bodies[graph::BodyId(bottom)].pose.p); f >= 0) {
+            x.k = r.g.fields[graph::FieldId(f)].gain;
+            x.limit = r.g.fields[graph::FieldId(f)].max_force;
         }
         for (size_t i = 0; i < t.size(); ++i) x.pitch.push_back(pitch_deg(quat_at(r, "main.q", i), {1, 0, 0}));
         x.tilt = std::round(-x.pitch.front() * 100) / 100;

@@ -87,10 +87,10 @@ void label_runs(std::vector<Run>& runs, const std::string& primary) {
     auto differs = [&](auto get) {
         return std::any_of(runs.begin(), runs.end(), [&](const Run& r) { return get(r) != get(runs[0]); });
     };
-    auto k = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].gain; };
+    auto k = [](const Run& r) { return r.g.fields[graph::FieldId(r.bottle.field)].gain; };
     auto m = [](const Run& r) { return r.bottle.mass(); };
     auto v = [](const Run& r) { return r.bottle.belt_speed; };
-    auto f = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].max_force; };
+    auto f = [](const Run& r) { return r.g.fields[graph::FieldId(r.bottle.field)].max_force; };
     const bool show_f = differs(f);
     const bool show_k = primary == "k" || differs(k), show_m = primary == "mass" || differs(m), show_v = differs(v);
     std::map<std::string, int> seen;
@@ -154,6 +154,6 @@ std::string terminals(const std::string& name, const std::string& plot) {
 }
 
 // The belts' slip limit a run's bottle starts under (N per body; 0: none).
-double slip_limit(const Run& r) { return r.g.fields[size_t(r.bottle.field)].max_force; }
+double slip_limit(const Run& r) { return r.g.fields[graph::FieldId(r.bottle.field)].max_force; }
 
 }  // namespace plant::analyse

@@ -62,7 +62,7 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
     std::vector<double> masses, gains;
     for (const Run& r : runs) {
         masses.push_back(r.bottle.mass());
-        gains.push_back(r.g.fields[size_t(r.bottle.field)].gain);
+        gains.push_back(r.g.fields[graph::FieldId(r.bottle.field)].gain);
     }
     auto rank = [](std::vector<double> all, double x) {
         std::sort(all.begin(), all.end());
@@ -108,7 +108,7 @@ int tipping(const fs::path& out, std::vector<Run>& runs) {
         "A swing is an excursion of the bottle's lean along the belt beyond {}° (the contact jitter of a bottle "
         "riding a belt stays below that); the second swing is the largest one after the first has ended.\n\n",
         num(kThreshold));
-    auto gain = [](const Run& r) { return r.g.fields[size_t(r.bottle.field)].gain; };
+    auto gain = [](const Run& r) { return r.g.fields[graph::FieldId(r.bottle.field)].gain; };
     std::vector<double> t95(runs.size());
     for (size_t k = 0; k < runs.size(); ++k) t95[k] = time_to_fraction(t, speed[k], runs[k].bottle.belt_speed, 0.95);
     md += "| run | bottle mass (g) | k (kg/s) | slip limit per body | belt speed (m/s) | time to 95 % of belt speed (ms) | "

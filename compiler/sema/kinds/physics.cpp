@@ -157,8 +157,9 @@ void lower_body(Lowering& lw) {
     // Output values start at the body's pose.
     const auto& slots = g.slots;
     auto put = [&](int idx, std::initializer_list<double> xs) {
-        int32_t adr = slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
-        for (double x : xs) g.values[adr++].v = x;
+        const graph::Adr<graph::Value> adr = slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
+        int k = 0;
+        for (double x : xs) g.values[adr + k++].v = x;
     };
     put(graph::bodyslot::pose, {b.pose.p[0], b.pose.p[1], b.pose.p[2], b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
     put(graph::bodyslot::position, {b.pose.p[0], b.pose.p[1], b.pose.p[2]});

@@ -49,19 +49,19 @@ TEST_CASE("elaborate: instances get dotted paths, poses and contiguous component
     const auto& g = c.graph;
     CHECK(g.str(g.plant) == "P");
     REQUIRE(g.dos.size() == 6);
-    CHECK(g.str(g.dos[1].path) == "s[0]");
-    CHECK(g.str(g.dos[2].path) == "s[1]");
-    CHECK(g.dos[2].pose.p[0] == doctest::Approx(0.5));
-    CHECK(g.dos[2].pose.q[2] == doctest::Approx(std::sqrt(0.5)));  // 90 deg about z
+    CHECK(g.str(g.dos[graph::DoId(1)].path) == "s[0]");
+    CHECK(g.str(g.dos[graph::DoId(2)].path) == "s[1]");
+    CHECK(g.dos[graph::DoId(2)].pose.p[0] == doctest::Approx(0.5));
+    CHECK(g.dos[graph::DoId(2)].pose.q[2] == doctest::Approx(std::sqrt(0.5)));  // 90 deg about z
     for (const auto& d : g.dos)
-        for (int32_t i = 0; i < d.comp_num; ++i) CHECK(g.comps[static_cast<size_t>(d.comp_adr + i)].owner == &d - g.dos.data());
+        for (int32_t i = 0; i < d.comp_num; ++i) CHECK(g.comps[graph::CompId(d.comp_adr + i)].owner == &d - g.dos.data());
     for (size_t ci = 0; ci < g.comps.size(); ++ci)
-        for (int32_t i = 0; i < g.comps[ci].slot_num; ++i)
-            CHECK(g.slots[static_cast<size_t>(g.comps[ci].slot_adr + i)].comp == static_cast<int32_t>(ci));
+        for (int32_t i = 0; i < g.comps[graph::CompId(ci)].slot_num; ++i)
+            CHECK(g.slots[graph::SlotId(g.comps[graph::CompId(ci)].slot_adr + i)].comp == static_cast<int32_t>(ci));
     // Timer periods are SI seconds.
     REQUIRE(g.timers.size() == 2);
-    CHECK(g.timers[0].period == doctest::Approx(2.0));
-    CHECK(g.timers[1].period == doctest::Approx(1.0));
+    CHECK(g.timers[graph::Id<graph::Timer>(0)].period == doctest::Approx(2.0));
+    CHECK(g.timers[graph::Id<graph::Timer>(1)].period == doctest::Approx(1.0));
 }
 
 TEST_CASE("elaborate: an input port forwarding to two slots yields two flows") {
@@ -114,11 +114,11 @@ plant P {
     REQUIRE_MESSAGE(c.ok(), render_all_text(c.sink.sorted(), c.sources));
     const auto& g = c.graph;
     REQUIRE(g.accesses.size() == 2);
-    const auto& a = g.accesses[0];
+    const auto& a = g.accesses[graph::AccessId(0)];
     CHECK(g.str(a.member) == "code.value");
     REQUIRE(a.target_num == 2);
-    CHECK(g.slot_path(g.access_targets[static_cast<size_t>(a.target_adr)].v) == "b1.code.value");
-    CHECK(g.slot_path(g.access_targets[static_cast<size_t>(a.target_adr + 1)].v) == "b2.code.value");
+    CHECK(g.slot_path(g.access_targets[graph::Id<graph::AccessTarget>(a.target_adr)].v) == "b1.code.value");
+    CHECK(g.slot_path(g.access_targets[graph::Id<graph::AccessTarget>(a.target_adr + 1)].v) == "b2.code.value");
     int dynamic = 0;
     for (const auto& f : g.flows) dynamic += f.from_access >= 0 || f.to_access >= 0;
     CHECK(dynamic == 2);
@@ -133,16 +133,16 @@ plant P { source s at (0 m, 0 m, 1 m) { object = Item; pool = 4; rate = 1 Hz } }
     REQUIRE_MESSAGE(c.ok(), render_all_text(c.sink.sorted(), c.sources));
     const auto& g = c.graph;
     REQUIRE(g.sources.size() == 1);
-    const auto& s = g.sources[0];
+    const auto& s = g.sources[graph::SourceId(0)];
     CHECK(s.pool_num == 4);
     for (int32_t i = 0; i < 4; ++i) {
-        const auto& d = g.dos[static_cast<size_t>(s.pool_adr + i)];
+        const auto& d = g.dos[graph::DoId(s.pool_adr + i)];
         CHECK(d.pool == s.comp);
         CHECK(d.ordinal == i);
         CHECK(d.pose.p[2] == doctest::Approx(1.0));
     }
     CHECK(s.id_num == 4);
-    CHECK(g.str(g.ids[static_cast<size_t>(s.id_adr)].v) == "s-1");
+    CHECK(g.str(g.ids[graph::Id<graph::IdEntry>(s.id_adr)].v) == "s-1");
 }
 
 TEST_CASE("elaborate: several independent mistakes are all reported in one run") {

@@ -35,8 +35,8 @@ TEST_CASE("plant parameters: defaults without --set, values from --set in SI") {
     compile_text(kLine, plain, "line.plant");
     REQUIRE(plain.ok());
     REQUIRE(plain.graph.fields.size() == 1);
-    CHECK(plain.graph.fields[0].gain == 16);
-    CHECK(plain.graph.fields[0].speed == doctest::Approx(0.5));
+    CHECK(plain.graph.fields[graph::FieldId(0)].gain == 16);
+    CHECK(plain.graph.fields[graph::FieldId(0)].speed == doctest::Approx(0.5));
 
     Compilation set;
     compile_text(kLine, set, "line.plant", {"k=4 N*s/m", "speed = 1.5 m/s", "n=3"});
@@ -86,5 +86,5 @@ TEST_CASE("plant parameters: one without a default must be set") {
     Compilation given;
     compile_text(text, given, "p.plant", {"length=2 m"});
     REQUIRE(given.ok());
-    CHECK(given.graph.fields[0].extent[0] == 2);
+    CHECK(given.graph.fields[graph::FieldId(0)].extent[0] == 2);
 }

@@ -21,7 +21,7 @@ int put_slot(Graph& g, int comp, std::string_view name, SlotType type, Dir dir) 
     s.dir = dir;
     s.comp = CompId(comp);
     g.slots.push_back(s);
-    g.comps[comp].slot_num++;
+    g.comps[CompId(comp)].slot_num++;
     return static_cast<int>(g.slots.size()) - 1;
 }
 
@@ -39,8 +39,8 @@ int put_comp(Graph& g, int owner, CompKind kind, std::string_view name, int deta
 }
 
 int slot_of(const Graph& g, int comp, std::string_view name) {
-    for (int s = g.comps[comp].slot_adr; s < g.comps[comp].slot_adr + g.comps[comp].slot_num; ++s)
-        if (g.str(g.slots[s].name) == name) return s;
+    for (int s = g.comps[CompId(comp)].slot_adr; s < g.comps[CompId(comp)].slot_adr + g.comps[CompId(comp)].slot_num; ++s)
+        if (g.str(g.slots[SlotId(s)].name) == name) return s;
     FAIL("no slot ", name);
     return -1;
 }
@@ -99,9 +99,9 @@ Graph sample() {
     f.from_access = f.to_access = AccessId{};
     g.flows.push_back(f);  // 0: into the negated input
     f.from = SlotId(slot_of(g, go, "out"));
-    f.to = g.places[1].put_slot;
+    f.to = g.places[PlaceId(1)].put_slot;
     g.flows.push_back(f);  // 1: connector puts a token
-    f.from = g.places[1].entered_slot;
+    f.from = g.places[PlaceId(1)].entered_slot;
     f.to = SlotId(slot_of(g, body, "collision_on"));
     f.cond = Cond::Both;
     f.once = true;

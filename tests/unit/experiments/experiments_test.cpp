@@ -242,11 +242,11 @@ TEST_CASE("tipping: a bottle rocks back only while the pull's torque beats gravi
     Bottle b;
     std::string err;
     REQUIRE(find_bottle(probe->graph, "bottle", b, err));
-    const auto& hull = probe->graph.shapes[size_t(probe->graph.bodies[size_t(b.main)].shape_adr)];
+    const auto& hull = probe->graph.shapes[plant::graph::Id<plant::graph::Shape>(probe->graph.bodies[plant::graph::BodyId(b.main)].shape_adr)];
     double radius = 0, lowest = INFINITY;
-    for (int32_t i = 0; i < hull.point_num; ++i) lowest = std::min(lowest, probe->graph.points[size_t(hull.point_adr + i)].p[2]);
+    for (int32_t i = 0; i < hull.point_num; ++i) lowest = std::min(lowest, probe->graph.points[plant::graph::Id<plant::graph::Point>(hull.point_adr + i)].p[2]);
     for (int32_t i = 0; i < hull.point_num; ++i) {
-        const auto& p = probe->graph.points[size_t(hull.point_adr + i)].p;
+        const auto& p = probe->graph.points[plant::graph::Id<plant::graph::Point>(hull.point_adr + i)].p;
         if (p[2] < lowest + 1e-9) radius = std::max(radius, std::hypot(p[0], p[1]));
     }
     REQUIRE(radius > 0);

@@ -20,7 +20,7 @@ Graph plant_graph() {
 }
 
 std::vector<double> values_of(const Graph& g, int32_t slot) {
-    const Slot& s = g.slots[size_t(slot)];
+    const Slot& s = g.slots[SlotId(slot)];
     std::vector<double> out;
     for (int i = 0; i < slot_width(s.type); ++i) out.push_back(g.values[s.value_adr + i].v);
     return out;
@@ -42,7 +42,7 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
     CHECK(rec.slot_adr == 0);
     REQUIRE(rec.slot_num == int32_t(fixed_slots(CompKind::Timer).size()));
     for (int32_t i = 0; i < rec.slot_num; ++i) {
-        const Slot& s = g.slots[size_t(rec.slot_adr + i)];
+        const Slot& s = g.slots[SlotId(rec.slot_adr + i)];
         const SlotSpec& spec = fixed_slots(CompKind::Timer)[size_t(i)];
         CAPTURE(spec.name);
         CHECK(g.str(s.name) == spec.name);
@@ -51,27 +51,27 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
         CHECK(s.comp == c);
         CHECK(s.src == at);
     }
-    CHECK(g.str(g.slots[size_t(rec.slot_adr + timerslot::running)].name) == "running");
+    CHECK(g.str(g.slots[SlotId(rec.slot_adr + timerslot::running)].name) == "running");
 }
 
 TEST_CASE("add_slot: after the fixed ones, value storage by type with its start value") {
     Graph g = plant_graph();
     const CompId c = add_comp(g, DoId(0), CompKind::Label, "l");
-    const int32_t fixed = g.comps[size_t(c)].slot_num;
+    const int32_t fixed = g.comps[CompId(c)].slot_num;
     const SlotId v = add_slot(g, c, "v", SlotType::Void, Dir::In);
     const SlotId b = add_slot(g, c, "b", SlotType::Bool, Dir::Out);
     const SlotId r = add_slot(g, c, "r", SlotType::Ref, Dir::Out);
     const SlotId q = add_slot(g, c, "q", SlotType::Quat, Dir::Out);
     const SlotId p = add_slot(g, c, "p", SlotType::Pose, Dir::Out);
-    CHECK(v == g.comps[size_t(c)].slot_adr + fixed);
-    CHECK(g.comps[size_t(c)].slot_num == fixed + 5);
+    CHECK(v == g.comps[CompId(c)].slot_adr + fixed);
+    CHECK(g.comps[CompId(c)].slot_num == fixed + 5);
     CHECK(!g[v].value_adr.valid());
     CHECK(values_of(g, b) == std::vector<double>{0});
     CHECK(values_of(g, r) == std::vector<double>{-1});  // no object
     CHECK(values_of(g, q) == std::vector<double>{0, 0, 0, 1});
     CHECK(values_of(g, p) == std::vector<double>{0, 0, 0, 0, 0, 0, 1});
     // The label's fixed string slots read no text until written.
-    CHECK(values_of(g, g.comps[size_t(c)].slot_adr + labelslot::value) == std::vector<double>{-1});
+    CHECK(values_of(g, g.comps[CompId(c)].slot_adr + labelslot::value) == std::vector<double>{-1});
     slot_value(g, b) = 1;
     CHECK(values_of(g, b) == std::vector<double>{1});
     // Value storage is contiguous in slot order.
@@ -87,17 +87,17 @@ TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per
     const DoId empty = add_do(g, "e", DoId(0), DoTypeId(0), {});
     const DoId b = add_do(g, "b", DoId(0), DoTypeId{}, {});
     add_comp(g, b, CompKind::Exit, "x");
-    CHECK(g.dos[size_t(a)].comp_adr == c1);
-    CHECK(g.dos[size_t(a)].comp_num == 2);
+    CHECK(g.dos[DoId(a)].comp_adr == c1);
+    CHECK(g.dos[DoId(a)].comp_num == 2);
     CHECK(c2 == c1 + 1);
-    CHECK(g.dos[size_t(empty)].comp_num == 0);
-    CHECK(g.dos[size_t(b)].comp_adr == c2 + 1);
-    CHECK(g.dos[size_t(b)].comp_num == 1);
-    CHECK(g.dos[size_t(a)].ordinal == 0);
-    CHECK(g.dos[size_t(empty)].ordinal == 1);
-    CHECK(g.do_types[0].instance_num == 2);
-    CHECK(g.dos[size_t(b)].ordinal == 0);
-    CHECK(g.dos[size_t(a)].pool == -1);
+    CHECK(g.dos[DoId(empty)].comp_num == 0);
+    CHECK(g.dos[DoId(b)].comp_adr == c2 + 1);
+    CHECK(g.dos[DoId(b)].comp_num == 1);
+    CHECK(g.dos[DoId(a)].ordinal == 0);
+    CHECK(g.dos[DoId(empty)].ordinal == 1);
+    CHECK(g.do_types[DoTypeId(0)].instance_num == 2);
+    CHECK(g.dos[DoId(b)].ordinal == 0);
+    CHECK(g.dos[DoId(a)].pool == -1);
 }
 
 TEST_CASE("a graph built through the API keeps the loader's promises") {
@@ -111,10 +111,10 @@ TEST_CASE("a graph built through the API keeps the loader's promises") {
     const SlotId tick(g[t].slot_adr + timerslot::tick);
     const SlotId stop(g[t].slot_adr + timerslot::stop);
     const FlowId f = add_flow(g, tick, stop, Cond::Source, true);
-    CHECK(g.flows[size_t(f)].from == tick);
-    CHECK(g.flows[size_t(f)].to == stop);
-    CHECK(g.flows[size_t(f)].once);
-    CHECK(g.flows[size_t(f)].from_access == -1);
+    CHECK(g.flows[FlowId(f)].from == tick);
+    CHECK(g.flows[FlowId(f)].to == stop);
+    CHECK(g.flows[FlowId(f)].once);
+    CHECK(g.flows[FlowId(f)].from_access == -1);
     GraphProblem problem;
     CHECK_MESSAGE(validate(g, problem), problem.table << " " << problem.row << ": " << problem.message);
 }

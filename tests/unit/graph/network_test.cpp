@@ -98,29 +98,29 @@ Network network_by_slots(const Graph& g) {
     for (size_t f = 0; f < g.flows.size(); ++f) nodes.push_back({NodeKind::Flow, int32_t(f)});
     for (size_t l = 0; l < g.logics.size(); ++l) nodes.push_back({NodeKind::Logic, int32_t(l)});
     for (size_t c = 0; c < g.comps.size(); ++c)
-        if (g.comps[c].kind == CompKind::Router) nodes.push_back({NodeKind::Router, int32_t(c)});
+        if (g.comps[CompId(c)].kind == CompKind::Router) nodes.push_back({NodeKind::Router, int32_t(c)});
     for (size_t l = 0; l < g.labels.size(); ++l) nodes.push_back({NodeKind::Label, int32_t(l)});
     const size_t nn = nodes.size();
     std::vector<std::vector<int32_t>> makes(g.slots.size()), reads(g.slots.size()), target_reads(g.slots.size());
     for (size_t n = 0; n < nn; ++n) {
         const Node& node = nodes[n];
         if (node.kind == NodeKind::Flow) {
-            const Flow& f = g.flows[size_t(node.index)];
+            const Flow& f = g.flows[FlowId(node.index)];
             each_written_slot(g, f, [&](int32_t x) {
                 makes[size_t(x)].push_back(int32_t(n));
                 if (f.cond != Cond::Source) target_reads[size_t(x)].push_back(int32_t(n));
             });
             each_read_slot(g, f, [&](int32_t x) { reads[size_t(x)].push_back(int32_t(n)); });
         } else if (node.kind == NodeKind::Logic) {
-            const Logic& l = g.logics[size_t(node.index)];
-            for (int32_t i = 0; i < l.in_num; ++i) reads[size_t(g.logic_inputs[size_t(l.in_adr + i)].slot)].push_back(int32_t(n));
+            const Logic& l = g.logics[LogicId(node.index)];
+            for (int32_t i = 0; i < l.in_num; ++i) reads[size_t(g.logic_inputs[Id<LogicIn>(l.in_adr + i)].slot)].push_back(int32_t(n));
             makes[size_t(l.out_slot)].push_back(int32_t(n));
         } else if (node.kind == NodeKind::Router) {
-            reads[size_t(g.comps[size_t(node.index)].slot_adr + routerslot::query)].push_back(int32_t(n));
+            reads[size_t(g.comps[CompId(node.index)].slot_adr + routerslot::query)].push_back(int32_t(n));
             for (const Route& r : g.routes)
                 if (r.comp == node.index) makes[size_t(r.out_slot)].push_back(int32_t(n));
         } else {
-            const Comp& c = g.comps[size_t(g.labels[size_t(node.index)].comp)];
+            const Comp& c = g.comps[CompId(g.labels[Id<Label>(node.index)].comp)];
             reads[size_t(c.slot_adr + labelslot::set)].push_back(int32_t(n));
             makes[size_t(c.slot_adr + labelslot::value)].push_back(int32_t(n));
         }

@@ -252,10 +252,10 @@ TEST_CASE("every table and field type round-trips") {
 TEST_CASE("awkward values survive exactly") {
     Graph g;
     g.bodies.resize(4);
-    g.bodies[0].mass = 0.1;
-    g.bodies[1].mass = 1e-300;
-    g.bodies[2].mass = -0.0;
-    g.bodies[3].mass = 5e-324;
+    g.bodies[BodyId(0)].mass = 0.1;
+    g.bodies[BodyId(1)].mass = 1e-300;
+    g.bodies[BodyId(2)].mass = -0.0;
+    g.bodies[BodyId(3)].mass = 5e-324;
     g.labels.push_back({.comp = CompId(0), .value = g.intern("say \"hi\"\nback\\slash")});
     std::string text = to_text(g);
     CHECK(text.find("mass=0.1 ") != std::string::npos);
@@ -266,11 +266,11 @@ TEST_CASE("awkward values survive exactly") {
     Graph loaded;
     std::string error;
     REQUIRE_MESSAGE(load(text, loaded, error), error);
-    CHECK(loaded.bodies[0].mass == 0.1);
-    CHECK(loaded.bodies[1].mass == 1e-300);
-    CHECK(std::signbit(loaded.bodies[2].mass));
-    CHECK(loaded.bodies[3].mass == 5e-324);
-    CHECK(loaded.str(loaded.labels[0].value) == "say \"hi\"\nback\\slash");
+    CHECK(loaded.bodies[BodyId(0)].mass == 0.1);
+    CHECK(loaded.bodies[BodyId(1)].mass == 1e-300);
+    CHECK(std::signbit(loaded.bodies[BodyId(2)].mass));
+    CHECK(loaded.bodies[BodyId(3)].mass == 5e-324);
+    CHECK(loaded.str(loaded.labels[Id<Label>(0)].value) == "say \"hi\"\nback\\slash");
 }
 
 TEST_CASE("names are compared by text, not by id") {
@@ -302,7 +302,7 @@ TEST_CASE("same_as sees a change in any field of any table") {
         CHECK_MESSAGE(!h.same_as(g), what);
     };
 #define BUMP_FIELD(T_, f_) \
-    check_differs(#f_, [&](Graph& h) { bump(h, table_of(h)[0].f_); });
+    check_differs(#f_, [&](Graph& h) { bump(h, table_of(h).front().f_); });
 #define BUMP_TABLE(member, Record, elem, FIELDS)                     \
     {                                                                \
         auto table_of = [](Graph& h) -> auto& { return h.member; }; \
@@ -321,7 +321,7 @@ TEST_CASE("same_as sees a change in any field of any table") {
     check_differs("-0 vs 0", [](Graph& h) { h.settings.gravity[1] = 0.0; });
 
     Graph h = g;
-    h.values[0].v = std::nan("");
+    h.values[Id<Value>(0)].v = std::nan("");
     Graph k = h;
     CHECK(h.same_as(k));  // NaN reads back as NaN, so it must count as the same
 }
@@ -511,7 +511,7 @@ TEST_CASE("paths and source positions") {
     CHECK(g.slot_path(SlotId(99)) == "<slot 99>");
     CHECK(g.comp_path(CompId{}) == "<comp -1>");
 
-    CHECK(g.src_text(g.slots[1].src) == "examples/belt.plant:13:5");
+    CHECK(g.src_text(g.slots[SlotId(1)].src) == "examples/belt.plant:13:5");
     CHECK(g.src_text(Src{}) == "-");
     CHECK(g.src_text(Src{-1, 3, 4}) == "-");
     CHECK(g.src_text(Src{7, 1, 2}) == "<file 7>:1:2");

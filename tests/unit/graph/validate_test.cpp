@@ -79,8 +79,8 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     }
     // Rows picked from the graph itself, so that each damage trips the check it names.
     auto first = [&](auto&& rows, auto&& pred) {
-        for (size_t i = 0; i < rows.size(); ++i)
-            if (pred(rows[i])) return int32_t(i);
+        for (auto i : ids_of(rows))
+            if (pred(rows[i])) return i.v;
         FAIL("no such row");
         return int32_t(-1);
     };
@@ -93,20 +93,20 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t child = first(g.graphics, [](const Graphics& x) { return x.parent >= 0; });
     const int32_t multi = first(g.animations, [](const Animation& a) { return a.key_num >= 2; });
     const int32_t event = first(g.flows, [&](const Flow& f) {
-        return f.from_access < 0 && f.to_access < 0 && g.slots[size_t(f.from)].type == SlotType::Void;
+        return f.from_access < 0 && f.to_access < 0 && g.slots[SlotId(f.from)].type == SlotType::Void;
     });
     const int32_t vec_in = first(g.slots, [](const Slot& s) { return s.type == SlotType::Vec3 && s.dir == Dir::In; });
     const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
     const int32_t void_out = first(g.slots, [](const Slot& s) { return s.type == SlotType::Void && s.dir == Dir::Out; });
-    const int32_t body_comp = g.bodies[0].comp;
+    const int32_t body_comp = g.bodies[BodyId(0)].comp;
     const int32_t inertial = first(g.bodies, [](const Body& b) { return b.inertia_set; });
     const int32_t dyn_from = first(g.flows, [](const Flow& f) { return f.from_access >= 0; });
     const int32_t dyn_to = first(g.flows, [](const Flow& f) { return f.to_access >= 0; });
     // A dynamic end holds its access's reference slot; any other slot is refused.
-    const std::string ref_from = std::to_string(g.accesses[size_t(g.flows[size_t(dyn_from)].from_access)].ref_slot);
-    const std::string ref_to = std::to_string(g.accesses[size_t(g.flows[size_t(dyn_to)].to_access)].ref_slot);
-    const Access& a0 = g.accesses[0];
-    const std::string n = std::to_string(g.do_types[size_t(a0.do_type)].instance_num - 1);
+    const std::string ref_from = std::to_string(g.accesses[AccessId(g.flows[FlowId(dyn_from)].from_access)].ref_slot);
+    const std::string ref_to = std::to_string(g.accesses[AccessId(g.flows[FlowId(dyn_to)].to_access)].ref_slot);
+    const Access& a0 = g.accesses[AccessId(0)];
+    const std::string n = std::to_string(g.do_types[DoTypeId(a0.do_type)].instance_num - 1);
     // A pose slot's values starting 6 before the end of the table: one short.
     const std::string pose_adr = std::to_string(g.values.size() - 6);
     const std::string values_num = std::to_string(g.values.size());
@@ -133,7 +133,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"place", place, "initial", "1000001", "field 'initial' must lie in [0, 1000000]"},
         {"arc", 0, "weight", "2000000000", "field 'weight' must lie in [1, 1000000]"},
         {"body", 0, "friction", "-1", "friction and restitution must be 0 or more"},
-        {"body", 0, "comp", std::to_string(g.bodies[1].comp), "that component is a body whose detail is 1, not this body"},
+        {"body", 0, "comp", std::to_string(g.bodies[BodyId(1)].comp), "that component is a body whose detail is 1, not this body"},
         {"shape", box, "size", "(0 1 1)", "field 'size' must be above 0 where the shape uses it"},
         {"shape", hull, "point_num", "0", "a hull needs points"},
         {"shape", hull, "point_num", "1", "a hull encloses no volume: all its points coincide"},
@@ -152,8 +152,8 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"field", 0, "speed", "-2e5", "field 'speed' is -200000 m/s, beyond 100 km/s"},
         {"field", 0, "gain", "1e300", "field 'gain' is 1e+300 kg/s, above 1e12 kg/s"},
         {"settings", 0, "gravity", "(0 0 -1e4)", "settings: gravity is beyond 1 km/s² along an axis"},
-        {"joint", 0, "body_b", std::to_string(g.joints[0].body_a), "a joint joins two different bodies"},
-        {"place", place, "tokens_slot", std::to_string(g.places[size_t(place)].put_slot), "expected int out"},
+        {"joint", 0, "body_b", std::to_string(g.joints[JointId(0)].body_a), "a joint joins two different bodies"},
+        {"place", place, "tokens_slot", std::to_string(g.places[PlaceId(place)].put_slot), "expected int out"},
         {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
         {"transition", 0, "in_adr", "100000", "fields 'in_adr' + num"},
         {"trigger", 0, "filter", "999", "field 'filter' = 999 is not -1 or a row of do_types"},
@@ -165,7 +165,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"graphics", child, "parent", std::to_string(child), "field 'parent' must name an earlier graphics"},
         {"graphics", 0, "variant", "99", "field 'variant' = 99 is not -1 or the index of one of its"},
         {"animation", 0, "play_slot", std::to_string(pose_slot), "expected void in"},
-        {"key", g.animations[size_t(multi)].key_adr + 1, "t", "-1", "its time is not later than the key before it"},
+        {"key", g.animations[AnimationId(multi)].key_adr + 1, "t", "-1", "its time is not later than the key before it"},
         {"variant", 0, "graphics", "-1", "field 'graphics' = -1 is not a row of graphics"},
         {"label", 0, "comp", std::to_string(body_comp), "that component is a body"},
         {"record", 0, "slot", "-2", "field 'slot' = -2 is not a row of slots"},
@@ -211,9 +211,9 @@ TEST_CASE("validate: a hull whose points lie on a line or in a plane encloses no
     }
     int32_t hull = -1;
     for (size_t i = 0; i < g.shapes.size() && hull < 0; ++i)
-        if (g.shapes[i].kind == ShapeKind::Hull) hull = int32_t(i);
+        if (g.shapes[Id<Shape>(i)].kind == ShapeKind::Hull) hull = int32_t(i);
     REQUIRE(hull >= 0);
-    const Shape& s = g.shapes[size_t(hull)];
+    const Shape& s = g.shapes[Id<Shape>(hull)];
     REQUIRE(s.point_num >= 4);
     struct Flat {
         const char* name;
@@ -271,89 +271,89 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
         refused("gravity not finite", [](Graph& g) { g.settings.gravity[2] = std::nan(""); });
         refused("gravity beyond 1 km/s²", [](Graph& g) { g.settings.gravity[0] = 1001; });
         for (size_t i : some_rows(good.bodies.size())) {
-            if (good.bodies[i].mode == BodyMode::Dynamic) {
-                refused("a dynamic body's mass 0", [&](Graph& g) { g.bodies[i].mass = 0; });
-                refused("a dynamic body without shapes", [&](Graph& g) { g.bodies[i].shape_num = 0; });
+            if (good.bodies[BodyId(i)].mode == BodyMode::Dynamic) {
+                refused("a dynamic body's mass 0", [&](Graph& g) { g.bodies[BodyId(i)].mass = 0; });
+                refused("a dynamic body without shapes", [&](Graph& g) { g.bodies[BodyId(i)].shape_num = 0; });
             }
-            if (good.bodies[i].inertia_set) refused("inertia 0", [&](Graph& g) { g.bodies[i].inertia[0] = 0; });
-            refused("friction below 0", [&](Graph& g) { g.bodies[i].friction = -0.1; });
-            refused("restitution below 0", [&](Graph& g) { g.bodies[i].restitution = -0.1; });
-            refused("linear damping above 1", [&](Graph& g) { g.bodies[i].linear_damping = 1.5; });
-            refused("friction above 10", [&](Graph& g) { g.bodies[i].friction = 10.5; });
-            if (good.bodies[i].mode != BodyMode::Dynamic) {
-                refused("a static or kinematic body with a mass", [&](Graph& g) { g.bodies[i].mass = 1; });
-                refused("a static or kinematic body with damping", [&](Graph& g) { g.bodies[i].angular_damping = 0.5; });
+            if (good.bodies[BodyId(i)].inertia_set) refused("inertia 0", [&](Graph& g) { g.bodies[BodyId(i)].inertia[0] = 0; });
+            refused("friction below 0", [&](Graph& g) { g.bodies[BodyId(i)].friction = -0.1; });
+            refused("restitution below 0", [&](Graph& g) { g.bodies[BodyId(i)].restitution = -0.1; });
+            refused("linear damping above 1", [&](Graph& g) { g.bodies[BodyId(i)].linear_damping = 1.5; });
+            refused("friction above 10", [&](Graph& g) { g.bodies[BodyId(i)].friction = 10.5; });
+            if (good.bodies[BodyId(i)].mode != BodyMode::Dynamic) {
+                refused("a static or kinematic body with a mass", [&](Graph& g) { g.bodies[BodyId(i)].mass = 1; });
+                refused("a static or kinematic body with damping", [&](Graph& g) { g.bodies[BodyId(i)].angular_damping = 0.5; });
             }
-            refused("angular damping below 0", [&](Graph& g) { g.bodies[i].angular_damping = -1; });
-            refused("a body placed beyond 100 km", [&](Graph& g) { g.bodies[i].pose.p[1] = -1.5e5; });
-            refused("a centre of mass beyond 100 km", [&](Graph& g) { g.bodies[i].com.p[2] = 1e308; });
-            refused("a mass above 1,000 t", [&](Graph& g) { g.bodies[i].mass = 2e6; });
-            if (good.bodies[i].mode == BodyMode::Dynamic)
-                refused("a mass below 1 mg", [&](Graph& g) { g.bodies[i].mass = 9e-7; });
-            if (good.bodies[i].inertia_set) refused("inertia below 1e-14", [&](Graph& g) { g.bodies[i].inertia[2] = 1e-15; });
+            refused("angular damping below 0", [&](Graph& g) { g.bodies[BodyId(i)].angular_damping = -1; });
+            refused("a body placed beyond 100 km", [&](Graph& g) { g.bodies[BodyId(i)].pose.p[1] = -1.5e5; });
+            refused("a centre of mass beyond 100 km", [&](Graph& g) { g.bodies[BodyId(i)].com.p[2] = 1e308; });
+            refused("a mass above 1,000 t", [&](Graph& g) { g.bodies[BodyId(i)].mass = 2e6; });
+            if (good.bodies[BodyId(i)].mode == BodyMode::Dynamic)
+                refused("a mass below 1 mg", [&](Graph& g) { g.bodies[BodyId(i)].mass = 9e-7; });
+            if (good.bodies[BodyId(i)].inertia_set) refused("inertia below 1e-14", [&](Graph& g) { g.bodies[BodyId(i)].inertia[2] = 1e-15; });
         }
         for (size_t i : some_rows(good.dos.size(), 1))
-            refused("an object placed beyond 100 km", [&](Graph& g) { g.dos[i].pose.p[0] = 1e19; });
+            refused("an object placed beyond 100 km", [&](Graph& g) { g.dos[DoId(i)].pose.p[0] = 1e19; });
         for (size_t i : some_rows(good.shapes.size())) {
-            if (good.shapes[i].kind != ShapeKind::Hull) {
-                refused("a shape of size 0", [&](Graph& g) { g.shapes[i].size[0] = 0; });
-                refused("a shape larger than 100 km", [&](Graph& g) { g.shapes[i].size[0] = 2e5; });
-                refused("a shape smaller than 0.1 mm", [&](Graph& g) { g.shapes[i].size[0] = 9e-5; });
-                refused("a shape offset beyond 100 km", [&](Graph& g) { g.shapes[i].local.p[0] = 2e5; });
+            if (good.shapes[Id<Shape>(i)].kind != ShapeKind::Hull) {
+                refused("a shape of size 0", [&](Graph& g) { g.shapes[Id<Shape>(i)].size[0] = 0; });
+                refused("a shape larger than 100 km", [&](Graph& g) { g.shapes[Id<Shape>(i)].size[0] = 2e5; });
+                refused("a shape smaller than 0.1 mm", [&](Graph& g) { g.shapes[Id<Shape>(i)].size[0] = 9e-5; });
+                refused("a shape offset beyond 100 km", [&](Graph& g) { g.shapes[Id<Shape>(i)].local.p[0] = 2e5; });
                 continue;
             }
             refused("a hull whose points coincide", [&](Graph& g) {
-                for (int32_t k = 1; k < g.shapes[i].point_num; ++k)
-                    g.points[size_t(g.shapes[i].point_adr + k)] = g.points[size_t(g.shapes[i].point_adr)];
+                for (int32_t k = 1; k < g.shapes[Id<Shape>(i)].point_num; ++k)
+                    g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr + k)] = g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr)];
             });
-            refused("a hull point beyond 100 km", [&](Graph& g) { g.points[size_t(g.shapes[i].point_adr)].p[2] = -1e40; });
+            refused("a hull point beyond 100 km", [&](Graph& g) { g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr)].p[2] = -1e40; });
         }
         for (size_t i : some_rows(good.fields.size())) {
-            refused("a field's extent 0", [&](Graph& g) { g.fields[i].extent[1] = 0; });
-            refused("a field's gain below 0", [&](Graph& g) { g.fields[i].gain = -1; });
-            refused("a field's direction zero", [&](Graph& g) { g.fields[i].dir = {0, 0, 0}; });
-            refused("a field's max_force below 0", [&](Graph& g) { g.fields[i].max_force = -1; });
-            refused("a field placed beyond 100 km", [&](Graph& g) { g.fields[i].pose.p[2] = -2e5; });
-            refused("a field longer than 100 km", [&](Graph& g) { g.fields[i].extent[0] = 2e5; });
-            refused("a field thinner than 0.1 mm", [&](Graph& g) { g.fields[i].extent[2] = 1e-300; });
-            refused("a field faster than 100 km/s", [&](Graph& g) { g.fields[i].speed = -1.5e5; });
-            refused("a field's gain above 1e12 kg/s", [&](Graph& g) { g.fields[i].gain = 2e12; });
+            refused("a field's extent 0", [&](Graph& g) { g.fields[FieldId(i)].extent[1] = 0; });
+            refused("a field's gain below 0", [&](Graph& g) { g.fields[FieldId(i)].gain = -1; });
+            refused("a field's direction zero", [&](Graph& g) { g.fields[FieldId(i)].dir = {0, 0, 0}; });
+            refused("a field's max_force below 0", [&](Graph& g) { g.fields[FieldId(i)].max_force = -1; });
+            refused("a field placed beyond 100 km", [&](Graph& g) { g.fields[FieldId(i)].pose.p[2] = -2e5; });
+            refused("a field longer than 100 km", [&](Graph& g) { g.fields[FieldId(i)].extent[0] = 2e5; });
+            refused("a field thinner than 0.1 mm", [&](Graph& g) { g.fields[FieldId(i)].extent[2] = 1e-300; });
+            refused("a field faster than 100 km/s", [&](Graph& g) { g.fields[FieldId(i)].speed = -1.5e5; });
+            refused("a field's gain above 1e12 kg/s", [&](Graph& g) { g.fields[FieldId(i)].gain = 2e12; });
         }
         for (size_t i : some_rows(good.joints.size())) {
-            refused("a joint on one body", [&](Graph& g) { g.joints[i].body_b = g.joints[i].body_a; });
-            if (good.joints[i].kind == JointKind::Hinge)
+            refused("a joint on one body", [&](Graph& g) { g.joints[JointId(i)].body_b = g.joints[JointId(i)].body_a; });
+            if (good.joints[JointId(i)].kind == JointKind::Hinge)
                 refused("a hinge's limits spanning more than a turn", [&](Graph& g) {
-                    g.joints[i].lower = -4;
-                    g.joints[i].upper = 4;
+                    g.joints[JointId(i)].lower = -4;
+                    g.joints[JointId(i)].upper = 4;
                 });
-            if (good.joints[i].kind != JointKind::Fixed && good.joints[i].lower <= good.joints[i].upper)
-                refused("a joint's limits not finite", [&](Graph& g) { g.joints[i].upper = std::nan(""); });
+            if (good.joints[JointId(i)].kind != JointKind::Fixed && good.joints[JointId(i)].lower <= good.joints[JointId(i)].upper)
+                refused("a joint's limits not finite", [&](Graph& g) { g.joints[JointId(i)].upper = std::nan(""); });
         }
         for (size_t i : some_rows(good.places.size())) {
-            refused("tokens below 0", [&](Graph& g) { g.places[i].initial = -1; });
-            refused("tokens above the limit", [&](Graph& g) { g.places[i].initial = kMaxInitialTokens + 1; });
+            refused("tokens below 0", [&](Graph& g) { g.places[PlaceId(i)].initial = -1; });
+            refused("tokens above the limit", [&](Graph& g) { g.places[PlaceId(i)].initial = kMaxInitialTokens + 1; });
         }
         for (size_t i : some_rows(good.arcs.size())) {
-            refused("an arc's weight 0", [&](Graph& g) { g.arcs[i].weight = 0; });
-            refused("an arc's weight above the limit", [&](Graph& g) { g.arcs[i].weight = kMaxArcWeight + 1; });
+            refused("an arc's weight 0", [&](Graph& g) { g.arcs[Id<Arc>(i)].weight = 0; });
+            refused("an arc's weight above the limit", [&](Graph& g) { g.arcs[Id<Arc>(i)].weight = kMaxArcWeight + 1; });
         }
         for (size_t i : some_rows(good.transitions.size()))
-            refused("a transition without input places", [&](Graph& g) { g.transitions[i].in_num = 0; });
+            refused("a transition without input places", [&](Graph& g) { g.transitions[TransitionId(i)].in_num = 0; });
         for (size_t i : some_rows(good.triggers.size()))
-            refused("a trigger's extent 0", [&](Graph& g) { g.triggers[i].extent[2] = 0; });
+            refused("a trigger's extent 0", [&](Graph& g) { g.triggers[TriggerId(i)].extent[2] = 0; });
         for (size_t i : some_rows(good.timers.size()))
-            refused("a timer's period 0", [&](Graph& g) { g.timers[i].period = 0; });
+            refused("a timer's period 0", [&](Graph& g) { g.timers[Id<Timer>(i)].period = 0; });
         for (size_t i : some_rows(good.sources.size()))
-            refused("a source's rate below 0", [&](Graph& g) { g.sources[i].rate = -1; });
+            refused("a source's rate below 0", [&](Graph& g) { g.sources[SourceId(i)].rate = -1; });
         for (size_t i : some_rows(good.flows.size())) {
-            const Flow& f = good.flows[i];
+            const Flow& f = good.flows[FlowId(i)];
             if (f.to_access >= 0) continue;
             // Into an output: the flow's own source will do, when the source is static.
-            if (f.from_access < 0) refused("a flow into an output", [&](Graph& g) { g.flows[i].to = g.flows[i].from; });
+            if (f.from_access < 0) refused("a flow into an output", [&](Graph& g) { g.flows[FlowId(i)].to = g.flows[FlowId(i)].from; });
         }
         for (size_t i = 0; i < good.slots.size(); ++i)
-            if (good.slots[i].value_adr >= 0) {
-                refused("a slot's values beyond the table", [&](Graph& g) { g.slots[i].value_adr = next_adr(g.values); });
+            if (good.slots[SlotId(i)].value_adr >= 0) {
+                refused("a slot's values beyond the table", [&](Graph& g) { g.slots[SlotId(i)].value_adr = next_adr(g.values); });
                 break;
             }
     }
@@ -414,7 +414,7 @@ TEST_CASE("validate: every typed id field is checked against the table its type 
 #define CHECK_FIELD(T_, f_) visit(word_, #f_, r.f_);
 #define CHECK_TABLE(member, Record, word, FIELDS)   \
     if (!g.member.empty()) {                       \
-        const Record& r = g.member[0];             \
+        const Record& r = g.member.front();             \
         auto visit_row = [&](const std::string& word_) { FIELDS(CHECK_FIELD) }; \
         visit_row(#word);                 \
     }

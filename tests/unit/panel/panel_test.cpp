@@ -77,7 +77,7 @@ TEST_CASE("panel: elements are components of their own kinds, named panel.elemen
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     std::vector<std::string> kinds;
-    for (const auto& p : g.plugins) kinds.emplace_back(std::string(g.str(g.comps[size_t(p.comp.v)].name)) + ":" + std::string(g.str(p.kind)));
+    for (const auto& p : g.plugins) kinds.emplace_back(std::string(g.str(g.comps[graph::CompId(p.comp.v)].name)) + ":" + std::string(g.str(p.kind)));
     CHECK(kinds == std::vector<std::string>{"ops:panel", "ops.start:button", "ops.stop:button", "ops.halt:estop",
                                             "ops.mode:selector", "ops.running:lamp", "ops.count:display"});
     // Saved and loaded, the loader runs the elements' checks and keeps them.

@@ -47,7 +47,7 @@ TEST_CASE("plants/bottling.plant: bottles are filled, capped and commissioned in
     const Section sections[] = {{right - r - 0.65, right - r - 0.3}, {right - r - 2.05, right - r - 1.7}};
     std::vector<int32_t> mains;
     for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.comp_path(g.bodies[b].comp).ends_with(".main")) mains.push_back(int32_t(b));
+        if (g.comp_path(g.bodies[plant::graph::BodyId(b)].comp).ends_with(".main")) mains.push_back(int32_t(b));
     REQUIRE(mains.size() == 40);
 
     Engine e(g);

@@ -22,7 +22,7 @@ namespace {
 
 // Whether point p lies in field f's box (its pose is the box centre in the world).
 bool in_field(const graph::Graph& g, int32_t f, const graph::Vec3& p) {
-    const graph::Field& fd = g.fields[size_t(f)];
+    const graph::Field& fd = g.fields[graph::FieldId(f)];
     const graph::Vec3 l = engine::qrot(engine::qconj(fd.pose.q), engine::sub(p, fd.pose.p));
     for (int i = 0; i < 3; ++i)
         if (std::abs(l[i]) > fd.extent[i] / 2) return false;
@@ -40,7 +40,7 @@ double speed_along(const engine::Engine& e, int32_t b) {
     const graph::Graph& g = e.graph();
     const graph::Vec3 p = e.body_com(graph::BodyId(b)), v = e.body_velocity(graph::BodyId(b));
     for (size_t f = 0; f < g.fields.size(); ++f) {
-        const graph::Field& fd = g.fields[f];
+        const graph::Field& fd = g.fields[graph::FieldId(f)];
         if (fd.speed == 0 || !in_field(g, int32_t(f), p)) continue;
         return std::abs(engine::dot(v, engine::qrot(fd.pose.q, fd.dir)));
     }
@@ -65,8 +65,8 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
     // branch curves included), by component path.
     std::vector<int32_t> curve_fields, switch_fields;
     for (size_t f = 0; f < g.fields.size(); ++f) {
-        const std::string path(g.comp_path(g.fields[f].comp));
-        if (g.fields[f].speed == 0) continue;  // the stopped bands
+        const std::string path(g.comp_path(g.fields[graph::FieldId(f)].comp));
+        if (g.fields[graph::FieldId(f)].speed == 0) continue;  // the stopped bands
         const bool numbered = path.size() > 10 && path[9] >= '1' && path[9] <= '5' && path[10] == '.';  // c1. ... s5.
         if (numbered && path.starts_with("line[0].c")) curve_fields.push_back(int32_t(f));
         if (numbered && path.starts_with("line[0].s")) switch_fields.push_back(int32_t(f));
@@ -106,7 +106,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
         for (int32_t b : bottles) {
             if (riding(b, curve_fields)) on_curves.push_back(b);
             if (riding(b, switch_fields)) on_switches.push_back(b);
-            coasting += e.body_in_world(graph::BodyId(b)) && e.internals().phys.coasting(b);
+            coasting += e.body_in_world(graph::BodyId(b)) && e.internals().phys.coasting(graph::BodyId(b));
         }
         if (!on_curves.empty() && !on_switches.empty() && coasting > 0) break;
     }
@@ -131,7 +131,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
     auto step_watching_arm = [&](double until) {
         while (e.time() < until) {
             e.step();
-            for (int32_t b : bottles) by_arm[size_t(b)] |= e.internals().st.held_by[size_t(b)] >= 0;
+            for (int32_t b : bottles) by_arm[size_t(b)] |= e.internals().st.held_by[graph::BodyId(b)].valid();
         }
     };
     apply("line[0].ops.halt.press");
@@ -142,7 +142,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
     double worst_along = 0, worst = 0;
     for (int32_t b : bottles) {
         if (!e.body_in_world(graph::BodyId(b)) || by_arm[size_t(b)]) continue;
-        CAPTURE(g.comp_path(g.bodies[size_t(b)].comp));
+        CAPTURE(g.comp_path(g.bodies[graph::BodyId(b)].comp));
         worst_along = std::max(worst_along, speed_along(e, b));
         worst = std::max(worst, speed_of(e, b));
         CHECK(speed_along(e, b) < 0.01);
@@ -157,7 +157,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
         const graph::Vec3 p = e.body_com(graph::BodyId(resting[k]));
         const double moved = norm(engine::sub(p, at_one[k]));
         farthest = std::max(farthest, moved);
-        CAPTURE(g.comp_path(g.bodies[size_t(resting[k])].comp));
+        CAPTURE(g.comp_path(g.bodies[graph::BodyId(resting[k])].comp));
         CHECK(moved < 0.03);  // measured 18.5 mm
     }
     MESSAGE(resting.size() << " bottles on the line 1 s after the stop: at most " << worst_along * 1000
@@ -179,7 +179,7 @@ TEST_CASE("plants/bottling.plant: the emergency stop brings every bottle to rest
     for (const auto* group : {&on_curves, &on_switches})
         for (int32_t b : *group) {
             if (!e.body_in_world(graph::BodyId(b))) continue;
-            CAPTURE(g.comp_path(g.bodies[size_t(b)].comp));
+            CAPTURE(g.comp_path(g.bodies[graph::BodyId(b)].comp));
             CHECK(speed_of(e, b) > 0.3);
         }
     CHECK(e.warnings().total() == 0);

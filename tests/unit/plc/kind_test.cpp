@@ -101,7 +101,7 @@ TEST_CASE("plc link kind: the loader runs the kind's check") {
     graph::Graph g = c.graph;
     graph::GraphProblem problem;
     CHECK(graph::validate(g, problem));
-    g.plugin_entries[5].key = 8;  // the float32 onto the scaled register
+    g.plugin_entries[graph::Id<graph::PluginEntry>(5)].key = 8;  // the float32 onto the scaled register
     REQUIRE_FALSE(graph::validate(g, problem));
     CHECK(problem.message.find("plugin entry 5: 'b1.speed_now': input register 8 overlaps") != std::string::npos);
 }

@@ -44,7 +44,7 @@ struct Served {
 
 int32_t field_named(const graph::Graph& g, const std::string& path) {
     for (size_t f = 0; f < g.fields.size(); ++f)
-        if (g.comp_path(g.fields[f].comp) == path) return int32_t(f);
+        if (g.comp_path(g.fields[graph::FieldId(f)].comp) == path) return int32_t(f);
     return -1;
 }
 
@@ -202,7 +202,7 @@ std::vector<double> lockstep_run() {
             s.after_step(e);
             double sum = e.field_speed(plant::graph::FieldId(0));
             for (size_t b = 0; b < g.bodies.size(); ++b)
-                if (g.bodies[b].mode == graph::BodyMode::Dynamic && e.body_in_world(plant::graph::BodyId(int32_t(b)))) {
+                if (g.bodies[graph::BodyId(b)].mode == graph::BodyMode::Dynamic && e.body_in_world(plant::graph::BodyId(int32_t(b)))) {
                     const graph::Vec3 p = e.body_com(plant::graph::BodyId(int32_t(b)));
                     sum += p[0] + 2 * p[1] + 3 * p[2];
                 }

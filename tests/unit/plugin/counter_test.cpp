@@ -48,11 +48,11 @@ TEST_CASE("plugin kind: a counter compiles, saves, loads and runs") {
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     REQUIRE(g.plugins.size() == 1);
-    CHECK(g.str(g.plugins[0].kind) == "counter");
-    REQUIRE(g.plugins[0].param_num == 3);
-    CHECK(g.plugin_params[0].num == 2);   // start
-    CHECK(g.plugin_params[1].num == 5);   // limit
-    CHECK(g.plugin_params[2].num == 1.0);  // idle_after, in seconds
+    CHECK(g.str(g.plugins[graph::PluginId(0)].kind) == "counter");
+    REQUIRE(g.plugins[graph::PluginId(0)].param_num == 3);
+    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(0)].num == 2);   // start
+    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(1)].num == 5);   // limit
+    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(2)].num == 1.0);  // idle_after, in seconds
 
     // The text form carries it, and reads back the same.
     const std::string text = graph::to_text(g);
@@ -100,7 +100,7 @@ TEST_CASE("plugin kind: its properties are checked like a built-in kind's") {
     Compilation ms;
     test::compile_text("plant P { counter c { limit = 3; idle_after = 500 ms } }\n", ms, "counter_ms.plant");
     REQUIRE(ms.ok());
-    CHECK(ms.graph.plugin_params[2].num == 0.5);  // stored in the descriptor's unit, seconds
+    CHECK(ms.graph.plugin_params[graph::Id<graph::PluginParam>(2)].num == 0.5);  // stored in the descriptor's unit, seconds
     CHECK(counter_diagnostics("plant P { countr c { limit = 3 } }\n").find("unknown component kind 'countr'") !=
           std::string::npos);
     const std::string slot_error = counter_diagnostics("plant P { counter c { limit = 3 }\n flow c.value -> c.ad }\n");
@@ -163,13 +163,13 @@ plant Tapped {
     REQUIRE(c.ok());
     const graph::Graph& g = c.graph;
     REQUIRE(g.plugin_entries.size() == 3);
-    CHECK(g.plugins[0].entry_num == 3);
-    CHECK(g.str(g.plugin_entries[0].word) == "tap");
-    CHECK(g.plugin_entries[1].key == 2);
-    CHECK(g.plugin_params[size_t(g.plugin_entries[0].param_adr)].num == 2);
-    CHECK(g.plugin_params[size_t(g.plugin_entries[1].param_adr)].num == 1);  // the default weight
+    CHECK(g.plugins[graph::PluginId(0)].entry_num == 3);
+    CHECK(g.str(g.plugin_entries[graph::Id<graph::PluginEntry>(0)].word) == "tap");
+    CHECK(g.plugin_entries[graph::Id<graph::PluginEntry>(1)].key == 2);
+    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(g.plugin_entries[graph::Id<graph::PluginEntry>(0)].param_adr)].num == 2);
+    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(g.plugin_entries[graph::Id<graph::PluginEntry>(1)].param_adr)].num == 1);  // the default weight
     // An input port stands for every input it forwards to.
-    const graph::PluginEntry& notify = g.plugin_entries[2];
+    const graph::PluginEntry& notify = g.plugin_entries[graph::Id<graph::PluginEntry>(2)];
     REQUIRE(notify.slot_num == 2);
     CHECK(g.slot_path(g.plugin_entry_slots[notify.slot_adr + 0].v) == "g.t.start");
     CHECK(g.slot_path(g.plugin_entry_slots[notify.slot_adr + 1].v) == "g.t2.start");

@@ -78,7 +78,7 @@ TEST_CASE("runtime: step() does not allocate") {
         for (int i = 0; i < 1500; ++i) e.step();  // warm up: bottles issued, carried, taken, reissued
         // A trainee's hand holds a bottle through the measured steps (the grab is between steps).
         for (size_t b = 0; b < g.bodies.size(); ++b)
-            if (g.bodies[b].mode == plant::graph::BodyMode::Dynamic && e.body_in_world(plant::graph::BodyId(int32_t(b)))) {
+            if (g.bodies[plant::graph::BodyId(b)].mode == plant::graph::BodyMode::Dynamic && e.body_in_world(plant::graph::BodyId(int32_t(b)))) {
                 const plant::graph::Vec3 c = e.body_com(plant::graph::BodyId(int32_t(b)));
                 e.hand_grab(plant::graph::BodyId(int32_t(b)), plant::graph::Vec3{c[0], c[1], c[2] + 0.05});
                 break;

@@ -21,7 +21,7 @@ TEST_CASE("runtime: an event on an object's port drives what the port forwards t
     CHECK(g.slot_path(ev.slots[0]) == "sw.net.MoveToWorkingPos.put");
     int32_t working = -1;
     for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.comp_path(g.places[p].comp) == "sw.net" && g.str(g.places[p].name) == "WorkingPos") working = int32_t(p);
+        if (g.comp_path(g.places[graph::PlaceId(p)].comp) == "sw.net" && g.str(g.places[graph::PlaceId(p)].name) == "WorkingPos") working = int32_t(p);
     REQUIRE(working >= 0);
     engine::Engine e(g);
     for (int i = 0; i < 30; ++i) e.step();

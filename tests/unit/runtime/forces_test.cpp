@@ -24,7 +24,7 @@ struct SwitchRun {
     const graph::Graph& g() const { return c.graph; }
     int32_t exit_of(const std::string& path) const {
         for (size_t i = 0; i < g().exits.size(); ++i)
-            if (g().comp_path(g().exits[i].comp) == path) return int32_t(i);
+            if (g().comp_path(g().exits[graph::ExitId(i)].comp) == path) return int32_t(i);
         FAIL("no exit ", path);
         return -1;
     }

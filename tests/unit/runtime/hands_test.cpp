@@ -46,7 +46,7 @@ struct HandsRun {
     // The main body of the first pooled bottle (the one issued first).
     graph::BodyId bottle() const {
         for (size_t b = 0; b < g().bodies.size(); ++b)
-            if (g().bodies[b].mode == graph::BodyMode::Dynamic && g().str(g().comps[g().bodies[b].comp].name) == "main")
+            if (g().bodies[graph::BodyId(b)].mode == graph::BodyMode::Dynamic && g().str(g().comps[g().bodies[graph::BodyId(b)].comp].name) == "main")
                 return graph::BodyId(int32_t(b));
         FAIL("no bottle");
         return graph::BodyId(-1);

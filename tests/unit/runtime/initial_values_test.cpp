@@ -22,7 +22,7 @@ plant Sorter {
     int strings = 0, refs = 0;
     for (const graph::Slot& s : g.slots) {
         // Labels publish their text, fields their speed, places their tokens from the start.
-        const graph::CompKind kind = g.comps[size_t(s.comp)].kind;
+        const graph::CompKind kind = g.comps[graph::CompId(s.comp)].kind;
         if (!s.value_adr.valid() || kind == graph::CompKind::Label || kind == graph::CompKind::Field ||
             kind == graph::CompKind::State)
             continue;

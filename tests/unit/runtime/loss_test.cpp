@@ -32,13 +32,13 @@ graph::Graph compiled(const std::string& text, const std::string& name) {
 
 int32_t do_named(const graph::Graph& g, std::string_view path) {
     for (size_t d = 0; d < g.dos.size(); ++d)
-        if (g.str(g.dos[d].path) == path) return int32_t(d);
+        if (g.str(g.dos[graph::DoId(d)].path) == path) return int32_t(d);
     return -1;
 }
 
 // Whether point p lies in field f's box (a std.belts band: not rotated, fixed).
 bool in_field(const graph::Graph& g, int32_t f, const graph::Vec3& p) {
-    const graph::Field& fd = g.fields[size_t(f)];
+    const graph::Field& fd = g.fields[graph::FieldId(f)];
     for (int i = 0; i < 3; ++i)
         if (std::abs(p[i] - fd.pose.p[i]) > fd.extent[i] / 2) return false;
     return true;
@@ -193,8 +193,8 @@ plant Fall {
     for (int i = 0; i < 4 * 150; ++i) e.step();
     REQUIRE(e.lost().size() == 2);
     const graph::DoId first = e.lost()[0], second = e.lost()[1];
-    CHECK(g.str(g.dos[size_t(first)].path) == "faller");
-    CHECK(g.str(g.dos[size_t(second)].path) == "late");
+    CHECK(g.str(g.dos[graph::DoId(first)].path) == "faller");
+    CHECK(g.str(g.dos[graph::DoId(second)].path) == "late");
     const engine::Loss& l = e.loss(first);
     CHECK(l.place[0] == doctest::Approx(0.5).epsilon(0.02));
     const std::string where = fmt::format("off b1.drive at {} s at ({:.3f} {:.3f} {:.3f}) m", engine::time_text(double(l.field_step) * e.dt(), e.dt()),

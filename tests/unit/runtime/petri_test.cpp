@@ -58,7 +58,7 @@ TEST_CASE("runtime: tokens put by flows are added before firing, entered is seen
     e.step();
     CHECK(e.active(plant::graph::SlotId(b.entered(p + 1))));
     CHECK(e.active(plant::graph::SlotId(b.entered(p))));  // the put of step 1 made `in` entered too
-    CHECK(e.active(b.g.transitions[size_t(tr[0])].fired_slot));
+    CHECK(e.active(b.g.transitions[plant::graph::TransitionId(tr[0])].fired_slot));
     CHECK(e.tokens(plant::graph::PlaceId(p + 2)) == 1);  // the flow ran in this step's logic phase
     e.step();
     CHECK_FALSE(e.active(plant::graph::SlotId(b.entered(p + 1))));
@@ -68,8 +68,8 @@ TEST_CASE("runtime: tokens put by flows are added before firing, entered is seen
 
 TEST_CASE("runtime: two puts in one step add one token, a transition without inputs fires every step") {
     SceneBuilder b;
-    int32_t t1 = b.g.triggers[b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50))].comp;
-    int32_t t2 = b.g.triggers[b.trigger(0, "t2", {1, 1, 1}, at(0, 0, 50))].comp;
+    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp;
+    int32_t t2 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t2", {1, 1, 1}, at(0, 0, 50)))].comp;
     int32_t p = b.net(0, "net", {{"a", 0}, {"gen", 0}}, {{"src", {}, {{1, 1}}}});
     b.flow(b.S(t1, "on_enter"), b.put(p));
     b.flow(b.S(t2, "on_enter"), b.put(p));

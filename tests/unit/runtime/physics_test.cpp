@@ -31,7 +31,7 @@ TwoBodyBottle two_body_bottle(SceneBuilder& b, double m_main, double m_foot, dou
     TwoBodyBottle t;
     t.main = b.body(d, "main", BodyMode::Dynamic, {cylinder(0.02, 0.1)}, m_main, at(0, 0, main_z));
     t.foot = b.body(d, "foot", BodyMode::Dynamic, {sphere(foot_radius)}, m_foot, at(0, 0, foot_z));
-    b.g.bodies[size_t(t.foot)].collision = foot_collides;
+    b.g.bodies[plant::graph::BodyId(t.foot)].collision = foot_collides;
     t.joint = b.joint(d, "fix", JointKind::Fixed, t.main, t.foot, at(0, 0, foot_z - main_z), at(0, 0, 0));
     return t;
 }
@@ -104,7 +104,7 @@ TEST_CASE("runtime: a bottom body without collisions rides welded to its main bo
         e.step();
         peak = std::max(peak, tilt(e.body_pose(plant::graph::BodyId(main)).q));
         // The foot is where the joint holds it and moves with the main body's rigid motion.
-        const Pose want = plant::engine::pmul(e.body_pose(plant::graph::BodyId(main)), b.g.joints[size_t(j)].frame_a);
+        const Pose want = plant::engine::pmul(e.body_pose(plant::graph::BodyId(main)), b.g.joints[plant::graph::JointId(j)].frame_a);
         const auto vm = e.body_velocity(plant::graph::BodyId(main)), vf = e.body_velocity(plant::graph::BodyId(foot)),
                    w = e.body_angular_velocity(plant::graph::BodyId(main));
         const Vec3 r = plant::engine::sub(e.body_com(plant::graph::BodyId(foot)), e.body_com(plant::graph::BodyId(main)));
@@ -114,20 +114,20 @@ TEST_CASE("runtime: a bottom body without collisions rides welded to its main bo
             REQUIRE(vf[k] == doctest::Approx(vm[k] + cross).epsilon(1e-5));
         }
     }
-    CHECK(phys.welded(main));
-    CHECK(phys.welded(foot));
+    CHECK(phys.welded(plant::graph::BodyId(main)));
+    CHECK(phys.welded(plant::graph::BodyId(foot)));
     CHECK(phys.world().getNumCollisionObjects() == 2);  // the floor and the bottle: one Bullet body
     CHECK(phys.world().getNumConstraints() == 0);
     CHECK(peak > 0.01);  // the belt still pulls at the foot: the bottle tips
     CHECK(e.body_velocity(plant::graph::BodyId(main))[0] == doctest::Approx(1.0).epsilon(0.01));
     CHECK(e.body_velocity(plant::graph::BodyId(foot))[0] == doctest::Approx(1.0).epsilon(0.01));
     // The bottle's mass is both bodies': the belt pulls it to speed with M/(2k), not m/k.
-    CHECK(phys.rb(main).getMass() == doctest::Approx(0.040));
-    e.input(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "disable")));
+    CHECK(phys.rb(plant::graph::BodyId(main)).getMass() == doctest::Approx(0.040));
+    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "disable")));
     for (int i = 0; i < 60; ++i) e.step();
-    CHECK_FALSE(phys.welded(foot));
+    CHECK_FALSE(phys.welded(plant::graph::BodyId(foot)));
     CHECK(phys.world().getNumCollisionObjects() == 3);
-    CHECK(phys.rb(main).getMass() == doctest::Approx(0.036));
+    CHECK(phys.rb(plant::graph::BodyId(main)).getMass() == doctest::Approx(0.036));
     CHECK(e.body_com(plant::graph::BodyId(foot))[2] < -0.2);                    // no collisions: it falls through the floor
     CHECK(e.body_com(plant::graph::BodyId(main))[2] == doctest::Approx(0.0505).epsilon(0.01));  // the main body stands
 }
@@ -157,11 +157,11 @@ TEST_CASE("runtime: a fixed constraint holds a heavy body under gravity, and let
     Engine e(b.g);
     for (int i = 0; i < 300; ++i) e.step();
     CHECK(std::abs(e.body_com(plant::graph::BodyId(load))[2] - 0.8) < 0.005);
-    e.input(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "disable")));
+    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "disable")));
     for (int i = 0; i < 90; ++i) e.step();
     CHECK(e.body_com(plant::graph::BodyId(load))[2] < 0.0);  // free fall: 0.8 m in 0.4 s
-    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "enabled"))));
-    CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[size_t(j)].comp, "enabled")))[0] == 0);
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "enabled"))));
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "enabled")))[0] == 0);
 }
 
 TEST_CASE("runtime: dynamics_off takes a body out of the simulation, set_velocity then moves it") {
@@ -185,7 +185,7 @@ TEST_CASE("runtime: dynamics_off takes a body out of the simulation, set_velocit
 TEST_CASE("runtime: a body declared with dynamics off starts still and falls after dynamics_on") {
     SceneBuilder b;
     int32_t body = b.body(b.dobj("box"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
-    b.g.bodies[size_t(body)].dynamics = false;
+    b.g.bodies[plant::graph::BodyId(body)].dynamics = false;
     const int32_t c = b.body_comp(body);
     Engine e(b.g);
     for (int i = 0; i < 30; ++i) e.step();

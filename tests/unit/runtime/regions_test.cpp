@@ -48,12 +48,12 @@ TEST_CASE("runtime: lines far apart are physics regions, a Bullet world each, an
     CHECK(e.regions() == 3);
     CHECK(phys.worlds() == 4);
     auto body = [&](std::string_view line, std::string_view name) {
-        for (size_t b = 0; b < g.bodies.size(); ++b)
-            if (g.comp_path(g.bodies[b].comp) == std::string(line) + "." + std::string(name)) return int32_t(b);
+        for (plant::graph::BodyId b : plant::graph::ids_of(g.bodies))
+            if (g.comp_path(g.bodies[b].comp) == std::string(line) + "." + std::string(name)) return b;
         FAIL("no body ", line, ".", name);
-        return int32_t(-1);
+        return plant::graph::BodyId{};
     };
-    const int32_t f0 = body("line", "floor"), f1 = body("l1_line", "floor"), f2 = body("l2_line", "floor");
+    const plant::graph::BodyId f0 = body("line", "floor"), f1 = body("l1_line", "floor"), f2 = body("l2_line", "floor");
     CHECK(phys.world_of(f0) != phys.world_of(f1));
     CHECK(phys.world_of(f1) != phys.world_of(f2));
     CHECK(phys.world_of(body("line", "rail_l")) == phys.world_of(f0));
@@ -62,20 +62,20 @@ TEST_CASE("runtime: lines far apart are physics regions, a Bullet world each, an
     // A body joins its region's world in the physics phase; one issued in the last step's
     // actuator phase is still in the void's. So: the bodies in the world before and after a step.
     std::vector<char> was(g.bodies.size());
-    for (size_t b = 0; b < g.bodies.size(); ++b) was[b] = phys.in_world(int32_t(b));
+    for (size_t b = 0; b < g.bodies.size(); ++b) was[b] = phys.in_world(plant::graph::BodyId(b));
     e.step();
     // Bottles on each line are in that line's world; pooled ones wait in the void's.
     int on_lines = 0, parked = 0;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
-        if (g.bodies[b].mode != BodyMode::Dynamic || was[b] != phys.in_world(int32_t(b))) continue;
-        const int32_t w = phys.world_of(int32_t(b));
-        if (!phys.in_world(int32_t(b))) {
+        if (g.bodies[plant::graph::BodyId(b)].mode != BodyMode::Dynamic || was[b] != phys.in_world(plant::graph::BodyId(b))) continue;
+        const int32_t w = phys.world_of(plant::graph::BodyId(b));
+        if (!phys.in_world(plant::graph::BodyId(b))) {
             CHECK(w == phys.worlds() - 1);
             ++parked;
             continue;
         }
-        const double y = e.body_pose(plant::graph::BodyId(int32_t(b))).p[1];
-        const int32_t floor = y < 10 ? f0 : y < 30 ? f1 : f2;
+        const double y = e.body_pose(plant::graph::BodyId(b)).p[1];
+        const plant::graph::BodyId floor = y < 10 ? f0 : y < 30 ? f1 : f2;
         CHECK(w == phys.world_of(floor));
         ++on_lines;
     }
@@ -130,7 +130,7 @@ TEST_CASE("runtime: the step profile splits a step into serial parts and one job
         const auto x = e.body_pose(id), y = f.body_pose(id);
         for (int k = 0; k < 3; ++k) CHECK(x.p[k] == y.p[k]);
         for (int k = 0; k < 4; ++k) CHECK(x.q[k] == y.q[k]);
-        moving += g.bodies[b].mode == BodyMode::Dynamic && e.body_in_world(id);
+        moving += g.bodies[plant::graph::BodyId(b)].mode == BodyMode::Dynamic && e.body_in_world(id);
     }
     CHECK(moving > 6);
 }
@@ -143,16 +143,16 @@ TEST_CASE("runtime: a body thrown from one region over the void lands on the oth
     auto& phys = e.internals().phys;
     REQUIRE(e.regions() == 2);
     const int void_world = phys.worlds() - 1;
-    CHECK(phys.world_of(cube) == phys.world_of(0));
+    CHECK(phys.world_of(plant::graph::BodyId(cube)) == phys.world_of(plant::graph::BodyId(0)));
     // 4 m in about 0.8 s of flight: up at 4 m/s, along at 5 m/s.
-    phys.write(cube).setLinearVelocity(btVector3(5, 0, 4));
+    phys.write(plant::graph::BodyId(cube)).setLinearVelocity(btVector3(5, 0, 4));
     bool crossed_void = false;
     for (int i = 0; i < 450; ++i) {
         e.step();
-        crossed_void |= phys.world_of(cube) == void_world;
+        crossed_void |= phys.world_of(plant::graph::BodyId(cube)) == void_world;
     }
     CHECK(crossed_void);
-    CHECK(phys.world_of(cube) == phys.world_of(1));
+    CHECK(phys.world_of(plant::graph::BodyId(cube)) == phys.world_of(plant::graph::BodyId(1)));
     const auto p = e.body_pose(plant::graph::BodyId(cube)).p;
     CHECK(p[0] > 3.4);
     CHECK(p[0] < 4.6);
@@ -170,10 +170,10 @@ TEST_CASE("runtime: a body in the void collides with a body of a region that rea
     Engine e(b.g, on_threads(1));
     auto& phys = e.internals().phys;
     REQUIRE(e.regions() == 2);
-    CHECK(phys.world_of(ball) == phys.worlds() - 1);  // starts in the void, over no floor
+    CHECK(phys.world_of(plant::graph::BodyId(ball)) == phys.worlds() - 1);  // starts in the void, over no floor
     for (int i = 0; i < 300; ++i) e.step();
-    CHECK(phys.world_of(ball) == phys.world_of(plank));
-    CHECK(phys.world_of(plank) == phys.world_of(0));
+    CHECK(phys.world_of(plant::graph::BodyId(ball)) == phys.world_of(plant::graph::BodyId(plank)));
+    CHECK(phys.world_of(plant::graph::BodyId(plank)) == phys.world_of(plant::graph::BodyId(0)));
     CHECK(e.body_pose(plant::graph::BodyId(ball)).p[2] > 0.05);  // on the plank, not fallen past it
     CHECK(e.warnings().missed_contacts == 0);
 }
@@ -186,8 +186,8 @@ TEST_CASE("runtime: a static body placed outside its region's box merges every w
     auto& phys = e.internals().phys;
     REQUIRE(e.regions() == 2);
     for (int i = 0; i < 10; ++i) e.step();
-    CHECK(phys.world_of(cube) == phys.worlds() - 1);  // falling in the void
-    phys.place(1, btTransform(btQuaternion::getIdentity(), btVector3(8, 0, -0.1)));  // floor b under the cube
+    CHECK(phys.world_of(plant::graph::BodyId(cube)) == phys.worlds() - 1);  // falling in the void
+    phys.place(plant::graph::BodyId(1), btTransform(btQuaternion::getIdentity(), btVector3(8, 0, -0.1)));  // floor b under the cube
     CHECK(e.regions() == 1);
     CHECK(phys.worlds() == 1);
     for (int i = 0; i < 150; ++i) e.step();

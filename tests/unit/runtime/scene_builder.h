@@ -64,7 +64,7 @@ struct SceneBuilder {
 
     // Slot of a component by local name (fixed or dynamic).
     int32_t S(int32_t comp, std::string_view n) const {
-        const Comp& c = g.comps[comp];
+        const Comp& c = g.comps[CompId(comp)];
         for (int32_t i = 0; i < c.slot_num; ++i)
             if (g.str(g.slots[c.slot_adr + i].name) == n) return c.slot_adr + i;
         return -1;
@@ -96,8 +96,8 @@ struct SceneBuilder {
         g.bodies.push_back(b);
         return int32_t(g.bodies.size() - 1);
     }
-    int32_t body_comp(int32_t b) const { return g.bodies[b].comp; }
-    int32_t field_comp(int32_t f) const { return g.fields[size_t(f)].comp; }
+    int32_t body_comp(int32_t b) const { return g.bodies[BodyId(b)].comp; }
+    int32_t field_comp(int32_t f) const { return g.fields[FieldId(f)].comp; }
 
     int32_t field(int32_t owner, std::string_view n, Vec3 extent, Pose pose, Vec3 dir, double speed,
                   double gain, int32_t on_body = -1) {
@@ -184,8 +184,8 @@ struct SceneBuilder {
         }
         return first;
     }
-    int32_t put(int32_t place) const { return g.places[place].put_slot; }
-    int32_t entered(int32_t place) const { return g.places[place].entered_slot; }
+    int32_t put(int32_t place) const { return g.places[PlaceId(place)].put_slot; }
+    int32_t entered(int32_t place) const { return g.places[PlaceId(place)].entered_slot; }
 
     int32_t logic(int32_t owner, std::string_view n, LogicOp op, const std::vector<bool>& negated) {
         Logic l{};
@@ -233,7 +233,7 @@ struct SceneBuilder {
         s.id_num = int32_t(ids.size());
         for (const std::string& id : ids) g.ids.push_back({name(id)});
         s.comp = CompId(comp(owner, CompKind::Source, n, int32_t(g.sources.size())));
-        for (int32_t d = pool_adr; d < pool_adr + pool_num; ++d) g.dos[d].pool = s.comp;
+        for (int32_t d = pool_adr; d < pool_adr + pool_num; ++d) g.dos[DoId(d)].pool = s.comp;
         g.sources.push_back(s);
         return int32_t(g.sources.size() - 1);
     }

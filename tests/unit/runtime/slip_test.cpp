@@ -20,7 +20,7 @@ namespace {
 int32_t floor_and_belt(SceneBuilder& b, double speed, double gain, double max_force) {
     b.body(0, "floor", BodyMode::Static, {box({20, 20, 0.2})}, 0, at(0, 0, -0.1));
     const int32_t f = b.field(0, "belt", {20, 2, 0.5}, at(0, 0, 0.25), {1, 0, 0}, speed, gain);
-    b.g.fields[size_t(f)].max_force = max_force;
+    b.g.fields[plant::graph::FieldId(f)].max_force = max_force;
     return f;
 }
 
@@ -83,7 +83,7 @@ TEST_CASE("runtime: a body held against a wall presses on it with the slip limit
     // The wall's contact impulses over one step, along x, are the limit times dt.
     e.step();
     auto& phys = e.internals().phys;
-    const btCollisionObject* w = &phys.rb(wall);
+    const btCollisionObject* w = &phys.rb(plant::graph::BodyId(wall));
     double impulse = 0;
     btDispatcher* disp = phys.world().getDispatcher();
     for (int m = 0; m < disp->getNumManifolds(); ++m) {

@@ -37,7 +37,7 @@ plant Fall {
         const engine::Loss& l = e.loss(d);
         const json& j = s["lost"][i];
         CHECK(j["do"] == d.v);
-        CHECK(j["path"] == std::string(g.str(g.dos[size_t(d)].path)));
+        CHECK(j["path"] == std::string(g.str(g.dos[graph::DoId(d)].path)));
         CHECK(j["time"].get<double>() == doctest::Approx(double(l.step) * e.dt()));
         CHECK(j["left"].get<double>() == doctest::Approx(double(l.field_step) * e.dt()));
         for (int k = 0; k < 3; ++k) {
@@ -51,7 +51,7 @@ plant Fall {
     const json& faller = s["lost"][0]["path"] == "faller" ? s["lost"][0] : s["lost"][1];
     const json& stays = s["lost"][0]["path"] == "faller" ? s["lost"][1] : s["lost"][0];
     REQUIRE(faller["field"].is_number());
-    CHECK(g.comp_path(g.fields[faller["field"].get<size_t>()].comp) == "b1.drive");
+    CHECK(g.comp_path(g.fields[graph::FieldId(faller["field"].get<size_t>())].comp) == "b1.drive");
     CHECK(faller["place"][0].get<double>() == doctest::Approx(0.5).epsilon(0.02));
     CHECK(stays["field"].is_null());
     CHECK(stays["time"].get<double>() == stays["left"].get<double>());

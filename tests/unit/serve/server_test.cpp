@@ -49,7 +49,7 @@ TEST_CASE("serve: the scene has every body, then full and partial frames follow"
     REQUIRE(page.wait_frame());
     // Statics come with the graph's pose: frames carry world poses.
     for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.bodies[b].mode == graph::BodyMode::Static) CHECK(f.body_pose[7 * b] == float(g.bodies[b].pose.p[0]));
+        if (g.bodies[plant::graph::BodyId(b)].mode == graph::BodyMode::Static) CHECK(f.body_pose[7 * b] == float(g.bodies[plant::graph::BodyId(b)].pose.p[0]));
     json status;
     REQUIRE(page.wait_json("status", status));
     CHECK(status["counters"].contains("issued"));
@@ -91,7 +91,7 @@ TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     CHECK(evs.back().time <= e.time() + 1e-9);  // every event was applied
     int moving = 0;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
-        if (g.bodies[b].mode == graph::BodyMode::Static) continue;
+        if (g.bodies[plant::graph::BodyId(b)].mode == graph::BodyMode::Static) continue;
         const graph::Pose p = e.body_pose(plant::graph::BodyId(int32_t(b)));
         for (int k = 0; k < 3; ++k) CHECK(float(p.p[size_t(k)]) == last.body_pose[7 * b + size_t(k)]);
         moving += e.body_in_world(plant::graph::BodyId(int32_t(b))) ? 1 : 0;
@@ -245,15 +245,15 @@ TEST_CASE("serve: a replay shows the bottles where the trace of the same run has
         const auto& row = rows.at(tenth);
         int compared = 0;
         for (size_t b = 0; b < g.bodies.size(); ++b) {
-            const std::string base = g.comp_path(g.bodies[b].comp);
-            if (g.bodies[b].mode != graph::BodyMode::Dynamic) continue;
+            const std::string base = g.comp_path(g.bodies[plant::graph::BodyId(b)].comp);
+            if (g.bodies[plant::graph::BodyId(b)].mode != graph::BodyMode::Dynamic) continue;
             // Parked in the replay exactly when the trace has empty cells.
             CHECK(bool(f.body_state[b] & 1) == !std::isnan(row[col_of.at(base + ".x")]));
             if (!(f.body_state[b] & 1)) continue;
             // The trace has the centre of mass: the frame's body pose, moved by the body's com offset.
             const float* p = &f.body_pose[7 * b];
             const double x = p[3], y = p[4], z = p[5], w = p[6];
-            const graph::Vec3 c = g.bodies[b].com.p;
+            const graph::Vec3 c = g.bodies[plant::graph::BodyId(b)].com.p;
             const double tx = 2 * (y * c[2] - z * c[1]), ty = 2 * (z * c[0] - x * c[2]), tz = 2 * (x * c[1] - y * c[0]);
             const double com[3] = {p[0] + c[0] + w * tx + (y * tz - z * ty), p[1] + c[1] + w * ty + (z * tx - x * tz),
                                    p[2] + c[2] + w * tz + (x * ty - y * tx)};
@@ -287,7 +287,7 @@ TEST_CASE("serve: a plant's scheduled faults apply as plant run applies them") {
         replay(e, evs, paused_at);
         int differ = 0;
         for (size_t b = 0; b < g.bodies.size(); ++b) {
-            if (g.bodies[b].mode == graph::BodyMode::Static) continue;
+            if (g.bodies[plant::graph::BodyId(b)].mode == graph::BodyMode::Static) continue;
             const graph::Pose p = e.body_pose(plant::graph::BodyId(int32_t(b)));
             for (int k = 0; k < 3; ++k) differ += float(p.p[size_t(k)]) != f.body_pose[7 * b + size_t(k)] ? 1 : 0;
         }

@@ -15,8 +15,8 @@ namespace {
 std::vector<size_t> bottles_in_world(const graph::Graph& g, const view::Frame& f) {
     std::vector<size_t> out;
     for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.bodies[b].mode == graph::BodyMode::Dynamic && (f.body_state[b] & 1) &&
-            g.str(g.comps[g.bodies[b].comp].name) == "main")
+        if (g.bodies[plant::graph::BodyId(b)].mode == graph::BodyMode::Dynamic && (f.body_state[b] & 1) &&
+            g.str(g.comps[g.bodies[plant::graph::BodyId(b)].comp].name) == "main")
             out.push_back(b);
     return out;
 }
@@ -87,7 +87,7 @@ TEST_CASE("serve: a bottle a page's hand carries, saved as events, replays headl
             if (f.body_pose[7 * k + 2] < 0.05 && f.body_pose[7 * k] < 5.2 && f.time > 8) b = k, found = true;
     }
     REQUIRE(found);
-    const std::string path = g.comp_path(g.bodies[b].comp);
+    const std::string path = g.comp_path(g.bodies[plant::graph::BodyId(b)].comp);
     const double x = f.body_pose[7 * b], y = f.body_pose[7 * b + 1], z = f.body_pose[7 * b + 2];
     auto hand = [&](const char* action, double px, double py, double pz) {
         page.send(json{{"type", "hand"}, {"action", action}, {"path", path}, {"point", {px, py, pz}}}.dump());
@@ -113,7 +113,7 @@ TEST_CASE("serve: a bottle a page's hand carries, saved as events, replays headl
     engine::Engine e(g);
     replay(e, evs, paused_at);
     for (size_t k = 0; k < g.bodies.size(); ++k) {
-        if (g.bodies[k].mode == graph::BodyMode::Static) continue;
+        if (g.bodies[plant::graph::BodyId(k)].mode == graph::BodyMode::Static) continue;
         const graph::Pose p = e.body_pose(plant::graph::BodyId(int32_t(k)));
         for (int c = 0; c < 3; ++c) CHECK(float(p.p[size_t(c)]) == f.body_pose[7 * k + size_t(c)]);
     }

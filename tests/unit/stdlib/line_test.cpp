@@ -26,8 +26,8 @@ TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped an
     REQUIRE(taken_obj >= 0);
     std::vector<int32_t> shown_of(g.dos.size(), -1);
     for (size_t gr = 0; gr < g.graphics.size(); ++gr) {
-        const int32_t s = g.comps[g.graphics[gr].comp].slot_adr + plant::graph::graphicsslot::shown;
-        shown_of[size_t(g.comps[g.graphics[gr].comp].owner)] = s;
+        const int32_t s = g.comps[g.graphics[plant::graph::GraphicsId(gr)].comp].slot_adr + plant::graph::graphicsslot::shown;
+        shown_of[size_t(g.comps[g.graphics[plant::graph::GraphicsId(gr)].comp].owner)] = s;
     }
     Engine e(g);
     for (int32_t s : shown_of)

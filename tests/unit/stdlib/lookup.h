@@ -28,24 +28,24 @@ inline int32_t slot_named(const graph::Graph& g, std::string_view path) {
 
 // The place `name` of the net at component path `net`, or -1.
 inline int32_t place_named(const graph::Graph& g, std::string_view net, std::string_view name) {
-    for (size_t p = 0; p < g.places.size(); ++p)
-        if (g.comp_path(g.places[p].comp) == net && g.str(g.places[p].name) == name) return int32_t(p);
+    for (graph::PlaceId p : graph::ids_of(g.places))
+        if (g.comp_path(g.places[p].comp) == net && g.str(g.places[p].name) == name) return p.v;
     return -1;
 }
 
 // Rows of a table whose component path is `path`, or -1.
 template <class Rows>
 int32_t row_of_comp(const graph::Graph& g, const Rows& rows, std::string_view path) {
-    for (size_t i = 0; i < rows.size(); ++i)
-        if (g.comp_path(rows[i].comp) == path) return int32_t(i);
+    for (auto i : graph::ids_of(rows))
+        if (g.comp_path(rows[i].comp) == path) return i.v;
     return -1;
 }
 
 // Bodies whose component path ends with `suffix` (e.g. ".main"), in graph order.
 inline std::vector<int32_t> bodies_ending(const graph::Graph& g, std::string_view suffix) {
     std::vector<int32_t> out;
-    for (size_t b = 0; b < g.bodies.size(); ++b)
-        if (g.comp_path(g.bodies[b].comp).ends_with(suffix)) out.push_back(int32_t(b));
+    for (graph::BodyId b : graph::ids_of(g.bodies))
+        if (g.comp_path(g.bodies[b].comp).ends_with(suffix)) out.push_back(b.v);
     return out;
 }
 

@@ -36,7 +36,7 @@ plant LongQueue {
     std::vector<int32_t> mains, feet;
     for (int i = 0; i < n; ++i)
         for (size_t b = 0; b < g.bodies.size(); ++b) {
-            const std::string p = g.comp_path(g.bodies[b].comp), name = "b[" + std::to_string(i) + "].";
+            const std::string p = g.comp_path(g.bodies[plant::graph::BodyId(b)].comp), name = "b[" + std::to_string(i) + "].";
             if (p == name + "main") mains.push_back(int32_t(b));
             if (p == name + "bottom") feet.push_back(int32_t(b));
         }

@@ -41,7 +41,7 @@ struct Queue {
         const auto& g = c.graph;
         for (int i = 0; i < 4; ++i)
             for (size_t b = 0; b < g.bodies.size(); ++b)
-                if (g.comp_path(g.bodies[b].comp) == "b[" + std::to_string(i) + "].main") bottles.push_back(int32_t(b));
+                if (g.comp_path(g.bodies[plant::graph::BodyId(b)].comp) == "b[" + std::to_string(i) + "].main") bottles.push_back(int32_t(b));
         REQUIRE(bottles.size() == 4);
         // The port `released` forwards to BP's `closed`, the end of its close animation.
         released = slot_named(g, "sep.bp.left.look.close.finished");

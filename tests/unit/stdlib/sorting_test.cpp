@@ -142,7 +142,7 @@ plant FastFeed {
     const graph::Graph& g = c.graph;
     std::vector<plant::graph::BodyId> mains, feet;
     for (size_t b = 0; b < g.bodies.size(); ++b) {
-        const std::string p = g.comp_path(g.bodies[b].comp);
+        const std::string p = g.comp_path(g.bodies[graph::BodyId(b)].comp);
         if (p.starts_with("store[") && p.ends_with(".main")) mains.emplace_back(int32_t(b));
         if (p.starts_with("store[") && p.ends_with(".bottom")) feet.emplace_back(int32_t(b));
     }
@@ -169,7 +169,7 @@ plant FastFeed {
     }
     const int64_t issued = e.issued(plant::graph::SourceId(0));
     std::string where;
-    for (plant::graph::DoId d : e.lost()) where += "\n  " + std::string(g.str(g.dos[size_t(d)].path)) + " " + engine::loss_text(e, d);
+    for (plant::graph::DoId d : e.lost()) where += "\n  " + std::string(g.str(g.dos[graph::DoId(d)].path)) + " " + engine::loss_text(e, d);
     MESSAGE(seconds << " s: " << issued << " issued, " << releases << " released by the separator, longest queue " << longest
                     << ", highest foot in it " << highest * 1000 << " mm, " << e.lost().size() << " lost" << where);
     CHECK(e.lost().empty());

@@ -45,7 +45,7 @@ plant Store {
         const std::string code(e.str(int32_t(e.value(plant::graph::SlotId(id))[0])));
         const int32_t d = int32_t(e.value(plant::graph::SlotId(bottle))[0]);
         REQUIRE(d >= 0);
-        const std::string path(g.str(g.dos[size_t(d)].path));
+        const std::string path(g.str(g.dos[graph::DoId(d)].path));
         bottles.insert(path);
         // The code is in the bottle's label too, where readers and routers look.
         INFO("issue " << got.size() << " on " << path << " at " << e.time() << " s");

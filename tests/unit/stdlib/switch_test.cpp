@@ -125,7 +125,7 @@ TEST_CASE("std.switch: without a request every bottle runs straight on") {
     const int32_t ahead_eye = row_of_comp(c.graph, c.graph.triggers, "ahead_eye.volume"), aside_eye = row_of_comp(c.graph, c.graph.triggers, "aside_eye.volume");
     std::vector<int32_t> bottles;
     for (size_t b = 0; b < c.graph.bodies.size(); ++b)
-        if (c.graph.comp_path(c.graph.bodies[b].comp).ends_with("].main")) bottles.push_back(int32_t(b));
+        if (c.graph.comp_path(c.graph.bodies[plant::graph::BodyId(b)].comp).ends_with("].main")) bottles.push_back(int32_t(b));
     REQUIRE(bottles.size() == 8);
     Engine e(c.graph);
     double worst = 0;
