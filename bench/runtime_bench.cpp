@@ -477,15 +477,15 @@ bool check_graph(const Scene& s, const plant::graph::Graph& g, std::vector<int32
     bool ok = true;
     auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(b)); };
     int statics = 0;
-    for (size_t b = 0; b < g.bodies.size(); ++b) {
+    for (plant::graph::BodyId b : plant::graph::ids_of(g.bodies)) {
         const auto& body = g.bodies[b];
         if (body.mode == BodyMode::Dynamic) {
-            bottles.push_back(int32_t(b));
+            bottles.push_back(b.v);
             const double side = s.mass * (3 * s.radius * s.radius + s.height * s.height) / 12.0;
             ok &= near(body.mass, s.mass) && body.inertia_set && near(body.inertia[0], side) &&
                   near(body.inertia[2], s.mass * s.radius * s.radius / 2) && body.friction == 0 &&
                   body.restitution == 0 && body.linear_damping == 0 && body.angular_damping == 0 &&
-                  body.shape_num == 1 && g.shapes[size_t(body.shape_adr)].kind ==
+                  body.shape_num == 1 && g.shapes[body.shape_adr.first()].kind ==
                       (s.hull ? plant::graph::ShapeKind::Hull : plant::graph::ShapeKind::Cylinder);
         } else if (body.mode == BodyMode::Static) {
             ++statics;

@@ -146,7 +146,8 @@ constexpr IdRange<Id<R>> children(Adr<R> adr, int32_t num) {
 }
 
 // A vector indexed by one id type (Carbon's ValueStore / IdVector): v[id] takes an IdT
-// and nothing else, so an id of another table or an Adr does not index it. The graph's
+// and nothing else, so an id of another table, an Adr or a plain integer does not index it
+// (a number that is an id is made one first, SlotId(n)). The graph's
 // tables and the runtime's per-id arrays are these. In release builds operator[] is the
 // vector's; debug builds assert the id in range.
 template <class IdT, class T>
@@ -169,21 +170,6 @@ public:
         assert(static_cast<size_t>(i.v) < v_.size());
         return v_[static_cast<size_t>(i.v)];
     }
-#ifndef PLANT_STRICT_IDS
-    // Transitional: a plain integer still indexes, while code converts to typed ids
-    // (a build with -DPLANT_STRICT_IDS shows what is left). An id of another type or an
-    // Adr does not (it is no integral type).
-    template <std::integral I>
-    T& operator[](I i) {
-        assert(static_cast<size_t>(i) < v_.size());
-        return v_[static_cast<size_t>(i)];
-    }
-    template <std::integral I>
-    const T& operator[](I i) const {
-        assert(static_cast<size_t>(i) < v_.size());
-        return v_[static_cast<size_t>(i)];
-    }
-#endif
     // Checked: throws std::out_of_range (a negative id too).
     const T& at(IdT i) const { return v_.at(static_cast<size_t>(i.v)); }
     T& at(IdT i) { return v_.at(static_cast<size_t>(i.v)); }

@@ -59,13 +59,6 @@ struct Runtime {
     }
     void emit_pose(graph::SlotId slot, const Pose& p);
     graph::SlotId comp_slot(graph::CompId comp, int index) const { return g.comps[comp].slot_adr + index; }
-    // Transitional: a slot by its number, for runtime/engine/triggers.cpp and graphics.cpp
-    // until they move to kinds/ with typed slots (then these go).
-    double* val(int32_t slot) { return val(graph::SlotId(slot)); }
-    const double* val(int32_t slot) const { return val(graph::SlotId(slot)); }
-    void activate(int32_t slot) { activate(graph::SlotId(slot)); }
-    void emit(int32_t slot, double v) { emit(graph::SlotId(slot), v); }
-    void emit_pose(int32_t slot, const Pose& p) { emit_pose(graph::SlotId(slot), p); }
 
     void refresh_observers();  // after watch(): which body outputs to refresh per step
 };
