@@ -78,18 +78,15 @@ struct OptId : Id<Record> {
 // A component's row in the table of its kind (Comp::detail): which table depends on the
 // component's kind, so it is no Id<R> of one table. Read it as the id of the kind's table,
 // detail_of<Timer>(comp) (graph.h), and store it from one, Detail(timer_id); code over every
-// kind (the loader, the kind table's hooks) reads the number, .v. -1: none (a state, a router).
+// kind (the loader, the kind table's hooks) reads the number, .v; -1: none (a state, a router), !valid().
 struct Detail {
     int32_t v = -1;
 
     constexpr Detail() = default;
     template <class R>
     constexpr explicit Detail(Id<R> row) : v(row.v) {}
-    constexpr bool valid() const { return v >= 0; }
+    constexpr bool valid() const { return v >= 0; }  // it has a row
     friend constexpr bool operator==(Detail, Detail) = default;
-    // As the number it was (`detail >= 0`: it has a row), for code that reads no table.
-    friend constexpr bool operator==(Detail d, int32_t n) { return d.v == n; }
-    friend constexpr auto operator<=>(Detail d, int32_t n) { return d.v <=> n; }
 };
 
 template <class T>

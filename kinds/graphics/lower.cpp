@@ -136,7 +136,7 @@ void lower(Lowering& lw) {
 }
 
 void link(Linking& lk) {
-    if (lk.decl.on && lk.rec.detail >= 0) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on && lk.rec.detail.valid()) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
     CHECK(g.str(rec.name) == "t");
     CHECK(rec.kind == CompKind::Timer);
     CHECK(rec.owner == 0);
-    CHECK(rec.detail == -1);
+    CHECK(!rec.detail.valid());
     CHECK(rec.slot_adr == 0);
     REQUIRE(rec.slot_num == int32_t(fixed_slots(CompKind::Timer).size()));
     for (int32_t i = 0; i < rec.slot_num; ++i) {
