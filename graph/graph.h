@@ -178,34 +178,6 @@ constexpr int slot_width(SlotType t) {
     F(double, max_force) /* slip limit per body, N; 0: unlimited */                 \
     F(bool, enabled)
 
-#define PLANT_FIELDS_PLACE(F)  \
-    F(CompId, comp)           \
-    F(Name, name)              \
-    F(int32_t, initial)        \
-    F(OptId<Slot>, put_slot)       /* void in: adds one token */ \
-    F(OptId<Slot>, entered_slot)   /* void out: active in a step a token was put */ \
-    F(OptId<Slot>, tokens_slot)    /* int out: the marking */ \
-    F(Src, src)
-
-#define PLANT_FIELDS_TRANSITION(F) \
-    F(CompId, comp)               \
-    F(Name, name)                  \
-    F(Adr<Arc>, in_adr)  /* into arcs: consumed */ \
-    F(int32_t, in_num)             \
-    F(Adr<Arc>, out_adr) /* into arcs: produced */ \
-    F(int32_t, out_num)            \
-    F(OptId<Slot>, fired_slot) /* void out */ \
-    F(Src, src)
-
-#define PLANT_FIELDS_ARC(F) \
-    F(PlaceId, place)       \
-    F(int32_t, weight)
-
-#define PLANT_FIELDS_ROUTE(F)                                         \
-    F(CompId, comp)                                                  \
-    F(Name, pattern)  /* glob over the queried ID; "*" matches all */ \
-    F(SlotId, out_slot)
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

@@ -9,7 +9,6 @@ namespace {
 
 constexpr std::array kBody = {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)};
 constexpr std::array kField = {PLANT_SLOTS_FIELD(PLANT_SLOT_SPEC)};
-constexpr std::array kRouter = {PLANT_SLOTS_ROUTER(PLANT_SLOT_SPEC)};
 constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
 
 }  // namespace
@@ -19,8 +18,6 @@ std::span<const SlotSpec> fixed_slots(CompKind kind) {
     switch (kind) {
     case CompKind::Body: return kBody;
     case CompKind::Field: return kField;
-    case CompKind::State: return {};
-    case CompKind::Router: return kRouter;
     case CompKind::Logic: return kLogic;
     case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
     default: return {};

@@ -40,9 +40,6 @@
     S(speed, "speed", Real, Out, "the speed it drives at: its target speed while enabled, 0 while not") \
     S(enabled, "enabled", Bool, Out, "whether the field pushes")
 
-#define PLANT_SLOTS_ROUTER(S) \
-    S(query, "query", String, In, "an ID to route; activates the first matching entry")
-
 #define PLANT_SLOTS_LOGIC(S) \
     S(out, "out", Void, Out, "active in a step the operation is true")
 // clang-format on
@@ -68,7 +65,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 #define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
 namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
 namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
-namespace routerslot { enum : int { PLANT_SLOTS_ROUTER(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
 #define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }

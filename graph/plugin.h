@@ -18,6 +18,7 @@
 
 #include "graph.h"
 #include "kinds.h"
+#include "validate.h"
 
 #include <span>
 #include <string>
@@ -116,16 +117,27 @@ struct KindDesc {
     uint8_t blocks = 0;                               // the sub-blocks it holds (SubBlock bits)
     // The graph table its components' `detail` indexes (PLANT_KIND_TABLE): its name, its row
     // count, each row's component. The loader checks that each row's component is of this
-    // kind with the row as its detail, then calls `check` with the row.
+    // kind with the row as its detail, then calls `check` with the row. Left empty: the kind
+    // has no table of its own (a router, a state), its components' detail is none (-1), and
+    // the loader checks that.
     std::string_view table = {};
     size_t (*rows)(const Graph& g) = nullptr;
     CompId (*comp_of)(const Graph& g, int32_t row) = nullptr;
+    // The loader's check of the other tables whose rows belong to the kind's components (a
+    // state's places, transitions and arcs, a router's routes), after the rows of every
+    // kind's own table: false with the table, row and why in `problem` (validate.h's
+    // each_record and slot_flaw help). nullptr: nothing to check.
+    bool (*check_tables)(const Graph& g, GraphProblem& problem) = nullptr;
     // The input without which a component does nothing, unless `runs_alone` says it does
     // anyway (nullptr: it never does): the compiler warns (W0502) with `idle_warning`, `{}`
     // standing for the component's name. -1: none.
     int idle_input = -1;
     bool (*runs_alone)(const Graph& g, int32_t row) = nullptr;
     std::string_view idle_warning = {};
+    // W0501 for each output of a component beyond the kind's fixed slots (a router's routes)
+    // that drives nothing: `{}` standing for the output's name, then the component's.
+    // Empty: such outputs are not warned about.
+    std::string_view unused_output = {};
 };
 
 // A plugin kind's check (KindDesc::check) written over its component's PluginId.

@@ -53,8 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && nets() && table_kinds() &&
-               routes() && animations() && variants() &&
+               shapes() && fields() && table_kinds() && animations() && variants() &&
                ports() && plugin_records();
     }
 
@@ -96,12 +95,8 @@ private:
     }
     // A slot of the given type and direction (every_field() checked it is one, or -1).
     bool slot(std::string_view field, SlotId s, SlotType type, Dir dir) {
-        if (!s.valid()) return true;
-        const Slot& sl = g_.slots[s];
-        if (sl.type != type || sl.dir != dir)
-            return fail(fmt::format("field '{}' = {}: slot {} is {} {}, expected {} {}", field, s, s, word(sl.type),
-                                    word(sl.dir), word(type), word(dir)));
-        return true;
+        std::string flaw = slot_flaw(g_, field, s, type, dir);
+        return flaw.empty() || fail(std::move(flaw));
     }
     bool check(bool ok, std::string_view what) { return ok || fail(std::string(what)); }
     // The component `c` is of `kind` and its detail is this record.
@@ -188,9 +183,11 @@ private:
         });
     }
 
-    // The table a component kind's `detail` indexes, with its size; none for state and router.
+    // The table a component kind's `detail` indexes, with its size; none for a kind on the
+    // kind table without one (its row's `table` empty).
     bool detail_table(CompKind k, size_t& n, std::string_view& name) const {
         if (const KindDesc* d = builtin_kind(k)) {
+            if (d->table.empty()) return false;
             n = d->rows(g_), name = d->table;
             return true;
         }
@@ -199,9 +196,7 @@ private:
         case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
-        case CompKind::State:
-        case CompKind::Router: return false;
-        default: return false;  // a kind on the kind table has its table
+        default: return false;  // a kind on the kind table: above
         }
         return false;
     }
@@ -423,46 +418,20 @@ private:
         });
     }
 
-    bool nets() {
-        if (!each("places", g_.places, [&](const Place& p, PlaceId) {
-            return check(g_[p.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
-                   check(p.initial >= 0 && p.initial <= kMaxInitialTokens,
-                         fmt::format("field 'initial' must lie in [0, {}]", kMaxInitialTokens)) &&
-                   slot("put_slot", p.put_slot, SlotType::Void, Dir::In) &&
-                   slot("entered_slot", p.entered_slot, SlotType::Void, Dir::Out) &&
-                   slot("tokens_slot", p.tokens_slot, SlotType::Int, Dir::Out);
-        }))
-            return false;
-        if (!each("transitions", g_.transitions, [&](const Transition& t, TransitionId) {
-            return check(g_[t.comp].kind == CompKind::State, "field 'comp' is not a state component") &&
-                   check(t.in_num > 0, "a transition needs an input place (it would fire in every step)") &&
-                   slot("fired_slot", t.fired_slot, SlotType::Void, Dir::Out);
-        }))
-            return false;
-        return each("arcs", g_.arcs, [&](const auto& r, Id<Arc>) {
-            return check(r.weight >= 1 && r.weight <= kMaxArcWeight,
-                         fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight));
-        });
-    }
-
     // The kinds on the kind table: each row's component of the kind with the row as its
-    // detail, then the kind's own check of the row.
+    // detail, then the kind's own check of the row; then each kind's check of the other
+    // tables its components own rows of.
     bool table_kinds() {
         for (const KindDesc* d : builtin_kinds())
-            for (int32_t i = 0; std::cmp_less(i, d->rows(g_)); ++i) {
+            for (int32_t i = 0; d->rows && std::cmp_less(i, d->rows(g_)); ++i) {
                 at(d->table, i);
                 if (!owner(d->comp_of(g_, i), d->kind, i)) return false;
                 PluginProblem problem;
                 if (d->check && !d->check(g_, i, problem)) return fail(problem.message);
             }
+        for (const KindDesc* d : builtin_kinds())
+            if (d->check_tables && !d->check_tables(g_, p_)) return false;
         return true;
-    }
-
-    bool routes() {
-        return each("routes", g_.routes, [&](const Route& r, Id<Route>) {
-            return check(g_[r.comp].kind == CompKind::Router, "field 'comp' is not a router") &&
-                   slot("out_slot", r.out_slot, SlotType::Void, Dir::Out);
-        });
     }
 
     bool animations() {
@@ -517,6 +486,14 @@ private:
 };
 
 }  // namespace
+
+std::string slot_flaw(const Graph& g, std::string_view field, OptId<Slot> s, SlotType type, Dir dir) {
+    if (!s.valid()) return {};
+    const Slot& sl = g.slots[SlotId(s)];
+    if (sl.type == type && sl.dir == dir) return {};
+    return fmt::format("field '{}' = {}: slot {} is {} {}, expected {} {}", field, s, s, word(sl.type), word(sl.dir),
+                       word(type), word(dir));
+}
 
 bool validate(const Graph& g, GraphProblem& problem) {
     problem = GraphProblem{};

@@ -10,6 +10,8 @@
 #include "graph.h"
 
 #include <string>
+#include <string_view>
+#include <utility>
 
 namespace plant::graph {
 
@@ -21,5 +23,21 @@ struct GraphProblem {
 
 // True when `g` keeps every promise above; otherwise false with the first problem found.
 bool validate(const Graph& g, GraphProblem& problem);
+
+// For a kind's own checks (graph/plugin.h, KindDesc::check_tables), which run once every
+// id and range is known to be a row of its table: why slot `s`, written in `field`, is not
+// of `type` and `dir` ("" when it is, or when it is none).
+std::string slot_flaw(const Graph& g, std::string_view field, OptId<Slot> s, SlotType type, Dir dir);
+// Each record of `rows` by `flaw(record)`, its first problem ("" for none): false with the
+// first record that has one, as `problem` (the table's name and the row).
+template <class R, class F>
+bool each_record(const Table<R>& rows, GraphProblem& problem, F&& flaw) {
+    for (Id<R> i : rows.ids())
+        if (std::string why = flaw(rows[i]); !why.empty()) {
+            problem = {std::string(table_name<R>()), i.v, std::move(why)};
+            return false;
+        }
+    return true;
+}
 
 }  // namespace plant::graph

@@ -1,15 +1,16 @@
 # The component kinds on the kind table that ship with plant (docs/architecture.md, "The
 # kind table"), in the order their start and sense hooks run: the graphics first (a gripper
 # follows a graphics' pose of this step), the trigger before the gripper and the exit, which
-# work on what it found inside; the exit after the gripper moved what it holds. Each is a
-# folder kinds/NAME:
+# work on what it found inside; the exit after the gripper moved what it holds; the state
+# last (its places publish their tokens after the other kinds' start, as they did). Each is
+# a folder kinds/NAME:
 #   graph.h   its fixed slots and graph record's fields (the graph contract)
 #   kind.cpp  its descriptor row: word, modes, parameters, table, loader check, docs (plant_graph)
 #   lower.cpp its lowering into the graph (plant_compiler)
 #   run.cpp   its behaviour: state, start, sense, act (plant_runtime)
 # Adding one is its folder and its word here; kinds/list.h, generated from this list, is
 # how graph/, the compiler and the runtime find the rows.
-set(PLANT_KINDS graphics trigger constraint timer gripper exit source label)
+set(PLANT_KINDS graphics trigger constraint timer gripper exit source label state router)
 
 set(PLANT_KINDS_GENERATED ${CMAKE_BINARY_DIR}/generated)
 set(plant_kind_includes "")

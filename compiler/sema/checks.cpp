@@ -108,27 +108,20 @@ void Elaborator::check_unused() {
         const Span span = comp_spans_[c.v];
         const std::string cname(g_.str(comp.name));
         auto slot = [&](int idx) { return comp.slot_adr + idx; };
-        // A kind on the kind table says which input it needs (graph/plugin.h: idle_input).
-        if (const graph::KindDesc* k = graph::builtin_kind(comp.kind); k && k->idle_input >= 0) {
-            if (!(k->runs_alone && k->runs_alone(g_, comp.detail.v)) && !driven[slot(k->idle_input)])
+        // A kind on the kind table says which outputs it wants used (graph/plugin.h:
+        // unused_output) and which input it needs (idle_input).
+        if (const graph::KindDesc* k = graph::builtin_kind(comp.kind)) {
+            if (!k->unused_output.empty())
+                for (int32_t i = graph::count_of(k->slots); i < comp.slot_num; ++i)
+                    if (!used[slot(i)])
+                        sink_.report(DiagId::OutputDrivesNothing, span,
+                                     fmt::format(fmt::runtime(k->unused_output), g_.str(g_.slots[slot(i)].name), cname));
+            if (k->idle_input >= 0 && !(k->runs_alone && k->runs_alone(g_, comp.detail.v)) && !driven[slot(k->idle_input)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format(fmt::runtime(k->idle_warning), cname));
             continue;
         }
-        switch (comp.kind) {
-        case CompKind::Logic:
-            if (!used[slot(graph::logicslot::out)])
-                sink_.report(DiagId::OutputDrivesNothing, span, fmt::format("connector '{}' drives nothing", cname));
-            break;
-        case CompKind::Router:
-            for (int32_t i = 1; i < comp.slot_num; ++i)
-                if (!used[slot(i)])
-                    sink_.report(DiagId::OutputDrivesNothing, span,
-                                 fmt::format("route '{}' of router '{}' drives nothing", g_.str(g_.slots[slot(i)].name), cname));
-            if (!driven[slot(graph::routerslot::query)])
-                sink_.report(DiagId::InputNotDriven, span, fmt::format("router '{}' is never queried: nothing drives its 'query'", cname));
-            break;
-        default: break;
-        }
+        if (comp.kind == CompKind::Logic && !used[slot(graph::logicslot::out)])
+            sink_.report(DiagId::OutputDrivesNothing, span, fmt::format("connector '{}' drives nothing", cname));
     }
 }
 

@@ -39,8 +39,6 @@ void lower(Lowering& lw) {
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
     case CompKind::Field: return lower_field(lw);
-    case CompKind::State: return lower_state(lw);
-    case CompKind::Router: return lower_router(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
     default: return;  // a kind on the kind table: above

@@ -61,19 +61,9 @@ std::vector<KindSpec> make_kinds() {
     field.on = true;
     k.push_back(field);
 
-    KindSpec state{"state", CompKind::State, {}, {}};
-    state.places = true;
-    k.push_back(state);
-
-    KindSpec router{"router", CompKind::Router, {}, {}};
-    router.routes = true;
-    k.push_back(router);
-
     const std::pair<std::string_view, std::string_view> docs[] = {
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
         {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
-        {"state", "a Petri net: places holding tokens and transitions that move them"},
-        {"router", "a table from ID patterns to outputs: a query fires the first output whose pattern matches"},
     };
     for (auto& spec : k)
         for (const auto& [word, doc] : docs)

@@ -48,7 +48,6 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     // see the start values once.
     start_fields(*this);
     start_kinds(*this);   // the kind table's, in its order (kinds/kinds.cmake)
-    start_places(*this);
     start_plugins(*this);  // what they emit is published the same way
 }
 

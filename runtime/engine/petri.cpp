@@ -7,7 +7,8 @@
 //   3. M'[p] = max(0, M[p] − consumed[p]) + produced[p].
 // Places that received a token (put or produced) activate `entered`; a changed
 // marking activates `tokens`; a fired transition activates `fired`. These outputs
-// are active in the next step's logic phase.
+// are active in the next step's logic phase. (A state's start, its places publishing
+// their tokens, is the kind table's: kinds/state/run.cpp.)
 #include "engine/runtime.h"
 #include "graph/kinds.h"
 
@@ -94,12 +95,6 @@ void phase_petri(Runtime& r) {
         s.place_mark[p] = 0;
     }
     s.places_touched.clear();
-}
-
-// Each place's tokens are published once at the start.
-void start_places(Runtime& r) {
-    for (PlaceId p : ids_of(r.g.places))
-        if (r.g.places[p].tokens_slot.valid()) r.emit(r.g.places[p].tokens_slot, double(r.st.tokens[p]));
 }
 
 }  // namespace plant::engine

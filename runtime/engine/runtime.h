@@ -101,7 +101,6 @@ void integrate_group(Runtime& r, graph::BodyId group);  // a rigid group, by its
 graph::DoId take_object(Runtime& r, graph::DoId obj);  // out of the world, back to its pool; its root or -1
 double object_id(Runtime& r, graph::DoId obj);         // its bar code: its label's text, else its path
 void apply_hands(Runtime& r);  // hands.cpp: trainees' hands pull what they hold, in phase 1
-void start_places(Runtime& r);  // petri.cpp: state acts in phase 4
 bool glob_match(std::string_view pattern, std::string_view text);
 // Plugin components (plugin.cpp): started once, sensing in phase 2, acting in phase 5.
 void start_plugins(Runtime& r);

@@ -3,9 +3,8 @@
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
-// kinds/NAME/lower.cpp (KindLowering); for the others one file per family of kinds holds
-// both: physics.cpp, state.cpp, objects.cpp (the router); plugin.cpp lowers every plugin
-// kind.
+// kinds/NAME/lower.cpp (KindLowering); the physics kinds not yet on it have theirs in
+// physics.cpp; plugin.cpp lowers every plugin kind.
 #pragma once
 
 #include "sema/elaborator.h"
@@ -87,15 +86,11 @@ const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on 
 void lower_body(Lowering& lw);
 void lower_field(Lowering& lw);
 void link_field(Linking& lk);
-// state.cpp
-void lower_state(Lowering& lw);
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
 void link_plugin(Linking& lk);  // its component references (ParamType::CompRef)
 // A placement on a kind whose row takes none (KindDesc::placed) would be dropped without a
 // word: it is refused (E0311). Whether it was.
 bool refuse_placement(Lowering& lw, const graph::KindDesc& kind);
-// objects.cpp: the router
-void lower_router(Lowering& lw);
 
 }  // namespace plant::sema

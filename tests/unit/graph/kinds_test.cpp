@@ -88,10 +88,10 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
         CHECK(word(d->kind) == d->word);  // the graph's word for the CompKind is the plant file's
         CHECK(fixed_slots(d->kind).data() == d->slots.data());
         CHECK(!d->doc.empty());
-        CHECK(!d->table.empty());
-        REQUIRE(bool(d->rows));
-        REQUIRE(bool(d->comp_of));
-        CHECK(d->rows(Graph{}) == 0);
+        // A table of its own, or none at all (a router, a state: its components' detail is -1).
+        CHECK(d->table.empty() == !d->rows);
+        CHECK(d->table.empty() == !d->comp_of);
+        if (d->rows) CHECK(d->rows(Graph{}) == 0);
         CHECK((d->idle_input < 0 || size_t(d->idle_input) < d->slots.size()));
         CHECK((d->idle_input < 0) == d->idle_warning.empty());
         CHECK(!find_plugin(d->word));  // not a plugin: register_kind refuses the word
@@ -115,6 +115,15 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     CHECK(trigger->on);
     CHECK(trigger->placed);  // its box stands where it is placed
     CHECK(trigger->blocks == 0);
+    for (CompKind k : {CompKind::State, CompKind::Router}) {
+        const KindDesc* d = builtin_kind(k);
+        REQUIRE(d);
+        CHECK(d->table.empty());
+        CHECK(bool(d->check_tables));  // its places, transitions and arcs; its routes
+    }
+    CHECK(builtin_kind(CompKind::State)->blocks == kPlaces);
+    CHECK(builtin_kind(CompKind::Router)->blocks == kRoutes);
+    CHECK(!builtin_kind(CompKind::Router)->unused_output.empty());  // a route that drives nothing
     const KindDesc* graphics = builtin_kind(CompKind::Graphics);
     REQUIRE(graphics);
     CHECK(graphics->table == "graphics");
@@ -151,7 +160,7 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
 }
 
-TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, sub-blocks and a Value parameter") {
+TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, sub-blocks, table checks and a Value parameter") {
     constexpr SlotSpec slots[] = {{"in", SlotType::Void, Dir::In, "an input"}};
     const KindDesc timer_word{"timer", "a second timer", slots, {}};
     CHECK_FALSE(register_kind(timer_word));
@@ -162,6 +171,13 @@ TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, s
                                .blocks = kAnimations};
     CHECK_FALSE(register_kind(with_blocks));
     CHECK(find_plugin("kinds_test_blocks") == nullptr);
+    // So are the checks of other tables and the warning about unused own outputs.
+    const KindDesc with_tables{.word = "kinds_test_tables", .doc = "checks tables", .slots = slots, .params = {},
+                               .check_tables = [](const Graph&, GraphProblem&) { return true; }};
+    CHECK_FALSE(register_kind(with_tables));
+    const KindDesc with_unused{.word = "kinds_test_unused", .doc = "warns", .slots = slots, .params = {},
+                               .unused_output = "'{}' of '{}'"};
+    CHECK_FALSE(register_kind(with_unused));
     // A Value takes its type from an entry's slot; a component's parameter has none. Every
     // other type a plugin stores (tests/unit/plugin/probe_test.cpp).
     const ParamSpec value_param[] = {{"p", ParamType::Value, "", false, 0, "a parameter"}};

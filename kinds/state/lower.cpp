@@ -1,4 +1,6 @@
-// The `state` kind: a Petri net's places and transitions.
+// The state's lowering: its places (each with its put, entered and tokens slots) and its
+// transitions (each with its arcs and its fired slot), rows of `places`, `transitions` and
+// `arcs`; a state has no row of its own (its detail stays none).
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -7,13 +9,15 @@
 #include <set>
 #include <fmt/format.h>
 
-namespace plant::sema {
+namespace plant::kinds::state {
 
-using graph::CompKind;
+using namespace plant::sema;
 using graph::Dir;
 using graph::SlotType;
 
-void lower_state(Lowering& lw) {
+namespace {
+
+void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
@@ -93,4 +97,8 @@ void lower_state(Lowering& lw) {
     }
 }
 
-}  // namespace plant::sema
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower};
+
+}  // namespace plant::kinds::state

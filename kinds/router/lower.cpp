@@ -1,4 +1,5 @@
-// The router: a table from ID patterns to outputs.
+// The router's lowering: one output per named entry of its table (`route NAME: PATTERN`),
+// and a row of `routes` per pattern, in order.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -6,13 +7,15 @@
 
 #include <fmt/format.h>
 
-namespace plant::sema {
+namespace plant::kinds::router {
 
-using graph::CompKind;
+using namespace plant::sema;
 using graph::Dir;
 using graph::SlotType;
 
-void lower_router(Lowering& lw) {
+namespace {
+
+void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
@@ -21,7 +24,7 @@ void lower_router(Lowering& lw) {
     for (const auto& r : c.routes) {
         auto it = outs.find(r.output.text);
         if (it == outs.end()) {
-            if (graph::fixed_slot_index(CompKind::Router, r.output.text) >= 0) {
+            if (graph::fixed_slot_index(graph::CompKind::Router, r.output.text) >= 0) {
                 el.sink_.report(DiagId::DuplicateName, r.output.span,
                                 fmt::format("'{}' is the router's own input; name the entry otherwise", r.output.text));
                 continue;
@@ -46,4 +49,8 @@ void lower_router(Lowering& lw) {
     }
 }
 
-}  // namespace plant::sema
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower};
+
+}  // namespace plant::kinds::router
