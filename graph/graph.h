@@ -167,17 +167,6 @@ constexpr int slot_width(SlotType t) {
     F(int32_t, point_num)                                                           \
     F(Pose, local)       /* relative to the body frame */
 
-#define PLANT_FIELDS_FIELD(F)                                                       \
-    F(CompId, comp)                                                                \
-    F(OptId<Body>, body)     /* Body id the field is attached to, -1 for none */        \
-    F(Vec3, extent)      /* full extents of the box volume */                       \
-    F(Pose, pose)        /* world pose of the box centre */                         \
-    F(Vec3, dir)         /* unit direction, in the field's local frame */           \
-    F(double, speed)     /* target speed along dir, m/s */                          \
-    F(double, gain)      /* k, kg/s (N per m/s of speed error) */                   \
-    F(double, max_force) /* slip limit per body, N; 0: unlimited */                 \
-    F(bool, enabled)
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

@@ -33,13 +33,6 @@
     S(velocity, "velocity", Vec3, Out, "linear velocity") \
     S(angular_velocity, "angular_velocity", Vec3, Out, "angular velocity")
 
-#define PLANT_SLOTS_FIELD(S) \
-    S(set_speed, "set_speed", Real, In, "target speed along the direction, m/s") \
-    S(enable, "enable", Void, In, "the field pushes") \
-    S(disable, "disable", Void, In, "the field stops pushing") \
-    S(speed, "speed", Real, Out, "the speed it drives at: its target speed while enabled, 0 while not") \
-    S(enabled, "enabled", Bool, Out, "whether the field pushes")
-
 #define PLANT_SLOTS_LOGIC(S) \
     S(out, "out", Void, Out, "active in a step the operation is true")
 // clang-format on
@@ -64,7 +57,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 // The fixed slot indices the runtime relies on, `count` last.
 #define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
 namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
-namespace fieldslot { enum : int { PLANT_SLOTS_FIELD(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
 #define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }

@@ -53,7 +53,7 @@ public:
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
         return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && fields() && table_kinds() && animations() && variants() &&
+               shapes() && table_kinds() && animations() && variants() &&
                ports() && plugin_records();
     }
 
@@ -193,7 +193,6 @@ private:
         }
         switch (k) {
         case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
-        case CompKind::Field: n = g_.fields.size(), name = "fields"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         default: return false;  // a kind on the kind table: above
@@ -405,16 +404,6 @@ private:
             }
             }
             return check(ok, "field 'size' must be above 0 where the shape uses it");
-        });
-    }
-
-    bool fields() {
-        return each("fields", g_.fields, [&](const Field& f, FieldId i) {
-            const double d = std::sqrt(f.dir[0] * f.dir[0] + f.dir[1] * f.dir[1] + f.dir[2] * f.dir[2]);
-            return owner(f.comp, CompKind::Field, i.v) &&
-                   check(f.extent[0] > 0 && f.extent[1] > 0 && f.extent[2] > 0, "field 'extent' must be above 0") &&
-                   check(d > 0, "field 'dir' is the zero vector") && check(f.gain >= 0, "field 'gain' is negative") &&
-                   check(f.max_force >= 0 && std::isfinite(f.max_force), "field 'max_force' is negative or not finite");
         });
     }
 

@@ -38,7 +38,6 @@ void lower(Lowering& lw) {
     }
     switch (lw.spec.kind) {
     case CompKind::Body: return lower_body(lw);
-    case CompKind::Field: return lower_field(lw);
     case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
     case CompKind::Plugin: return lower_plugin(lw);
     default: return;  // a kind on the kind table: above
@@ -52,7 +51,6 @@ void link(Linking& lk) {
         return;
     }
     switch (lk.rec.kind) {
-    case CompKind::Field: return link_field(lk);
     case CompKind::Plugin: return link_plugin(lk);
     default: return;  // nothing to link
     }

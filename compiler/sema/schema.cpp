@@ -50,20 +50,8 @@ std::vector<KindSpec> make_kinds() {
     body.shapes = true;
     k.push_back(body);
 
-    KindSpec field{"field", CompKind::Field, {}, props_of(std::array{
-        P{"extent", T::Vec3, "m", true, 0, "full extents of the box volume"},
-        P{"direction", T::Vec3, "", false, 0, "unit direction in the field's frame, default (1, 0, 0)"},
-        P{"speed", T::Number, "m/s", false, 0, "target speed, default 0"},
-        P{"gain", T::Number, "kg/s", true, 0, "k in kg/s (N per m/s)"},
-        P{"max_force", T::Number, "N", false, 0, "slip limit: the most the field pulls one body with; default unlimited"},
-        P{"enabled", T::Bool, "", false, 0, "default true"},
-    })};
-    field.on = true;
-    k.push_back(field);
-
     const std::pair<std::string_view, std::string_view> docs[] = {
         {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
-        {"field", "a box volume that pushes the bodies in it towards a speed (a belt's surface)"},
     };
     for (auto& spec : k)
         for (const auto& [word, doc] : docs)

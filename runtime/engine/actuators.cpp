@@ -23,7 +23,6 @@ void act_on(Runtime& r, CompId comp) {
     const Comp& c = r.g.comps[comp];
     switch (c.kind) {
     case CompKind::Body: act_body(r, c, detail_of<Body>(c)); break;
-    case CompKind::Field: act_field(r, c, detail_of<Field>(c)); break;
     case CompKind::Plugin: act_plugin(r, detail_of<Plugin>(c)); break;
     default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
         if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c);

@@ -46,7 +46,6 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     // Each kind's start (runtime.h): references start empty; state outputs are published,
     // so they are active in the first logic phase and flows conditioned on their source
     // see the start values once.
-    start_fields(*this);
     start_kinds(*this);   // the kind table's, in its order (kinds/kinds.cmake)
     start_plugins(*this);  // what they emit is published the same way
 }

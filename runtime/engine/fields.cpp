@@ -303,28 +303,4 @@ void phase_physics(Runtime& r) {
     r.st.time = double(r.st.step) * r.dt;  // no accumulated rounding
 }
 
-// A field's outputs are published at the start and whenever they change: the speed it drives
-// at (its target while enabled, 0 while not: a stopped belt's band stands still) and whether
-// it is enabled.
-void start_fields(Runtime& r) {
-    for (FieldId f : ids_of(r.g.fields)) {
-        const Adr<Slot> s0 = r.g.comps[r.g.fields[f].comp].slot_adr;
-        r.emit(s0 + fieldslot::speed, r.st.field_on[f] ? r.st.field_speed[f] : 0.0);
-        r.emit(s0 + fieldslot::enabled, r.st.field_on[f] ? 1.0 : 0.0);
-    }
-}
-
-void act_field(Runtime& r, const Comp& c, FieldId i) {
-    const uint8_t* a = r.st.act.data() + c.slot_adr;
-    const uint8_t was_on = r.st.field_on[i];
-    const double was = was_on ? r.st.field_speed[i] : 0.0;
-    if (a[fieldslot::disable]) r.st.field_on[i] = 0;
-    if (a[fieldslot::enable]) r.st.field_on[i] = 1;
-    if (a[fieldslot::set_speed] && input_in_range(r, c.slot_adr + fieldslot::set_speed))
-        r.st.field_speed[i] = *r.val(c.slot_adr + fieldslot::set_speed);
-    const double now = r.st.field_on[i] ? r.st.field_speed[i] : 0.0;
-    if (now != was || a[fieldslot::set_speed]) r.emit(c.slot_adr + fieldslot::speed, now);
-    if (r.st.field_on[i] != was_on) r.emit(c.slot_adr + fieldslot::enabled, r.st.field_on[i] ? 1.0 : 0.0);
-}
-
 }  // namespace plant::engine

@@ -91,8 +91,8 @@ void act_body(Runtime& r, const graph::Comp& c, graph::BodyId b);
 // one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
 bool input_in_range(Runtime& r, graph::SlotId slot);
 void take_body_out(Runtime& r, graph::BodyId body);
-void start_fields(Runtime& r);  // fields.cpp, conveyor.cpp: the conveyor law in phase 1
-void act_field(Runtime& r, const graph::Comp& c, graph::FieldId f);
+// The conveyor law of the fields (a kind on the kind table: kinds/field/) in phase 1
+// (fields.cpp, conveyor.cpp):
 bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether any field acts
 void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
 void integrate_single(Runtime& r, graph::BodyId body);  // the conveyor law's step

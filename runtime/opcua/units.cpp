@@ -55,10 +55,7 @@ int32_t unit_id(std::string_view code) {
 std::string_view slot_si_unit(const graph::Graph& g, graph::SlotId slot) {
     const graph::Slot& s = g.slots[slot];
     if (s.type != graph::SlotType::Real) return "";
-    const graph::CompKind kind = g.comps[s.comp].kind;
-    const std::string_view name = g.str(s.name);
-    if (kind == graph::CompKind::Field && (name == "set_speed" || name == "speed")) return "m/s";
-    // A kind's row may say (graph::SlotSpec::unit).
+    // A kind's row may say (graph::SlotSpec::unit: a field's speeds are in m/s).
     const auto fixed = graph::slots_of(g, s.comp);
     const int32_t k = slot - g.comps[s.comp].slot_adr;
     if (k >= 0 && size_t(k) < fixed.size()) return fixed[size_t(k)].unit;

@@ -3,7 +3,7 @@
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
-// kinds/NAME/lower.cpp (KindLowering); the physics kinds not yet on it have theirs in
+// kinds/NAME/lower.cpp (KindLowering); the body (`physics`), not yet on it, has its own in
 // physics.cpp; plugin.cpp lowers every plugin kind.
 #pragma once
 
@@ -84,8 +84,6 @@ const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on 
 
 // physics.cpp
 void lower_body(Lowering& lw);
-void lower_field(Lowering& lw);
-void link_field(Linking& lk);
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
 void link_plugin(Linking& lk);  // its component references (ParamType::CompRef)

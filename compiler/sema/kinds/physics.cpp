@@ -1,5 +1,6 @@
-// The physics kinds: `physics` (a rigid body and its shapes), `field` (the conveyor force
-// field). The constraint (a joint between two bodies) is on the kind table: kinds/constraint/.
+// The `physics` kind: a rigid body and its shapes. The field (the conveyor force field) and
+// the constraint (a joint between two bodies) are on the kind table: kinds/field/,
+// kinds/constraint/.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -164,38 +165,6 @@ void lower_body(Lowering& lw) {
     put(graph::bodyslot::pose, {b.pose.p[0], b.pose.p[1], b.pose.p[2], b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
     put(graph::bodyslot::position, {b.pose.p[0], b.pose.p[1], b.pose.p[2]});
     put(graph::bodyslot::orientation, {b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
-}
-
-void lower_field(Lowering& lw) {
-    Elaborator& el = lw.el;
-    graph::Graph& g = lw.el.g_;
-    graph::Field f;
-    f.comp = graph::CompId(lw.comp);
-    f.body = {};
-    if (const Value* e = lw.props.get("extent")) f.extent = vec(*e);
-    lw.positive_vec("extent");
-    f.pose = lw.frame.pose();
-    f.dir = {1, 0, 0};
-    if (const Value* dv = lw.props.get("direction")) {
-        Eigen::Vector3d d(dv->items[0].num, dv->items[1].num, dv->items[2].num);
-        if (d.norm() < 1e-12) el.sink_.report(DiagId::ZeroVector, dv->span, "'direction' is the zero vector");
-        else d.normalize();
-        f.dir = {d.x(), d.y(), d.z()};
-    }
-    f.speed = lw.num("speed", 0);
-    f.gain = lw.num("gain", 0);
-    lw.positive("gain");
-    f.max_force = lw.num("max_force", 0);  // 0 in the graph: unlimited
-    lw.positive("max_force");
-    f.enabled = lw.boolean("enabled", true);
-    g.fields.push_back(f);
-    lw.set_detail(g.fields.count());
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::speed)) = f.enabled ? f.speed : 0;
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::enabled)) = f.enabled ? 1 : 0;
-}
-
-void link_field(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.fields[lk.row<graph::Field>()].body = graph::BodyId(lk.on_body());
 }
 
 }  // namespace plant::sema

@@ -124,6 +124,13 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     CHECK(builtin_kind(CompKind::State)->blocks == kPlaces);
     CHECK(builtin_kind(CompKind::Router)->blocks == kRoutes);
     CHECK(!builtin_kind(CompKind::Router)->unused_output.empty());  // a route that drives nothing
+    const KindDesc* field = builtin_kind(CompKind::Field);
+    REQUIRE(field);
+    CHECK(field->table == "fields");
+    CHECK(field->on);      // `field f on BODY`
+    CHECK(field->placed);  // its box stands where it is placed
+    CHECK(field->slots[fieldslot::set_speed].unit == "m/s");  // what the OPC UA link states
+    CHECK(field->slots[fieldslot::speed].unit == "m/s");
     const KindDesc* graphics = builtin_kind(CompKind::Graphics);
     REQUIRE(graphics);
     CHECK(graphics->table == "graphics");

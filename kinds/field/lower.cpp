@@ -1,0 +1,51 @@
+// The field's lowering: a row of `fields` from its box, direction, speed, gain, slip limit
+// and whether it starts enabled, posed where it is placed; its outputs start at the speed it
+// drives at and whether it is enabled. Its linking: the body it is `on`.
+#include "sema/kinds/lowering.h"
+
+#include "graph/build.h"
+#include "graph/kinds.h"
+
+namespace plant::kinds::field {
+
+using namespace plant::sema;
+
+namespace {
+
+void lower(Lowering& lw) {
+    Elaborator& el = lw.el;
+    graph::Graph& g = lw.el.g_;
+    graph::Field f;
+    f.comp = graph::CompId(lw.comp);
+    f.body = {};
+    if (const Value* e = lw.props.get("extent")) f.extent = vec(*e);
+    lw.positive_vec("extent");
+    f.pose = lw.frame.pose();
+    f.dir = {1, 0, 0};
+    if (const Value* dv = lw.props.get("direction")) {
+        Eigen::Vector3d d(dv->items[0].num, dv->items[1].num, dv->items[2].num);
+        if (d.norm() < 1e-12) el.sink_.report(DiagId::ZeroVector, dv->span, "'direction' is the zero vector");
+        else d.normalize();
+        f.dir = {d.x(), d.y(), d.z()};
+    }
+    f.speed = lw.num("speed", 0);
+    f.gain = lw.num("gain", 0);
+    lw.positive("gain");
+    f.max_force = lw.num("max_force", 0);  // 0 in the graph: unlimited
+    lw.positive("max_force");
+    f.enabled = lw.boolean("enabled", true);
+    g.fields.push_back(f);
+    lw.set_detail(g.fields.count());
+    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::speed)) = f.enabled ? f.speed : 0;
+    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::enabled)) = f.enabled ? 1 : 0;
+}
+
+void link(Linking& lk) {
+    if (lk.decl.on) lk.el.g_.fields[lk.row<graph::Field>()].body = graph::BodyId(lk.on_body());
+}
+
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower, .link = link};
+
+}  // namespace plant::kinds::field
