@@ -40,7 +40,11 @@ struct TypedId {
 
     constexpr bool valid() const { return v >= 0; }
     constexpr int32_t value() const { return v; }
+#ifdef PLANT_EXPLICIT_IDS  // transitional: the conversion made explicit, to list what reads an id as a number
+    constexpr explicit operator int32_t() const { return v; }
+#else
     constexpr operator int32_t() const { return v; }
+#endif
     constexpr TypedId& operator++() {
         ++v;
         return *this;
