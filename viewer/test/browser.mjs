@@ -125,6 +125,11 @@ try {
   check(cut, `the inspector forced ${sw.path}.to_base open (status.inspect marks it)`);
   const forcedLine = await until(() => client.events.find((l) => l.endsWith(`force ${sw.path}.to_base open`)), 5000);
   check(!!forcedLine, `the force is broadcast like any event: '${forcedLine}'`);
+  // The page's own row shows the force once the page's status comes (its own socket, maybe
+  // a frame after the client's): "(open)" widens the value column and moves the buttons, so
+  // a click aimed before that lands beside the button.
+  const rowForced = await until(() => page.evaluate((p) => !!document.querySelector(`tr[data-slot="${p}"].forced`), `${sw.path}.to_base`), 5000, 50);
+  check(rowForced, `the page's inspector marks ${sw.path}.to_base forced`);
   await page.click(button);
   const after = await until(() => tokensOf(client.status?.inspect) === 1 && client.status.inspect, 10_000, 50);
   check(!!after, `the runtime's switch moved to its working position: ${sw.path}.net.WorkingPos marked (through the protocol, ${elapsed()})`);
