@@ -190,7 +190,11 @@ void phase_logic(Runtime& r) {
     for (SlotId x : s.pending) r.activate(x);
     s.pending.clear();
     forces_logic_begin(r);
-    if (s.forced_out.empty() && !r.logic_every_node) {
+    // Many slots active: most ops are due anyway, and all run (schedule.h, `dense_at`). A step
+    // computes the same activity and values either way (logic_due_test), so the choice is
+    // one of speed only.
+    const bool dense = s.out_list.size() + s.in_list.size() >= r.sched.dense_at;
+    if (s.forced_out.empty() && !r.logic_every_node && !dense) {
         run_due(r);
     } else {
         for (const Op& op : r.sched.ops) run_op(r, op);

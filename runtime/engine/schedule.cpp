@@ -56,6 +56,7 @@ void due_by_slot(const Graph& g, Schedule& s) {
     const size_t n = s.ops.size();
     const AccessGroups ag = access_groups(g);
     s.always.assign((n + 63) / 64, 0);
+    s.dense_at = n / 8 + 1;
     std::vector<std::pair<int32_t, int32_t>> reads, group_reads;  // (slot or group, position)
     for (int32_t at = 0; const Op& op : s.ops) {
         const int32_t p = at++;  // its position

@@ -42,7 +42,9 @@ struct Op {
 // and each op that reads a slot active at the phase's start or made active by an op before
 // it (its position in `readers`, by slot; a flow through a dynamic end reads every slot of
 // its access's group). With a forced output the phase runs every op (a force may take an
-// activity back mid-phase).
+// activity back mid-phase), and so it does when `dense_at` or more slots are active at the
+// phase's start: then most ops are due anyway, and finding them costs more than running
+// an op with nothing to do (the logic bench, where every cell ticks each step).
 struct Schedule {
     graph::IdVector<graph::FlowId, FlowOp> flows;
     std::vector<Op> ops;           // the logic phase, in order
@@ -54,6 +56,7 @@ struct Schedule {
     // the reference names: each slot's groups, and each group's readers.
     std::vector<int32_t> group_adr, groups;              // per slot, +1; group ids
     std::vector<int32_t> group_reader_adr, group_readers;  // per group, +1; op positions
+    size_t dense_at = 0;  // active slots at the phase's start from which every op runs: ops / 8 + 1
 };
 
 Schedule build_schedule(const graph::Graph& g, const Tables& t);

@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,11 +18,14 @@ using namespace plant;
 namespace {
 
 // Steps g with only the due nodes and with every node, side by side; the first step at
-// which the slots' activity or values differ (-1: none), and how many nodes were due.
-int64_t first_difference(const graph::Graph& g, int64_t steps, const std::vector<std::string>& events = {}) {
+// which the slots' activity or values differ (-1: none). `only_due`: the due nodes even in a
+// step with many active slots (schedule.h's dense_at), so small plants test them too.
+int64_t first_difference(const graph::Graph& g, int64_t steps, const std::vector<std::string>& events = {},
+                         bool only_due = true) {
     engine::Options every;
     every.logic_every_node = true;
     engine::Engine due(g, engine::Options{}), all(g, every);
+    if (only_due) due.internals().sched.dense_at = SIZE_MAX;
     const engine::SlotIndex index = engine::slot_index(g);
     std::vector<engine::Event> planned;
     for (const std::string& line : events) {
@@ -121,6 +125,7 @@ TEST_CASE("logic: a node left out of the due ones shows as a difference") {
     REQUIRE(c.ok());
     engine::Engine e(c.graph, engine::Options{});
     engine::Schedule& sc = e.internals().sched;
+    sc.dense_at = SIZE_MAX;  // a plant this small is dense in every step
     bool was_always = false;
     for (uint64_t& w : sc.always) {
         was_always = was_always || w != 0;
@@ -133,4 +138,48 @@ TEST_CASE("logic: a node left out of the due ones shows as a difference") {
     e.step();
     all.step();
     CHECK(e.internals().st.act != all.internals().st.act);
+}
+
+TEST_CASE("logic: a step with many active slots runs every node, with the same results") {
+    // The logic bench's cells (bench/runtime_bench.cpp): every cell's connector and flows are
+    // active each step, so nearly every step has dense_at or more active slots.
+    Compilation c;
+    test::compile_text(R"(object Cell {
+    in  start: void => net.Req.put
+    out done:  void => net.serve.fired
+    timer t: periodic { period = 20 ms; autostart = true }
+    state net {
+        place Ready = 1, Req
+        transition serve: Ready + Req -> Ready
+    }
+    logic go = t.tick or net.Ready.entered
+    flow go -> net.Req.put
+    flow t.tick -> net.Req.put
+}
+plant P {
+    for i in 0 .. 40 {
+        cell[i]: Cell
+    }
+    for i in 0 .. 39 {
+        flow cell[i].done -> cell[i + 1].start
+    }
+}
+)",
+                       c, "cells.plant");
+    REQUIRE(c.ok());
+    engine::Engine e(c.graph, engine::Options{});
+    const size_t dense_at = e.internals().sched.dense_at;
+    CHECK(dense_at == e.internals().sched.ops.size() / 8 + 1);
+    int dense_steps = 0;
+    for (int i = 0; i < 100; ++i) {
+        e.step();
+        // What the next logic phase starts from, less what phase 1 adds: a lower bound.
+        const engine::State& st = e.internals().st;
+        if (st.out_list.size() + st.in_list.size() >= dense_at) ++dense_steps;
+    }
+    CHECK(dense_steps > 50);
+    // Due nodes with the switch (the default) and every node: the same, step by step.
+    CHECK(first_difference(c.graph, 300, {}, false) == -1);
+    // And the due nodes alone, as the other cases.
+    CHECK(first_difference(c.graph, 300) == -1);
 }
