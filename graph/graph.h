@@ -143,30 +143,6 @@ constexpr int slot_width(SlotType t) {
     F(SlotId, slot)  /* the connector's own void input slot */ \
     F(bool, negated)
 
-#define PLANT_FIELDS_BODY(F)                                                             \
-    F(CompId, comp)                                                                     \
-    F(BodyMode, mode)                                                                    \
-    F(double, mass)                                                                      \
-    F(Vec3, inertia)        /* principal moments; used when inertia_set */               \
-    F(bool, inertia_set)                                                                 \
-    F(double, friction)                                                                  \
-    F(double, restitution)                                                               \
-    F(double, linear_damping)                                                            \
-    F(double, angular_damping)                                                           \
-    F(bool, collision)      /* initial collision on/off */                               \
-    F(bool, dynamics)       /* initial dynamics on/off */                                \
-    F(Adr<Shape>, shape_adr)                                                                \
-    F(int32_t, shape_num)                                                                \
-    F(Pose, pose)           /* world pose of the body frame at start */                  \
-    F(Pose, com)            /* centre of mass relative to the body frame */
-
-#define PLANT_FIELDS_SHAPE(F)                                                        \
-    F(ShapeKind, kind)                                                              \
-    F(Vec3, size)        /* box: full extents; sphere: r,-,-; cylinder/capsule: r,h,- (axis z) */ \
-    F(Adr<Point>, point_adr) /* hull: into points */                                   \
-    F(int32_t, point_num)                                                           \
-    F(Pose, local)       /* relative to the body frame */
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

@@ -7,7 +7,6 @@
 namespace plant::graph {
 namespace {
 
-constexpr std::array kBody = {PLANT_SLOTS_BODY(PLANT_SLOT_SPEC)};
 constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
 
 }  // namespace
@@ -15,7 +14,6 @@ constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
 std::span<const SlotSpec> fixed_slots(CompKind kind) {
     if (const KindDesc* d = builtin_kind(kind)) return d->slots;  // a kind on the kind table
     switch (kind) {
-    case CompKind::Body: return kBody;
     case CompKind::Logic: return kLogic;
     case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
     default: return {};

@@ -17,22 +17,6 @@
 #include <string_view>
 
 // clang-format off
-#define PLANT_SLOTS_BODY(S) \
-    S(set_pose, "set_pose", Pose, In, "teleports the body") \
-    S(set_position, "set_position", Vec3, In, "teleports the body's origin") \
-    S(set_orientation, "set_orientation", Quat, In, "sets the orientation") \
-    S(set_velocity, "set_velocity", Vec3, In, "sets the linear velocity") \
-    S(set_angular_velocity, "set_angular_velocity", Vec3, In, "sets the angular velocity") \
-    S(collision_on, "collision_on", Void, In, "the body collides again") \
-    S(collision_off, "collision_off", Void, In, "other bodies pass through it") \
-    S(dynamics_on, "dynamics_on", Void, In, "the body is simulated again") \
-    S(dynamics_off, "dynamics_off", Void, In, "taken out of the simulation, moved kinematically") \
-    S(pose, "pose", Pose, Out, "world pose") \
-    S(position, "position", Vec3, Out, "world position of the body frame") \
-    S(orientation, "orientation", Quat, Out, "world orientation") \
-    S(velocity, "velocity", Vec3, Out, "linear velocity") \
-    S(angular_velocity, "angular_velocity", Vec3, Out, "angular velocity")
-
 #define PLANT_SLOTS_LOGIC(S) \
     S(out, "out", Void, Out, "active in a step the operation is true")
 // clang-format on
@@ -56,7 +40,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 
 // The fixed slot indices the runtime relies on, `count` last.
 #define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
-namespace bodyslot { enum : int { PLANT_SLOTS_BODY(PLANT_SLOT_INDEX) count }; }
 namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
 #define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }

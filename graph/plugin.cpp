@@ -37,11 +37,18 @@ const KindDesc* builtin_kind(CompKind kind) {
     return kind == CompKind::Plugin ? nullptr : by_kind[size_t(kind)];
 }
 
+std::string_view kind_word(CompKind kind) {
+    const KindDesc* d = builtin_kind(kind);
+    return d ? d->word : word(kind);
+}
+
 bool register_kind(const KindDesc& desc) {
     CompKind builtin{};
-    // The words plant files use for the built-in kinds; a body is written `physics`.
-    if (desc.word.empty() || desc.word == "physics" || parse_word(desc.word, builtin) || find_plugin(desc.word) ||
-        !names_unique(desc.slots) || !names_unique(desc.params))
+    // The words plant files use for the built-in kinds (their rows'), and the graph's.
+    for (const KindDesc* d : kBuiltins)
+        if (d->word == desc.word) return false;
+    if (desc.word.empty() || parse_word(desc.word, builtin) || find_plugin(desc.word) || !names_unique(desc.slots) ||
+        !names_unique(desc.params))
         return false;
     if (desc.kind != CompKind::Plugin) return false;  // a kind on the kind table is in kinds/list.h
     if (desc.blocks != 0) return false;  // the built-in sub-blocks: its lowering would not read them

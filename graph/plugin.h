@@ -158,6 +158,9 @@ bool plugin_check(const Graph& g, int32_t row, PluginProblem& problem) {
 // for one not on the table (yet) and for Plugin.
 std::span<const KindDesc* const> builtin_kinds();
 const KindDesc* builtin_kind(CompKind kind);
+// The word plant files write for a kind: its row's (a body is written `physics`), else the
+// graph's (`logic`, `plugin`).
+std::string_view kind_word(CompKind kind);
 
 // Registers a kind (before any plant is compiled or loaded); false if its word is taken by
 // a built-in kind or another plugin, or it declares a slot or parameter twice.

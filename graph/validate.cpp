@@ -1,6 +1,5 @@
 #include "validate.h"
 
-#include "hull.h"
 #include "kinds.h"
 #include "network.h"
 #include "plugin.h"
@@ -52,9 +51,8 @@ public:
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
-        return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && bodies() &&
-               shapes() && table_kinds() && animations() && variants() &&
-               ports() && plugin_records();
+        return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && table_kinds() &&
+               animations() && variants() && ports() && plugin_records();
     }
 
 private:
@@ -192,7 +190,6 @@ private:
             return true;
         }
         switch (k) {
-        case CompKind::Body: n = g_.bodies.size(), name = "bodies"; return true;
         case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
         case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
         default: return false;  // a kind on the kind table: above
@@ -363,47 +360,6 @@ private:
     bool logics() {
         return each("logics", g_.logics, [&](const Logic& l, LogicId i) {
             return owner(l.comp, CompKind::Logic, i.v);
-        });
-    }
-
-    bool bodies() {
-        return each("bodies", g_.bodies, [&](const Body& b, BodyId i) {
-            return owner(b.comp, CompKind::Body, i.v) &&
-                   check(b.mode != BodyMode::Dynamic || b.mass > 0, "a dynamic body needs a mass above 0") &&
-                   check(b.shape_num > 0, "a body needs at least one shape") &&
-                   check(b.mass >= 0, "field 'mass' is negative") &&
-                   check(!b.inertia_set || (b.inertia[0] > 0 && b.inertia[1] > 0 && b.inertia[2] > 0),
-                          "field 'inertia' must be above 0 on every axis") &&
-                   check(b.friction >= 0 && b.restitution >= 0, "friction and restitution must be 0 or more") &&
-                   // What Bullet would clamp or ignore (range.h), as the compiler refuses it.
-                   check(b.friction <= kMaxFriction, "friction above 10 (Bullet caps a contact's at 10)") &&
-                   check(b.linear_damping >= 0 && b.linear_damping <= kMaxDamping && b.angular_damping >= 0 &&
-                              b.angular_damping <= kMaxDamping,
-                          "damping must lie in [0, 1]") &&
-                   check(b.mode == BodyMode::Dynamic ||
-                             (b.mass == 0 && !b.inertia_set && b.linear_damping == 0 && b.angular_damping == 0),
-                         "a static or kinematic body has no mass, inertia or damping (Bullet ignores them)");
-        });
-    }
-
-    bool shapes() {
-        return each("shapes", g_.shapes, [&](const Shape& s, Id<Shape>) {
-            const Vec3& z = s.size;
-            bool ok = true;
-            switch (s.kind) {
-            case ShapeKind::Box: ok = z[0] > 0 && z[1] > 0 && z[2] > 0; break;
-            case ShapeKind::Sphere: ok = z[0] > 0; break;
-            case ShapeKind::Cylinder:
-            case ShapeKind::Capsule: ok = z[0] > 0 && z[1] > 0; break;
-            case ShapeKind::Hull: {
-                if (!check(s.point_num > 0, "a hull needs points")) return false;
-                const std::span<const Point> points = g_.points.slice(s.point_adr, s.point_num);
-                if (const HullFlaw flaw = hull_flaw(points.data(), points.size()); flaw != HullFlaw::None)
-                    return fail(fmt::format("a hull {}", hull_flaw_text(flaw)));
-                break;
-            }
-            }
-            return check(ok, "field 'size' must be above 0 where the shape uses it");
         });
     }
 

@@ -1,5 +1,6 @@
 # The component kinds on the kind table that ship with plant (docs/architecture.md, "The
-# kind table"), in the order their start and sense hooks run: the field first (its outputs
+# kind table"), in the order their start and sense hooks run: the body first (its sensing
+# takes out what left the world before any kind looks), the field's start first (its outputs
 # were published before every other kind's), the graphics before the rest (a gripper
 # follows a graphics' pose of this step), the trigger before the gripper and the exit, which
 # work on what it found inside; the exit after the gripper moved what it holds; the state
@@ -11,7 +12,7 @@
 #   run.cpp   its behaviour: state, start, sense, act (plant_runtime)
 # Adding one is its folder and its word here; kinds/list.h, generated from this list, is
 # how graph/, the compiler and the runtime find the rows.
-set(PLANT_KINDS field graphics trigger constraint timer gripper exit source label state router)
+set(PLANT_KINDS body field graphics trigger constraint timer gripper exit source label state router)
 
 set(PLANT_KINDS_GENERATED ${CMAKE_BINARY_DIR}/generated)
 set(plant_kind_includes "")

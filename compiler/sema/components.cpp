@@ -30,18 +30,15 @@ const KindLowering* builtin_lowering(CompKind kind) {
 
 namespace {
 
-// The kind's lowering; the one place a kind joins the compiler.
+// The kind's lowering; the one place a kind joins the compiler: a kind on the kind table
+// (every built-in kind) through its row, a plugin kind through its descriptor. A connector
+// is a `logic` declaration, not a component written with a kind word (make_logic).
 void lower(Lowering& lw) {
     if (const KindLowering* k = builtin_lowering(lw.spec.kind)) {
         refuse_placement(lw, *graph::builtin_kind(lw.spec.kind));
         return k->lower(lw);
     }
-    switch (lw.spec.kind) {
-    case CompKind::Body: return lower_body(lw);
-    case CompKind::Logic: return;  // a connector is a `logic` declaration: make_logic
-    case CompKind::Plugin: return lower_plugin(lw);
-    default: return;  // a kind on the kind table: above
-    }
+    if (lw.spec.kind == CompKind::Plugin) lower_plugin(lw);
 }
 
 // The kind's late linking, for the kinds that name other components.
@@ -50,10 +47,7 @@ void link(Linking& lk) {
         if (k->link) k->link(lk);
         return;
     }
-    switch (lk.rec.kind) {
-    case CompKind::Plugin: return link_plugin(lk);
-    default: return;  // nothing to link
-    }
+    if (lk.rec.kind == CompKind::Plugin) link_plugin(lk);
 }
 
 }  // namespace
@@ -101,11 +95,9 @@ int32_t Linking::find(const std::string& n, Span span, CompKind want, const char
     if (!id.valid()) return -1;
     const auto& target = el.g_.comps[id];
     if (target.kind != want) {
-        // The words of the language: a Body is written `physics`.
-        auto word = [](CompKind k) { return k == CompKind::Body ? std::string_view("physics") : graph::word(k); };
         el.sink_.report(DiagId::WrongComponentKind, span,
-                        fmt::format("'{}' is a {} component, but {} must be a {} component", n, word(target.kind), what,
-                                    word(want)));
+                        fmt::format("'{}' is a {} component, but {} must be a {} component", n,
+                                    graph::kind_word(target.kind), what, graph::kind_word(want)));
         return -1;
     }
     return target.detail.v;

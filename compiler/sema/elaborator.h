@@ -190,7 +190,7 @@ public:
     std::vector<Span> plugin_spans_;  // by plugin row: the component's name
     std::vector<Span> entry_spans_;   // by plugin entry row
     // A hull's points by their coordinates: the same hull again (every bottle of a pool)
-    // names the points already in Graph::points instead of copying them (physics.cpp).
+    // names the points already in Graph::points instead of copying them (kinds/body/lower.cpp).
     std::map<std::vector<double>, graph::Adr<graph::Point>> hulls_;
     std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
     long long max_expanded_ = kMaxMembers;  // the limit on both counts below

@@ -29,12 +29,10 @@ std::string path_text(const ast::Path& p) {
 
 std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
 
-// The kind as written in plant files: a Body is declared with `physics`.
-std::string_view kind_word(graph::CompKind k) { return k == graph::CompKind::Body ? "physics" : graph::word(k); }
 // The word a plant file uses for a component's kind, a plugin's own among them.
 std::string_view kind_word(const graph::Graph& g, int32_t comp) {
     if (const graph::KindDesc* d = graph::plugin_of(g, graph::CompId(comp))) return d->word;
-    return kind_word(g.comps[graph::CompId(comp)].kind);
+    return graph::kind_word(g.comps[graph::CompId(comp)].kind);
 }
 
 }  // namespace

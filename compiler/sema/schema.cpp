@@ -35,28 +35,9 @@ KindSpec kind_spec(const graph::KindDesc& d) {
     return k;
 }
 
+// Every built-in kind is a row of the kind table; their specs in CompKind order.
 std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
-    KindSpec body{"physics", CompKind::Body, {"dynamic", "static", "kinematic"}, props_of(std::array{
-        P{"mass", T::Number, "kg", false, 0, "required for dynamic bodies"},
-        P{"inertia", T::Vec3, "kg*m^2", false, 0, "principal moments; computed from the shapes when absent"},
-        P{"friction", T::Number, "", false, 0, "default 0.5"},
-        P{"restitution", T::Number, "", false, 0, "default 0"},
-        P{"linear_damping", T::Number, "", false, 0, "default 0"},
-        P{"angular_damping", T::Number, "", false, 0, "default 0"},
-        P{"collision", T::Bool, "", false, 0, "default true"},
-        P{"dynamics", T::Bool, "", false, 0, "default true"},
-    })};
-    body.shapes = true;
-    k.push_back(body);
-
-    const std::pair<std::string_view, std::string_view> docs[] = {
-        {"physics", "a rigid body in the physics world: its shapes, mass and surface"},
-    };
-    for (auto& spec : k)
-        for (const auto& [word, doc] : docs)
-            if (spec.word == word) spec.doc = doc;
-    // The kinds on the kind table, from their rows; all in CompKind order.
     for (const graph::KindDesc* row : graph::builtin_kinds()) k.push_back(kind_spec(*row));
     std::stable_sort(k.begin(), k.end(), [](const KindSpec& a, const KindSpec& b) { return a.kind < b.kind; });
     return k;

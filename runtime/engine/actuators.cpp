@@ -16,18 +16,13 @@ using namespace plant::graph;
 
 namespace {
 
-// Each kind's acting lives with the rest of its behaviour (runtime.h lists where; a kind on
-// the kind table: its kinds/NAME/run.cpp); state
-// acts in phase 4, routers, connectors and labels in phase 3, the rest has no inputs.
+// Each kind's acting lives with the rest of its behaviour (a kind on the kind table: its
+// kinds/NAME/run.cpp, a plugin's its act hook); a state's places are read in phase 4,
+// routers, connectors and labels in phase 3 (tables.cpp: slot_acts only where a kind acts).
 void act_on(Runtime& r, CompId comp) {
     const Comp& c = r.g.comps[comp];
-    switch (c.kind) {
-    case CompKind::Body: act_body(r, c, detail_of<Body>(c)); break;
-    case CompKind::Plugin: act_plugin(r, detail_of<Plugin>(c)); break;
-    default:  // a kind on the kind table: its act hook (tables.cpp: slot_acts only where it has one)
-        if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c);
-        break;
-    }
+    if (c.kind == CompKind::Plugin) return act_plugin(r, detail_of<Plugin>(c));
+    if (const KindBehaviour* b = builtin_behaviour(c.kind)) b->act_one(r, c);
 }
 
 }  // namespace

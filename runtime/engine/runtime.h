@@ -81,12 +81,8 @@ void forces_logic_end(Runtime& r);
 void force_again(Runtime& r, graph::SlotId slot);
 void forces_step_end(Runtime& r);
 
-// Each built-in kind not yet on the kind table has its behaviour in its own file: `start_*` once when the engine is built
-// (in the order Runtime's constructor calls them), `sense_*` in phase 2, `act_*` in phase 5
-// for a component with an active input (`c` the component, `b` / `f` its row).
-void check_bodies(Runtime& r);  // bodies.cpp: what left the world is taken out
-void sense_bodies(Runtime& r);
-void act_body(Runtime& r, const graph::Comp& c, graph::BodyId b);
+// What the kinds on the kind table share with the physics (each kind's own behaviour is its
+// kinds/NAME/run.cpp).
 // Whether the value of an active input that moves the physics may be applied (bodies.cpp):
 // one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
 bool input_in_range(Runtime& r, graph::SlotId slot);

@@ -3,8 +3,8 @@
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
-// kinds/NAME/lower.cpp (KindLowering); the body (`physics`), not yet on it, has its own in
-// physics.cpp; plugin.cpp lowers every plugin kind.
+// kinds/NAME/lower.cpp (KindLowering), as every built-in kind is; plugin.cpp lowers every
+// plugin kind.
 #pragma once
 
 #include "sema/elaborator.h"
@@ -82,8 +82,6 @@ struct KindLowering {
 };
 const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on the table
 
-// physics.cpp
-void lower_body(Lowering& lw);
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
 void link_plugin(Linking& lk);  // its component references (ParamType::CompRef)

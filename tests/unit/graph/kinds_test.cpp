@@ -85,7 +85,9 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
         CHECK(seen.insert(d->kind).second);
         CHECK(d->kind != CompKind::Plugin);
         CHECK(builtin_kind(d->kind) == d);
-        CHECK(word(d->kind) == d->word);  // the graph's word for the CompKind is the plant file's
+        // The graph's word for the CompKind is the plant file's, but for the body's (`physics`).
+        CHECK((word(d->kind) == d->word) == (d->kind != CompKind::Body));
+        CHECK(kind_word(d->kind) == d->word);
         CHECK(fixed_slots(d->kind).data() == d->slots.data());
         CHECK(!d->doc.empty());
         // A table of its own, or none at all (a router, a state: its components' detail is -1).
@@ -97,7 +99,14 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
         CHECK(!find_plugin(d->word));  // not a plugin: register_kind refuses the word
     }
     CHECK(builtin_kind(CompKind::Plugin) == nullptr);
-    CHECK(builtin_kind(CompKind::Body) == nullptr);  // not on the table yet
+    const KindDesc* body = builtin_kind(CompKind::Body);
+    REQUIRE(body);
+    CHECK(body->word == "physics");  // the one place that says so
+    CHECK(word(CompKind::Body) == "body");  // the graph's text form
+    CHECK(body->blocks == kShapes);
+    CHECK(body->placed);
+    CHECK(bool(body->check_tables));  // its shapes
+    CHECK(kind_word(CompKind::Logic) == "logic");  // not on the table: the graph's word
     const KindDesc* timer = builtin_kind(CompKind::Timer);
     REQUIRE(timer);
     CHECK(timer->table == "timers");
@@ -164,7 +173,9 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->make_state));
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->act_one));
     CHECK(plant::engine::builtin_behaviour(CompKind::Graphics)->sense_segment >= 0);
-    CHECK(plant::sema::builtin_lowering(CompKind::Body) == nullptr);
+    CHECK(plant::sema::builtin_lowering(CompKind::Logic) == nullptr);  // a connector is a declaration
+    CHECK(plant::engine::builtin_behaviour(CompKind::Body)->sense_segment >= 0);  // StepProfile::Bodies
+    CHECK(bool(plant::engine::builtin_behaviour(CompKind::Body)->act_one));
 }
 
 TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, sub-blocks, table checks and a Value parameter") {

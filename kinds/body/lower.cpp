@@ -1,6 +1,7 @@
-// The `physics` kind: a rigid body and its shapes. The field (the conveyor force field) and
-// the constraint (a joint between two bodies) are on the kind table: kinds/field/,
-// kinds/constraint/.
+// The body's lowering (written `physics`): a row of `bodies` from its mode, mass, inertia and
+// surface, posed where it is placed, and its shapes, rows of `shapes` (a hull's points rows of
+// `points`, shared with an earlier hull of the same points); its pose outputs start at its
+// pose.
 #include "sema/kinds/lowering.h"
 
 #include "graph/build.h"
@@ -11,11 +12,9 @@
 #include <algorithm>
 #include <fmt/format.h>
 
-namespace plant::sema {
+namespace plant::kinds::body {
 
-using graph::CompKind;
-using graph::Dir;
-using graph::SlotType;
+using namespace plant::sema;
 
 namespace {
 
@@ -100,9 +99,7 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
     if (ok) g.shapes.push_back(sh);
 }
 
-}  // namespace
-
-void lower_body(Lowering& lw) {
+void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
@@ -156,9 +153,8 @@ void lower_body(Lowering& lw) {
     g.bodies.push_back(b);
     lw.set_detail(g.bodies.count());
     // Output values start at the body's pose.
-    const auto& slots = g.slots;
     auto put = [&](int idx, std::initializer_list<double> xs) {
-        const graph::Adr<graph::Value> adr = slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
+        const graph::Adr<graph::Value> adr = g.slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
         int k = 0;
         for (double x : xs) g.values[adr + k++].v = x;
     };
@@ -167,4 +163,8 @@ void lower_body(Lowering& lw) {
     put(graph::bodyslot::orientation, {b.pose.q[0], b.pose.q[1], b.pose.q[2], b.pose.q[3]});
 }
 
-}  // namespace plant::sema
+}  // namespace
+
+constexpr KindLowering lowering{.lower = lower};
+
+}  // namespace plant::kinds::body
