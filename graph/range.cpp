@@ -18,7 +18,7 @@ public:
     explicit Ranges(std::vector<RangeFlaw>& out) : out_(out) {}
 
     // The record the checks that follow are of, and the component it belongs to (-1: a DO).
-    void at(std::string_view table, int32_t row, int32_t comp) {
+    void at(std::string_view table, int32_t row, CompId comp) {
         table_ = table;
         row_ = row;
         comp_ = comp;
@@ -78,7 +78,8 @@ private:
     }
     std::vector<RangeFlaw>& out_;
     std::string_view table_;
-    int32_t row_ = -1, comp_ = -1;
+    int32_t row_ = -1;
+    CompId comp_;
 };
 
 }  // namespace
@@ -111,7 +112,7 @@ std::vector<RangeFlaw> range_flaws(const Graph& g) {
     std::vector<RangeFlaw> out;
     Ranges r(out);
     for (const auto i : ids_of(g.dos)) {
-        r.at("dos", i.v, -1);
+        r.at("dos", i.v, CompId{});
         r.place("pose", "place", g.dos[i].pose);
     }
     for (const auto i : ids_of(g.bodies)) {

@@ -68,7 +68,7 @@ struct RangeFlaw {
     int32_t row = -1;
     std::string_view field;
     std::string_view what;  // the field in words: "place", "size of a shape", "key frame", ...
-    int32_t comp = -1;      // the component the record belongs to; -1 for a DO
+    CompId comp;            // the component the record belongs to; none (-1) for a DO
     std::string text;       // to follow the field: "is 200000 m out along x, beyond 100 km"
 };
 

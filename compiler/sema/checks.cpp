@@ -78,7 +78,7 @@ void Elaborator::check_petri_nets() {
         // Instances of one type with the same marking and feeding give the same answer.
         std::string sig;
         for (size_t i = 0; i < net.initial.size(); ++i) sig += fmt::format("{}{},", net.initial[i], net.fed[i] ? "f" : "");
-        const Span decl = comp_spans_[c.v];
+        const Span decl = comp_spans_[c];
         if (!reported.insert({decl.file, decl.begin, sig}).second)
             continue;
         petri::Report rep = petri::analyse(net);
@@ -105,7 +105,7 @@ void Elaborator::check_unused() {
     const auto used = used_outputs(g_);
     for (CompId c : ids_of(g_.comps)) {
         const auto& comp = g_.comps[c];
-        const Span span = comp_spans_[c.v];
+        const Span span = comp_spans_[c];
         const std::string cname(g_.str(comp.name));
         auto slot = [&](int idx) { return comp.slot_adr + idx; };
         // A kind on the kind table says which outputs it wants used (graph/plugin.h:
@@ -160,7 +160,8 @@ void Elaborator::check_ranges() {
     const std::vector<graph::RangeFlaw> flaws = graph::range_flaws(g_);
     if (flaws.empty()) return;
     graph::IdVector<DoId, uint8_t> do_done(g_.dos.count(), 0);
-    std::set<int32_t> comp_done, top_done;  // components of the plant itself; the objects it makes
+    std::set<CompId> comp_done;  // components of the plant itself
+    std::set<DoId> top_done;     // the objects it makes
     auto within_done = [&](DoId d) {
         for (; d.valid(); d = g_.dos[d].parent)
             if (do_done[d]) return true;
@@ -168,7 +169,7 @@ void Elaborator::check_ranges() {
     };
     auto path = [&](DoId d) { return g_.str(g_.dos[d].path); };
     for (const graph::RangeFlaw& f : flaws) {
-        if (f.comp < 0) {  // a DO
+        if (!f.comp.valid()) {  // a DO
             const DoId row(f.row);
             if (within_done(g_.dos[row].parent)) continue;
             do_done[row] = 1;
@@ -178,13 +179,13 @@ void Elaborator::check_ranges() {
                 .notes.push_back({{}, range_note(f)});
             continue;
         }
-        const CompId c(f.comp);
-        if (comp_done.count(f.comp) || within_done(g_.comps[c].owner)) continue;
-        comp_done.insert(f.comp);
+        const CompId c = f.comp;
+        if (comp_done.count(c) || within_done(g_.comps[c].owner)) continue;
+        comp_done.insert(c);
         const std::string who(g_.str(g_.comps[c].name));
         const DoId owner = g_.comps[c].owner;
         if (!g_.dos[owner].parent.valid()) {  // the plant's own component
-            sink_.report(DiagId::OutOfRange, comp_spans_[f.comp], fmt::format("the {} of '{}' {}", f.what, who, f.text))
+            sink_.report(DiagId::OutOfRange, comp_spans_[c], fmt::format("the {} of '{}' {}", f.what, who, f.text))
                 .notes.push_back({{}, range_note(f)});
             continue;
         }
@@ -192,10 +193,10 @@ void Elaborator::check_ranges() {
         // likely what put the part out of range), once per object, with the part's declaration.
         DoId top = owner;
         while (g_.dos[g_.dos[top].parent].parent.valid()) top = g_.dos[top].parent;
-        if (!top_done.insert(top.v).second) continue;
+        if (!top_done.insert(top).second) continue;
         auto& d = sink_.report(DiagId::OutOfRange, do_spans_[top],
                                fmt::format("the {} of '{}' in '{}' {}", f.what, who, path(owner), f.text));
-        d.notes.push_back({comp_spans_[f.comp], fmt::format("'{}' is declared here", who)});
+        d.notes.push_back({comp_spans_[c], fmt::format("'{}' is declared here", who)});
         d.notes.push_back({{}, range_note(f)});
     }
 }

@@ -114,8 +114,8 @@ std::string Linking::ref_name(const ast::Property& p) const {
     return v.kind == Value::Kind::Name ? v.str : std::string();
 }
 
-int32_t Elaborator::add_slot(int32_t comp, std::string_view n, SlotType t, Dir dir, Span span) {
-    return graph::add_slot(g_, graph::CompId(comp), n, t, dir, src(span));
+graph::SlotId Elaborator::add_slot(graph::CompId comp, std::string_view n, SlotType t, Dir dir, Span span) {
+    return graph::add_slot(g_, comp, n, t, dir, src(span));
 }
 
 // The mode word, e.g. `physics b: kinematic`; the kind's default when absent or unknown.
@@ -237,32 +237,32 @@ void Elaborator::check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& s
                      fmt::format("a {} component cannot be attached with 'on'", spec.word));
 }
 
-int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
-                                   const std::string& prefix) {
+graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
+                                         const std::string& prefix) {
     const KindSpec* spec = find_kind(c.kind.text);
     if (!spec) {
         auto& d = sink_.report(DiagId::UnknownComponentKind, c.kind.span,
                                fmt::format("unknown component kind '{}'", c.kind.text));
         if (auto hint = closest_name(c.kind.text, kind_words()); !hint.empty())
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
-        return -1;
+        return {};
     }
     std::string cname = prefix.empty() ? c.name.text : prefix + "." + c.name.text;
     if (spec->plugin && !spec->plugin->inside.empty() && !inside_plugin(sc, prefix, spec->plugin->inside)) {
         sink_.report(DiagId::WrongComponentKind, c.kind.span,
                      fmt::format("a {} is written inside a {} component", spec->word, spec->plugin->inside));
-        return -1;
+        return {};
     }
-    if (!declare(sc, cname, c.name.span)) return -1;
+    if (!declare(sc, cname, c.name.span)) return {};
 
     const std::string mode = check_mode(c, *spec);
     const Props props = check_properties(sc, c, *spec, env);
 
     check_sub_blocks(c, *spec);
 
-    const int32_t comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
+    const graph::CompId comp = graph::add_comp(g_, sc.do_id, spec->kind, cname, src(c.name.span));
     if (spec->plugin)  // a plugin's slots are its descriptor's, not a fixed table's
-        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, graph::CompId(comp), s.name, s.type, s.dir, src(c.name.span));
+        for (const graph::SlotSpec& s : spec->plugin->slots) graph::add_slot(g_, comp, s.name, s.type, s.dir, src(c.name.span));
     sc.comps[cname] = comp;
     comp_spans_[comp] = c.name.span;
     if (names_ && !c.name.text.empty()) {
@@ -281,7 +281,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
     }
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
-    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[graph::CompId(comp)].slot_adr.v, frame,
+    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[comp].slot_adr, frame,
                 parent_row};
     lower(lw);
 
@@ -315,7 +315,7 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
         }
         Frame saved = sc.frame;
         sc.frame = frame;
-        make_component(sc, child, env, g_.comps[graph::CompId(comp)].detail.v, cname);
+        make_component(sc, child, env, g_.comps[comp].detail.v, cname);
         sc.frame = saved;
     }
     return comp;
@@ -325,18 +325,18 @@ int32_t Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const
 bool Elaborator::inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const {
     auto it = sc.comps.find(holder);
     if (holder.empty() || it == sc.comps.end()) return false;
-    const graph::KindDesc* d = graph::plugin_of(g_, graph::CompId(it->second));
+    const graph::KindDesc* d = graph::plugin_of(g_, it->second);
     return d && d->word == word;
 }
 
 // References between components of one DO, resolved once they all exist.
-void Elaborator::link_component(Scope& sc, int32_t comp, const ast::ComponentDecl& c, const Env& env) {
+void Elaborator::link_component(Scope& sc, graph::CompId comp, const ast::ComponentDecl& c, const Env& env) {
     std::string on;
     if (c.on) {
         for (const auto& seg : c.on->segs) on += (on.empty() ? "" : ".") + seg.name.text;
         name_component(sc, c.on->segs, 0, c.on->segs.size());
     }
-    Linking lk{*this, sc, c, env, comp, g_.comps[graph::CompId(comp)], on};
+    Linking lk{*this, sc, c, env, comp, g_.comps[comp], on};
     link(lk);
 }
 
@@ -344,8 +344,8 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     name_declared(l.name.span);
     if (!declare(sc, l.name.text, l.name.span)) return;
     const graph::CompId comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
-    sc.comps[l.name.text] = comp.v;
-    comp_spans_[comp.v] = l.name.span;
+    sc.comps[l.name.text] = comp;
+    comp_spans_[comp] = l.name.span;
     graph::Logic lg;
     lg.comp = comp;
     lg.op = graph::LogicOp::And;
@@ -360,8 +360,8 @@ void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
     if (!l.ops.empty() && l.ops[0].text == "or") lg.op = graph::LogicOp::Or;
     lg.in_adr = graph::next_adr(g_.logic_inputs);
     for (size_t i = 0; i < l.terms.size(); ++i) {
-        int32_t s = add_slot(comp.v, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
-        g_.logic_inputs.push_back({graph::SlotId(s), l.terms[i].negated});
+        const graph::SlotId s = add_slot(comp, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
+        g_.logic_inputs.push_back({s, l.terms[i].negated});
     }
     lg.in_num = graph::count_of(l.terms);
     g_.comps[comp].detail = graph::Detail(graph::next_id(g_.logics));

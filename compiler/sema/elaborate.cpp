@@ -535,13 +535,13 @@ void Elaborator::elaborate_do(graph::DoId do_id, const ast::ObjectDecl& decl, in
 
     // Components first, so that one DO's components (and their slots) are contiguous
     // (graph::add_comp keeps the DO's range).
-    std::vector<std::pair<int32_t, const Item*>> made;
+    std::vector<std::pair<graph::CompId, const Item*>> made;
     std::map<std::string, Span, std::less<>> settings_seen;  // each setting once: no silent "last wins"
     for (const auto& it : items) {
         Scope& s = scopes_[do_id];
         if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
-            int32_t comp = make_component(s, *c, *it.env, -1, "");
-            if (comp >= 0) made.emplace_back(comp, &it);
+            const graph::CompId comp = make_component(s, *c, *it.env, -1, "");
+            if (comp.valid()) made.emplace_back(comp, &it);
         } else if (auto* l = std::get_if<ast::LogicDecl>(it.member)) {
             make_logic(s, *l);
         } else if (auto* p = std::get_if<ast::PortDecl>(it.member)) {
@@ -661,7 +661,7 @@ void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
         if (!c || c->kind.text != "source") continue;
         auto found = scopes_[do_id].comps.find(c->name.text);
         if (found == scopes_[do_id].comps.end()) continue;
-        const graph::CompId comp(found->second);
+        const graph::CompId comp = found->second;
         auto& src_rec = g_.sources[graph::detail_of<graph::Source>(g_.comps[comp])];
         const ast::Property* obj = nullptr;
         for (const auto& p : c->properties)

@@ -47,7 +47,7 @@ struct Scope {
     const ast::ObjectDecl* decl = nullptr;
     int module = -1;
     Frame frame;
-    std::map<std::string, int32_t> comps;     // component name -> comp id
+    std::map<std::string, graph::CompId> comps;  // component name -> comp id
     std::map<std::string, graph::DoId> children;  // instance name ("b" or "b[3]") -> DO id
     std::map<std::string, PortInfo> ports;
     std::map<std::string, Span> declared;     // every member name, for duplicates
@@ -132,10 +132,10 @@ public:
     Props check_properties(const Scope& sc, const ast::ComponentDecl& c, const KindSpec& spec, const Env& env);
     void check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& spec);
     bool inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const;
-    int32_t make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
-                           const std::string& prefix);
-    int32_t add_slot(int32_t comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
-    void link_component(Scope& s, int32_t comp, const ast::ComponentDecl& c, const Env& env);
+    graph::CompId make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
+                                 const std::string& prefix);
+    graph::SlotId add_slot(graph::CompId comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
+    void link_component(Scope& s, graph::CompId comp, const ast::ComponentDecl& c, const Env& env);
     void make_logic(Scope& s, const ast::LogicDecl& l);
     void make_pools(graph::DoId do_id, const std::vector<Item>& items);
 
@@ -154,13 +154,13 @@ public:
                        graph::Dir to_dir, graph::SlotType to_type);
     void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
-    void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
-                   int32_t to_access, graph::Cond cond, bool once, Span span);
+    void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, graph::AccessId from_access,
+                   graph::AccessId to_access, graph::Cond cond, bool once, Span span);
     void finish_accesses();
     void emit_ports();
     std::optional<std::pair<graph::SlotType, graph::Dir>> probe_member(const std::string& type_name, const ast::Path& member,
                                                                         bool& reported);
-    int32_t find_comp_slot(int32_t comp, std::string_view slot_name) const;
+    int32_t find_comp_slot(graph::CompId comp, std::string_view slot_name) const;
 
     // checks.cpp
     void check_petri_nets();
@@ -180,10 +180,10 @@ public:
     std::map<std::string, std::pair<int, const ast::ObjectDecl*>> types_;  // object types by name
     std::map<std::string, graph::DoTypeId> do_types_;
     std::vector<std::string> type_stack_;  // objects being instantiated, for recursion
-    std::unordered_map<int32_t, graph::DoTypeId> ref_types_;  // ref slot -> DoType it holds
+    std::map<graph::SlotId, graph::DoTypeId> ref_types_;  // ref slot -> DoType it holds
     std::vector<PendingAccessFlow> pending_;
     std::vector<int32_t> graph_file_of_;  // SourceMap file -> Graph::files index
-    std::map<int32_t, Span> comp_spans_;
+    std::map<graph::CompId, Span> comp_spans_;
     graph::IdVector<graph::DoId, Span> do_spans_;  // its declaration
     std::map<graph::DoId, Span> do_at_spans_;     // the position its placement gives (`at (...)`)
     std::vector<Span> flow_spans_;  // by flow id (for warnings)

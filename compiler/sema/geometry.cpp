@@ -155,7 +155,7 @@ void Elaborator::check_conveyor_ends() {
         const graph::CompId comp = g_.fields[field].comp;
         graph::DoId d = g_.comps[comp].owner;
         if (!d.valid() || !g_.dos[d].parent.valid()) {  // the plant's (or the type's) own field
-            const auto cs = comp_spans_.find(comp.v);
+            const auto cs = comp_spans_.find(comp);
             return cs != comp_spans_.end() ? cs->second : Span{};
         }
         while (d.valid() && std_files.count(do_spans_[d].file) && g_.dos[d].parent.valid())

@@ -30,15 +30,15 @@ std::string path_text(const ast::Path& p) {
 std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
 
 // The word a plant file uses for a component's kind, a plugin's own among them.
-std::string_view kind_word(const graph::Graph& g, int32_t comp) {
-    if (const graph::KindDesc* d = graph::plugin_of(g, graph::CompId(comp))) return d->word;
-    return graph::kind_word(g.comps[graph::CompId(comp)].kind);
+std::string_view kind_word(const graph::Graph& g, graph::CompId comp) {
+    if (const graph::KindDesc* d = graph::plugin_of(g, comp)) return d->word;
+    return graph::kind_word(g.comps[comp].kind);
 }
 
 }  // namespace
 
-int32_t Elaborator::find_comp_slot(int32_t comp, std::string_view slot_name) const {
-    const auto& c = g_.comps[graph::CompId(comp)];
+int32_t Elaborator::find_comp_slot(graph::CompId comp, std::string_view slot_name) const {
+    const auto& c = g_.comps[comp];
     for (graph::SlotId sl : children(c.slot_adr, c.slot_num))
         if (g_.str(g_.slots[sl].name) == slot_name) return sl.v;
     return -1;
@@ -76,7 +76,7 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
         if (!type) return ep;
         name_use(path.cast_type.span, type->name.span);
         const graph::DoTypeId tid = do_type(path.cast_type.text, path.cast_type.span);
-        if (auto it = ref_types_.find(base.slots[0]); it != ref_types_.end() && it->second != tid) {
+        if (auto it = ref_types_.find(graph::SlotId(base.slots[0])); it != ref_types_.end() && it->second != tid) {
             sink_.report(DiagId::RefTypeMismatch, path.cast_type.span,
                          fmt::format("'{}' holds a '{}', which is not a '{}'", base.text,
                                      g_.str(g_.do_types[it->second].name), path.cast_type.text));
@@ -133,7 +133,7 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
         }
         // A component: the longest run of segments that names one (child graphics are "a.b").
         std::string comp_name;
-        int32_t comp = -1;
+        graph::CompId comp;
         size_t after = i;
         for (size_t j = i; j < segs.size(); ++j) {
             comp_name += (j == i ? "" : ".") + segs[j].name.text;
@@ -142,11 +142,11 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
                 after = j + 1;
             }
         }
-        if (comp >= 0) {
+        if (comp.valid()) {
             name_component(s, segs, i, segs.size());
             std::string slot_name;
             for (size_t j = after; j < segs.size(); ++j) slot_name += (j == after ? "" : ".") + segs[j].name.text;
-            const auto& c = g_.comps[graph::CompId(comp)];
+            const auto& c = g_.comps[comp];
             if (slot_name.empty() && c.kind == graph::CompKind::Logic) slot_name = "out";
             int32_t slot = slot_name.empty() ? -1 : find_comp_slot(comp, slot_name);
             if (slot < 0) {
@@ -243,13 +243,12 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
     scopes_[s.do_id].ports[p.name.text] = std::move(info);
 }
 
-void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, int32_t from_access,
-                           int32_t to_access, graph::Cond cond, bool once, Span span) {
+void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, graph::AccessId from_access,
+                           graph::AccessId to_access, graph::Cond cond, bool once, Span span) {
     // One flow per pair of ends: an input port may stand for several inner inputs.
     for (int32_t f : from)
         for (int32_t t : to) {
-            graph::add_flow(g_, graph::SlotId(f), graph::SlotId(t), cond, once, graph::AccessId(from_access),
-                            graph::AccessId(to_access), src(span));
+            graph::add_flow(g_, graph::SlotId(f), graph::SlotId(t), cond, once, from_access, to_access, src(span));
             flow_spans_.push_back(span);
         }
 }
@@ -302,16 +301,16 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId sc
         return;
     }
     if (!flow_ends_fit(from, from.dir, from.type, to, to.dir, to.type)) return;
-    emit_flow(from.slots, to.slots, -1, -1, cond, f.once, f.span);
+    emit_flow(from.slots, to.slots, {}, {}, cond, f.once, f.span);
 }
 
 void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
     auto it = s.comps.find(l.name.text);
     // Only the connector this declaration made: a duplicate name was reported and made none.
-    if (it == s.comps.end() || g_.comps[graph::CompId(it->second)].kind != graph::CompKind::Logic ||
+    if (it == s.comps.end() || g_.comps[it->second].kind != graph::CompKind::Logic ||
         comp_spans_[it->second].begin != l.name.span.begin || comp_spans_[it->second].file != l.name.span.file)
         return;
-    const auto& lg = g_.logics[graph::detail_of<graph::Logic>(g_.comps[graph::CompId(it->second)])];
+    const auto& lg = g_.logics[graph::detail_of<graph::Logic>(g_.comps[it->second])];
     for (size_t i = 0; i < l.terms.size(); ++i) {
         Endpoint e = resolve(s.do_id, l.terms[i].path, env);
         if (!e.ok) continue;
@@ -321,7 +320,7 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
                                      with_article(graph::word(e.type)), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
             continue;
         }
-        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot.v}, -1, -1, graph::Cond::Source,
+        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot.v}, {}, {}, graph::Cond::Source,
                   false, l.terms[i].span);
     }
 }
@@ -397,7 +396,8 @@ void Elaborator::finish_accesses() {
         if (g_.dos[d].type.valid()) dos_of_type[g_.dos[d].type].push_back(d);
     struct Targets {
         bool ok;
-        int32_t adr, count;
+        graph::Adr<graph::AccessTarget> adr;
+        int32_t count;
         SlotType type;
         Dir dir;
     };
@@ -421,7 +421,7 @@ void Elaborator::finish_accesses() {
             acc.src = src(e.span);
             auto known = shared.find({e.do_type, member});
             if (known != shared.end() && known->second.ok && known->second.count > 0) {  // else: resolved (and reported) again here
-                acc.target_adr = graph::Adr<graph::AccessTarget>(known->second.adr);
+                acc.target_adr = known->second.adr;
                 acc.target_num = known->second.count;
                 types[k] = known->second.type;
                 dirs[k] = known->second.dir;

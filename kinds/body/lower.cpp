@@ -104,7 +104,7 @@ void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Body b;
-    b.comp = graph::CompId(lw.comp);
+    b.comp = lw.comp;
     b.mode = lw.mode == "static" ? graph::BodyMode::Static
            : lw.mode == "kinematic" ? graph::BodyMode::Kinematic : graph::BodyMode::Dynamic;
     b.mass = lw.num("mass", 0);
@@ -154,7 +154,7 @@ void lower(Lowering& lw) {
     lw.set_detail(g.bodies.count());
     // Output values start at the body's pose.
     auto put = [&](int idx, std::initializer_list<double> xs) {
-        const graph::Adr<graph::Value> adr = g.slots[graph::SlotId(lw.slot_adr + idx)].value_adr;
+        const graph::Adr<graph::Value> adr = g.slots[lw.slot_adr + idx].value_adr;
         int k = 0;
         for (double x : xs) g.values[adr + k++].v = x;
     };

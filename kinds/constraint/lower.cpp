@@ -18,7 +18,7 @@ void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Joint j;
-    j.comp = graph::CompId(lw.comp);
+    j.comp = lw.comp;
     j.kind = lw.mode == "hinge" ? graph::JointKind::Hinge : lw.mode == "slider" ? graph::JointKind::Slider : graph::JointKind::Fixed;
     j.body_a = j.body_b = {};
     j.lower = 1;
@@ -70,8 +70,8 @@ void lower(Lowering& lw) {
 void link(Linking& lk) {
     graph::Graph& g = lk.el.g_;
     auto& j = g.joints[lk.row<graph::Joint>()];
-    auto body_frame = [&](int32_t body) {
-        const auto& p = g.bodies[graph::BodyId(body)].pose;
+    auto body_frame = [&](graph::BodyId body) {
+        const auto& p = g.bodies[body].pose;
         Frame f;
         f.p = Eigen::Vector3d(p.p[0], p.p[1], p.p[2]);
         f.q = Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]);
@@ -84,9 +84,9 @@ void link(Linking& lk) {
         j.body_a = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'a'"));
     if (const auto* p = lk.prop("b"); p && !lk.ref_name(*p).empty())
         j.body_b = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'b'"));
-    if (j.body_a >= 0) j.frame_a = (body_frame(j.body_a).inverse() * world).pose();
-    if (j.body_b >= 0) j.frame_b = (body_frame(j.body_b).inverse() * world).pose();
-    if (j.body_a >= 0 && j.body_a == j.body_b)
+    if (j.body_a.valid()) j.frame_a = (body_frame(j.body_a).inverse() * world).pose();
+    if (j.body_b.valid()) j.frame_b = (body_frame(j.body_b).inverse() * world).pose();
+    if (j.body_a.valid() && j.body_a == j.body_b)
         lk.el.sink_.report(DiagId::OutOfRange, lk.decl.name.span, "a constraint needs two different bodies");
 }
 

@@ -11,7 +11,7 @@ namespace {
 
 void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
-    g.exits.push_back({graph::CompId(lw.comp), {}});
+    g.exits.push_back({lw.comp, {}});
     lw.set_detail(g.exits.count());
 }
 

@@ -16,7 +16,7 @@ void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     graph::Field f;
-    f.comp = graph::CompId(lw.comp);
+    f.comp = lw.comp;
     f.body = {};
     if (const Value* e = lw.props.get("extent")) f.extent = vec(*e);
     lw.positive_vec("extent");
@@ -36,8 +36,8 @@ void lower(Lowering& lw) {
     f.enabled = lw.boolean("enabled", true);
     g.fields.push_back(f);
     lw.set_detail(g.fields.count());
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::speed)) = f.enabled ? f.speed : 0;
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::fieldslot::enabled)) = f.enabled ? 1 : 0;
+    graph::slot_value(g, lw.slot_adr + graph::fieldslot::speed) = f.enabled ? f.speed : 0;
+    graph::slot_value(g, lw.slot_adr + graph::fieldslot::enabled) = f.enabled ? 1 : 0;
 }
 
 void link(Linking& lk) {

@@ -88,8 +88,8 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
     }
     an.duration = duration;
     an.key_num = g.keys.count() - an.key_adr.v;
-    an.play_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span));
-    an.finished_slot = graph::SlotId(el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span));
+    an.play_slot = el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span);
+    an.finished_slot = el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span);
     g.animations.push_back(an);
 }
 
@@ -99,7 +99,7 @@ void lower(Lowering& lw) {
     const ast::ComponentDecl& c = lw.decl;
     const Env& env = lw.env;
     graph::Graphics gr;
-    gr.comp = graph::CompId(lw.comp);
+    gr.comp = lw.comp;
     gr.parent = graph::GraphicsId(lw.parent_row);
     gr.body = {};
     gr.model = el.name(lw.props.get("model") ? lw.props.get("model")->str : "");
@@ -113,8 +113,8 @@ void lower(Lowering& lw) {
     for (const auto& v : c.variants) {
         Value m = el.ev_.eval(*v.model, env);
         if (!el.ev_.expect_string(m, "variant model")) continue;
-        int32_t sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
-        g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), graph::SlotId(sel)});
+        const graph::SlotId sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
+        g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), sel});
     }
     gr.variant_num = g.variants.count() - gr.variant_adr.v;
     if (const Value* v = lw.props.get("show")) {

@@ -14,7 +14,7 @@ namespace {
 void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     graph::Gripper gr;
-    gr.comp = graph::CompId(lw.comp);
+    gr.comp = lw.comp;
     gr.trigger = {};
     gr.body = {};
     gr.graphics = {};
@@ -29,15 +29,15 @@ void link(Linking& lk) {
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
         gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
         if (gr.trigger.valid()) {
-            const int32_t tslot = (g.comps[g.triggers[gr.trigger].comp].slot_adr + graph::triggerslot::object).v;
+            const graph::SlotId tslot = g.comps[g.triggers[gr.trigger].comp].slot_adr + graph::triggerslot::object;
             if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
                 lk.el.ref_types_[lk.rec.slot_adr + graph::gripperslot::object] = it->second;
         }
     }
     if (lk.decl.on) {
         auto it = lk.scope.comps.find(lk.on);
-        if (it != lk.scope.comps.end() && g.comps[graph::CompId(it->second)].kind == graph::CompKind::Graphics)
-            gr.graphics = graph::detail_of<graph::Graphics>(g.comps[graph::CompId(it->second)]);
+        if (it != lk.scope.comps.end() && g.comps[it->second].kind == graph::CompKind::Graphics)
+            gr.graphics = graph::detail_of<graph::Graphics>(g.comps[it->second]);
         else
             gr.body = graph::BodyId(lk.on_body());
     }

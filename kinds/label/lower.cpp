@@ -11,10 +11,10 @@ namespace {
 void lower(sema::Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const sema::Value* v = lw.props.get("value");
-    graph::Label l{graph::CompId(lw.comp), lw.el.name(v ? v->str : "")};
+    graph::Label l{lw.comp, lw.el.name(v ? v->str : "")};
     g.labels.push_back(l);
     lw.set_detail(g.labels.count());
-    graph::slot_value(g, graph::SlotId(lw.slot_adr + graph::labelslot::value)) = l.value.id;
+    graph::slot_value(g, lw.slot_adr + graph::labelslot::value) = l.value.id;
 }
 
 }  // namespace

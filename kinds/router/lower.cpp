@@ -20,7 +20,7 @@ void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     const Env& env = lw.env;
-    std::map<std::string, int32_t> outs;
+    std::map<std::string, graph::SlotId> outs;
     for (const auto& r : c.routes) {
         auto it = outs.find(r.output.text);
         if (it == outs.end()) {
@@ -32,7 +32,7 @@ void lower(Lowering& lw) {
             it = outs.emplace(r.output.text, el.add_slot(lw.comp, r.output.text, SlotType::Void, Dir::Out, r.output.span)).first;
         }
         if (!r.pattern_expr) {
-            g.routes.push_back({graph::CompId(lw.comp), el.name("*"), graph::SlotId(it->second)});
+            g.routes.push_back({lw.comp, el.name("*"), it->second});
             continue;
         }
         // A string, or a list of strings (one entry each), from parameters and lets too.
@@ -44,7 +44,7 @@ void lower(Lowering& lw) {
                             "a routing entry needs at least one pattern; this list is empty");
         for (const Value& pv : patterns) {
             if (!el.ev_.expect_string(pv, "a routing pattern")) break;
-            g.routes.push_back({graph::CompId(lw.comp), el.name(pv.str), graph::SlotId(it->second)});
+            g.routes.push_back({lw.comp, el.name(pv.str), it->second});
         }
     }
 }

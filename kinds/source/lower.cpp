@@ -20,7 +20,7 @@ void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     graph::Source s;
-    s.comp = graph::CompId(lw.comp);
+    s.comp = lw.comp;
     s.do_type = {};
     s.pose = lw.frame.pose();
     s.rate = lw.num("rate", 0);
@@ -46,7 +46,7 @@ void lower(Lowering& lw) {
     } else {
         for (int32_t i = 1; i <= pool; ++i) g.ids.push_back({el.name(fmt::format("{}-{}", c.name.text, i))});
     }
-    s.id_num = static_cast<int32_t>(g.ids.size()) - s.id_adr;
+    s.id_num = g.ids.count() - s.id_adr.v;
     g.sources.push_back(s);
     lw.set_detail(g.sources.count());
 }

@@ -29,7 +29,7 @@ void lower(Lowering& lw) {
             continue;
         }
         graph::Place pl;
-        pl.comp = graph::CompId(lw.comp);
+        pl.comp = lw.comp;
         pl.name = el.name(p.name.text);
         pl.src = el.src(p.name.span);
         if (p.initial) {
@@ -43,9 +43,9 @@ void lower(Lowering& lw) {
                                             graph::kMaxInitialTokens,
                                             v.kind == Value::Kind::Num && v.dim.none() ? fmt::format("{}", v.num) : "a " + describe(v)));
         }
-        pl.put_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span));
-        pl.entered_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span));
-        pl.tokens_slot = graph::SlotId(el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span));
+        pl.put_slot = el.add_slot(lw.comp, p.name.text + ".put", SlotType::Void, Dir::In, p.name.span);
+        pl.entered_slot = el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span);
+        pl.tokens_slot = el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span);
         graph::slot_value(g, pl.tokens_slot) = pl.initial;
         place_ids[p.name.text] = g.places.count();
         el.place_spans_[g.places.count()] = p.name.span;
@@ -60,7 +60,7 @@ void lower(Lowering& lw) {
             continue;
         }
         graph::Transition tr;
-        tr.comp = graph::CompId(lw.comp);
+        tr.comp = lw.comp;
         tr.name = el.name(t.name.text);
         tr.src = el.src(t.name.span);
         auto arcs = [&](const std::vector<ast::ArcDecl>& list, graph::Adr<graph::Arc>& adr, int32_t& n) {
@@ -91,7 +91,7 @@ void lower(Lowering& lw) {
         if (t.inputs.empty())
             el.sink_.report(DiagId::EmptyTransition, t.name.span,
                             fmt::format("transition '{}' has no input place, so it would fire in every step", t.name.text));
-        tr.fired_slot = graph::SlotId(el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span));
+        tr.fired_slot = el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span);
         el.transition_spans_[g.transitions.count()] = t.name.span;
         g.transitions.push_back(tr);
     }

@@ -10,7 +10,7 @@ namespace {
 void lower(sema::Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     graph::Timer t;
-    t.comp = graph::CompId(lw.comp);
+    t.comp = lw.comp;
     t.period = lw.num("period", 0);
     lw.positive("period");
     t.periodic = lw.mode != "oneshot";

@@ -15,7 +15,7 @@ void lower(Lowering& lw) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     graph::Trigger t;
-    t.comp = graph::CompId(lw.comp);
+    t.comp = lw.comp;
     t.body = {};
     if (const Value* e = lw.props.get("extent")) t.extent = vec(*e);
     lw.positive_vec("extent");

@@ -36,8 +36,8 @@ struct Lowering {
     const KindSpec& spec;
     const Props& props;
     std::string mode;         // the mode word, the kind's default when none is written
-    int32_t comp;             // its id
-    int32_t slot_adr;         // its first (fixed) slot
+    graph::CompId comp;       // its id
+    graph::Adr<graph::Slot> slot_adr;  // its first (fixed) slot
     Frame frame;              // its world frame
     int32_t parent_row;       // a child of its own kind (child graphics): its parent's row, else -1
 
@@ -55,7 +55,7 @@ struct Linking {
     Scope& scope;
     const ast::ComponentDecl& decl;
     const Env& env;
-    int32_t comp;
+    graph::CompId comp;
     graph::Comp rec;
     std::string on;  // the `on` path, "" for none
 

@@ -60,7 +60,7 @@ void lower_plugin(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const graph::KindDesc& kind = *lw.spec.plugin;
     graph::Plugin rec;
-    rec.comp = graph::CompId(lw.comp);
+    rec.comp = lw.comp;
     rec.kind = lw.el.name(kind.word);
     rec.param_adr = graph::next_adr(g.plugin_params);
     rec.param_num = graph::count_of(kind.params);
