@@ -168,9 +168,9 @@ void Writer::run() {
         const CompId c = g_.slots[s].comp;
         if (!in_range(g_.comps, c)) continue;
         // The compass point keeps a flow on the side of the table its slot is drawn on.
-        std::string port = q("s" + std::to_string(s));
+        std::string port = q(fmt::format("s{}", s));
         port += g_.slots[s].dir == Dir::In ? ":w" : ":e";
-        ends_[s] = {q("c" + std::to_string(c)), port, {}};
+        ends_[s] = {q(fmt::format("c{}", c)), port, {}};
         if (g_.comps[c].kind == CompKind::Logic) ends_[s].port.clear();
     }
     auto note = [&](SlotId slot, const std::string& node, std::string_view owner_name) {
@@ -183,11 +183,11 @@ void Writer::run() {
     };
     for (PlaceId p : ids_of(g_.places)) {
         const Place& pl = g_.places[p];
-        std::string node = q("p" + std::to_string(p));
+        std::string node = q(fmt::format("p{}", p));
         for (SlotId s : {pl.put_slot, pl.entered_slot, pl.tokens_slot}) note(s, node, g_.str(pl.name));
     }
     for (TransitionId t : ids_of(g_.transitions))
-        note(g_.transitions[t].fired_slot, q("t" + std::to_string(t)), g_.str(g_.transitions[t].name));
+        note(g_.transitions[t].fired_slot, q(fmt::format("t{}", t)), g_.str(g_.transitions[t].name));
 
     std::string_view plant = g_.str(g_.plant);
     o_ << "digraph " << q(plant.empty() ? "plant" : plant) << " {\n"
@@ -212,7 +212,7 @@ void Writer::cluster(DoId d, int depth) {
     std::string label(g_.str(x.path));
     if (!x.parent.valid() && label.empty()) label = g_.str(g_.plant);
     std::string in = indent(depth);
-    o_ << in << "subgraph " << q("cluster_do" + std::to_string(d)) << " {\n"
+    o_ << in << "subgraph " << q(fmt::format("cluster_do{}", d)) << " {\n"
        << in << "  label=" << q(label) << ";\n";
     for (CompId c : do_comps_[d]) component(c, depth + 1);
     for (AccessId a : do_accesses_[d]) access(a, depth + 1);
@@ -223,7 +223,7 @@ void Writer::cluster(DoId d, int depth) {
 void Writer::component(CompId c, int depth) {
     const Comp& k = g_.comps[c];
     std::string in = indent(depth);
-    std::string id = q("c" + std::to_string(c));
+    std::string id = q(fmt::format("c{}", c));
     if (k.kind == CompKind::State) return net(c, depth);
     if (k.kind == CompKind::Logic) {
         std::string_view op = "logic";
@@ -241,7 +241,7 @@ void Writer::component(CompId c, int depth) {
     const size_t rows = std::max({ins.size(), outs.size(), size_t{1}});
     auto cell = [&](const std::vector<SlotId>& side, size_t r) {
         if (r >= side.size()) return std::string("<TD BORDER=\"0\"></TD>");
-        return "<TD PORT=\"s" + std::to_string(side[r]) + "\">" + html(g_.str(g_.slots[side[r]].name)) + "</TD>";
+        return fmt::format("<TD PORT=\"s{}\">", side[r]) + html(g_.str(g_.slots[side[r]].name)) + "</TD>";
     };
     std::string label = "<TABLE BORDER=\"0\" CELLBORDER=\"1\" CELLSPACING=\"0\" CELLPADDING=\"3\">";
     for (size_t r = 0; r < rows; ++r) {
@@ -255,7 +255,7 @@ void Writer::component(CompId c, int depth) {
 
 void Writer::net(CompId c, int depth) {
     std::string in = indent(depth);
-    o_ << in << "subgraph " << q("cluster_net" + std::to_string(c)) << " {\n"
+    o_ << in << "subgraph " << q(fmt::format("cluster_net{}", c)) << " {\n"
        << in << "  label=" << q(comp_label(c)) << ";\n"
        << in << "  style=rounded;\n";
     for (PlaceId p : ids_of(g_.places)) {
@@ -264,19 +264,19 @@ void Writer::net(CompId c, int depth) {
         std::string label(g_.str(pl.name));
         if (pl.initial > 0)
             label += "\n" + std::to_string(pl.initial) + (pl.initial == 1 ? " token" : " tokens");
-        o_ << in << "  " << q("p" + std::to_string(p)) << " [shape=circle, fixedsize=false, label="
+        o_ << in << "  " << q(fmt::format("p{}", p)) << " [shape=circle, fixedsize=false, label="
            << q(label) << "];\n";
     }
     for (TransitionId t : ids_of(g_.transitions)) {
         const Transition& tr = g_.transitions[t];
         if (tr.comp != c) continue;
-        std::string id = q("t" + std::to_string(t));
+        std::string id = q(fmt::format("t{}", t));
         o_ << in << "  " << id << " [shape=box, height=0.25, style=filled, fillcolor=\"#dddddd\", label="
            << q(g_.str(tr.name)) << "];\n";
         auto arcs = [&](Adr<Arc> adr, int32_t num, bool consumed) {
             for (Id<Arc> a : children(adr, num)) {
                 if (!in_range(g_.arcs, a) || !in_range(g_.places, g_.arcs[a].place)) continue;
-                std::string place = q("p" + std::to_string(g_.arcs[a].place));
+                std::string place = q(fmt::format("p{}", g_.arcs[a].place));
                 o_ << in << "  " << (consumed ? place : id) << " -> " << (consumed ? id : place);
                 if (g_.arcs[a].weight > 1) o_ << " [label=" << q(std::to_string(g_.arcs[a].weight)) << "]";
                 o_ << ";\n";
@@ -293,7 +293,7 @@ void Writer::access(AccessId a, int depth) {
     const Access& x = g_.accesses[a];
     std::string type = in_range(g_.do_types, x.do_type) ? std::string(g_.str(g_.do_types[x.do_type].name))
                                                         : std::string("?");
-    o_ << indent(depth) << q("a" + std::to_string(a)) << " [shape=note, fontsize=9, label="
+    o_ << indent(depth) << q(fmt::format("a{}", a)) << " [shape=note, fontsize=9, label="
        << q(type + "." + std::string(g_.str(x.member))) << "];\n";
 }
 
@@ -301,7 +301,7 @@ void Writer::edges() {
     for (AccessId a : ids_of(g_.accesses)) {
         const SlotId r = g_.accesses[a].ref_slot;
         if (!in_range(ends_, r) || ends_[r].node.empty() || !slot_inside(r)) continue;
-        o_ << "  " << ep(ends_[r]) << " -> " << q("a" + std::to_string(a))
+        o_ << "  " << ep(ends_[r]) << " -> " << q(fmt::format("a{}", a))
            << " [style=dotted, arrowhead=none];\n";
     }
     // Logic inputs that are negated, so an edge into one can be marked.
@@ -313,9 +313,9 @@ void Writer::edges() {
         // A dynamic end is drawn at its reference slot, which from/to hold (the Flow contract).
         if (!slot_inside(f.from) || !slot_inside(f.to)) continue;
         End from, to;
-        if (in_range(g_.accesses, f.from_access)) from = {q("a" + std::to_string(f.from_access)), {}, {}};
+        if (in_range(g_.accesses, f.from_access)) from = {q(fmt::format("a{}", f.from_access)), {}, {}};
         else if (in_range(ends_, f.from)) from = ends_[f.from];
-        if (in_range(g_.accesses, f.to_access)) to = {q("a" + std::to_string(f.to_access)), {}, {}};
+        if (in_range(g_.accesses, f.to_access)) to = {q(fmt::format("a{}", f.to_access)), {}, {}};
         else if (in_range(ends_, f.to)) to = ends_[f.to];
         if (from.node.empty() || to.node.empty()) continue;
 
@@ -337,7 +337,7 @@ void Writer::edges() {
     // A plugin component's entries: what it drives or forces, and what it reads.
     for (const EntryEdge& e : entry_edges(g_)) {
         if (!inside(g_.comps[e.comp].owner) || !slot_inside(e.slot) || ends_[e.slot].node.empty()) continue;
-        const End comp{q("c" + std::to_string(e.comp)), {}, {}};
+        const End comp{q(fmt::format("c{}", e.comp)), {}, {}};
         const End& slot = ends_[e.slot];
         std::string attrs = "label=" + q(e.label) + ", style=dashed";
         if (e.forces) attrs += ", color=\"#b03030\", fontcolor=\"#b03030\"";
@@ -383,12 +383,12 @@ public:
         }
         std::vector<std::string> nodes;
         for (DoId c : sub[focus]) {
-            nodes.push_back("d" + std::to_string(c));
+            nodes.push_back(fmt::format("d{}", c));
             const Do& x = g_.dos[c];
             const std::string path(g_.str(x.path));
             const std::string name = path.substr(path.rfind('.') == std::string::npos ? 0 : path.rfind('.') + 1);
             const std::string type = in_range(g_.do_types, x.type) ? std::string(g_.str(g_.do_types[x.type].name)) : "";
-            o_ << "  " << q("d" + std::to_string(c)) << " [shape=box, style=rounded, label=" << q(name + ": " + type)
+            o_ << "  " << q(fmt::format("d{}", c)) << " [shape=box, style=rounded, label=" << q(name + ": " + type)
                << ", tooltip=" << q(path) << "];\n";
             mark(c, c.v, sub);
         }
@@ -396,7 +396,7 @@ public:
         comp_node_.assign(g_.comps.size(), "");
         for (CompId c : children(f.comp_adr, f.comp_num)) {
             const Comp& k = g_.comps[c];
-            const std::string id = "c" + std::to_string(c);
+            const std::string id = fmt::format("c{}", c);
             comp_node_[c] = id;
             nodes.push_back(id);
             o_ << "  " << q(id) << " [shape=" << (k.kind == CompKind::Logic ? "diamond" : k.kind == CompKind::State ? "doublecircle" : "ellipse")
