@@ -18,7 +18,7 @@ void start_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c) {
     const graph::JointId i = graph::detail_of<graph::Joint>(c);
-    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
     if (a[disable]) r.phys.set_joint(i, false);
     if (a[enable]) r.phys.set_joint(i, true);
     r.emit(c.slot_adr + enabled, r.phys.joint_on(i) ? 1 : 0);

@@ -93,7 +93,7 @@ void sense_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c) {
     const graph::GripperId i = graph::detail_of<graph::Gripper>(c);
-    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
     if (a[slot::release]) release(r, i);
     if (a[slot::grip]) grip(r, i);
 }

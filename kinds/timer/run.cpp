@@ -72,7 +72,7 @@ void sense_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c) {
     const TimerId i = graph::detail_of<graph::Timer>(c);
-    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
     Run& ts = timers(r).run[i];
     const bool was = ts.running;
     if (a[graph::timerslot::stop]) ts.running = false;

@@ -48,7 +48,7 @@ void Physics::sync_joints(BodyId b) {
     if (body_joints_.num.empty()) return;
     for (JointId j : body_joints_[b]) {
         const Joint& jt = g_.joints[j];
-        bool want = in_world_[jt.body_a] && (jt.body_b < 0 || in_world_[jt.body_b]);
+        bool want = in_world_[jt.body_a] && (!jt.body_b.valid() || in_world_[jt.body_b]);
         if (want == bool(joint_in_[j])) continue;
         if (want) add_joint(j);
         else remove_joint(j);
@@ -105,8 +105,8 @@ void Physics::park(BodyId b) {
     // pairs in, and so every result.
     constexpr int64_t kSide = 65521;  // a prime: b·7919 mod kSide differs for every b below it
     const btVector3 park = world_of_[b] == void_
-                               ? btVector3(btScalar(5000 + int64_t(b) * 7919 % kSide), btScalar(5000 + b / kSide), 5000)
-                               : btVector3(btScalar(5000 + b), 5000, 5000);
+                               ? btVector3(btScalar(5000 + int64_t{b.v} * 7919 % kSide), btScalar(5000 + b.v / kSide), 5000)
+                               : btVector3(btScalar(5000 + b.v), 5000, 5000);
     w.broadphase->setAabb(proxy, park, park, w.dispatcher.get());
 }
 

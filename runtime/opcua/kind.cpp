@@ -60,11 +60,11 @@ std::string port_clash(const graph::Graph& g, graph::PluginId plugin, int port) 
     for (size_t k = 0; modbus && k < modbus->params.size(); ++k)
         if (modbus->params[k].name == "port") modbus_port = int(k);
     for (graph::PluginId q : graph::ids_of(g.plugins)) {
-        if (q.v == plugin) continue;
+        if (q == plugin) continue;
         const graph::Plugin& other = g.plugins[q];
         const std::string_view kind = g.str(other.kind);
         const std::string name(g.str(g.comps[other.comp].name));
-        if (kind == kWord && q.v < plugin && port_of(g, other) == port)
+        if (kind == kWord && q < plugin && port_of(g, other) == port)
             return fmt::format("port {} is taken by the OPC UA link '{}': two links cannot serve one port", port, name);
         if (kind == "modbus" && modbus_port >= 0 && g.plugin_params[other.param_adr + modbus_port].num == port)
             return fmt::format("port {} is taken by the Modbus link '{}': two links cannot serve one port", port, name);

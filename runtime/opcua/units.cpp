@@ -57,7 +57,7 @@ std::string_view slot_si_unit(const graph::Graph& g, graph::SlotId slot) {
     if (s.type != graph::SlotType::Real) return "";
     // A kind's row may say (graph::SlotSpec::unit: a field's speeds are in m/s).
     const auto fixed = graph::slots_of(g, s.comp);
-    const int32_t k = slot - g.comps[s.comp].slot_adr;
+    const int32_t k = slot.v - g.comps[s.comp].slot_adr.v;
     if (k >= 0 && size_t(k) < fixed.size()) return fixed[size_t(k)].unit;
     return "";
 }

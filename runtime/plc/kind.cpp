@@ -81,7 +81,7 @@ bool check_link(const graph::Graph& g, graph::PluginId plugin, graph::PluginProb
     }
     if (m.port == 0) return true;
     for (graph::PluginId q : graph::ids_of(g.plugins)) {
-        if (q.v >= plugin) break;  // the links before this one
+        if (q >= plugin) break;  // the links before this one
         const graph::Plugin& other = g.plugins[q];
         if (g.str(other.kind) != kWord || g.plugin_params[other.param_adr + port].num != m.port) continue;
         problem = {-1, fmt::format("port {} is taken by the link '{}': two links cannot serve one port", m.port,

@@ -134,7 +134,7 @@ struct Server::Impl {
     int next_client = 1;
     bool loopback = true;
     TokenGate gate;                      // the I/O thread's own
-    std::unordered_set<int32_t> operable;  // the slots a trainee may fire or set
+    std::set<graph::SlotId> operable;  // the slots a trainee may fire or set
     std::string operable_json;           // those inputs, for the welcome: [{path, label, type}]
     // The session report on demand (/report): made on a thread of its own, one at a time,
     // so the pages' I/O never waits for the replay.
@@ -164,7 +164,7 @@ struct Server::Impl {
             const graph::Comp& cp = g.comps[c];
             for (graph::SlotId sl : graph::children(cp.slot_adr, cp.slot_num))
                 if (g.slots[sl].dir == graph::Dir::In) {
-                    operable.insert(sl.v);
+                    operable.insert(sl);
                     const std::string path = g.slot_path(sl);
                     list.push_back({{"path", path}, {"label", path}, {"type", graph::word(g.slots[sl].type)}, {"panel", true}});
                 }
@@ -323,7 +323,7 @@ private:
             return false;
         }
         if (ev.hand != engine::HandAct::None) return true;
-        for (int32_t s : ev.slots)
+        for (graph::SlotId s : ev.slots)
             if (!server_.operable.count(s)) {
                 why = fmt::format("'{}' is not an input a trainee may operate (the plant's `operable` lists them)",
                                   ev.path);
