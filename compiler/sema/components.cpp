@@ -87,7 +87,7 @@ graph::CompId Linking::find_comp(const std::string& n, Span span) const {
             d.notes.push_back({{}, fmt::format("did you mean '{}'?", hint)});
         return {};
     }
-    return graph::CompId(it->second);
+    return it->second;
 }
 
 int32_t Linking::find(const std::string& n, Span span, CompKind want, const char* what) const {

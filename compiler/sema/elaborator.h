@@ -142,7 +142,7 @@ public:
     // resolve.cpp
     Endpoint resolve(graph::DoId scope_do, const ast::Path& path, const Env& env);
     // A plugin component's entries (sema/kinds/plugin.cpp), with the flows of its scope.
-    void add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do);
+    void add_entries(graph::CompId comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do);
     // The kinds' own checks (graph::KindDesc::check) over every plugin component.
     void check_plugins();
     bool expect_slot_value(const Value& v, graph::SlotType t, const std::string& what);

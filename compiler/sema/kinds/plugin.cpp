@@ -118,10 +118,10 @@ std::string types_text(std::span<const graph::SlotType> types) {
 // The entries of a plugin component, once every slot of the plant can be named: the word
 // one the kind takes, the key an integer in range, the target a slot or port of the entry's
 // direction and types, the options known, set once and of their type and dimension.
-void Elaborator::add_entries(int32_t comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do) {
-    const graph::KindDesc* kind = graph::plugin_of(g_, graph::CompId(comp));
+void Elaborator::add_entries(graph::CompId comp, const ast::ComponentDecl& c, const Env& env, graph::DoId scope_do) {
+    const graph::KindDesc* kind = graph::plugin_of(g_, comp);
     if (!kind) return;
-    const graph::PluginId plugin = graph::detail_of<graph::Plugin>(g_.comps[graph::CompId(comp)]);
+    const graph::PluginId plugin = graph::detail_of<graph::Plugin>(g_.comps[comp]);
     if (plugin_spans_.size() <= graph::index(plugin)) plugin_spans_.resize(graph::index(plugin) + 1);
     plugin_spans_[graph::index(plugin)] = c.name.span;
     if (c.entries.empty()) return;
