@@ -125,7 +125,7 @@ void sense_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c) {
     const BodyId b = graph::detail_of<graph::Body>(c);
-    const uint8_t* a = r.st.act.data() + c.slot_adr;
+    const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
     Physics& ph = r.phys;
     const bool held = r.st.held_by[b].valid();  // a gripper owns its mode and pose
     if (a[slot::collision_off]) ph.set_collision(b, false);

@@ -26,7 +26,7 @@ void start_all(Runtime& r) {
 
 void act_one(Runtime& r, const graph::Comp& c) {
     const FieldId i = graph::detail_of<graph::Field>(c);
-    const uint8_t* a = r.st.act.data() + c.slot_adr.v;
+    const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
     const uint8_t was_on = r.st.field_on[i];
     const double was = was_on ? r.st.field_speed[i] : 0.0;
     if (a[slot::disable]) r.st.field_on[i] = 0;

@@ -166,7 +166,7 @@ void Engine::watch(graph::SlotId slot) {
 
 std::span<const double> Engine::value(graph::SlotId slot) const {
     const Slot& s = rt_->g.slots[slot];
-    if (s.value_adr < 0) return {};
+    if (!s.value_adr.valid()) return {};
     const double* v = rt_->val(slot);
     return {v, v + slot_width(s.type)};
 }
@@ -185,7 +185,7 @@ bool Engine::body_in_world(graph::BodyId b) const { return rt_->phys.in_world(b)
 bool Engine::body_collision(graph::BodyId b) const { return rt_->phys.collision_on(b); }
 int32_t Engine::graphics_variant(graph::GraphicsId gr) const {
     const int32_t v = rt_->st.variant[gr];
-    return v < 0 ? -1 : v - rt_->g.graphics[gr].variant_adr;
+    return v < 0 ? -1 : v - rt_->g.graphics[gr].variant_adr.v;
 }
 bool Engine::trigger_occupied(graph::TriggerId t) const { return rt_->st.triggers[t].num > 0; }
 bool Engine::field_on(graph::FieldId f) const { return rt_->st.field_on[f] != 0; }
