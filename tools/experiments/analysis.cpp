@@ -50,7 +50,7 @@ int32_t body_named(const graph::Graph& g, const std::string& path) {
 
 int32_t field_at(const graph::Graph& g, const Vec3& p) {
     for (size_t i = 0; i < g.fields.size(); ++i)
-        if (g.fields[graph::FieldId(i)].body < 0 && g.fields[graph::FieldId(i)].enabled && inside(g.fields[graph::FieldId(i)], p)) return int32_t(i);
+        if (!g.fields[graph::FieldId(i)].body.valid() && g.fields[graph::FieldId(i)].enabled && inside(g.fields[graph::FieldId(i)], p)) return int32_t(i);
     return -1;
 }
 
@@ -85,7 +85,7 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
         double k = 0;
         for (size_t i = 0; i < g.fields.size(); ++i) {
             const graph::Field& fd = g.fields[graph::FieldId(i)];
-            if (fd.body >= 0 || !fd.enabled || !inside(fd, p)) continue;
+            if (fd.body.valid() || !fd.enabled || !inside(fd, p)) continue;
             k += fd.gain;
             if (b.field < 0) {  // the main body's field, else the bottom body's
                 b.field = int32_t(i);
@@ -118,8 +118,8 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
                 const double c_j = dot(u, rotate(body->pose.q, e));
                 own += body->inertia[size_t(j)] * c_j * c_j;
             }
-        } else if (body->shape_num == 1 && g.shapes[graph::Id<graph::Shape>(body->shape_adr)].kind == graph::ShapeKind::Sphere) {
-            const double r = g.shapes[graph::Id<graph::Shape>(body->shape_adr)].size[0];
+        } else if (body->shape_num == 1 && g.shapes[body->shape_adr.first()].kind == graph::ShapeKind::Sphere) {
+            const double r = g.shapes[body->shape_adr.first()].size[0];
             own = 0.4 * body->mass * r * r;  // Bullet's solid sphere
         } else {
             error = "the bottle's body '" + g.comp_path(body->comp) +
@@ -136,7 +136,7 @@ bool find_bottle(const graph::Graph& g, std::string_view name, Bottle& out, std:
 
 bool in_some_field(const graph::Graph& g, const Vec3& p) {
     for (const graph::Field& f : g.fields)
-        if (f.body < 0 && inside(f, p)) return true;
+        if (!f.body.valid() && inside(f, p)) return true;
     return false;
 }
 
@@ -359,7 +359,7 @@ std::vector<double> track_gap(const std::vector<double>& ax, const std::vector<d
 std::vector<Straight> straights(const graph::Graph& g) {
     std::vector<Straight> out;
     for (const graph::Field& f : g.fields) {
-        if (f.body >= 0 || !f.enabled || f.dir[0] < 0.999 || f.extent[0] < 2 * f.extent[1]) continue;
+        if (f.body.valid() || !f.enabled || f.dir[0] < 0.999 || f.extent[0] < 2 * f.extent[1]) continue;
         const std::string path = g.comp_path(f.comp);
         Straight s;
         s.name = path.substr(0, path.find('.'));
