@@ -493,7 +493,7 @@ bool check_graph(const Scene& s, const plant::graph::Graph& g, std::vector<int32
     }
     ok &= int(bottles.size()) == s.n && statics == s.rows() * s.segments() && int(g.fields.size()) == s.rows();
     for (const auto& f : g.fields)
-        ok &= f.body < 0 && near(f.gain, s.gain) && near(f.speed, s.speed) && near(f.extent[2], s.field_height) &&
+        ok &= !f.body.valid() && near(f.gain, s.gain) && near(f.speed, s.speed) && near(f.extent[2], s.field_height) &&
               near(f.pose.p[2], s.field_height / 2);
     ok &= near(g.settings.rate, s.rate) && g.settings.gravity[2] == -9.81;
     if (!ok) std::fprintf(stderr, "warning: the compiled graph differs from the raw scene's numbers\n");
