@@ -19,8 +19,8 @@ Graph plant_graph() {
     return g;
 }
 
-std::vector<double> values_of(const Graph& g, int32_t slot) {
-    const Slot& s = g.slots[SlotId(slot)];
+std::vector<double> values_of(const Graph& g, SlotId slot) {
+    const Slot& s = g.slots[slot];
     std::vector<double> out;
     for (int i = 0; i < slot_width(s.type); ++i) out.push_back(g.values[s.value_adr + i].v);
     return out;
@@ -37,9 +37,9 @@ TEST_CASE("add_comp: the kind's fixed slots, in declaration order, contiguous") 
     const Comp& rec = g[c];
     CHECK(g.str(rec.name) == "t");
     CHECK(rec.kind == CompKind::Timer);
-    CHECK(rec.owner == 0);
+    CHECK(rec.owner == DoId(0));
     CHECK(!rec.detail.valid());
-    CHECK(rec.slot_adr == 0);
+    CHECK(rec.slot_adr == Adr<Slot>(0));
     REQUIRE(rec.slot_num == int32_t(fixed_slots(CompKind::Timer).size()));
     for (int32_t i = 0; i < rec.slot_num; ++i) {
         const Slot& s = g.slots[SlotId(rec.slot_adr + i)];
@@ -82,22 +82,22 @@ TEST_CASE("add_do, add_comp: a DO's components are its range, ordinals count per
     Graph g = plant_graph();
     g.do_types.push_back({g.intern("Box"), 0, {}});
     const DoId a = add_do(g, "a", DoId(0), DoTypeId(0), {});
-    const int32_t c1 = add_comp(g, a, CompKind::Timer, "t1");
-    const int32_t c2 = add_comp(g, a, CompKind::Label, "l");
+    const CompId c1 = add_comp(g, a, CompKind::Timer, "t1");
+    const CompId c2 = add_comp(g, a, CompKind::Label, "l");
     const DoId empty = add_do(g, "e", DoId(0), DoTypeId(0), {});
     const DoId b = add_do(g, "b", DoId(0), DoTypeId{}, {});
     add_comp(g, b, CompKind::Exit, "x");
-    CHECK(g.dos[DoId(a)].comp_adr == c1);
+    CHECK(g.dos[DoId(a)].comp_adr.first() == c1);
     CHECK(g.dos[DoId(a)].comp_num == 2);
-    CHECK(c2 == c1 + 1);
+    CHECK(c2 == CompId(c1.v + 1));
     CHECK(g.dos[DoId(empty)].comp_num == 0);
-    CHECK(g.dos[DoId(b)].comp_adr == c2 + 1);
+    CHECK(g.dos[DoId(b)].comp_adr.first() == CompId(c2.v + 1));
     CHECK(g.dos[DoId(b)].comp_num == 1);
     CHECK(g.dos[DoId(a)].ordinal == 0);
     CHECK(g.dos[DoId(empty)].ordinal == 1);
     CHECK(g.do_types[DoTypeId(0)].instance_num == 2);
     CHECK(g.dos[DoId(b)].ordinal == 0);
-    CHECK(g.dos[DoId(a)].pool == -1);
+    CHECK(g.dos[DoId(a)].pool == CompId{});
 }
 
 TEST_CASE("a graph built through the API keeps the loader's promises") {
@@ -114,7 +114,7 @@ TEST_CASE("a graph built through the API keeps the loader's promises") {
     CHECK(g.flows[FlowId(f)].from == tick);
     CHECK(g.flows[FlowId(f)].to == stop);
     CHECK(g.flows[FlowId(f)].once);
-    CHECK(g.flows[FlowId(f)].from_access == -1);
+    CHECK(g.flows[FlowId(f)].from_access == AccessId{});
     GraphProblem problem;
     CHECK_MESSAGE(validate(g, problem), problem.table << " " << problem.row << ": " << problem.message);
 }

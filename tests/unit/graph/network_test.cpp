@@ -17,11 +17,11 @@ using namespace plant::graph;
 
 namespace {
 
-int32_t slot_at_path(const Graph& g, const std::string& path) {
+SlotId slot_at_path(const Graph& g, const std::string& path) {
     for (SlotId s : ids_of(g.slots))
-        if (g.slot_path(s) == path) return s.v;
+        if (g.slot_path(s) == path) return s;
     FAIL("no slot " << path);
-    return -1;
+    return {};
 }
 
 std::vector<std::string> paths(const Graph& g, const std::vector<SlotId>& slots) {
@@ -37,14 +37,14 @@ TEST_CASE("network: a dynamic end is every access target, a dynamic source also 
     plant::test::compile_repo_file("tests/golden/lower/dynamic_access.plant", c);
     REQUIRE(c.ok());
     const Graph& g = c.graph;
-    const int32_t object = slot_at_path(g, "seen.object");
+    const SlotId object = slot_at_path(g, "seen.object");
     std::vector<SlotId> read, written;
     for (const Flow& f : g.flows) {
-        if (f.from_access >= 0) {
+        if (f.from_access.valid()) {
             CHECK(f.from == object);  // the contract: from holds the reference slot
             each_read_slot(g, f, [&](SlotId s) { read.push_back(s); });
         }
-        if (f.to_access >= 0) {
+        if (f.to_access.valid()) {
             CHECK(f.to == object);
             each_written_slot(g, f, [&](SlotId s) { written.push_back(s); });
         }
@@ -70,7 +70,7 @@ plant P {
     REQUIRE(c.ok());
     const Network n = analyse_network(c.graph);
     REQUIRE(n.delayed.size() == 1);
-    CHECK(n.delayed[0] == 0);
+    CHECK(n.delayed[0] == FlowId(0));
     CHECK(n.order.size() + n.delayed.size() == c.graph.flows.size() + c.graph.labels.size());
     CHECK(std::none_of(n.order.begin(), n.order.end(),
                        [](const Node& x) { return x.kind == NodeKind::Flow && x.index == 0; }));
@@ -101,32 +101,32 @@ Network network_by_slots(const Graph& g) {
         if (g.comps[CompId(c)].kind == CompKind::Router) nodes.push_back({NodeKind::Router, int32_t(c)});
     for (size_t l = 0; l < g.labels.size(); ++l) nodes.push_back({NodeKind::Label, int32_t(l)});
     const size_t nn = nodes.size();
-    std::vector<std::vector<int32_t>> makes(g.slots.size()), reads(g.slots.size()), target_reads(g.slots.size());
+    IdVector<SlotId, std::vector<int32_t>> makes(g.slots.count()), reads(g.slots.count()), target_reads(g.slots.count());
     for (size_t n = 0; n < nn; ++n) {
         const Node& node = nodes[n];
         if (node.kind == NodeKind::Flow) {
-            const Flow& f = g.flows[FlowId(node.index)];
-            each_written_slot(g, f, [&](int32_t x) {
-                makes[size_t(x)].push_back(int32_t(n));
-                if (f.cond != Cond::Source) target_reads[size_t(x)].push_back(int32_t(n));
+            const Flow& f = g.flows[node.flow()];
+            each_written_slot(g, f, [&](SlotId x) {
+                makes[x].push_back(int32_t(n));
+                if (f.cond != Cond::Source) target_reads[x].push_back(int32_t(n));
             });
-            each_read_slot(g, f, [&](int32_t x) { reads[size_t(x)].push_back(int32_t(n)); });
+            each_read_slot(g, f, [&](SlotId x) { reads[x].push_back(int32_t(n)); });
         } else if (node.kind == NodeKind::Logic) {
-            const Logic& l = g.logics[LogicId(node.index)];
-            for (int32_t i = 0; i < l.in_num; ++i) reads[size_t(g.logic_inputs[Id<LogicIn>(l.in_adr + i)].slot)].push_back(int32_t(n));
-            makes[size_t(l.out_slot)].push_back(int32_t(n));
+            const Logic& l = g.logics[node.logic()];
+            for (Id<LogicIn> i : children(l.in_adr, l.in_num)) reads[g.logic_inputs[i].slot].push_back(int32_t(n));
+            makes[l.out_slot].push_back(int32_t(n));
         } else if (node.kind == NodeKind::Router) {
-            reads[size_t(g.comps[CompId(node.index)].slot_adr + routerslot::query)].push_back(int32_t(n));
+            reads[g.comps[node.router()].slot_adr + routerslot::query].push_back(int32_t(n));
             for (const Route& r : g.routes)
-                if (r.comp == node.index) makes[size_t(r.out_slot)].push_back(int32_t(n));
+                if (r.comp == node.router()) makes[r.out_slot].push_back(int32_t(n));
         } else {
-            const Comp& c = g.comps[CompId(g.labels[Id<Label>(node.index)].comp)];
-            reads[size_t(c.slot_adr + labelslot::set)].push_back(int32_t(n));
-            makes[size_t(c.slot_adr + labelslot::value)].push_back(int32_t(n));
+            const Comp& c = g.comps[g.labels[node.label()].comp];
+            reads[c.slot_adr + labelslot::set].push_back(int32_t(n));
+            makes[c.slot_adr + labelslot::value].push_back(int32_t(n));
         }
     }
     std::vector<std::vector<int32_t>> pred(nn);
-    for (size_t x = 0; x < g.slots.size(); ++x) {
+    for (SlotId x : ids_of(g.slots)) {
         for (int32_t p : makes[x])
             for (int32_t r : reads[x])
                 if (p != r) pred[size_t(r)].push_back(p);

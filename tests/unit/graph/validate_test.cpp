@@ -88,25 +88,25 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t box = first(g.shapes, [](const Shape& s) { return s.kind == ShapeKind::Box; });
     const int32_t hull = first(g.shapes, [](const Shape& s) { return s.kind == ShapeKind::Hull; });
     const int32_t periodic = first(g.timers, [](const Timer& t) { return t.periodic; });
-    const int32_t typed_do = first(g.dos, [](const Do& d) { return d.type >= 0; });
-    const int32_t place = first(g.places, [](const Place& p) { return p.tokens_slot >= 0 && p.put_slot >= 0; });
-    const int32_t child = first(g.graphics, [](const Graphics& x) { return x.parent >= 0; });
+    const int32_t typed_do = first(g.dos, [](const Do& d) { return d.type.valid(); });
+    const int32_t place = first(g.places, [](const Place& p) { return p.tokens_slot.valid() && p.put_slot.valid(); });
+    const int32_t child = first(g.graphics, [](const Graphics& x) { return x.parent.valid(); });
     const int32_t multi = first(g.animations, [](const Animation& a) { return a.key_num >= 2; });
     const int32_t event = first(g.flows, [&](const Flow& f) {
-        return f.from_access < 0 && f.to_access < 0 && g.slots[SlotId(f.from)].type == SlotType::Void;
+        return !f.from_access.valid() && !f.to_access.valid() && g.slots[f.from].type == SlotType::Void;
     });
     const int32_t vec_in = first(g.slots, [](const Slot& s) { return s.type == SlotType::Vec3 && s.dir == Dir::In; });
     const int32_t pose_slot = first(g.slots, [](const Slot& s) { return s.type == SlotType::Pose; });
     const int32_t void_out = first(g.slots, [](const Slot& s) { return s.type == SlotType::Void && s.dir == Dir::Out; });
-    const int32_t body_comp = g.bodies[BodyId(0)].comp;
+    const int32_t body_comp = g.bodies[BodyId(0)].comp.v;
     const int32_t inertial = first(g.bodies, [](const Body& b) { return b.inertia_set; });
-    const int32_t dyn_from = first(g.flows, [](const Flow& f) { return f.from_access >= 0; });
-    const int32_t dyn_to = first(g.flows, [](const Flow& f) { return f.to_access >= 0; });
+    const int32_t dyn_from = first(g.flows, [](const Flow& f) { return f.from_access.valid(); });
+    const int32_t dyn_to = first(g.flows, [](const Flow& f) { return f.to_access.valid(); });
     // A dynamic end holds its access's reference slot; any other slot is refused.
-    const std::string ref_from = std::to_string(g.accesses[AccessId(g.flows[FlowId(dyn_from)].from_access)].ref_slot);
-    const std::string ref_to = std::to_string(g.accesses[AccessId(g.flows[FlowId(dyn_to)].to_access)].ref_slot);
+    const std::string ref_from = std::to_string(g.accesses[g.flows[FlowId(dyn_from)].from_access].ref_slot.v);
+    const std::string ref_to = std::to_string(g.accesses[g.flows[FlowId(dyn_to)].to_access].ref_slot.v);
     const Access& a0 = g.accesses[AccessId(0)];
-    const std::string n = std::to_string(g.do_types[DoTypeId(a0.do_type)].instance_num - 1);
+    const std::string n = std::to_string(g.do_types[a0.do_type].instance_num - 1);
     // A pose slot's values starting 6 before the end of the table: one short.
     const std::string pose_adr = std::to_string(g.values.size() - 6);
     const std::string values_num = std::to_string(g.values.size());
@@ -133,7 +133,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"place", place, "initial", "1000001", "field 'initial' must lie in [0, 1000000]"},
         {"arc", 0, "weight", "2000000000", "field 'weight' must lie in [1, 1000000]"},
         {"body", 0, "friction", "-1", "friction and restitution must be 0 or more"},
-        {"body", 0, "comp", std::to_string(g.bodies[BodyId(1)].comp), "that component is a body whose detail is 1, not this body"},
+        {"body", 0, "comp", std::to_string(g.bodies[BodyId(1)].comp.v), "that component is a body whose detail is 1, not this body"},
         {"shape", box, "size", "(0 1 1)", "field 'size' must be above 0 where the shape uses it"},
         {"shape", hull, "point_num", "0", "a hull needs points"},
         {"shape", hull, "point_num", "1", "a hull encloses no volume: all its points coincide"},
@@ -152,8 +152,8 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"field", 0, "speed", "-2e5", "field 'speed' is -200000 m/s, beyond 100 km/s"},
         {"field", 0, "gain", "1e300", "field 'gain' is 1e+300 kg/s, above 1e12 kg/s"},
         {"settings", 0, "gravity", "(0 0 -1e4)", "settings: gravity is beyond 1 km/s² along an axis"},
-        {"joint", 0, "body_b", std::to_string(g.joints[JointId(0)].body_a), "a joint joins two different bodies"},
-        {"place", place, "tokens_slot", std::to_string(g.places[PlaceId(place)].put_slot), "expected int out"},
+        {"joint", 0, "body_b", std::to_string(g.joints[JointId(0)].body_a.v), "a joint joins two different bodies"},
+        {"place", place, "tokens_slot", std::to_string(g.places[PlaceId(place)].put_slot.v), "expected int out"},
         {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
         {"transition", 0, "in_adr", "100000", "fields 'in_adr' + num"},
         {"trigger", 0, "filter", "999", "field 'filter' = 999 is not -1 or a row of do_types"},
@@ -165,7 +165,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"graphics", child, "parent", std::to_string(child), "field 'parent' must name an earlier graphics"},
         {"graphics", 0, "variant", "99", "field 'variant' = 99 is not -1 or the index of one of its"},
         {"animation", 0, "play_slot", std::to_string(pose_slot), "expected void in"},
-        {"key", g.animations[AnimationId(multi)].key_adr + 1, "t", "-1", "its time is not later than the key before it"},
+        {"key", (g.animations[AnimationId(multi)].key_adr + 1).v, "t", "-1", "its time is not later than the key before it"},
         {"variant", 0, "graphics", "-1", "field 'graphics' = -1 is not a row of graphics"},
         {"label", 0, "comp", std::to_string(body_comp), "that component is a body"},
         {"record", 0, "slot", "-2", "field 'slot' = -2 is not a row of slots"},
@@ -230,7 +230,7 @@ TEST_CASE("validate: a hull whose points lie on a line or in a plane encloses no
     for (const Flat& f : flats) {
         CAPTURE(f.name);
         std::string text = bottling_text();
-        for (int k = 0; k < s.point_num; ++k) damage(text, {"point", s.point_adr + k, "p", f.at(k), ""});
+        for (int k = 0; k < s.point_num; ++k) damage(text, {"point", (s.point_adr + k).v, "p", f.at(k), ""});
         std::istringstream in(text);
         Graph out;
         CHECK_FALSE(read_text(in, out, error));
@@ -304,9 +304,9 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             }
             refused("a hull whose points coincide", [&](Graph& g) {
                 for (int32_t k = 1; k < g.shapes[Id<Shape>(i)].point_num; ++k)
-                    g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr + k)] = g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr)];
+                    g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr + k)] = g.points[g.shapes[Id<Shape>(i)].point_adr.first()];
             });
-            refused("a hull point beyond 100 km", [&](Graph& g) { g.points[Id<Point>(g.shapes[Id<Shape>(i)].point_adr)].p[2] = -1e40; });
+            refused("a hull point beyond 100 km", [&](Graph& g) { g.points[g.shapes[Id<Shape>(i)].point_adr.first()].p[2] = -1e40; });
         }
         for (size_t i : some_rows(good.fields.size())) {
             refused("a field's extent 0", [&](Graph& g) { g.fields[FieldId(i)].extent[1] = 0; });
@@ -347,13 +347,13 @@ TEST_CASE("validate: every golden graph, damaged in each way the compiler guards
             refused("a source's rate below 0", [&](Graph& g) { g.sources[SourceId(i)].rate = -1; });
         for (size_t i : some_rows(good.flows.size())) {
             const Flow& f = good.flows[FlowId(i)];
-            if (f.to_access >= 0) continue;
+            if (f.to_access.valid()) continue;
             // Into an output: the flow's own source will do, when the source is static.
-            if (f.from_access < 0) refused("a flow into an output", [&](Graph& g) { g.flows[FlowId(i)].to = g.flows[FlowId(i)].from; });
+            if (!f.from_access.valid()) refused("a flow into an output", [&](Graph& g) { g.flows[FlowId(i)].to = g.flows[FlowId(i)].from; });
         }
-        for (size_t i = 0; i < good.slots.size(); ++i)
-            if (good.slots[SlotId(i)].value_adr >= 0) {
-                refused("a slot's values beyond the table", [&](Graph& g) { g.slots[SlotId(i)].value_adr = next_adr(g.values); });
+        for (SlotId i : ids_of(good.slots))
+            if (good.slots[i].value_adr.valid()) {
+                refused("a slot's values beyond the table", [&](Graph& g) { g.slots[i].value_adr = next_adr(g.values); });
                 break;
             }
     }
