@@ -48,9 +48,9 @@ inline void bottling_line(SceneBuilder& b, const std::string& prefix, double y0,
     (void)src;
 
     // An ID reader: the sensor's object's code goes to the router.
-    const int32_t reader = b.g.triggers[graph::TriggerId(b.trigger(line, "reader", {0.02, 0.1, 0.1}, at(1, 0, 0.05), bottle))].comp;
+    const int32_t reader = b.g.triggers[graph::TriggerId(b.trigger(line, "reader", {0.02, 0.1, 0.1}, at(1, 0, 0.05), bottle))].comp.v;
     std::vector<int32_t> codes;
-    for (size_t l = 0; l < b.g.labels.size(); ++l) codes.push_back(b.S(b.g.labels[graph::Id<graph::Label>(l)].comp, "value"));
+    for (auto l : graph::ids_of(b.g.labels)) codes.push_back(b.S(b.g.labels[l].comp.v, "value"));
     const int32_t acc = b.access(b.S(reader, "object"), bottle, codes);
     const int32_t router = b.router(line, "router", {"F-*", "C-*", "*"});
     b.flow(b.S(reader, "object"), b.S(router, "query"), Cond::Source, false, acc, -1);
@@ -59,11 +59,11 @@ inline void bottling_line(SceneBuilder& b, const std::string& prefix, double y0,
     const int32_t p = b.net(line, "state", {{"filling", 0}, {"capping", 0}, {"other", 0}, {"gate", 1}, {"open", 0}},
                             {{"pass", {{3, 1}}, {{4, 1}}}, {"close", {{4, 1}}, {{3, 1}}}});
     for (int i = 0; i < 3; ++i) b.flow(b.S(router, "r" + std::to_string(i)), b.put(p + i));
-    const int32_t clock = b.g.timers[graph::Id<graph::Timer>(b.timer(line, "clock", 0.4, true, true))].comp;
+    const int32_t clock = b.g.timers[graph::Id<graph::Timer>(b.timer(line, "clock", 0.4, true, true))].comp.v;
     const int32_t l = b.logic(line, "go", LogicOp::And, {false, true});
-    b.flow(b.S(clock, "tick"), b.g.logic_inputs[graph::Id<graph::LogicIn>(b.g.logics[graph::LogicId(l)].in_adr)].slot);
-    b.flow(b.S(reader, "on_stay"), b.g.logic_inputs[graph::Id<graph::LogicIn>(size_t(b.g.logics[graph::LogicId(l)].in_adr) + 1)].slot);
-    b.flow(b.g.logics[graph::LogicId(l)].out_slot, b.put(p + 3), Cond::Source, true);
+    b.flow(b.S(clock, "tick"), b.g.logic_inputs[b.g.logics[graph::LogicId(l)].in_adr.first()].slot.v);
+    b.flow(b.S(reader, "on_stay"), b.g.logic_inputs[b.g.logics[graph::LogicId(l)].in_adr + 1].slot.v);
+    b.flow(b.g.logics[graph::LogicId(l)].out_slot.v, b.put(p + 3), Cond::Source, true);
 
     const int32_t end = b.trigger(line, "end", {0.1, 0.2, 0.2}, at(3.2, 0, 0.05), bottle);
     b.exit(line, "exit", end);

@@ -18,9 +18,9 @@ struct CondScene {
     SceneBuilder b;
     int32_t t1, t3, f2;
     explicit CondScene(Cond cond) {
-        t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp;
-        t3 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t3", {1, 1, 1}, at(0, 0, 50)))].comp;
-        f2 = b.g.fields[plant::graph::FieldId(b.field(0, "f2", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1))].comp;
+        t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp.v;
+        t3 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t3", {1, 1, 1}, at(0, 0, 50)))].comp.v;
+        f2 = b.g.fields[plant::graph::FieldId(b.field(0, "f2", {1, 1, 1}, at(0, 0, 50), {1, 0, 0}, 0, 1))].comp.v;
         b.g.values[b.g.slots[plant::graph::SlotId(b.S(t1, "count"))].value_adr.first()].v = 1;  // what each copies,
         b.g.values[b.g.slots[plant::graph::SlotId(b.S(t3, "count"))].value_adr.first()].v = 3;  // active or not
         b.flow(b.S(t1, "count"), b.S(f2, "set_speed"), cond);  // under test (flow 0)
@@ -60,7 +60,7 @@ TEST_CASE("runtime: execution conditions over source and target activity") {
 TEST_CASE("runtime: a continuous flow runs every step, a singular one once until re-armed") {
     for (bool once : {false, true}) {
         SceneBuilder b;
-        int32_t trig = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t", {1, 1, 1}, at(0, 0, 50)))].comp;
+        int32_t trig = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t", {1, 1, 1}, at(0, 0, 50)))].comp.v;
         int32_t p = b.net(0, "net", {{"p", 0}}, {});
         b.flow(b.S(trig, "on_enter"), b.put(p), Cond::Source, once);
         Engine e(b.g);
@@ -81,11 +81,11 @@ TEST_CASE("runtime: connector truth tables with negation") {
                 const bool na = neg & 1, nb = neg & 2, a = in & 1, c = in & 2;
                 int32_t l = b.logic(0, "l", op, {na, nb});
                 int32_t p = b.net(0, "net", {{"p", 0}}, {});
-                b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot, b.put(p));
+                b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot.v, b.put(p));
                 Engine e(b.g);
                 const auto& ins = b.g.logic_inputs;
-                if (a) e.input(ins[plant::graph::Id<plant::graph::LogicIn>(b.g.logics[plant::graph::LogicId(l)].in_adr)].slot);
-                if (c) e.input(ins[plant::graph::Id<plant::graph::LogicIn>(size_t(b.g.logics[plant::graph::LogicId(l)].in_adr) + 1)].slot);
+                if (a) e.input(ins[b.g.logics[plant::graph::LogicId(l)].in_adr.first()].slot);
+                if (c) e.input(ins[b.g.logics[plant::graph::LogicId(l)].in_adr + 1].slot);
                 e.step();
                 const bool x = a != na, y = c != nb;
                 const bool want = op == LogicOp::And ? (x && y) : (x || y);
@@ -99,14 +99,14 @@ TEST_CASE("runtime: connector truth tables with negation") {
 
 TEST_CASE("runtime: flows into a connector run before it, flows from it after it, in one step") {
     SceneBuilder b;
-    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp;
+    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp.v;
     int32_t l2 = b.logic(0, "second", LogicOp::Or, {false});
     int32_t l1 = b.logic(0, "first", LogicOp::Or, {false});
     int32_t p = b.net(0, "net", {{"p", 0}}, {});
     // Declared against the natural order on purpose.
-    b.flow(b.g.logics[plant::graph::LogicId(l2)].out_slot, b.put(p));
-    b.flow(b.g.logics[plant::graph::LogicId(l1)].out_slot, b.g.logic_inputs[plant::graph::Id<plant::graph::LogicIn>(b.g.logics[plant::graph::LogicId(l2)].in_adr)].slot);
-    b.flow(b.S(t1, "on_enter"), b.g.logic_inputs[plant::graph::Id<plant::graph::LogicIn>(b.g.logics[plant::graph::LogicId(l1)].in_adr)].slot);
+    b.flow(b.g.logics[plant::graph::LogicId(l2)].out_slot.v, b.put(p));
+    b.flow(b.g.logics[plant::graph::LogicId(l1)].out_slot.v, b.g.logic_inputs[b.g.logics[plant::graph::LogicId(l2)].in_adr.first()].slot.v);
+    b.flow(b.S(t1, "on_enter"), b.g.logic_inputs[b.g.logics[plant::graph::LogicId(l1)].in_adr.first()].slot.v);
     Engine e(b.g);
     e.input(plant::graph::SlotId(b.S(t1, "on_enter")));
     e.step();
@@ -115,15 +115,15 @@ TEST_CASE("runtime: flows into a connector run before it, flows from it after it
 
 TEST_CASE("runtime: a cycle of flows and connectors is broken with one step delay") {
     SceneBuilder b;
-    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp;
+    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp.v;
     // A latch: out = start OR out (through a flow back into its own input).
     int32_t l = b.logic(0, "latch", LogicOp::Or, {false, false});
     int32_t p = b.net(0, "net", {{"p", 0}}, {});
-    const int32_t in0 = b.g.logic_inputs[plant::graph::Id<plant::graph::LogicIn>(b.g.logics[plant::graph::LogicId(l)].in_adr)].slot;
-    const int32_t in1 = b.g.logic_inputs[plant::graph::Id<plant::graph::LogicIn>(size_t(b.g.logics[plant::graph::LogicId(l)].in_adr) + 1)].slot;
+    const int32_t in0 = b.g.logic_inputs[b.g.logics[plant::graph::LogicId(l)].in_adr.first()].slot.v;
+    const int32_t in1 = b.g.logic_inputs[b.g.logics[plant::graph::LogicId(l)].in_adr + 1].slot.v;
     b.flow(b.S(t1, "on_enter"), in0);
-    b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot, in1);  // the back edge
-    b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot, b.put(p));
+    b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot.v, in1);  // the back edge
+    b.flow(b.g.logics[plant::graph::LogicId(l)].out_slot.v, b.put(p));
     Engine e(b.g);
     e.input(plant::graph::SlotId(b.S(t1, "on_enter")));
     for (int i = 0; i < 5; ++i) e.step();
@@ -153,8 +153,8 @@ TEST_CASE("runtime: router activates the first route whose glob matches") {
 
 TEST_CASE("runtime: label set passes its text on within the step") {
     SceneBuilder b;
-    int32_t src = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(0, "a", "hello"))].comp;
-    int32_t dst = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(0, "b", ""))].comp;
+    int32_t src = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(0, "a", "hello"))].comp.v;
+    int32_t dst = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(0, "b", ""))].comp.v;
     b.flow(b.S(src, "value"), b.S(dst, "set"));
     Engine e(b.g);
     e.step();  // the initial publication of "hello"
@@ -167,14 +167,14 @@ TEST_CASE("runtime: dynamic access flows address the slot of the object held in 
     int32_t bottle = b.type("Bottle");
     int32_t other = b.type("Other");
     int32_t d0 = b.dobj("b0", 0, bottle);
-    int32_t l0 = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(d0, "code", "A"))].comp;
+    int32_t l0 = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(d0, "code", "A"))].comp.v;
     int32_t d1 = b.dobj("b1", 0, bottle);
-    int32_t l1 = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(d1, "code", "B"))].comp;
+    int32_t l1 = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(d1, "code", "B"))].comp.v;
     int32_t dx = b.dobj("x", 0, other);
     int32_t station = b.dobj("station");
-    int32_t trig = b.g.triggers[plant::graph::TriggerId(b.trigger(station, "seen", {1, 1, 1}, at(0, 0, 50)))].comp;
-    int32_t text = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(station, "text", "FILLED"))].comp;
-    int32_t sink = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(station, "sink", ""))].comp;
+    int32_t trig = b.g.triggers[plant::graph::TriggerId(b.trigger(station, "seen", {1, 1, 1}, at(0, 0, 50)))].comp.v;
+    int32_t text = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(station, "text", "FILLED"))].comp.v;
+    int32_t sink = b.g.labels[plant::graph::Id<plant::graph::Label>(b.label(station, "sink", ""))].comp.v;
     const int32_t obj = b.S(trig, "object");
     int32_t to_set = b.access(obj, bottle, {b.S(l0, "set"), b.S(l1, "set")});
     int32_t from_value = b.access(obj, bottle, {b.S(l0, "value"), b.S(l1, "value")});

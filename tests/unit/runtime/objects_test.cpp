@@ -17,13 +17,13 @@ TEST_CASE("runtime: a gripper carries a body kinematically and releases it with 
     int32_t arm = b.dobj("arm");
     int32_t hand = b.body(arm, "hand", BodyMode::Kinematic, {box({0.1, 0.1, 0.02})}, 0, at(0, 0, 0.1));
     int32_t t = b.trigger(arm, "reach", {0.1, 0.1, 0.2}, at(0, 0, 0.05), -1, hand);
-    const int32_t gc = b.g.comps[plant::graph::CompId(b.g.grippers[plant::graph::GripperId(b.gripper(arm, "grip", t, hand))].comp)].slot_adr;
-    const int32_t gcomp = b.g.grippers.back().comp;
+    const auto gc = b.g.comps[plant::graph::CompId(b.g.grippers[plant::graph::GripperId(b.gripper(arm, "grip", t, hand))].comp)].slot_adr;
+    const int32_t gcomp = b.g.grippers.back().comp.v;
     Engine e(b.g);
     for (int i = 0; i < 10; ++i) e.step();
     e.input(plant::graph::SlotId(b.S(gcomp, "grip")));
     e.step();
-    CHECK(e.value(plant::graph::SlotId(b.S(gcomp, "object")))[0] == b.g.comps[plant::graph::CompId(b.body_comp(part))].owner);
+    CHECK(e.value(plant::graph::SlotId(b.S(gcomp, "object")))[0] == b.g.comps[plant::graph::CompId(b.body_comp(part))].owner.v);
     const double dz = e.body_pose(plant::graph::BodyId(hand)).p[2] - e.body_pose(plant::graph::BodyId(part)).p[2];
     const std::array<double, 3> up{0, 0, 0.5};
     e.input(plant::graph::SlotId(b.S(b.body_comp(hand), "set_velocity")), up);
@@ -57,10 +57,10 @@ TEST_CASE("runtime: sources issue pooled objects with bar codes, exits return th
     }
     int32_t plant_do = b.dobj("line");
     int32_t src = b.source(plant_do, "src", bottle, pool, 2, 0, at(0, 0, 0), {"F-1", "C-2", "F-3"});
-    const int32_t sc = b.g.sources[plant::graph::SourceId(src)].comp;
+    const int32_t sc = b.g.sources[plant::graph::SourceId(src)].comp.v;
     b.field(plant_do, "belt", {10, 1, 1}, at(0, 0, 0), {1, 0, 0}, 2.0, 10);
     int32_t t = b.trigger(plant_do, "end", {0.2, 1, 1}, at(1, 0, 0), bottle);
-    const int32_t ec = b.g.exits[plant::graph::ExitId(b.exit(plant_do, "out", t))].comp;
+    const int32_t ec = b.g.exits[plant::graph::ExitId(b.exit(plant_do, "out", t))].comp.v;
     Engine e(b.g);
     CHECK_FALSE(e.body_in_world(plant::graph::BodyId(bodies[0])));  // pooled objects start outside the world
     e.step();
@@ -81,7 +81,7 @@ TEST_CASE("runtime: sources issue pooled objects with bar codes, exits return th
     CHECK(e.warnings().pool_empty == 1);
     CHECK(e.value(plant::graph::SlotId(b.S(sc, "count")))[0] == 2);
     // The label of the second bottle carries its bar code.
-    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.labels[plant::graph::Id<plant::graph::Label>(1)].comp, "value")))[0])) == "C-2");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.labels[plant::graph::Id<plant::graph::Label>(1)].comp.v, "value")))[0])) == "C-2");
 
     int taken = 0;
     for (int i = 0; i < 150; ++i) {
@@ -110,9 +110,9 @@ TEST_CASE("runtime: a source with a rate issues on its own") {
     Engine e(b.g);
     // 2 per second: in the steps at or just past 0 s, 0.5 s and 1 s (the 150th step).
     for (int i = 0; i < 149; ++i) e.step();
-    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp, "count")))[0] == 2);
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp.v, "count")))[0] == 2);
     e.step();
-    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp, "count")))[0] == 3);
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp.v, "count")))[0] == 3);
     // Without bar codes, an object's id is its path.
-    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp, "id")))[0])) == "p2");
+    CHECK(e.str(int32_t(e.value(plant::graph::SlotId(b.S(b.g.sources[plant::graph::SourceId(src)].comp.v, "id")))[0])) == "p2");
 }

@@ -68,8 +68,8 @@ TEST_CASE("runtime: tokens put by flows are added before firing, entered is seen
 
 TEST_CASE("runtime: two puts in one step add one token, a transition without inputs fires every step") {
     SceneBuilder b;
-    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp;
-    int32_t t2 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t2", {1, 1, 1}, at(0, 0, 50)))].comp;
+    int32_t t1 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t1", {1, 1, 1}, at(0, 0, 50)))].comp.v;
+    int32_t t2 = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t2", {1, 1, 1}, at(0, 0, 50)))].comp.v;
     int32_t p = b.net(0, "net", {{"a", 0}, {"gen", 0}}, {{"src", {}, {{1, 1}}}});
     b.flow(b.S(t1, "on_enter"), b.put(p));
     b.flow(b.S(t2, "on_enter"), b.put(p));

@@ -123,7 +123,7 @@ TEST_CASE("runtime: a bottom body without collisions rides welded to its main bo
     CHECK(e.body_velocity(plant::graph::BodyId(foot))[0] == doctest::Approx(1.0).epsilon(0.01));
     // The bottle's mass is both bodies': the belt pulls it to speed with M/(2k), not m/k.
     CHECK(phys.rb(plant::graph::BodyId(main)).getMass() == doctest::Approx(0.040));
-    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "disable")));
+    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp.v, "disable")));
     for (int i = 0; i < 60; ++i) e.step();
     CHECK_FALSE(phys.welded(plant::graph::BodyId(foot)));
     CHECK(phys.world().getNumCollisionObjects() == 3);
@@ -157,11 +157,11 @@ TEST_CASE("runtime: a fixed constraint holds a heavy body under gravity, and let
     Engine e(b.g);
     for (int i = 0; i < 300; ++i) e.step();
     CHECK(std::abs(e.body_com(plant::graph::BodyId(load))[2] - 0.8) < 0.005);
-    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "disable")));
+    e.input(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp.v, "disable")));
     for (int i = 0; i < 90; ++i) e.step();
     CHECK(e.body_com(plant::graph::BodyId(load))[2] < 0.0);  // free fall: 0.8 m in 0.4 s
-    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "enabled"))));
-    CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp, "enabled")))[0] == 0);
+    CHECK_FALSE(e.active(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp.v, "enabled"))));
+    CHECK(e.value(plant::graph::SlotId(b.S(b.g.joints[plant::graph::JointId(j)].comp.v, "enabled")))[0] == 0);
 }
 
 TEST_CASE("runtime: dynamics_off takes a body out of the simulation, set_velocity then moves it") {

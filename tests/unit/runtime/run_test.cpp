@@ -249,10 +249,10 @@ TEST_CASE("runtime: run_main runs, traces and summarises") {
 TEST_CASE("runtime: records choose the trace columns, --trace-places selects a default group") {
     SceneBuilder b;
     const int32_t p = b.net(0, "net", {{"p", 2}}, {});
-    const int32_t t = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "clock", 0.1, true, true))].comp;
+    const int32_t t = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "clock", 0.1, true, true))].comp.v;
     b.record(b.S(t, "tick"), "tick");
     b.record(b.S(t, "elapsed"), "");
-    b.record(b.g.places[plant::graph::PlaceId(p)].tokens_slot, "tokens");
+    b.record(b.g.places[plant::graph::PlaceId(p)].tokens_slot.v, "tokens");
     const std::string path = "/tmp/plant_runtime_test_records.csv";
     std::string out, err;
     CHECK(run(b.g, {"--for", "0.2s", "--rate", "10Hz", "--trace", path}, out, err) == 0);

@@ -49,24 +49,24 @@ struct SceneBuilder {
     }
 
     int32_t dobj(std::string_view path, int32_t parent = 0, int32_t type = -1, Pose pose = {}) {
-        return add_do(g, path, DoId(parent), DoTypeId(type), pose);
+        return add_do(g, path, DoId(parent), DoTypeId(type), pose).v;
     }
 
     // A component with its kind's fixed slots (graph/build.h): add a DO's components
     // right after creating it.
     int32_t comp(int32_t owner, CompKind kind, std::string_view n, int32_t detail) {
-        const int32_t id = add_comp(g, DoId(owner), kind, n);
-        g.comps[graph::CompId(id)].detail.v = detail;
-        return id;
+        const CompId id = add_comp(g, DoId(owner), kind, n);
+        g.comps[id].detail.v = detail;
+        return id.v;
     }
 
-    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) { return add_slot(g, CompId(comp), n, t, d); }
+    int32_t slot(int32_t comp, std::string_view n, SlotType t, Dir d) { return add_slot(g, CompId(comp), n, t, d).v; }
 
     // Slot of a component by local name (fixed or dynamic).
     int32_t S(int32_t comp, std::string_view n) const {
         const Comp& c = g.comps[CompId(comp)];
-        for (int32_t i = 0; i < c.slot_num; ++i)
-            if (g.str(g.slots[c.slot_adr + i].name) == n) return c.slot_adr + i;
+        for (SlotId s : children(c.slot_adr, c.slot_num))
+            if (g.str(g.slots[s].name) == n) return s.v;
         return -1;
     }
 
@@ -96,8 +96,8 @@ struct SceneBuilder {
         g.bodies.push_back(b);
         return int32_t(g.bodies.size() - 1);
     }
-    int32_t body_comp(int32_t b) const { return g.bodies[BodyId(b)].comp; }
-    int32_t field_comp(int32_t f) const { return g.fields[FieldId(f)].comp; }
+    int32_t body_comp(int32_t b) const { return g.bodies[BodyId(b)].comp.v; }
+    int32_t field_comp(int32_t f) const { return g.fields[FieldId(f)].comp.v; }
 
     int32_t field(int32_t owner, std::string_view n, Vec3 extent, Pose pose, Vec3 dir, double speed,
                   double gain, int32_t on_body = -1) {
@@ -184,8 +184,8 @@ struct SceneBuilder {
         }
         return first;
     }
-    int32_t put(int32_t place) const { return g.places[PlaceId(place)].put_slot; }
-    int32_t entered(int32_t place) const { return g.places[PlaceId(place)].entered_slot; }
+    int32_t put(int32_t place) const { return g.places[PlaceId(place)].put_slot.v; }
+    int32_t entered(int32_t place) const { return g.places[PlaceId(place)].entered_slot.v; }
 
     int32_t logic(int32_t owner, std::string_view n, LogicOp op, const std::vector<bool>& negated) {
         Logic l{};
@@ -195,7 +195,7 @@ struct SceneBuilder {
         l.in_adr = next_adr(g.logic_inputs);
         l.in_num = int32_t(negated.size());
         for (size_t i = 0; i < negated.size(); ++i)
-            g.logic_inputs.push_back({SlotId(slot(l.comp, "in" + std::to_string(i), SlotType::Void, Dir::In)), negated[i]});
+            g.logic_inputs.push_back({SlotId(slot(l.comp.v, "in" + std::to_string(i), SlotType::Void, Dir::In)), negated[i]});
         g.logics.push_back(l);
         return int32_t(g.logics.size() - 1);
     }
@@ -281,8 +281,8 @@ struct SceneBuilder {
             an.key_adr = next_adr(g.keys);
             an.key_num = int32_t(a.keys.size());
             for (const Key& k : a.keys) g.keys.push_back(k);
-            an.play_slot = SlotId(slot(gr.comp, a.name + ".play", SlotType::Void, Dir::In));
-            an.finished_slot = SlotId(slot(gr.comp, a.name + ".finished", SlotType::Void, Dir::Out));
+            an.play_slot = SlotId(slot(gr.comp.v, a.name + ".play", SlotType::Void, Dir::In));
+            an.finished_slot = SlotId(slot(gr.comp.v, a.name + ".finished", SlotType::Void, Dir::Out));
             g.animations.push_back(an);
         }
         gr.variant_adr = next_adr(g.variants);
@@ -292,7 +292,7 @@ struct SceneBuilder {
             var.graphics = GraphicsId(gi);
             var.name = name(v);
             var.model = name(v + ".glb");
-            var.select_slot = SlotId(slot(gr.comp, v + ".select", SlotType::Void, Dir::In));
+            var.select_slot = SlotId(slot(gr.comp.v, v + ".select", SlotType::Void, Dir::In));
             g.variants.push_back(var);
         }
         g.graphics.push_back(gr);
@@ -312,7 +312,7 @@ struct SceneBuilder {
 
     int32_t flow(int32_t from, int32_t to, Cond cond = Cond::Source, bool once = false, int32_t from_access = -1,
                  int32_t to_access = -1) {
-        return add_flow(g, SlotId(from), SlotId(to), cond, once, AccessId(from_access), AccessId(to_access));
+        return add_flow(g, SlotId(from), SlotId(to), cond, once, AccessId(from_access), AccessId(to_access)).v;
     }
 
     void record(int32_t slot, std::string_view column) { g.records.push_back({SlotId(slot), name(column)}); }

@@ -23,7 +23,7 @@ TEST_CASE("runtime: trigger enter/stay/leave with two objects, and its type filt
     int32_t x = b.dobj("x", 0, crate);
     int32_t bx = b.body(x, "body", BodyMode::Dynamic, {sphere(0.05)}, 0.1, at(-0.7, 0, 0));
     int32_t t = b.trigger(0, "sensor", {0.5, 1, 1}, at(0, 0, 0), bottle);
-    const int32_t tc = b.g.triggers[plant::graph::TriggerId(t)].comp;
+    const int32_t tc = b.g.triggers[plant::graph::TriggerId(t)].comp.v;
     Engine e(b.g);
     const std::array<double, 3> v{1.5, 0, 0};
     for (int32_t body : {ba, bc, bx}) e.input(plant::graph::SlotId(b.S(b.body_comp(body), "set_velocity")), v);
@@ -52,7 +52,7 @@ TEST_CASE("runtime: two objects entering in the same step: one on_enter, count 2
     b.body(d1, "body", BodyMode::Dynamic, {sphere(0.05)}, 0.1, at(0, 0.2, 0));
     int32_t d2 = b.dobj("two");
     b.body(d2, "body", BodyMode::Dynamic, {sphere(0.05)}, 0.1, at(0, -0.2, 0));
-    const int32_t tc = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t", {1, 1, 1}, at(0, 0, 0)))].comp;
+    const int32_t tc = b.g.triggers[plant::graph::TriggerId(b.trigger(0, "t", {1, 1, 1}, at(0, 0, 0)))].comp.v;
     Engine e(b.g);
     e.step();
     CHECK(e.active(plant::graph::SlotId(b.S(tc, "on_enter"))));
@@ -65,8 +65,8 @@ TEST_CASE("runtime: two objects entering in the same step: one on_enter, count 2
 
 TEST_CASE("runtime: periodic and one-shot timers") {
     SceneBuilder b(100);
-    const int32_t periodic = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "clock", 0.1, true, true))].comp;
-    const int32_t once = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "delay", 0.25, false, false))].comp;
+    const int32_t periodic = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "clock", 0.1, true, true))].comp.v;
+    const int32_t once = b.g.timers[plant::graph::Id<plant::graph::Timer>(b.timer(0, "delay", 0.25, false, false))].comp.v;
     Engine e(b.g);
     std::vector<int> ticks, shots;
     e.input(plant::graph::SlotId(b.S(once, "start")));  // starts in step 1's phase 5
@@ -92,7 +92,7 @@ TEST_CASE("runtime: graphics animations play relative to the start pose and repo
     int32_t gi = b.graphics(0, "blade", at(2, 0, 0), -1,
                             {{"swing", 0.5, {{0, Pose{}}, {0.5, turned}}}, {"slide", 0.2, {{0, Pose{}}, {0.2, moved}}}},
                             {"empty", "filled"});
-    const int32_t gc = b.g.graphics[plant::graph::GraphicsId(gi)].comp;
+    const int32_t gc = b.g.graphics[plant::graph::GraphicsId(gi)].comp.v;
     Engine e(b.g);
     e.watch(plant::graph::SlotId(b.S(gc, "pose")));
     e.input(plant::graph::SlotId(b.S(gc, "swing.play")));

@@ -80,7 +80,7 @@ Seen run(const graph::Graph& g, bool steady, int64_t steps, const std::vector<in
             if (at == i) e.input(graph::SlotId(slot));
         e.step();
         for (size_t x = 0; x < g.exits.size(); ++x) {
-            const int32_t s0 = g.comps[g.exits[graph::ExitId(x)].comp].slot_adr;
+            const graph::Adr<graph::Slot> s0 = g.comps[g.exits[graph::ExitId(x)].comp].slot_adr;
             if (!e.active(graph::SlotId(s0 + graph::exitslot::taken))) continue;
             s.taken.push_back({e.steps(), int32_t(x), int32_t(e.value(graph::SlotId(s0 + graph::exitslot::object))[0]),
                                std::string(e.str(int32_t(e.value(graph::SlotId(s0 + graph::exitslot::id))[0])))});

@@ -24,14 +24,14 @@ TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped an
     const int32_t taken_obj = slot_named(g, "done.away.object");
     REQUIRE(placed >= 0);
     REQUIRE(taken_obj >= 0);
-    std::vector<int32_t> shown_of(g.dos.size(), -1);
-    for (size_t gr = 0; gr < g.graphics.size(); ++gr) {
-        const int32_t s = g.comps[g.graphics[plant::graph::GraphicsId(gr)].comp].slot_adr + plant::graph::graphicsslot::shown;
-        shown_of[size_t(g.comps[g.graphics[plant::graph::GraphicsId(gr)].comp].owner)] = s;
+    plant::graph::IdVector<plant::graph::DoId, plant::graph::SlotId> shown_of(g.dos.count());
+    for (const plant::graph::Graphics& gr : g.graphics) {
+        const plant::graph::Comp& c = g.comps[gr.comp];
+        shown_of[c.owner] = c.slot_adr + plant::graph::graphicsslot::shown;
     }
     Engine e(g);
-    for (int32_t s : shown_of)
-        if (s >= 0) e.watch(plant::graph::SlotId(s));
+    for (plant::graph::SlotId s : shown_of)
+        if (s.valid()) e.watch(s);
     int n_placed = 0, n_filled = 0, n_capped = 0, n_taken = 0, unfinished = 0;
     for (int i = 0; i < 150 * 40; ++i) {
         e.step();
@@ -42,7 +42,7 @@ TEST_CASE("std.arm and std.stations: every bottle is set down, filled, capped an
             ++n_taken;
             const int32_t d = int32_t(e.value(plant::graph::SlotId(taken_obj))[0]);
             REQUIRE(d >= 0);
-            unfinished += e.str(int32_t(e.value(plant::graph::SlotId(shown_of[size_t(d)]))[0])) != "filled_capped";
+            unfinished += e.str(int32_t(e.value(shown_of[plant::graph::DoId(d)])[0])) != "filled_capped";
         }
     }
     CHECK(n_taken >= 5);
