@@ -53,11 +53,10 @@ TEST_CASE("elaborate: instances get dotted paths, poses and contiguous component
     CHECK(g.str(g.dos[graph::DoId(2)].path) == "s[1]");
     CHECK(g.dos[graph::DoId(2)].pose.p[0] == doctest::Approx(0.5));
     CHECK(g.dos[graph::DoId(2)].pose.q[2] == doctest::Approx(std::sqrt(0.5)));  // 90 deg about z
-    for (const auto& d : g.dos)
-        for (int32_t i = 0; i < d.comp_num; ++i) CHECK(g.comps[graph::CompId(d.comp_adr + i)].owner == &d - g.dos.data());
-    for (size_t ci = 0; ci < g.comps.size(); ++ci)
-        for (int32_t i = 0; i < g.comps[graph::CompId(ci)].slot_num; ++i)
-            CHECK(g.slots[graph::SlotId(g.comps[graph::CompId(ci)].slot_adr + i)].comp == static_cast<int32_t>(ci));
+    for (graph::DoId d : graph::ids_of(g.dos))
+        for (graph::CompId c : graph::children(g.dos[d].comp_adr, g.dos[d].comp_num)) CHECK(g.comps[c].owner == d);
+    for (graph::CompId c : graph::ids_of(g.comps))
+        for (graph::SlotId sl : graph::children(g.comps[c].slot_adr, g.comps[c].slot_num)) CHECK(g.slots[sl].comp == c);
     // Timer periods are SI seconds.
     REQUIRE(g.timers.size() == 2);
     CHECK(g.timers[graph::Id<graph::Timer>(0)].period == doctest::Approx(2.0));
@@ -117,10 +116,10 @@ plant P {
     const auto& a = g.accesses[graph::AccessId(0)];
     CHECK(g.str(a.member) == "code.value");
     REQUIRE(a.target_num == 2);
-    CHECK(g.slot_path(g.access_targets[graph::Id<graph::AccessTarget>(a.target_adr)].v) == "b1.code.value");
-    CHECK(g.slot_path(g.access_targets[graph::Id<graph::AccessTarget>(a.target_adr + 1)].v) == "b2.code.value");
+    CHECK(g.slot_path(g.access_targets[a.target_adr.first()].v) == "b1.code.value");
+    CHECK(g.slot_path(g.access_targets[a.target_adr + 1].v) == "b2.code.value");
     int dynamic = 0;
-    for (const auto& f : g.flows) dynamic += f.from_access >= 0 || f.to_access >= 0;
+    for (const auto& f : g.flows) dynamic += f.from_access.valid() || f.to_access.valid();
     CHECK(dynamic == 2);
 }
 
@@ -142,7 +141,7 @@ plant P { source s at (0 m, 0 m, 1 m) { object = Item; pool = 4; rate = 1 Hz } }
         CHECK(d.pose.p[2] == doctest::Approx(1.0));
     }
     CHECK(s.id_num == 4);
-    CHECK(g.str(g.ids[graph::Id<graph::IdEntry>(s.id_adr)].v) == "s-1");
+    CHECK(g.str(g.ids[s.id_adr.first()].v) == "s-1");
 }
 
 TEST_CASE("elaborate: several independent mistakes are all reported in one run") {

@@ -39,8 +39,9 @@ int put_comp(Graph& g, int owner, CompKind kind, std::string_view name, int deta
 }
 
 int slot_of(const Graph& g, int comp, std::string_view name) {
-    for (int s = g.comps[CompId(comp)].slot_adr; s < g.comps[CompId(comp)].slot_adr + g.comps[CompId(comp)].slot_num; ++s)
-        if (g.str(g.slots[SlotId(s)].name) == name) return s;
+    const Comp& c = g.comps[CompId(comp)];
+    for (SlotId s : children(c.slot_adr, c.slot_num))
+        if (g.str(g.slots[s].name) == name) return s.v;
     FAIL("no slot ", name);
     return -1;
 }

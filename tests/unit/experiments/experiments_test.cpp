@@ -242,7 +242,7 @@ TEST_CASE("tipping: a bottle rocks back only while the pull's torque beats gravi
     Bottle b;
     std::string err;
     REQUIRE(find_bottle(probe->graph, "bottle", b, err));
-    const auto& hull = probe->graph.shapes[plant::graph::Id<plant::graph::Shape>(probe->graph.bodies[plant::graph::BodyId(b.main)].shape_adr)];
+    const auto& hull = probe->graph.shapes[probe->graph.bodies[plant::graph::BodyId(b.main)].shape_adr.first()];
     double radius = 0, lowest = INFINITY;
     for (int32_t i = 0; i < hull.point_num; ++i) lowest = std::min(lowest, probe->graph.points[plant::graph::Id<plant::graph::Point>(hull.point_adr + i)].p[2]);
     for (int32_t i = 0; i < hull.point_num; ++i) {

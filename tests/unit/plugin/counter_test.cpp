@@ -166,8 +166,8 @@ plant Tapped {
     CHECK(g.plugins[graph::PluginId(0)].entry_num == 3);
     CHECK(g.str(g.plugin_entries[graph::Id<graph::PluginEntry>(0)].word) == "tap");
     CHECK(g.plugin_entries[graph::Id<graph::PluginEntry>(1)].key == 2);
-    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(g.plugin_entries[graph::Id<graph::PluginEntry>(0)].param_adr)].num == 2);
-    CHECK(g.plugin_params[graph::Id<graph::PluginParam>(g.plugin_entries[graph::Id<graph::PluginEntry>(1)].param_adr)].num == 1);  // the default weight
+    CHECK(g.plugin_params[g.plugin_entries[graph::Id<graph::PluginEntry>(0)].param_adr.first()].num == 2);
+    CHECK(g.plugin_params[g.plugin_entries[graph::Id<graph::PluginEntry>(1)].param_adr.first()].num == 1);  // the default weight
     // An input port stands for every input it forwards to.
     const graph::PluginEntry& notify = g.plugin_entries[graph::Id<graph::PluginEntry>(2)];
     REQUIRE(notify.slot_num == 2);
