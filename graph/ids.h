@@ -6,8 +6,9 @@
 //   g[s]                  // the Slot (graph.h: checked in debug builds)
 //
 // Id<R> names a row of R's table; Adr<R> is the first row of a child list, the `adr` of
-// an (adr, num) pair. Both read as their int32_t number (indexing, arithmetic), so the
-// step's code is the integer code it was; building one from a number is explicit.
+// an (adr, num) pair. Both ways between an id and its int32_t number are explicit: built
+// from one with SlotId(n), read as one with `.v`; a table is indexed by its own id only
+// (IdVector), and adr + k gives an Adr's k-th row.
 // OptId<R> is an Id<R> field that may be -1; Detail a component's row in its kind's table.
 // The loader checks every field of these types against its table (validate.cpp).
 #pragma once
@@ -40,11 +41,10 @@ struct TypedId {
 
     constexpr bool valid() const { return v >= 0; }
     constexpr int32_t value() const { return v; }
-#ifdef PLANT_EXPLICIT_IDS  // transitional: the conversion made explicit, to list what reads an id as a number
+    // Read as a number only when asked (`.v`, or int32_t(id)): an id passed for an int, an
+    // int initialised from an id, arithmetic on an id and a std::vector indexed by an id do
+    // not compile (tests/compile_fail/id_as_int.cpp).
     constexpr explicit operator int32_t() const { return v; }
-#else
-    constexpr operator int32_t() const { return v; }
-#endif
     constexpr TypedId& operator++() {
         ++v;
         return *this;
