@@ -125,7 +125,9 @@ void run_label(Runtime& r, Id<Label> i) {
 
 namespace {
 
-void run_op(Runtime& r, const Op& op) {
+// Inlined into both loops of the phase (every op, the due ops): a call per op cost the logic
+// bench 16 % more instructions per step than the loop of 7c4b2ca, which had it inline.
+[[gnu::always_inline]] inline void run_op(Runtime& r, const Op& op) {
     switch (op.kind) {
     case OpKind::Flow: run_flow(r, op.flow(), false); break;
     case OpKind::Pulse:
