@@ -42,7 +42,7 @@ CompId add_comp(Graph& g, DoId owner, CompKind kind, std::string_view name, Src 
 SlotId add_slot(Graph& g, CompId comp, std::string_view name, SlotType type, Dir dir, Src src) {
     const auto id = next_id(g.slots);
     Comp& c = g[comp];
-    assert(c.slot_adr + c.slot_num == id.v && "a component's slots are contiguous");
+    assert(c.slot_adr + c.slot_num == id && "a component's slots are contiguous");
     Slot s;
     s.name = g.intern(name);
     s.type = type;
