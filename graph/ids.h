@@ -246,6 +246,11 @@ template <class R>
 constexpr Adr<R> next_adr(const Table<R>& table) {
     return Adr<R>(table.count());
 }
+// The rows appended to a table since its next_adr was `adr`: the `num` of an (adr, num) list.
+template <class R>
+constexpr int32_t rows_since(const Table<R>& table, Adr<R> adr) {
+    return table.count() - adr.v;
+}
 template <class IdT, class T>
 constexpr IdRange<IdT> ids_of(const IdVector<IdT, T>& v) {
     return v.ids();

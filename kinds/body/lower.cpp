@@ -64,7 +64,7 @@ void lower_shape(Lowering& lw, const ast::ShapeDecl& sd) {
             if (!el.ev_.expect_vec3(p, units::dims::length, "hull point")) { ok = false; break; }
             g.points.push_back({vec(p)});
         }
-        sh.point_num = g.points.count() - sh.point_adr.v;
+        sh.point_num = graph::rows_since(g.points, sh.point_adr);
         const std::span<const graph::Point> points = g.points.slice(sh.point_adr, sh.point_num);
         if (ok && sh.point_num < 4) {
             el.sink_.report(DiagId::BadShape, sd.span, "a convex hull needs at least 4 points");
@@ -146,7 +146,7 @@ void lower(Lowering& lw) {
     b.pose = lw.frame.pose();
     b.shape_adr = graph::next_adr(g.shapes);
     for (const auto& sd : c.shapes) lower_shape(lw, sd);
-    b.shape_num = g.shapes.count() - b.shape_adr.v;
+    b.shape_num = graph::rows_since(g.shapes, b.shape_adr);
     if (c.shapes.empty())
         el.sink_.report(DiagId::MissingProperty, c.name.span,
                         fmt::format("body '{}' needs at least one shape, e.g. shape box(10 cm, 10 cm, 1 cm)", c.name.text));

@@ -87,7 +87,7 @@ void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
         }
     }
     an.duration = duration;
-    an.key_num = g.keys.count() - an.key_adr.v;
+    an.key_num = graph::rows_since(g.keys, an.key_adr);
     an.play_slot = el.add_slot(lw.comp, a.name.text + ".play", SlotType::Void, Dir::In, a.name.span);
     an.finished_slot = el.add_slot(lw.comp, a.name.text + ".finished", SlotType::Void, Dir::Out, a.name.span);
     g.animations.push_back(an);
@@ -108,7 +108,7 @@ void lower(Lowering& lw) {
     gr.anim_adr = graph::next_adr(g.animations);
     const int32_t gid = g.graphics.count();
     for (const auto& a : c.animations) lower_animation(lw, a, gid);
-    gr.anim_num = g.animations.count() - gr.anim_adr.v;
+    gr.anim_num = graph::rows_since(g.animations, gr.anim_adr);
     gr.variant_adr = graph::next_adr(g.variants);
     for (const auto& v : c.variants) {
         Value m = el.ev_.eval(*v.model, env);
@@ -116,7 +116,7 @@ void lower(Lowering& lw) {
         const graph::SlotId sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
         g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), sel});
     }
-    gr.variant_num = g.variants.count() - gr.variant_adr.v;
+    gr.variant_num = graph::rows_since(g.variants, gr.variant_adr);
     if (const Value* v = lw.props.get("show")) {
         for (int32_t i = 0; i < gr.variant_num; ++i)
             if (g.str(g.variants[gr.variant_adr + i].name) == v->str) gr.variant = i;

@@ -46,7 +46,7 @@ void lower(Lowering& lw) {
     } else {
         for (int32_t i = 1; i <= pool; ++i) g.ids.push_back({el.name(fmt::format("{}-{}", c.name.text, i))});
     }
-    s.id_num = g.ids.count() - s.id_adr.v;
+    s.id_num = graph::rows_since(g.ids, s.id_adr);
     g.sources.push_back(s);
     lw.set_detail(g.sources.count());
 }

@@ -84,7 +84,7 @@ void lower(Lowering& lw) {
                 }
                 g.arcs.push_back({graph::PlaceId(it->second), static_cast<int32_t>(a.weight)});
             }
-            n = g.arcs.count() - adr.v;
+            n = graph::rows_since(g.arcs, adr);
         };
         arcs(t.inputs, tr.in_adr, tr.in_num);
         arcs(t.outputs, tr.out_adr, tr.out_num);

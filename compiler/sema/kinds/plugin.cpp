@@ -28,7 +28,7 @@ graph::PluginParam stored(Elaborator& el, const graph::ParamSpec& ps, const Valu
         p.list_adr = graph::next_adr(el.g_.plugin_strings);
         if (v)
             for (const Value& item : v->items) el.g_.plugin_strings.push_back({el.name(item.str)});
-        p.list_num = el.g_.plugin_strings.count() - p.list_adr.v;
+        p.list_num = graph::rows_since(el.g_.plugin_strings, p.list_adr);
         break;
     case ParamType::CompRef: break;
     default: {
