@@ -132,17 +132,6 @@ constexpr int slot_width(SlotType t) {
     F(Name, member)            \
     F(Src, src)
 
-#define PLANT_FIELDS_LOGIC(F)                                     \
-    F(CompId, comp)                                              \
-    F(LogicOp, op)                                                \
-    F(Adr<LogicIn>, in_adr) /* into logic_inputs */                    \
-    F(int32_t, in_num)                                            \
-    F(SlotId, out_slot)
-
-#define PLANT_FIELDS_LOGICIN(F) \
-    F(SlotId, slot)  /* the connector's own void input slot */ \
-    F(bool, negated)
-
 #define PLANT_FIELDS_RECORD(F)                                  \
     F(SlotId, slot)     /* slot whose value/activity is traced */ \
     F(Name, column)

@@ -2,23 +2,12 @@
 
 #include "plugin.h"
 
-#include <array>
-
 namespace plant::graph {
-namespace {
 
-constexpr std::array kLogic = {PLANT_SLOTS_LOGIC(PLANT_SLOT_SPEC)};
-
-}  // namespace
-
+// A built-in kind's are its row's; a plugin's are its descriptor's (graph/plugin.h: slots_of).
 std::span<const SlotSpec> fixed_slots(CompKind kind) {
-    if (const KindDesc* d = builtin_kind(kind)) return d->slots;  // a kind on the kind table
-    switch (kind) {
-    case CompKind::Logic: return kLogic;
-    case CompKind::Plugin: return {};  // its descriptor's (graph/plugin.h: slots_of)
-    default: return {};
-    }
-    return {};
+    const KindDesc* d = builtin_kind(kind);
+    return d ? d->slots : std::span<const SlotSpec>{};
 }
 
 int fixed_slot_index(CompKind kind, std::string_view name) {

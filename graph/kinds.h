@@ -4,8 +4,8 @@
 // (places, transitions, animations, variants, routes, connector inputs) follow the
 // fixed ones, in declaration order.
 //
-// Each kind's fixed slots are declared once, below (a kind on the kind table: in its
-// kinds/NAME/graph.h), as a list
+// Each kind's fixed slots are declared once, in its kinds/NAME/graph.h (a plugin kind: in
+// its descriptor), as a list
 //   S(index name, slot name, SlotType, Dir, documentation)
 // from which both the index constants (`bodyslot::pose`) and the table returned by
 // fixed_slots() are generated; docs/language.md's slot tables are checked against it.
@@ -15,11 +15,6 @@
 
 #include <span>
 #include <string_view>
-
-// clang-format off
-#define PLANT_SLOTS_LOGIC(S) \
-    S(out, "out", Void, Out, "active in a step the operation is true")
-// clang-format on
 
 namespace plant::graph {
 
@@ -40,7 +35,6 @@ int fixed_slot_index(CompKind kind, std::string_view name);
 
 // The fixed slot indices the runtime relies on, `count` last.
 #define PLANT_SLOT_INDEX(id, name, type, dir, doc) id,
-namespace logicslot { enum : int { PLANT_SLOTS_LOGIC(PLANT_SLOT_INDEX) count }; }
 // The kinds on the kind table (kinds/list.h): `wordslot` from PLANT_SLOTS_WORD.
 #define PLANT_KIND_SLOT_INDEX(word, WORD) namespace word##slot { enum : int { PLANT_SLOTS_##WORD(PLANT_SLOT_INDEX) count }; }
 PLANT_KINDS(PLANT_KIND_SLOT_INDEX)

@@ -52,7 +52,9 @@ bool register_kind(const KindDesc& desc) {
         return false;
     if (desc.kind != CompKind::Plugin) return false;  // a kind on the kind table is in kinds/list.h
     if (desc.blocks != 0) return false;  // the built-in sub-blocks: its lowering would not read them
-    if (desc.check_tables || !desc.unused_output.empty()) return false;  // read for table kinds only
+    if (desc.check_tables || !desc.unused_output.empty() || desc.own_form || desc.bare_slot >= 0 || !desc.noun.empty() ||
+        desc.idle_output >= 0)
+        return false;  // read for table kinds only
     for (const ParamSpec& p : desc.params)  // a component's parameter has no slot to take its type from
         if (p.type == ParamType::Value) return false;
     for (size_t i = 0; i < desc.entries.size(); ++i) {

@@ -115,6 +115,10 @@ struct KindDesc {
     std::span<const std::string_view> modes = {};     // `NAME n: MODE`; the first is the default
     bool on = false;                                  // written `NAME n on PATH`: rides a body (or graphics)
     uint8_t blocks = 0;                               // the sub-blocks it holds (SubBlock bits)
+    // Declared by a form of the grammar of its own (a connector: `logic go = a and not b`),
+    // not `WORD NAME { ... }`: its word is no component word of the compiler's, and its
+    // lowering has no `lower` (kinds/logic/lower.cpp makes it from that form).
+    bool own_form = false;
     // The graph table its components' `detail` indexes (PLANT_KIND_TABLE): its name, its row
     // count, each row's component. The loader checks that each row's component is of this
     // kind with the row as its detail, then calls `check` with the row. Left empty: the kind
@@ -128,6 +132,12 @@ struct KindDesc {
     // kind's own table: false with the table, row and why in `problem` (validate.h's
     // each_record and slot_flaw help). nullptr: nothing to check.
     bool (*check_tables)(const Graph& g, GraphProblem& problem) = nullptr;
+    // The fixed slot a path naming just the component means (a connector's `out`: `go` is
+    // `go.out`). -1: a path names one of its slots.
+    int bare_slot = -1;
+    // What the compiler's messages call one of its components where the graph's word of its
+    // CompKind would not read (a `connector`). Empty: that word.
+    std::string_view noun = {};
     // The input without which a component does nothing, unless `runs_alone` says it does
     // anyway (nullptr: it never does): the compiler warns (W0502) with `idle_warning`, `{}`
     // standing for the component's name. -1: none.
@@ -138,6 +148,10 @@ struct KindDesc {
     // that drives nothing: `{}` standing for the output's name, then the component's.
     // Empty: such outputs are not warned about.
     std::string_view unused_output = {};
+    // W0501 when this fixed output drives nothing (a connector's `out`), with
+    // `idle_output_warning`, `{}` standing for the component's name. -1: none.
+    int idle_output = -1;
+    std::string_view idle_output_warning = {};
 };
 
 // A plugin kind's check (KindDesc::check) written over its component's PluginId.

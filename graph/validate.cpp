@@ -51,7 +51,7 @@ public:
         if (!finite(g_.settings.gravity)) return fail_at("", -1, "settings: gravity is not finite");
         if (!gravity_in_range(g_.settings.gravity.data()))
             return fail_at("", -1, "settings: gravity is beyond 1 km/s² along an axis");
-        return every_field() && ranges() && dos() && comps() && slots() && flows() && logics() && table_kinds() &&
+        return every_field() && ranges() && dos() && comps() && slots() && flows() && table_kinds() &&
                animations() && variants() && ports() && plugin_records();
     }
 
@@ -189,12 +189,9 @@ private:
             n = d->rows(g_), name = d->table;
             return true;
         }
-        switch (k) {
-        case CompKind::Logic: n = g_.logics.size(), name = "logics"; return true;
-        case CompKind::Plugin: n = g_.plugins.size(), name = "plugins"; return true;
-        default: return false;  // a kind on the kind table: above
-        }
-        return false;
+        if (k != CompKind::Plugin) return false;
+        n = g_.plugins.size(), name = "plugins";
+        return true;
     }
 
     bool comps() {
@@ -355,11 +352,6 @@ private:
                                        [&](SlotId s) { return slot_width(g_.slots[s].type) == width; });
             if (!fits) return fail(fmt::format("its source is not {} values wide, as its target is", width));
             return true;
-        });
-    }
-    bool logics() {
-        return each("logics", g_.logics, [&](const Logic& l, LogicId i) {
-            return owner(l.comp, CompKind::Logic, i.v);
         });
     }
 

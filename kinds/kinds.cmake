@@ -4,7 +4,8 @@
 # were published before every other kind's), the graphics before the rest (a gripper
 # follows a graphics' pose of this step), the trigger before the gripper and the exit, which
 # work on what it found inside; the exit after the gripper moved what it holds; the state
-# last (its places publish their tokens after the other kinds' start, as they did). Each is
+# last (its places publish their tokens after the other kinds' start, as they did); the
+# connector, with no hooks (a node of the logic network), after them. Each is
 # a folder kinds/NAME:
 #   graph.h   its fixed slots and graph record's fields (the graph contract)
 #   kind.cpp  its descriptor row: word, modes, parameters, table, loader check, docs (plant_graph)
@@ -12,7 +13,7 @@
 #   run.cpp   its behaviour: state, start, sense, act (plant_runtime)
 # Adding one is its folder and its word here; kinds/list.h, generated from this list, is
 # how graph/, the compiler and the runtime find the rows.
-set(PLANT_KINDS body field graphics trigger constraint timer gripper exit source label state router)
+set(PLANT_KINDS body field graphics trigger constraint timer gripper exit source label state router logic)
 
 set(PLANT_KINDS_GENERATED ${CMAKE_BINARY_DIR}/generated)
 set(plant_kind_includes "")

@@ -109,7 +109,7 @@ void Elaborator::check_unused() {
         const std::string cname(g_.str(comp.name));
         auto slot = [&](int idx) { return comp.slot_adr + idx; };
         // A kind on the kind table says which outputs it wants used (graph/plugin.h:
-        // unused_output) and which input it needs (idle_input).
+        // unused_output, idle_output) and which input it needs (idle_input).
         if (const graph::KindDesc* k = graph::builtin_kind(comp.kind)) {
             if (!k->unused_output.empty())
                 for (int32_t i = graph::count_of(k->slots); i < comp.slot_num; ++i)
@@ -118,10 +118,9 @@ void Elaborator::check_unused() {
                                      fmt::format(fmt::runtime(k->unused_output), g_.str(g_.slots[slot(i)].name), cname));
             if (k->idle_input >= 0 && !(k->runs_alone && k->runs_alone(g_, comp.detail.v)) && !driven[slot(k->idle_input)])
                 sink_.report(DiagId::InputNotDriven, span, fmt::format(fmt::runtime(k->idle_warning), cname));
-            continue;
+            if (k->idle_output >= 0 && !used[slot(k->idle_output)])
+                sink_.report(DiagId::OutputDrivesNothing, span, fmt::format(fmt::runtime(k->idle_output_warning), cname));
         }
-        if (comp.kind == CompKind::Logic && !used[slot(graph::logicslot::out)])
-            sink_.report(DiagId::OutputDrivesNothing, span, fmt::format("connector '{}' drives nothing", cname));
     }
 }
 
@@ -132,8 +131,9 @@ void Elaborator::check_logic_cycles() {
         std::string through;
         for (CompId c : net.cycles[i]) {
             const auto& comp = g_.comps[c];
+            const graph::KindDesc* k = graph::builtin_kind(comp.kind);
             through += fmt::format("{}{} '{}'", through.empty() ? "" : ", ",
-                                   comp.kind == CompKind::Logic ? "connector" : graph::word(comp.kind), g_.str(comp.name));
+                                   k && !k->noun.empty() ? k->noun : graph::word(comp.kind), g_.str(comp.name));
         }
         sink_.report(DiagId::LogicCycle, flow_spans_[graph::index(net.delayed[i])],
                      fmt::format("this flow closes a logic cycle through {}; it is evaluated with a one-step delay", through));

@@ -1,7 +1,8 @@
 // Components, the generic part: the kind word, its mode, its properties known, set once
 // and typed, its sub-blocks allowed; the component appended with its fixed slots; then its
 // kind's lowering and, once the object's components all exist, its late linking
-// (sema/kinds/). Connectors (`logic`) too.
+// (kinds/NAME/lower.cpp; a plugin's sema/kinds/plugin.cpp). A connector (`logic`) is
+// declared by its own form and made by its own lowering (kinds/logic/lower.cpp).
 #include "sema/elaborator.h"
 #include "sema/kinds/lowering.h"
 
@@ -338,34 +339,6 @@ void Elaborator::link_component(Scope& sc, graph::CompId comp, const ast::Compon
     }
     Linking lk{*this, sc, c, env, comp, g_.comps[comp], on};
     link(lk);
-}
-
-void Elaborator::make_logic(Scope& sc, const ast::LogicDecl& l) {
-    name_declared(l.name.span);
-    if (!declare(sc, l.name.text, l.name.span)) return;
-    const graph::CompId comp = graph::add_comp(g_, sc.do_id, CompKind::Logic, l.name.text, src(l.name.span));
-    sc.comps[l.name.text] = comp;
-    comp_spans_[comp] = l.name.span;
-    graph::Logic lg;
-    lg.comp = comp;
-    lg.op = graph::LogicOp::And;
-    lg.out_slot = g_.comps[comp].slot_adr + graph::logicslot::out;
-    for (size_t i = 0; i < l.ops.size(); ++i) {
-        if (l.ops[i].text != l.ops[0].text) {
-            sink_.report(DiagId::LogicMixedOps, l.ops[i].span,
-                         "a connector is either 'and' or 'or'; split it into two logic declarations");
-            break;
-        }
-    }
-    if (!l.ops.empty() && l.ops[0].text == "or") lg.op = graph::LogicOp::Or;
-    lg.in_adr = graph::next_adr(g_.logic_inputs);
-    for (size_t i = 0; i < l.terms.size(); ++i) {
-        const graph::SlotId s = add_slot(comp, fmt::format("in{}", i), SlotType::Void, Dir::In, l.terms[i].span);
-        g_.logic_inputs.push_back({s, l.terms[i].negated});
-    }
-    lg.in_num = graph::count_of(l.terms);
-    g_.comps[comp].detail = graph::Detail(graph::next_id(g_.logics));
-    g_.logics.push_back(lg);
 }
 
 }  // namespace plant::sema

@@ -127,7 +127,8 @@ public:
     graph::Src src(Span s);
     graph::Name name(std::string_view s) { return g_.intern(s); }
 
-    // components.cpp (the generic part; each kind's in sema/kinds/)
+    // components.cpp (the generic part; each kind's in its kinds/NAME/lower.cpp, a plugin's in
+    // sema/kinds/plugin.cpp)
     std::string check_mode(const ast::ComponentDecl& c, const KindSpec& spec);
     Props check_properties(const Scope& sc, const ast::ComponentDecl& c, const KindSpec& spec, const Env& env);
     void check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& spec);
@@ -136,7 +137,10 @@ public:
                                  const std::string& prefix);
     graph::SlotId add_slot(graph::CompId comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
     void link_component(Scope& s, graph::CompId comp, const ast::ComponentDecl& c, const Env& env);
+    // kinds/logic/lower.cpp: a connector, declared by its own form, made with the object's
+    // members; its terms resolved into flows once they all exist.
     void make_logic(Scope& s, const ast::LogicDecl& l);
+    void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
     void make_pools(graph::DoId do_id, const std::vector<Item>& items);
 
     // resolve.cpp
@@ -152,7 +156,6 @@ public:
     void add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId scope_do);
     bool flow_ends_fit(const Endpoint& from, graph::Dir from_dir, graph::SlotType from_type, const Endpoint& to,
                        graph::Dir to_dir, graph::SlotType to_type);
-    void connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env);
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
     void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, graph::AccessId from_access,
                    graph::AccessId to_access, graph::Cond cond, bool once, Span span);

@@ -147,7 +147,8 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
             std::string slot_name;
             for (size_t j = after; j < segs.size(); ++j) slot_name += (j == after ? "" : ".") + segs[j].name.text;
             const auto& c = g_.comps[comp];
-            if (slot_name.empty() && c.kind == graph::CompKind::Logic) slot_name = "out";
+            if (const graph::KindDesc* k = graph::builtin_kind(c.kind); slot_name.empty() && k && k->bare_slot >= 0)
+                slot_name = k->slots[k->bare_slot].name;  // `go` is a connector's `go.out`
             int32_t slot = slot_name.empty() ? -1 : find_comp_slot(comp, slot_name);
             if (slot < 0) {
                 std::vector<std::string> names;
@@ -302,27 +303,6 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId sc
     }
     if (!flow_ends_fit(from, from.dir, from.type, to, to.dir, to.type)) return;
     emit_flow(from.slots, to.slots, {}, {}, cond, f.once, f.span);
-}
-
-void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env) {
-    auto it = s.comps.find(l.name.text);
-    // Only the connector this declaration made: a duplicate name was reported and made none.
-    if (it == s.comps.end() || g_.comps[it->second].kind != graph::CompKind::Logic ||
-        comp_spans_[it->second].begin != l.name.span.begin || comp_spans_[it->second].file != l.name.span.file)
-        return;
-    const auto& lg = g_.logics[graph::detail_of<graph::Logic>(g_.comps[it->second])];
-    for (size_t i = 0; i < l.terms.size(); ++i) {
-        Endpoint e = resolve(s.do_id, l.terms[i].path, env);
-        if (!e.ok) continue;
-        if (e.ref_slot >= 0 || e.dir != Dir::Out || e.type != SlotType::Void) {
-            sink_.report(DiagId::LogicInputNotVoid, l.terms[i].path.span,
-                         fmt::format("a connector combines void outputs (events), but '{}' is {} {}", e.text,
-                                     with_article(graph::word(e.type)), e.ref_slot >= 0 ? "dynamic slot" : dir_word(e.dir)));
-            continue;
-        }
-        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot.v}, {}, {}, graph::Cond::Source,
-                  false, l.terms[i].span);
-    }
 }
 
 void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) {

@@ -35,10 +35,12 @@ KindSpec kind_spec(const graph::KindDesc& d) {
     return k;
 }
 
-// Every built-in kind is a row of the kind table; their specs in CompKind order.
+// Every built-in kind is a row of the kind table; their specs in CompKind order. A kind
+// declared by a form of its own (a connector, `logic go = ...`) is no component word.
 std::vector<KindSpec> make_kinds() {
     std::vector<KindSpec> k;
-    for (const graph::KindDesc* row : graph::builtin_kinds()) k.push_back(kind_spec(*row));
+    for (const graph::KindDesc* row : graph::builtin_kinds())
+        if (!row->own_form) k.push_back(kind_spec(*row));
     std::stable_sort(k.begin(), k.end(), [](const KindSpec& a, const KindSpec& b) { return a.kind < b.kind; });
     return k;
 }

@@ -49,17 +49,15 @@ Tables::Tables(const Graph& g) {
     value_adr.resize(g.slots.size());
     for (SlotId s : ids_of(g.slots)) value_adr[s] = g.slots[s].value_adr;
     for (SlotId s : ids_of(g.slots)) slot_out[s] = g.slots[s].dir == Dir::Out;
-    // Connector inputs are read by phase 3; the rest act (a kind on the kind table: when it
-    // has an act hook; a label's `set` and a router's `query` are read by phase 3, a state's
-    // places by phase 4).
+    // Inputs act in phase 5 where their kind has an act hook (a plugin: acts in
+    // Actuators); a connector's inputs, a label's `set` and a router's `query` are read by
+    // phase 3, a state's places by phase 4.
     slot_acts.resize(g.slots.size());
     for (SlotId s : ids_of(g.slots)) {
         const CompKind k = g.comps[g.slots[s].comp].kind;
         const KindBehaviour* b = builtin_behaviour(k);
         slot_acts[s] = !slot_out[s] && (b ? b->act_one != nullptr
-                                          : k != CompKind::Logic &&
-                                                (k != CompKind::Plugin ||
-                                                 plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators));
+                                          : plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators);
     }
     // Plugin components: the loader checked their kinds are registered; a kind registered
     // without its behaviour (graph::register_kind alone, as a compiler-only program may) is

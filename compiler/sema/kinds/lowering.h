@@ -3,8 +3,9 @@
 // sub-blocks allowed, the component and its fixed slots appended) hands each kind's
 // lowering a Lowering; once every component of the object exists, its late linking (the
 // references between components) gets a Linking. A kind on the kind table has both in its
-// kinds/NAME/lower.cpp (KindLowering), as every built-in kind is; plugin.cpp lowers every
-// plugin kind.
+// kinds/NAME/lower.cpp (KindLowering), as every built-in kind is, but for the connector,
+// declared by its own form (KindDesc::own_form), which kinds/logic/lower.cpp makes and
+// connects (Elaborator::make_logic, connect_logic); plugin.cpp lowers every plugin kind.
 #pragma once
 
 #include "sema/elaborator.h"

@@ -4,6 +4,7 @@
 #include "graph/kinds.h"
 #include "graph/plugin.h"
 #include "sema/kinds/lowering.h"
+#include "sema/schema.h"
 
 #include <doctest/doctest.h>
 
@@ -106,7 +107,18 @@ TEST_CASE("the kind table: one row per kind on it, found by its CompKind, with i
     CHECK(body->blocks == kShapes);
     CHECK(body->placed);
     CHECK(bool(body->check_tables));  // its shapes
-    CHECK(kind_word(CompKind::Logic) == "logic");  // not on the table: the graph's word
+    // The connector: declared by its own form (`logic go = a and b`), its bare name its `out`.
+    const KindDesc* logic = builtin_kind(CompKind::Logic);
+    REQUIRE(logic);
+    CHECK(logic->own_form);
+    CHECK(logic->word == "logic");
+    CHECK(logic->table == "logics");
+    CHECK(logic->bare_slot == logicslot::out);
+    CHECK(logic->idle_output == logicslot::out);
+    CHECK(logic->noun == "connector");
+    CHECK(plant::sema::find_kind("logic") == nullptr);  // no component word: `logic go { }` is not a connector
+    for (const KindDesc* d : builtin_kinds())
+        CHECK(d->own_form == (d->kind == CompKind::Logic));
     const KindDesc* timer = builtin_kind(CompKind::Timer);
     REQUIRE(timer);
     CHECK(timer->table == "timers");
@@ -154,7 +166,7 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
         CAPTURE(d->word);
         const plant::sema::KindLowering* lw = plant::sema::builtin_lowering(d->kind);
         REQUIRE(lw);
-        CHECK(bool(lw->lower));
+        CHECK(bool(lw->lower) != d->own_form);  // a connector is made by its own form
         const plant::engine::KindBehaviour* b = plant::engine::builtin_behaviour(d->kind);
         REQUIRE(b);
         CHECK_FALSE(bool(b->start));  // the per-component hooks are a plugin's
@@ -173,7 +185,10 @@ TEST_CASE("the kind table: every row has its lowering and its behaviour") {
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->make_state));
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Graphics)->act_one));
     CHECK(plant::engine::builtin_behaviour(CompKind::Graphics)->sense_segment >= 0);
-    CHECK(plant::sema::builtin_lowering(CompKind::Logic) == nullptr);  // a connector is a declaration
+    // The connector: a node of the logic network, read by phase 3, no hooks of its own.
+    const plant::engine::KindBehaviour* logic = plant::engine::builtin_behaviour(CompKind::Logic);
+    CHECK_FALSE(bool(logic->act_one));
+    CHECK_FALSE(bool(logic->sense_all));
     CHECK(plant::engine::builtin_behaviour(CompKind::Body)->sense_segment >= 0);  // StepProfile::Bodies
     CHECK(bool(plant::engine::builtin_behaviour(CompKind::Body)->act_one));
 }
@@ -196,6 +211,16 @@ TEST_CASE("register_kind refuses a table kind's word, a table kind's CompKind, s
     const KindDesc with_unused{.word = "kinds_test_unused", .doc = "warns", .slots = slots, .params = {},
                                .unused_output = "'{}' of '{}'"};
     CHECK_FALSE(register_kind(with_unused));
+    // And a grammar form of its own, a bare name's slot, a noun, an output that must drive.
+    const KindDesc own_form{.word = "kinds_test_form", .doc = "its own form", .slots = slots, .params = {},
+                            .own_form = true};
+    CHECK_FALSE(register_kind(own_form));
+    const KindDesc bare{.word = "kinds_test_bare", .doc = "a bare name", .slots = slots, .params = {}, .bare_slot = 0};
+    CHECK_FALSE(register_kind(bare));
+    const KindDesc noun{.word = "kinds_test_noun", .doc = "a noun", .slots = slots, .params = {}, .noun = "thing"};
+    CHECK_FALSE(register_kind(noun));
+    const KindDesc idle{.word = "kinds_test_idle", .doc = "an output", .slots = slots, .params = {}, .idle_output = 0};
+    CHECK_FALSE(register_kind(idle));
     // A Value takes its type from an entry's slot; a component's parameter has none. Every
     // other type a plugin stores (tests/unit/plugin/probe_test.cpp).
     const ParamSpec value_param[] = {{"p", ParamType::Value, "", false, 0, "a parameter"}};
