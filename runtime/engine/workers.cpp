@@ -10,14 +10,19 @@ namespace plant::engine {
 
 namespace {
 
-// A step has one job (the worlds, each with its conveyor law: physics.cpp), and the rest of the
-// step runs on the calling thread in between. A helper that finds no job spins only briefly
-// before it sleeps: spinning through the step's serial part would burn a core per helper (on 16
-// threads that was a third more processor time per step) and, on cores shared by two hardware
-// threads, slow the calling thread down. The calling thread, waiting for the helpers to finish
-// their last items, spins longer: that wait is short and it has nothing else to do.
+// A step has a few jobs (the worlds, each with its conveyor law: physics.cpp; the slices of the
+// loops listed in workers.h), and the rest of the step runs on the calling thread in between.
+// A helper that finds no job spins only briefly before it sleeps: spinning through the step's
+// serial part would burn a core per helper (on 16 threads that was a third more processor time
+// per step) and, on cores shared by two hardware threads, slow the calling thread down. The
+// calling thread, waiting for the last items that helpers took, spins longer: that wait is
+// short and it has nothing else to do. It never waits for a helper that took no item: on a
+// busy machine a helper may get a core only after the calling thread has run every item, and
+// the job is then done without it (the items are claimed one by one from `ticket_`).
 constexpr int kSpinsIdle = 256;
 constexpr int kSpinsJoin = 4000;
+// The ticket's item field while the calling thread writes the next job: no item can be claimed.
+constexpr uint32_t kClosed = 0xffffffffu;
 
 inline void relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -126,23 +131,40 @@ Workers::~Workers() {
     for (std::thread& t : helpers_) t.join();
 }
 
-void Workers::work() {
-    if (prof_.on) {  // each item timed: the work the threads share, and the longest item
-        int64_t sum = 0, longest = 0;
-        for (int i = next_.fetch_add(1, std::memory_order_relaxed); i < n_; i = next_.fetch_add(1, std::memory_order_relaxed)) {
-            const int64_t t0 = cpu_ns();
-            fn_(ctx_, i);
-            const int64_t d = cpu_ns() - t0;
-            sum += d, longest = std::max(longest, d);
-        }
-        item_sum_.fetch_add(sum, std::memory_order_relaxed);
-        for (int64_t m = item_max_.load(std::memory_order_relaxed);
-             longest > m && !item_max_.compare_exchange_weak(m, longest, std::memory_order_relaxed);) {
-        }
-        return;
+// Item i of the job, timed when profiling.
+inline void Workers::item(void (*fn)(void*, int), void* ctx, int i, int64_t& sum, int64_t& longest) {
+    if (!prof_.on) return fn(ctx, i);
+    const int64_t t0 = cpu_ns();
+    fn(ctx, i);
+    const int64_t d = cpu_ns() - t0;
+    sum += d, longest = std::max(longest, d);
+}
+
+void Workers::add_times(int64_t sum, int64_t longest) {
+    if (!prof_.on) return;
+    item_sum_.fetch_add(sum, std::memory_order_relaxed);
+    for (int64_t m = item_max_.load(std::memory_order_relaxed);
+         longest > m && !item_max_.compare_exchange_weak(m, longest, std::memory_order_relaxed);) {
     }
-    for (int i = next_.fetch_add(1, std::memory_order_relaxed); i < n_; i = next_.fetch_add(1, std::memory_order_relaxed))
-        fn_(ctx_, i);
+}
+
+// Claims and runs items of job `job` until none is left; how many it ran. Only while the job's
+// data cannot change: on the calling thread, or in a helper inside (`inside_`) that saw the job
+// open.
+int Workers::work(uint32_t job) {
+    const int n = n_.load(std::memory_order_relaxed);
+    void (*const fn)(void*, int) = fn_.load(std::memory_order_relaxed);
+    void* const ctx = ctx_.load(std::memory_order_relaxed);
+    int ran = 0;
+    int64_t sum = 0, longest = 0;
+    for (uint64_t t = ticket_.load(std::memory_order_acquire); uint32_t(t >> 32) == job && int64_t(uint32_t(t)) < n;) {
+        if (!ticket_.compare_exchange_weak(t, t + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+        item(fn, ctx, int(uint32_t(t)), sum, longest);
+        ++ran;
+        t = ticket_.load(std::memory_order_acquire);
+    }
+    add_times(sum, longest);
+    return ran;
 }
 
 void Workers::helper() {
@@ -151,25 +173,40 @@ void Workers::helper() {
         await(job_, kSpinsIdle, [seen](uint64_t j) { return j != seen; });
         seen = job_.load(std::memory_order_acquire);
         if (stop_.load(std::memory_order_acquire)) return;
-        work();
-        if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) busy_.notify_one();
+        // Inside, the calling thread does not write a next job; a job already closed (the
+        // calling thread ran every item, or is writing the next one) is left alone.
+        inside_.fetch_add(1, std::memory_order_seq_cst);
+        if (uint32_t(ticket_.load(std::memory_order_seq_cst) >> 32) == uint32_t(seen)) {
+            const int n = n_.load(std::memory_order_relaxed);
+            if (const int ran = work(uint32_t(seen)); ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == n)
+                done_.notify_one();
+        }
+        if (inside_.fetch_sub(1, std::memory_order_acq_rel) == 1) inside_.notify_one();
     }
 }
 
 void Workers::run(int n, void (*fn)(void*, int), void* ctx) {
     const int64_t t0 = prof_.on ? now_ns() : 0, c0 = prof_.on ? cpu_ns() : 0;
-    fn_ = fn, ctx_ = ctx, n_ = n;
-    next_.store(0, std::memory_order_relaxed);
     item_sum_.store(0, std::memory_order_relaxed);
     item_max_.store(0, std::memory_order_relaxed);
     if (helpers_.empty() || n <= 1) {
-        work();
+        int64_t sum = 0, longest = 0;
+        for (int i = 0; i < n; ++i) item(fn, ctx, i, sum, longest);
+        add_times(sum, longest);
     } else {
-        busy_.store(int(helpers_.size()), std::memory_order_relaxed);
-        job_.fetch_add(1, std::memory_order_acq_rel);  // publishes the job
+        const uint64_t job = job_.load(std::memory_order_relaxed) + 1;  // only this thread bumps it
+        // Closed first, then no helper inside: a helper that comes in later sees it closed.
+        ticket_.store(job << 32 | kClosed, std::memory_order_seq_cst);
+        await(inside_, kSpinsJoin, [](int k) { return k == 0; });
+        fn_.store(fn, std::memory_order_relaxed);
+        ctx_.store(ctx, std::memory_order_relaxed);
+        n_.store(n, std::memory_order_relaxed);
+        done_.store(0, std::memory_order_relaxed);
+        ticket_.store(job << 32, std::memory_order_release);  // open
+        job_.store(job, std::memory_order_release);           // wakes the helpers
         job_.notify_all();
-        work();
-        await(busy_, kSpinsJoin, [](int b) { return b == 0; });
+        if (const int ran = work(uint32_t(job)); ran > 0) done_.fetch_add(ran, std::memory_order_acq_rel);
+        await(done_, kSpinsJoin, [n](int d) { return d == n; });
     }
     if (prof_.on) {
         const double wall = double(now_ns() - t0), sum = double(item_sum_.load(std::memory_order_relaxed)),

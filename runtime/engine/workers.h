@@ -88,14 +88,20 @@ public:
 
 private:
     void helper();
-    void work();
+    int work(uint32_t job);
+    void item(void (*fn)(void*, int), void* ctx, int i, int64_t& sum, int64_t& longest);
+    void add_times(int64_t sum, int64_t longest);
 
     std::vector<std::thread> helpers_;
-    void (*fn_)(void*, int) = nullptr;
-    void* ctx_ = nullptr;
-    int n_ = 0;
-    std::atomic<int> next_{0};
-    std::atomic<int> busy_{0};        // helpers still working on the current job
+    // The job: written by the calling thread only while it is closed and no helper is inside.
+    std::atomic<void (*)(void*, int)> fn_{nullptr};
+    std::atomic<void*> ctx_{nullptr};
+    std::atomic<int> n_{0};
+    // The job's number (high 32 bits) and its next item to claim (low 32 bits; kClosed while the
+    // next job is written). A helper claims an item by advancing it, only for the job it woke for.
+    std::atomic<uint64_t> ticket_{0};
+    std::atomic<int> done_{0};        // items of the current job finished
+    std::atomic<int> inside_{0};      // helpers between waking for a job and leaving it
     std::atomic<uint64_t> job_{0};    // bumped for each job; helpers wait for it to change
     std::atomic<bool> stop_{false};
     StepProfile prof_;
