@@ -168,12 +168,12 @@ bool plugin_check(const Graph& g, int32_t row, PluginProblem& problem) {
         return g.member[std::remove_cvref_t<decltype(g.member)>::id_type(row)].comp;        \
     }
 
-// The kinds on the kind table (kinds/list.h), in its order; a built-in kind's row, nullptr
-// for one not on the table (yet) and for Plugin.
+// The kinds on the kind table (kinds/list.h), in its order; a built-in kind's row (every
+// built-in kind has one), nullptr for Plugin.
 std::span<const KindDesc* const> builtin_kinds();
 const KindDesc* builtin_kind(CompKind kind);
 // The word plant files write for a kind: its row's (a body is written `physics`), else the
-// graph's (`logic`, `plugin`).
+// graph's (`plugin`).
 std::string_view kind_word(CompKind kind);
 
 // Registers a kind (before any plant is compiled or loaded); false if its word is taken by

@@ -81,7 +81,7 @@ struct KindLowering {
     void (*lower)(Lowering& lw) = nullptr;
     void (*link)(Linking& lk) = nullptr;
 };
-const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: not on the table
+const KindLowering* builtin_lowering(graph::CompKind kind);  // nullptr: Plugin (plugin.cpp)
 
 // plugin.cpp: any plugin kind (graph/plugin.h)
 void lower_plugin(Lowering& lw);
