@@ -46,7 +46,7 @@ SlotFlags Elaborator::driven_or_exposed() const {
     for (const auto& scope : scopes_)
         for (const auto& [n, port] : scope.ports)
             if (port.input)
-                for (int32_t s : port.slots) driven[SlotId(s)] = 1;
+                for (SlotId s : port.slots) driven[s] = 1;
     return driven;
 }
 

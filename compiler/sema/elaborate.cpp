@@ -195,7 +195,7 @@ void Elaborator::emit_ports() {
             p.target_adr = graph::next_adr(g_.port_targets);
             p.target_num = graph::count_of(info.slots);
             p.src = src(info.span);
-            for (int32_t sl : info.slots) g_.port_targets.push_back({graph::SlotId(sl)});
+            for (graph::SlotId sl : info.slots) g_.port_targets.push_back({sl});
             g_.ports.push_back(p);
         }
     }

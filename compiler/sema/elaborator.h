@@ -38,7 +38,7 @@ struct Frame {
 struct PortInfo {
     bool input = false;
     graph::SlotType type = graph::SlotType::Void;
-    std::vector<int32_t> slots;  // inputs: every forwarded input; outputs: the one output
+    std::vector<graph::SlotId> slots;  // inputs: every forwarded input; outputs: the one output
     Span span;
 };
 
@@ -63,11 +63,11 @@ struct Item {
 // A resolved end of a flow.
 struct Endpoint {
     bool ok = false;
-    std::vector<int32_t> slots;    // static slots (one, or several for an input port)
+    std::vector<graph::SlotId> slots;  // static slots (one, or several for an input port)
     graph::SlotType type = graph::SlotType::Void;
     graph::Dir dir = graph::Dir::Out;
-    // Dynamic access: the ref slot, the object type, the member path below it.
-    int32_t ref_slot = -1;
+    // Dynamic access: the ref slot (none: a static end), the object type, the member path below it.
+    graph::OptId<graph::Slot> ref_slot;
     graph::DoTypeId do_type;
     const ast::Path* access_path = nullptr;
     graph::DoId access_scope;
@@ -157,13 +157,14 @@ public:
     bool flow_ends_fit(const Endpoint& from, graph::Dir from_dir, graph::SlotType from_type, const Endpoint& to,
                        graph::Dir to_dir, graph::SlotType to_type);
     void add_record(Scope& s, const ast::RecordDecl& r, const Env& env);
-    void emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, graph::AccessId from_access,
-                   graph::AccessId to_access, graph::Cond cond, bool once, Span span);
+    void emit_flow(const std::vector<graph::SlotId>& from, const std::vector<graph::SlotId>& to,
+                   graph::AccessId from_access, graph::AccessId to_access, graph::Cond cond, bool once, Span span);
     void finish_accesses();
     void emit_ports();
     std::optional<std::pair<graph::SlotType, graph::Dir>> probe_member(const std::string& type_name, const ast::Path& member,
                                                                         bool& reported);
-    int32_t find_comp_slot(graph::CompId comp, std::string_view slot_name) const;
+    // The slot of `comp` named `slot_name`; none if it has none.
+    graph::OptId<graph::Slot> find_comp_slot(graph::CompId comp, std::string_view slot_name) const;
 
     // checks.cpp
     void check_petri_nets();

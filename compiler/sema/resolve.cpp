@@ -37,11 +37,11 @@ std::string_view kind_word(const graph::Graph& g, graph::CompId comp) {
 
 }  // namespace
 
-int32_t Elaborator::find_comp_slot(graph::CompId comp, std::string_view slot_name) const {
+graph::OptId<graph::Slot> Elaborator::find_comp_slot(graph::CompId comp, std::string_view slot_name) const {
     const auto& c = g_.comps[comp];
     for (graph::SlotId sl : children(c.slot_adr, c.slot_num))
-        if (g_.str(g_.slots[sl].name) == slot_name) return sl.v;
-    return -1;
+        if (g_.str(g_.slots[sl].name) == slot_name) return sl;
+    return {};
 }
 
 void Elaborator::name_component(const Scope& s, const std::vector<ast::PathSeg>& segs, size_t first, size_t last) {
@@ -64,7 +64,7 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
     if (path.cast_base) {
         Endpoint base = resolve(scope_do, *path.cast_base, env);
         if (!base.ok) return ep;
-        if (base.slots.size() != 1 || base.type != SlotType::Ref || base.ref_slot >= 0) {
+        if (base.slots.size() != 1 || base.type != SlotType::Ref || base.ref_slot.valid()) {
             sink_.report(DiagId::NotARef, path.cast_base->span,
                          fmt::format("'{}' is {} slot; only an object reference (ref) can be cast with 'as'",
                                      base.text, with_article(graph::word(base.type))));
@@ -76,7 +76,7 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
         if (!type) return ep;
         name_use(path.cast_type.span, type->name.span);
         const graph::DoTypeId tid = do_type(path.cast_type.text, path.cast_type.span);
-        if (auto it = ref_types_.find(graph::SlotId(base.slots[0])); it != ref_types_.end() && it->second != tid) {
+        if (auto it = ref_types_.find(base.slots[0]); it != ref_types_.end() && it->second != tid) {
             sink_.report(DiagId::RefTypeMismatch, path.cast_type.span,
                          fmt::format("'{}' holds a '{}', which is not a '{}'", base.text,
                                      g_.str(g_.do_types[it->second].name), path.cast_type.text));
@@ -149,8 +149,8 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
             const auto& c = g_.comps[comp];
             if (const graph::KindDesc* k = graph::builtin_kind(c.kind); slot_name.empty() && k && k->bare_slot >= 0)
                 slot_name = k->slots[k->bare_slot].name;  // `go` is a connector's `go.out`
-            int32_t slot = slot_name.empty() ? -1 : find_comp_slot(comp, slot_name);
-            if (slot < 0) {
+            const auto slot = slot_name.empty() ? graph::OptId<graph::Slot>{} : find_comp_slot(comp, slot_name);
+            if (!slot.valid()) {
                 std::vector<std::string> names;
                 for (const graph::Slot& sl : g_.slots.slice(c.slot_adr, c.slot_num)) names.emplace_back(g_.str(sl.name));
                 auto& d = sink_.report(DiagId::UnknownSlot, slot_name.empty() ? path.span : segs[after].name.span,
@@ -164,7 +164,7 @@ Endpoint Elaborator::resolve(graph::DoId scope_do, const ast::Path& path, const 
                     d.notes.push_back({{}, fmt::format("its slots: {}", fmt::join(names, ", "))});
                 return ep;
             }
-            const auto& sl = g_.slots[graph::SlotId(slot)];
+            const auto& sl = g_.slots[slot];
             ep.ok = true;
             ep.slots = {slot};
             ep.type = sl.type;
@@ -223,7 +223,7 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
     for (const auto& t : p.targets) {
         Endpoint e = resolve(s.do_id, t, env);
         if (!e.ok) continue;
-        if (e.ref_slot >= 0) {
+        if (e.ref_slot.valid()) {
             sink_.report(DiagId::NotARef, t.span, "a port cannot forward to a slot of an object known only at run time");
             continue;
         }
@@ -244,12 +244,12 @@ void Elaborator::bind_port(Scope& s, const ast::PortDecl& p, const Env& env) {
     scopes_[s.do_id].ports[p.name.text] = std::move(info);
 }
 
-void Elaborator::emit_flow(const std::vector<int32_t>& from, const std::vector<int32_t>& to, graph::AccessId from_access,
-                           graph::AccessId to_access, graph::Cond cond, bool once, Span span) {
+void Elaborator::emit_flow(const std::vector<graph::SlotId>& from, const std::vector<graph::SlotId>& to,
+                           graph::AccessId from_access, graph::AccessId to_access, graph::Cond cond, bool once, Span span) {
     // One flow per pair of ends: an input port may stand for several inner inputs.
-    for (int32_t f : from)
-        for (int32_t t : to) {
-            graph::add_flow(g_, graph::SlotId(f), graph::SlotId(t), cond, once, from_access, to_access, src(span));
+    for (graph::SlotId f : from)
+        for (graph::SlotId t : to) {
+            graph::add_flow(g_, f, t, cond, once, from_access, to_access, src(span));
             flow_spans_.push_back(span);
         }
 }
@@ -295,7 +295,7 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId sc
     Endpoint from = resolve(scope_do, f.from, env);
     Endpoint to = resolve(scope_do, f.to, env);
     if (!from.ok || !to.ok) return;
-    if (from.ref_slot >= 0 || to.ref_slot >= 0) {
+    if (from.ref_slot.valid() || to.ref_slot.valid()) {
         from.env = to.env = std::shared_ptr<const Env>();  // resolved in the type's own objects
         from.access_scope = to.access_scope = scope_do;
         pending_.push_back({&f, std::move(from), std::move(to), cond});
@@ -308,12 +308,12 @@ void Elaborator::add_flow(const ast::FlowDecl& f, const Env& env, graph::DoId sc
 void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) {
     Endpoint e = resolve(s.do_id, r.path, env);
     if (!e.ok) return;
-    if (e.ref_slot >= 0 || e.slots.size() != 1) {
+    if (e.ref_slot.valid() || e.slots.size() != 1) {
         sink_.report(DiagId::NotAnObject, r.path.span,
-                     e.ref_slot >= 0 ? fmt::format("record names one slot of a fixed object; '{}' belongs to whichever "
-                                                   "object the reference holds at run time", e.text)
-                                     : fmt::format("record names one slot, but port '{}' forwards to {} inputs; record "
-                                                   "one of them", e.text, e.slots.size()));
+                     e.ref_slot.valid() ? fmt::format("record names one slot of a fixed object; '{}' belongs to whichever "
+                                                      "object the reference holds at run time", e.text)
+                                        : fmt::format("record names one slot, but port '{}' forwards to {} inputs; record "
+                                                      "one of them", e.text, e.slots.size()));
         return;
     }
     std::string prefix(g_.str(g_.dos[s.do_id].path));
@@ -334,7 +334,7 @@ void Elaborator::add_record(Scope& s, const ast::RecordDecl& r, const Env& env) 
             }
         }
     }
-    g_.records.push_back({graph::SlotId(e.slots[0]), name(column)});
+    g_.records.push_back({e.slots[0], name(column)});
 }
 
 // Every flow through `(ref as Type).member`: the member is resolved in each object of
@@ -363,7 +363,7 @@ std::optional<std::pair<SlotType, Dir>> Elaborator::probe_member(const std::stri
         reported = sink_.count(Severity::Error) > before;
         return std::nullopt;
     }
-    const auto& sl = proto.g_.slots[graph::SlotId(m.slots[0])];
+    const auto& sl = proto.g_.slots[m.slots[0]];
     return std::pair<SlotType, Dir>{sl.type, sl.dir};
 }
 
@@ -390,9 +390,9 @@ void Elaborator::finish_accesses() {
         bool ok = true;
         for (int k = 0; k < 2 && ok; ++k) {
             Endpoint& e = *ends[k];
-            if (e.ref_slot < 0) continue;
+            if (!e.ref_slot.valid()) continue;
             graph::Access acc;
-            acc.ref_slot = graph::SlotId(e.ref_slot);
+            acc.ref_slot = e.ref_slot;
             acc.do_type = e.do_type;
             acc.target_adr = graph::next_adr(g_.access_targets);
             std::string member;
@@ -426,7 +426,7 @@ void Elaborator::finish_accesses() {
                     ok = false;
                     break;
                 }
-                const auto& sl = g_.slots[graph::SlotId(m.slots[0])];
+                const auto& sl = g_.slots[m.slots[0]];
                 if (first) {
                     types[k] = sl.type;
                     dirs[k] = sl.dir;
@@ -441,7 +441,7 @@ void Elaborator::finish_accesses() {
                     ok = false;
                     break;
                 }
-                g_.access_targets.push_back({graph::SlotId(m.slots[0])});
+                g_.access_targets.push_back({m.slots[0]});
                 ++count;
             }
             if (ok && count == 0) {
@@ -471,9 +471,10 @@ void Elaborator::finish_accesses() {
         if (!ok) continue;
         if (!flow_ends_fit(pf.from, dirs[0], types[0], pf.to, dirs[1], types[1])) continue;
         // A dynamic end is carried by its ref slot; the access names the member.
-        emit_flow(pf.from.ref_slot >= 0 ? std::vector<int32_t>{pf.from.ref_slot} : pf.from.slots,
-                  pf.to.ref_slot >= 0 ? std::vector<int32_t>{pf.to.ref_slot} : pf.to.slots, access_ids[0], access_ids[1],
-                  pf.cond, pf.decl->once, pf.decl->span);
+        auto carried = [](const Endpoint& e) {
+            return e.ref_slot.valid() ? std::vector<graph::SlotId>{e.ref_slot} : e.slots;
+        };
+        emit_flow(carried(pf.from), carried(pf.to), access_ids[0], access_ids[1], pf.cond, pf.decl->once, pf.decl->span);
     }
 }
 

@@ -55,14 +55,14 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
     for (size_t i = 0; i < l.terms.size(); ++i) {
         Endpoint e = resolve(s.do_id, l.terms[i].path, env);
         if (!e.ok) continue;
-        if (e.ref_slot >= 0 || e.dir != Dir::Out || e.type != SlotType::Void) {
+        if (e.ref_slot.valid() || e.dir != Dir::Out || e.type != SlotType::Void) {
             sink_.report(DiagId::LogicInputNotVoid, l.terms[i].path.span,
                          fmt::format("a connector combines void outputs (events), but '{}' is {} {}", e.text,
                                      with_article(graph::word(e.type)),
-                                     e.ref_slot >= 0 ? "dynamic slot" : e.dir == Dir::In ? "input" : "output"));
+                                     e.ref_slot.valid() ? "dynamic slot" : e.dir == Dir::In ? "input" : "output"));
             continue;
         }
-        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot.v}, {}, {}, graph::Cond::Source,
+        emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot}, {}, {}, graph::Cond::Source,
                   false, l.terms[i].span);
     }
 }

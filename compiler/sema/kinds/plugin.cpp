@@ -161,7 +161,7 @@ void Elaborator::add_entries(graph::CompId comp, const ast::ComponentDecl& c, co
         }
         const Endpoint end = resolve(scope_do, e.target, env);
         if (!end.ok) continue;
-        if (end.ref_slot >= 0) {
+        if (end.ref_slot.valid()) {
             sink_.report(DiagId::NotARef, e.target.span,
                          fmt::format("an entry names a slot of a fixed object; '{}' belongs to whichever object the "
                                      "reference holds at run time", end.text));
@@ -186,7 +186,7 @@ void Elaborator::add_entries(graph::CompId comp, const ast::ComponentDecl& c, co
         rec.key = key.num;
         rec.slot_adr = graph::next_adr(g_.plugin_entry_slots);
         rec.slot_num = graph::count_of(end.slots);
-        for (int32_t s : end.slots) g_.plugin_entry_slots.push_back({graph::SlotId(s)});
+        for (graph::SlotId s : end.slots) g_.plugin_entry_slots.push_back({s});
         rec.param_adr = graph::next_adr(g_.plugin_params);
         rec.param_num = graph::count_of(options);
         for (const graph::PluginParam& o : options) g_.plugin_params.push_back(o);
