@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <fmt/format.h>
 
 namespace plant::sema {
@@ -74,10 +75,6 @@ void Lowering::positive_vec(const char* n) const {
         el.sink_.report(DiagId::NonPositive, v->span, fmt::format("every extent in '{}' must be positive", n));
 }
 
-void Lowering::set_detail(int32_t rows) const {
-    el.g_.comps[graph::CompId(comp)].detail.v = rows - 1;  // the row just appended
-}
-
 graph::CompId Linking::find_comp(const std::string& n, Span span) const {
     auto it = scope.comps.find(n);
     if (it == scope.comps.end()) {
@@ -91,17 +88,22 @@ graph::CompId Linking::find_comp(const std::string& n, Span span) const {
     return it->second;
 }
 
-int32_t Linking::find(const std::string& n, Span span, CompKind want, const char* what) const {
+const graph::Comp* Linking::find_of_table(const std::string& n, Span span, std::string_view table,
+                                          const char* what) const {
+    CompKind want = CompKind::Plugin;  // the kind on the kind table whose table it is
+    for (const graph::KindDesc* k : graph::builtin_kinds())
+        if (k->table == table) want = k->kind;
+    assert(want != CompKind::Plugin);  // find<R> is asked for the table of a kind on the kind table
     const graph::CompId id = find_comp(n, span);
-    if (!id.valid()) return -1;
+    if (!id.valid()) return nullptr;
     const auto& target = el.g_.comps[id];
     if (target.kind != want) {
         el.sink_.report(DiagId::WrongComponentKind, span,
                         fmt::format("'{}' is a {} component, but {} must be a {} component", n,
                                     graph::kind_word(target.kind), what, graph::kind_word(want)));
-        return -1;
+        return nullptr;
     }
-    return target.detail.v;
+    return &target;
 }
 
 const ast::Property* Linking::prop(const char* n) const {
@@ -238,7 +240,7 @@ void Elaborator::check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& s
                      fmt::format("a {} component cannot be attached with 'on'", spec.word));
 }
 
-graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
+graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c, const Env& env, graph::CompId parent,
                                          const std::string& prefix) {
     const KindSpec* spec = find_kind(c.kind.text);
     if (!spec) {
@@ -282,8 +284,7 @@ graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c,
     }
 
     const Frame frame = sc.frame * placement(c.placement ? &*c.placement : nullptr, env);
-    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[comp].slot_adr, frame,
-                parent_row};
+    Lowering lw{*this, sc, c, env, *spec, props, mode, comp, g_.comps[comp].slot_adr, frame, parent};
     lower(lw);
 
     // A plugin kind's own components (a panel's buttons): named parent.child, each of a
@@ -301,7 +302,7 @@ graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c,
                     d.notes.push_back({{}, fmt::format("it holds: {}", fmt::join(words, ", "))});
                 continue;
             }
-            make_component(sc, child, env, -1, cname);
+            make_component(sc, child, env, {}, cname);
         }
         return comp;
     }
@@ -316,7 +317,7 @@ graph::CompId Elaborator::make_component(Scope& sc, const ast::ComponentDecl& c,
         }
         Frame saved = sc.frame;
         sc.frame = frame;
-        make_component(sc, child, env, g_.comps[comp].detail.v, cname);
+        make_component(sc, child, env, comp, cname);
         sc.frame = saved;
     }
     return comp;

@@ -540,7 +540,7 @@ void Elaborator::elaborate_do(graph::DoId do_id, const ast::ObjectDecl& decl, in
     for (const auto& it : items) {
         Scope& s = scopes_[do_id];
         if (auto* c = std::get_if<ast::ComponentDecl>(it.member)) {
-            const graph::CompId comp = make_component(s, *c, *it.env, -1, "");
+            const graph::CompId comp = make_component(s, *c, *it.env, {}, "");
             if (comp.valid()) made.emplace_back(comp, &it);
         } else if (auto* l = std::get_if<ast::LogicDecl>(it.member)) {
             make_logic(s, *l);

@@ -133,7 +133,8 @@ public:
     Props check_properties(const Scope& sc, const ast::ComponentDecl& c, const KindSpec& spec, const Env& env);
     void check_sub_blocks(const ast::ComponentDecl& c, const KindSpec& spec);
     bool inside_plugin(const Scope& sc, const std::string& holder, std::string_view word) const;
-    graph::CompId make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, int32_t parent_row,
+    // `parent`: the component a child of its own kind (child graphics) is made in, else none.
+    graph::CompId make_component(Scope& s, const ast::ComponentDecl& c, const Env& env, graph::CompId parent,
                                  const std::string& prefix);
     graph::SlotId add_slot(graph::CompId comp, std::string_view name, graph::SlotType t, graph::Dir dir, Span span);
     void link_component(Scope& s, graph::CompId comp, const ast::ComponentDecl& c, const Env& env);

@@ -150,8 +150,7 @@ void lower(Lowering& lw) {
     if (c.shapes.empty())
         el.sink_.report(DiagId::MissingProperty, c.name.span,
                         fmt::format("body '{}' needs at least one shape, e.g. shape box(10 cm, 10 cm, 1 cm)", c.name.text));
-    g.bodies.push_back(b);
-    lw.set_detail(g.bodies.count());
+    lw.set_detail(g.bodies.push_back(b));
     // Output values start at the body's pose.
     auto put = [&](int idx, std::initializer_list<double> xs) {
         const graph::Adr<graph::Value> adr = g.slots[lw.slot_adr + idx].value_adr;

@@ -62,8 +62,7 @@ void lower(Lowering& lw) {
     j.frame_a = jf.pose();  // world for now; made relative in link_component
     j.frame_b = jf.pose();
     j.enabled = lw.boolean("enabled", true);
-    g.joints.push_back(j);
-    lw.set_detail(g.joints.count());
+    lw.set_detail(g.joints.push_back(j));
 }
 
 // The joint frame, in world coordinates until now, becomes relative to each body.
@@ -81,9 +80,9 @@ void link(Linking& lk) {
     world.p = Eigen::Vector3d(j.frame_a.p[0], j.frame_a.p[1], j.frame_a.p[2]);
     world.q = Eigen::Quaterniond(j.frame_a.q[3], j.frame_a.q[0], j.frame_a.q[1], j.frame_a.q[2]);
     if (const auto* p = lk.prop("a"); p && !lk.ref_name(*p).empty())
-        j.body_a = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'a'"));
+        j.body_a = lk.find<graph::Body>(lk.ref_name(*p), p->value->span, "'a'");
     if (const auto* p = lk.prop("b"); p && !lk.ref_name(*p).empty())
-        j.body_b = graph::BodyId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Body, "'b'"));
+        j.body_b = lk.find<graph::Body>(lk.ref_name(*p), p->value->span, "'b'");
     if (j.body_a.valid()) j.frame_a = (body_frame(j.body_a).inverse() * world).pose();
     if (j.body_b.valid()) j.frame_b = (body_frame(j.body_b).inverse() * world).pose();
     if (j.body_a.valid() && j.body_a == j.body_b)

@@ -11,14 +11,13 @@ namespace {
 
 void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
-    g.exits.push_back({lw.comp, {}});
-    lw.set_detail(g.exits.count());
+    lw.set_detail(g.exits.push_back({lw.comp, {}}));
 }
 
 void link(Linking& lk) {
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty())
         lk.el.g_.exits[lk.row<graph::Exit>()].trigger =
-            graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
+            lk.find<graph::Trigger>(lk.ref_name(*p), p->value->span, "'trigger'");
 }
 
 }  // namespace

@@ -34,14 +34,13 @@ void lower(Lowering& lw) {
     f.max_force = lw.num("max_force", 0);  // 0 in the graph: unlimited
     lw.positive("max_force");
     f.enabled = lw.boolean("enabled", true);
-    g.fields.push_back(f);
-    lw.set_detail(g.fields.count());
+    lw.set_detail(g.fields.push_back(f));
     graph::slot_value(g, lw.slot_adr + graph::fieldslot::speed) = f.enabled ? f.speed : 0;
     graph::slot_value(g, lw.slot_adr + graph::fieldslot::enabled) = f.enabled ? 1 : 0;
 }
 
 void link(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.fields[lk.row<graph::Field>()].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on) lk.el.g_.fields[lk.row<graph::Field>()].body = lk.on_body();
 }
 
 }  // namespace

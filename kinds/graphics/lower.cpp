@@ -19,12 +19,12 @@ namespace {
 
 // One animation of Graphics `gid`: its keys (given, or made from move/rotate over a
 // duration) and its play/finished slots.
-void lower_animation(Lowering& lw, const ast::AnimationDecl& a, int32_t gid) {
+void lower_animation(Lowering& lw, const ast::AnimationDecl& a, graph::GraphicsId gid) {
     Elaborator& el = lw.el;
     graph::Graph& g = lw.el.g_;
     const Env& env = lw.env;
     graph::Animation an;
-    an.graphics = graph::GraphicsId(gid);
+    an.graphics = gid;
     an.name = el.name(a.name.text);
     an.key_adr = graph::next_adr(g.keys);
     double duration = -1;
@@ -100,13 +100,13 @@ void lower(Lowering& lw) {
     const Env& env = lw.env;
     graph::Graphics gr;
     gr.comp = lw.comp;
-    gr.parent = graph::GraphicsId(lw.parent_row);
+    if (lw.parent.valid()) gr.parent = graph::detail_of<graph::Graphics>(g.comps[lw.parent]);
     gr.body = {};
     gr.model = el.name(lw.props.get("model") ? lw.props.get("model")->str : "");
     gr.pose = lw.frame.pose();
     gr.variant = -1;
     gr.anim_adr = graph::next_adr(g.animations);
-    const int32_t gid = g.graphics.count();
+    const graph::GraphicsId gid = graph::next_id(g.graphics);
     for (const auto& a : c.animations) lower_animation(lw, a, gid);
     gr.anim_num = graph::rows_since(g.animations, gr.anim_adr);
     gr.variant_adr = graph::next_adr(g.variants);
@@ -114,7 +114,7 @@ void lower(Lowering& lw) {
         Value m = el.ev_.eval(*v.model, env);
         if (!el.ev_.expect_string(m, "variant model")) continue;
         const graph::SlotId sel = el.add_slot(lw.comp, v.name.text + ".select", SlotType::Void, Dir::In, v.name.span);
-        g.variants.push_back({graph::GraphicsId(gid), el.name(v.name.text), el.name(m.str), sel});
+        g.variants.push_back({gid, el.name(v.name.text), el.name(m.str), sel});
     }
     gr.variant_num = graph::rows_since(g.variants, gr.variant_adr);
     if (const Value* v = lw.props.get("show")) {
@@ -131,12 +131,11 @@ void lower(Lowering& lw) {
                                                      : fmt::format("its variants: {}", fmt::join(names, ", "))});
         }
     }
-    g.graphics.push_back(gr);
-    lw.set_detail(g.graphics.count());
+    lw.set_detail(g.graphics.push_back(gr));
 }
 
 void link(Linking& lk) {
-    if (lk.decl.on && lk.rec.detail.valid()) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on && lk.rec.detail.valid()) lk.el.g_.graphics[lk.row<graph::Graphics>()].body = lk.on_body();
 }
 
 }  // namespace

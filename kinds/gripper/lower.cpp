@@ -18,8 +18,7 @@ void lower(Lowering& lw) {
     gr.trigger = {};
     gr.body = {};
     gr.graphics = {};
-    g.grippers.push_back(gr);
-    lw.set_detail(g.grippers.count());
+    lw.set_detail(g.grippers.push_back(gr));
 }
 
 // A gripper holds what its trigger caught: its `object` slot is typed by the trigger's.
@@ -27,7 +26,7 @@ void link(Linking& lk) {
     graph::Graph& g = lk.el.g_;
     auto& gr = g.grippers[lk.row<graph::Gripper>()];
     if (const auto* p = lk.prop("trigger"); p && !lk.ref_name(*p).empty()) {
-        gr.trigger = graph::TriggerId(lk.find(lk.ref_name(*p), p->value->span, graph::CompKind::Trigger, "'trigger'"));
+        gr.trigger = lk.find<graph::Trigger>(lk.ref_name(*p), p->value->span, "'trigger'");
         if (gr.trigger.valid()) {
             const graph::SlotId tslot = g.comps[g.triggers[gr.trigger].comp].slot_adr + graph::triggerslot::object;
             if (auto it = lk.el.ref_types_.find(tslot); it != lk.el.ref_types_.end())
@@ -39,7 +38,7 @@ void link(Linking& lk) {
         if (it != lk.scope.comps.end() && g.comps[it->second].kind == graph::CompKind::Graphics)
             gr.graphics = graph::detail_of<graph::Graphics>(g.comps[it->second]);
         else
-            gr.body = graph::BodyId(lk.on_body());
+            gr.body = lk.on_body();
     }
 }
 

@@ -12,8 +12,7 @@ void lower(sema::Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const sema::Value* v = lw.props.get("value");
     graph::Label l{lw.comp, lw.el.name(v ? v->str : "")};
-    g.labels.push_back(l);
-    lw.set_detail(g.labels.count());
+    lw.set_detail(g.labels.push_back(l));
     graph::slot_value(g, lw.slot_adr + graph::labelslot::value) = l.value.id;
 }
 

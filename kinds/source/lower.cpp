@@ -47,8 +47,7 @@ void lower(Lowering& lw) {
         for (int32_t i = 1; i <= pool; ++i) g.ids.push_back({el.name(fmt::format("{}-{}", c.name.text, i))});
     }
     s.id_num = graph::rows_since(g.ids, s.id_adr);
-    g.sources.push_back(s);
-    lw.set_detail(g.sources.count());
+    lw.set_detail(g.sources.push_back(s));
 }
 
 }  // namespace

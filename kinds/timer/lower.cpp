@@ -15,8 +15,7 @@ void lower(sema::Lowering& lw) {
     lw.positive("period");
     t.periodic = lw.mode != "oneshot";
     t.autostart = lw.boolean("autostart", false);
-    g.timers.push_back(t);
-    lw.set_detail(g.timers.count());
+    lw.set_detail(g.timers.push_back(t));
 }
 
 }  // namespace

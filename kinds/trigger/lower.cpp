@@ -25,12 +25,11 @@ void lower(Lowering& lw) {
         t.filter = el.do_type(f->str, f->span);
         el.ref_types_[lw.slot_adr + graph::triggerslot::object] = t.filter;
     }
-    g.triggers.push_back(t);
-    lw.set_detail(g.triggers.count());
+    lw.set_detail(g.triggers.push_back(t));
 }
 
 void link(Linking& lk) {
-    if (lk.decl.on) lk.el.g_.triggers[lk.row<graph::Trigger>()].body = graph::BodyId(lk.on_body());
+    if (lk.decl.on) lk.el.g_.triggers[lk.row<graph::Trigger>()].body = lk.on_body();
 }
 
 }  // namespace

@@ -40,14 +40,17 @@ struct Lowering {
     graph::CompId comp;       // its id
     graph::Adr<graph::Slot> slot_adr;  // its first (fixed) slot
     Frame frame;              // its world frame
-    int32_t parent_row;       // a child of its own kind (child graphics): its parent's row, else -1
+    graph::CompId parent;     // a child of its own kind (child graphics): its parent, else none
 
     double num(const char* n, double def) const;
     bool boolean(const char* n, bool def) const;
     void positive(const char* n) const;      // reported when set and not > 0
     void positive_vec(const char* n) const;  // reported when an item is not > 0
-    // The component's detail: the last row of its kind's table, now `rows` long.
-    void set_detail(int32_t rows) const;
+    // The component's detail: its row in its kind's table, lw.set_detail(g.timers.push_back(t)).
+    template <class R>
+    void set_detail(graph::Id<R> row) const {
+        el.g_.comps[comp].detail = graph::Detail(row);
+    }
 };
 
 // A component whose object's components all exist: references between them resolved.
@@ -62,9 +65,17 @@ struct Linking {
 
     // Component `n` of this object, of any kind; none (reported) if there is none.
     graph::CompId find_comp(const std::string& n, Span span) const;
-    // The detail id of component `n` of this object, of kind `want`; -1 (reported) if none.
-    int32_t find(const std::string& n, Span span, graph::CompKind want, const char* what) const;
-    int32_t on_body() const { return find(on, decl.on->span, graph::CompKind::Body, "'on'"); }
+    // The row of component `n` of this object in R's table, find<graph::Body>: the component
+    // is of the kind whose table that is (a `physics` one); none (reported) if it is not, or
+    // there is none. `what` names the reference in the message ("'trigger'").
+    template <class R>
+    graph::Id<R> find(const std::string& n, Span span, const char* what) const {
+        const graph::Comp* c = find_of_table(n, span, graph::table_name<R>(), what);
+        return c ? graph::detail_of<R>(*c) : graph::Id<R>{};
+    }
+    graph::BodyId on_body() const { return find<graph::Body>(on, decl.on->span, "'on'"); }
+    // find's lookup: component `n`, of the kind whose graph table is `table`; nullptr (reported) if none.
+    const graph::Comp* find_of_table(const std::string& n, Span span, std::string_view table, const char* what) const;
     // The component's row in its kind's table (its detail), as that table's id: row<Joint>().
     template <class R>
     graph::Id<R> row() const {

@@ -73,8 +73,8 @@ void lower_plugin(Lowering& lw) {
     }
     for (const graph::ParamSpec& ps : kind.params)
         g.plugin_params.push_back(stored(lw.el, ps, lw.props.get(std::string(ps.name))));
-    g.plugins.push_back(rec);
-    lw.set_detail(g.plugins.count());
+    const graph::PluginId plugin = g.plugins.push_back(rec);
+    lw.set_detail(plugin);
     // Where its kind's check reports (a panel's button too, which has no entries pass).
     lw.el.plugin_spans_.resize(g.plugins.size());
     lw.el.plugin_spans_.back() = lw.decl.name.span;
