@@ -86,7 +86,7 @@ void Elaborator::check_petri_nets() {
         for (size_t i = 0; i < rep.unbounded.size(); ++i) {
             const PlaceId p = places_of[c][rep.unbounded[i]];
             const auto& pl = g_.places[p];
-            auto& d = sink_.report(DiagId::UnboundedPlace, place_spans_[p.v],
+            auto& d = sink_.report(DiagId::UnboundedPlace, place_spans_[p],
                                    fmt::format("place '{}' of net '{}' can accumulate tokens without bound", g_.str(pl.name), net_name));
             if (i < rep.unbounded_why.size()) d.notes.push_back({{}, rep.unbounded_why[i]});
             d.notes.push_back({{}, "add a transition that drains surplus tokens, e.g. `transition drain: Held + Request -> Held`"});
@@ -94,7 +94,7 @@ void Elaborator::check_petri_nets() {
         for (int idx : rep.dead) {
             const TransitionId t = transitions_of[c][idx];
             const auto& tr = g_.transitions[t];
-            sink_.report(DiagId::DeadTransition, transition_spans_[t.v],
+            sink_.report(DiagId::DeadTransition, transition_spans_[t],
                          fmt::format("transition '{}' of net '{}' can never fire", g_.str(tr.name), net_name));
         }
     }
@@ -135,7 +135,7 @@ void Elaborator::check_logic_cycles() {
             through += fmt::format("{}{} '{}'", through.empty() ? "" : ", ",
                                    k && !k->noun.empty() ? k->noun : graph::word(comp.kind), g_.str(comp.name));
         }
-        sink_.report(DiagId::LogicCycle, flow_spans_[graph::index(net.delayed[i])],
+        sink_.report(DiagId::LogicCycle, flow_spans_[net.delayed[i]],
                      fmt::format("this flow closes a logic cycle through {}; it is evaluated with a one-step delay", through));
     }
 }

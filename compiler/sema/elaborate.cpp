@@ -688,6 +688,7 @@ void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
         const graph::DoTypeId tid = src_rec.do_type;
         const std::string parent_path(g_.str(g_.dos[do_id].path));
         std::vector<graph::DoId> made;
+        const graph::Adr<graph::Do> pool_adr = graph::next_adr(g_.dos);  // the rows made next
         for (int32_t i = 0; i < n; ++i) {
             std::string iname = fmt::format("{}[{}]", c->name.text, i);
             std::string path = parent_path.empty() ? iname : parent_path + "." + iname;
@@ -696,7 +697,7 @@ void Elaborator::make_pools(graph::DoId do_id, const std::vector<Item>& items) {
             scopes_[do_id].children[iname] = d;
             made.push_back(d);
         }
-        g_.sources[graph::detail_of<graph::Source>(g_.comps[comp])].pool_adr = graph::Adr<graph::Do>(made.front().v);
+        g_.sources[graph::detail_of<graph::Source>(g_.comps[comp])].pool_adr = pool_adr;
         type_stack_.push_back(type->name.text);
         for (graph::DoId d : made) elaborate_do(d, *type, type_module, env);
         type_stack_.pop_back();

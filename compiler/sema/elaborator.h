@@ -191,13 +191,14 @@ public:
     std::map<graph::CompId, Span> comp_spans_;
     graph::IdVector<graph::DoId, Span> do_spans_;  // its declaration
     std::map<graph::DoId, Span> do_at_spans_;     // the position its placement gives (`at (...)`)
-    std::vector<Span> flow_spans_;  // by flow id (for warnings)
-    std::vector<Span> plugin_spans_;  // by plugin row: the component's name
-    std::vector<Span> entry_spans_;   // by plugin entry row
+    graph::IdVector<graph::FlowId, Span> flow_spans_;  // its declaration (for warnings)
+    graph::IdVector<graph::PluginId, Span> plugin_spans_;  // the component's name
+    graph::IdVector<graph::Id<graph::PluginEntry>, Span> entry_spans_;  // the entry
     // A hull's points by their coordinates: the same hull again (every bottle of a pool)
     // names the points already in Graph::points instead of copying them (kinds/body/lower.cpp).
     std::map<std::vector<double>, graph::Adr<graph::Point>> hulls_;
-    std::map<int32_t, Span> place_spans_, transition_spans_;  // comp -> declaration span (for warnings)
+    std::map<graph::PlaceId, Span> place_spans_;  // its declaration (for warnings)
+    std::map<graph::TransitionId, Span> transition_spans_;
     long long max_expanded_ = kMaxMembers;  // the limit on both counts below
     long long expanded_ = 0;      // members produced by loops, against runaway loops
     long long iterations_ = 0;    // loop iterations over all nesting, empty bodies included

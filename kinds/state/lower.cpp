@@ -22,7 +22,7 @@ void lower(Lowering& lw) {
     graph::Graph& g = lw.el.g_;
     const ast::ComponentDecl& c = lw.decl;
     const Env& env = lw.env;
-    std::map<std::string, int32_t> place_ids;
+    std::map<std::string, graph::PlaceId> place_ids;
     for (const auto& p : c.places) {
         if (place_ids.count(p.name.text)) {
             el.sink_.report(DiagId::DuplicateName, p.name.span, fmt::format("place '{}' is declared twice", p.name.text));
@@ -47,9 +47,9 @@ void lower(Lowering& lw) {
         pl.entered_slot = el.add_slot(lw.comp, p.name.text + ".entered", SlotType::Void, Dir::Out, p.name.span);
         pl.tokens_slot = el.add_slot(lw.comp, p.name.text + ".tokens", SlotType::Int, Dir::Out, p.name.span);
         graph::slot_value(g, pl.tokens_slot) = pl.initial;
-        place_ids[p.name.text] = g.places.count();
-        el.place_spans_[g.places.count()] = p.name.span;
-        g.places.push_back(pl);
+        const graph::PlaceId id = g.places.push_back(pl);
+        place_ids[p.name.text] = id;
+        el.place_spans_[id] = p.name.span;
     }
     std::set<std::string> tnames;
     std::vector<std::string> pnames;
@@ -82,7 +82,7 @@ void lower(Lowering& lw) {
                                                 graph::kMaxArcWeight));
                     continue;
                 }
-                g.arcs.push_back({graph::PlaceId(it->second), static_cast<int32_t>(a.weight)});
+                g.arcs.push_back({it->second, static_cast<int32_t>(a.weight)});
             }
             n = graph::rows_since(g.arcs, adr);
         };
@@ -92,8 +92,7 @@ void lower(Lowering& lw) {
             el.sink_.report(DiagId::EmptyTransition, t.name.span,
                             fmt::format("transition '{}' has no input place, so it would fire in every step", t.name.text));
         tr.fired_slot = el.add_slot(lw.comp, t.name.text + ".fired", SlotType::Void, Dir::Out, t.name.span);
-        el.transition_spans_[g.transitions.count()] = t.name.span;
-        g.transitions.push_back(tr);
+        el.transition_spans_[g.transitions.push_back(tr)] = t.name.span;
     }
 }
 

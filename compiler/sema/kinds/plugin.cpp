@@ -77,7 +77,7 @@ void lower_plugin(Lowering& lw) {
     lw.set_detail(plugin);
     // Where its kind's check reports (a panel's button too, which has no entries pass).
     lw.el.plugin_spans_.resize(g.plugins.size());
-    lw.el.plugin_spans_.back() = lw.decl.name.span;
+    lw.el.plugin_spans_[plugin] = lw.decl.name.span;
 }
 
 void link_plugin(Linking& lk) {
@@ -122,8 +122,8 @@ void Elaborator::add_entries(graph::CompId comp, const ast::ComponentDecl& c, co
     const graph::KindDesc* kind = graph::plugin_of(g_, comp);
     if (!kind) return;
     const graph::PluginId plugin = graph::detail_of<graph::Plugin>(g_.comps[comp]);
-    if (plugin_spans_.size() <= graph::index(plugin)) plugin_spans_.resize(graph::index(plugin) + 1);
-    plugin_spans_[graph::index(plugin)] = c.name.span;
+    if (!plugin_spans_.contains(plugin)) plugin_spans_.resize(g_.plugins.size());
+    plugin_spans_[plugin] = c.name.span;
     if (c.entries.empty()) return;
     g_.plugins[plugin].entry_adr = graph::next_adr(g_.plugin_entries);
     for (const ast::EntryDecl& e : c.entries) {
@@ -191,11 +191,11 @@ void Elaborator::add_entries(graph::CompId comp, const ast::ComponentDecl& c, co
         rec.param_num = graph::count_of(options);
         for (const graph::PluginParam& o : options) g_.plugin_params.push_back(o);
         rec.src = src(e.span);
-        g_.plugin_entries.push_back(rec);
+        const graph::Id<graph::PluginEntry> entry = g_.plugin_entries.push_back(rec);
         entry_spans_.resize(g_.plugin_entries.size());
-        entry_spans_.back() = e.span;
+        entry_spans_[entry] = e.span;
     }
-    g_.plugins[plugin].entry_num = g_.plugin_entries.count() - g_.plugins[plugin].entry_adr.v;
+    g_.plugins[plugin].entry_num = graph::rows_since(g_.plugin_entries, g_.plugins[plugin].entry_adr);
 }
 
 // Checks a kind makes across entries or components (a Modbus link's overlapping
@@ -205,10 +205,10 @@ void Elaborator::check_plugins() {
         const graph::KindDesc* kind = graph::plugin_of(g_, g_.plugins[p].comp);
         graph::PluginProblem problem;
         if (!kind || !kind->check || kind->check(g_, p.v, problem)) continue;
-        const size_t row = graph::index(g_.plugins[p].entry_adr + problem.entry);
-        const Span at = problem.entry >= 0 && row < entry_spans_.size()  ? entry_spans_[row]
-                        : graph::index(p) < plugin_spans_.size()          ? plugin_spans_[graph::index(p)]
-                                                                          : Span{};
+        const graph::Id<graph::PluginEntry> entry = g_.plugins[p].entry_adr + problem.entry;
+        const Span at = problem.entry >= 0 && entry_spans_.contains(entry) ? entry_spans_[entry]
+                        : plugin_spans_.contains(p)                        ? plugin_spans_[p]
+                                                                           : Span{};
         sink_.report(DiagId::KindCheck, at, problem.message);
     }
 }
