@@ -97,28 +97,28 @@ public:
     static constexpr double kCell = 0.5;  // m
     static constexpr double kMaxCells = 4096;
 
-    explicit Grid(const std::vector<Box>& boxes) {
+    explicit Grid(const graph::IdVector<graph::FieldId, Box>& boxes) {
         double widest = 0;
         for (const Box& b : boxes)
             if (b.source) widest = std::max(widest, b.half_width);
-        for (size_t i = 0; i < boxes.size(); ++i) {
+        for (graph::FieldId i : boxes.ids()) {
             const Box& b = boxes[i];
             const double r = b.half.norm() + kCapture + widest;
             const double side = std::floor(2 * r / kCell) + 2;
             if (side * side > kMaxCells) {
-                big_.push_back(static_cast<int32_t>(i));
+                big_.push_back(i);
                 continue;
             }
             const int64_t x0 = cell(b.c.x() - r), x1 = cell(b.c.x() + r);
             const int64_t y0 = cell(b.c.y() - r), y1 = cell(b.c.y() + r);
             for (int64_t x = x0; x <= x1; ++x)
-                for (int64_t y = y0; y <= y1; ++y) cells_[key(x, y)].push_back(static_cast<int32_t>(i));
+                for (int64_t y = y0; y <= y1; ++y) cells_[key(x, y)].push_back(i);
         }
     }
-    // The boxes whose reach may hold p, in id order (indices into the boxes).
-    const std::vector<int32_t>& near(const Vector3d& p) {
+    // The boxes whose reach may hold p, in id order.
+    const std::vector<graph::FieldId>& near(const Vector3d& p) {
         const auto it = cells_.find(key(cell(p.x()), cell(p.y())));
-        const std::vector<int32_t>& here = it == cells_.end() ? none_ : it->second;
+        const std::vector<graph::FieldId>& here = it == cells_.end() ? none_ : it->second;
         if (big_.empty()) return here;
         found_.clear();
         std::merge(here.begin(), here.end(), big_.begin(), big_.end(), std::back_inserter(found_));
@@ -132,8 +132,8 @@ private:
     static uint64_t key(int64_t x, int64_t y) {
         return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
     }
-    std::unordered_map<uint64_t, std::vector<int32_t>> cells_;
-    std::vector<int32_t> big_, found_, none_;
+    std::unordered_map<uint64_t, std::vector<graph::FieldId>> cells_;
+    std::vector<graph::FieldId> big_, found_, none_;
 };
 
 std::string cm(double m) { return fmt::format("{:.1f} cm", m * 100); }
@@ -169,7 +169,7 @@ void Elaborator::check_conveyor_ends() {
         return owner.empty() ? name : owner + "." + name;
     };
 
-    std::vector<Box> boxes;
+    graph::IdVector<graph::FieldId, Box> boxes;  // a field's box by its id
     for (graph::FieldId i : ids_of(g_.fields)) boxes.push_back(make_box(g_, i));
     Grid grid(boxes);
     std::set<std::tuple<int32_t, uint32_t, int32_t, uint32_t>> reported;  // once per pair of declarations
@@ -187,8 +187,8 @@ void Elaborator::check_conveyor_ends() {
         const Box* on = nullptr;     // a box the outlet runs onto, level
         const Box* step = nullptr;   // one it runs onto with a step (the smallest)
         double step_h = 0;
-        for (int32_t k : grid.near(ahead)) {
-            const Box& b = boxes[static_cast<size_t>(k)];
+        for (graph::FieldId k : grid.near(ahead)) {
+            const Box& b = boxes[k];
             if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             const Vector3d l = b.local(ahead);
             if (std::abs(l.x()) > b.half.x() || std::abs(l.y()) > b.half.y()) continue;
@@ -229,8 +229,8 @@ void Elaborator::check_conveyor_ends() {
         const Box* near = nullptr;
         Vector3d miss = Vector3d::Zero();  // from the outlet to where the other conveyor starts
         double near_d = kCapture + 1e-9;
-        for (int32_t k : grid.near(a.outlet)) {
-            const Box& b = boxes[static_cast<size_t>(k)];
+        for (graph::FieldId k : grid.near(a.outlet)) {
+            const Box& b = boxes[k];
             if (b.field == a.field || g_.fields[b.field].body.valid()) continue;
             if ((b.c - a.outlet).norm() > kCapture + a.half_width + b.half.norm()) continue;
             const Vector3d l0 = b.local(a.outlet);
