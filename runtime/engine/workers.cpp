@@ -23,6 +23,9 @@ constexpr int kSpinsIdle = 256;
 constexpr int kSpinsJoin = 4000;
 // The ticket's item field while the calling thread writes the next job: no item can be claimed.
 constexpr uint32_t kClosed = 0xffffffffu;
+// A 64-bit number's low half: a ticket's item, a job's number as a ticket holds it.
+constexpr uint32_t low_half(uint64_t v) { return static_cast<uint32_t>(v); }
+constexpr uint32_t job_of(uint64_t ticket) { return low_half(ticket >> 32); }
 
 inline void relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -157,9 +160,9 @@ int Workers::work(uint32_t job) {
     void* const ctx = ctx_.load(std::memory_order_relaxed);
     int ran = 0;
     int64_t sum = 0, longest = 0;
-    for (uint64_t t = ticket_.load(std::memory_order_acquire); uint32_t(t >> 32) == job && int64_t(uint32_t(t)) < n;) {
+    for (uint64_t t = ticket_.load(std::memory_order_acquire); job_of(t) == job && int64_t{low_half(t)} < n;) {
         if (!ticket_.compare_exchange_weak(t, t + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
-        item(fn, ctx, int(uint32_t(t)), sum, longest);
+        item(fn, ctx, static_cast<int>(low_half(t)), sum, longest);
         ++ran;
         t = ticket_.load(std::memory_order_acquire);
     }
@@ -176,9 +179,9 @@ void Workers::helper() {
         // Inside, the calling thread does not write a next job; a job already closed (the
         // calling thread ran every item, or is writing the next one) is left alone.
         inside_.fetch_add(1, std::memory_order_seq_cst);
-        if (uint32_t(ticket_.load(std::memory_order_seq_cst) >> 32) == uint32_t(seen)) {
+        if (job_of(ticket_.load(std::memory_order_seq_cst)) == low_half(seen)) {
             const int n = n_.load(std::memory_order_relaxed);
-            if (const int ran = work(uint32_t(seen)); ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == n)
+            if (const int ran = work(low_half(seen)); ran > 0 && done_.fetch_add(ran, std::memory_order_acq_rel) + ran == n)
                 done_.notify_one();
         }
         if (inside_.fetch_sub(1, std::memory_order_acq_rel) == 1) inside_.notify_one();
@@ -205,7 +208,7 @@ void Workers::run(int n, void (*fn)(void*, int), void* ctx) {
         ticket_.store(job << 32, std::memory_order_release);  // open
         job_.store(job, std::memory_order_release);           // wakes the helpers
         job_.notify_all();
-        if (const int ran = work(uint32_t(job)); ran > 0) done_.fetch_add(ran, std::memory_order_acq_rel);
+        if (const int ran = work(low_half(job)); ran > 0) done_.fetch_add(ran, std::memory_order_acq_rel);
         await(done_, kSpinsJoin, [n](int d) { return d == n; });
     }
     if (prof_.on) {
