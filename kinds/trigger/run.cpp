@@ -48,6 +48,28 @@ bool overlaps(const btVector3& lo, const btVector3& hi, const btTransform& box, 
     return true;
 }
 
+// A trigger's objects now (`now`, sorted, `num` of them) against those of the step before
+// (`before`, sorted, ts.num of them): how many came in, the first of them, and how many left.
+void compare(TriggerState& ts, const DoId* now, int32_t num, const DoId* before) {
+    int32_t entered = 0, left = 0;
+    DoId first_in;
+    const DoId *a = now, *ae = a + num;
+    const DoId *p = before, *pe = p + ts.num;
+    while (a != ae || p != pe) {
+        if (p == pe || (a != ae && *a < *p)) {
+            if (entered++ == 0) first_in = *a;
+            ++a;
+        } else if (a == ae || *p < *a) {
+            ++left;
+            ++p;
+        } else {
+            ++a;
+            ++p;
+        }
+    }
+    ts.entered = entered, ts.left = left, ts.first_in = first_in;
+}
+
 // Which objects are inside the triggers `ids`, found on one of the physics threads: each
 // trigger's pose, and its objects, sorted, appended to `out` (the slice's own list) with
 // their place in it.
@@ -84,11 +106,12 @@ void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<DoId>& o
             out[k] = obj;
         });
         s.trigger_found[t] = graph::count_of(std::span(out).subspan(adr));  // found for t
+        compare(ts, out.data() + adr, s.trigger_found[t], s.inside.data() + ts.adr);
     }
 }
 
-// Trigger t's objects this step (`objects`, found by find_inside): its list in State::inside
-// and its events, against the list of the step before.
+// Trigger t's objects this step (`objects`, found by find_inside, which compared them with
+// the step before's): its list in State::inside, and its events.
 void take(Runtime& r, TriggerId t, const DoId* objects) {
     State& s = r.st;
     TriggerState& ts = s.triggers[t];
@@ -97,31 +120,13 @@ void take(Runtime& r, TriggerId t, const DoId* objects) {
     ts.adr = graph::count_of(s.inside);
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
-
-    // Merge the two sorted lists.
-    int32_t entered = 0, left = 0;
-    DoId first_in;
-    const DoId *a = s.inside.data() + ts.adr, *ae = a + ts.num;
-    const DoId *p = s.inside_prev.data() + ts.prev_adr, *pe = p + ts.prev_num;
-    while (a != ae || p != pe) {
-        if (p == pe || (a != ae && *a < *p)) {
-            if (entered++ == 0) first_in = *a;
-            ++a;
-        } else if (a == ae || *p < *a) {
-            ++left;
-            ++p;
-        } else {
-            ++a;
-            ++p;
-        }
-    }
     const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.triggers[t].comp].slot_adr;
-    if (entered) {
-        ts.enters += entered;
+    if (ts.entered) {
+        ts.enters += ts.entered;
         r.activate(s0 + slot::on_enter);
-        r.emit(s0 + slot::object, first_in.v);
+        r.emit(s0 + slot::object, ts.first_in.v);
     }
-    if (left) r.activate(s0 + slot::on_leave);
+    if (ts.left) r.activate(s0 + slot::on_leave);
     if (ts.num) r.activate(s0 + slot::on_stay);
     if (ts.num != ts.prev_num) r.emit(s0 + slot::count_inside, ts.num);
 }

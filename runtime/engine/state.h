@@ -23,6 +23,10 @@ struct TriggerState {
     int32_t adr = 0, num = 0;            // objects inside now: State::inside[adr, adr + num)
     int32_t prev_adr = 0, prev_num = 0;  // ... in the previous step (State::inside_prev)
     int64_t enters = 0;
+    // This step's list against the previous one, found on a physics thread before the lists
+    // move (kinds/trigger/run.cpp): objects that came in (the first of them) and that left.
+    int32_t entered = 0, left = 0;
+    graph::DoId first_in;
 };
 
 // A kind on the kind table keeps its state in a type of its own (kinds/NAME/run.cpp), made
