@@ -122,13 +122,17 @@ uint8_t advance_one(Runtime& r, const GraphicsData& data, GraphicsId i) {
     return flags | kPoseChanged;
 }
 
+// What graphics i publishes of `flags`: a changed pose only where its output is watched (read,
+// not written, in the step's phase 2, so an item may ask too).
+uint8_t to_publish(const Runtime& r, GraphicsId i, uint8_t flags) {
+    if ((flags & kPoseChanged) && !r.st.watched[r.comp_slot(r.g.graphics[i].comp, slot::pose)]) flags &= ~kPoseChanged;
+    return flags;
+}
+
 void publish(Runtime& r, GraphicsId i, uint8_t flags) {
     GraphicsState& gs = r.st.graphics[i];
     if (flags & kFinished) r.activate(r.g.animations[AnimationId(gs.finished)].finished_slot);
-    if (flags & kPoseChanged) {
-        const graph::SlotId out = r.comp_slot(r.g.graphics[i].comp, slot::pose);
-        if (r.st.watched[out]) r.emit_pose(out, gs.pose);
-    }
+    if (flags & kPoseChanged) r.emit_pose(r.comp_slot(r.g.graphics[i].comp, slot::pose), gs.pose);
 }
 
 // Phase 2: the graphics with no parent (the first of `order`) in slices on the physics
@@ -142,13 +146,13 @@ void sense_all(Runtime& r) {
     const size_t slices = slice_count(r.phys.workers(), roots, 256, roots + 1);
     auto poses = [&r, &data, &order, &flags, roots, slices](int i) {
         const auto [b, e] = slice_of(roots, slices, i);
-        for (size_t k = b; k < e; ++k) flags[k] = advance_one(r, data, order[k]);
+        for (size_t k = b; k < e; ++k) flags[k] = to_publish(r, order[k], advance_one(r, data, order[k]));
     };
     run_slices(r.phys.workers(), slices, poses);
     for (size_t k = 0; k < roots; ++k)
         if (flags[k]) publish(r, order[k], flags[k]);
     for (size_t k = roots; k < order.size(); ++k) {
-        const uint8_t f = advance_one(r, data, order[k]);
+        const uint8_t f = to_publish(r, order[k], advance_one(r, data, order[k]));
         if (f) publish(r, order[k], f);
     }
 }
