@@ -120,6 +120,7 @@ void take(Runtime& r, TriggerId t, const DoId* objects) {
     ts.adr = graph::count_of(s.inside);
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
+    if (!ts.num && !ts.prev_num) return;  // empty and was: no event (nothing entered or left)
     const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.triggers[t].comp].slot_adr;
     if (ts.entered) {
         ts.enters += ts.entered;
