@@ -225,7 +225,7 @@ private:
     Csr<int32_t, graph::BodyId> group_bodies_;  // per group: its bodies
     std::vector<uint8_t> anchored_;   // per group: holds a static body (never leaves its region)
     std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
-    std::vector<int> free_to_;          // per free group: the world it goes to (assign_worlds)
+    std::vector<int> free_to_;          // per free group: the world it moves to, or a mark (assign_worlds)
     std::vector<graph::BodyId> movers_;  // bodies that are not static
     std::vector<int32_t> to_step_;    // scratch: the worlds to step
     struct Near {  // a mover's bounding box and world, for void groups to meet

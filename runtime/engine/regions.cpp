@@ -270,8 +270,9 @@ void Physics::assign_worlds() {
     auto box = [this](BodyId b, btVector3& lo, btVector3& hi) { aabb(b, kNear, lo, hi); };
     // Free groups: to the region whose box they meet. Where each goes, on the physics threads
     // in slices of the groups (a group's decision reads its own bodies' worlds, which only its
-    // own move changes); the moves on this thread in group order.
-    constexpr int kParked = -2, kVoid = -1;
+    // own move changes), and whether that is where it is already; the moves on this thread in
+    // group order.
+    constexpr int kStay = -3, kParked = -2, kVoid = -1;
     auto where = [this, &present](int32_t gi) {
         bool any = false;
         for (BodyId b : group_bodies_[gi]) {
@@ -286,20 +287,21 @@ void Physics::assign_worlds() {
     const size_t slices = slice_count(*workers_, nf, 128, nf + 1);
     auto decide = [this, &where, nf, slices](int i) {
         const auto [b, e] = slice_of(nf, slices, i);
-        for (size_t k = b; k < e; ++k) free_to_[k] = where(free_groups_[k]);
+        for (size_t k = b; k < e; ++k) {
+            const int32_t gi = free_groups_[k];
+            const int to = where(gi), at = world_of_[group_bodies_[gi].front()];
+            // A parked group waits in the void's world; a void group is placed below.
+            if (to == kParked) free_to_[k] = at != void_ ? void_ : kStay;
+            else free_to_[k] = to == kVoid || at != to ? to : kStay;
+        }
     };
     run_slices(*workers_, slices, decide);
     void_groups_.clear();
     for (size_t i = 0; i < nf; ++i) {
-        const int32_t gi = free_groups_[i];
         const int to = free_to_[i];
-        if (to == kParked) {
-            if (world_of_[group_bodies_[gi].front()] != void_) move_group(gi, void_);
-        } else if (to == kVoid) {
-            void_groups_.push_back(gi);
-        } else if (world_of_[group_bodies_[gi].front()] != to) {
-            move_group(gi, to);
-        }
+        if (to == kStay) continue;
+        if (to == kVoid) void_groups_.push_back(free_groups_[i]);
+        else move_group(free_groups_[i], to);
     }
     // Void groups join the world of a mover they meet (of a region's world, or a void group
     // that joined one before), in turn until none joins.
