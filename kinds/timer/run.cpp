@@ -2,6 +2,7 @@
 // start and stop in phase 5.
 #include "engine/plugin.h"
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
@@ -23,15 +24,21 @@ struct Run {
 
 using TimerId = graph::Id<graph::Timer>;
 
+// What a timer's step makes active (sense_all): its `elapsed` (when watched), `tick`,
+// `running` (a one-shot that ended).
+enum : uint8_t { kElapsed = 1, kTick = 2, kStopped = 4 };
+
 struct Timers : KindData {
     graph::IdVector<TimerId, Run> run;                     // per row of `timers`
     graph::IdVector<TimerId, graph::Adr<graph::Slot>> s0;  // the first slot of each timer's component
+    graph::IdVector<TimerId, uint8_t> made;                // this step's kElapsed, kTick, kStopped
 };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     auto t = std::make_unique<Timers>();
     t->run.resize(g.timers.size());  // running from the start: start_all
     for (const graph::Timer& tm : g.timers) t->s0.push_back(g.comps[tm.comp].slot_adr);
+    t->made.resize(g.timers.size());
     return t;
 }
 
@@ -46,28 +53,64 @@ void start_all(Runtime& r) {
     }
 }
 
-// Ticks at n·dt >= deadline: counting steps, not adding dt, so periods do not drift.
+// Ticks at n·dt >= deadline: counting steps, not adding dt, so periods do not drift. Each
+// timer's count, values and what it makes active are worked out in slices of the timers on
+// the physics threads (a timer writes only its own state and its own slots' values); the
+// activations follow on this thread in timer order.
+// Timer i's step. kDefer: what it makes active is returned (made on a physics thread, made
+// active after the job); else made active here.
+template <bool kDefer>
+[[gnu::always_inline]] inline uint8_t tick(Runtime& r, Timers& t, TimerId i) {
+    Run& ts = t.run[i];
+    if (!ts.running) return 0;
+    const graph::Adr<graph::Slot> s0 = t.s0[i];
+    ts.n++;
+    const double elapsed = double(ts.n) * r.dt;
+    uint8_t made = 0;
+    // Only a read or watched `elapsed` is made active: most timers just tick.
+    *r.val(s0 + graph::timerslot::elapsed) = elapsed;
+    if (r.st.watched[s0 + graph::timerslot::elapsed]) {
+        if constexpr (kDefer) made |= kElapsed;
+        else r.activate(s0 + graph::timerslot::elapsed);
+    }
+    if (elapsed + 1e-9 < ts.deadline) return made;
+    if constexpr (kDefer) made |= kTick;
+    else r.activate(s0 + graph::timerslot::tick);
+    const graph::Timer& tm = r.g.timers[i];
+    if (tm.periodic) {
+        ts.deadline += tm.period;
+    } else {
+        ts.running = false;
+        *r.val(s0 + graph::timerslot::running) = 0;
+        if constexpr (kDefer) made |= kStopped;
+        else r.activate(s0 + graph::timerslot::running);
+    }
+    return made;
+}
+
+// What tick<true> returned, made active.
+void activate(Runtime& r, const Timers& t, TimerId i, uint8_t made) {
+    const graph::Adr<graph::Slot> s0 = t.s0[i];
+    if (made & kElapsed) r.activate(s0 + graph::timerslot::elapsed);
+    if (made & kTick) r.activate(s0 + graph::timerslot::tick);
+    if (made & kStopped) r.activate(s0 + graph::timerslot::running);
+}
+
 void sense_all(Runtime& r) {
     Timers& t = timers(r);
-    for (TimerId i : ids_of(r.g.timers)) {
-        Run& ts = t.run[i];
-        if (!ts.running) continue;
-        const graph::Adr<graph::Slot> s0 = t.s0[i];
-        ts.n++;
-        const double elapsed = double(ts.n) * r.dt;
-        // Only a read or watched `elapsed` is made active: most timers just tick.
-        if (r.st.watched[s0 + graph::timerslot::elapsed]) r.emit(s0 + graph::timerslot::elapsed, elapsed);
-        else *r.val(s0 + graph::timerslot::elapsed) = elapsed;
-        if (elapsed + 1e-9 < ts.deadline) continue;
-        r.activate(s0 + graph::timerslot::tick);
-        const graph::Timer& tm = r.g.timers[i];
-        if (tm.periodic) {
-            ts.deadline += tm.period;
-        } else {
-            ts.running = false;
-            r.emit(s0 + graph::timerslot::running, 0);
-        }
+    Workers& w = r.phys.workers();
+    const size_t n = r.g.timers.size();
+    const size_t slices = slice_count(w, n, 256, n + 1);
+    if (w.threads() == 1 || slices <= 1) {  // one pass, on this thread
+        for (TimerId i : ids_of(r.g.timers)) tick<false>(r, t, i);
+        return;
     }
+    auto ticking = [&r, &t, n, slices](int k) {
+        for (TimerId i : slice_ids<TimerId>(n, slices, k)) t.made[i] = tick<true>(r, t, i);
+    };
+    w.run(int(slices), ticking);
+    for (TimerId i : ids_of(r.g.timers))
+        if (const uint8_t made = t.made[i]) activate(r, t, i, made);
 }
 
 void act_one(Runtime& r, const graph::Comp& c) {
