@@ -198,9 +198,11 @@ void Workers::run(int n, void (*fn)(void*, int), void* ctx) {
         add_times(sum, longest);
     } else {
         const uint64_t job = job_.load(std::memory_order_relaxed) + 1;  // only this thread bumps it
-        // Closed first, then no helper inside: a helper that comes in later sees it closed.
+        // Closed first, then no helper inside: a helper that comes in later sees it closed. The
+        // store and the first look are sequentially consistent, as the helper's entry and its
+        // look at the ticket are: one of the two sees the other.
         ticket_.store(job << 32 | kClosed, std::memory_order_seq_cst);
-        await(inside_, kSpinsJoin, [](int k) { return k == 0; });
+        if (inside_.load(std::memory_order_seq_cst) != 0) await(inside_, kSpinsJoin, [](int k) { return k == 0; });
         fn_.store(fn, std::memory_order_relaxed);
         ctx_.store(ctx, std::memory_order_relaxed);
         n_.store(n, std::memory_order_relaxed);
