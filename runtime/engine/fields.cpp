@@ -242,26 +242,52 @@ bool prepare_fields(Runtime& r) {
     return true;
 }
 
-// The bodies the law can act on, by world (after the regions' worlds are assigned).
+// The bodies the law can act on, by world (after the regions' worlds are assigned), each
+// world's in id order: a counting sort in slices of the bodies on the physics threads (each
+// slice counts its own bodies per world, then places them from where its part of each world's
+// list starts), the counts added up on this thread in between.
 void list_field_bodies(Runtime& r) {
     State& s = r.st;
-    const int nw = r.phys.worlds();
+    Workers& wk = r.phys.workers();
+    const size_t nw = r.phys.worlds(), nb = r.tab.dyn_bodies.size(), most = 4 * wk.threads();
+    const size_t slices = slice_count(wk, nb, 512, most);
+    int32_t* const per = s.slice_world.data();  // [slice * nw + world]
+    auto counting = [&r, &s, per, nb, nw, slices](int i) {
+        int32_t* const mine = per + i * nw;
+        std::fill(mine, mine + nw, 0);
+        const auto [b0, e0] = slice_of(nb, slices, i);
+        for (size_t k = b0; k < e0; ++k) {
+            const BodyId b = r.tab.dyn_bodies[k];
+            // Not what a gripper or a hand holds: the band slides under it.
+            const bool on = r.phys.dynamic_now(b) && !s.held_by[b].valid() && !s.in_hand[b] && !r.phys.coasting(b);
+            s.law_on[b] = on;
+            if (on) ++mine[r.phys.world_of(b)];
+        }
+    };
+    run_slices(wk, slices, counting);
     s.world_adr.assign(nw, 0);
     s.world_num.assign(nw, 0);
-    // Not what a gripper or a hand holds: the band slides under it.
-    for (BodyId b : r.tab.dyn_bodies)
-        if (r.phys.dynamic_now(b) && !s.held_by[b].valid() && !s.in_hand[b] && !r.phys.coasting(b)) ++s.world_num[r.phys.world_of(b)];
-    for (int w = 1; w < nw; ++w) s.world_adr[w] = s.world_adr[w - 1] + s.world_num[w - 1];
     s.worlds_busy.clear();
-    for (int w = 0; w < nw; ++w) {
-        if (s.world_num[w]) s.worlds_busy.push_back(w);
-        s.world_num[w] = 0;
+    int32_t at = 0;
+    for (size_t w = 0; w < nw; ++w) {
+        s.world_adr[w] = at;
+        for (size_t i = 0; i < slices; ++i) {
+            int32_t& c = per[i * nw + w];
+            const int32_t n = c;
+            c = at;  // slice i's first body of world w goes here
+            at += n, s.world_num[w] += n;
+        }
+        if (s.world_num[w]) s.worlds_busy.push_back(static_cast<int>(w));
     }
-    for (BodyId b : r.tab.dyn_bodies) {
-        if (!r.phys.dynamic_now(b) || s.held_by[b].valid() || s.in_hand[b] || r.phys.coasting(b)) continue;
-        const int w = r.phys.world_of(b);
-        s.world_list[s.world_adr[w] + s.world_num[w]++] = b;
-    }
+    auto placing = [&r, &s, per, nb, nw, slices](int i) {
+        int32_t* const next = per + i * nw;
+        const auto [b0, e0] = slice_of(nb, slices, i);
+        for (size_t k = b0; k < e0; ++k) {
+            const BodyId b = r.tab.dyn_bodies[k];
+            if (s.law_on[b]) s.world_list[next[r.phys.world_of(b)]++] = b;
+        }
+    };
+    run_slices(wk, slices, placing);
 }
 
 void phase_physics(Runtime& r) {

@@ -139,6 +139,11 @@ struct State {
     // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
     std::vector<int32_t> world_adr, world_num, worlds_busy;
     std::vector<graph::BodyId> world_list, touched;
+    // list_field_bodies' slices (fields.cpp): per slice and world, its bodies' count, then
+    // where the slice's first body of that world goes in world_list; per body, whether the
+    // law acts on it this step. Sized with the physics (Runtime's constructor).
+    std::vector<int32_t> slice_world;
+    graph::IdVector<graph::BodyId, uint8_t> law_on;
     PerBody<btVector3> force;          // the law at the body's velocity, summed over fields
     PerBody<btMatrix3x3> gain;         // its gain matrices k·R·diag|d|·R^T, summed
     PerBody<double> body_k;
