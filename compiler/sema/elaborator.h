@@ -60,6 +60,9 @@ struct Item {
     std::shared_ptr<const Env> env;
 };
 
+// A slot direction as messages name it: "input", "output".
+inline std::string_view dir_word(graph::Dir d) { return d == graph::Dir::In ? "input" : "output"; }
+
 // A resolved end of a flow.
 struct Endpoint {
     bool ok = false;

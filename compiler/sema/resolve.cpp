@@ -27,8 +27,6 @@ std::string path_text(const ast::Path& p) {
     return s;
 }
 
-std::string dir_word(Dir d) { return d == Dir::In ? "input" : "output"; }
-
 // The word a plant file uses for a component's kind, a plugin's own among them.
 std::string_view kind_word(const graph::Graph& g, graph::CompId comp) {
     if (const graph::KindDesc* d = graph::plugin_of(g, comp)) return d->word;

@@ -59,7 +59,7 @@ void Elaborator::connect_logic(Scope& s, const ast::LogicDecl& l, const Env& env
             sink_.report(DiagId::LogicInputNotVoid, l.terms[i].path.span,
                          fmt::format("a connector combines void outputs (events), but '{}' is {} {}", e.text,
                                      with_article(graph::word(e.type)),
-                                     e.ref_slot.valid() ? "dynamic slot" : e.dir == Dir::In ? "input" : "output"));
+                                     e.ref_slot.valid() ? "dynamic slot" : dir_word(e.dir)));
             continue;
         }
         emit_flow(e.slots, {g_.logic_inputs[lg.in_adr + i].slot}, {}, {}, graph::Cond::Source,

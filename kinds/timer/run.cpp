@@ -53,12 +53,10 @@ void start_all(Runtime& r) {
     }
 }
 
-// Ticks at n·dt >= deadline: counting steps, not adding dt, so periods do not drift. Each
-// timer's count, values and what it makes active are worked out in slices of the timers on
-// the physics threads (a timer writes only its own state and its own slots' values); the
-// activations follow on this thread in timer order.
-// Timer i's step. kDefer: what it makes active is returned (made on a physics thread, made
-// active after the job); else made active here.
+// Timer i's step. It ticks at n·dt >= deadline: counting steps, not adding dt, so periods do
+// not drift. It writes only its own state and its own slots' values. kDefer: what it makes
+// active is returned (worked out on a physics thread, made active after the job, in timer
+// order); else made active here.
 template <bool kDefer>
 [[gnu::always_inline]] inline uint8_t tick(Runtime& r, Timers& t, TimerId i) {
     Run& ts = t.run[i];

@@ -115,12 +115,11 @@ void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<DoId>& o
 void take(Runtime& r, TriggerId t, const DoId* objects) {
     State& s = r.st;
     TriggerState& ts = s.triggers[t];
-    ts.prev_adr = ts.adr;
-    ts.prev_num = ts.num;
+    const int32_t before = ts.num;  // inside the step before
     ts.adr = graph::count_of(s.inside);
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
-    if (!ts.num && !ts.prev_num) return;  // empty and was: no event (nothing entered or left)
+    if (!ts.num && !before) return;  // empty and was: no event (nothing entered or left)
     const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.triggers[t].comp].slot_adr;
     if (ts.entered) {
         ts.enters += ts.entered;
@@ -129,7 +128,7 @@ void take(Runtime& r, TriggerId t, const DoId* objects) {
     }
     if (ts.left) r.activate(s0 + slot::on_leave);
     if (ts.num) r.activate(s0 + slot::on_stay);
-    if (ts.num != ts.prev_num) r.emit(s0 + slot::count_inside, ts.num);
+    if (ts.num != before) r.emit(s0 + slot::count_inside, ts.num);
 }
 
 // Phase 2: the triggers' contents, a slice of the triggers per item (at least 32 triggers in
@@ -143,8 +142,7 @@ void sense_all(Runtime& r) {
     const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
     auto finding = [&r, &s, nt, slices](int i) { find_inside(r, slice_ids<TriggerId>(nt, slices, i), s.trigger_slices[i]); };
     run_slices(r.phys.workers(), slices, finding);
-    s.inside.swap(s.inside_prev);
-    s.inside.clear();
+    s.inside.clear();  // the step before's lists, read by find_inside's comparison
     for (size_t i = 0; i < slices; ++i) {
         const DoId* found = s.trigger_slices[i].data();
         for (TriggerId t : slice_ids<TriggerId>(nt, slices, i)) {

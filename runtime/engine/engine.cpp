@@ -36,7 +36,6 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
     st.logic_due.assign(sched.always.size(), 0);
     const size_t slices = 4 * phys.threads(), worlds = phys.worlds();  // slice_count's most, per world
     st.slice_world.assign(slices * worlds, 0);
-    st.law_on.assign(g.bodies.count(), 0);
     start_steady(*this, opt.steady_transport && graph.settings.steady_transport);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.
     for (const Flow& f : g.flows) each_read_slot(g, f, [&](SlotId s) { st.watched[s] = 1; });

@@ -66,6 +66,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     for (BodyId b : ids_of(g.bodies)) s.group_of[b] = b;
     s.touched.assign(nb, BodyId{});
     s.world_list.assign(nb, BodyId{});
+    s.law_on.assign(nb, 0);
     s.field_act.assign(g.fields.size(), 0);
     s.field_target.assign(g.fields.size(), btVector3(0, 0, 0));
 
@@ -84,7 +85,6 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     // few triggers at once. Beyond it the lists grow (amortised, once).
     size_t pairs = std::max<size_t>(256, 4 * (t.dyn_bodies.size() + g.triggers.size()));
     s.inside.reserve(pairs);
-    s.inside_prev.reserve(pairs);
     s.trigger_found.assign(g.triggers.size(), 0);
     s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
     s.slice_left.assign(64, 0);

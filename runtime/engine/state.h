@@ -20,8 +20,7 @@ namespace plant::engine {
 
 struct TriggerState {
     btTransform pose = btTransform::getIdentity();  // the box centre in the world
-    int32_t adr = 0, num = 0;            // objects inside now: State::inside[adr, adr + num)
-    int32_t prev_adr = 0, prev_num = 0;  // ... in the previous step (State::inside_prev)
+    int32_t adr = 0, num = 0;  // objects inside now: State::inside[adr, adr + num)
     int64_t enters = 0;
     // This step's list against the previous one, found on a physics thread before the lists
     // move (kinds/trigger/run.cpp): objects that came in (the first of them) and that left.
@@ -140,8 +139,8 @@ struct State {
     std::vector<int32_t> world_adr, world_num, worlds_busy;
     std::vector<graph::BodyId> world_list, touched;
     // list_field_bodies' slices (fields.cpp): per slice and world, its bodies' count, then
-    // where the slice's first body of that world goes in world_list; per body, whether the
-    // law acts on it this step. Sized with the physics (Runtime's constructor).
+    // where the slice's first body of that world goes in world_list (sized with the physics:
+    // Runtime's constructor); per body, whether the law acts on it this step.
     std::vector<int32_t> slice_world;
     graph::IdVector<graph::BodyId, uint8_t> law_on;
     PerBody<btVector3> force;          // the law at the body's velocity, summed over fields
@@ -170,7 +169,7 @@ struct State {
     std::vector<uint8_t> net_live;
 
     IdVector<graph::TriggerId, TriggerState> triggers;
-    std::vector<graph::DoId> inside, inside_prev;  // objects (DOs), sorted per trigger
+    std::vector<graph::DoId> inside;  // objects (DOs), sorted per trigger
     // Found on the physics threads (kinds/trigger/run.cpp): per trigger, how many objects are inside;
     // per slice of the triggers, their lists one after the other.
     IdVector<graph::TriggerId, int32_t> trigger_found;
