@@ -100,15 +100,20 @@ std::string Player::events_file() const {
     std::string out = "# events of a plant serve session: plant run FILE --events THIS_FILE replays it;\n"
                       "# plant report FILE THIS_FILE writes the session's report (docs/training.md)\n";
     for (const std::string& l : lines_) out += l + "\n";
-    // Where the session stands: the report replays it to here.
+    // Where the session stands: the report replays it to here. The last frame published may
+    // lag the player by a few steps, and an event is logged before the step it feeds: the
+    // end is never before an event of the file, so the replay applies every one of them.
     const double rate = g_.settings.rate > 0 ? g_.settings.rate : 150;
-    return out + session_end_comment(frame_ ? frame_->frame.time : 0, 1 / rate) + "\n";
+    return out + session_end_comment(std::max(frame_ ? frame_->frame.time : 0, logged_until_), 1 / rate) + "\n";
 }
 
-void Player::log(std::string event_json, std::string line, bool to_file, bool fault) {
+void Player::log(double time, std::string event_json, std::string line, bool to_file, bool fault) {
     std::lock_guard lock(m_);
     log_.push_back({std::move(event_json), fault});
-    if (to_file) lines_.push_back(std::move(line));
+    if (to_file) {
+        lines_.push_back(std::move(line));
+        logged_until_ = std::max(logged_until_, time);
+    }
     if (log_.size() > kMaxLog) {
         log_.pop_front();
         ++log_first_;
@@ -125,6 +130,7 @@ void Player::clear_log() {
     log_first_ += log_.size();
     log_.clear();
     lines_.clear();
+    logged_until_ = 0;
 }
 
 std::string Player::history_json() const {
@@ -263,6 +269,9 @@ void Player::loop() {
                          [this] { return stop_.load() || !queue_.empty(); });
         }
     }
+    // Where the player stopped, for what is asked after (the session's events file ends here).
+    publish_frame();
+    publish_status();
 }
 
 // ---- live ----
@@ -281,6 +290,8 @@ public:
                          [](const engine::Event& a, const engine::Event& b) { return a.time < b.time; });
         restart();
     }
+    // The player's thread calls this class's overrides: it stops before they go.
+    ~LivePlayer() override { stop(); }
     bool live() const override { return true; }
 
 private:
@@ -332,7 +343,7 @@ private:
         json j{{"type", "event"}, {"line", line}, {"time", ev.time}, {"by", by}};
         if (client >= 0) j["client"] = client;
         if (!to_file) j["planned"] = true;
-        log(j.dump(-1, ' ', false, json::error_handler_t::replace), noted, to_file, ev.force && !shown);
+        log(ev.time, j.dump(-1, ' ', false, json::error_handler_t::replace), noted, to_file, ev.force && !shown);
         note_force(ev, line, by, shown);
     }
 
@@ -375,11 +386,11 @@ private:
         // events file replays them.
         if (link_) {
             link_->before_step(*engine_);
+            const double t = double(engine_->steps() + 1) * engine_->dt();
             for (const engine::Event* ev : link_->applied()) {
                 const std::string line = engine::format_event(g_, *ev, engine_->dt());
-                const json j{{"type", "event"}, {"line", line}, {"time", double(engine_->steps() + 1) * engine_->dt()},
-                             {"by", "OPC UA link"}, {"client", "link"}};
-                log(j.dump(-1, ' ', false, json::error_handler_t::replace),
+                const json j{{"type", "event"}, {"line", line}, {"time", t}, {"by", "OPC UA link"}, {"client", "link"}};
+                log(t, j.dump(-1, ' ', false, json::error_handler_t::replace),
                     session_comment("OPC UA link", "", wall_clock()) + "\n" + line, true, ev->force);
                 note_force(*ev, line, "OPC UA link");
             }
@@ -431,7 +442,7 @@ private:
         if (ok) j["state"] = "cancelled";
         else j["refused"] = why;
         const std::string comment = session_drill_cancel_comment(number, t, engine_->dt(), by, role, wall_clock());
-        log(j.dump(-1, ' ', false, json::error_handler_t::replace), comment, ok, true);
+        log(t, j.dump(-1, ' ', false, json::error_handler_t::replace), comment, ok, true);
     }
     // A drill cancelled in an earlier run of the session stays so after a restart: the new
     // events file says it from the start.
@@ -520,6 +531,7 @@ public:
         for (const auto& c : rec_.statuses) samples_.push_back(sample_of(c));
         seek(0);
     }
+    ~ReplayPlayer() override { stop(); }
     bool live() const override { return false; }
 
 private:
@@ -579,7 +591,8 @@ private:
             // "12.3s force PATH open", "12.3s release PATH": a fault, not for trainees.
             const size_t sp = line.find(' ');
             const std::string_view what = sp == std::string::npos ? std::string_view() : std::string_view(line).substr(sp + 1);
-            log(rec_.events[next_event_].data, line, true, what.starts_with("force ") || what.starts_with("release "));
+            log(rec_.events[next_event_].time, rec_.events[next_event_].data, line, true,
+                what.starts_with("force ") || what.starts_with("release "));
         }
     }
 

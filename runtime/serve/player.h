@@ -99,9 +99,10 @@ protected:
     double paced_target(double wall_now) const;
     void put_frame(const FrameTracker& t);
     void put_status(StatusPub::View instructor, StatusPub::View trainee);
-    // An event applied: to the pages' log, and (`to_file`) to the session's events file;
-    // `fault`: a force or a release, which trainees' pages are not sent.
-    void log(std::string event_json, std::string line, bool to_file, bool fault);
+    // An event applied at plant time `time` (the end of the step it feeds): to the pages' log,
+    // and (`to_file`) to the session's events file; `fault`: a force or a release, which
+    // trainees' pages are not sent.
+    void log(double time, std::string event_json, std::string line, bool to_file, bool fault);
     void clear_log();
     // A comment line for the session's events file alone (a drill as scheduled: `# drill N
     // by WHO: LINE`, serve/report.h), which a replay skips.
@@ -156,6 +157,7 @@ private:
     };
     std::deque<LogLine> log_;         // the last kMaxLog event messages, for late pages
     std::vector<std::string> lines_;  // the session's events file, whole
+    double logged_until_ = 0;         // the latest plant time an event of lines_ was applied at
     size_t log_first_ = 0;
     std::atomic<uint64_t> scene_version_{0};
     std::atomic<bool> stop_{false};

@@ -6,6 +6,7 @@
 
 #include "serve/history.h"
 #include "serve/models.h"
+#include "serve/report.h"
 
 #include <filesystem>
 
@@ -216,6 +217,39 @@ TEST_CASE("serve: forced slots are listed with who forced them and since when, t
         if (ev["line"].get<std::string>().find("force line[0].s2.bottle open") != std::string::npos)
             planned_logged = ev.value("planned", false) && ev["by"] == "plant file";
     CHECK(planned_logged);
+}
+
+TEST_CASE("serve: the session's events file ends at or after each of its events, also when stopped right after one") {
+    // A session at full speed stopped just after a page's event was applied: the last frame
+    // published may be a few steps older than the player, and the report (plant serve
+    // --report-dir) replays the file to its `# end`, so the end must not fall before the event.
+    const graph::Graph g = compile_ok("examples/switch.plant");
+    engine::Event ev;
+    std::string err;
+    REQUIRE(engine::parse_event(g, engine::slot_index(g), "0s force sw.to_base open", ev, err));
+    for (int trial = 0; trial < 5; ++trial) {
+        CAPTURE(trial);
+        auto player = view::make_live_player(g, {}, {}, false, 0);
+        player->start();
+        std::this_thread::sleep_for(std::chrono::milliseconds(20 + 7 * trial));
+        view::Command c;
+        c.kind = view::Command::Kind::Event;
+        c.event = ev;
+        c.client = 1;
+        REQUIRE(player->command(c));
+        bool logged = false;
+        for (int i = 0; i < 5000 && !logged; ++i) {
+            logged = player->events_file().find(" force sw.to_base open") != std::string::npos;
+            if (!logged) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        REQUIRE(logged);
+        player->stop();
+        const std::string text = player->events_file();
+        view::Session session;
+        REQUIRE_MESSAGE(view::replay_session_text(g, "examples/switch.plant", "session.events", text, 0, session, err), err);
+        CHECK(session.events.size() == 1);
+        CHECK(session.faults.size() == 1);
+    }
 }
 
 TEST_CASE("serve: the status says the speed achieved beside the one chosen") {
