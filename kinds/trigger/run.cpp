@@ -120,7 +120,7 @@ void take(Runtime& r, TriggerId t, const DoId* objects) {
     ts.num = s.trigger_found[t];
     s.inside.insert(s.inside.end(), objects, objects + ts.num);
     if (!ts.num && !before) return;  // empty and was: no event (nothing entered or left)
-    const graph::Adr<graph::Slot> s0 = r.g.comps[r.g.triggers[t].comp].slot_adr;
+    const graph::Adr<graph::Slot> s0 = ts.slots;  // not the component's row: one cache miss less per trigger
     if (ts.entered) {
         ts.enters += ts.entered;
         r.activate(s0 + slot::on_enter);
@@ -154,7 +154,10 @@ void sense_all(Runtime& r) {
 
 // The object a trigger last saw starts empty.
 void start_all(Runtime& r) {
-    for (const graph::Trigger& t : r.g.triggers) *r.val(r.comp_slot(t.comp, slot::object)) = -1;
+    for (TriggerId t : graph::ids_of(r.g.triggers)) {
+        r.st.triggers[t].slots = r.g.comps[r.g.triggers[t].comp].slot_adr;
+        *r.val(r.comp_slot(r.g.triggers[t].comp, slot::object)) = -1;
+    }
 }
 
 }  // namespace

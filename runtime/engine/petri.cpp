@@ -10,6 +10,7 @@
 // are active in the next step's logic phase. (A state's start, its places publishing
 // their tokens, is the kind table's: kinds/state/run.cpp.)
 #include "engine/runtime.h"
+#include "engine/workers.h"
 #include "graph/kinds.h"
 
 #include <algorithm>
@@ -27,6 +28,58 @@ void clear_outputs(State& s) {
     for (SlotId x : s.seen_list) {
         s.seen[x] = 1;
         s.act[x] = 0;
+    }
+}
+
+// The transitions of net n enabled in the marking, in order, each given to `out`; a net that
+// has one is examined again next step, a quiet one waits for a put.
+template <class Out>
+void check_net(Runtime& r, size_t n, Out&& out) {
+    State& s = r.st;
+    const Tables& t = r.tab;
+    if (!s.net_live[n] && !t.net_always_live[n]) return;
+    bool any = false;
+    const int32_t first = t.net_transitions.adr[n], end = first + t.net_transitions.num[n];
+    for (int32_t k = first; k < end; ++k) {
+        bool enabled = true;
+        for (int32_t a = t.net_in_adr[k]; a < t.net_in_adr[k + 1] && enabled; ++a)
+            enabled = s.tokens[t.net_in[a].place] >= t.net_in[a].weight;
+        if (enabled) {
+            out(t.net_transitions.list[k]);
+            any = true;
+        }
+    }
+    s.net_live[n] = any;
+}
+
+// Every net's enabled transitions into s.fired, net by net in order. With more than one
+// thread the nets go in slices, each writing its own part of fired_at (from its first net's
+// position) and its count; the parts are then joined in the slices' order: the same list.
+void find_enabled(Runtime& r) {
+    State& s = r.st;
+    const size_t nets = r.tab.nets.size();
+    Workers& w = r.phys.workers();
+    const size_t slices = slice_count(w, nets, 64, s.slice_fired.size());
+    s.fired.clear();
+    if (w.threads() == 1 || slices <= 1) {
+        for (size_t n = 0; n < nets; ++n) check_net(r, n, [&s](TransitionId t) { s.fired.push_back(t); });
+        return;
+    }
+    auto slice = [&r, &s, nets, slices](int k) {
+        const auto [b, e] = slice_of(nets, slices, k);
+        int32_t num = 0;
+        if (b < e) {
+            TransitionId* out = s.fired_at.data() + r.tab.net_transitions.adr[b];
+            for (size_t n = b; n < e; ++n) check_net(r, n, [out, &num](TransitionId t) { out[num++] = t; });
+        }
+        s.slice_fired[k] = num;
+    };
+    w.run(int(slices), slice);
+    for (size_t k = 0; k < slices; ++k) {
+        const auto [b, e] = slice_of(nets, slices, k);
+        if (b == e) continue;
+        const TransitionId* from = s.fired_at.data() + r.tab.net_transitions.adr[b];
+        s.fired.insert(s.fired.end(), from, from + s.slice_fired[k]);
     }
 }
 
@@ -54,22 +107,7 @@ void phase_petri(Runtime& r) {
     // Places touched by puts so far all received a token.
     const size_t puts = s.places_touched.size();
 
-    s.fired.clear();
-    for (int32_t net = 0; net < count_of(r.tab.nets); ++net) {
-        if (!s.net_live[net] && !r.tab.net_always_live[net]) continue;
-        const size_t before = s.fired.size();
-        for (TransitionId id : r.tab.net_transitions[net]) {
-            const Transition& tr = g.transitions[id];
-            bool enabled = true;
-            for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {
-                enabled = s.tokens[a.place] >= a.weight;
-                if (!enabled) break;
-            }
-            if (enabled) s.fired.push_back(id);
-        }
-        // A net that fired is examined again next step; a quiet one waits for a put.
-        s.net_live[net] = s.fired.size() > before;
-    }
+    find_enabled(r);
     for (TransitionId t : s.fired) {
         const Transition& tr = g.transitions[t];
         for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {

@@ -227,6 +227,10 @@ private:
     std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
     std::vector<int> free_to_;          // per free group: the world it moves to, or a mark (assign_worlds)
     std::vector<graph::BodyId> movers_;  // bodies that are not static
+    std::vector<graph::BodyId> anchored_movers_;  // those in anchored groups
+    // Per slice of movers_ and world (slice-major): its bodies that are not static and not
+    // coasting (assign_worlds).
+    std::vector<int32_t> slice_movers_;
     std::vector<int32_t> to_step_;    // scratch: the worlds to step
     struct Near {  // a mover's bounding box and world, for void groups to meet
         btVector3 lo, hi;

@@ -167,6 +167,9 @@ void Physics::find_regions(bool split) {
         if (is_static(b)) anchored_[group_of_[b]] = 1;
         else movers_.push_back(b);
     }
+    anchored_movers_.clear();
+    for (BodyId b : movers_)
+        if (anchored_[group_of_[b]]) anchored_movers_.push_back(b);
     void_mark_.assign(groups, 0);
     free_to_.clear();
     free_groups_.clear();
@@ -223,10 +226,12 @@ void Physics::find_regions(bool split) {
     // with it, one world.
     if (regions <= 1 || !split) {
         worlds_.resize(1);
+        slice_movers_.assign(64, 0);  // at most four slices per thread, 16 threads
         void_ = -1;
         return;
     }
     worlds_.resize(regions + 1);
+    slice_movers_.assign(64 * worlds_.size(), 0);
     void_ = regions;
     std::vector<int32_t> region_of_root(nb, -1);
     for (int32_t i = 0; i < regions; ++i) {  // roots are in body order
@@ -348,8 +353,8 @@ void Physics::assign_worlds() {
         if (world_of_[group_bodies_[void_groups_[i]].front()] != void_home_[i])
             move_group(void_groups_[i], void_home_[i]);
     // Anchored movers reaching out of their region's box: contacts with other worlds' movers.
-    for (BodyId b : movers_) {
-        if (!present(b) || !anchored_[group_of_[b]]) continue;
+    for (BodyId b : anchored_movers_) {
+        if (!present(b)) continue;
         btVector3 lo, hi;
         box(b, lo, hi);
         const World& own = worlds_[world_of_[b]];
@@ -361,13 +366,24 @@ void Physics::assign_worlds() {
             if (overlap(lo, hi, mlo, mhi)) ++missed_;
         }
     }
-    for (World& w : worlds_) w.active = false, w.movers = 0;
-    for (BodyId b : movers_)
-        if (in_world_[b] && !coasting(b)) {  // coasting: moved by us (transport.cpp)
-            World& w = worlds_[world_of_[b]];
-            w.active = true;
-            ++w.movers;
-        }
+    // Each world's movers (coasting ones are moved by us: transport.cpp), counted in slices of
+    // movers_ on the physics threads, each slice into its own row; then the rows summed.
+    const size_t nw = worlds_.size(), nm = movers_.size();
+    const size_t mslices = slice_count(*workers_, nm, 1024, slice_movers_.size() / std::max<size_t>(nw, 1));
+    auto count = [this, nw, nm, mslices](int i) {
+        int32_t* row = slice_movers_.data() + i * nw;
+        std::fill(row, row + nw, 0);
+        const auto [b, e] = slice_of(nm, mslices, i);
+        for (size_t k = b; k < e; ++k)
+            if (in_world_[movers_[k]] && !coasting(movers_[k])) ++row[world_of_[movers_[k]]];
+    };
+    run_slices(*workers_, mslices, count);
+    for (size_t w = 0; w < nw; ++w) {
+        int32_t n = 0;
+        for (size_t i = 0; i < mslices; ++i) n += slice_movers_[i * nw + w];
+        worlds_[w].movers = n;
+        worlds_[w].active = n > 0;
+    }
 }
 
 // One world for everything from now on: the regions' boxes no longer hold (a static body was

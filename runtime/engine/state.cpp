@@ -78,6 +78,8 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.place_mark.assign(np, 0);
     s.places_touched.reserve(np);
     s.fired.reserve(g.transitions.size());
+    s.fired_at.resize(g.transitions.size());
+    s.slice_fired.assign(64, 0);  // at most four slices per thread, 16 threads
     s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
 
     s.triggers.resize(g.triggers.size());

@@ -26,6 +26,7 @@ struct TriggerState {
     // move (kinds/trigger/run.cpp): objects that came in (the first of them) and that left.
     int32_t entered = 0, left = 0;
     graph::DoId first_in;
+    graph::Adr<graph::Slot> slots;  // its component's first slot (set at the start)
 };
 
 // A kind on the kind table keeps its state in a type of its own (kinds/NAME/run.cpp), made
@@ -165,6 +166,10 @@ struct State {
     PerPlace<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
     std::vector<graph::PlaceId> places_touched;
     std::vector<graph::TransitionId> fired;
+    // With the nets in slices (petri.cpp): each slice's enabled transitions from its first
+    // net's position in Tables::net_transitions, and how many.
+    std::vector<graph::TransitionId> fired_at;
+    std::vector<int32_t> slice_fired;
     PerPlace<uint8_t> place_mark;
     std::vector<uint8_t> net_live;
 

@@ -129,6 +129,12 @@ Tables::Tables(const Graph& g) {
         if (g.transitions[t].in_num == 0) net_always_live[n] = 1;
     }
     net_transitions = make_csr(nets.size(), net_tr);
+    net_in_adr.reserve(net_transitions.list.size() + 1);
+    for (TransitionId t : net_transitions.list) {
+        net_in_adr.push_back(count_of(net_in));
+        for (const Arc& a : g.arcs.slice(g.transitions[t].in_adr, g.transitions[t].in_num)) net_in.push_back(a);
+    }
+    net_in_adr.push_back(count_of(net_in));
     place_net.resize(g.places.size());
     for (PlaceId p : ids_of(g.places)) place_net[p] = net_of_comp[g.places[p].comp];
 

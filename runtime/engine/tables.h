@@ -64,6 +64,10 @@ struct Tables {
     Csr<int32_t, graph::TransitionId> net_transitions;  // by position in `nets`
     IdVector<graph::PlaceId, int32_t> place_net;  // position in `nets` of each place
     std::vector<uint8_t> net_always_live;  // has a transition without inputs
+    // The transitions' input arcs packed in net_transitions' order, so the enabling check
+    // reads them in a row: per position in its list, +1, the first in net_in.
+    std::vector<int32_t> net_in_adr;
+    std::vector<graph::Arc> net_in;
     Csr<graph::CompId, graph::Id<graph::Route>> comp_routes;  // routes of each Router component
 
     IdVector<graph::FieldId, btTransform> field_local;      // field box relative to its body frame
