@@ -34,6 +34,14 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
       logic_every_node(opt.logic_every_node) {
     init_state(st, g, tab);
     st.logic_due.assign(sched.always.size(), 0);
+    if (phys.threads() > 1 && sched.lanes() > 1) {  // the logic phase in lanes (logic.cpp)
+        st.lane_due.assign(sched.lane_always.size(), 0);
+        st.lane_runs.resize(sched.lanes());
+        for (size_t k = 0; k < sched.lanes(); ++k) {
+            st.lane_runs[k].out.reserve(sched.lane_writes[k]);
+            st.lane_runs[k].in.reserve(sched.lane_writes[k]);
+        }
+    }
     const size_t slices = 4 * phys.threads(), worlds = phys.worlds();  // slice_count's most, per world
     st.slice_world.assign(slices * worlds, 0);
     start_steady(*this, opt.steady_transport && graph.settings.steady_transport);

@@ -2,16 +2,47 @@
 // and the effects of delayed flows are applied first; the inputs the components
 // acted on in the previous step are cleared before that.
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
 
 namespace plant::engine {
 
 using namespace plant::graph;
 
 namespace {
+
+// Where the ops' effects go. Direct: into the step's activity lists and warnings. InLane: into
+// a lane's own records (schedule.h's lanes), each activation with the position of the op that
+// made it, for the lists to be joined in program order after the lanes ran.
+struct Direct {
+    Runtime& r;
+    void activate(SlotId x) { r.activate(x); }
+    void activate_in(SlotId x) { r.activate_in(x); }
+    void warn_null() { r.st.warn.access_null++; }
+    void warn_type() { r.st.warn.access_type++; }
+};
+struct InLane {
+    Runtime& r;
+    LaneRun& lane;
+    int32_t pos = 0;  // of the op running
+    void activate(SlotId x) {
+        if (r.st.act[x]) return;
+        r.st.act[x] = 1;
+        (r.tab.slot_out[x] ? lane.out : lane.in).push_back({pos, x});
+    }
+    void activate_in(SlotId x) {
+        if (r.st.act[x]) return;
+        r.st.act[x] = 1;
+        lane.in.push_back({pos, x});
+    }
+    void warn_null() { ++lane.access_null; }
+    void warn_type() { ++lane.access_type; }
+};
 
 bool holds(Cond c, bool source, bool target) {
     switch (c) {
@@ -25,16 +56,17 @@ bool holds(Cond c, bool source, bool target) {
 
 // The slot a dynamic end names now: the access target for the ordinal, among its
 // type, of the object held in the reference slot; -1 (and a warning) if none.
-SlotId resolve(Runtime& r, AccessId access, bool warn) {
+template <class Sink>
+SlotId resolve(Runtime& r, Sink& out, AccessId access, bool warn) {
     const Access& a = r.g.accesses[access];
     const DoId d(*r.val(a.ref_slot));  // a ref slot's value is a DO id
     if (!d.valid()) {
-        if (warn) r.st.warn.access_null++;
+        if (warn) out.warn_null();
         return SlotId{};
     }
     if (!r.g.dos.contains(d) || r.g.dos[d].type != a.do_type || r.g.dos[d].ordinal < 0 ||
         r.g.dos[d].ordinal >= a.target_num) {
-        if (warn) r.st.warn.access_type++;
+        if (warn) out.warn_type();
         return SlotId{};
     }
     return r.g.access_targets[a.target_adr + r.g.dos[d].ordinal].v;
@@ -58,7 +90,8 @@ bool gate(Runtime& r, FlowId f, bool once, bool ok) {
     return runs;
 }
 
-void run_flow(Runtime& r, FlowId f, bool delayed) {
+template <class Sink>
+void run_flow(Runtime& r, Sink& out, FlowId f, bool delayed) {
     const FlowOp& op = r.sched.flows[f];
     const uint8_t* act = r.st.act.data();  // by slot number: the hot path reads it directly
     SlotId to = op.to;
@@ -71,25 +104,26 @@ void run_flow(Runtime& r, FlowId f, bool delayed) {
         SlotId from = op.from;
         bool source = act[from.v];
         if (op.from_access.valid()) {
-            from = resolve(r, op.from_access, false);
+            from = resolve(r, out, op.from_access, false);
             source = source || (from.valid() && act[from.v]);
         }
-        if (op.to_access.valid()) to = resolve(r, op.to_access, false);
+        if (op.to_access.valid()) to = resolve(r, out, op.to_access, false);
         const bool target = to.valid() && act[to.v];
         if (!gate(r, f, op.once, holds(op.cond, source, target))) return;
         if (!from.valid() || !to.valid()) {  // would run, but an object is missing: warn, skip
-            if (op.from_access.valid() && !from.valid()) resolve(r, op.from_access, true);
-            if (op.to_access.valid() && !to.valid()) resolve(r, op.to_access, true);
+            if (op.from_access.valid() && !from.valid()) resolve(r, out, op.from_access, true);
+            if (op.to_access.valid() && !to.valid()) resolve(r, out, op.to_access, true);
             if (op.once) r.st.once_held[f] = kNeverHeld;  // re-armed: it runs again next step
             return;
         }
         copy(r, r.g.slots[from].value_adr, r.g.slots[to].value_adr, op.width);
     }
     if (delayed) r.st.pending.push_back(to);
-    else r.activate(to);
+    else out.activate(to);
 }
 
-void run_connector(Runtime& r, LogicId i) {
+template <class Sink>
+void run_connector(Runtime& r, Sink& out, LogicId i) {
     const Logic& l = r.g.logics[i];
     const bool all = l.op == LogicOp::And;
     bool v = all;
@@ -97,28 +131,31 @@ void run_connector(Runtime& r, LogicId i) {
         const bool a = bool(r.st.act[in.slot]) != in.negated;
         v = all ? (v && a) : (v || a);
     }
-    if (v) r.activate(l.out_slot);
+    if (v) out.activate(l.out_slot);
     if (!r.st.forced_out.empty()) force_again(r, l.out_slot);
 }
 
-void run_router(Runtime& r, CompId comp) {
+template <class Sink>
+void run_router(Runtime& r, Sink& out, CompId comp) {
     const SlotId q = r.comp_slot(comp, routerslot::query);
     if (!r.st.act[q]) return;
     const std::string_view id = r.str(int32_t(*r.val(q)));
     for (Id<Route> k : r.tab.comp_routes[comp])
         if (glob_match(r.str(r.g.routes[k].pattern.id), id)) {
-            r.activate(r.g.routes[k].out_slot);
+            out.activate(r.g.routes[k].out_slot);
             if (!r.st.forced_out.empty()) force_again(r, r.g.routes[k].out_slot);
             return;
         }
 }
 
-void run_label(Runtime& r, Id<Label> i) {
+template <class Sink>
+void run_label(Runtime& r, Sink& out, Id<Label> i) {
     const SlotId set = r.comp_slot(r.g.labels[i].comp, labelslot::set);
     if (!r.st.act[set]) return;
-    const SlotId out = r.comp_slot(r.g.labels[i].comp, labelslot::value);
-    r.emit(out, *r.val(set));
-    if (!r.st.forced_out.empty()) force_again(r, out);
+    const SlotId value = r.comp_slot(r.g.labels[i].comp, labelslot::value);
+    *r.val(value) = *r.val(set);
+    out.activate(value);
+    if (!r.st.forced_out.empty()) force_again(r, value);
 }
 
 }  // namespace
@@ -127,15 +164,35 @@ namespace {
 
 // Inlined into both loops of the phase (every op, the due ops): a call per op cost the logic
 // bench 16 % more instructions per step than the loop of 7c4b2ca, which had it inline.
-[[gnu::always_inline]] inline void run_op(Runtime& r, const Op& op) {
+template <class Sink>
+[[gnu::always_inline]] inline void run_op(Runtime& r, Sink& out, const Op& op) {
     switch (op.kind) {
-    case OpKind::Flow: run_flow(r, op.flow(), false); break;
+    case OpKind::Flow: run_flow(r, out, op.flow(), false); break;
     case OpKind::Pulse:
-        if (r.st.act[op.from]) r.activate_in(op.to);  // flows end at inputs
+        if (r.st.act[op.from]) out.activate_in(op.to);  // flows end at inputs
         break;
-    case OpKind::Logic: run_connector(r, op.logic()); break;
-    case OpKind::Router: run_router(r, op.router()); break;
-    case OpKind::Label: run_label(r, op.label()); break;
+    case OpKind::Logic: run_connector(r, out, op.logic()); break;
+    case OpKind::Router: run_router(r, out, op.router()); break;
+    case OpKind::Label: run_label(r, out, op.label()); break;
+    }
+}
+
+// Marks due the readers of slot x after position `ran`: `readers` and `group_readers` are the
+// schedule's lists as positions in the program (`ops`) or in `lane_ops`.
+[[gnu::always_inline]] inline void mark_readers(const Schedule& sc, const int32_t* readers, const int32_t* group_readers,
+                                                uint64_t* due, int32_t ran, size_t x) {
+    if (!((sc.read_any[x / 64] >> (x % 64)) & 1)) return;  // read by no op
+    auto due_from = [due, ran](const int32_t* q, const int32_t* end) {
+        for (; q != end; ++q) {
+            if (*q <= ran) continue;
+            const size_t p = *q;  // a position, >= 0
+            due[p / 64] |= uint64_t(1) << (p % 64);
+        }
+    };
+    due_from(readers + sc.reader_adr[x], readers + sc.reader_adr[x + 1]);
+    for (int32_t k = sc.group_adr[x]; k < sc.group_adr[x + 1]; ++k) {
+        const size_t group = sc.groups[k];  // >= 0
+        due_from(group_readers + sc.group_reader_adr[group], group_readers + sc.group_reader_adr[group + 1]);
     }
 }
 
@@ -146,26 +203,14 @@ void run_due(Runtime& r) {
     const Schedule& sc = r.sched;
     uint64_t* due = s.logic_due.data();
     std::copy(sc.always.begin(), sc.always.end(), due);
+    Direct out{r};
     size_t out_seen = 0, in_seen = 0;
     int32_t ran = -1;  // position of the op that ran last
     auto look = [&] {
-        auto due_from = [&](const int32_t* q, const int32_t* end) {
-            for (; q != end; ++q) {
-                if (*q <= ran) continue;
-                const size_t p = *q;  // a position, >= 0
-                due[p / 64] |= uint64_t(1) << (p % 64);
-            }
-        };
-        auto mark = [&](size_t x) {  // a slot (>= 0)
-            due_from(sc.readers.data() + sc.reader_adr[x], sc.readers.data() + sc.reader_adr[x + 1]);
-            for (int32_t k = sc.group_adr[x]; k < sc.group_adr[x + 1]; ++k) {
-                const size_t group = sc.groups[k];  // >= 0
-                due_from(sc.group_readers.data() + sc.group_reader_adr[group],
-                         sc.group_readers.data() + sc.group_reader_adr[group + 1]);
-            }
-        };
-        for (; out_seen < s.out_list.size(); ++out_seen) mark(index(s.out_list[out_seen]));
-        for (; in_seen < s.in_list.size(); ++in_seen) mark(index(s.in_list[in_seen]));
+        for (; out_seen < s.out_list.size(); ++out_seen)
+            mark_readers(sc, sc.readers.data(), sc.group_readers.data(), due, ran, index(s.out_list[out_seen]));
+        for (; in_seen < s.in_list.size(); ++in_seen)
+            mark_readers(sc, sc.readers.data(), sc.group_readers.data(), due, ran, index(s.in_list[in_seen]));
     };
     look();
     const size_t words = sc.always.size();
@@ -178,9 +223,78 @@ void run_due(Runtime& r) {
         due[w] = bits & (bits - 1);
         const size_t at = w * 64 + __builtin_ctzll(bits);
         ran = static_cast<int32_t>(at);
-        run_op(r, sc.ops[at]);
+        run_op(r, out, sc.ops[at]);
         look();
     }
+}
+
+// Lane k's ops due, as run_due runs the program's, on one of the physics threads: its due bits
+// are words of its own, and it looks only at what its own ops activate (whose readers are all
+// in the lane: schedule.h).
+void run_lane(Runtime& r, size_t k) {
+    const Schedule& sc = r.sched;
+    LaneRun& lane = r.st.lane_runs[k];
+    lane.out.clear();
+    lane.in.clear();
+    lane.access_null = lane.access_type = 0;
+    uint64_t* due = r.st.lane_due.data();
+    InLane out{r, lane};
+    size_t out_seen = 0, in_seen = 0;
+    int32_t ran = -1;  // position in lane_ops of the op that ran last
+    auto look = [&] {
+        for (; out_seen < lane.out.size(); ++out_seen)
+            mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, ran, index(lane.out[out_seen].slot));
+        for (; in_seen < lane.in.size(); ++in_seen)
+            mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, ran, index(lane.in[in_seen].slot));
+    };
+    const size_t end = size_t(sc.lane_adr[k + 1]) / 64;
+    for (size_t w = size_t(sc.lane_adr[k]) / 64; w < end;) {
+        const uint64_t bits = due[w];
+        if (!bits) {
+            ++w;
+            continue;
+        }
+        due[w] = bits & (bits - 1);
+        const size_t at = w * 64 + __builtin_ctzll(bits);
+        ran = static_cast<int32_t>(at);
+        out.pos = sc.lane_op_pos[at];
+        run_op(r, out, sc.lane_ops[at]);
+        look();
+    }
+}
+
+// What the lanes activated, appended to `list` in program order (each lane's records are in
+// it already; an op's own, in the order it made them).
+template <class Records>
+void join_lanes(State& s, std::vector<SlotId>& list, Records records) {
+    std::array<size_t, 64> at{};
+    const size_t lanes = s.lane_runs.size();
+    for (;;) {
+        size_t best = lanes;
+        int32_t first = INT32_MAX;
+        for (size_t k = 0; k < lanes; ++k) {
+            const std::vector<LaneRec>& l = records(s.lane_runs[k]);
+            if (at[k] < l.size() && l[at[k]].pos < first) first = l[at[k]].pos, best = k;
+        }
+        if (best == lanes) return;
+        list.push_back(records(s.lane_runs[best])[at[best]++].slot);
+    }
+}
+
+// The program in lanes on the physics threads: the readers of the activity at the phase's
+// start made due in whichever lanes they are, the lanes run, their records joined.
+void run_lanes(Runtime& r) {
+    State& s = r.st;
+    const Schedule& sc = r.sched;
+    uint64_t* due = s.lane_due.data();
+    std::copy(sc.lane_always.begin(), sc.lane_always.end(), due);
+    for (SlotId x : s.out_list) mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, -1, index(x));
+    for (SlotId x : s.in_list) mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, -1, index(x));
+    auto lane = [&r](int k) { run_lane(r, size_t(k)); };
+    r.phys.workers().run(int(sc.lanes()), lane);
+    join_lanes(s, s.out_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.out; });
+    join_lanes(s, s.in_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.in; });
+    for (const LaneRun& l : s.lane_runs) s.warn.access_null += l.access_null, s.warn.access_type += l.access_type;
 }
 
 }  // namespace
@@ -194,14 +308,16 @@ void phase_logic(Runtime& r) {
     forces_logic_begin(r);
     // Many slots active: most ops are due anyway, and all run (schedule.h, `dense_at`). A step
     // computes the same activity and values either way (logic_due_test), so the choice is
-    // one of speed only.
+    // one of speed only; so is running the program in lanes (with more than one thread).
     const bool dense = s.out_list.size() + s.in_list.size() >= r.sched.dense_at;
+    Direct out{r};
     if (s.forced_out.empty() && !r.logic_every_node && !dense) {
-        run_due(r);
+        if (s.lane_runs.empty()) run_due(r);
+        else run_lanes(r);
     } else {
-        for (const Op& op : r.sched.ops) run_op(r, op);
+        for (const Op& op : r.sched.ops) run_op(r, out, op);
     }
-    for (FlowId f : r.sched.delayed) run_flow(r, f, true);
+    for (FlowId f : r.sched.delayed) run_flow(r, out, f, true);
     forces_logic_end(r);
 }
 

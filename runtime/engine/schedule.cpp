@@ -4,6 +4,7 @@
 #include "graph/network.h"
 
 #include <algorithm>
+#include <numeric>
 #include <utility>
 
 namespace plant::engine {
@@ -103,6 +104,118 @@ void due_by_slot(const Graph& g, Schedule& s) {
         for (const AccessTarget& t : g.access_targets.slice(a.target_adr, a.target_num)) slot_groups.emplace_back(t.v.v, k.v);
     }
     packed(slot_groups, g.slots.size(), s.group_adr, s.groups);
+    s.read_any.assign((g.slots.size() + 63) / 64, 0);
+    for (size_t x = 0; x < g.slots.size(); ++x)
+        if (s.reader_adr[x] != s.reader_adr[x + 1] || s.group_adr[x] != s.group_adr[x + 1])
+            s.read_any[x / 64] |= uint64_t(1) << (x % 64);
+}
+
+// The lanes (schedule.h): which ops share a slot a step changes, joined; the sets to lanes.
+void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
+    constexpr size_t kLanes = 16;
+    const size_t n = s.ops.size(), ns = g.slots.size();
+    const AccessGroups ag = access_groups(g);
+    auto group_slots = [&](AccessId a, std::vector<int32_t>& out) {
+        const Access& first = g.accesses[ag.first[ag.of[a]]];
+        for (const AccessTarget& x : g.access_targets.slice(first.target_adr, first.target_num)) out.push_back(x.v.v);
+    };
+    // Each op's slots: those it writes (activates), then those it reads.
+    std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        const Op& op = s.ops[i];
+        std::vector<int32_t> w, rd;
+        switch (op.kind) {
+        case OpKind::Pulse: rd.push_back(op.from.v), w.push_back(op.to.v); break;
+        case OpKind::Flow: {
+            const FlowOp& f = s.flows[op.flow()];
+            rd.push_back(f.from.v);
+            if (f.from_access.valid()) group_slots(f.from_access, rd);
+            if (f.to_access.valid()) {
+                rd.push_back(g.accesses[f.to_access].ref_slot.v);
+                group_slots(f.to_access, w);
+            } else {
+                w.push_back(f.to.v);
+            }
+            break;
+        }
+        case OpKind::Logic: {
+            const Logic& l = g.logics[op.logic()];
+            for (const LogicIn& in : g.logic_inputs.slice(l.in_adr, l.in_num)) rd.push_back(in.slot.v);
+            w.push_back(l.out_slot.v);
+            break;
+        }
+        case OpKind::Router:
+            rd.push_back((g.comps[op.router()].slot_adr + routerslot::query).v);
+            for (Id<Route> k : t.comp_routes[op.router()]) w.push_back(g.routes[k].out_slot.v);
+            break;
+        case OpKind::Label: {
+            const Adr<Slot> s0 = g.comps[g.labels[op.label()].comp].slot_adr;
+            rd.push_back((s0 + labelslot::set).v), w.push_back((s0 + labelslot::value).v);
+            break;
+        }
+        }
+        writes[i] = int32_t(w.size());
+        slots.insert(slots.end(), w.begin(), w.end());
+        slots.insert(slots.end(), rd.begin(), rd.end());
+        adr[i + 1] = int32_t(slots.size());
+    }
+    std::vector<uint8_t> written(ns, 0);
+    for (size_t i = 0; i < n; ++i)
+        for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k) written[slots[k]] = 1;
+    // Union-find over ops (0 .. n-1) and slots (n ..): an op with what it writes, and with what
+    // it reads that some op writes (a slot no op writes is the same all through the phase).
+    std::vector<int32_t> up(n + ns);
+    std::iota(up.begin(), up.end(), 0);
+    auto find = [&up](int32_t x) {
+        while (up[x] != x) x = up[x] = up[up[x]];
+        return x;
+    };
+    for (size_t i = 0; i < n; ++i)
+        for (int32_t k = adr[i]; k < adr[i + 1]; ++k) {
+            if (k >= adr[i] + writes[i] && !written[slots[k]]) continue;
+            const int32_t a = find(int32_t(i)), b = find(int32_t(n) + slots[k]);
+            if (a != b) up[std::max(a, b)] = std::min(a, b);
+        }
+    // The sets (by their lowest op), largest first, each to the lane with the fewest ops.
+    std::vector<int32_t> set_size(n, 0);
+    for (size_t i = 0; i < n; ++i) ++set_size[find(int32_t(i))];
+    std::vector<int32_t> sets;
+    for (size_t i = 0; i < n; ++i)
+        if (set_size[i] > 0) sets.push_back(int32_t(i));
+    const size_t lanes = std::min(kLanes, sets.size());
+    if (lanes < 2) return;
+    std::stable_sort(sets.begin(), sets.end(), [&](int32_t a, int32_t b) { return set_size[a] > set_size[b]; });
+    std::vector<int32_t> lane_of_set(n, -1), lane_size(lanes, 0);
+    for (int32_t root : sets) {
+        const size_t to = size_t(std::min_element(lane_size.begin(), lane_size.end()) - lane_size.begin());
+        lane_of_set[root] = int32_t(to);
+        lane_size[to] += set_size[root];
+    }
+    // Each lane's ops in program order, from a multiple of 64.
+    s.lane_adr.assign(lanes + 1, 0);
+    for (size_t k = 0; k < lanes; ++k) s.lane_adr[k + 1] = s.lane_adr[k] + (lane_size[k] + 63) / 64 * 64;
+    s.lane_ops.assign(size_t(s.lane_adr.back()), Op{OpKind::Pulse, -1, {}, {}});
+    s.lane_op_pos.assign(size_t(s.lane_adr.back()), -1);
+    std::vector<int32_t> at(s.lane_adr.begin(), s.lane_adr.end() - 1), lane_pos(n);
+    for (size_t i = 0; i < n; ++i) {
+        const int32_t k = lane_of_set[find(int32_t(i))];
+        lane_pos[i] = at[k]++;
+        s.lane_ops[lane_pos[i]] = s.ops[i];
+        s.lane_op_pos[lane_pos[i]] = int32_t(i);
+    }
+    s.lane_always.assign(size_t(s.lane_adr.back()) / 64, 0);
+    for (size_t i = 0; i < n; ++i)
+        if ((s.always[i / 64] >> (i % 64)) & 1) s.lane_always[lane_pos[i] / 64] |= uint64_t(1) << (lane_pos[i] % 64);
+    s.lane_readers.resize(s.readers.size());
+    for (size_t i = 0; i < s.readers.size(); ++i) s.lane_readers[i] = lane_pos[s.readers[i]];
+    s.lane_group_readers.resize(s.group_readers.size());
+    for (size_t i = 0; i < s.group_readers.size(); ++i) s.lane_group_readers[i] = lane_pos[s.group_readers[i]];
+    // The slots each lane's ops can activate (every writer of a slot is in the slot's lane).
+    s.lane_writes.assign(lanes, 0);
+    std::vector<uint8_t> counted(ns, 0);
+    for (size_t i = 0; i < n; ++i)
+        for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k)
+            if (!counted[slots[k]]) counted[slots[k]] = 1, ++s.lane_writes[lane_of_set[find(int32_t(i))]];
 }
 
 }  // namespace
@@ -122,6 +235,7 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
         op = {OpKind::Pulse, op.index, f.from, f.to};
     }
     due_by_slot(g, s);
+    split_lanes(g, t, s);
     return s;
 }
 

@@ -56,7 +56,28 @@ struct Schedule {
     // the reference names: each slot's groups, and each group's readers.
     std::vector<int32_t> group_adr, groups;              // per slot, +1; group ids
     std::vector<int32_t> group_reader_adr, group_readers;  // per group, +1; op positions
+    // A bit per slot: some op reads it or one of its groups. Most active slots are read by no
+    // op (a trigger's on_stay, a body's outputs): one look at this small table, not two at
+    // the slot-sized ones above, tells the phase so.
+    std::vector<uint64_t> read_any;
     size_t dense_at = 0;  // active slots at the phase's start from which every op runs: ops / 8 + 1
+
+    // Lanes: the program split for the physics threads (logic.cpp). Ops are joined when one
+    // writes a slot the other reads or writes (a dynamic end: any slot of its access's group);
+    // the sets so joined share nothing a step changes, and go whole to one of the lanes (the
+    // largest first, each to the lane with the fewest ops). A lane runs its ops due in program
+    // order and keeps what they activate with the op's position, so that the activity lists
+    // can be joined in program order: the same lists, in the same order, as one pass gives.
+    // In `lane_ops`, each lane's ops in program order from a multiple of 64 (a lane's due bits
+    // are words of its own); `lane_readers` and `lane_group_readers` are `readers` and
+    // `group_readers` as positions in `lane_ops`.
+    std::vector<Op> lane_ops;
+    std::vector<int32_t> lane_op_pos;  // per position in lane_ops: the op's position in `ops`, -1 padding
+    std::vector<int32_t> lane_adr;     // per lane, +1: its first position in lane_ops
+    std::vector<int32_t> lane_writes;  // per lane: the slots its ops can activate
+    std::vector<uint64_t> lane_always;  // `always`, by position in lane_ops
+    std::vector<int32_t> lane_readers, lane_group_readers;
+    size_t lanes() const { return lane_adr.empty() ? 0 : lane_adr.size() - 1; }
 };
 
 Schedule build_schedule(const graph::Graph& g, const Tables& t);

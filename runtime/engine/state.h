@@ -29,6 +29,15 @@ struct TriggerState {
     graph::Adr<graph::Slot> slots;  // its component's first slot (set at the start)
 };
 
+struct LaneRec {
+    int32_t pos;  // the op's position in the program
+    graph::SlotId slot;
+};
+struct LaneRun {
+    std::vector<LaneRec> out, in;
+    int64_t access_null = 0, access_type = 0;
+};
+
 // A kind on the kind table keeps its state in a type of its own (kinds/NAME/run.cpp), made
 // once outside the step (KindBehaviour::make_state) and reached with kind_data<T>().
 struct KindData {
@@ -172,6 +181,12 @@ struct State {
     std::vector<int32_t> slice_fired;
     PerPlace<uint8_t> place_mark;
     std::vector<uint8_t> net_live;
+
+    // The logic phase in lanes (logic.cpp, schedule.h), with more than one thread: what each
+    // lane's ops activated, with the op's position in the program, and the warnings they
+    // counted; the due bits by position in Schedule::lane_ops.
+    std::vector<LaneRun> lane_runs;
+    std::vector<uint64_t> lane_due;
 
     IdVector<graph::TriggerId, TriggerState> triggers;
     std::vector<graph::DoId> inside;  // objects (DOs), sorted per trigger

@@ -10,6 +10,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -182,4 +184,107 @@ plant P {
     CHECK(first_difference(c.graph, 300, {}, false) == -1);
     // And the due nodes alone, as the other cases.
     CHECK(first_difference(c.graph, 300) == -1);
+}
+
+namespace {
+
+// Steps g on one thread and in the logic phase's lanes on `threads` (schedule.h), due nodes
+// only; the first step at which activity, values, warnings or the activity lists, in their
+// order, differ (-1: none).
+int64_t first_lane_difference(const graph::Graph& g, int64_t steps, int threads) {
+    engine::Options one, many;
+    one.threads = 1;
+    many.threads = threads;
+    engine::Engine a(g, one), b(g, many);
+    a.internals().sched.dense_at = b.internals().sched.dense_at = SIZE_MAX;
+    REQUIRE(a.internals().st.lane_runs.empty());
+    REQUIRE(b.internals().st.lane_runs.size() > 1);
+    for (int64_t i = 0; i < steps; ++i) {
+        a.step();
+        b.step();
+        const engine::State& x = a.internals().st;
+        const engine::State& y = b.internals().st;
+        if (x.act != y.act || x.values != y.values || x.tokens != y.tokens || x.in_list != y.in_list ||
+            x.out_list != y.out_list || x.seen_list != y.seen_list || x.warn.access_null != y.warn.access_null ||
+            x.warn.access_type != y.warn.access_type)
+            return i;
+    }
+    return -1;
+}
+
+}  // namespace
+
+TEST_CASE("logic: the program in lanes on the physics threads gives each step's lists in one pass's order") {
+    // The ops that share no slot a step changes run in lanes, each on whichever thread takes it;
+    // what they activate is joined by program position, so the lists (which order what the
+    // actuators and the nets do next) are the same, in the same order, as on one thread.
+    struct Case {
+        std::string file;
+        std::vector<std::string> sets;
+        int64_t steps;
+    };
+    const std::vector<Case> cases = {
+        // 30 s: routers, labels, dynamic ends; a region per line, so as many threads (a plant of
+        // one region steps on one thread, and its logic in one pass)
+        {"plants/bottling.plant", {"lines=3", "feed_every=1s"}, 4500},
+        {"plants/bottling.plant", {"lines=2", "feed_every=0.5s"}, 3000},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.file);
+        CompileOptions opts;
+        opts.stdlib_dir = PLANT_STDLIB_DIR;
+        opts.overrides = c.sets;
+        Compilation comp;
+        compile_file(std::string(PLANT_SOURCE_DIR) + "/" + c.file, opts, comp);
+        REQUIRE(comp.ok());
+        for (int threads : {2, 3}) {
+            CAPTURE(threads);
+            CHECK(first_lane_difference(comp.graph, c.steps, threads) == -1);
+        }
+    }
+}
+
+TEST_CASE("logic: lanes split the ops that share no slot a step changes, and only those") {
+    Compilation c;
+    test::compile_text(R"(plant P {
+    trigger a { extent = (1 cm, 1 cm, 1 cm) }
+    trigger b { extent = (1 cm, 1 cm, 1 cm) }
+    timer t: oneshot { period = 1 s }
+    timer u: oneshot { period = 1 s }
+    logic both = a.on_stay and b.on_stay
+    flow both -> t.start
+    flow a.on_enter -> u.start
+    flow b.on_enter -> u.start
+}
+)",
+                       c, "lanes.plant");
+    REQUIRE(c.ok());
+    engine::Options two;
+    two.threads = 2;
+    engine::Engine e(c.graph, two);
+    const engine::Schedule& sc = e.internals().sched;
+    // Two sets: the connector and its flow into t.start (one writes what the other reads), and
+    // the two flows into u.start (both write it). a.on_stay, b.on_stay, a.on_enter and
+    // b.on_enter are written by no op: reading them joins nothing.
+    REQUIRE(sc.lanes() == 2);
+    auto lane_of = [&](int32_t pos) {
+        for (size_t k = 0; k < sc.lanes(); ++k)
+            for (int32_t p = sc.lane_adr[k]; p < sc.lane_adr[k + 1]; ++p)
+                if (sc.lane_op_pos[p] == pos) return int(k);
+        return -1;
+    };
+    std::vector<int> lane(sc.ops.size());
+    for (size_t i = 0; i < sc.ops.size(); ++i) lane[i] = lane_of(int32_t(i));
+    // The ops by what they write: the connector's out, t.start (by its flow), u.start (two flows).
+    std::map<std::string, std::set<int>> lanes_by_target;
+    for (size_t i = 0; i < sc.ops.size(); ++i) {
+        const engine::Op& op = sc.ops[i];
+        std::string target;
+        if (op.kind == engine::OpKind::Logic) target = "both";
+        else target = c.graph.slot_path(sc.flows[op.flow()].to);
+        lanes_by_target[target].insert(lane[i]);
+    }
+    CHECK(lanes_by_target["u.start"].size() == 1);  // the two flows into u.start: one lane
+    CHECK(lanes_by_target["both"] == lanes_by_target["t.start"]);  // the connector and its flow
+    CHECK(lanes_by_target["u.start"] != lanes_by_target["t.start"]);
 }
