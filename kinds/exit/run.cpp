@@ -30,8 +30,7 @@ void sense_all(Runtime& r) {
     for (graph::ExitId e : ids_of(r.g.exits)) {
         const graph::TriggerId t = r.g.exits[e].trigger;
         if (!t.valid()) continue;
-        const TriggerState& ts = r.st.triggers[t];
-        for (int32_t k = 0; k < ts.num; ++k) take(r, e, r.st.inside[ts.adr + k]);
+        for (const graph::DoId obj : r.st.inside(r.st.triggers[t])) take(r, e, obj);
     }
 }
 

@@ -25,10 +25,11 @@ void grip(Runtime& r, graph::GripperId i) {
     const TriggerState& ts = r.st.triggers[gr.trigger];
     if (ts.num == 0) return;
     // The object the trigger reports, if still inside; else the lowest id inside.
-    graph::DoId obj = r.st.inside[ts.adr];
+    const std::span<const graph::DoId> inside = r.st.inside(ts);
+    graph::DoId obj = inside.front();
     const graph::DoId seen(int32_t(*r.val(r.comp_slot(r.g.triggers[gr.trigger].comp, graph::triggerslot::object))));
-    for (int32_t k = 0; k < ts.num; ++k)
-        if (r.st.inside[ts.adr + k] == seen) obj = seen;
+    for (const graph::DoId o : inside)
+        if (o == seen) obj = seen;
     const btTransform inv = gripper_frame(r, gr).inverse();
     bool any = false;
     for (graph::BodyId b : r.tab.do_bodies[obj]) {

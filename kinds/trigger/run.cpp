@@ -70,13 +70,18 @@ void compare(TriggerState& ts, const DoId* now, int32_t num, const DoId* before)
     ts.entered = entered, ts.left = left, ts.first_in = first_in;
 }
 
-// Which objects are inside the triggers `ids`, found on one of the physics threads: each
-// trigger's pose, and its objects, sorted, appended to `out` (the slice's own list) with
-// their place in it.
-void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<DoId>& out) {
+// Which objects are inside the triggers of slice `slice` (`ids`), found on one of the physics
+// threads: each trigger's pose, and its objects, sorted, appended to the slice's list of this
+// step and compared with its list of the step before; the slice's triggers with an object now
+// or then, in order.
+void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
     State& s = r.st;
     const graph::Graph& g = r.g;
+    std::vector<DoId>& out = s.trigger_lists[s.trigger_side][slice];
+    const std::vector<DoId>& then = s.trigger_lists[s.trigger_side ^ 1][slice];
+    std::vector<TriggerId>& busy = s.trigger_busy[slice];
     out.clear();
+    busy.clear();
     for (TriggerId t : ids) {
         const graph::Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
@@ -105,21 +110,17 @@ void find_inside(Runtime& r, graph::IdRange<TriggerId> ids, std::vector<DoId>& o
             }
             out[k] = obj;
         });
-        s.trigger_found[t] = graph::count_of(std::span(out).subspan(adr));  // found for t
-        compare(ts, out.data() + adr, s.trigger_found[t], s.inside.data() + ts.adr);
+        const int32_t found = graph::count_of(std::span(out).subspan(adr));
+        compare(ts, out.data() + adr, found, then.data() + ts.adr);
+        ts.before = ts.num;
+        ts.slice = slice, ts.adr = int32_t(adr), ts.num = found;
+        if (ts.num || ts.before) busy.push_back(t);
     }
 }
 
-// Trigger t's objects this step (`objects`, found by find_inside, which compared them with
-// the step before's): its list in State::inside, and its events.
-void take(Runtime& r, TriggerId t, const DoId* objects) {
-    State& s = r.st;
-    TriggerState& ts = s.triggers[t];
-    const int32_t before = ts.num;  // inside the step before
-    ts.adr = graph::count_of(s.inside);
-    ts.num = s.trigger_found[t];
-    s.inside.insert(s.inside.end(), objects, objects + ts.num);
-    if (!ts.num && !before) return;  // empty and was: no event (nothing entered or left)
+// Trigger t's events this step (its list found and compared by find_inside).
+void take(Runtime& r, TriggerId t) {
+    TriggerState& ts = r.st.triggers[t];
     const graph::Adr<graph::Slot> s0 = ts.slots;  // not the component's row: one cache miss less per trigger
     if (ts.entered) {
         ts.enters += ts.entered;
@@ -128,35 +129,42 @@ void take(Runtime& r, TriggerId t, const DoId* objects) {
     }
     if (ts.left) r.activate(s0 + slot::on_leave);
     if (ts.num) r.activate(s0 + slot::on_stay);
-    if (ts.num != before) r.emit(s0 + slot::count_inside, ts.num);
+    if (ts.num != ts.before) r.emit(s0 + slot::count_inside, ts.num);
 }
 
 // Phase 2: the triggers' contents, a slice of the triggers per item (at least 32 triggers in
-// one, four per thread at most); then, in trigger order on this thread, the lists and events.
+// one, four per thread at most); then, in trigger order on this thread, the events of those
+// with an object now or the step before.
 void sense_all(Runtime& r) {
     State& s = r.st;
     const graph::Graph& g = r.g;
     if (g.triggers.empty()) return;
     r.index.refresh(r.phys, true, r.phys.workers());
+    s.trigger_side ^= 1;  // the step before's lists are kept for the comparison
     const size_t nt = g.triggers.size();
-    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_slices.size());
-    auto finding = [&r, &s, nt, slices](int i) { find_inside(r, slice_ids<TriggerId>(nt, slices, i), s.trigger_slices[i]); };
+    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_busy.size());
+    auto finding = [&r, nt, slices](int i) { find_inside(r, i, slice_ids<TriggerId>(nt, slices, i)); };
     run_slices(r.phys.workers(), slices, finding);
-    s.inside.clear();  // the step before's lists, read by find_inside's comparison
-    for (size_t i = 0; i < slices; ++i) {
-        const DoId* found = s.trigger_slices[i].data();
-        for (TriggerId t : slice_ids<TriggerId>(nt, slices, i)) {
-            take(r, t, found);
-            found += s.trigger_found[t];
-        }
-    }
+    for (size_t i = 0; i < slices; ++i)
+        for (TriggerId t : s.trigger_busy[i]) take(r, t);
 }
 
-// The object a trigger last saw starts empty.
+// The object a trigger last saw starts empty. The lists of the slices in use are sized: trigger/
+// object pairs have no small bound, and this covers every object being in a few triggers at
+// once (beyond it a list grows, amortised, once).
 void start_all(Runtime& r) {
     for (TriggerId t : graph::ids_of(r.g.triggers)) {
         r.st.triggers[t].slots = r.g.comps[r.g.triggers[t].comp].slot_adr;
         *r.val(r.comp_slot(r.g.triggers[t].comp, slot::object)) = -1;
+    }
+    const size_t nt = r.g.triggers.size();
+    if (nt == 0) return;
+    const size_t slices = slice_count(r.phys.workers(), nt, 32, r.st.trigger_busy.size());
+    const size_t pairs = std::max<size_t>(256, 4 * (r.tab.dyn_bodies.size() + nt));
+    for (size_t i = 0; i < slices; ++i) {
+        for (auto& lists : r.st.trigger_lists) lists[i].reserve(pairs / slices + 64);
+        const auto [b, e] = slice_of(nt, slices, i);
+        r.st.trigger_busy[i].reserve(e - b);
     }
 }
 

@@ -83,15 +83,10 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
 
     s.triggers.resize(g.triggers.size());
-    // Trigger/object pairs have no small bound; this covers every object being in a
-    // few triggers at once. Beyond it the lists grow (amortised, once).
-    size_t pairs = std::max<size_t>(256, 4 * (t.dyn_bodies.size() + g.triggers.size()));
-    s.inside.reserve(pairs);
-    s.trigger_found.assign(g.triggers.size(), 0);
+    for (auto& lists : s.trigger_lists) lists.resize(64);  // at most four slices per thread, 16 threads
+    s.trigger_busy.resize(64);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
     s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
     s.slice_left.assign(64, 0);
-    s.trigger_slices.resize(64);  // at most four per thread, 16 threads (kinds/trigger/run.cpp)
-    for (std::vector<DoId>& list : s.trigger_slices) list.reserve(pairs / 8 + 64);
 
     for (const graph::KindDesc* k : graph::builtin_kinds())  // the kinds on the kind table
         if (const KindBehaviour* b = builtin_behaviour(k->kind); b->make_state) s.kinds[size_t(k->kind)] = b->make_state(g);

@@ -14,13 +14,16 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace plant::engine {
 
 struct TriggerState {
     btTransform pose = btTransform::getIdentity();  // the box centre in the world
-    int32_t adr = 0, num = 0;  // objects inside now: State::inside[adr, adr + num)
+    // Objects inside now: from `adr` in its slice's list of this step (State::inside), and
+    // how many were inside the step before.
+    int32_t slice = 0, adr = 0, num = 0, before = 0;
     int64_t enters = 0;
     // This step's list against the previous one, found on a physics thread before the lists
     // move (kinds/trigger/run.cpp): objects that came in (the first of them) and that left.
@@ -189,14 +192,20 @@ struct State {
     std::vector<uint64_t> lane_due;
 
     IdVector<graph::TriggerId, TriggerState> triggers;
-    std::vector<graph::DoId> inside;  // objects (DOs), sorted per trigger
-    // Found on the physics threads (kinds/trigger/run.cpp): per trigger, how many objects are inside;
-    // per slice of the triggers, their lists one after the other.
-    IdVector<graph::TriggerId, int32_t> trigger_found;
+    // The triggers' objects (DOs), found on the physics threads (kinds/trigger/run.cpp): per
+    // slice of the triggers, their lists one after the other, each sorted; two sets, this
+    // step's and the step before's (which the new lists are compared with), in turn.
+    std::array<std::vector<std::vector<graph::DoId>>, 2> trigger_lists;
+    int trigger_side = 0;  // which set is this step's
+    // Per slice: its triggers with an object now or the step before (those with events).
+    std::vector<std::vector<graph::TriggerId>> trigger_busy;
+    std::span<const graph::DoId> inside(const TriggerState& ts) const {
+        const graph::DoId* first = trigger_lists[trigger_side][ts.slice].data() + ts.adr;
+        return {first, first + ts.num};
+    }
     // Per slice of prepare_fields' job (fields.cpp): a field's frame changed, a kinematic part
     // left its room.
     std::vector<uint8_t> slice_moved, slice_left;
-    std::vector<std::vector<graph::DoId>> trigger_slices;
     IdVector<graph::GripperId, graph::DoId> gripper_held;  // DO held, -1
     IdVector<graph::GraphicsId, GraphicsState> graphics;
     IdVector<graph::GraphicsId, int32_t> variant;  // selected variant, -1
