@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <climits>
 
 namespace plant::engine {
@@ -181,7 +182,9 @@ template <class Sink>
 // schedule's lists as positions in the program (`ops`) or in `lane_ops`.
 [[gnu::always_inline]] inline void mark_readers(const Schedule& sc, const int32_t* readers, const int32_t* group_readers,
                                                 uint64_t* due, int32_t ran, size_t x) {
-    if (!((sc.read_any[x / 64] >> (x % 64)) & 1)) return;  // read by no op
+    const uint64_t word = sc.read_any[x / 64], bit = uint64_t(1) << (x % 64);
+    if (!(word & bit)) return;  // read by no op
+    const Schedule::ReadAt* at = sc.read_at.data() + sc.read_rank[x / 64] + std::popcount(word & (bit - 1));
     auto due_from = [due, ran](const int32_t* q, const int32_t* end) {
         for (; q != end; ++q) {
             if (*q <= ran) continue;
@@ -189,8 +192,8 @@ template <class Sink>
             due[p / 64] |= uint64_t(1) << (p % 64);
         }
     };
-    due_from(readers + sc.reader_adr[x], readers + sc.reader_adr[x + 1]);
-    for (int32_t k = sc.group_adr[x]; k < sc.group_adr[x + 1]; ++k) {
+    due_from(readers + at[0].readers, readers + at[1].readers);
+    for (int32_t k = at[0].groups; k < at[1].groups; ++k) {
         const size_t group = sc.groups[k];  // >= 0
         due_from(group_readers + sc.group_reader_adr[group], group_readers + sc.group_reader_adr[group + 1]);
     }
@@ -264,20 +267,30 @@ void run_lane(Runtime& r, size_t k) {
 }
 
 // What the lanes activated, appended to `list` in program order (each lane's records are in
-// it already; an op's own, in the order it made them).
+// it already; an op's own, in the order it made them): the lane whose next record comes first
+// gives its records up to the next lane's first.
 template <class Records>
 void join_lanes(State& s, std::vector<SlotId>& list, Records records) {
-    std::array<size_t, 64> at{};
     const size_t lanes = s.lane_runs.size();
+    std::array<int32_t, 64> head;  // per lane: its next record's position, INT32_MAX: none
+    std::array<size_t, 64> at{};
+    for (size_t k = 0; k < lanes; ++k) {
+        const std::vector<LaneRec>& l = records(s.lane_runs[k]);
+        head[k] = l.empty() ? INT32_MAX : l.front().pos;
+    }
     for (;;) {
-        size_t best = lanes;
-        int32_t first = INT32_MAX;
-        for (size_t k = 0; k < lanes; ++k) {
-            const std::vector<LaneRec>& l = records(s.lane_runs[k]);
-            if (at[k] < l.size() && l[at[k]].pos < first) first = l[at[k]].pos, best = k;
+        size_t best = 0;
+        int32_t next = INT32_MAX;  // the second smallest head
+        for (size_t k = 1; k < lanes; ++k) {
+            if (head[k] < head[best]) next = head[best], best = k;
+            else if (head[k] < next) next = head[k];
         }
-        if (best == lanes) return;
-        list.push_back(records(s.lane_runs[best])[at[best]++].slot);
+        if (head[best] == INT32_MAX) return;
+        const std::vector<LaneRec>& l = records(s.lane_runs[best]);
+        size_t i = at[best];
+        for (; i < l.size() && l[i].pos < next; ++i) list.push_back(l[i].slot);
+        at[best] = i;
+        head[best] = i < l.size() ? l[i].pos : INT32_MAX;
     }
 }
 

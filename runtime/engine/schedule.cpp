@@ -94,7 +94,9 @@ void due_by_slot(const Graph& g, Schedule& s) {
         }
         if (always) s.always[p / 64] |= uint64_t(1) << (p % 64);
     }
-    packed(reads, g.slots.size(), s.reader_adr, s.readers);
+    const size_t ns = g.slots.size();
+    std::vector<int32_t> reader_adr, group_adr;  // per slot, +1
+    packed(reads, ns, reader_adr, s.readers);
     packed(group_reads, ag.first.size(), s.group_reader_adr, s.group_readers);
     // Each slot's groups: only groups some op reads.
     std::vector<std::pair<int32_t, int32_t>> slot_groups;  // (slot, group)
@@ -103,11 +105,19 @@ void due_by_slot(const Graph& g, Schedule& s) {
         const Access& a = g.accesses[ag.first[k]];
         for (const AccessTarget& t : g.access_targets.slice(a.target_adr, a.target_num)) slot_groups.emplace_back(t.v.v, k.v);
     }
-    packed(slot_groups, g.slots.size(), s.group_adr, s.groups);
-    s.read_any.assign((g.slots.size() + 63) / 64, 0);
-    for (size_t x = 0; x < g.slots.size(); ++x)
-        if (s.reader_adr[x] != s.reader_adr[x + 1] || s.group_adr[x] != s.group_adr[x + 1])
-            s.read_any[x / 64] |= uint64_t(1) << (x % 64);
+    packed(slot_groups, ns, group_adr, s.groups);
+    // The read slots' rows: a slot read by no op has empty ranges, so a read slot's ranges end
+    // where the next read slot's start.
+    s.read_any.assign((ns + 63) / 64, 0);
+    s.read_rank.assign(s.read_any.size(), 0);
+    s.read_at.clear();
+    for (size_t x = 0; x < ns; ++x) {
+        if (x % 64 == 0) s.read_rank[x / 64] = int32_t(s.read_at.size());
+        if (reader_adr[x] == reader_adr[x + 1] && group_adr[x] == group_adr[x + 1]) continue;
+        s.read_any[x / 64] |= uint64_t(1) << (x % 64);
+        s.read_at.push_back({reader_adr[x], group_adr[x]});
+    }
+    s.read_at.push_back({reader_adr[ns], group_adr[ns]});
 }
 
 // The lanes (schedule.h): which ops share a slot a step changes, joined; the sets to lanes.

@@ -50,16 +50,22 @@ struct Schedule {
     std::vector<Op> ops;           // the logic phase, in order
     std::vector<graph::FlowId> delayed;  // flows cut out of cycles
     std::vector<uint64_t> always;  // bit per op position: due every step
-    std::vector<int32_t> reader_adr;  // per slot, +1: its readers' positions in `readers`
     std::vector<int32_t> readers;     // op positions, each slot's ascending
     // A flow with a dynamic end reads whichever slot of its access's group (graph/network.h)
     // the reference names: each slot's groups, and each group's readers.
-    std::vector<int32_t> group_adr, groups;              // per slot, +1; group ids
+    std::vector<int32_t> groups;                           // group ids, each slot's
     std::vector<int32_t> group_reader_adr, group_readers;  // per group, +1; op positions
-    // A bit per slot: some op reads it or one of its groups. Most active slots are read by no
-    // op (a trigger's on_stay, a body's outputs): one look at this small table, not two at
-    // the slot-sized ones above, tells the phase so.
+    // The slots some op reads, itself or through a group: a bit per slot, and per such slot a
+    // row in `read_at` (its row is read_rank[x / 64] plus the bits below x in its word) with
+    // the start of its readers and of its groups; the next row's starts end them. Most active
+    // slots are read by no op (a trigger's on_stay, a body's outputs): one look at the small
+    // bit table tells the phase so, and the rows take 8 bytes per read slot, not per slot.
+    struct ReadAt {
+        int32_t readers, groups;
+    };
     std::vector<uint64_t> read_any;
+    std::vector<int32_t> read_rank;  // per word of read_any: the read slots before it
+    std::vector<ReadAt> read_at;     // per read slot, +1
     size_t dense_at = 0;  // active slots at the phase's start from which every op runs: ops / 8 + 1
 
     // Lanes: the program split for the physics threads (logic.cpp). Ops are joined when one
