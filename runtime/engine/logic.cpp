@@ -199,6 +199,21 @@ template <class Sink>
     }
 }
 
+// Calls f(position) for each due bit of words [first, end), lowest first, clearing it; f may
+// set bits after its position (the readers of what it made active).
+template <class F>
+[[gnu::always_inline]] inline void each_due(uint64_t* due, size_t first, size_t end, F&& f) {
+    for (size_t w = first; w < end;) {
+        const uint64_t bits = due[w];
+        if (!bits) {
+            ++w;
+            continue;
+        }
+        due[w] = bits & (bits - 1);
+        f(w * 64 + __builtin_ctzll(bits));
+    }
+}
+
 // The ops due (schedule.h), in order: a bit per op; the activity lists read from where the
 // last look ended, each new active slot's readers after the op running made due.
 void run_due(Runtime& r) {
@@ -216,19 +231,11 @@ void run_due(Runtime& r) {
             mark_readers(sc, sc.readers.data(), sc.group_readers.data(), due, ran, index(s.in_list[in_seen]));
     };
     look();
-    const size_t words = sc.always.size();
-    for (size_t w = 0; w < words;) {
-        const uint64_t bits = due[w];
-        if (!bits) {
-            ++w;
-            continue;
-        }
-        due[w] = bits & (bits - 1);
-        const size_t at = w * 64 + __builtin_ctzll(bits);
+    each_due(due, 0, sc.always.size(), [&](size_t at) {
         ran = static_cast<int32_t>(at);
         run_op(r, out, sc.ops[at]);
         look();
-    }
+    });
 }
 
 // Lane k's ops due, as run_due runs the program's, on one of the physics threads: its due bits
@@ -250,20 +257,12 @@ void run_lane(Runtime& r, size_t k) {
         for (; in_seen < lane.in.size(); ++in_seen)
             mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, ran, index(lane.in[in_seen].slot));
     };
-    const size_t end = size_t(sc.lane_adr[k + 1]) / 64;
-    for (size_t w = size_t(sc.lane_adr[k]) / 64; w < end;) {
-        const uint64_t bits = due[w];
-        if (!bits) {
-            ++w;
-            continue;
-        }
-        due[w] = bits & (bits - 1);
-        const size_t at = w * 64 + __builtin_ctzll(bits);
+    each_due(due, size_t(sc.lane_adr[k]) / 64, size_t(sc.lane_adr[k + 1]) / 64, [&](size_t at) {
         ran = static_cast<int32_t>(at);
         out.pos = sc.lane_op_pos[at];
         run_op(r, out, sc.lane_ops[at]);
         look();
-    }
+    });
 }
 
 // What the lanes activated, appended to `list` in program order (each lane's records are in

@@ -51,14 +51,26 @@ int64_t first_difference(const graph::Graph& g, int64_t steps, const std::vector
     return -1;
 }
 
+// A plant of the tree, compiled with `sets`, stepped `steps` times by a case below.
+struct Case {
+    std::string file;
+    std::vector<std::string> sets;
+    int64_t steps;
+};
+
+graph::Graph compiled(const Case& c) {
+    CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    opts.overrides = c.sets;
+    Compilation comp;
+    compile_file(std::string(PLANT_SOURCE_DIR) + "/" + c.file, opts, comp);
+    REQUIRE(comp.ok());
+    return comp.graph;
+}
+
 }  // namespace
 
 TEST_CASE("logic: the nodes due give each step what every node gives") {
-    struct Case {
-        std::string file;
-        std::vector<std::string> sets;
-        int64_t steps;
-    };
     const std::vector<Case> cases = {
         {"plants/bottling.plant", {"lines=2", "feed_every=1s"}, 4500},  // 30 s: routers, labels, dynamic ends
         {"examples/loops.plant", {}, 1500},                           // latches: connectors, a cycle cut
@@ -71,13 +83,7 @@ TEST_CASE("logic: the nodes due give each step what every node gives") {
     };
     for (const Case& c : cases) {
         CAPTURE(c.file);
-        CompileOptions opts;
-        opts.stdlib_dir = PLANT_STDLIB_DIR;
-        opts.overrides = c.sets;
-        Compilation comp;
-        compile_file(std::string(PLANT_SOURCE_DIR) + "/" + c.file, opts, comp);
-        REQUIRE(comp.ok());
-        CHECK(first_difference(comp.graph, c.steps) == -1);
+        CHECK(first_difference(compiled(c), c.steps) == -1);
     }
 }
 
@@ -218,11 +224,6 @@ TEST_CASE("logic: the program in lanes on the physics threads gives each step's 
     // The ops that share no slot a step changes run in lanes, each on whichever thread takes it;
     // what they activate is joined by program position, so the lists (which order what the
     // actuators and the nets do next) are the same, in the same order, as on one thread.
-    struct Case {
-        std::string file;
-        std::vector<std::string> sets;
-        int64_t steps;
-    };
     const std::vector<Case> cases = {
         // 30 s: routers, labels, dynamic ends; a region per line, so as many threads (a plant of
         // one region steps on one thread, and its logic in one pass)
@@ -231,15 +232,10 @@ TEST_CASE("logic: the program in lanes on the physics threads gives each step's 
     };
     for (const Case& c : cases) {
         CAPTURE(c.file);
-        CompileOptions opts;
-        opts.stdlib_dir = PLANT_STDLIB_DIR;
-        opts.overrides = c.sets;
-        Compilation comp;
-        compile_file(std::string(PLANT_SOURCE_DIR) + "/" + c.file, opts, comp);
-        REQUIRE(comp.ok());
+        const graph::Graph g = compiled(c);
         for (int threads : {2, 3}) {
             CAPTURE(threads);
-            CHECK(first_lane_difference(comp.graph, c.steps, threads) == -1);
+            CHECK(first_lane_difference(g, c.steps, threads) == -1);
         }
     }
 }
