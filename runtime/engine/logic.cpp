@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <climits>
 
@@ -179,7 +180,10 @@ template <class Sink>
 }
 
 // Marks due the readers of slot x after position `ran`: `readers` and `group_readers` are the
-// schedule's lists as positions in the program (`ops`) or in `lane_ops`.
+// schedule's lists as positions in the program (`ops`) or in `lane_ops`. `kShared`: other
+// threads mark the same words at the same time (an atomic or; the bits come out the same
+// whatever the order).
+template <bool kShared = false>
 [[gnu::always_inline]] inline void mark_readers(const Schedule& sc, const int32_t* readers, const int32_t* group_readers,
                                                 uint64_t* due, int32_t ran, size_t x) {
     const uint64_t word = sc.read_any[x / 64], bit = uint64_t(1) << (x % 64);
@@ -189,7 +193,8 @@ template <class Sink>
         for (; q != end; ++q) {
             if (*q <= ran) continue;
             const size_t p = *q;  // a position, >= 0
-            due[p / 64] |= uint64_t(1) << (p % 64);
+            if constexpr (kShared) std::atomic_ref(due[p / 64]).fetch_or(uint64_t(1) << (p % 64), std::memory_order_relaxed);
+            else due[p / 64] |= uint64_t(1) << (p % 64);
         }
     };
     due_from(readers + at[0].readers, readers + at[1].readers);
@@ -300,8 +305,18 @@ void run_lanes(Runtime& r) {
     const Schedule& sc = r.sched;
     uint64_t* due = s.lane_due.data();
     std::copy(sc.lane_always.begin(), sc.lane_always.end(), due);
-    for (SlotId x : s.out_list) mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, -1, index(x));
-    for (SlotId x : s.in_list) mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, -1, index(x));
+    // The readers of what is active at the phase's start, in slices of the two lists on the
+    // physics threads (the job's end orders the marks before the lanes read them).
+    const size_t n_out = s.out_list.size(), n = n_out + s.in_list.size();
+    const size_t slices = slice_count(r.phys.workers(), n, 64, 64);
+    auto marking = [&s, &sc, due, n, n_out, slices](int i) {
+        const auto [b, e] = slice_of(n, slices, i);
+        for (size_t k = b; k < e; ++k) {
+            const SlotId x = k < n_out ? s.out_list[k] : s.in_list[k - n_out];
+            mark_readers<true>(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, -1, index(x));
+        }
+    };
+    run_slices(r.phys.workers(), slices, marking);
     auto lane = [&r](int k) { run_lane(r, size_t(k)); };
     r.phys.workers().run(int(sc.lanes()), lane);
     join_lanes(s, s.out_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.out; });
