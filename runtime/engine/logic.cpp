@@ -262,7 +262,7 @@ void run_lane(Runtime& r, size_t k) {
         for (; in_seen < lane.in.size(); ++in_seen)
             mark_readers(sc, sc.lane_readers.data(), sc.lane_group_readers.data(), due, ran, index(lane.in[in_seen].slot));
     };
-    each_due(due, size_t(sc.lane_adr[k]) / 64, size_t(sc.lane_adr[k + 1]) / 64, [&](size_t at) {
+    each_due(due, sc.lane_adr[k] / 64, sc.lane_adr[k + 1] / 64, [&](size_t at) {
         ran = static_cast<int32_t>(at);
         out.pos = sc.lane_op_pos[at];
         run_op(r, out, sc.lane_ops[at]);
@@ -317,7 +317,7 @@ void run_lanes(Runtime& r) {
         }
     };
     run_slices(r.phys.workers(), slices, marking);
-    auto lane = [&r](int k) { run_lane(r, size_t(k)); };
+    auto lane = [&r](int k) { run_lane(r, k); };
     r.phys.workers().run(int(sc.lanes()), lane);
     join_lanes(s, s.out_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.out; });
     join_lanes(s, s.in_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.in; });

@@ -112,7 +112,7 @@ void due_by_slot(const Graph& g, Schedule& s) {
     s.read_rank.assign(s.read_any.size(), 0);
     s.read_at.clear();
     for (size_t x = 0; x < ns; ++x) {
-        if (x % 64 == 0) s.read_rank[x / 64] = int32_t(s.read_at.size());
+        if (x % 64 == 0) s.read_rank[x / 64] = count_of(s.read_at);
         if (reader_adr[x] == reader_adr[x + 1] && group_adr[x] == group_adr[x + 1]) continue;
         s.read_any[x / 64] |= uint64_t(1) << (x % 64);
         s.read_at.push_back({reader_adr[x], group_adr[x]});
@@ -122,8 +122,8 @@ void due_by_slot(const Graph& g, Schedule& s) {
 
 // The lanes (schedule.h): which ops share a slot a step changes, joined; the sets to lanes.
 void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
-    constexpr size_t kLanes = 16;
-    const size_t n = s.ops.size(), ns = g.slots.size();
+    constexpr int32_t kLanes = 16;
+    const int32_t n = count_of(s.ops), ns = count_of(g.slots);
     const AccessGroups ag = access_groups(g);
     auto group_slots = [&](AccessId a, std::vector<int32_t>& out) {
         const Access& first = g.accesses[ag.first[ag.of[a]]];
@@ -131,7 +131,7 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     };
     // Each op's slots: those it writes (activates), then those it reads.
     std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0);
-    for (size_t i = 0; i < n; ++i) {
+    for (int32_t i = 0; i < n; ++i) {
         const Op& op = s.ops[i];
         std::vector<int32_t> w, rd;
         switch (op.kind) {
@@ -164,13 +164,13 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
             break;
         }
         }
-        writes[i] = int32_t(w.size());
+        writes[i] = count_of(w);
         slots.insert(slots.end(), w.begin(), w.end());
         slots.insert(slots.end(), rd.begin(), rd.end());
-        adr[i + 1] = int32_t(slots.size());
+        adr[i + 1] = count_of(slots);
     }
     std::vector<uint8_t> written(ns, 0);
-    for (size_t i = 0; i < n; ++i)
+    for (int32_t i = 0; i < n; ++i)
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k) written[slots[k]] = 1;
     // Union-find over ops (0 .. n-1) and slots (n ..): an op with what it writes, and with what
     // it reads that some op writes (a slot no op writes is the same all through the phase).
@@ -180,41 +180,42 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
         while (up[x] != x) x = up[x] = up[up[x]];
         return x;
     };
-    for (size_t i = 0; i < n; ++i)
+    for (int32_t i = 0; i < n; ++i)
         for (int32_t k = adr[i]; k < adr[i + 1]; ++k) {
             if (k >= adr[i] + writes[i] && !written[slots[k]]) continue;
-            const int32_t a = find(int32_t(i)), b = find(int32_t(n) + slots[k]);
+            const int32_t a = find(i), b = find(n + slots[k]);
             if (a != b) up[std::max(a, b)] = std::min(a, b);
         }
     // The sets (by their lowest op), largest first, each to the lane with the fewest ops.
     std::vector<int32_t> set_size(n, 0);
-    for (size_t i = 0; i < n; ++i) ++set_size[find(int32_t(i))];
+    for (int32_t i = 0; i < n; ++i) ++set_size[find(i)];
     std::vector<int32_t> sets;
-    for (size_t i = 0; i < n; ++i)
-        if (set_size[i] > 0) sets.push_back(int32_t(i));
-    const size_t lanes = std::min(kLanes, sets.size());
+    for (int32_t i = 0; i < n; ++i)
+        if (set_size[i] > 0) sets.push_back(i);
+    const int32_t lanes = std::min(kLanes, count_of(sets));
     if (lanes < 2) return;
     std::stable_sort(sets.begin(), sets.end(), [&](int32_t a, int32_t b) { return set_size[a] > set_size[b]; });
     std::vector<int32_t> lane_of_set(n, -1), lane_size(lanes, 0);
     for (int32_t root : sets) {
-        const size_t to = size_t(std::min_element(lane_size.begin(), lane_size.end()) - lane_size.begin());
-        lane_of_set[root] = int32_t(to);
+        const int32_t to = std::min_element(lane_size.begin(), lane_size.end()) - lane_size.begin();
+        lane_of_set[root] = to;
         lane_size[to] += set_size[root];
     }
     // Each lane's ops in program order, from a multiple of 64.
     s.lane_adr.assign(lanes + 1, 0);
-    for (size_t k = 0; k < lanes; ++k) s.lane_adr[k + 1] = s.lane_adr[k] + (lane_size[k] + 63) / 64 * 64;
-    s.lane_ops.assign(size_t(s.lane_adr.back()), Op{OpKind::Pulse, -1, {}, {}});
-    s.lane_op_pos.assign(size_t(s.lane_adr.back()), -1);
+    for (int32_t k = 0; k < lanes; ++k) s.lane_adr[k + 1] = s.lane_adr[k] + (lane_size[k] + 63) / 64 * 64;
+    const int32_t total = s.lane_adr.back();
+    s.lane_ops.assign(total, Op{OpKind::Pulse, -1, {}, {}});
+    s.lane_op_pos.assign(total, -1);
     std::vector<int32_t> at(s.lane_adr.begin(), s.lane_adr.end() - 1), lane_pos(n);
-    for (size_t i = 0; i < n; ++i) {
-        const int32_t k = lane_of_set[find(int32_t(i))];
+    for (int32_t i = 0; i < n; ++i) {
+        const int32_t k = lane_of_set[find(i)];
         lane_pos[i] = at[k]++;
         s.lane_ops[lane_pos[i]] = s.ops[i];
-        s.lane_op_pos[lane_pos[i]] = int32_t(i);
+        s.lane_op_pos[lane_pos[i]] = i;
     }
-    s.lane_always.assign(size_t(s.lane_adr.back()) / 64, 0);
-    for (size_t i = 0; i < n; ++i)
+    s.lane_always.assign(total / 64, 0);
+    for (int32_t i = 0; i < n; ++i)
         if ((s.always[i / 64] >> (i % 64)) & 1) s.lane_always[lane_pos[i] / 64] |= uint64_t(1) << (lane_pos[i] % 64);
     s.lane_readers.resize(s.readers.size());
     for (size_t i = 0; i < s.readers.size(); ++i) s.lane_readers[i] = lane_pos[s.readers[i]];
@@ -223,9 +224,9 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     // The slots each lane's ops can activate (every writer of a slot is in the slot's lane).
     s.lane_writes.assign(lanes, 0);
     std::vector<uint8_t> counted(ns, 0);
-    for (size_t i = 0; i < n; ++i)
+    for (int32_t i = 0; i < n; ++i)
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k)
-            if (!counted[slots[k]]) counted[slots[k]] = 1, ++s.lane_writes[lane_of_set[find(int32_t(i))]];
+            if (!counted[slots[k]]) counted[slots[k]] = 1, ++s.lane_writes[lane_of_set[find(i)]];
 }
 
 }  // namespace
