@@ -124,28 +124,20 @@ void due_by_slot(const Graph& g, Schedule& s) {
 void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     constexpr int32_t kLanes = 16;
     const int32_t n = count_of(s.ops), ns = count_of(g.slots);
-    const AccessGroups ag = access_groups(g);
-    auto group_slots = [&](AccessId a, std::vector<int32_t>& out) {
-        const Access& first = g.accesses[ag.first[ag.of[a]]];
-        for (const AccessTarget& x : g.access_targets.slice(first.target_adr, first.target_num)) out.push_back(x.v.v);
-    };
-    // Each op's slots: those it writes (activates), then those it reads.
+    // Each op's slots: those it writes (activates), then those it reads (a flow's as the logic
+    // network says them, graph/network.h, and the reference of a dynamic target, which names
+    // the slot it writes).
     std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0);
     for (int32_t i = 0; i < n; ++i) {
         const Op& op = s.ops[i];
         std::vector<int32_t> w, rd;
         switch (op.kind) {
-        case OpKind::Pulse: rd.push_back(op.from.v), w.push_back(op.to.v); break;
+        case OpKind::Pulse:  // a flow too
         case OpKind::Flow: {
-            const FlowOp& f = s.flows[op.flow()];
-            rd.push_back(f.from.v);
-            if (f.from_access.valid()) group_slots(f.from_access, rd);
-            if (f.to_access.valid()) {
-                rd.push_back(g.accesses[f.to_access].ref_slot.v);
-                group_slots(f.to_access, w);
-            } else {
-                w.push_back(f.to.v);
-            }
+            const Flow& f = g.flows[op.flow()];
+            each_written_slot(g, f, [&w](SlotId x) { w.push_back(x.v); });
+            each_read_slot(g, f, [&rd](SlotId x) { rd.push_back(x.v); });
+            if (f.to_access.valid()) rd.push_back(g.accesses[f.to_access].ref_slot.v);
             break;
         }
         case OpKind::Logic: {
