@@ -3,6 +3,7 @@
 // is shared with the bodies (engine/bodies.cpp: a held body that leaves the world).
 #include "engine/plugin.h"
 #include "engine/runtime.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
@@ -82,14 +83,21 @@ void start_all(Runtime& r) {
 }
 
 // What a gripper holds moves with it, kinematically.
+// What each gripper holds follows it, in slices of the grippers on the physics threads (a
+// body is held by one gripper at most: each moves only its own).
 void sense_all(Runtime& r) {
-    for (graph::GripperId i : ids_of(r.g.grippers)) {
-        const graph::DoId obj = r.st.gripper_held[i];
-        if (!obj.valid()) continue;
-        const btTransform gp = gripper_frame(r, r.g.grippers[i]);
-        for (graph::BodyId b : r.tab.do_bodies[obj])
-            if (r.st.held_by[b] == i) r.phys.move(b, gp * r.st.grip_rel[b]);
-    }
+    const size_t n = r.g.grippers.size();
+    const size_t slices = slice_count(r.phys.workers(), n, 16, 64);
+    auto follow = [&r, n, slices](int k) {
+        for (graph::GripperId i : slice_ids<graph::GripperId>(n, slices, k)) {
+            const graph::DoId obj = r.st.gripper_held[i];
+            if (!obj.valid()) continue;
+            const btTransform gp = gripper_frame(r, r.g.grippers[i]);
+            for (graph::BodyId b : r.tab.do_bodies[obj])
+                if (r.st.held_by[b] == i) r.phys.move(b, gp * r.st.grip_rel[b]);
+        }
+    };
+    run_slices(r.phys.workers(), slices, follow);
 }
 
 void act_one(Runtime& r, const graph::Comp& c) {

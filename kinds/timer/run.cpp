@@ -53,9 +53,17 @@ void start_all(Runtime& r) {
     }
 }
 
+// kDefer's activation of slot x of a timer's own, on a physics thread: its flag now (no other
+// timer writes it), whether it goes into the step's list (not if it was active already).
+inline bool flag(Runtime& r, graph::SlotId x) {
+    if (r.st.act[x]) return false;
+    r.st.act[x] = 1;
+    return true;
+}
+
 // Timer i's step. It ticks at n·dt >= deadline: counting steps, not adding dt, so periods do
 // not drift. It writes only its own state and its own slots' values. kDefer: what it makes
-// active is returned (worked out on a physics thread, made active after the job, in timer
+// active is flagged here and returned (on a physics thread; listed after the job, in timer
 // order); else made active here.
 template <bool kDefer>
 [[gnu::always_inline]] inline uint8_t tick(Runtime& r, Timers& t, TimerId i) {
@@ -68,11 +76,11 @@ template <bool kDefer>
     // Only a read or watched `elapsed` is made active: most timers just tick.
     *r.val(s0 + graph::timerslot::elapsed) = elapsed;
     if (r.st.watched[s0 + graph::timerslot::elapsed]) {
-        if constexpr (kDefer) made |= kElapsed;
+        if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::elapsed) ? kElapsed : 0;
         else r.activate(s0 + graph::timerslot::elapsed);
     }
     if (elapsed + 1e-9 < ts.deadline) return made;
-    if constexpr (kDefer) made |= kTick;
+    if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::tick) ? kTick : 0;
     else r.activate(s0 + graph::timerslot::tick);
     const graph::Timer& tm = r.g.timers[i];
     if (tm.periodic) {
@@ -80,18 +88,18 @@ template <bool kDefer>
     } else {
         ts.running = false;
         *r.val(s0 + graph::timerslot::running) = 0;
-        if constexpr (kDefer) made |= kStopped;
+        if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::running) ? kStopped : 0;
         else r.activate(s0 + graph::timerslot::running);
     }
     return made;
 }
 
-// What tick<true> returned, made active.
+// What tick<true> flagged, into the step's list of active outputs (a timer's slots are outputs).
 void activate(Runtime& r, const Timers& t, TimerId i, uint8_t made) {
     const graph::Adr<graph::Slot> s0 = t.s0[i];
-    if (made & kElapsed) r.activate(s0 + graph::timerslot::elapsed);
-    if (made & kTick) r.activate(s0 + graph::timerslot::tick);
-    if (made & kStopped) r.activate(s0 + graph::timerslot::running);
+    if (made & kElapsed) r.st.out_list.push_back(s0 + graph::timerslot::elapsed);
+    if (made & kTick) r.st.out_list.push_back(s0 + graph::timerslot::tick);
+    if (made & kStopped) r.st.out_list.push_back(s0 + graph::timerslot::running);
 }
 
 void sense_all(Runtime& r) {

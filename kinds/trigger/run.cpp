@@ -70,18 +70,42 @@ void compare(TriggerState& ts, const DoId* now, int32_t num, const DoId* before)
     ts.entered = entered, ts.left = left, ts.first_in = first_in;
 }
 
+// A trigger's events this step (its list found and compared): its values written and its
+// outputs flagged active here, on the physics thread of its slice (they are its own slots),
+// and listed in `made` in the order the step's list of active outputs takes them.
+void events(Runtime& r, TriggerState& ts, std::vector<graph::SlotId>& made) {
+    const graph::Adr<graph::Slot> s0 = ts.slots;  // not the component's row: one cache miss less per trigger
+    auto activate = [&r, &made](graph::SlotId x) {
+        if (r.st.act[x]) return;
+        r.st.act[x] = 1;
+        made.push_back(x);
+    };
+    if (ts.entered) {
+        ts.enters += ts.entered;
+        activate(s0 + slot::on_enter);
+        *r.val(s0 + slot::object) = ts.first_in.v;
+        activate(s0 + slot::object);
+    }
+    if (ts.left) activate(s0 + slot::on_leave);
+    if (ts.num) activate(s0 + slot::on_stay);
+    if (ts.num != ts.before) {
+        *r.val(s0 + slot::count_inside) = ts.num;
+        activate(s0 + slot::count_inside);
+    }
+}
+
 // Which objects are inside the triggers of slice `slice` (`ids`), found on one of the physics
 // threads: each trigger's pose, and its objects, sorted, appended to the slice's list of this
-// step and compared with its list of the step before; the slice's triggers with an object now
-// or then, in order.
+// step and compared with its list of the step before; the events of those with an object now
+// or then, their outputs in the slice's list of outputs made active, in order.
 void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
     State& s = r.st;
     const graph::Graph& g = r.g;
     std::vector<DoId>& out = s.trigger_lists[s.trigger_side][slice];
     const std::vector<DoId>& then = s.trigger_lists[s.trigger_side ^ 1][slice];
-    std::vector<TriggerId>& busy = s.trigger_busy[slice];
+    std::vector<graph::SlotId>& made = s.trigger_made[slice];
     out.clear();
-    busy.clear();
+    made.clear();
     for (TriggerId t : ids) {
         const graph::Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
@@ -114,27 +138,13 @@ void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
         compare(ts, out.data() + adr, found, then.data() + ts.adr);
         ts.before = ts.num;
         ts.slice = slice, ts.adr = int32_t(adr), ts.num = found;
-        if (ts.num || ts.before) busy.push_back(t);
+        if (ts.num || ts.before) events(r, ts, made);
     }
 }
 
-// Trigger t's events this step (its list found and compared by find_inside).
-void take(Runtime& r, TriggerId t) {
-    TriggerState& ts = r.st.triggers[t];
-    const graph::Adr<graph::Slot> s0 = ts.slots;  // not the component's row: one cache miss less per trigger
-    if (ts.entered) {
-        ts.enters += ts.entered;
-        r.activate(s0 + slot::on_enter);
-        r.emit(s0 + slot::object, ts.first_in.v);
-    }
-    if (ts.left) r.activate(s0 + slot::on_leave);
-    if (ts.num) r.activate(s0 + slot::on_stay);
-    if (ts.num != ts.before) r.emit(s0 + slot::count_inside, ts.num);
-}
-
-// Phase 2: the triggers' contents, a slice of the triggers per item (at least 32 triggers in
-// one, four per thread at most); then, in trigger order on this thread, the events of those
-// with an object now or the step before.
+// Phase 2: the triggers' contents and events, a slice of the triggers per item (at least 32
+// triggers in one, four per thread at most); then, on this thread, the outputs they made
+// active into the step's list, in trigger order.
 void sense_all(Runtime& r) {
     State& s = r.st;
     const graph::Graph& g = r.g;
@@ -142,11 +152,10 @@ void sense_all(Runtime& r) {
     r.index.refresh(r.phys, true, r.phys.workers());
     s.trigger_side ^= 1;  // the step before's lists are kept for the comparison
     const size_t nt = g.triggers.size();
-    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_busy.size());
+    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_made.size());
     auto finding = [&r, nt, slices](int i) { find_inside(r, i, slice_ids<TriggerId>(nt, slices, i)); };
     run_slices(r.phys.workers(), slices, finding);
-    for (size_t i = 0; i < slices; ++i)
-        for (TriggerId t : s.trigger_busy[i]) take(r, t);
+    for (size_t i = 0; i < slices; ++i) s.out_list.insert(s.out_list.end(), s.trigger_made[i].begin(), s.trigger_made[i].end());
 }
 
 // The object a trigger last saw starts empty. The lists of the slices in use are sized: trigger/
@@ -159,12 +168,12 @@ void start_all(Runtime& r) {
     }
     const size_t nt = r.g.triggers.size();
     if (nt == 0) return;
-    const size_t slices = slice_count(r.phys.workers(), nt, 32, r.st.trigger_busy.size());
+    const size_t slices = slice_count(r.phys.workers(), nt, 32, r.st.trigger_made.size());
     const size_t pairs = std::max<size_t>(256, 4 * (r.tab.dyn_bodies.size() + nt));
     for (size_t i = 0; i < slices; ++i) {
         for (auto& lists : r.st.trigger_lists) lists[i].reserve(pairs / slices + 64);
         const auto [b, e] = slice_of(nt, slices, i);
-        r.st.trigger_busy[i].reserve(e - b);
+        r.st.trigger_made[i].reserve(5 * (e - b));  // five outputs a trigger
     }
 }
 

@@ -84,7 +84,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
 
     s.triggers.resize(g.triggers.size());
     for (auto& lists : s.trigger_lists) lists.resize(64);  // at most four slices per thread, 16 threads
-    s.trigger_busy.resize(64);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
+    s.trigger_made.resize(64);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
     s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
     s.slice_left.assign(64, 0);
 

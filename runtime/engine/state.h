@@ -197,8 +197,8 @@ struct State {
     // step's and the step before's (which the new lists are compared with), in turn.
     std::array<std::vector<std::vector<graph::DoId>>, 2> trigger_lists;
     int trigger_side = 0;  // which set is this step's
-    // Per slice: its triggers with an object now or the step before (those with events).
-    std::vector<std::vector<graph::TriggerId>> trigger_busy;
+    // Per slice: the outputs its triggers' events made active, in order (kinds/trigger/run.cpp).
+    std::vector<std::vector<graph::SlotId>> trigger_made;
     std::span<const graph::DoId> inside(const TriggerState& ts) const {
         const graph::DoId* first = trigger_lists[trigger_side][ts.slice].data() + ts.adr;
         return {first, first + ts.num};
