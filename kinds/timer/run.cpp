@@ -53,43 +53,34 @@ void start_all(Runtime& r) {
     }
 }
 
-// kDefer's activation of slot x of a timer's own, on a physics thread: its flag now (no other
-// timer writes it), whether it goes into the step's list (not if it was active already).
-inline bool flag(Runtime& r, graph::SlotId x) {
-    if (r.st.act[x]) return false;
-    r.st.act[x] = 1;
-    return true;
-}
-
 // Timer i's step. It ticks at n·dt >= deadline: counting steps, not adding dt, so periods do
 // not drift. It writes only its own state and its own slots' values. kDefer: what it makes
-// active is flagged here and returned (on a physics thread; listed after the job, in timer
-// order); else made active here.
+// active is flagged here (its own slots: Runtime::flag_active) and returned, to be listed
+// after the job in timer order (on a physics thread); else made active here.
 template <bool kDefer>
 [[gnu::always_inline]] inline uint8_t tick(Runtime& r, Timers& t, TimerId i) {
     Run& ts = t.run[i];
     if (!ts.running) return 0;
     const graph::Adr<graph::Slot> s0 = t.s0[i];
+    uint8_t made = 0;
+    auto make_active = [&r, &made](graph::SlotId x, uint8_t bit) {
+        if constexpr (kDefer) made |= r.flag_active(x) ? bit : 0;
+        else r.activate(x);
+    };
     ts.n++;
     const double elapsed = double(ts.n) * r.dt;
-    uint8_t made = 0;
     // Only a read or watched `elapsed` is made active: most timers just tick.
     *r.val(s0 + graph::timerslot::elapsed) = elapsed;
-    if (r.st.watched[s0 + graph::timerslot::elapsed]) {
-        if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::elapsed) ? kElapsed : 0;
-        else r.activate(s0 + graph::timerslot::elapsed);
-    }
+    if (r.st.watched[s0 + graph::timerslot::elapsed]) make_active(s0 + graph::timerslot::elapsed, kElapsed);
     if (elapsed + 1e-9 < ts.deadline) return made;
-    if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::tick) ? kTick : 0;
-    else r.activate(s0 + graph::timerslot::tick);
+    make_active(s0 + graph::timerslot::tick, kTick);
     const graph::Timer& tm = r.g.timers[i];
     if (tm.periodic) {
         ts.deadline += tm.period;
     } else {
         ts.running = false;
         *r.val(s0 + graph::timerslot::running) = 0;
-        if constexpr (kDefer) made |= flag(r, s0 + graph::timerslot::running) ? kStopped : 0;
-        else r.activate(s0 + graph::timerslot::running);
+        make_active(s0 + graph::timerslot::running, kStopped);
     }
     return made;
 }

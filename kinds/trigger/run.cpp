@@ -76,9 +76,7 @@ void compare(TriggerState& ts, const DoId* now, int32_t num, const DoId* before)
 void events(Runtime& r, TriggerState& ts, std::vector<graph::SlotId>& made) {
     const graph::Adr<graph::Slot> s0 = ts.slots;  // not the component's row: one cache miss less per trigger
     auto activate = [&r, &made](graph::SlotId x) {
-        if (r.st.act[x]) return;
-        r.st.act[x] = 1;
-        made.push_back(x);
+        if (r.flag_active(x)) made.push_back(x);
     };
     if (ts.entered) {
         ts.enters += ts.entered;
@@ -155,7 +153,8 @@ void sense_all(Runtime& r) {
     const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_made.size());
     auto finding = [&r, nt, slices](int i) { find_inside(r, i, slice_ids<TriggerId>(nt, slices, i)); };
     run_slices(r.phys.workers(), slices, finding);
-    for (size_t i = 0; i < slices; ++i) s.out_list.insert(s.out_list.end(), s.trigger_made[i].begin(), s.trigger_made[i].end());
+    for (size_t i = 0; i < slices; ++i)
+        s.out_list.insert(s.out_list.end(), s.trigger_made[i].begin(), s.trigger_made[i].end());
 }
 
 // The object a trigger last saw starts empty. The lists of the slices in use are sized: trigger/

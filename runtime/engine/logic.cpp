@@ -33,14 +33,10 @@ struct InLane {
     LaneRun& lane;
     int32_t pos = 0;  // of the op running
     void activate(SlotId x) {
-        if (r.st.act[x]) return;
-        r.st.act[x] = 1;
-        (r.tab.slot_out[x] ? lane.out : lane.in).push_back({pos, x});
+        if (r.flag_active(x)) (r.tab.slot_out[x] ? lane.out : lane.in).push_back({pos, x});
     }
     void activate_in(SlotId x) {
-        if (r.st.act[x]) return;
-        r.st.act[x] = 1;
-        lane.in.push_back({pos, x});
+        if (r.flag_active(x)) lane.in.push_back({pos, x});
     }
     void warn_null() { ++lane.access_null; }
     void warn_type() { ++lane.access_type; }
@@ -276,8 +272,8 @@ void run_lane(Runtime& r, size_t k) {
 template <class Records>
 void join_lanes(State& s, std::vector<SlotId>& list, Records records) {
     const size_t lanes = s.lane_runs.size();
-    std::array<int32_t, 64> head;  // per lane: its next record's position, INT32_MAX: none
-    std::array<size_t, 64> at{};
+    std::array<int32_t, Schedule::kLanes> head;  // per lane: its next record's position, INT32_MAX: none
+    std::array<size_t, Schedule::kLanes> at{};
     for (size_t k = 0; k < lanes; ++k) {
         const std::vector<LaneRec>& l = records(s.lane_runs[k]);
         head[k] = l.empty() ? INT32_MAX : l.front().pos;
@@ -308,7 +304,7 @@ void run_lanes(Runtime& r) {
     // The readers of what is active at the phase's start, in slices of the two lists on the
     // physics threads (the job's end orders the marks before the lanes read them).
     const size_t n_out = s.out_list.size(), n = n_out + s.in_list.size();
-    const size_t slices = slice_count(r.phys.workers(), n, 64, 64);
+    const size_t slices = slice_count(r.phys.workers(), n, 64, kMaxSlices);
     auto marking = [&s, &sc, due, n, n_out, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         for (size_t k = b; k < e; ++k) {

@@ -226,12 +226,12 @@ void Physics::find_regions(bool split) {
     // with it, one world.
     if (regions <= 1 || !split) {
         worlds_.resize(1);
-        slice_movers_.assign(64, 0);  // at most four slices per thread, 16 threads
+        slice_movers_.assign(kMaxSlices, 0);
         void_ = -1;
         return;
     }
     worlds_.resize(regions + 1);
-    slice_movers_.assign(64 * worlds_.size(), 0);
+    slice_movers_.assign(kMaxSlices * worlds_.size(), 0);
     void_ = regions;
     std::vector<int32_t> region_of_root(nb, -1);
     for (int32_t i = 0; i < regions; ++i) {  // roots are in body order
@@ -369,7 +369,7 @@ void Physics::assign_worlds() {
     // Each world's movers (coasting ones are moved by us: transport.cpp), counted in slices of
     // movers_ on the physics threads, each slice into its own row; then the rows summed.
     const size_t nw = worlds_.size(), nm = movers_.size();
-    const size_t mslices = slice_count(*workers_, nm, 1024, slice_movers_.size() / std::max<size_t>(nw, 1));
+    const size_t mslices = slice_count(*workers_, nm, 1024, kMaxSlices);  // slice_movers_ holds as many rows
     auto count = [this, nw, nm, mslices](int i) {
         int32_t* row = slice_movers_.data() + i * nw;
         std::fill(row, row + nw, 0);

@@ -35,22 +35,23 @@ struct Runtime {
     double* val(graph::SlotId slot) { return st.values.data() + tab.value_adr[slot].v; }
     const double* val(graph::SlotId slot) const { return st.values.data() + tab.value_adr[slot].v; }
 
+    // A slot's flag for this step: false if it was active already, else set. A job's item may
+    // flag the slots it owns and leave the listing to the calling thread (activate is both).
+    bool flag_active(graph::SlotId slot) {
+        if (st.act[slot]) return false;
+        st.act[slot] = 1;
+        return true;
+    }
     // Marks a slot active for this step; each slot enters its list at most once.
     void activate(graph::SlotId slot) {
-        if (st.act[slot]) return;
-        st.act[slot] = 1;
-        (tab.slot_out[slot] ? st.out_list : st.in_list).push_back(slot);
+        if (flag_active(slot)) (tab.slot_out[slot] ? st.out_list : st.in_list).push_back(slot);
     }
     // The same, for a slot whose direction the caller knows (hot paths).
     void activate_in(graph::SlotId slot) {
-        if (st.act[slot]) return;
-        st.act[slot] = 1;
-        st.in_list.push_back(slot);
+        if (flag_active(slot)) st.in_list.push_back(slot);
     }
     void activate_out(graph::SlotId slot) {
-        if (st.act[slot]) return;
-        st.act[slot] = 1;
-        st.out_list.push_back(slot);
+        if (flag_active(slot)) st.out_list.push_back(slot);
     }
     // Writes an output's value and makes it active.
     void emit(graph::SlotId slot, double v) {

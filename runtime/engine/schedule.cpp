@@ -122,7 +122,6 @@ void due_by_slot(const Graph& g, Schedule& s) {
 
 // The lanes (schedule.h): which ops share a slot a step changes, joined; the sets to lanes.
 void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
-    constexpr int32_t kLanes = 16;
     const int32_t n = count_of(s.ops), ns = count_of(g.slots);
     // Each op's slots: those it writes (activates), then those it reads (a flow's as the logic
     // network says them, graph/network.h, and the reference of a dynamic target, which names
@@ -184,7 +183,7 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     std::vector<int32_t> sets;
     for (int32_t i = 0; i < n; ++i)
         if (set_size[i] > 0) sets.push_back(i);
-    const int32_t lanes = std::min(kLanes, count_of(sets));
+    const int32_t lanes = std::min(Schedule::kLanes, count_of(sets));
     if (lanes < 2) return;
     std::stable_sort(sets.begin(), sets.end(), [&](int32_t a, int32_t b) { return set_size[a] > set_size[b]; });
     std::vector<int32_t> lane_of_set(n, -1), lane_size(lanes, 0);

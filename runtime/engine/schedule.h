@@ -83,6 +83,7 @@ struct Schedule {
     std::vector<int32_t> lane_writes;  // per lane: the slots its ops can activate
     std::vector<uint64_t> lane_always;  // `always`, by position in lane_ops
     std::vector<int32_t> lane_readers, lane_group_readers;
+    static constexpr int32_t kLanes = 16;  // at most
     size_t lanes() const { return lane_adr.empty() ? 0 : lane_adr.size() - 1; }
 };
 

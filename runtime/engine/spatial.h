@@ -8,6 +8,7 @@
 #pragma once
 
 #include "engine/physics.h"
+#include "engine/workers.h"
 
 #include <array>
 #include <cstdint>
@@ -15,8 +16,6 @@
 #include <vector>
 
 namespace plant::engine {
-
-class Workers;
 
 class Spatial {
 public:
@@ -54,7 +53,7 @@ private:
         btScalar x;
         graph::BodyId body;
     };
-    static constexpr size_t kSlices = 64;
+    static constexpr size_t kSlices = kMaxSlices;
     static int32_t cell(btScalar y);
     // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach and
     // speed.

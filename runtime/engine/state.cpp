@@ -1,6 +1,7 @@
 #include "engine/state.h"
 
 #include "engine/plugin.h"
+#include "engine/workers.h"
 
 #include <algorithm>
 
@@ -79,14 +80,14 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.places_touched.reserve(np);
     s.fired.reserve(g.transitions.size());
     s.fired_at.resize(g.transitions.size());
-    s.slice_fired.assign(64, 0);  // at most four slices per thread, 16 threads
+    s.slice_fired.assign(kMaxSlices, 0);
     s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
 
     s.triggers.resize(g.triggers.size());
-    for (auto& lists : s.trigger_lists) lists.resize(64);  // at most four slices per thread, 16 threads
-    s.trigger_made.resize(64);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
-    s.slice_moved.assign(64, 0);  // at most four slices per thread, 16 threads
-    s.slice_left.assign(64, 0);
+    for (auto& lists : s.trigger_lists) lists.resize(kMaxSlices);
+    s.trigger_made.resize(kMaxSlices);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
+    s.slice_moved.assign(kMaxSlices, 0);
+    s.slice_left.assign(kMaxSlices, 0);
 
     for (const graph::KindDesc* k : graph::builtin_kinds())  // the kinds on the kind table
         if (const KindBehaviour* b = builtin_behaviour(k->kind); b->make_state) s.kinds[size_t(k->kind)] = b->make_state(g);

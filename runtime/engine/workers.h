@@ -114,7 +114,9 @@ private:
 // what touches shared state runs after the job on the calling thread, in id order.
 //
 // How many slices: at least `least` ids in each, four per thread at most, and at most `most`
-// (the size of a caller's per-slice scratch); at least one.
+// (the size of a caller's per-slice scratch); at least one. Per-slice scratch sized for any
+// thread count holds kMaxSlices (four per thread, 16 threads).
+inline constexpr size_t kMaxSlices = 64;
 inline size_t slice_count(const Workers& w, size_t n, size_t least, size_t most) {
     const size_t by_size = (n + least - 1) / least, by_threads = size_t(4 * w.threads());
     const size_t c = by_size < by_threads ? by_size : by_threads;
