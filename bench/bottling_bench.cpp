@@ -109,13 +109,16 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     opt.stdlib_dir = plant::default_stdlib_dir();
     opt.overrides = {"lines=" + std::to_string(lines), "bottles=" + std::to_string(bottles_per_line),
                      "feed_every=1s"};
-    plant::Compilation c;
-    plant::compile_file(a.plant, opt, c);
-    if (!c.ok()) {
-        std::fprintf(stderr, "%s does not compile with lines=%d\n", a.plant.c_str(), lines);
-        return s;
+    plant::graph::Graph g;
+    {  // as `plant run` does: the graph is kept, the program and its sources are released
+        plant::Compilation c;
+        plant::compile_file(a.plant, opt, c);
+        if (!c.ok()) {
+            std::fprintf(stderr, "%s does not compile with lines=%d\n", a.plant.c_str(), lines);
+            return s;
+        }
+        g = std::move(c.graph);
     }
-    const plant::graph::Graph& g = c.graph;
     plant::engine::Options eo;
     eo.threads = a.threads;
     plant::engine::Engine e(g, eo);

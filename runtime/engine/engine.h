@@ -163,7 +163,7 @@ private:
 };
 
 // Bullet's memory comes from size-class free lists that recycle what Bullet frees
-// (physics.cpp): after the first steps, Bullet's per-step requests (broadphase tree
+// (bullet_alloc.cpp): after the first steps, Bullet's per-step requests (broadphase tree
 // nodes, clipping arrays) are served from them. This counts the times they grew from the
 // system heap so far (by a quarter of a class's blocks each time), for benchmarks; 0 in
 // sanitizer builds, which use the heap directly.

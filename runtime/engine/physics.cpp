@@ -14,7 +14,6 @@
 #include <BulletDynamics/ConstraintSolver/btSliderConstraint.h>
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
-#include <LinearMath/btAlignedAllocator.h>
 
 #include <algorithm>
 #include <atomic>
@@ -27,155 +26,6 @@ namespace plant::engine {
 using namespace plant::graph;
 
 namespace {
-
-// ---- Bullet's allocator: size classes of 16 B to 1 MiB, blocks recycled, never returned.
-// Each block starts with a header naming its class; a block without our mark was
-// allocated before the pool was installed and goes back to the heap.
-#if !defined(__SANITIZE_ADDRESS__)
-constexpr uint64_t kMark = 0x706c616e742d6274ULL;
-constexpr int kClasses = 17;
-struct alignas(16) BlockHeader {
-    uint64_t mark;
-    uint32_t cls;
-};
-// The worlds step on several threads, and a block one thread took may be freed by another. Each
-// thread recycles small blocks through lists of its own; a list that grows past 2 batches hands a batch to
-// the shared list of its class (behind a spin lock), and an empty one takes a batch from there
-// before it asks the heap. So no list grows without bound while another thread keeps asking the
-// heap, and the lock is taken once per batch.
-constexpr uint32_t kBatch = 64;
-// Blocks of 1 KiB and more are few and rarely asked for: they go straight to the shared lists,
-// so that no thread holds back a large block another one then takes from the heap.
-constexpr int kLocalClasses = 6;
-
-struct alignas(64) Shared {
-    std::atomic_flag busy;
-    void* head = nullptr;
-};
-Shared g_shared[kClasses];
-std::atomic<uint64_t> g_heap_requests{0};      // times the pool grew from the heap
-std::atomic<uint64_t> g_class_blocks[kClasses];  // blocks of each class taken from the heap
-
-class Hold {
-public:
-    explicit Hold(Shared& l) : l_(l) {
-        while (l_.busy.test_and_set(std::memory_order_acquire)) {
-#if defined(__x86_64__) || defined(__i386__)
-            __builtin_ia32_pause();
-#endif
-        }
-    }
-    ~Hold() { l_.busy.clear(std::memory_order_release); }
-    Hold(const Hold&) = delete;
-    Hold& operator=(const Hold&) = delete;
-
-private:
-    Shared& l_;
-};
-
-void*& next_of(void* p) { return *static_cast<void**>(p); }
-
-struct Local {
-    void* head[kClasses] = {};
-    uint32_t count[kClasses] = {};
-    // Moves up to n blocks from this list to the shared one.
-    void give(int c, uint32_t n) {
-        if (!head[c]) return;
-        void* first = head[c];
-        void* last = first;
-        uint32_t k = 1;
-        for (; k < n && next_of(last); ++k) last = next_of(last);
-        head[c] = next_of(last);
-        count[c] -= k;
-        Hold hold(g_shared[c]);
-        next_of(last) = g_shared[c].head;
-        g_shared[c].head = first;
-    }
-    void take(int c) {
-        Hold hold(g_shared[c]);
-        for (uint32_t k = 0; k < kBatch && g_shared[c].head; ++k) {
-            void* p = g_shared[c].head;
-            g_shared[c].head = next_of(p);
-            next_of(p) = head[c];
-            head[c] = p;
-            ++count[c];
-        }
-    }
-    ~Local() {  // a thread that ends leaves its blocks to the others
-        for (int c = 0; c < kClasses; ++c) give(c, count[c]);
-    }
-};
-thread_local Local t_local;
-
-int size_class(size_t n) {
-    int c = 0;
-    for (size_t s = 16; s < n; s <<= 1) ++c;
-    return c;
-}
-
-void bullet_free(void* p);
-
-void* bullet_alloc(size_t n) {
-    const int c = size_class(n);
-    if (c < kLocalClasses) {
-        Local& l = t_local;
-        if (!l.head[c]) l.take(c);
-        if (void* p = l.head[c]) {
-            l.head[c] = next_of(p);
-            --l.count[c];
-            return p;
-        }
-    } else if (c < kClasses) {
-        Hold hold(g_shared[c]);
-        if (void* p = g_shared[c].head) {
-            g_shared[c].head = next_of(p);
-            return p;
-        }
-    }
-    // The pool grows: by a quarter of the blocks of this class so far (at least 8, at most
-    // about 4 MiB at once), as arrays grow, so that a plant whose contacts creep up to a new
-    // peak now and then does not go to the heap every time.
-    g_heap_requests.fetch_add(1, std::memory_order_relaxed);
-    const size_t bytes = c < kClasses ? size_t(16) << c : n;
-    uint64_t more = 1;
-    if (c < kClasses) {
-        const uint64_t cap = std::max<uint64_t>(1, (uint64_t(4) << 20) / (sizeof(BlockHeader) + bytes));
-        more = std::clamp<uint64_t>(g_class_blocks[c].load(std::memory_order_relaxed) / 4, 8, cap);
-        g_class_blocks[c].fetch_add(more, std::memory_order_relaxed);
-    }
-    void* first = nullptr;
-    for (uint64_t i = 0; i < more; ++i) {
-        auto* h = static_cast<BlockHeader*>(std::malloc(sizeof(BlockHeader) + bytes));
-        if (!h) break;
-        h->mark = kMark;
-        h->cls = uint32_t(c);
-        if (!first) first = h + 1;
-        else bullet_free(h + 1);  // into this thread's list (and on to the shared one)
-    }
-    return first;
-}
-
-void bullet_free(void* p) {
-    if (!p) return;
-    BlockHeader* h = static_cast<BlockHeader*>(p) - 1;
-    if (h->mark != kMark) return std::free(p);
-    if (h->cls >= uint32_t(kClasses)) return std::free(h);
-    const int c = int(h->cls);
-    if (c >= kLocalClasses) {
-        Hold hold(g_shared[c]);
-        next_of(p) = g_shared[c].head;
-        g_shared[c].head = p;
-        return;
-    }
-    Local& l = t_local;
-    next_of(p) = l.head[c];
-    l.head[c] = p;
-    if (++l.count[c] > 2 * kBatch) l.give(c, kBatch);
-}
-
-// Installed before main, so that every Bullet object of the process uses it.
-[[maybe_unused]] const bool g_bullet_pool = (btAlignedAllocSetCustom(bullet_alloc, bullet_free), true);
-#endif
 
 // ---- The dynamics world: Bullet's, with a constraint lookup per island that does not
 // scan every constraint. Bullet's island callback looks for an island's joints by a
@@ -278,14 +128,6 @@ bool pooled(const Graph& g, const Tables& t, DoId d) {
 
 }  // namespace
 
-uint64_t bullet_heap_requests() {
-#if !defined(__SANITIZE_ADDRESS__)
-    return g_heap_requests.load(std::memory_order_relaxed);
-#else
-    return 0;
-#endif
-}
-
 Physics::World::World() = default;
 Physics::World::~World() = default;
 Physics::World::World(World&&) noexcept = default;
@@ -327,6 +169,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
 
 Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     : g_(g), gravity_(to_bt(g.settings.gravity)), contacts_(std::make_unique<BoxHullContacts>()) {
+    static_cast<void>(bullet_pool);  // links bullet_alloc.cpp, whose pool is installed before main
     const int32_t nb = g.bodies.count();
     local_.resize(nb);
     local_inv_.resize(nb);

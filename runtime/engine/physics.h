@@ -30,6 +30,10 @@ namespace plant::engine {
 class BoxHullContacts;
 class Workers;
 
+// Bullet's allocator (bullet_alloc.cpp) is installed before main; false in sanitizer
+// builds, where Bullet uses the heap.
+extern const bool bullet_pool;
+
 class Physics {
 public:
     // threads: how many threads may step the worlds (0: one per core).
