@@ -60,8 +60,8 @@ constexpr int size_class(size_t n) {
 // The worlds step on several threads, and a block one thread took may be freed by another. Each
 // thread recycles small blocks through lists of its own; a list that grows past 2 batches hands a
 // batch to the shared list of its class (behind a spin lock), and an empty one takes a batch from
-// there before it asks the heap. So no list grows without bound
-// while another thread keeps asking the heap, and the lock is taken once per batch.
+// there before the class grows from the heap. So no list grows without bound while another
+// thread keeps asking the heap, and the lock is taken once per batch.
 constexpr uint32_t kBatch = 64;
 // Blocks of more than 512 B (rigid bodies, manifolds, arrays) go straight to the shared lists,
 // so that no thread holds back a large block another one then takes from the heap.
@@ -101,7 +101,7 @@ void*& next_of(void* p) { return *static_cast<void**>(p); }
 // left most of them empty, and the 1,000-bottle plant's process peaked 25 MiB higher.
 // False when the heap has nothing.
 constexpr size_t kChunk = 512;
-bool grow(int c) {
+bool grow_class(int c) {
     Shared& s = g_shared[c];
     const size_t step = sizeof(BlockHeader) + class_size(c);
     const uint64_t cap = std::max<uint64_t>(1, (uint64_t(4) << 20) / step);
@@ -129,9 +129,9 @@ bool grow(int c) {
 
 // A block of class c from its shared list, which grows when it is empty; the lock of class c
 // is held. Null when the heap has nothing.
-void* pop(int c) {
+void* pop_block(int c) {
     Shared& s = g_shared[c];
-    if (!s.head && !grow(c)) return nullptr;
+    if (!s.head && !grow_class(c)) return nullptr;
     void* p = s.head;
     s.head = next_of(p);
     return p;
@@ -157,7 +157,7 @@ struct Local {
     void take(int c) {
         Hold hold(g_shared[c]);
         for (uint32_t k = 0; k < kBatch; ++k) {
-            void* p = pop(c);
+            void* p = pop_block(c);
             if (!p) break;
             next_of(p) = head[c];
             head[c] = p;
@@ -201,7 +201,7 @@ void* bullet_alloc(size_t n, int alignment) {
         return p;
     }
     Hold hold(g_shared[c]);
-    return pop(c);
+    return pop_block(c);
 }
 
 void bullet_free(void* p) {

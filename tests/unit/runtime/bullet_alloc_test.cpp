@@ -20,7 +20,7 @@ using plant::engine::bullet_pool;
 
 namespace {
 
-bool aligned(const void* p, size_t a) { return reinterpret_cast<uintptr_t>(p) % a == 0; }
+bool aligned_to(const void* p, size_t a) { return reinterpret_cast<uintptr_t>(p) % a == 0; }
 
 }  // namespace
 
@@ -35,7 +35,7 @@ TEST_CASE("bullet allocator: blocks are aligned, hold their size, and are recycl
     for (size_t n : sizes) {
         void* p = btAlignedAlloc(n, 16);
         REQUIRE(p != nullptr);
-        CHECK(aligned(p, 16));
+        CHECK(aligned_to(p, 16));
         std::memset(p, 0xab, n);  // the whole request is usable (ASan would say otherwise)
         blocks.push_back(p);
     }
@@ -59,8 +59,8 @@ TEST_CASE("bullet allocator: a wider alignment or a request past 1 MiB comes fro
     void* huge = btAlignedAlloc((size_t(1) << 20) + 1, 16);
     REQUIRE(wide != nullptr);
     REQUIRE(huge != nullptr);
-    CHECK(aligned(wide, 64));
-    CHECK(aligned(huge, 16));
+    CHECK(aligned_to(wide, 64));
+    CHECK(aligned_to(huge, 16));
     std::memset(wide, 1, 100);
     std::memset(huge, 1, (size_t(1) << 20) + 1);
     if (bullet_pool) CHECK(bullet_heap_requests() == before + 2);
