@@ -224,14 +224,21 @@ void bullet_free(void* p) {
     if (++l.count[c] > 2 * kBatch) l.give(c, kBatch);
 }
 
+std::atomic<bool> g_installed{false};
+
 }  // namespace
 
-// Installed before main, so that every Bullet object of the process uses it.
-const bool bullet_pool = (btAlignedAllocSetCustomAligned(bullet_alloc, bullet_free), true);
-
+bool install_bullet_pool() {
+    btAlignedAllocSetCustomAligned(bullet_alloc, bullet_free);
+    g_installed.store(true);
+    return true;
+}
+bool bullet_pool() { return g_installed.load(); }
 uint64_t bullet_heap_requests() { return g_heap_requests.load(std::memory_order_relaxed); }
 #else
-const bool bullet_pool = false;  // sanitizer builds: Bullet uses the heap directly
+// Sanitizer builds: Bullet uses the heap directly.
+bool install_bullet_pool() { return false; }
+bool bullet_pool() { return false; }
 uint64_t bullet_heap_requests() { return 0; }
 #endif
 

@@ -27,6 +27,9 @@ using namespace plant::graph;
 
 namespace {
 
+// Installed before main, so that every Bullet object of the process comes from it.
+[[maybe_unused]] const bool g_bullet_pool = install_bullet_pool();
+
 // ---- The dynamics world: Bullet's, with a constraint lookup per island that does not
 // scan every constraint. Bullet's island callback looks for an island's joints by a
 // linear scan of all joints (and counts to the end), once per island: with a bottle per
@@ -169,7 +172,6 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
 
 Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     : g_(g), gravity_(to_bt(g.settings.gravity)), contacts_(std::make_unique<BoxHullContacts>()) {
-    static_cast<void>(bullet_pool);  // links bullet_alloc.cpp, whose pool is installed before main
     const int32_t nb = g.bodies.count();
     local_.resize(nb);
     local_inv_.resize(nb);

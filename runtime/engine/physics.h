@@ -30,9 +30,11 @@ namespace plant::engine {
 class BoxHullContacts;
 class Workers;
 
-// Bullet's allocator (bullet_alloc.cpp) is installed before main; false in sanitizer
-// builds, where Bullet uses the heap.
-extern const bool bullet_pool;
+// Bullet's allocator (bullet_alloc.cpp): installed before main by physics.cpp, so that every
+// program with a runtime has it (a file of a static library that nothing calls would be
+// left out of the program). False in sanitizer builds, where Bullet uses the heap.
+bool install_bullet_pool();
+bool bullet_pool();  // whether it is installed
 
 class Physics {
 public:

@@ -45,7 +45,7 @@ TEST_CASE("bullet allocator: blocks are aligned, hold their size, and are recycl
     const uint64_t before = bullet_heap_requests();
     std::vector<void*> again;
     for (size_t n : sizes) again.push_back(btAlignedAlloc(n, 16));
-    if (bullet_pool) {
+    if (bullet_pool()) {
         CHECK(bullet_heap_requests() == before);
         // The block of the largest size is the one freed: it is alone in its class here.
         CHECK(again.back() == blocks.back());
@@ -63,7 +63,7 @@ TEST_CASE("bullet allocator: a wider alignment or a request past 1 MiB comes fro
     CHECK(aligned_to(huge, 16));
     std::memset(wide, 1, 100);
     std::memset(huge, 1, (size_t(1) << 20) + 1);
-    if (bullet_pool) CHECK(bullet_heap_requests() == before + 2);
+    if (bullet_pool()) CHECK(bullet_heap_requests() == before + 2);
     btAlignedFree(wide);
     btAlignedFree(huge);
 }
@@ -84,7 +84,7 @@ TEST_CASE("bullet allocator: blocks freed on another thread are taken again, wit
         std::thread([&] {
             for (void*& p : again) p = btAlignedAlloc(size, 16);
         }).join();
-        if (bullet_pool) {
+        if (bullet_pool()) {
             CHECK(bullet_heap_requests() == before);
             std::vector<void*> a = blocks, b = again;
             std::sort(a.begin(), a.end());
