@@ -367,8 +367,10 @@ int main(int argc, char** argv) {
             const double all = double(last.rss_kib) / std::max(1.0, last.mean);
             if (a.rows) {
                 std::printf("| memory | peak RSS per bottle (%ld bottles in the pools, %d line%s) | %.1f KiB "
-                            "(whole process: %.1f MiB, %.0f KiB per bottle in circulation) | - | - |\n",
-                            last.pool, last_lines, last_lines == 1 ? "" : "s", per, double(last.rss_kib) / 1024, all);
+                            "(whole process: %.1f MiB, %.0f KiB per bottle in circulation) | %s | %s |\n",
+                            last.pool, last_lines, last_lines == 1 ? "" : "s", per, double(last.rss_kib) / 1024, all,
+                            // issue 30's target, for the 1,000-bottle plant
+                            last_lines >= 83 ? "<= 10 KiB" : "-", last_lines < 83 ? "-" : per <= 10 ? "yes" : "**no**");
                 std::printf("| memory | allocations by the runtime in the measured steps (operator new) | %ld | 0 "
                             "| %s |\n",
                             last.news, last.news == 0 ? "yes" : "**no**");

@@ -15,6 +15,7 @@ b=build/release/bench
 
 if (( quick )); then
   runtime=(--reps=1 --sizes=10,100) logic=(--reps=1 --logic-cells=10000)
+  vsraw=(--reps=1 --bottling-warmup=10 --bottling-window=2)
   bottling=(--runs=1 --counts=10,50 --warmup=20 --window=10)
   compile=(--runs=1 --sizes=1000,10000)
   serve=(--runs=1 --counts=50 --warmup=10 --window=5)
@@ -22,6 +23,7 @@ if (( quick )); then
   opcua=(--runs=1 --warmup=30 --window=60)
 else
   runtime=(--reps=5 --sizes=10,100,1000) logic=(--reps=5)
+  vsraw=(--reps=3)
   bottling=(--runs=3 --counts=10,50,200,1000)
   compile=(--runs=3 --sizes=1000,10000,100000)
   serve=(--runs=3 --counts=50,1000 --warmup=30 --window=15)
@@ -38,6 +40,9 @@ echo "| area | case | measured | target | met |"
 echo "|---|---|---|---|---|"
 "$b/plant_bench_runtime" --rows --only=belts "${runtime[@]}"
 "$b/plant_bench_runtime" --rows --only=logic "${logic[@]}"
+# The bottling plant at 1,000 bottles (2 threads, all their processor time) against the raw
+# loop's belts at 1,000, in turns in one process (issue 30: at most 0.6).
+"$b/plant_bench_runtime" --rows --only=bottling "${vsraw[@]}"
 "$b/plant_bench_bottling" --rows "${bottling[@]}"
 # The largest plant again on one thread: what stepping the lines' regions on every core gives.
 (( quick )) || "$b/plant_bench_bottling" --rows --no-memory --runs=3 --counts=1000 --threads=1
@@ -60,7 +65,7 @@ bench/sweep.sh build/release/app/plant "$( (( quick )) && echo 5s || echo 30s)"
 if command -v node >/dev/null && command -v chromium >/dev/null; then
   calls() {
     node --experimental-websocket viewer/test/browser.mjs build/release/app/plant plants/bottling.plant \
-      "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null | sed -n 's/^draw calls: \([0-9]*\) .* for \([0-9]*\) bodies.*/\1 \2/p'
+      "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null | sed -n 's/^draw calls: \([0-9]*\) .*for \([0-9]*\) bodies.*/\1 \2/p'
   }
   read -r c1 b1 < <(calls 1) || true
   read -r c83 b83 < <(calls 83) || true
