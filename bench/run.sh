@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The benchmarks in one command: installs what is missing, builds in Release, runs every
 # benchmark and prints one Markdown table (bench/README.md explains each row).
-#   bash bench/run.sh            the full table (about 6 minutes on 2 cores)
+#   bash bench/run.sh            the full table (about 35 minutes on 2 cores)
 #   bash bench/run.sh --quick    one run per figure and smaller sizes, to try the command
 # Every figure is the median of several runs; ours and raw Bullet run interleaved in the
 # same process. Progress goes to stderr, the table to stdout.

@@ -649,8 +649,9 @@ bool bottling_vs_raw(const Args& a) {
         else raw(), plant_window();  // alternate which goes first, so drift in the load hits both alike
     }
     const double pu = median(plant_us), ru = median(raw_us), ratio = pu / ru;
-    std::printf("| bottling plant vs raw Bullet | 1000 bottles in circulation (83 lines, %d threads; measured mean %.0f) "
-                "against 1000 bottles on belts in raw Bullet, in turns | ratio %.2f (%.2f CPU us per bottle-step vs "
+    std::printf("| bottling plant vs raw Bullet | 83 lines, %d threads (measured mean %.0f bottles in circulation; "
+                "1000 after the full warm-up) against 1000 bottles on belts in raw Bullet, in turns | ratio %.2f "
+                "(%.2f CPU us per bottle-step vs "
                 "%.2f us per body-step) | <= 0.6 | %s |\n",
                 e.threads(), mean_sum / double(a.reps), ratio, pu, ru, ratio <= 0.6 ? "yes" : "**no**");
     std::fflush(stdout);
