@@ -29,6 +29,7 @@
 #include "engine/engine.h"
 #include "engine/workers.h"
 
+#include "bottling_plant.h"
 #include "median.h"
 #include "panel/kind.h"
 
@@ -105,32 +106,15 @@ double now_cpu() {
 // One run, in the calling (child) process.
 Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, double window) {
     Sample s;
-    plant::CompileOptions opt;
-    opt.stdlib_dir = plant::default_stdlib_dir();
-    opt.overrides = {"lines=" + std::to_string(lines), "bottles=" + std::to_string(bottles_per_line),
-                     "feed_every=1s"};
     plant::graph::Graph g;
-    {  // as `plant run` does: the graph is kept, the program and its sources are released
-        plant::Compilation c;
-        plant::compile_file(a.plant, opt, c);
-        if (!c.ok()) {
-            std::fprintf(stderr, "%s does not compile with lines=%d\n", a.plant.c_str(), lines);
-            return s;
-        }
-        g = std::move(c.graph);
-    }
+    if (!plant::bench::compile_bottling(a.plant, lines, bottles_per_line, g)) return s;
     plant::engine::Options eo;
     eo.threads = a.threads;
     plant::engine::Engine e(g, eo);
     s.regions = e.regions();
     s.threads = e.threads();
     for (const auto& src : g.sources) s.pool += src.pool_num;
-    auto circulating = [&] {
-        long n = 0;
-        for (size_t i = 0; i < g.sources.size(); ++i) n += long(e.issued(plant::graph::SourceId(int32_t(i))));
-        for (size_t i = 0; i < g.exits.size(); ++i) n -= long(e.taken(plant::graph::ExitId(int32_t(i))));
-        return n;
-    };
+    auto circulating = [&] { return plant::bench::circulating(e, g); };
     const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
     const long every = std::max(1L, std::lround(0.1 / e.dt()));
     for (long i = 0; i < warm; ++i) e.step();

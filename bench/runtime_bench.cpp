@@ -11,6 +11,7 @@
 #include "graph/graph.h"
 #include "panel/kind.h"
 
+#include "bottling_plant.h"
 #include "median.h"
 
 #include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
@@ -597,29 +598,11 @@ double process_cpu() {
 // compile.
 bool bottling_vs_raw(const Args& a) {
     plant::panel::register_panel_kinds();  // the bottling line's operator panel
-    plant::CompileOptions opt;
-    opt.stdlib_dir = plant::default_stdlib_dir();
-    opt.overrides = {"lines=83", "bottles=40", "feed_every=1s"};
     plant::graph::Graph g;
-    {
-        plant::Compilation c;
-        plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant", opt, c);
-        if (!c.ok()) {
-            std::fprintf(stderr, "plants/bottling.plant does not compile with lines=83:\n%s",
-                         plant::render_all_text(c.sink.sorted(), c.sources).c_str());
-            return false;
-        }
-        g = std::move(c.graph);
-    }
+    if (!plant::bench::compile_bottling(std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant", 83, 40, g)) return false;
     plant::engine::Options eo;
     eo.threads = a.threads;
     plant::engine::Engine e(g, eo);
-    auto circulating = [&] {
-        long n = 0;
-        for (plant::graph::SourceId src : g.sources.ids()) n += long(e.issued(src));
-        for (plant::graph::ExitId x : g.exits.ids()) n -= long(e.taken(x));
-        return n;
-    };
     const long warm = std::lround(a.bottling_warmup / e.dt()), window = std::max(1L, std::lround(a.bottling_window / e.dt()));
     const long every = std::max(1L, std::lround(0.1 / e.dt()));
     std::fprintf(stderr, "bottling vs raw: %ld steps of warm-up\n", warm);
@@ -635,7 +618,7 @@ bool bottling_vs_raw(const Args& a) {
             long samples = 0;
             for (long i = 0; i < window; ++i) {
                 e.step();
-                if (i % every == 0) sum += double(circulating()), ++samples;
+                if (i % every == 0) sum += double(plant::bench::circulating(e, g)), ++samples;
             }
             const double cpu = process_cpu() - c0, mean = sum / double(samples);
             mean_sum += mean;

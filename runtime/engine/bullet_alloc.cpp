@@ -94,6 +94,21 @@ private:
 
 void*& next_of(void* p) { return *static_cast<void**>(p); }
 
+// Writes a block's header; returns the block.
+void* stamp(void* at, uint32_t cls, uint32_t back) {
+    auto* h = static_cast<BlockHeader*>(at);
+    h->mark = kMark;
+    h->cls = cls;
+    h->back = back;
+    return h + 1;
+}
+
+// Puts block p on the shared list of its class; that class's lock is held.
+void push(Shared& s, void* p) {
+    next_of(p) = s.head;
+    s.head = p;
+}
+
 // A class grows by a quarter of its blocks so far (at least 8, at most about 4 MiB at once),
 // allocated in chunks of up to 512 B (or of one block, if larger), whose blocks go onto the
 // class's shared list; the lock of class c is held. Chunks this small fill the holes a
@@ -112,14 +127,7 @@ bool grow_class(int c) {
         const uint64_t n = std::min(per, more - made);
         auto* chunk = static_cast<char*>(std::malloc(size_t(n) * step));  // 16-aligned
         if (!chunk) break;
-        for (uint64_t k = 0; k < n; ++k) {
-            auto* h = reinterpret_cast<BlockHeader*>(chunk + size_t(k) * step);
-            h->mark = kMark;
-            h->cls = uint32_t(c);
-            h->back = 0;
-            next_of(h + 1) = s.head;
-            s.head = h + 1;
-        }
+        for (uint64_t k = 0; k < n; ++k) push(s, stamp(chunk + size_t(k) * step, uint32_t(c), 0));
         made += n;
     }
     s.blocks += made;
@@ -178,11 +186,8 @@ void* from_heap(size_t n, size_t alignment) {
     if (!raw) return nullptr;
     g_heap_requests.fetch_add(1, std::memory_order_relaxed);
     const auto at = (reinterpret_cast<uintptr_t>(raw) + sizeof(BlockHeader) + a - 1) & ~uintptr_t(a - 1);
-    auto* h = reinterpret_cast<BlockHeader*>(at) - 1;
-    h->mark = kMark;
-    h->cls = kHeap;
-    h->back = uint32_t(reinterpret_cast<char*>(h) - raw);
-    return h + 1;
+    char* h = reinterpret_cast<char*>(at) - sizeof(BlockHeader);
+    return stamp(h, kHeap, uint32_t(h - raw));
 }
 
 void* bullet_alloc(size_t n, int alignment) {
@@ -214,9 +219,7 @@ void bullet_free(void* p) {
     const int c = int(h->cls);
     if (c >= kLocalClasses) {
         Hold hold(g_shared[c]);
-        next_of(p) = g_shared[c].head;
-        g_shared[c].head = p;
-        return;
+        return push(g_shared[c], p);
     }
     Local& l = t_local;
     next_of(p) = l.head[c];
@@ -224,16 +227,13 @@ void bullet_free(void* p) {
     if (++l.count[c] > 2 * kBatch) l.give(c, kBatch);
 }
 
-std::atomic<bool> g_installed{false};
-
 }  // namespace
 
 bool install_bullet_pool() {
     btAlignedAllocSetCustomAligned(bullet_alloc, bullet_free);
-    g_installed.store(true);
     return true;
 }
-bool bullet_pool() { return g_installed.load(); }
+bool bullet_pool() { return true; }
 uint64_t bullet_heap_requests() { return g_heap_requests.load(std::memory_order_relaxed); }
 #else
 // Sanitizer builds: Bullet uses the heap directly.

@@ -34,7 +34,7 @@ class Workers;
 // program with a runtime has it (a file of a static library that nothing calls would be
 // left out of the program). False in sanitizer builds, where Bullet uses the heap.
 bool install_bullet_pool();
-bool bullet_pool();  // whether it is installed
+bool bullet_pool();  // whether this build has it (physics.cpp installs it before main)
 
 class Physics {
 public:
