@@ -7,31 +7,34 @@
 //     and nothing reads its outputs (no record, flow or watch: what is measured is Bullet's);
 //   * it stands upright (its body frame's z within 2° of vertical), rocks slower than 1 rad/s
 //     about the horizontal axes (a bottle standing on a band rocks by contact noise that
-//     fast, by hundredths of a degree) and turns slower than 1 rad/s about the vertical;
+//     fast, by hundredths of a degree) and turns slower than 10 rad/s about the vertical;
 //   * the centre of mass of each of its bodies lies, this step and on its path two steps on,
 //     inside exactly one acting field, the same one, at least 1 mm from its faces, and
 //     1 mm clear of the faces of every other field; that field is level and the unit's
-//     velocity in the field's frame is within 2 mm/s of the target on the driven axes and of
-//     0 on the others;
-//   * its bounding box grown by two steps at its speed plus 2 mm meets one static body only
-//     (each piece of a compound on its own: a belt's rails are one body), whose top is at most
-//     1 cm above the unit's bottom (the band it stands on: a box whose top face is within 3°
-//     of level); grown by two steps plus 1 cm, it meets no trigger's box and no kinematic
-//     part's room (its box when filed, grown by 5 cm);
+//     velocity in the field's frame is within 2 mm/s of the target on the driven axes and
+//     within 5 cm/s of 0 on the others (nothing acts across a frictionless band);
+//   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
+//     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
+//     band it stands on: a box whose top face is within 3° of level, frictionless against it)
+//     and otherwise only rails it slides along (guide_by; each piece of a compound on its own);
+//     grown by its sweep plus 1 cm, it meets no kinematic part's room (its box when filed,
+//     grown by 5 cm);
 //   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
-//     for one that Bullet does not move itself) meets its own grown by two steps plus 1 cm.
+//     for one that Bullet does not move itself) meets its own grown by its sweep plus 1 cm.
 //
 // A unit steady for 15 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
 // its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
-// height above the band's top face (a band rises 2 mm along its length), and it turns about
-// the vertical as it did when it left (nothing acts about that axis), no other way.
+// height above the band's top face (a band rises 2 mm along its length), it turns about
+// the vertical as it did when it left (nothing acts about that axis), no other way, and a rail
+// it slides along stops its motion into the rail (an inelastic, frictionless contact).
 // Its pose, velocity and bounding box are written every step, so triggers, sensors, graphics
-// and records see it as any body. It returns to the solver (Physics::land) with that state at
-// the start of the first physics phase in which it is not steady (a neighbour, a trigger, a
-// field's end or change come within reach; the reach covers two steps, so nothing meets it
-// while it is off), and at once when an event, a gripper or a hand writes its state or mode
+// and records see it as any body (a trigger only reads: it does not land it). It returns to
+// the solver (Physics::land) with that state at the start of the first physics phase in which
+// it is not steady (a neighbour, a static or kinematic part, a field's end or change come
+// within reach; the reach covers two steps, so nothing but its band and rails meets it while
+// it is off), and at once when an event, a gripper or a hand writes its state or mode
 // (Physics::unweld lands it first). Whether each unit is steady reads only this step's state
 // as the check starts (leaving or rejoining the solver changes nothing a verdict reads: not a
 // pose, a velocity, a box or whether a body is dynamic), so the verdicts are found on the
@@ -91,14 +94,16 @@ namespace {
 constexpr btScalar kMargin = btScalar(0.01);        // m, between bodies, beyond their two steps of motion
 constexpr btScalar kStaticMargin = btScalar(0.002); // m, to a static body (a rail), beyond two steps
 constexpr btScalar kNotSimulated = btScalar(0.05);  // m, more for a body Bullet does not move itself
-constexpr btScalar kSpeedTol = btScalar(0.002);     // m/s
+constexpr btScalar kSpeedTol = btScalar(0.002);     // m/s, off the field's target along its driven axes
+constexpr btScalar kDrift = btScalar(0.05);         // m/s, across them (nothing acts there: it keeps it)
 constexpr btScalar kRockTol = btScalar(1);          // rad/s about horizontal axes: contact noise, not tipping
-constexpr btScalar kYawTol = btScalar(1);           // rad/s about the vertical
+constexpr btScalar kYawTol = btScalar(10);          // rad/s about the vertical
 constexpr btScalar kTilt = btScalar(0.99939);       // cos 2°: a body's z axis from vertical
 constexpr btScalar kUpright = btScalar(0.9986);     // cos 3°: a field's or a band's top from level
 constexpr btScalar kFieldMargin = btScalar(0.001);  // m
 constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bounding box may reach into its support's
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
+constexpr btScalar kTouch = btScalar(0.001);        // m: how far a shape may reach into a rail it slides along
 constexpr int16_t kSettle = 15;                     // steps steady before leaving the solver
 bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
@@ -114,16 +119,13 @@ void body_box(const Physics& ph, BodyId b, btVector3& lo, btVector3& hi) {
     r.getCollisionShape()->getAabb(r.getWorldTransform(), lo, hi);
 }
 
-void oriented_box(const btTransform& t, const btVector3& h, btVector3& lo, btVector3& hi) {
-    const btMatrix3x3& R = t.getBasis();
-    btVector3 e;
-    for (int i = 0; i < 3; ++i) e[i] = std::abs(R[i][0]) * h.x() + std::abs(R[i][1]) * h.y() + std::abs(R[i][2]) * h.z();
-    lo = t.getOrigin() - e, hi = t.getOrigin() + e;
-}
-
-btTransform trigger_pose(Runtime& r, TriggerId t) {
-    const Trigger& tg = r.g.triggers[t];
-    return tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
+// Whether a rotation maps each axis onto a world axis (its box's bounding box is the box).
+bool on_axes(const btMatrix3x3& R) {
+    for (int i = 0; i < 3; ++i) {
+        const btVector3 c = R.getColumn(i).absolute();
+        if (c[c.maxAxis()] < btScalar(1) - btScalar(1e-9)) return false;
+    }
+    return true;
 }
 
 // Files the static geometry into cells (when starting and after a static body was placed or a
@@ -133,22 +135,25 @@ void build_grid(Runtime& r) {
     const Physics& ph = r.phys;
     S.hazards.clear();
     S.kinematic.clear();
-    S.roaming.clear();
     for (BodyId b : ids_of(r.g.bodies)) {
         const BodyMode mode = r.g.bodies[b].mode;
         if (mode == BodyMode::Dynamic) continue;
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, TriggerId{}};
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b};
         const btRigidBody& rb = ph.rb(b);
         if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
             const auto* c = static_cast<const btCompoundShape*>(rb.getCollisionShape());
             for (int k = 0; k < c->getNumChildShapes(); ++k) {
-                c->getChildShape(k)->getAabb(rb.getWorldTransform() * c->getChildTransform(k), h.lo, h.hi);
+                const btTransform t = rb.getWorldTransform() * c->getChildTransform(k);
+                c->getChildShape(k)->getAabb(t, h.lo, h.hi);
+                h.box = c->getChildShape(k)->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
                 S.hazards.push_back(h);
             }
             continue;
         }
         body_box(ph, b, h.lo, h.hi);
+        h.box = mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == BOX_SHAPE_PROXYTYPE &&
+                on_axes(rb.getWorldTransform().getBasis());
         if (mode == BodyMode::Kinematic) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
@@ -156,16 +161,6 @@ void build_grid(Runtime& r) {
             S.home_tr[b] = rb.getWorldTransform();
             S.kinematic.push_back(b);
         }
-        S.hazards.push_back(h);
-    }
-    for (TriggerId t : ids_of(r.g.triggers)) {
-        const Trigger& tg = r.g.triggers[t];
-        if (tg.body.valid() && r.g.bodies[tg.body].mode != BodyMode::Static) {
-            S.roaming.push_back(t);
-            continue;
-        }
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, BodyId{}, t};
-        oriented_box(trigger_pose(r, t), to_bt(tg.extent) * btScalar(0.5), h.lo, h.hi);
         S.hazards.push_back(h);
     }
     S.filed.clear();
@@ -235,10 +230,60 @@ bool top_face(const Physics& ph, BodyId b, btVector3& point, btVector3& normal) 
     return true;
 }
 
+// How far unit b's bounding box [lo, hi] can reach over time t at its velocity, per axis: its
+// motion along each axis, and in x and y what turning about the vertical moves its farthest
+// point by (the distance from its centre of mass to the box's farthest corner, times the angle).
+btVector3 swept(const Physics& ph, BodyId b, const btVector3& lo, const btVector3& hi, btScalar t) {
+    const btRigidBody& rb = ph.rb(b);
+    const btVector3& c = rb.getCenterOfMassPosition();
+    const btScalar fx = std::max(c.x() - lo.x(), hi.x() - c.x()), fy = std::max(c.y() - lo.y(), hi.y() - c.y());
+    const btScalar turn = std::sqrt(fx * fx + fy * fy) * std::abs(rb.getAngularVelocity().z()) * t;
+    return rb.getLinearVelocity().absolute() * t + btVector3(turn, turn, 0);
+}
+
 struct Verdict {
     FieldId field;
     BodyId support;
+    int8_t guide_axis = 0, guide_side = 0;  // the rail it slides along (Steady::guide_*), if any
+    btScalar guide_face = 0;
 };
+
+// How far unit b's shape reaches along `side` times world axis a, at transform t (its centre
+// of mass's; Bullet's support point, with the shape's margin, as Bullet's contacts see it).
+btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, int side) {
+    btVector3 dir(0, 0, 0);
+    dir[a] = btScalar(side);
+    return (t * shape.localGetSupportingVertex(dir * t.getBasis()))[a];
+}
+
+// Whether static box h, which unit b's grown box meets, is a rail b slides along: a box on the
+// world's axes, frictionless and inelastic against b, whose face b's shape touches from outside
+// along x or y (reaching into it by kTouch at most) and does not move towards faster than
+// kSpeedTol, and on no other side (not at its end). Then `out` holds the face.
+bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out) {
+    const btRigidBody& rb = ph.rb(b);
+    const btRigidBody& rail = ph.rb(h.body);
+    if (!h.box || !rb.getCollisionShape()->isConvex() || rb.getFriction() * rail.getFriction() != 0 ||
+        rb.getRestitution() * rail.getRestitution() != 0)
+        return false;
+    const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+    const btTransform& t = rb.getWorldTransform();
+    int axis = -1, side = 0;
+    btScalar face = 0;
+    for (int a = 0; a < 2; ++a)
+        for (int sd = -1; sd <= 1; sd += 2) {
+            const btScalar f = sd > 0 ? h.lo[a] : h.hi[a];
+            const btScalar into = btScalar(sd) * (reach_along(shape, t, a, sd) - f);
+            if (into > kTouch) continue;
+            if (axis >= 0) return false;  // outside it along both axes: by its end
+            axis = a, side = sd, face = f + btScalar(sd) * std::max(into, btScalar(0));
+        }
+    if (axis < 0 || btScalar(side) * rb.getLinearVelocity()[axis] > kSpeedTol) return false;
+    if (out.guide_side != 0 && (out.guide_axis != axis || out.guide_side != side || out.guide_face != face))
+        return false;  // two rails
+    out.guide_axis = int8_t(axis), out.guide_side = int8_t(side), out.guide_face = face;
+    return true;
+}
 
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
 bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
@@ -261,20 +306,23 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     if (R[2][2] < kUpright || gain.z() > 0) return false;
     const btVector3 vl = v * R;
     for (int i = 0; i < 2; ++i)
-        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > kSpeedTol) return false;
+        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > (gain[i] > 0 ? kSpeedTol : kDrift)) return false;
 
-    // Statics, triggers, kinematic parts.
+    // Statics and kinematic parts.
     btVector3 lo, hi;
     body_box(ph, b, lo, hi);
-    const btScalar motion = btScalar(2 * r.dt) * v.length(), reach = kMargin + motion, sreach = kStaticMargin + motion;
-    const btVector3 g(reach, reach, reach), glo = lo - g, ghi = hi + g;
-    const btVector3 sg(sreach, sreach, sreach), slo = lo - sg, shi = hi + sg;
+    const btVector3 sweep = swept(ph, b, lo, hi, btScalar(2 * r.dt));
+    const btVector3 g = sweep + btVector3(kMargin, kMargin, kMargin), glo = lo - g, ghi = hi + g;
+    const btVector3 sg = sweep + btVector3(kStaticMargin, kStaticMargin, kStaticMargin), slo = lo - sg, shi = hi + sg;
+    const btScalar reach = g[g.maxAxis()];
     BodyId support;
     auto hazard = [&](const Steady::Hazard& h) {
         const bool fixed = h.body.valid() && r.g.bodies[h.body].mode == BodyMode::Static;
         if (fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
-        if (h.trigger.valid() || r.g.bodies[h.body].mode != BodyMode::Static) return false;
-        if (h.hi.z() > lo.z() + kSink || (support.valid() && support != h.body)) return false;
+        if (r.g.bodies[h.body].mode != BodyMode::Static) return false;
+        if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
+        if ((support.valid() && support != h.body) || ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)
+            return false;  // two supports, or one that would hold it back
         support = h.body;
         return true;
     };
@@ -290,8 +338,6 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
                 if (!hazard(S.hazards[*k])) return false;
         }
     if (!support.valid()) return false;
-    for (size_t i = 0; i < S.roaming.size(); ++i)
-        if (overlap(glo, ghi, S.roam_lo[i], S.roam_hi[i])) return false;
     btVector3 point, normal;
     if (!top_face(ph, support, point, normal)) return false;
 
@@ -315,6 +361,12 @@ void ride(Runtime& r, BodyId b, FieldId f) {
     s.ride_field[b] = f;
     s.ride_step[b] = s.step;
     s.ride_at[b] = r.phys.com(b);
+}
+
+void guide(Steady& S, BodyId b, const Verdict& v) {
+    S.guide_axis[b] = v.guide_axis;
+    S.guide_side[b] = v.guide_side;
+    S.guide_face[b] = v.guide_face;
 }
 
 enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
@@ -343,6 +395,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
             S.settled[b] = 0;
             return kLand;
         }
+        guide(S, b, v);
     } else {
         if (!ok) {
             S.settled[b] = 0;
@@ -360,6 +413,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
         S.yaw[b] = ph.rb(b).getAngularVelocity().z();
+        guide(S, b, v);
         const double m = ph.mass(b) + (p.valid() ? ph.mass(p) : 0.0);
         const btVector3& gain = r.tab.field_gain[f];
         for (int i = 0; i < 3; ++i)
@@ -386,15 +440,15 @@ void start_steady(Runtime& r, bool on) {
     S.height.assign(nb, 0);
     S.yaw.assign(nb, 0);
     S.relax.assign(nb, btVector3(1, 1, 1));
+    S.guide_axis.assign(nb, 0);
+    S.guide_side.assign(nb, 0);
+    S.guide_face.assign(nb, 0);
     S.coasting.reserve(nb);
     S.action.assign(nb, 0);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
     S.home_hi.assign(nb, btVector3(0, 0, 0));
     S.home_tr.assign(nb, btTransform::getIdentity());
-    S.roaming.reserve(r.g.triggers.size());
-    S.roam_lo.assign(r.g.triggers.size(), btVector3(0, 0, 0));
-    S.roam_hi.assign(r.g.triggers.size(), btVector3(0, 0, 0));
     if (!on) return;
     build_grid(r);  // and room for kinematic parts that move to more cells later
     S.filed.reserve(2 * S.filed.size() + 64);
@@ -429,9 +483,6 @@ void check_steady(Runtime& r, bool left) {
     // A part that left its room: the static geometry filed again (a part found out of the
     // room just after filing would find the same filing again).
     if (!S.grid_valid || S.grid_statics != ph.statics_placed() || left) build_grid(r);
-    for (size_t i = 0; i < S.roaming.size(); ++i)
-        oriented_box(trigger_pose(r, S.roaming[i]), to_bt(r.g.triggers[S.roaming[i]].extent) * btScalar(0.5),
-                     S.roam_lo[i], S.roam_hi[i]);
     r.index.refresh(ph, true, ph.workers());
     btScalar vmax = r.index.vmax();
     if (!std::isfinite(vmax)) vmax = btScalar(1e6);
@@ -457,35 +508,62 @@ void check_steady(Runtime& r, bool left) {
             S.coasting.push_back(b);
             break;
         case kKeep: S.coasting.push_back(b); break;
-        default: break;
+        default: continue;
         }
+        if (S.action[b] != kLand && S.guide_side[b] != 0) ++S.guided;
     }
 }
 
-void advance_steady(Runtime& r) {
+namespace {
+
+// Coasting unit b moves by the law's exact solution over the step (writes only b and its passenger).
+void advance(Runtime& r, BodyId b) {
     Steady& S = r.steady;
     Physics& ph = r.phys;
     const btScalar dt = btScalar(r.dt);
-    for (BodyId b : S.coasting) {
-        const FieldId f = S.field[b];
-        const btRigidBody& rb = ph.rb(b);
-        const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
-        const btVector3& target = r.st.field_target[f];
-        btVector3 vl = rb.getLinearVelocity() * R;
-        for (int k = 0; k < 3; ++k)
-            if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
-        btVector3 v = R * vl;
-        const btVector3& n = S.normal[b];
-        v.setZ(-(n.x() * v.x() + n.y() * v.y()) / n.z());  // along the band's top face
-        btTransform t = rb.getWorldTransform();
-        btVector3 c = t.getOrigin() + v * dt;
-        c.setZ(c.z() + (S.height[b] - n.dot(c - S.top[b])) / n.z());
-        t.setOrigin(c);
-        // It turns about the vertical as it turned when it left (no torque about it), no other way.
-        const btScalar yaw = S.yaw[b];
-        if (yaw != 0) t.setBasis(btMatrix3x3(btQuaternion(btVector3(0, 0, 1), yaw * dt)) * t.getBasis());
-        ph.coast_to(b, t, v, btVector3(0, 0, yaw));
+    const FieldId f = S.field[b];
+    const btRigidBody& rb = ph.rb(b);
+    const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
+    const btVector3& target = r.st.field_target[f];
+    btVector3 vl = rb.getLinearVelocity() * R;
+    for (int k = 0; k < 3; ++k)
+        if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
+    btVector3 v = R * vl;
+    const btVector3& n = S.normal[b];
+    v.setZ(-(n.x() * v.x() + n.y() * v.y()) / n.z());  // along the band's top face
+    btTransform t = rb.getWorldTransform();
+    btVector3 c = t.getOrigin() + v * dt;
+    c.setZ(c.z() + (S.height[b] - n.dot(c - S.top[b])) / n.z());
+    t.setOrigin(c);
+    // It turns about the vertical as it turned when it left (no torque about it), no other way.
+    const btScalar yaw = S.yaw[b];
+    if (yaw != 0) t.setBasis(btMatrix3x3(btQuaternion(btVector3(0, 0, 1), yaw * dt)) * t.getBasis());
+    // A rail it slides along stops what would take its shape into it: an inelastic,
+    // frictionless contact (its velocity towards the rail ends; along the rail it is free).
+    if (const int side = S.guide_side[b]; side != 0) {
+        const int a = S.guide_axis[b];
+        const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+        const btScalar into = btScalar(side) * (reach_along(shape, t, a, side) - S.guide_face[b]);
+        if (into > 0) {
+            c[a] -= btScalar(side) * into;
+            t.setOrigin(c);
+            if (btScalar(side) * v[a] > 0) v[a] = 0;
+        }
     }
+    ph.coast_to(b, t, v, btVector3(0, 0, yaw));
+}
+
+}  // namespace
+
+void advance_steady(Runtime& r) {
+    // Each unit on its own, in slices on the physics threads.
+    const std::vector<BodyId>& units = r.steady.coasting;
+    const size_t slices = slice_count(r.phys.workers(), units.size(), 64, units.size() + 1);
+    auto moving = [&r, &units, slices](int i) {
+        const auto [b, e] = slice_of(units.size(), slices, i);
+        for (size_t k = b; k < e; ++k) advance(r, units[k]);
+    };
+    run_slices(r.phys.workers(), slices, moving);
 }
 
 }  // namespace plant::engine

@@ -32,15 +32,21 @@ struct Steady {
     std::vector<graph::BodyId> coasting; // the units coasting this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
     PerBody<btVector3> top;              // coasting: a point of the support's top face
+    // coasting: the rail it slides along, if any: the face's axis (0 x, 1 y), the side the rail
+    // is on (+1, -1; 0: none) and how far along that axis the unit's shape may reach
+    PerBody<int8_t> guide_axis, guide_side;
+    PerBody<btScalar> guide_face;
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
+    int64_t guided = 0;                  // unit-steps off the solver sliding along a rail
 
-    // Static geometry near which nothing coasts: static bodies (a support aside), triggers
-    // fixed in the world, and kinematic bodies within a box around where they were (a gate
-    // or a blade moving inside it); filed in cells of 1 m over (x, y).
+    // Static geometry near which nothing coasts: static bodies (a support and the rails it
+    // slides along aside) and kinematic bodies within a box around where they were (a gate or
+    // a blade moving inside it); filed in cells of 1 m over (x, y). Triggers only read poses:
+    // they see a coasting unit as any body.
     struct Hazard {
         btVector3 lo, hi;
-        graph::BodyId body;        // the static or kinematic body, or -1
-        graph::TriggerId trigger;  // the trigger, or -1
+        graph::BodyId body;        // the static or kinematic body
+        bool box = false;          // a static box with its faces on the world's axes: [lo, hi] is it
     };
     std::vector<Hazard> hazards;
     std::vector<uint64_t> cells;
@@ -49,8 +55,6 @@ struct Steady {
     std::vector<graph::BodyId> kinematic;      // declared kinematic bodies (and dynamic ones off)
     PerBody<btVector3> home_lo, home_hi;       // per body: the box its hazard was filed with
     PerBody<btTransform> home_tr;              // ... and its transform then
-    std::vector<graph::TriggerId> roaming;     // triggers on moving bodies
-    std::vector<btVector3> roam_lo, roam_hi;   // their boxes this step
     bool grid_valid = false;
     uint64_t grid_statics = 0;                 // Physics::statics_placed when built
 };
