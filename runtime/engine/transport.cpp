@@ -16,13 +16,14 @@
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
 //     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
 //     band it stands on: a box whose top face is within 3° of level, frictionless against it)
-//     and otherwise only rails it slides along (guide_by; each piece of a compound on its own);
-//     grown by its sweep plus 1 cm, it meets no kinematic part's room (its box when filed,
-//     grown by 5 cm);
+//     and otherwise only rails it slides along (guide_by; each piece of a compound on its own,
+//     the band's too); grown by its sweep plus 1 cm, it meets no kinematic part's room (its box
+//     when filed, grown by 5 cm) but of parts whose collision is off and parts at rest where
+//     they were filed, which count as static pieces met by that box;
 //   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
 //     for one that Bullet does not move itself) meets its own grown by its sweep plus 1 cm.
 //
-// A unit steady for 15 steps in a row leaves the solver: flagged static in no pair, its
+// A unit steady for 5 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
 // its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
@@ -104,7 +105,7 @@ constexpr btScalar kFieldMargin = btScalar(0.001);  // m
 constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bounding box may reach into its support's
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
 constexpr btScalar kTouch = btScalar(0.001);        // m: how far a shape may reach into a rail it slides along
-constexpr int16_t kSettle = 15;                     // steps steady before leaving the solver
+constexpr int16_t kSettle = 5;                      // steps steady before leaving the solver
 bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
            alo.z() <= bhi.z() && blo.z() <= ahi.z();
@@ -128,6 +129,19 @@ bool on_axes(const btMatrix3x3& R) {
     return true;
 }
 
+// Whether a body's shape is a box (or a compound of one box) with its faces on the world's axes.
+bool axis_box(const btRigidBody& rb) {
+    const btCollisionShape* shape = rb.getCollisionShape();
+    btTransform t = rb.getWorldTransform();
+    if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
+        const auto* c = static_cast<const btCompoundShape*>(shape);
+        if (c->getNumChildShapes() != 1) return false;
+        t = t * c->getChildTransform(0);
+        shape = c->getChildShape(0);
+    }
+    return shape->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
+}
+
 // Files the static geometry into cells (when starting and after a static body was placed or a
 // kinematic one left its room). Allocates only when it covers more cells than before.
 void build_grid(Runtime& r) {
@@ -147,6 +161,7 @@ void build_grid(Runtime& r) {
                 const btTransform t = rb.getWorldTransform() * c->getChildTransform(k);
                 c->getChildShape(k)->getAabb(t, h.lo, h.hi);
                 h.box = c->getChildShape(k)->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
+                h.piece = int16_t(k);
                 S.hazards.push_back(h);
             }
             continue;
@@ -207,15 +222,15 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
 }
 
 // The top face of a box (or of a compound of one box): a point of it and its normal.
-bool top_face(const Physics& ph, BodyId b, btVector3& point, btVector3& normal) {
+bool top_face(const Physics& ph, BodyId b, int piece, btVector3& point, btVector3& normal) {
     const btRigidBody& r = ph.rb(b);
     const btCollisionShape* shape = r.getCollisionShape();
     btTransform t = r.getWorldTransform();
     if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
         const auto* c = static_cast<const btCompoundShape*>(shape);
-        if (c->getNumChildShapes() != 1) return false;
-        t = t * c->getChildTransform(0);
-        shape = c->getChildShape(0);
+        if (piece < 0 || piece >= c->getNumChildShapes()) return false;
+        t = t * c->getChildTransform(piece);
+        shape = c->getChildShape(piece);
     }
     if (shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
     const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
@@ -244,6 +259,7 @@ btVector3 swept(const Physics& ph, BodyId b, const btVector3& lo, const btVector
 struct Verdict {
     FieldId field;
     BodyId support;
+    int16_t piece = -1;  // the support's piece, in a compound
     int8_t guide_axis = 0, guide_side = 0;  // the rail it slides along (Steady::guide_*), if any
     btScalar guide_face = 0;
 };
@@ -316,14 +332,32 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     const btVector3 sg = sweep + btVector3(kStaticMargin, kStaticMargin, kStaticMargin), slo = lo - sg, shi = hi + sg;
     const btScalar reach = g[g.maxAxis()];
     BodyId support;
+    int16_t piece = -1;
+    // A kinematic part whose room is in reach: none if its collision is off; at rest where it was
+    // filed, a static piece (a rail it slides along, or in the way) with a margin of 1 cm; moving,
+    // in the way.
+    auto part = [&](const Steady::Hazard& h) {
+        const BodyId k = h.body;
+        if (!ph.collision_on(k)) return true;
+        const btRigidBody& kb = ph.rb(k);
+        if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
+            !kb.getAngularVelocity().fuzzyZero())
+            return false;
+        Steady::Hazard now{{0, 0, 0}, {0, 0, 0}, k};
+        body_box(ph, k, now.lo, now.hi);
+        if (!overlap(glo, ghi, now.lo, now.hi)) return true;
+        now.box = axis_box(kb);
+        return guide_by(ph, b, now, out);
+    };
     auto hazard = [&](const Steady::Hazard& h) {
-        const bool fixed = h.body.valid() && r.g.bodies[h.body].mode == BodyMode::Static;
+        const bool fixed = r.g.bodies[h.body].mode == BodyMode::Static;
         if (fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
-        if (r.g.bodies[h.body].mode != BodyMode::Static) return false;
+        if (!fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
-        if ((support.valid() && support != h.body) || ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)
-            return false;  // two supports, or one that would hold it back
-        support = h.body;
+        if ((support.valid() && (support != h.body || piece != h.piece)) ||
+            ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)
+            return false;  // two supports (two pieces of one), or one that would hold it back
+        support = h.body, piece = h.piece;
         return true;
     };
     for (int32_t i : S.big)
@@ -339,7 +373,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         }
     if (!support.valid()) return false;
     btVector3 point, normal;
-    if (!top_face(ph, support, point, normal)) return false;
+    if (!top_face(ph, support, piece, point, normal)) return false;
 
     // Other bodies.
     const btScalar far = reach + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
@@ -353,6 +387,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     if (!clear) return false;
     out.field = f;
     out.support = support;
+    out.piece = piece;
     return true;
 }
 
@@ -390,7 +425,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
     if (was) {
         const btVector3 target = ok ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
                                     : btVector3(0, 0, 0);
-        ok = ok && v.field == S.field[b] && v.support == S.support[b] && target == S.target[b];
+        ok = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] && target == S.target[b];
         if (!ok) {
             S.settled[b] = 0;
             return kLand;
@@ -405,9 +440,10 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
         const FieldId f = v.field;
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
         btVector3 point, normal;
-        top_face(ph, v.support, point, normal);
+        top_face(ph, v.support, v.piece, point, normal);
         S.field[b] = v.field;
         S.support[b] = v.support;
+        S.piece[b] = v.piece;
         S.target[b] = R * s.field_target[f];
         S.normal[b] = normal;
         S.top[b] = point;
@@ -434,6 +470,7 @@ void start_steady(Runtime& r, bool on) {
     S.settled.assign(nb, 0);
     S.field.assign(nb, FieldId{});
     S.support.assign(nb, BodyId{});
+    S.piece.assign(nb, -1);
     S.target.assign(nb, btVector3(0, 0, 0));
     S.normal.assign(nb, btVector3(0, 0, 1));
     S.top.assign(nb, btVector3(0, 0, 0));

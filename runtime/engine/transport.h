@@ -24,6 +24,7 @@ struct Steady {
     PerBody<int16_t> settled;            // consecutive steps the unit was steady
     PerBody<graph::FieldId> field;       // coasting: the field it rides
     PerBody<graph::BodyId> support;      // coasting: the static body it stands on
+    PerBody<int16_t> piece;              // coasting: which piece of it, in a compound (else -1)
     PerBody<btVector3> target;           // coasting: the field's target velocity, in the world
     PerBody<btVector3> normal;           // coasting: the support's top face's normal
     PerBody<btScalar> height;            // coasting: its centre of mass above the top face's plane
@@ -47,6 +48,7 @@ struct Steady {
         btVector3 lo, hi;
         graph::BodyId body;        // the static or kinematic body
         bool box = false;          // a static box with its faces on the world's axes: [lo, hi] is it
+        int16_t piece = -1;        // its piece of a static compound
     };
     std::vector<Hazard> hazards;
     std::vector<uint64_t> cells;
