@@ -481,6 +481,8 @@ void start_steady(Runtime& r, bool on) {
     S.guide_side.assign(nb, 0);
     S.guide_face.assign(nb, 0);
     S.coasting.reserve(nb);
+    S.events.assign(r.tab.dyn_bodies.size(), BodyId{});
+    S.found.assign(r.tab.dyn_bodies.size(), BodyId{});
     S.action.assign(nb, 0);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
@@ -527,27 +529,41 @@ void check_steady(Runtime& r, bool left) {
     // threads (each writes its units' own entries and reads what no verdict changes); then
     // leaving and rejoining the solver, which touch the worlds, on this thread in id order.
     const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
-    const size_t slices = slice_count(ph.workers(), dyn.size(), 64, dyn.size() + 1);
+    const size_t slices = slice_count(ph.workers(), dyn.size(), 64, kMaxSlices);
+    // Each slice lists, from its own first index on, its units that land or leave (`events`)
+    // and those off the solver after this step (`found`), both in id order.
     auto deciding = [&r, &dyn, vmax, slices](int i) {
+        Steady& St = r.steady;
         const auto [b, e] = slice_of(dyn.size(), slices, i);
-        for (size_t k = b; k < e; ++k) r.steady.action[dyn[k]] = decide(r, dyn[k], vmax);
+        int32_t events = 0, found = 0;
+        int64_t guided = 0;
+        for (size_t k = b; k < e; ++k) {
+            const BodyId u = dyn[k];
+            const uint8_t a = St.action[u] = decide(r, u, vmax);
+            if (a == kLand || a == kCoast) St.events[b + size_t(events++)] = u;
+            if (a == kCoast || a == kKeep) {
+                St.found[b + size_t(found++)] = u;
+                guided += St.guide_side[u] != 0;
+            }
+        }
+        St.slice_events[size_t(i)] = events, St.slice_found[size_t(i)] = found, St.slice_guided[size_t(i)] = guided;
     };
     run_slices(ph.workers(), slices, deciding);
-    for (BodyId b : r.tab.dyn_bodies) {
-        switch (S.action[b]) {
-        case kLand:
-            ph.land(b);
-            ++S.rejoined;
-            break;
-        case kCoast:
-            ph.coast(b);
-            ++S.left;
-            S.coasting.push_back(b);
-            break;
-        case kKeep: S.coasting.push_back(b); break;
-        default: continue;
+    for (size_t i = 0; i < slices; ++i) {
+        const size_t b = slice_of(dyn.size(), slices, i).first;
+        for (size_t k = b; k < b + size_t(S.slice_events[i]); ++k) {
+            const BodyId u = S.events[k];
+            if (S.action[u] == kLand) {
+                ph.land(u);
+                ++S.rejoined;
+            } else {
+                ph.coast(u);
+                ++S.left;
+            }
         }
-        if (S.action[b] != kLand && S.guide_side[b] != 0) ++S.guided;
+        S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
+                          S.found.begin() + std::ptrdiff_t(b + size_t(S.slice_found[i])));
+        S.guided += S.slice_guided[i];
     }
 }
 

@@ -4,10 +4,12 @@
 // step before anything could touch it.
 #pragma once
 
+#include "engine/workers.h"
 #include "graph/ids.h"
 
 #include <LinearMath/btTransform.h>
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -32,6 +34,11 @@ struct Steady {
     PerBody<btVector3> relax;            // coasting: exp(-a) per field axis (1: free axis)
     std::vector<graph::BodyId> coasting; // the units coasting this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
+    // check_steady's slices: from each slice's first index on, its units that land or leave
+    // and those off the solver, and how many of each (and of those along a rail) it found.
+    std::vector<graph::BodyId> events, found;
+    std::array<int32_t, kMaxSlices> slice_events{}, slice_found{};
+    std::array<int64_t, kMaxSlices> slice_guided{};
     PerBody<btVector3> top;              // coasting: a point of the support's top face
     // coasting: the rail it slides along, if any: the face's axis (0 x, 1 y), the side the rail
     // is on (+1, -1; 0: none) and how far along that axis the unit's shape may reach
