@@ -535,23 +535,23 @@ void check_steady(Runtime& r, bool left) {
     auto deciding = [&r, &dyn, vmax, slices](int i) {
         Steady& St = r.steady;
         const auto [b, e] = slice_of(dyn.size(), slices, i);
-        int32_t events = 0, found = 0;
+        size_t events = 0, found = 0;
         int64_t guided = 0;
         for (size_t k = b; k < e; ++k) {
             const BodyId u = dyn[k];
             const uint8_t a = St.action[u] = decide(r, u, vmax);
-            if (a == kLand || a == kCoast) St.events[b + size_t(events++)] = u;
+            if (a == kLand || a == kCoast) St.events[b + events++] = u;
             if (a == kCoast || a == kKeep) {
-                St.found[b + size_t(found++)] = u;
+                St.found[b + found++] = u;
                 guided += St.guide_side[u] != 0;
             }
         }
-        St.slice_events[size_t(i)] = events, St.slice_found[size_t(i)] = found, St.slice_guided[size_t(i)] = guided;
+        St.slice_events[i] = events, St.slice_found[i] = found, St.slice_guided[i] = guided;
     };
     run_slices(ph.workers(), slices, deciding);
     for (size_t i = 0; i < slices; ++i) {
         const size_t b = slice_of(dyn.size(), slices, i).first;
-        for (size_t k = b; k < b + size_t(S.slice_events[i]); ++k) {
+        for (size_t k = b; k < b + S.slice_events[i]; ++k) {
             const BodyId u = S.events[k];
             if (S.action[u] == kLand) {
                 ph.land(u);
@@ -562,7 +562,7 @@ void check_steady(Runtime& r, bool left) {
             }
         }
         S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
-                          S.found.begin() + std::ptrdiff_t(b + size_t(S.slice_found[i])));
+                          S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
         S.guided += S.slice_guided[i];
     }
 }

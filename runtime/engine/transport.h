@@ -37,7 +37,7 @@ struct Steady {
     // check_steady's slices: from each slice's first index on, its units that land or leave
     // and those off the solver, and how many of each (and of those along a rail) it found.
     std::vector<graph::BodyId> events, found;
-    std::array<int32_t, kMaxSlices> slice_events{}, slice_found{};
+    std::array<size_t, kMaxSlices> slice_events{}, slice_found{};
     std::array<int64_t, kMaxSlices> slice_guided{};
     PerBody<btVector3> top;              // coasting: a point of the support's top face
     // coasting: the rail it slides along, if any: the face's axis (0 x, 1 y), the side the rail
