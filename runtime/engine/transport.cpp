@@ -39,8 +39,9 @@
 // (Physics::unweld lands it first). Whether each unit is steady reads only this step's state
 // as the check starts (leaving or rejoining the solver changes nothing a verdict reads: not a
 // pose, a velocity, a box or whether a body is dynamic), so the verdicts are found on the
-// physics threads, a slice of the units per item; they are then acted on in body id order on
-// one thread: the results do not depend on the number of threads.
+// physics threads, a slice of the units per item; they are then acted on grouped by world, in
+// body id order within each, one world per item (landing and leaving touch only the unit's
+// world): the results do not depend on the number of threads.
 #include "engine/transport.h"
 
 #include "engine/cells.h"
@@ -483,6 +484,10 @@ void start_steady(Runtime& r, bool on) {
     S.coasting.reserve(nb);
     S.events.assign(r.tab.dyn_bodies.size(), BodyId{});
     S.found.assign(r.tab.dyn_bodies.size(), BodyId{});
+    S.by_world.assign(r.tab.dyn_bodies.size(), BodyId{});
+    S.world_adr.assign(size_t(r.phys.worlds()) + 1, 0);
+    S.world_fill.assign(size_t(r.phys.worlds()), 0);
+    S.busy.reserve(size_t(r.phys.worlds()));
     S.action.assign(nb, 0);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
@@ -527,7 +532,7 @@ void check_steady(Runtime& r, bool left) {
     if (!std::isfinite(vmax)) vmax = btScalar(1e6);
     // Each unit's verdict and what follows from it, in slices of the units on the physics
     // threads (each writes its units' own entries and reads what no verdict changes); then
-    // leaving and rejoining the solver, which touch the worlds, on this thread in id order.
+    // leaving and rejoining the solver, which touch the worlds, world by world (below).
     const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
     const size_t slices = slice_count(ph.workers(), dyn.size(), 64, kMaxSlices);
     // Each slice lists, from its own first index on, its units that land or leave (`events`)
@@ -549,22 +554,43 @@ void check_steady(Runtime& r, bool left) {
         St.slice_events[i] = events, St.slice_found[i] = found, St.slice_guided[i] = guided;
     };
     run_slices(ph.workers(), slices, deciding);
+    // Landing and leaving touch only the unit's own world (its broadphase and dispatcher): the
+    // units are grouped by world, in id order within each, and each world's are handled as an
+    // item on the physics threads.
+    std::fill(S.world_adr.begin(), S.world_adr.end(), 0);
     for (size_t i = 0; i < slices; ++i) {
         const size_t b = slice_of(dyn.size(), slices, i).first;
-        for (size_t k = b; k < b + S.slice_events[i]; ++k) {
-            const BodyId u = S.events[k];
-            if (S.action[u] == kLand) {
-                ph.land(u);
-                ++S.rejoined;
-            } else {
-                ph.coast(u);
-                ++S.left;
-            }
-        }
+        for (size_t k = b; k < b + S.slice_events[i]; ++k) ++S.world_adr[ph.world_of(S.events[k]) + 1];
         S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
                           S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
         S.guided += S.slice_guided[i];
     }
+    S.busy.clear();
+    for (size_t w = 0; w + 1 < S.world_adr.size(); ++w) {
+        if (S.world_adr[w + 1] > 0) S.busy.push_back(int(w));
+        S.world_adr[w + 1] += S.world_adr[w];
+    }
+    if (S.busy.empty()) return;
+    std::copy(S.world_adr.begin(), S.world_adr.end() - 1, S.world_fill.begin());
+    for (size_t i = 0; i < slices; ++i) {
+        const size_t b = slice_of(dyn.size(), slices, i).first;
+        for (size_t k = b; k < b + S.slice_events[i]; ++k) {
+            const BodyId u = S.events[k];
+            S.by_world[size_t(S.world_fill[ph.world_of(u)]++)] = u;
+            if (S.action[u] == kLand) ++S.rejoined;
+            else ++S.left;
+        }
+    }
+    auto applying = [&r](int i) {
+        Steady& St = r.steady;
+        const int w = St.busy[size_t(i)];
+        for (int32_t k = St.world_adr[w]; k < St.world_adr[w + 1]; ++k) {
+            const BodyId u = St.by_world[size_t(k)];
+            if (St.action[u] == kLand) r.phys.land(u);
+            else r.phys.coast(u);
+        }
+    };
+    run_slices(ph.workers(), S.busy.size(), applying);
 }
 
 namespace {

@@ -39,6 +39,11 @@ struct Steady {
     std::vector<graph::BodyId> events, found;
     std::array<size_t, kMaxSlices> slice_events{}, slice_found{};
     std::array<int64_t, kMaxSlices> slice_guided{};
+    // ... and those units grouped by their world: world w's at [world_adr[w], world_adr[w + 1])
+    // of by_world; busy: the worlds with any.
+    std::vector<graph::BodyId> by_world;
+    std::vector<int32_t> world_adr, world_fill;
+    std::vector<int> busy;
     PerBody<btVector3> top;              // coasting: a point of the support's top face
     // coasting: the rail it slides along, if any: the face's axis (0 x, 1 y), the side the rail
     // is on (+1, -1; 0: none) and how far along that axis the unit's shape may reach
