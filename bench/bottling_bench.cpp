@@ -30,6 +30,7 @@
 #include "engine/workers.h"
 
 #include "bottling_plant.h"
+#include "cpu_clock.h"
 #include "median.h"
 #include "panel/kind.h"
 
@@ -97,11 +98,6 @@ struct Sample {
 };
 
 double now_wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-double now_cpu() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 // One run, in the calling (child) process.
 Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, double window) {
@@ -123,7 +119,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.min = circulating();
     double sum = 0;
     long samples = 0;
-    const double w0 = now_wall(), c0 = now_cpu();
+    const double w0 = now_wall(), c0 = plant::bench::process_cpu_seconds();
     g_allocs = 0;
     const uint64_t bullet0 = plant::engine::bullet_heap_requests();
     g_counting = true;
@@ -139,7 +135,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     }
     g_counting = false;
     s.wall = now_wall() - w0;
-    s.cpu = now_cpu() - c0;
+    s.cpu = plant::bench::process_cpu_seconds() - c0;
     s.prof = e.profile();
     s.news = g_allocs;
     s.allocs = g_allocs + long(plant::engine::bullet_heap_requests() - bullet0);

@@ -12,6 +12,7 @@
 //   plant_bench_compile --compile FILE      compile FILE once in this process
 //                                           (--phases: then parse and elaborate timed apart)
 #include "compiler.h"
+#include "cpu_clock.h"
 #include "gen_plant.h"
 #include "graph/text.h"
 #include "sema/elaborate.h"
@@ -76,11 +77,7 @@ double ms_since(Clock::time_point t0) {
 }
 
 // CPU time of this process (user + system), in ms: steadier than wall time on a busy machine.
-double cpu_ms() {
-    timespec ts{};
-    ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) / 1e6;
-}
+double cpu_ms() { return 1e3 * plant::bench::process_cpu_seconds(); }
 
 // What a child sends back; plain data through a pipe.
 struct RunResult {

@@ -12,6 +12,7 @@
 #include "panel/kind.h"
 
 #include "bottling_plant.h"
+#include "cpu_clock.h"
 #include "median.h"
 
 #include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
@@ -584,12 +585,6 @@ bool parse_args(int argc, char** argv, Args& a) {
 
 const char* bp_name(Broadphase bp) { return bp == Broadphase::Sap ? "sap" : "dbvt"; }
 
-double process_cpu() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
-}
-
 // The bottling plant at 1,000 bottles in circulation (plants/bottling.plant, 83 lines, 40 bottles
 // a storage, one every second) against raw Bullet's belts scene at 1,000 bottles, in turns in
 // this process after the plant's warm-up: the plant's processor time (all its threads) per
@@ -613,14 +608,14 @@ bool bottling_vs_raw(const Args& a) {
     for (int rep = 0; rep < a.reps; ++rep) {
         std::fprintf(stderr, "bottling vs raw rep %d/%d\n", rep + 1, a.reps);
         auto plant_window = [&] {
-            const double c0 = process_cpu();
+            const double c0 = plant::bench::process_cpu_seconds();
             double sum = 0;
             long samples = 0;
             for (long i = 0; i < window; ++i) {
                 e.step();
                 if (i % every == 0) sum += double(plant::bench::circulating(e, g)), ++samples;
             }
-            const double cpu = process_cpu() - c0, mean = sum / double(samples);
+            const double cpu = plant::bench::process_cpu_seconds() - c0, mean = sum / double(samples);
             mean_sum += mean;
             plant_us.push_back(cpu * 1e6 / (double(window) * std::max(1.0, mean)));
         };

@@ -130,17 +130,24 @@ bool on_axes(const btMatrix3x3& R) {
     return true;
 }
 
-// Whether a body's shape is a box (or a compound of one box) with its faces on the world's axes.
-bool axis_box(const btRigidBody& rb) {
+// A body's shape, or piece `piece` of its compound (-1: a compound's only piece), and where it
+// is in the world; null if there is no such piece.
+const btCollisionShape* piece_of(const btRigidBody& rb, int piece, btTransform& t) {
     const btCollisionShape* shape = rb.getCollisionShape();
-    btTransform t = rb.getWorldTransform();
-    if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
-        const auto* c = static_cast<const btCompoundShape*>(shape);
-        if (c->getNumChildShapes() != 1) return false;
-        t = t * c->getChildTransform(0);
-        shape = c->getChildShape(0);
-    }
-    return shape->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
+    t = rb.getWorldTransform();
+    if (shape->getShapeType() != COMPOUND_SHAPE_PROXYTYPE) return shape;
+    const auto* c = static_cast<const btCompoundShape*>(shape);
+    if (piece < 0 && c->getNumChildShapes() == 1) piece = 0;
+    if (piece < 0 || piece >= c->getNumChildShapes()) return nullptr;
+    t = t * c->getChildTransform(piece);
+    return c->getChildShape(piece);
+}
+
+// Whether a body's shape (or a compound's only piece) is a box with its faces on the world's axes.
+bool axis_box(const btRigidBody& rb) {
+    btTransform t;
+    const btCollisionShape* shape = piece_of(rb, -1, t);
+    return shape && shape->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
 }
 
 // Files the static geometry into cells (when starting and after a static body was placed or a
@@ -159,17 +166,17 @@ void build_grid(Runtime& r) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
             const auto* c = static_cast<const btCompoundShape*>(rb.getCollisionShape());
             for (int k = 0; k < c->getNumChildShapes(); ++k) {
-                const btTransform t = rb.getWorldTransform() * c->getChildTransform(k);
-                c->getChildShape(k)->getAabb(t, h.lo, h.hi);
-                h.box = c->getChildShape(k)->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
+                btTransform t;
+                const btCollisionShape* piece = piece_of(rb, k, t);
+                piece->getAabb(t, h.lo, h.hi);
+                h.box = piece->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
                 h.piece = int16_t(k);
                 S.hazards.push_back(h);
             }
             continue;
         }
         body_box(ph, b, h.lo, h.hi);
-        h.box = mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == BOX_SHAPE_PROXYTYPE &&
-                on_axes(rb.getWorldTransform().getBasis());
+        h.box = axis_box(rb);  // a kinematic part's too: it counts while at rest where filed (steady_now)
         if (mode == BodyMode::Kinematic) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
@@ -224,16 +231,9 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
 
 // The top face of a box (or of a compound of one box): a point of it and its normal.
 bool top_face(const Physics& ph, BodyId b, int piece, btVector3& point, btVector3& normal) {
-    const btRigidBody& r = ph.rb(b);
-    const btCollisionShape* shape = r.getCollisionShape();
-    btTransform t = r.getWorldTransform();
-    if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
-        const auto* c = static_cast<const btCompoundShape*>(shape);
-        if (piece < 0 || piece >= c->getNumChildShapes()) return false;
-        t = t * c->getChildTransform(piece);
-        shape = c->getChildShape(piece);
-    }
-    if (shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
+    btTransform t;
+    const btCollisionShape* shape = piece_of(ph.rb(b), piece, t);
+    if (!shape || shape->getShapeType() != BOX_SHAPE_PROXYTYPE) return false;
     const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
     int best = 0;
     for (int i = 1; i < 3; ++i)
@@ -344,10 +344,9 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
             !kb.getAngularVelocity().fuzzyZero())
             return false;
-        Steady::Hazard now{{0, 0, 0}, {0, 0, 0}, k};
+        Steady::Hazard now = h;  // its box, not its room
         body_box(ph, k, now.lo, now.hi);
         if (!overlap(glo, ghi, now.lo, now.hi)) return true;
-        now.box = axis_box(kb);
         return guide_by(ph, b, now, out);
     };
     auto hazard = [&](const Steady::Hazard& h) {

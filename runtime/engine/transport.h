@@ -1,7 +1,7 @@
 // Steady transport (docs/runtime.md, "Steady transport"): a bottle that rides a belt upright,
-// at the band's speed, with nothing but the band within reach, is moved by the conveyor law's
-// exact solution instead of Bullet's solver, and returns to the solver, with its state, the
-// step before anything could touch it.
+// at the band's speed, with nothing but the band and the rails it slides along within reach,
+// is moved by the conveyor law's exact solution instead of Bullet's solver, and returns to the
+// solver, with its state, the step before anything else could touch it.
 #pragma once
 
 #include "engine/workers.h"
@@ -59,7 +59,8 @@ struct Steady {
     struct Hazard {
         btVector3 lo, hi;
         graph::BodyId body;        // the static or kinematic body
-        bool box = false;          // a static box with its faces on the world's axes: [lo, hi] is it
+        bool box = false;          // a box with its faces on the world's axes (a static piece's
+                                   // [lo, hi] is it; a kinematic part's is its room)
         int16_t piece = -1;        // its piece of a static compound
     };
     std::vector<Hazard> hazards;
