@@ -143,7 +143,7 @@ void sense_all(Runtime& r) {
     const std::vector<GraphicsId>& order = data.order;
     const size_t roots = data.roots;
     std::vector<uint8_t>& flags = data.flags;
-    const size_t slices = slice_count(r.phys.workers(), roots, 256, roots + 1);
+    const size_t slices = slice_count(roots, 256, roots + 1);
     auto poses = [&r, &data, &order, &flags, roots, slices](int i) {
         const auto [b, e] = slice_of(roots, slices, i);
         for (size_t k = b; k < e; ++k) flags[k] = to_publish(r, order[k], advance_one(r, data, order[k]));

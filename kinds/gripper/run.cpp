@@ -87,7 +87,7 @@ void start_all(Runtime& r) {
 // body is held by one gripper at most: each moves only its own).
 void sense_all(Runtime& r) {
     const size_t n = r.g.grippers.size();
-    const size_t slices = slice_count(r.phys.workers(), n, 16, kMaxSlices);
+    const size_t slices = slice_count(n, 16, kMaxSlices);
     auto follow = [&r, n, slices](int k) {
         for (graph::GripperId i : slice_ids<graph::GripperId>(n, slices, k)) {
             const graph::DoId obj = r.st.gripper_held[i];

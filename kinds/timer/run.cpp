@@ -97,7 +97,7 @@ void sense_all(Runtime& r) {
     Timers& t = timers(r);
     Workers& w = r.phys.workers();
     const size_t n = r.g.timers.size();
-    const size_t slices = slice_count(w, n, 256, n + 1);
+    const size_t slices = slice_count(n, 256, n + 1);
     if (w.threads() == 1 || slices <= 1) {  // one pass, on this thread
         for (TimerId i : ids_of(r.g.timers)) tick<false>(r, t, i);
         return;

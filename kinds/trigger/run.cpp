@@ -150,7 +150,7 @@ void sense_all(Runtime& r) {
     r.index.refresh(r.phys, true, r.phys.workers());
     s.trigger_side ^= 1;  // the step before's lists are kept for the comparison
     const size_t nt = g.triggers.size();
-    const size_t slices = slice_count(r.phys.workers(), nt, 32, s.trigger_made.size());
+    const size_t slices = slice_count(nt, 32, s.trigger_made.size());
     auto finding = [&r, nt, slices](int i) { find_inside(r, i, slice_ids<TriggerId>(nt, slices, i)); };
     run_slices(r.phys.workers(), slices, finding);
     for (size_t i = 0; i < slices; ++i)
@@ -167,7 +167,7 @@ void start_all(Runtime& r) {
     }
     const size_t nt = r.g.triggers.size();
     if (nt == 0) return;
-    const size_t slices = slice_count(r.phys.workers(), nt, 32, r.st.trigger_made.size());
+    const size_t slices = slice_count(nt, 32, r.st.trigger_made.size());
     const size_t pairs = std::max<size_t>(256, 4 * (r.tab.dyn_bodies.size() + nt));
     for (size_t i = 0; i < slices; ++i) {
         for (auto& lists : r.st.trigger_lists) lists[i].reserve(pairs / slices + 64);

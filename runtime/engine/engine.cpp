@@ -42,7 +42,7 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
             st.lane_runs[k].in.reserve(sched.lane_writes[k]);
         }
     }
-    const size_t slices = 4 * phys.threads(), worlds = phys.worlds();  // slice_count's most, per world
+    const size_t slices = kMaxSlices, worlds = phys.worlds();  // slice_count's most, per world
     st.slice_world.assign(slices * worlds, 0);
     start_steady(*this, opt.steady_transport && graph.settings.steady_transport);
     // Outputs that flows (or traces) read are refreshed every step; others only on demand.

@@ -217,7 +217,7 @@ bool prepare_fields(Runtime& r) {
     // Each field's frame and whether it acts, and whether a kinematic part left its room
     // (transport.cpp), in slices on the physics threads: each writes its fields' own entries.
     const size_t nf = g.fields.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
-    const size_t slices = slice_count(r.phys.workers(), nf + nk, 128, s.slice_moved.size());
+    const size_t slices = slice_count(nf + nk, 128, s.slice_moved.size());
     auto frames = [&r, &s, &g, nf, nk, slices](int i) {
         bool moved = false;
         for (FieldId f : slice_ids<FieldId>(nf, slices, i)) {
@@ -249,8 +249,8 @@ bool prepare_fields(Runtime& r) {
 void list_field_bodies(Runtime& r) {
     State& s = r.st;
     Workers& wk = r.phys.workers();
-    const size_t nw = r.phys.worlds(), nb = r.tab.dyn_bodies.size(), most = 4 * wk.threads();
-    const size_t slices = slice_count(wk, nb, 512, most);
+    const size_t nw = r.phys.worlds(), nb = r.tab.dyn_bodies.size(), most = kMaxSlices;
+    const size_t slices = slice_count(nb, 512, most);
     int32_t* const per = s.slice_world.data();  // [slice * nw + world]
     auto counting = [&r, &s, per, nb, nw, slices](int i) {
         int32_t* const mine = per + i * nw;

@@ -304,7 +304,7 @@ void run_lanes(Runtime& r) {
     // The readers of what is active at the phase's start, in slices of the two lists on the
     // physics threads (the job's end orders the marks before the lanes read them).
     const size_t n_out = s.out_list.size(), n = n_out + s.in_list.size();
-    const size_t slices = slice_count(r.phys.workers(), n, 64, kMaxSlices);
+    const size_t slices = slice_count(n, 64, kMaxSlices);
     auto marking = [&s, &sc, due, n, n_out, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         for (size_t k = b; k < e; ++k) {

@@ -59,7 +59,7 @@ void find_enabled(Runtime& r) {
     State& s = r.st;
     const size_t nets = r.tab.nets.size();
     Workers& w = r.phys.workers();
-    const size_t slices = slice_count(w, nets, 64, s.slice_fired.size());
+    const size_t slices = slice_count(nets, 64, s.slice_fired.size());
     s.fired.clear();
     if (w.threads() == 1 || slices <= 1) {
         for (size_t n = 0; n < nets; ++n) check_net(r, n, [&s](TransitionId t) { s.fired.push_back(t); });

@@ -289,7 +289,7 @@ void Physics::assign_worlds() {
         return any ? kVoid : kParked;  // parked: waits in the void's world, which is not stepped for it
     };
     const size_t nf = free_groups_.size();
-    const size_t slices = slice_count(*workers_, nf, 128, nf + 1);
+    const size_t slices = slice_count(nf, 128, nf + 1);
     auto decide = [this, &where, nf, slices](int i) {
         const auto [b, e] = slice_of(nf, slices, i);
         for (size_t k = b; k < e; ++k) {
@@ -369,7 +369,7 @@ void Physics::assign_worlds() {
     // Each world's movers (coasting ones are moved by us: transport.cpp), counted in slices of
     // movers_ on the physics threads, each slice into its own row; then the rows summed.
     const size_t nw = worlds_.size(), nm = movers_.size();
-    const size_t mslices = slice_count(*workers_, nm, 1024, kMaxSlices);  // slice_movers_ holds as many rows
+    const size_t mslices = slice_count(nm, 1024, kMaxSlices);  // slice_movers_ holds as many rows
     auto count = [this, nw, nm, mslices](int i) {
         int32_t* row = slice_movers_.data() + i * nw;
         std::fill(row, row + nw, 0);

@@ -45,7 +45,7 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     }
     // Slices of at least 256 bodies, four per thread at most: each writes its own entries.
     const size_t n = order_.size();
-    const size_t slices = slice_count(w, n, 256, kSlices);
+    const size_t slices = slice_count(n, 256, kSlices);
     auto measuring = [this, &ph, aabbs, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         slice_max_[i] = measure(ph, aabbs, b, e);

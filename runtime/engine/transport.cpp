@@ -533,7 +533,7 @@ void check_steady(Runtime& r, bool left) {
     // threads (each writes its units' own entries and reads what no verdict changes); then
     // leaving and rejoining the solver, which touch the worlds, world by world (below).
     const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
-    const size_t slices = slice_count(ph.workers(), dyn.size(), 64, kMaxSlices);
+    const size_t slices = slice_count(dyn.size(), 64, kMaxSlices);
     // Each slice lists, from its own first index on, its units that land or leave (`events`)
     // and those off the solver after this step (`found`), both in id order.
     auto deciding = [&r, &dyn, vmax, slices](int i) {
@@ -636,7 +636,7 @@ void advance(Runtime& r, BodyId b) {
 void advance_steady(Runtime& r) {
     // Each unit on its own, in slices on the physics threads.
     const std::vector<BodyId>& units = r.steady.coasting;
-    const size_t slices = slice_count(r.phys.workers(), units.size(), 64, units.size() + 1);
+    const size_t slices = slice_count(units.size(), 64, units.size() + 1);
     auto moving = [&r, &units, slices](int i) {
         const auto [b, e] = slice_of(units.size(), slices, i);
         for (size_t k = b; k < e; ++k) advance(r, units[k]);

@@ -113,13 +113,15 @@ private:
 // kinds/trigger/run.cpp): an item writes only its own ids' entries (or its slice's), and
 // what touches shared state runs after the job on the calling thread, in id order.
 //
-// How many slices: at least `least` ids in each, four per thread at most, and at most `most`
-// (the size of a caller's per-slice scratch); at least one. Per-slice scratch sized for any
-// thread count holds kMaxSlices (four per thread, 16 threads).
+// How many slices: at least `least` ids in each, kMaxSlices at most (four per thread on 16
+// threads), and at most `most` (the size of a caller's per-slice scratch); at least one. The
+// count does not depend on how many threads run them: a job is cut the same way on 1 thread as
+// on 16, so the items a profile times on 2 threads are those 16 would share (its projection,
+// StepProfile::speedup, holds), and an item's size does not change with the machine.
 inline constexpr size_t kMaxSlices = 64;
-inline size_t slice_count(const Workers& w, size_t n, size_t least, size_t most) {
-    const size_t by_size = (n + least - 1) / least, by_threads = size_t(4 * w.threads());
-    const size_t c = by_size < by_threads ? by_size : by_threads;
+inline size_t slice_count(size_t n, size_t least, size_t most) {
+    const size_t by_size = (n + least - 1) / least;
+    const size_t c = by_size < kMaxSlices ? by_size : kMaxSlices;
     return c < 1 ? 1 : c < most ? c : most;
 }
 // Slice i of `count` over [0, n): its first id and the one after its last.
