@@ -36,6 +36,10 @@ void act_one(Runtime& r, const graph::Comp& c) {
     const double now = r.st.field_on[i] ? r.st.field_speed[i] : 0.0;
     if (now != was || a[slot::set_speed]) r.emit(c.slot_adr + slot::speed, now);
     if (r.st.field_on[i] != was_on) r.emit(c.slot_adr + slot::enabled, r.st.field_on[i] ? 1.0 : 0.0);
+    if (!r.st.field_is_touched[i]) {  // the physics phase looks at it again (engine/fields.cpp)
+        r.st.field_is_touched[i] = 1;
+        r.st.field_touched.push_back(i);
+    }
 }
 
 }  // namespace

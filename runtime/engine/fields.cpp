@@ -81,6 +81,7 @@ bool field_frame(Runtime& r, FieldId f) {
     const btMatrix3x3& R = ff.pose.getBasis();
     ff.K = R.scaled(r.tab.field_gain[f]) * R.transpose();  // R·diag(gain)·R^T
     const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
+    ff.half = h;
     ff.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
     ff.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
     ff.valid = true;
@@ -124,10 +125,9 @@ bool gather_fields(Runtime& r, BodyId b) {
     while (cell != cell_end || big != big_end) {  // the two id-ordered lists, merged
         const FieldId f(big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++);  // filed as numbers
         if (!s.field_act[f]) continue;
-        const Field& fd = r.g.fields[f];
         const State::FieldFrame& ff = s.field_frame[f];
         const btMatrix3x3& R = ff.pose.getBasis();
-        const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
+        const btVector3& h = ff.half;
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame
         if (std::abs(local.x()) > h.x() || std::abs(local.y()) > h.y() || std::abs(local.z()) > h.z()) continue;
         if (!have_v) {
@@ -136,6 +136,7 @@ bool gather_fields(Runtime& r, BodyId b) {
             s.ride_step[b] = s.step;
             s.ride_at[b] = p;
         }
+        const Field& fd = r.g.fields[f];
         const btVector3& gain = r.tab.field_gain[f];
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
         s.body_k[b] += gain[gain.maxAxis()];
@@ -203,6 +204,15 @@ void move_kinematic(Runtime& r) {
     }
 }
 
+// Whether field f acts now (on, with a gain) and its target velocity.
+void field_acts(Runtime& r, FieldId f) {
+    State& s = r.st;
+    const Field& fd = r.g.fields[f];
+    const btVector3& gain = r.tab.field_gain[f];
+    s.field_act[f] = fd.gain > 0 && s.field_on[f] && gain[gain.maxAxis()] > 0;
+    if (s.field_act[f]) s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+}
+
 }  // namespace
 
 // Each body gathers the fields its centre of mass is in (a grid of the fields' bounding
@@ -214,27 +224,35 @@ bool prepare_fields(Runtime& r) {
     const Graph& g = r.g;
     if (g.fields.empty()) return false;
     if (s.groups_version != r.phys.version()) rebuild_groups(r);
-    // Each field's frame and whether it acts, and whether a kinematic part left its room
-    // (transport.cpp), in slices on the physics threads: each writes its fields' own entries.
-    const size_t nf = g.fields.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
+    // Each field's frame and whether it acts (every field, or the carried ones: State::
+    // field_carried), and whether a kinematic part left its room (transport.cpp), in slices on
+    // the physics threads: each writes its fields' own entries.
+    bool all = !s.field_cells_valid || s.field_statics != r.phys.statics_placed();
+    for (size_t i = 0; i < s.commanded.size() && !all; ++i) {
+        const BodyId b = s.commanded[i];
+        all = g.bodies[b].mode == BodyMode::Static && !(s.cmd_lin[b] == Vec3{0, 0, 0} && s.cmd_ang[b] == Vec3{0, 0, 0});
+    }
+    const size_t nf = all ? g.fields.size() : s.field_carried.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
     const size_t slices = slice_count(nf + nk, 128, s.slice_moved.size());
-    auto frames = [&r, &s, &g, nf, nk, slices](int i) {
+    auto frames = [&r, &s, nf, nk, all, slices](int i) {
         bool moved = false;
-        for (FieldId f : slice_ids<FieldId>(nf, slices, i)) {
-            const Field& fd = g.fields[f];
-            s.field_act[f] = 0;
-            if (fd.gain <= 0) continue;
-            moved |= field_frame(r, f);
-            const btVector3& gain = r.tab.field_gain[f];
-            if (!s.field_on[f] || gain[gain.maxAxis()] <= 0) continue;
-            s.field_act[f] = 1;
-            s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+        const auto [fb, fe] = slice_of(nf, slices, i);
+        for (size_t k = fb; k < fe; ++k) {
+            const FieldId f = all ? FieldId(int32_t(k)) : s.field_carried[k];
+            if (r.g.fields[f].gain > 0) moved |= field_frame(r, f);
+            field_acts(r, f);
         }
         s.slice_moved[i] = moved;
         const auto [kb, ke] = slice_of(nk, slices, i);
         s.slice_left[i] = kb < ke && kinematic_left(r, kb, ke);
     };
     run_slices(r.phys.workers(), slices, frames);
+    for (FieldId f : s.field_touched) {
+        if (!all) field_acts(r, f);
+        s.field_is_touched[f] = 0;
+    }
+    s.field_touched.clear();
+    if (all) s.field_statics = r.phys.statics_placed();
     bool moved = !s.field_cells_valid, left = false;
     for (size_t i = 0; i < slices; ++i) moved |= s.slice_moved[i] != 0, left |= s.slice_left[i] != 0;
     if (moved) build_field_cells(r);

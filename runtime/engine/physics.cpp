@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
+#include <cstring>
 #include <cstdint>
 #include <cstdlib>
 #include <thread>
@@ -91,7 +93,35 @@ private:
 
 class IslandWorld : public btDiscreteDynamicsWorld {
 public:
-    using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+    IslandWorld(const Graph& g, btDispatcher* d, btBroadphaseInterface* bp, btConstraintSolver* cs,
+                btCollisionConfiguration* cc)
+        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g) {}
+
+    // Bullet's visits every collision object of the world and reads whether it is active: a
+    // cache miss each, and a line of the bottling plant has about 200 static bodies, which are
+    // never active (sleeping from the start, flagged static: nothing wakes them; membership.cpp).
+    // Here only the other objects are visited, in Bullet's order: the same boxes, updated in the
+    // same order. Which they are is found again whenever the world's list of objects changed (a
+    // body added or removed: compared as pointers, which reads no object).
+    void updateAabbs() override {
+        if (m_forceUpdateAllAabbs) return btDiscreteDynamicsWorld::updateAabbs();
+        const int n = m_collisionObjects.size();
+        if (n != seen_.size() || (n > 0 && std::memcmp(&seen_[0], &m_collisionObjects[0], sizeof(void*) * size_t(n)) != 0)) {
+            seen_.resize(n);
+            live_.resize(0);
+            for (int i = 0; i < n; ++i) {
+                seen_[i] = m_collisionObjects[i];
+                if (!fixed(*m_collisionObjects[i])) live_.push_back(i);
+            }
+        }
+        for (int k = 0; k < live_.size(); ++k) {
+            btCollisionObject* o = m_collisionObjects[live_[k]];
+            if (o->isActive()) updateSingleAabb(o);
+        }
+#ifndef NDEBUG
+        for (int i = 0; i < n; ++i) assert(!fixed(*m_collisionObjects[i]) || !m_collisionObjects[i]->isActive());
+#endif
+    }
     void solveConstraints(btContactSolverInfo& info) override {
         m_sortedConstraints.resize(m_constraints.size());
         for (int i = 0; i < m_constraints.size(); ++i) m_sortedConstraints[i] = m_constraints[i];
@@ -120,7 +150,16 @@ public:
     }
 
 private:
+    // A body the graph declares static: never active in Bullet's sense.
+    bool fixed(const btCollisionObject& o) const {
+        const int b = o.getUserIndex();
+        return b >= 0 && b < g_.bodies.count() && g_.bodies[BodyId(b)].mode == BodyMode::Static;
+    }
+
     IslandSolver islands_;
+    const Graph& g_;
+    btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
+    btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies
 };
 
 bool pooled(const Graph& g, const Tables& t, DoId d) {
@@ -156,7 +195,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
     } else {
         w.broadphase = std::make_unique<btDbvtBroadphase>();
     }
-    w.world = std::make_unique<IslandWorld>(w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
+    w.world = std::make_unique<IslandWorld>(g_, w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
     w.world->setGravity(gravity_);
     w.world->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
     // Contact normals between boxes and hulls from the separating-axis test on their

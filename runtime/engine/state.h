@@ -133,15 +133,25 @@ struct State {
     // Each field's pose, gain matrix and reach in x and y, for the Bullet frame its
     // carrier had (most carriers never move: a band).
     struct FieldFrame {
-        btTransform carrier, pose;
-        btMatrix3x3 K;
-        btScalar rx = 0, ry = 0;
+        btTransform pose;  // the field's box: its frame and its half extents (what lookups read)
+        btVector3 half;
         bool valid = false;
+        btScalar rx = 0, ry = 0;
+        btTransform carrier;
+        btMatrix3x3 K;
     };
     PerField<FieldFrame> field_frame;
     // Per field, this step: acting (on, gain > 0), target velocity.
     PerField<uint8_t> field_act;
     PerField<btVector3> field_target;
+    // The physics phase looks at every field's frame, and whether it acts, only after a static
+    // body was placed (or a velocity command moves one): a field without a carrier or on a
+    // static body stays where it is. In other steps it looks at the fields carried by a body
+    // that is not static (`field_carried`) and at those whose inputs were written since it
+    // last looked (`field_touched`, each once: kinds/field/run.cpp).
+    std::vector<graph::FieldId> field_carried, field_touched;
+    PerField<uint8_t> field_is_touched;
+    uint64_t field_statics = UINT64_MAX;  // Physics::statics_placed when it last looked at every field
     // The fields by 1 m cells of (x, y) of their bounding boxes (fields.cpp): cell keys sorted,
     // each with its fields in id order; fields covering very many cells are in `field_big`.
     std::vector<uint64_t> field_cells;

@@ -160,7 +160,7 @@ void build_grid(Runtime& r) {
     for (BodyId b : ids_of(r.g.bodies)) {
         const BodyMode mode = r.g.bodies[b].mode;
         if (mode == BodyMode::Dynamic) continue;
-        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b};
+        Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, mode == BodyMode::Static};
         const btRigidBody& rb = ph.rb(b);
         if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
@@ -212,7 +212,7 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
         const FieldId f(cell != cell_end ? *cell++ : *big++);  // filed as numbers
         const State::FieldFrame& ff = s.field_frame[f];
         const btMatrix3x3& R = ff.pose.getBasis();
-        const btVector3 h = to_bt(r.g.fields[f].extent) * btScalar(0.5);
+        const btVector3& h = ff.half;
         const btVector3 a = (p - ff.pose.getOrigin()) * R, b = (q - ff.pose.getOrigin()) * R;
         bool in = true, out = false;
         for (int i = 0; i < 3; ++i) {
@@ -350,9 +350,8 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         return guide_by(ph, b, now, out);
     };
     auto hazard = [&](const Steady::Hazard& h) {
-        const bool fixed = r.g.bodies[h.body].mode == BodyMode::Static;
-        if (fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
-        if (!fixed) return part(h);
+        if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
+        if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
             ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)

@@ -59,6 +59,7 @@ struct Steady {
     struct Hazard {
         btVector3 lo, hi;
         graph::BodyId body;        // the static or kinematic body
+        bool fixed = false;        // a static body (else a kinematic part)
         bool box = false;          // a box with its faces on the world's axes (a static piece's
                                    // [lo, hi] is it; a kinematic part's is its room)
         int16_t piece = -1;        // its piece of a static compound
