@@ -106,6 +106,8 @@ void build_field_cells(Runtime& r) {
     s.field_cells_valid = true;
 }
 
+constexpr btScalar kOutside = btScalar(1e-4);  // m: beyond a field's bounding box (rounding is far less)
+
 // The law of every field body b's centre of mass is in, summed in field id order (so the sums
 // do not depend on how bodies are split among threads). Returns whether any field acts on it.
 bool gather_fields(Runtime& r, BodyId b) {
@@ -126,6 +128,9 @@ bool gather_fields(Runtime& r, BodyId b) {
         const FieldId f(big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++);  // filed as numbers
         if (!s.field_act[f]) continue;
         const State::FieldFrame& ff = s.field_frame[f];
+        // Outside its bounding box in x or y (by more than rounding): outside it.
+        const btVector3& c = ff.pose.getOrigin();
+        if (std::abs(p.x() - c.x()) - ff.rx > kOutside || std::abs(p.y() - c.y()) - ff.ry > kOutside) continue;
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame

@@ -206,11 +206,18 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     const int32_t *cell = nullptr, *cell_end = nullptr;
     cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, cell_end);
     const btVector3 q = p + v * btScalar(2 * r.dt);
+    // A field whose bounding box is farther from p in x or y than twice the margin and the
+    // path's length is 'out' below: p's distance to its box is at least that, so p lies beyond
+    // one of its faces by more than that over the square root of 3, and q too (it is no farther
+    // from p along any axis than the path's length). Twice, not the root of 3: room for rounding.
+    const btScalar clear = btScalar(2) * (kFieldMargin + (q - p).length());
     FieldId found;
     const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
     while (cell != cell_end || big != big_end) {
         const FieldId f(cell != cell_end ? *cell++ : *big++);  // filed as numbers
         const State::FieldFrame& ff = s.field_frame[f];
+        const btVector3& c = ff.pose.getOrigin();
+        if (std::abs(p.x() - c.x()) - ff.rx >= clear || std::abs(p.y() - c.y()) - ff.ry >= clear) continue;
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3 a = (p - ff.pose.getOrigin()) * R, b = (q - ff.pose.getOrigin()) * R;
