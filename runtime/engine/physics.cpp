@@ -13,6 +13,7 @@
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btSliderConstraint.h>
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
+#include <BulletCollision/CollisionDispatch/btUnionFind.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
 #include <algorithm>
@@ -100,27 +101,63 @@ public:
     // Bullet's visits every collision object of the world and reads whether it is active: a
     // cache miss each, and a line of the bottling plant has about 200 static bodies, which are
     // never active (sleeping from the start, flagged static: nothing wakes them; membership.cpp).
-    // Here only the other objects are visited, in Bullet's order: the same boxes, updated in the
-    // same order. Which they are is found again whenever the world's list of objects changed (a
-    // body added or removed: compared as pointers, which reads no object).
+    // Here only the other objects are visited (list_live), in Bullet's order: the same boxes,
+    // updated in the same order.
     void updateAabbs() override {
         if (m_forceUpdateAllAabbs) return btDiscreteDynamicsWorld::updateAabbs();
-        const int n = m_collisionObjects.size();
-        if (n != seen_.size() || (n > 0 && std::memcmp(&seen_[0], &m_collisionObjects[0], sizeof(void*) * size_t(n)) != 0)) {
-            seen_.resize(n);
-            live_.resize(0);
-            for (int i = 0; i < n; ++i) {
-                seen_[i] = m_collisionObjects[i];
-                if (!fixed(*m_collisionObjects[i])) live_.push_back(i);
-            }
-        }
+        list_live();
         for (int k = 0; k < live_.size(); ++k) {
             btCollisionObject* o = m_collisionObjects[live_[k]];
             if (o->isActive()) updateSingleAabb(o);
         }
 #ifndef NDEBUG
-        for (int i = 0; i < n; ++i) assert(!fixed(*m_collisionObjects[i]) || !m_collisionObjects[i]->isActive());
+        for (int i = 0; i < m_collisionObjects.size(); ++i)
+            assert(!fixed(*m_collisionObjects[i]) || !m_collisionObjects[i]->isActive());
 #endif
+    }
+
+    // Bullet's islands (btDiscreteDynamicsWorld::calculateSimulationIslands with its island
+    // manager's two passes, as built: STATIC_SIMULATION_ISLAND_OPTIMIZATION) write an island
+    // tag, a companion id and a hit fraction into every object of the world each step, the
+    // static bodies' included (a cache miss each, and most of the step's missed writes). A
+    // static body always ends with tag -1, companion -2, fraction 1, and nothing reads them
+    // in between (static bodies merge no islands): they are written once, when the list of
+    // the other objects is found, and the passes visit those others, in Bullet's order, with
+    // Bullet's union-find indices (counted over the objects that are not static or kinematic).
+    void calculateSimulationIslands() override {
+        list_live();
+        btSimulationIslandManager& im = *getSimulationIslandManager();
+        int index = 0;
+        for (int k = 0; k < live_.size(); ++k) {
+            btCollisionObject* o = m_collisionObjects[live_[k]];
+            if (!o->isStaticOrKinematicObject()) o->setIslandTag(index++);
+            o->setCompanionId(-1);
+            o->setHitFraction(btScalar(1));
+        }
+        im.initUnionFind(index);
+        im.findUnions(getDispatcher(), this);
+        btUnionFind& islands = im.getUnionFind();
+        auto unite = [&islands](const btCollisionObject* a, const btCollisionObject* b) {
+            if (a && b && !a->isStaticOrKinematicObject() && !b->isStaticOrKinematicObject())
+                islands.unite(a->getIslandTag(), b->getIslandTag());
+        };
+        for (int i = 0; i < m_predictiveManifolds.size(); ++i)
+            unite(m_predictiveManifolds[i]->getBody0(), m_predictiveManifolds[i]->getBody1());
+        for (int i = 0; i < m_constraints.size(); ++i)
+            if (m_constraints[i]->isEnabled()) unite(&m_constraints[i]->getRigidBodyA(), &m_constraints[i]->getRigidBodyB());
+        index = 0;
+        for (int k = 0; k < live_.size(); ++k) {
+            btCollisionObject* o = m_collisionObjects[live_[k]];
+            if (!o->isStaticOrKinematicObject()) {
+                o->setIslandTag(islands.find(index));
+                islands.getElement(index).m_sz = live_[k];  // its index in the world's objects
+                o->setCompanionId(-1);
+                ++index;
+            } else {
+                o->setIslandTag(-1);
+                o->setCompanionId(-2);
+            }
+        }
     }
     void solveConstraints(btContactSolverInfo& info) override {
         m_sortedConstraints.resize(m_constraints.size());
@@ -150,6 +187,27 @@ public:
     }
 
 private:
+    // The indices of the world's objects that are not static bodies, found again whenever the
+    // world's list of objects changed (a body added or removed: compared as pointers, which
+    // reads no object); a static body found then gets the island fields Bullet would give it.
+    void list_live() {
+        const int n = m_collisionObjects.size();
+        if (n == seen_.size() && (n == 0 || std::memcmp(&seen_[0], &m_collisionObjects[0], sizeof(void*) * size_t(n)) == 0))
+            return;
+        seen_.resize(n);
+        live_.resize(0);
+        for (int i = 0; i < n; ++i) {
+            btCollisionObject* o = seen_[i] = m_collisionObjects[i];
+            if (!fixed(*o)) {
+                live_.push_back(i);
+            } else {
+                o->setIslandTag(-1);
+                o->setCompanionId(-2);
+                o->setHitFraction(btScalar(1));
+            }
+        }
+    }
+
     // A body the graph declares static: never active in Bullet's sense.
     bool fixed(const btCollisionObject& o) const {
         const int b = o.getUserIndex();
