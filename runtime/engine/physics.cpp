@@ -111,8 +111,10 @@ public:
             if (o->isActive()) updateSingleAabb(o);
         }
 #ifndef NDEBUG
-        for (int i = 0; i < m_collisionObjects.size(); ++i)
-            assert(!fixed(*m_collisionObjects[i]) || !m_collisionObjects[i]->isActive());
+        for (int i = 0; i < m_collisionObjects.size(); ++i) {
+            const btCollisionObject& o = *m_collisionObjects[i];
+            assert(!fixed(o) || (!o.isActive() && o.isStaticObject()));
+        }
 #endif
     }
 
@@ -136,10 +138,10 @@ public:
         }
         im.initUnionFind(index);
         im.findUnions(getDispatcher(), this);
-        btUnionFind& islands = im.getUnionFind();
-        auto unite = [&islands](const btCollisionObject* a, const btCollisionObject* b) {
+        btUnionFind& unions = im.getUnionFind();
+        auto unite = [&unions](const btCollisionObject* a, const btCollisionObject* b) {
             if (a && b && !a->isStaticOrKinematicObject() && !b->isStaticOrKinematicObject())
-                islands.unite(a->getIslandTag(), b->getIslandTag());
+                unions.unite(a->getIslandTag(), b->getIslandTag());
         };
         for (int i = 0; i < m_predictiveManifolds.size(); ++i)
             unite(m_predictiveManifolds[i]->getBody0(), m_predictiveManifolds[i]->getBody1());
@@ -149,8 +151,8 @@ public:
         for (int k = 0; k < live_.size(); ++k) {
             btCollisionObject* o = m_collisionObjects[live_[k]];
             if (!o->isStaticOrKinematicObject()) {
-                o->setIslandTag(islands.find(index));
-                islands.getElement(index).m_sz = live_[k];  // its index in the world's objects
+                o->setIslandTag(unions.find(index));
+                unions.getElement(index).m_sz = live_[k];  // its index in the world's objects
                 o->setCompanionId(-1);
                 ++index;
             } else {
