@@ -31,6 +31,13 @@ struct GraphicsData : KindData {
     size_t roots = 0;               // its first ones, with no parent (on a body or alone)
     graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
     std::vector<uint8_t> flags;     // per root in `order`: what it publishes (advance_one)
+    // A root on a static body that its last visit left as it stays while nothing moves the
+    // body (in the world, no animation, its base taken, its last pose its pose): `still`, not
+    // visited again until a static body is placed or commanded (Physics::statics_placed when
+    // last visited: `statics`), it leaves the world, or an input moves or animates it.
+    graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the static body it is on
+    graph::IdVector<GraphicsId, uint8_t> still;
+    uint64_t statics = UINT64_MAX;
 };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
@@ -54,6 +61,11 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
         else if (gr.parent.valid()) s->local[i] = pmul(pinv(g.graphics[gr.parent].pose), gr.pose);
     }
     s->flags.assign(g.graphics.size(), 0);
+    s->body.assign(g.graphics.size(), graph::BodyId{});
+    for (GraphicsId i : ids_of(g.graphics))
+        if (g.graphics[i].body.valid() && g.bodies[g.graphics[i].body].mode == graph::BodyMode::Static)
+            s->body[i] = g.graphics[i].body;
+    s->still.assign(g.graphics.size(), 0);
     return s;
 }
 
@@ -144,9 +156,21 @@ void sense_all(Runtime& r) {
     const size_t roots = data.roots;
     std::vector<uint8_t>& flags = data.flags;
     const size_t slices = slice_count(roots, 256, roots + 1);
-    auto poses = [&r, &data, &order, &flags, roots, slices](int i) {
+    const bool all = data.statics != r.phys.statics_placed() || static_commanded(r);
+    data.statics = r.phys.statics_placed();
+    auto poses = [&r, &data, &order, &flags, roots, slices, all](int i) {
         const auto [b, e] = slice_of(roots, slices, i);
-        for (size_t k = b; k < e; ++k) flags[k] = to_publish(r, order[k], advance_one(r, data, order[k]));
+        for (size_t k = b; k < e; ++k) {
+            const GraphicsId g = order[k];
+            const graph::BodyId body = data.body[g];
+            if (!all && data.still[g] && r.phys.in_world(body)) {
+                flags[k] = 0;  // what advance_one would find: the pose as it was
+                continue;
+            }
+            flags[k] = to_publish(r, g, advance_one(r, data, g));
+            const GraphicsState& gs = r.st.graphics[g];
+            data.still[g] = body.valid() && r.phys.in_world(body) && gs.anim < 0 && gs.base_fresh && same(gs.prev, gs.pose);
+        }
     };
     run_slices(r.phys.workers(), slices, poses);
     for (size_t k = 0; k < roots; ++k)
@@ -158,6 +182,7 @@ void sense_all(Runtime& r) {
 }
 
 void play_animation(Runtime& r, AnimationId anim) {
+    own(r).still[r.g.animations[anim].graphics] = 0;
     GraphicsState& gs = r.st.graphics[r.g.animations[anim].graphics];
     gs.anim = anim.v;  // replaces one playing: a graphics plays one animation at a time
     gs.t = 0;
@@ -185,6 +210,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
         const double* v = r.val(c.slot_adr + slot::set_pose);
         r.st.graphics[i].base = graph::Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
         r.st.graphics[i].base_fresh = false;
+        own(r).still[i] = 0;
     }
     // Its slots after the fixed ones: an animation's play, a variant's select.
     for (graph::SlotId x : graph::IdRange<graph::SlotId>{(c.slot_adr + slot::count).v, (c.slot_adr + c.slot_num).v}) {
