@@ -31,14 +31,19 @@ struct GraphicsData : KindData {
     size_t roots = 0;               // its first ones, with no parent (on a body or alone)
     graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
     std::vector<uint8_t> flags;     // per root in `order`: what it publishes (advance_one)
-    // A root on a static body that its last visit left as it stays while nothing moves the
-    // body (in the world, no animation, its base taken, its last pose its pose): `still`, not
-    // visited again until a static body is placed or commanded (Physics::statics_placed when
-    // last visited: `statics`), it leaves the world, or an input moves or animates it.
-    graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the static body it is on
-    graph::IdVector<GraphicsId, uint8_t> still;
+    // A root on a body whose last visit changed nothing and would change nothing again (see
+    // advance_one) while the body stays out of the world (kParked: no animation playing), or,
+    // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
+    // last pose its pose) is not visited. A static body moves only when placed or commanded
+    // (Physics::statics_placed when last visited: `statics`); an input that moves or animates
+    // the graphics clears its mark.
+    graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the body it is on
+    graph::IdVector<GraphicsId, uint8_t> fixed;       // ... and whether that body is static
+    graph::IdVector<GraphicsId, uint8_t> still;       // kMoving, kParked, kStanding
     uint64_t statics = UINT64_MAX;
 };
+
+enum : uint8_t { kMoving = 0, kParked, kStanding };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     auto s = std::make_unique<GraphicsData>();
@@ -62,10 +67,12 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     }
     s->flags.assign(g.graphics.size(), 0);
     s->body.assign(g.graphics.size(), graph::BodyId{});
-    for (GraphicsId i : ids_of(g.graphics))
-        if (g.graphics[i].body.valid() && g.bodies[g.graphics[i].body].mode == graph::BodyMode::Static)
-            s->body[i] = g.graphics[i].body;
-    s->still.assign(g.graphics.size(), 0);
+    s->fixed.assign(g.graphics.size(), 0);
+    for (GraphicsId i : ids_of(g.graphics)) {
+        s->body[i] = g.graphics[i].body;
+        s->fixed[i] = s->body[i].valid() && g.bodies[s->body[i]].mode == graph::BodyMode::Static;
+    }
+    s->still.assign(g.graphics.size(), kMoving);
     return s;
 }
 
@@ -163,13 +170,17 @@ void sense_all(Runtime& r) {
         for (size_t k = b; k < e; ++k) {
             const GraphicsId g = order[k];
             const graph::BodyId body = data.body[g];
-            if (!all && data.still[g] && r.phys.in_world(body)) {
-                flags[k] = 0;  // what advance_one would find: the pose as it was
+            const uint8_t still = data.still[g];
+            if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body))) {
+                flags[k] = 0;  // what advance_one would find: nothing to do, nothing changed
                 continue;
             }
             flags[k] = to_publish(r, g, advance_one(r, data, g));
             const GraphicsState& gs = r.st.graphics[g];
-            data.still[g] = body.valid() && r.phys.in_world(body) && gs.anim < 0 && gs.base_fresh && same(gs.prev, gs.pose);
+            data.still[g] = !body.valid() || gs.anim >= 0 ? kMoving
+                            : !r.phys.in_world(body)   ? kParked
+                            : data.fixed[g] && gs.base_fresh && same(gs.prev, gs.pose) ? kStanding
+                                                                                        : kMoving;
         }
     };
     run_slices(r.phys.workers(), slices, poses);
@@ -182,7 +193,7 @@ void sense_all(Runtime& r) {
 }
 
 void play_animation(Runtime& r, AnimationId anim) {
-    own(r).still[r.g.animations[anim].graphics] = 0;
+    own(r).still[r.g.animations[anim].graphics] = kMoving;
     GraphicsState& gs = r.st.graphics[r.g.animations[anim].graphics];
     gs.anim = anim.v;  // replaces one playing: a graphics plays one animation at a time
     gs.t = 0;
@@ -210,7 +221,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
         const double* v = r.val(c.slot_adr + slot::set_pose);
         r.st.graphics[i].base = graph::Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
         r.st.graphics[i].base_fresh = false;
-        own(r).still[i] = 0;
+        own(r).still[i] = kMoving;
     }
     // Its slots after the fixed ones: an animation's play, a variant's select.
     for (graph::SlotId x : graph::IdRange<graph::SlotId>{(c.slot_adr + slot::count).v, (c.slot_adr + c.slot_num).v}) {
