@@ -37,6 +37,8 @@ struct GraphicsData : KindData {
     // last pose its pose) is not visited. A static body moves only when placed or commanded
     // (Physics::statics_placed when last visited: `statics`); an input that moves or animates
     // the graphics clears its mark.
+    // Per graphics, Graphics::body and whether it is static, in arrays of their own: the skip
+    // reads them for every root each step, and a Graphics row is large.
     graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the body it is on
     graph::IdVector<GraphicsId, uint8_t> fixed;       // ... and whether that body is static
     graph::IdVector<GraphicsId, uint8_t> still;       // kMoving, kParked, kStanding

@@ -128,9 +128,7 @@ bool gather_fields(Runtime& r, BodyId b) {
         const FieldId f(big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++);  // filed as numbers
         if (!s.field_act[f]) continue;
         const State::FieldFrame& ff = s.field_frame[f];
-        // Outside its bounding box in x or y (by more than rounding): outside it.
-        const btVector3& c = ff.pose.getOrigin();
-        if (std::abs(p.x() - c.x()) - ff.rx > kOutside || std::abs(p.y() - c.y()) - ff.ry > kOutside) continue;
+        if (ff.beyond_xy(p) > kOutside) continue;  // outside its bounding box (by more than rounding)
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame

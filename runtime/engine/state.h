@@ -11,7 +11,9 @@
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -136,7 +138,12 @@ struct State {
         btTransform pose;  // the field's box: its frame and its half extents (what lookups read)
         btVector3 half;
         bool valid = false;
-        btScalar rx = 0, ry = 0;
+        btScalar rx = 0, ry = 0;  // its bounding box's half sizes in x and y
+        // How far p is outside the field's bounding box in x or y (negative: within it in both).
+        btScalar beyond_xy(const btVector3& p) const {
+            const btVector3& c = pose.getOrigin();
+            return std::max(std::abs(p.x() - c.x()) - rx, std::abs(p.y() - c.y()) - ry);
+        }
         btTransform carrier;
         btMatrix3x3 K;
     };

@@ -216,11 +216,11 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     while (cell != cell_end || big != big_end) {
         const FieldId f(cell != cell_end ? *cell++ : *big++);  // filed as numbers
         const State::FieldFrame& ff = s.field_frame[f];
-        const btVector3& c = ff.pose.getOrigin();
-        if (std::abs(p.x() - c.x()) - ff.rx >= clear || std::abs(p.y() - c.y()) - ff.ry >= clear) continue;
+        if (ff.beyond_xy(p) >= clear) continue;
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
-        const btVector3 a = (p - ff.pose.getOrigin()) * R, b = (q - ff.pose.getOrigin()) * R;
+        const btVector3& c = ff.pose.getOrigin();
+        const btVector3 a = (p - c) * R, b = (q - c) * R;
         bool in = true, out = false;
         for (int i = 0; i < 3; ++i) {
             in = in && std::abs(a[i]) + kFieldMargin <= h[i] && std::abs(b[i]) + kFieldMargin <= h[i];
