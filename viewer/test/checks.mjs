@@ -234,7 +234,9 @@ export async function lostMarked({ page, scene, check, until, sleep, elapsed }) 
   const pick = await until(() => page.evaluate((ids) => {
     for (const id of ids) {
       const p = plantViewer.bodyPose(id);
-      if ((plantViewer.bodyState(id) & 1) && p[2] < 0.05 && p[2] > 0.02) return { id, p: p.slice(0, 3) };
+      // On the right side of the loop, past the arm: no station or gripper holds a bottle
+      // there (a held one is not free to take, and the hand would be refused).
+      if ((plantViewer.bodyState(id) & 1) && p[0] > 5.2 && p[1] > 0.6 && p[1] < 1.5 && p[2] < 0.05 && p[2] > 0.02) return { id, p: p.slice(0, 3) };
     }
     return null;
   }, scene.bodies.filter(isBottle).map((b) => b.id)), 30_000, 50);
@@ -250,6 +252,16 @@ export async function lostMarked({ page, scene, check, until, sleep, elapsed }) 
       [pick.p[0] + (over[0] - pick.p[0]) * t, pick.p[1] + (over[1] - pick.p[1]) * t, over[2]]);
     await sleep(150);
   }
+  // The hand follows at a bounded speed (1 m/s): let go only once the bottle is over the
+  // middle of the loop. The hand holds the point it took, where the page last drew the
+  // bottle: the belt has carried the bottle on by the time the grab arrives, so its origin
+  // hangs a few centimetres from the target (nothing lies within 0.2 m of it).
+  const above = await until(() => page.evaluate((id, q) => {
+    const p = plantViewer.bodyPose(id);
+    return Math.hypot(p[0] - q[0], p[1] - q[1]) < 0.2 ? p.slice(0, 3) : null;
+  }, pick.id, over), 15_000, 50);
+  const at = await page.evaluate((id) => plantViewer.bodyPose(id).slice(0, 3), pick.id);
+  if (!check(above !== null, `the hand carries ${path} over the middle of the loop (at ${at.map((v) => v.toFixed(2))}, ${elapsed()})`)) return;
   await page.evaluate((path) => plantViewer.send({ type: 'hand', action: 'drop', path }), path);
   const lost = await until(() => page.evaluate((n) => ((plantViewer.lastStatus?.counters?.lost ?? 0) > n ? plantViewer.lost() : null), lostBefore), 30_000, 100);
   if (!check(lost !== null, `the bottle let go over nothing is counted lost (${elapsed()})`)) return;
