@@ -87,6 +87,13 @@ private:
 bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
 bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
 
+bool static_velocity(const Graph& g, SlotId slot) {
+    const Comp& c = g[g.slots[slot].comp];
+    const int32_t i = slot.v - c.slot_adr.v;
+    return c.kind == CompKind::Body && (i == bodyslot::set_velocity || i == bodyslot::set_angular_velocity) &&
+           g.bodies[detail_of<Body>(c)].mode == BodyMode::Static;
+}
+
 std::string_view input_range(const Graph& g, SlotId slot, const double* v) {
     const Slot& s = g.slots[slot];
     const Comp& c = g[s.comp];
@@ -101,6 +108,9 @@ std::string_view input_range(const Graph& g, SlotId slot, const double* v) {
     if ((body && (i == bodyslot::set_pose || i == bodyslot::set_position)) ||
         (c.kind == CompKind::Graphics && i == graphicsslot::set_pose))
         return within(3, kMaxLength) ? "" : "a place within 100 km";
+    // A static body does not move (its box in Bullet and steady transport's grid stay where it
+    // was placed): a velocity is for a dynamic or kinematic body, whatever its value.
+    if (static_velocity(g, slot)) return kStaticVelocity;
     if (body && i == bodyslot::set_velocity) return within(3, kMaxSpeed) ? "" : "a velocity within 100 km/s on each axis";
     if (body && i == bodyslot::set_angular_velocity)
         return within(3, kMaxTurnRate) ? "" : "an angular velocity within 1e6 rad/s on each axis";

@@ -60,8 +60,13 @@ bool gravity_in_range(const double* g);
 // in where the slot moves the physics: a body's or a graphics' set_pose and a body's
 // set_position a place within kMaxLength, a body's set_velocity kMaxSpeed and
 // set_angular_velocity kMaxTurnRate on each axis, a field's set_speed kMaxSpeed. Empty when
-// `v` (the slot's width of finite values) is in range; else the range, in words.
+// `v` (the slot's width of finite values) is in range; else the range, in words. A static
+// body's set_velocity and set_angular_velocity take no value at all (kStaticVelocity).
 std::string_view input_range(const Graph& g, SlotId slot, const double* v);
+// A static body's set_velocity or set_angular_velocity (compile error E0316 for a flow).
+bool static_velocity(const Graph& g, SlotId slot);
+inline constexpr std::string_view kStaticVelocity =
+    "no value: the body is static and does not move (declare it kinematic to command its velocity)";
 
 struct RangeFlaw {
     std::string_view table;  // as in the text form's tables: "dos", "bodies", ...

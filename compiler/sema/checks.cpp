@@ -140,6 +140,23 @@ void Elaborator::check_logic_cycles() {
     }
 }
 
+// A flow into a static body's set_velocity or set_angular_velocity: a static body does not
+// move, so the runtime would refuse every value the flow sends (graph/range.h). A flow whose
+// target is found at run time (an object reference) is refused there, counted as out of range.
+void Elaborator::check_static_velocities() {
+    for (graph::FlowId f : ids_of(g_.flows)) {
+        if (g_.flows[f].to_access.valid()) continue;
+        graph::each_written_slot(g_, g_.flows[f], [&](SlotId s) {
+            if (!graph::static_velocity(g_, s)) return;
+            const CompId c = g_.slots[s].comp;
+            auto& d = sink_.report(DiagId::StaticVelocity, flow_spans_[f],
+                                   fmt::format("'{}' is a static body: it does not move, so its {} takes no value",
+                                               g_.comp_path(c), g_.str(g_.slots[s].name)));
+            d.notes.push_back({comp_spans_[c], "declare it kinematic to command its velocity"});
+        });
+    }
+}
+
 namespace {
 
 // Why the bound: the one that applies to the flaw's field (language.md §6, "Range").

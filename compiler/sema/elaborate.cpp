@@ -121,6 +121,7 @@ void Elaborator::check_object(const ast::ObjectDecl& o, int module) {
     if (!sink_.has_errors()) check_petri_nets();  // a net or flow in error would mislead the analysis
     check_logic_cycles();
     check_ranges();
+    check_static_velocities();
     if (!sink_.has_errors()) check_conveyor_ends();  // a box in error would mislead it
 }
 
@@ -177,6 +178,7 @@ graph::Graph Elaborator::run(bool require_plant) {
     }
     check_logic_cycles();
     check_ranges();
+    check_static_velocities();
     if (!sink_.has_errors()) check_conveyor_ends();  // a box in error would mislead it
     return std::move(g_);
 }

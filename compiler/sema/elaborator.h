@@ -176,6 +176,7 @@ public:
     graph::IdVector<graph::SlotId, uint8_t> driven_or_exposed() const;
     void check_logic_cycles();
     void check_ranges();
+    void check_static_velocities();
     // geometry.cpp
     void check_conveyor_ends();
 

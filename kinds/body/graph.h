@@ -12,8 +12,8 @@
     S(set_pose, "set_pose", Pose, In, "teleports the body") \
     S(set_position, "set_position", Vec3, In, "teleports the body's origin") \
     S(set_orientation, "set_orientation", Quat, In, "sets the orientation") \
-    S(set_velocity, "set_velocity", Vec3, In, "sets the linear velocity") \
-    S(set_angular_velocity, "set_angular_velocity", Vec3, In, "sets the angular velocity") \
+    S(set_velocity, "set_velocity", Vec3, In, "sets the linear velocity (dynamic or kinematic body)") \
+    S(set_angular_velocity, "set_angular_velocity", Vec3, In, "sets the angular velocity (dynamic or kinematic body)") \
     S(collision_on, "collision_on", Void, In, "the body collides again") \
     S(collision_off, "collision_off", Void, In, "other bodies pass through it") \
     S(dynamics_on, "dynamics_on", Void, In, "the body is simulated again") \

@@ -34,8 +34,8 @@ struct GraphicsData : KindData {
     // A root on a body whose last visit changed nothing and would change nothing again (see
     // advance_one) while the body stays out of the world (kParked: no animation playing), or,
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
-    // last pose its pose) is not visited. A static body moves only when placed or commanded
-    // (Physics::statics_placed when last visited: `statics`); an input that moves or animates
+    // last pose its pose) is not visited. A static body moves only when placed (a velocity
+    // is refused: graph/range.h; Physics::statics_placed when last visited: `statics`); an input that moves or animates
     // the graphics clears its mark.
     // Per graphics, Graphics::body and whether it is static, in arrays of their own: the skip
     // reads them for every root each step, and a Graphics row is large.
@@ -165,7 +165,7 @@ void sense_all(Runtime& r) {
     const size_t roots = data.roots;
     std::vector<uint8_t>& flags = data.flags;
     const size_t slices = slice_count(roots, 256, roots + 1);
-    const bool all = data.statics != r.phys.statics_placed() || static_commanded(r);
+    const bool all = data.statics != r.phys.statics_placed();
     data.statics = r.phys.statics_placed();
     auto poses = [&r, &data, &order, &flags, roots, slices, all](int i) {
         const auto [b, e] = slice_of(roots, slices, i);

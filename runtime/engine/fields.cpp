@@ -218,14 +218,6 @@ void field_acts(Runtime& r, FieldId f) {
 
 }  // namespace
 
-bool static_commanded(const Runtime& r) {
-    const State& s = r.st;
-    for (const BodyId b : s.commanded)
-        if (r.g.bodies[b].mode == BodyMode::Static && !(s.cmd_lin[b] == Vec3{0, 0, 0} && s.cmd_ang[b] == Vec3{0, 0, 0}))
-            return true;
-    return false;
-}
-
 // Each body gathers the fields its centre of mass is in (a grid of the fields' bounding
 // boxes), and each physics world's bodies are done in that world's job (fields_of_world),
 // before Bullet steps it: the worlds of a plant in several regions run on the physics threads.
@@ -238,7 +230,7 @@ bool prepare_fields(Runtime& r) {
     // Each field's frame and whether it acts (every field, or the carried ones: State::
     // field_carried), and whether a kinematic part left its room (transport.cpp), in slices on
     // the physics threads: each writes its fields' own entries.
-    const bool all = !s.field_cells_valid || s.field_statics != r.phys.statics_placed() || static_commanded(r);
+    const bool all = !s.field_cells_valid || s.field_statics != r.phys.statics_placed();
     const size_t nf = all ? g.fields.size() : s.field_carried.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
     const size_t slices = slice_count(nf + nk, 128, s.slice_moved.size());
     auto frames = [&r, &s, nf, nk, all, slices](int i) {

@@ -91,9 +91,6 @@ void take_body_out(Runtime& r, graph::BodyId body);
 // The conveyor law of the fields (a kind on the kind table: kinds/field/) in phase 1
 // (fields.cpp, conveyor.cpp):
 bool prepare_fields(Runtime& r);     // fields.cpp: frames and cells; whether any field acts
-// fields.cpp: whether a velocity command moves a static body this step (else static bodies
-// move only when placed: Physics::statics_placed counts those).
-bool static_commanded(const Runtime& r);
 void list_field_bodies(Runtime& r);  // the bodies the law acts on, by physics world
 void integrate_single(Runtime& r, graph::BodyId body);  // the conveyor law's step
 void integrate_group(Runtime& r, graph::BodyId group);  // a rigid group, by its root body

@@ -152,7 +152,7 @@ struct State {
     PerField<uint8_t> field_act;
     PerField<btVector3> field_target;
     // The physics phase looks at every field's frame, and whether it acts, only after a static
-    // body was placed (or a velocity command moves one): a field without a carrier or on a
+    // body was placed (nothing else moves one: a velocity is refused): a field without a carrier or on a
     // static body stays where it is. In other steps it looks at the fields carried by a body
     // that is not static (`field_carried`) and at those whose inputs were written since it
     // last looked (`field_touched`, each once: kinds/field/run.cpp).

@@ -172,6 +172,14 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
         CHECK(run(g, {"--event", event}, out, err) == 2);
         CHECK_MESSAGE(err.find(words) != std::string::npos, err);
     }
+    // A static body takes no velocity, whatever the value (E0316 for a flow): refused when
+    // read, as an event and as a forced value.
+    for (const char* event : {"0.05s line.floor.set_velocity (0 0 0)", "0.05s line.rail_l.set_angular_velocity (0 0 1)",
+                              "0.05s force line.rail_r.set_velocity stuck (0.1 0 0)"}) {
+        CAPTURE(event);
+        CHECK(run(g, {"--event", event}, out, err) == 2);
+        CHECK_MESSAGE(err.find("it takes no value: the body is static and does not move") != std::string::npos, err);
+    }
     for (const char* event : {"0.05s bottle0.main.set_position (0 0 1e5)", "0.05s bottle0.main.set_velocity (-1e5 0 0)",
                               "0.05s bottle0.main.set_angular_velocity (0 1e6 0)", "0.05s line.belt.set_speed -1e5"}) {
         CAPTURE(event);
