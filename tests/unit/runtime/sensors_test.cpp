@@ -143,6 +143,73 @@ plant P {
     CHECK(shown("c.shown") == "c.glb");
 }
 
+// Graphics the runtime stops visiting while nothing can change them (kinds/graphics/run.cpp:
+// those on a parked body, and those on a static body standing as it stood) are visited again
+// when an animation plays on them, and when the static body is placed.
+TEST_CASE("runtime: an animation plays on the graphics of a parked body and of a standing static body") {
+    plant::Compilation c;
+    compile_text(R"(
+object Crate {
+    physics main: dynamic {
+        mass = 1 kg
+        shape box(10 cm, 10 cm, 10 cm)
+    }
+    graphics look on main {
+        model = "crate.glb"
+        animation nod { duration = 200 ms; move (0 m, 0 m, 1 cm) }
+    }
+}
+plant P {
+    physics ground: static { shape box(1 m, 1 m, 1 cm) at (0 m, 0 m, -5 mm) }
+    graphics sign on ground at (0 m, 0 m, 1 m) {
+        model = "sign.glb"
+        animation wave { duration = 200 ms; rotate z by 90 deg }
+    }
+    source store { object = Crate; pool = 2 }
+}
+)", c, "still.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const plant::graph::Graph& g = c.graph;
+    auto slot = [&](std::string_view path) {
+        for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+            if (g.slot_path(s) == path) return s;
+        FAIL("no slot " << path);
+        return plant::graph::SlotId{};
+    };
+    auto graphics = [&](std::string_view path) {
+        for (plant::graph::GraphicsId i : plant::graph::ids_of(g.graphics))
+            if (g.comp_path(g.graphics[i].comp) == path) return i;
+        FAIL("no graphics " << path);
+        return plant::graph::GraphicsId{};
+    };
+    const plant::graph::GraphicsId look = graphics("store[1].look"), sign = graphics("sign");
+    Engine e(g);
+    for (int i = 0; i < 10; ++i) e.step();  // both settled: store[1] in its pool, the ground standing
+    const plant::graph::Pose parked = e.graphics_pose(look), standing = e.graphics_pose(sign);
+
+    e.input(slot("store[1].look.nod.play"));
+    e.input(slot("sign.wave.play"));
+    bool nodded = false, waved = false;
+    for (int i = 0; i < 60; ++i) {
+        e.step();
+        nodded = nodded || e.active(slot("store[1].look.nod.finished"));
+        waved = waved || e.active(slot("sign.wave.finished"));
+    }
+    CHECK(nodded);
+    CHECK(waved);
+    CHECK(e.graphics_pose(look).p[2] == doctest::Approx(parked.p[2] + 0.01));
+    const auto q = e.graphics_pose(sign).q;
+    CHECK(2 * std::atan2(q[2], q[3]) == doctest::Approx(M_PI / 2));
+    CHECK(e.graphics_pose(sign).p[2] == doctest::Approx(standing.p[2]));
+
+    // The static body placed 2 m along x: its graphics follow, the animation's last key held.
+    e.input(slot("ground.set_position"), std::vector<double>{2, 0, -0.005});
+    for (int i = 0; i < 3; ++i) e.step();
+    CHECK(e.graphics_pose(sign).p[0] == doctest::Approx(standing.p[0] + 2));
+    CHECK(2 * std::atan2(e.graphics_pose(sign).q[2], e.graphics_pose(sign).q[3]) == doctest::Approx(M_PI / 2));
+}
+
 TEST_CASE("runtime: graphics attached to a body track it") {
     SceneBuilder b;
     int32_t d = b.dobj("thing");
