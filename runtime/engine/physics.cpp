@@ -94,9 +94,9 @@ private:
 
 class IslandWorld : public btDiscreteDynamicsWorld {
 public:
-    IslandWorld(const Graph& g, btDispatcher* d, btBroadphaseInterface* bp, btConstraintSolver* cs,
-                btCollisionConfiguration* cc)
-        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g) {}
+    IslandWorld(const Graph& g, std::vector<KinematicRest>& rest, btDispatcher* d, btBroadphaseInterface* bp,
+                btConstraintSolver* cs, btCollisionConfiguration* cc)
+        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest) {}
 
     // Bullet's visits every collision object of the world and reads whether it is active: a
     // cache miss each, and a line of the bottling plant has about 200 static bodies, which are
@@ -181,11 +181,35 @@ public:
 
     // Bullet's visits every collision object of the world, parked and static ones included;
     // kinematic bodies are all in the list of non-static ones (parked bodies are flagged static).
+    // Bullet works a kinematic body's velocity out of its transform's change (an inverse, a
+    // quaternion, an arc cosine), and most kinematic parts (pins, blades, an arm at rest) stand
+    // still: from a transform that did not move it writes what it wrote the step before. So a
+    // body declared kinematic keeps, in its KinematicRest (user index 2), what that step left
+    // (the transform, the velocities it wrote, the step); while all of it is still there bit
+    // for bit, the same call would write the same bits, and it is not made.
     void saveKinematicState(btScalar dt) override {
         for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
             btRigidBody* body = m_nonStaticRigidBodies[i];
-            if (body->getActivationState() != ISLAND_SLEEPING && body->isKinematicObject()) body->saveKinematicState(dt);
+            if (body->getActivationState() == ISLAND_SLEEPING || !body->isKinematicObject()) continue;
+            const int k = body->getUserIndex2();
+            if (k < 0) {
+                body->saveKinematicState(dt);
+                continue;
+            }
+            KinematicRest& rest = rest_[size_t(k)];
+            if (rest.valid && unchanged(*body, rest, dt)) continue;
+            const bool still = same_bits(body->getWorldTransform(), body->getInterpolationWorldTransform());
+            body->saveKinematicState(dt);
+            rest.valid = still;
+            if (still) rest = {body->getWorldTransform(), body->getLinearVelocity(), body->getAngularVelocity(), dt, true};
         }
+    }
+
+    // The indices of the objects that are not static bodies, as this step's list_live left
+    // them (the world's objects do not change while it steps).
+    std::span<const int> live() const {
+        assert(seen_.size() == m_collisionObjects.size());
+        return {live_.size() ? &live_[0] : nullptr, size_t(live_.size())};
     }
 
 private:
@@ -210,6 +234,19 @@ private:
         }
     }
 
+    template <class T>
+    static bool same_bits(const T& a, const T& b) {
+        return std::memcmp(&a, &b, sizeof(T)) == 0;
+    }
+    // Everything Bullet's saveKinematicState reads and writes, as it left them at `rest`.
+    static bool unchanged(const btRigidBody& body, const KinematicRest& rest, btScalar dt) {
+        return same_bits(dt, rest.dt) && same_bits(body.getWorldTransform(), rest.at) &&
+               same_bits(body.getInterpolationWorldTransform(), rest.at) &&
+               same_bits(body.getLinearVelocity(), rest.lin) && same_bits(body.getAngularVelocity(), rest.ang) &&
+               same_bits(body.getInterpolationLinearVelocity(), rest.lin) &&
+               same_bits(body.getInterpolationAngularVelocity(), rest.ang);
+    }
+
     // A body the graph declares static: never active in Bullet's sense.
     bool fixed(const btCollisionObject& o) const {
         const int b = o.getUserIndex();
@@ -218,6 +255,7 @@ private:
 
     IslandSolver islands_;
     const Graph& g_;
+    std::vector<KinematicRest>& rest_;  // Physics::kin_rest_: each body's entry touched by its world only
     btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
     btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies
 };
@@ -255,7 +293,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
     } else {
         w.broadphase = std::make_unique<btDbvtBroadphase>();
     }
-    w.world = std::make_unique<IslandWorld>(g_, w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
+    w.world = std::make_unique<IslandWorld>(g_, kin_rest_, w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
     w.world->setGravity(gravity_);
     w.world->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
     // Contact normals between boxes and hulls from the separating-axis test on their
@@ -298,6 +336,10 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         ci.m_angularDamping = btScalar(body.angular_damping);
         auto rb = std::make_unique<btRigidBody>(ci);
         rb->setUserIndex(b.v);
+        if (body.mode == BodyMode::Kinematic) {
+            rb->setUserIndex2(int(kin_rest_.size()));
+            kin_rest_.emplace_back();
+        }
         if (body.mode == BodyMode::Static) {
             rb->setActivationState(ISLAND_SLEEPING);
         } else {
@@ -445,6 +487,10 @@ Physics::~Physics() {
 }
 
 int Physics::threads() const { return workers_->threads(); }
+
+std::span<const int> Physics::live_objects(int w) const {
+    return static_cast<const IslandWorld&>(*worlds_[w].world).live();  // make_world's
+}
 
 void Physics::step(double dt) { step(dt, StepHooks{}); }
 

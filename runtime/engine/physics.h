@@ -16,6 +16,7 @@
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <memory>
+#include <span>
 #include <vector>
 
 class btCollisionConfiguration;
@@ -35,6 +36,15 @@ class Workers;
 // left out of the program). False in sanitizer builds, where Bullet uses the heap.
 bool install_bullet_pool();
 bool bullet_pool();  // whether this build has it (physics.cpp installs it before main)
+
+// A body declared kinematic, as Bullet's saveKinematicState last left it after working out
+// its velocity from a transform that had not moved (physics.cpp, IslandWorld).
+struct KinematicRest {
+    btTransform at;
+    btVector3 lin, ang;
+    btScalar dt = 0;
+    bool valid = false;
+};
 
 class Physics {
 public:
@@ -165,6 +175,9 @@ private:
     void weld_off(Weld& w);
     void follow(const Weld& w);
     void follow_world(int w);  // the welds whose carriers are in world w
+    // The indices in world w's objects of those that are not static bodies, as its last step
+    // found them (physics.cpp, IslandWorld): valid until a body joins or leaves that world.
+    std::span<const int> live_objects(int w) const;
     void unweld(graph::BodyId b);
     void reshape(graph::BodyId b, const BodyShape& s);
     btVector3 host_com(graph::BodyId b) const;
@@ -208,6 +221,7 @@ private:
     PerBody<uint8_t> in_world_, dyn_on_, coll_on_;
     PerJoint<uint8_t> joint_in_, joint_on_;
     PerBody<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp)
+    std::vector<KinematicRest> kin_rest_;  // per body declared kinematic (its user index 2)
     uint64_t statics_placed_ = 0;
     PerBody<int> group_, mask_;  // broadphase filter while in the world
     Csr<graph::BodyId, graph::JointId> body_joints_;
