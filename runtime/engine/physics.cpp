@@ -98,6 +98,23 @@ public:
                 btConstraintSolver* cs, btCollisionConfiguration* cc)
         : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest) {}
 
+    // The world's list of objects changes only through these (Bullet's addRigidBody calls
+    // addCollisionObject; its removeCollisionObject calls removeRigidBody for a rigid body):
+    // list_live finds the live objects again after any of them.
+    void addCollisionObject(btCollisionObject* o, int group = btBroadphaseProxy::StaticFilter,
+                            int mask = btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter) override {
+        btDiscreteDynamicsWorld::addCollisionObject(o, group, mask);
+        changed_ = true;
+    }
+    void removeCollisionObject(btCollisionObject* o) override {
+        btDiscreteDynamicsWorld::removeCollisionObject(o);
+        changed_ = true;
+    }
+    void removeRigidBody(btRigidBody* body) override {
+        btDiscreteDynamicsWorld::removeRigidBody(body);
+        changed_ = true;
+    }
+
     // Bullet's visits every collision object of the world and reads whether it is active: a
     // cache miss each, and a line of the bottling plant has about 200 static bodies, which are
     // never active (sleeping from the start, flagged static: nothing wakes them; membership.cpp).
@@ -214,12 +231,15 @@ public:
 
 private:
     // The indices of the world's objects that are not static bodies, found again whenever the
-    // world's list of objects changed (a body added or removed: compared as pointers, which
-    // reads no object); a static body found then gets the island fields Bullet would give it.
+    // world's list of objects changed (a body added or removed: `changed_`; a debug build
+    // compares the lists as pointers each time); a static body found then gets the island
+    // fields Bullet would give it.
     void list_live() {
         const int n = m_collisionObjects.size();
-        if (n == seen_.size() && (n == 0 || std::memcmp(&seen_[0], &m_collisionObjects[0], sizeof(void*) * size_t(n)) == 0))
-            return;
+        assert(changed_ || (n == seen_.size() && (n == 0 || std::memcmp(&seen_[0], &m_collisionObjects[0],
+                                                                         sizeof(void*) * size_t(n)) == 0)));
+        if (!changed_) return;
+        changed_ = false;
         seen_.resize(n);
         live_.resize(0);
         for (int i = 0; i < n; ++i) {
@@ -256,6 +276,7 @@ private:
     IslandSolver islands_;
     const Graph& g_;
     std::vector<KinematicRest>& rest_;  // Physics::kin_rest_: each body's entry touched by its world only
+    bool changed_ = true;                             // objects added or removed since live_ was found
     btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
     btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies
 };
