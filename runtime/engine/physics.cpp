@@ -213,7 +213,7 @@ public:
                 body->saveKinematicState(dt);
                 continue;
             }
-            KinematicRest& rest = rest_[size_t(k)];
+            KinematicRest& rest = rest_[k];
             if (rest.valid && unchanged(*body, rest, dt)) continue;
             const bool still = same_bits(body->getWorldTransform(), body->getInterpolationWorldTransform());
             body->saveKinematicState(dt);
@@ -226,7 +226,8 @@ public:
     // them (the world's objects do not change while it steps).
     std::span<const int> live() const {
         assert(seen_.size() == m_collisionObjects.size());
-        return {live_.size() ? &live_[0] : nullptr, size_t(live_.size())};
+        const int* first = live_.size() ? &live_[0] : nullptr;
+        return {first, first + live_.size()};
     }
 
 private:
