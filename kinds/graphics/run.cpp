@@ -34,9 +34,9 @@ struct GraphicsData : KindData {
     // A root on a body whose last visit changed nothing and would change nothing again (see
     // advance_one) while the body stays out of the world (kParked: no animation playing), or,
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
-    // last pose its pose) is not visited. A static body moves only when placed (a velocity
-    // is refused: graph/range.h; Physics::statics_placed when last visited: `statics`); an input that moves or animates
-    // the graphics clears its mark.
+    // last pose its pose) is not visited. A static body moves only when placed (a velocity is
+    // refused: graph/range.h; Physics::statics_placed when last visited: `statics`); an input
+    // that moves or animates the graphics clears its mark.
     // Per graphics, Graphics::body and whether it is static, in arrays of their own: the skip
     // reads them for every root each step, and a Graphics row is large.
     graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the body it is on

@@ -217,8 +217,8 @@ public:
             if (rest.valid && unchanged(*body, rest, dt)) continue;
             const bool still = same_bits(body->getWorldTransform(), body->getInterpolationWorldTransform());
             body->saveKinematicState(dt);
-            rest.valid = still;
             if (still) rest = {body->getWorldTransform(), body->getLinearVelocity(), body->getAngularVelocity(), dt, true};
+            else rest.valid = false;
         }
     }
 
@@ -277,7 +277,7 @@ private:
     IslandSolver islands_;
     const Graph& g_;
     std::vector<KinematicRest>& rest_;  // Physics::kin_rest_: each body's entry touched by its world only
-    bool changed_ = true;                             // objects added or removed since live_ was found
+    bool changed_ = true;               // objects added or removed since live_ was found
     btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
     btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies
 };
