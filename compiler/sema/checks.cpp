@@ -9,6 +9,7 @@
 #include "petri/analysis.h"
 
 #include <fmt/format.h>
+#include <set>
 #include <tuple>
 
 namespace plant::sema {
@@ -143,15 +144,19 @@ void Elaborator::check_logic_cycles() {
 // A flow into a static body's set_velocity or set_angular_velocity: a static body does not
 // move, so the runtime would refuse every value the flow sends (graph/range.h). A flow whose
 // target is found at run time (an object reference) is refused there, counted as out of range.
+// One error per flow declaration, so a type used many times reports once (its body by name).
 void Elaborator::check_static_velocities() {
+    std::set<std::tuple<int32_t, uint32_t, int32_t>> reported;  // the flow's file and place, the slot's index
     for (graph::FlowId f : ids_of(g_.flows)) {
         if (g_.flows[f].to_access.valid()) continue;
         graph::each_written_slot(g_, g_.flows[f], [&](SlotId s) {
             if (!graph::static_velocity(g_, s)) return;
             const CompId c = g_.slots[s].comp;
-            auto& d = sink_.report(DiagId::StaticVelocity, flow_spans_[f],
+            const Span at = flow_spans_[f];
+            if (!reported.insert({at.file, at.begin, s.v - g_.comps[c].slot_adr.v}).second) return;
+            auto& d = sink_.report(DiagId::StaticVelocity, at,
                                    fmt::format("'{}' is a static body: it does not move, so its {} takes no value",
-                                               g_.comp_path(c), g_.str(g_.slots[s].name)));
+                                               g_.str(g_.comps[c].name), g_.str(g_.slots[s].name)));
             d.notes.push_back({comp_spans_[c], "declare it kinematic to command its velocity"});
         });
     }

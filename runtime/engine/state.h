@@ -152,10 +152,10 @@ struct State {
     PerField<uint8_t> field_act;
     PerField<btVector3> field_target;
     // The physics phase looks at every field's frame, and whether it acts, only after a static
-    // body was placed (nothing else moves one: a velocity is refused): a field without a carrier or on a
-    // static body stays where it is. In other steps it looks at the fields carried by a body
-    // that is not static (`field_carried`) and at those whose inputs were written since it
-    // last looked (`field_touched`, each once: kinds/field/run.cpp).
+    // body was placed (nothing else moves one: a velocity is refused): a field without a
+    // carrier or on a static body stays where it is. In other steps it looks at the fields
+    // carried by a body that is not static (`field_carried`) and at those whose inputs were
+    // written since it last looked (`field_touched`, each once: kinds/field/run.cpp).
     std::vector<graph::FieldId> field_carried, field_touched;
     PerField<uint8_t> field_is_touched;
     uint64_t field_statics = UINT64_MAX;  // Physics::statics_placed when it last looked at every field
