@@ -10,6 +10,7 @@
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
 #include <BulletDynamics/ConstraintSolver/btFixedConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btHingeConstraint.h>
+#include <BulletDynamics/ConstraintSolver/btPoint2PointConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
 #include <BulletDynamics/ConstraintSolver/btSliderConstraint.h>
 #include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
@@ -417,6 +418,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
         add_to_world(b, !pool[b]);
     }
     add_joints_at_start(pool);
+    reserve_joint_refs(pool);
     for (BodyId b : ids_of(g.bodies))
         if (pool[b]) take_out(b);
     int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -496,6 +498,30 @@ void Physics::add_joints_at_start(const PerBody<char>& pool) {
     }
     for (const std::vector<JointId>& o : order)
         for (JointId j : o) add_joint(j);
+}
+
+// A pooled body's joints join the world only when it is first issued (above), and Bullet then
+// grows two arrays of the body from empty: its list of constraints and its list of bodies it
+// does not collide with (btRigidBody::addConstraintRef). Their blocks (16 B each) stay with the
+// body, so every pooled bottle's first issue asked Bullet's pools for four more, and the
+// 1,000-bottle plant's pools were still growing 70 s in, as its storages issued bottles for
+// the first time. Grown here instead: each pooled body gets as many stand-in joints to the
+// fixed body as it has joints, added and removed again (Bullet keeps an array's capacity; the
+// lists are empty again afterwards, as before).
+void Physics::reserve_joint_refs(const PerBody<char>& pool) {
+    if (body_joints_.num.empty()) return;
+    std::vector<std::unique_ptr<btPoint2PointConstraint>> stand_in;
+    for (BodyId b : ids_of(pool)) {
+        if (!pool[b] || body_joints_[b].empty()) continue;
+        btRigidBody& rb = *bodies_[b];
+        stand_in.clear();
+        for (size_t k = 0; k < body_joints_[b].size(); ++k) {
+            stand_in.push_back(std::make_unique<btPoint2PointConstraint>(rb, btVector3(0, 0, 0)));
+            rb.addConstraintRef(stand_in.back().get());
+        }
+        for (auto& c : stand_in) rb.removeConstraintRef(c.get());
+        assert(rb.getNumConstraintRefs() == 0 && rb.checkCollideWith(&btTypedConstraint::getFixedBody()));
+    }
 }
 
 Physics::~Physics() {

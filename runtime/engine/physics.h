@@ -192,6 +192,7 @@ private:
     void add_joint(graph::JointId j);     // into its world (made first if need be)
     void remove_joint(graph::JointId j);  // out of its world (a weld's constraint is dropped)
     void add_joints_at_start(const graph::IdVector<graph::BodyId, char>& pool);
+    void reserve_joint_refs(const graph::IdVector<graph::BodyId, char>& pool);
     World& world_at(graph::BodyId b) { return worlds_[world_of_[b]]; }
     void make_world(World& w, Broadphase bp, size_t bodies);
     // regions.cpp
