@@ -90,7 +90,8 @@ bool field_frame(Runtime& r, FieldId f) {
 
 // ---- Which fields a body is in: the grid of cells.h.
 
-// Files every field under the cells its bounding box covers (after any field frame changed).
+// Files every field under the cells its bounding box grown by kNear covers (after any field
+// frame changed): a point's cell then lists every field whose box is within kNear of it.
 // Allocates only when the plant's fields cover more cells than ever before.
 void build_field_cells(Runtime& r) {
     State& s = r.st;
@@ -100,7 +101,8 @@ void build_field_cells(Runtime& r) {
         if (r.g.fields[f].gain <= 0) continue;
         const State::FieldFrame& ff = s.field_frame[f];
         const btVector3& c = ff.pose.getOrigin();
-        file_box(c.x() - ff.rx, c.y() - ff.ry, c.x() + ff.rx, c.y() + ff.ry, f.v, s.field_filed, s.field_big);
+        file_box(c.x() - ff.rx - kNear, c.y() - ff.ry - kNear, c.x() + ff.rx + kNear, c.y() + ff.ry + kNear, f.v,
+                 s.field_filed, s.field_big);
     }
     index_cells(s.field_filed, s.field_cells, s.field_cell_adr, s.field_cell_list);  // by cell, then field id
     s.field_cells_valid = true;

@@ -159,8 +159,8 @@ struct State {
     std::vector<graph::FieldId> field_carried, field_touched;
     PerField<uint8_t> field_is_touched;
     uint64_t field_statics = UINT64_MAX;  // Physics::statics_placed when it last looked at every field
-    // The fields by 1 m cells of (x, y) of their bounding boxes (fields.cpp): cell keys sorted,
-    // each with its fields in id order; fields covering very many cells are in `field_big`.
+    // The fields by the cells (cells.h) of (x, y) of their bounding boxes (fields.cpp): cell keys
+    // sorted, each with its fields in id order; fields covering very many cells are in `field_big`.
     std::vector<uint64_t> field_cells;
     std::vector<int32_t> field_cell_adr, field_cell_list, field_big;
     std::vector<std::pair<uint64_t, int32_t>> field_filed;  // scratch of the build

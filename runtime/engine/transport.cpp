@@ -198,13 +198,13 @@ void build_grid(Runtime& r) {
 }
 
 // The one acting field whose box holds the path from p over two steps at v (1 mm inside), with
-// no field's face within 1 mm of it; -1 if none or not so.
+// no field's face within 1 mm of it; -1 if none or not so. Every field whose bounding box lies
+// within `clear` of p is looked at: those filed under p's cell (fields are filed grown by
+// kNear), or, for a path longer than that allows, under every cell within `clear` of p.
 FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     State& s = r.st;
     int64_t ix, iy;
     if (!cell_of(p.x(), p.y(), ix, iy)) return FieldId{};
-    const int32_t *cell = nullptr, *cell_end = nullptr;
-    cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, cell_end);
     const btVector3 q = p + v * btScalar(2 * r.dt);
     // A field whose bounding box is farther from p in x or y than twice the margin and the
     // path's length is 'out' below: p's distance to its box is at least that, so p lies beyond
@@ -212,11 +212,10 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     // from p along any axis than the path's length). Twice, not the root of 3: room for rounding.
     const btScalar clear = btScalar(2) * (kFieldMargin + (q - p).length());
     FieldId found;
-    const int32_t *big = s.field_big.data(), *big_end = big + s.field_big.size();
-    while (cell != cell_end || big != big_end) {
-        const FieldId f(cell != cell_end ? *cell++ : *big++);  // filed as numbers
+    // False when p's path is at a face of f, or in f and in another acting field.
+    auto look = [&](FieldId f) {
         const State::FieldFrame& ff = s.field_frame[f];
-        if (ff.beyond_xy(p) >= clear) continue;
+        if (ff.beyond_xy(p) >= clear) return true;
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3& c = ff.pose.getOrigin();
@@ -227,12 +226,33 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
             out = out || (a[i] - h[i] >= kFieldMargin && b[i] - h[i] >= kFieldMargin) ||
                   (-a[i] - h[i] >= kFieldMargin && -b[i] - h[i] >= kFieldMargin);
         }
-        if (!in && !out) return FieldId{};  // at a face
+        if (!in && !out) return false;  // at a face
         if (in && s.field_act[f]) {
-            if (found.valid()) return FieldId{};  // two acting fields
+            if (found.valid() && found != f) return false;  // two acting fields
             found = f;
         }
+        return true;
+    };
+    for (int32_t f : s.field_big)
+        if (!look(FieldId(f))) return FieldId{};
+    const int32_t *cell = nullptr, *end = nullptr;
+    if (clear <= kNear) {
+        cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, end);
+        for (; cell != end; ++cell)
+            if (!look(FieldId(*cell))) return FieldId{};
+        return found;
     }
+    // A fast unit: every cell within `clear` (a field filed under several is looked at again).
+    int64_t x0, y0, x1, y1;
+    if (!cell_of(p.x() - clear, p.y() - clear, x0, y0) || !cell_of(p.x() + clear, p.y() + clear, x1, y1) ||
+        (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells)
+        return FieldId{};
+    for (int64_t x = x0; x <= x1; ++x)
+        for (int64_t y = y0; y <= y1; ++y) {
+            cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(x, y), cell, end);
+            for (; cell != end; ++cell)
+                if (!look(FieldId(*cell))) return FieldId{};
+        }
     return found;
 }
 

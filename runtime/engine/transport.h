@@ -54,8 +54,8 @@ struct Steady {
 
     // Static geometry near which nothing coasts: static bodies (a support and the rails it
     // slides along aside) and kinematic bodies within a box around where they were (a gate or
-    // a blade moving inside it); filed in cells of 1 m over (x, y). Triggers only read poses:
-    // they see a coasting unit as any body.
+    // a blade moving inside it); filed in the cells of cells.h over (x, y). Triggers only read
+    // poses: they see a coasting unit as any body.
     struct Hazard {
         btVector3 lo, hi;
         graph::BodyId body;        // the static or kinematic body
