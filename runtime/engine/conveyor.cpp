@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 
 namespace plant::engine {
@@ -60,13 +61,25 @@ void integrate_group(Runtime& r, graph::BodyId grp) {
     const double dt = r.dt, mass = s.group_mass[grp];
     const graph::BodyId* mem = s.group_list.data() + s.group_adr[grp];
     const int32_t n = s.group_num[grp];
+    // Each member's centre of mass and world inertia, read once (a bottle's host works them out
+    // from its carrier's transform), for the first kKept members; any further ones (no plant's
+    // rigid group has them yet) are read where used: the same values.
+    constexpr int32_t kKept = 8;
+    Vec3d kept_com[kKept];
+    Mat3 kept_inertia[kKept];
+    for (int32_t i = 0; i < std::min(n, kKept); ++i) {
+        kept_com[i] = eig(r.phys.com(mem[i]));
+        kept_inertia[i] = eig(r.phys.inertia_world(mem[i]));
+    }
+    auto com = [&](int32_t i) { return i < kKept ? kept_com[i] : eig(r.phys.com(mem[i])); };
+    auto inertia_of = [&](int32_t i) { return i < kKept ? kept_inertia[i] : eig(r.phys.inertia_world(mem[i])); };
     Vec3d c = Vec3d::Zero();
-    for (int32_t i = 0; i < n; ++i) c += r.phys.mass(mem[i]) * eig(r.phys.com(mem[i]));
+    for (int32_t i = 0; i < n; ++i) c += r.phys.mass(mem[i]) * com(i);
     c /= mass;
     Mat3 inertia = Mat3::Zero();
     for (int32_t i = 0; i < n; ++i) {
-        const Vec3d rel = eig(r.phys.com(mem[i])) - c;
-        inertia += eig(r.phys.inertia_world(mem[i])) + r.phys.mass(mem[i]) * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
+        const Vec3d rel = com(i) - c;
+        inertia += inertia_of(i) + r.phys.mass(mem[i]) * (rel.squaredNorm() * Mat3::Identity() - rel * rel.transpose());
     }
     Vec3d dv, dw;
     for (int32_t pass = 0; pass <= n; ++pass) {
@@ -79,7 +92,7 @@ void integrate_group(Runtime& r, graph::BodyId grp) {
         Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
         for (int32_t i = 0; i < n; ++i) {
             if (s.body_k[mem[i]] == 0) continue;
-            const Vec3d rel = eig(r.phys.com(mem[i])) - c;
+            const Vec3d rel = com(i) - c;
             const Vec3d F = s.law_sat[mem[i]] ? Vec3d(inv_s * eig(s.sat_force[mem[i]])) : eig(s.force[mem[i]]);
             f.head<3>() += F;
             f.tail<3>() += rel.cross(F);
@@ -99,7 +112,7 @@ void integrate_group(Runtime& r, graph::BodyId grp) {
         for (int32_t i = 0; i < n; ++i) {
             const graph::BodyId b = mem[i];
             if (s.body_k[b] == 0 || s.law_sat[b] || s.body_cap[b] == HUGE_VAL) continue;
-            const Vec3d rel = eig(r.phys.com(b)) - c;
+            const Vec3d rel = com(i) - c;
             const Vec3d G = (eig(s.force[b]) - eig(s.gain[b]) * (dv + dw.cross(rel))) / inv_s;
             if (const double g = G.norm(); g > s.body_cap[b]) {
                 s.sat_force[b] = bt(G * (s.body_cap[b] / g));
@@ -110,8 +123,8 @@ void integrate_group(Runtime& r, graph::BodyId grp) {
         if (!more) break;
     }
     for (int32_t i = 0; i < n; ++i) {
-        const Vec3d rel = eig(r.phys.com(mem[i])) - c;
-        const Mat3 I = eig(r.phys.inertia_world(mem[i]));
+        const Vec3d rel = com(i) - c;
+        const Mat3 I = inertia_of(i);
         r.phys.apply(mem[i], bt(r.phys.mass(mem[i]) * (dv + dw.cross(rel)) / dt), bt(I * dw / dt));
         r.phys.rb(mem[i]).activate();
         s.law_sat[mem[i]] = 0;
