@@ -8,6 +8,8 @@
 //   - real-time factor: simulated seconds of the window / wall seconds of the window;
 //   - bottles in circulation: issued by the storages and not yet taken by an exit,
 //     sampled every 0.1 s of the window (mean, min, max), and the number lost;
+//   - the share of the bottle-steps a bottle spends off Bullet's solver (steady transport,
+//     docs/runtime.md): its units off the solver after each step's check / (mean × steps);
 //   - allocations: calls to operator new during the window (a counting allocator in
 //     this binary) plus the times Bullet's allocator grew from the heap in it
 //     (plant::engine::bullet_heap_requests) — the step must take none;
@@ -27,6 +29,7 @@
 //                        [--no-memory] [--profile]
 #include "compiler.h"
 #include "engine/engine.h"
+#include "engine/runtime.h"
 #include "engine/workers.h"
 
 #include "bottling_plant.h"
@@ -94,6 +97,7 @@ struct Sample {
     long rss_kib = 0;          // peak of the child
     long steps = 0;
     int regions = 0, threads = 0;  // physics regions and the threads that stepped them
+    double off = 0;                // share of the bottle-steps off Bullet's solver (steady transport)
     plant::engine::StepProfile prof;  // with --profile
 };
 
@@ -121,6 +125,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     long samples = 0;
     const double w0 = now_wall(), c0 = plant::bench::process_cpu_seconds();
     g_allocs = 0;
+    const int64_t coasted0 = e.internals().steady.coasted;
     const uint64_t bullet0 = plant::engine::bullet_heap_requests();
     g_counting = true;
     for (long i = 0; i < steps; ++i) {
@@ -141,6 +146,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.allocs = g_allocs + long(plant::engine::bullet_heap_requests() - bullet0);
     s.steps = steps;
     s.mean = samples ? sum / double(samples) : 0;
+    if (s.mean > 0) s.off = double(e.internals().steady.coasted - coasted0) / (s.mean * double(steps));
     for (size_t d = 0; d < g.dos.size(); ++d)
         if (e.lost_at(plant::graph::DoId(int32_t(d))) >= 0) ++s.lost;
     rusage ru{};
@@ -274,9 +280,10 @@ int main(int argc, char** argv) {
         std::printf("150 Hz, feed_every = 1 s, %g s warm-up, then %g s measured; medians of %d runs, each a "
                     "fresh process.\n\n",
                     a.warmup, a.window, a.runs);
-        std::printf("| target N | lines | regions / threads | pool | in circulation mean (min-max) | lost | wall s | CPU s | "
-                    "real-time factor | CPU us per bottle-step | allocations in window (of them operator new) | peak RSS MiB |\n");
-        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        std::printf("| target N | lines | regions / threads | pool | in circulation mean (min-max) | lost | off the solver | "
+                    "wall s | CPU s | real-time factor | CPU us per bottle-step | allocations in window (of them operator "
+                    "new) | peak RSS MiB |\n");
+        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     }
     int status = 0;
     Sample last;
@@ -284,7 +291,7 @@ int main(int argc, char** argv) {
     for (int n : a.counts) {
         const int lines = std::max(1, int(std::lround(double(n) / a.per_line)));
         const int per_line_pool = 40;  // the plant's default: enough for warm-up + window
-        std::vector<double> rtf, wall, cpu, mean;
+        std::vector<double> rtf, wall, cpu, mean, off;
         Sample s;
         long allocs = 0, news = 0, lost = 0;
         for (int r = 0; r < a.runs; ++r) {
@@ -298,6 +305,7 @@ int main(int argc, char** argv) {
             wall.push_back(s.wall);
             cpu.push_back(s.cpu);
             mean.push_back(s.mean);
+            off.push_back(s.off);
             allocs = std::max(allocs, s.allocs);
             news = std::max(news, s.news);
             lost = std::max(lost, s.lost);
@@ -323,13 +331,16 @@ int main(int argc, char** argv) {
                     std::fclose(f);
                 }
             std::printf("| bottling plant | %d bottles in circulation (%d line%s, %d thread%s; measured mean %.0f, "
-                        "%ld lost%s) | %.1fx real time (%.1f CPU us per bottle-step) | %s | %s |\n",
+                        "%ld lost; %.0f %% of the bottle-steps off the solver%s) | %.1fx real time (%.1f CPU us per "
+                        "bottle-step) | %s | %s |\n",
                         n, lines, lines == 1 ? "" : "s", s.threads, s.threads == 1 ? "" : "s", median(mean), lost,
-                        load.c_str(), median(rtf), us, target, *target == '-' ? "-" : met ? "yes" : "**no**");
+                        100 * median(off), load.c_str(), median(rtf), us, target,
+                        *target == '-' ? "-" : met ? "yes" : "**no**");
         } else {
-            std::printf("| %d | %d | %d / %d | %ld | %.1f (%ld-%ld) | %ld | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | %.1f |\n",
-                        n, lines, s.regions, s.threads, s.pool, median(mean), s.min, s.max, lost, median(wall), median(cpu), median(rtf), us,
-                        allocs, news, double(s.rss_kib) / 1024);
+            std::printf("| %d | %d | %d / %d | %ld | %.1f (%ld-%ld) | %ld | %.1f %% | %.2f | %.2f | %.1f | %.2f | %ld (%ld) | "
+                        "%.1f |\n",
+                        n, lines, s.regions, s.threads, s.pool, median(mean), s.min, s.max, lost, 100 * median(off),
+                        median(wall), median(cpu), median(rtf), us, allocs, news, double(s.rss_kib) / 1024);
         }
         print_profile(s, n, a.rows);
         std::fflush(stdout);

@@ -590,6 +590,7 @@ void check_steady(Runtime& r, bool left) {
                           S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
         S.guided += S.slice_guided[i];
     }
+    S.coasted += int64_t(S.coasting.size());
     S.busy.clear();
     for (size_t w = 0; w + 1 < S.world_adr.size(); ++w) {
         if (S.world_adr[w + 1] > 0) S.busy.push_back(int(w));

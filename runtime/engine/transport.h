@@ -51,6 +51,7 @@ struct Steady {
     PerBody<btScalar> guide_face;
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
     int64_t guided = 0;                  // unit-steps off the solver sliding along a rail
+    int64_t coasted = 0;                 // unit-steps off the solver (after each step's check)
 
     // Static geometry near which nothing coasts: static bodies (a support and the rails it
     // slides along aside) and kinematic bodies within a box around where they were (a gate or
