@@ -501,26 +501,32 @@ void Physics::add_joints_at_start(const PerBody<char>& pool) {
 }
 
 // A pooled body's joints join the world only when it is first issued (above), and Bullet then
-// grows two arrays of the body from empty: its list of constraints and its list of bodies it
-// does not collide with (btRigidBody::addConstraintRef). Their blocks (16 B each) stay with the
-// body, so every pooled bottle's first issue asked Bullet's pools for four more, and the
+// grows two arrays of each of the joint's bodies: its list of constraints and its list of bodies
+// it does not collide with (btRigidBody::addConstraintRef). Their blocks (16 B each) stay with
+// the body, so every pooled bottle's first issue asked Bullet's pools for four more, and the
 // 1,000-bottle plant's pools were still growing 70 s in, as its storages issued bottles for
-// the first time. Grown here instead: each pooled body gets as many stand-in joints to the
-// fixed body as it has joints, added and removed again (Bullet keeps an array's capacity; the
-// lists are empty again afterwards, as before).
+// the first time. Grown here instead: each body gets as many stand-in joints to the fixed body
+// as it has joints with a pooled body, added after its own and removed again (Bullet keeps an
+// array's capacity; the lists hold what they held before, in the same order).
 void Physics::reserve_joint_refs(const PerBody<char>& pool) {
     if (body_joints_.num.empty()) return;
     std::vector<std::unique_ptr<btPoint2PointConstraint>> stand_in;
     for (BodyId b : ids_of(pool)) {
-        if (!pool[b] || body_joints_[b].empty()) continue;
+        int32_t more = 0;  // its joints that join the world at a pooled body's issue
+        for (JointId j : body_joints_[b]) {
+            const Joint& jt = g_.joints[j];
+            more += pool[jt.body_a] || (jt.body_b.valid() && pool[jt.body_b]);
+        }
+        if (more == 0) continue;
         btRigidBody& rb = *bodies_[b];
+        [[maybe_unused]] const int held = rb.getNumConstraintRefs();
         stand_in.clear();
-        for (size_t k = 0; k < body_joints_[b].size(); ++k) {
+        for (int32_t k = 0; k < more; ++k) {
             stand_in.push_back(std::make_unique<btPoint2PointConstraint>(rb, btVector3(0, 0, 0)));
             rb.addConstraintRef(stand_in.back().get());
         }
         for (auto& c : stand_in) rb.removeConstraintRef(c.get());
-        assert(rb.getNumConstraintRefs() == 0 && rb.checkCollideWith(&btTypedConstraint::getFixedBody()));
+        assert(rb.getNumConstraintRefs() == held);
     }
 }
 
