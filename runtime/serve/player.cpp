@@ -139,11 +139,8 @@ std::string Player::history_json() const {
 }
 
 void Player::history_reset(size_t records) {
-    {
-        std::lock_guard lock(m_);
-        history_ = History(records);
-    }
-    ++history_version_;
+    std::lock_guard lock(m_);
+    history_ = History(records);
 }
 
 void Player::history_add(double t, std::span<const double> values) {
@@ -309,6 +306,7 @@ private:
         note_drills();
         history_reset(g_.records.size());
         history_add(0, history_sample(*engine_, tally_));
+        history_ready();
         new_scene(scene_json(g_, dirs_, false, 0));
     }
 
@@ -569,6 +567,7 @@ private:
         history_reset(records_);
         next_sample_ = 0;
         sample_until(t);
+        history_ready();
         size_t k = 0;
         for (size_t i = 0; i < rec_.frames.size() && rec_.frames[i].time <= t + 1e-9; ++i)
             if (rec_.frames[i].full) k = i;

@@ -107,7 +107,11 @@ protected:
     // A comment line for the session's events file alone (a drill as scheduled: `# drill N
     // by WHO: LINE`, serve/report.h), which a replay skips.
     void note(std::string comment);
+    // The series start anew (a restart, a seek); history_ready() then tells the pages, once the
+    // samples up to now are in: a page polls the version (server.cpp) and is sent the series
+    // whole, never the part a seek had added so far (it would not be sent the rest).
     void history_reset(size_t records);
+    void history_ready() { ++history_version_; }
     void history_add(double t, std::span<const double> values);
     bool history_due(double t) const { return history_.due(t); }
     // Forced slots as the events that forced them say (who, since when): for the page's list;
