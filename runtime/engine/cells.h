@@ -74,4 +74,19 @@ inline void cell_ids(const std::vector<uint64_t>& cells, const std::vector<int32
     end = list.data() + adr[c + 1];
 }
 
+// Calls f(id) for the ids filed under each cell of [x0, x1] × [y0, y1], cell by cell (an id
+// filed under several of them once per cell), until f returns false; returns false then.
+template <class F>
+bool each_in_cells(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
+                   const std::vector<int32_t>& list, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
+    for (int64_t x = x0; x <= x1; ++x)
+        for (int64_t y = y0; y <= y1; ++y) {
+            const int32_t *id = nullptr, *end = nullptr;
+            cell_ids(cells, adr, list, cell_key(x, y), id, end);
+            for (; id != end; ++id)
+                if (!f(*id)) return false;
+        }
+    return true;
+}
+
 }  // namespace plant::engine

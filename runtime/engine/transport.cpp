@@ -235,24 +235,15 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
     };
     for (int32_t f : s.field_big)
         if (!look(FieldId(f))) return FieldId{};
-    const int32_t *cell = nullptr, *end = nullptr;
-    if (clear <= kNear) {
-        cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(ix, iy), cell, end);
-        for (; cell != end; ++cell)
-            if (!look(FieldId(*cell))) return FieldId{};
-        return found;
-    }
-    // A fast unit: every cell within `clear` (a field filed under several is looked at again).
-    int64_t x0, y0, x1, y1;
-    if (!cell_of(p.x() - clear, p.y() - clear, x0, y0) || !cell_of(p.x() + clear, p.y() + clear, x1, y1) ||
-        (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells)
+    // p's cell, or for a fast unit every cell within `clear` (a field filed under several is
+    // looked at again).
+    int64_t x0 = ix, y0 = iy, x1 = ix, y1 = iy;
+    if (clear > kNear && (!cell_of(p.x() - clear, p.y() - clear, x0, y0) ||
+                          !cell_of(p.x() + clear, p.y() + clear, x1, y1) || (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells))
         return FieldId{};
-    for (int64_t x = x0; x <= x1; ++x)
-        for (int64_t y = y0; y <= y1; ++y) {
-            cell_ids(s.field_cells, s.field_cell_adr, s.field_cell_list, cell_key(x, y), cell, end);
-            for (; cell != end; ++cell)
-                if (!look(FieldId(*cell))) return FieldId{};
-        }
+    if (!each_in_cells(s.field_cells, s.field_cell_adr, s.field_cell_list, x0, y0, x1, y1,
+                       [&](int32_t f) { return look(FieldId(f)); }))
+        return FieldId{};
     return found;
 }
 
@@ -389,14 +380,10 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     for (int32_t i : S.big)
         if (!hazard(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
-    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return false;
-    for (int64_t x = x0; x <= x1; ++x)
-        for (int64_t y = y0; y <= y1; ++y) {
-            const int32_t *k = nullptr, *end = nullptr;
-            cell_ids(S.cells, S.cell_adr, S.cell_list, cell_key(x, y), k, end);
-            for (; k != end; ++k)
-                if (!hazard(S.hazards[*k])) return false;
-        }
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1) ||
+        !each_in_cells(S.cells, S.cell_adr, S.cell_list, x0, y0, x1, y1,
+                       [&](int32_t k) { return hazard(S.hazards[k]); }))
+        return false;
     if (!support.valid()) return false;
     btVector3 point, normal;
     if (!top_face(ph, support, piece, point, normal)) return false;
