@@ -178,6 +178,46 @@ Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, 
     return s;
 }
 
+// A job's loop by its lambda's enclosing function: "void ...::run(int, F&) [with F =
+// plant::engine::Physics::assign_worlds()::<lambda(int)>]" is "engine::Physics::assign_worlds".
+std::string job_name(const char* pretty) {
+    if (pretty == nullptr) return "(unnamed)";
+    std::string s = pretty;
+    if (const size_t f = s.find("F = "); f != std::string::npos) s = s.substr(f + 4);
+    if (const size_t l = s.find("::<lambda"); l != std::string::npos) s.resize(l);
+    std::string out;
+    int depth = 0;
+    for (char c : s) {  // argument lists dropped
+        if (c == '(') ++depth;
+        if (depth == 0) out += c;
+        if (c == ')') --depth;
+    }
+    for (std::string_view cut : {"plant::", "{anonymous}::"})
+        for (size_t at; (at = out.find(cut)) != std::string::npos;) out.erase(at, cut.size());
+    return out;
+}
+
+// Where the jobs' wall time goes on the threads of the run (--profile): each loop's wall time
+// against the least it could take there, max(items / threads, longest item).
+void print_jobs(const plant::engine::StepProfile& p, int threads) {
+    using Job = plant::engine::StepProfile::Job;
+    std::vector<const Job*> jobs;
+    for (const Job& j : p.jobs)
+        if (j.name != nullptr) jobs.push_back(&j);
+    std::sort(jobs.begin(), jobs.end(), [](const Job* a, const Job* b) { return a->wall_ns > b->wall_ns; });
+    const double steps = double(p.steps);
+    std::printf("| job on %d threads | runs per step | wall us per step | items' processor us per step | longest "
+                "item us | least wall on %d threads us | wall / least |\n|---|---:|---:|---:|---:|---:|---:|\n",
+                threads, threads);
+    for (const Job* j : jobs) {
+        const double least = std::max(j->work_ns / threads, j->longest_ns);
+        std::printf("| %s | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f |\n", job_name(j->name).c_str(),
+                    double(j->calls) / steps, j->wall_ns / steps / 1e3, j->work_ns / steps / 1e3,
+                    j->longest_ns / steps / 1e3, least / steps / 1e3, least > 0 ? j->wall_ns / least : 0.0);
+    }
+    std::printf("\n");
+}
+
 // The serial share of the window's steps and its Amdahl projection (--profile).
 void print_profile(const Sample& s, int n, bool rows) {
     using plant::engine::StepProfile;
@@ -227,6 +267,7 @@ void print_profile(const Sample& s, int n, bool rows) {
         std::printf("%s%d threads %.2fx (serial %.1f %%)", i > 1 ? ", " : "", StepProfile::threads_of(i),
                     p.speedup(i), 100 * p.share(i));
     std::printf("\n\n");
+    print_jobs(p, s.threads);
 }
 
 bool parse(int argc, char** argv, Args& a) {

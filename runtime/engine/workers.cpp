@@ -83,6 +83,15 @@ void StepProfile::lap_on(Segment s) {
     last_ = t, jobs_since_ = 0;
 }
 
+void StepProfile::add_job(const char* name, double wall, double work, double longest) {
+    if (name == nullptr) name = "(unnamed)";
+    for (Job& j : jobs) {
+        if (j.name != nullptr && j.name != name) continue;  // a literal: one address per loop
+        j.name = name, ++j.calls, j.wall_ns += wall, j.work_ns += work, j.longest_ns += longest;
+        return;
+    }
+}
+
 void StepProfile::end() {
     step_ns += double(now_ns() - start_);
     ++steps;
@@ -188,7 +197,7 @@ void Workers::helper() {
     }
 }
 
-void Workers::run(int n, void (*fn)(void*, int), void* ctx) {
+void Workers::run(int n, void (*fn)(void*, int), void* ctx, const char* name) {
     const int64_t t0 = prof_.on ? now_ns() : 0, c0 = prof_.on ? cpu_ns() : 0;
     item_sum_.store(0, std::memory_order_relaxed);
     item_max_.store(0, std::memory_order_relaxed);
@@ -219,6 +228,7 @@ void Workers::run(int n, void (*fn)(void*, int), void* ctx) {
         prof_.jobs_ns += wall, prof_.jobs_since_ += double(cpu_ns() - c0), prof_.work_ns += sum;
         for (int i = 0; i < StepProfile::kProjected; ++i)
             prof_.projected_ns[i] += std::max(sum / StepProfile::threads_of(i), longest);
+        prof_.add_job(name, wall, sum, longest);
     }
 }
 

@@ -13,6 +13,14 @@
 
 namespace plant::engine {
 
+// One loop's jobs in a profile (StepProfile::jobs): the loops of one function are one row, as
+// their lambdas' signatures read the same.
+struct StepJob {
+    const char* name = nullptr;  // Workers::run's signature for the loop's lambda (a literal)
+    int64_t calls = 0;
+    double wall_ns = 0, work_ns = 0, longest_ns = 0;  // summed over the calls
+};
+
 // Where a step's time goes, for the benchmarks (Engine::profile): each segment of the step is
 // timed on the calling thread (its processor time, so that a busy machine's waits do not count),
 // less the time it spent in Workers::run (the parallel work, timed item by item in the
@@ -44,6 +52,12 @@ struct StepProfile {
     double jobs_ns = 0;                 // wall time in Workers::run
     double work_ns = 0;                 // the items' processor times, summed over the threads
     double projected_ns[kProjected] = {};  // Workers::run's time on n threads: max(work / n, longest item)
+    // Each kind of job (a loop of Workers::run, named by its function), where its wall time goes:
+    // how the threads present shared its items, against their processor time and the longest.
+    using Job = StepJob;
+    static constexpr int kJobs = 24;
+    Job jobs[kJobs];
+    void add_job(const char* name, double wall, double work, double longest);
 
     void reset();
     void begin();                  // at the start of a step
@@ -80,9 +94,10 @@ public:
     // Allocates nothing.
     template <class F>
     void run(int n, F& f) {
-        run(n, [](void* ctx, int i) { (*static_cast<F*>(ctx))(i); }, &f);
+        run(n, [](void* ctx, int i) { (*static_cast<F*>(ctx))(i); }, &f, __PRETTY_FUNCTION__);
     }
-    void run(int n, void (*fn)(void*, int), void* ctx);
+    // `name` (a literal) tells the profile's jobs apart.
+    void run(int n, void (*fn)(void*, int), void* ctx, const char* name = nullptr);
 
     StepProfile& profile() { return prof_; }
 

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -64,4 +65,48 @@ TEST_CASE("workers: the profile's item times add up while profiling") {
     // however busy the machine.
     CHECK(w.profile().work_ns > 160 * 1e3);
     CHECK(w.profile().projected_ns[0] >= w.profile().projected_ns[4]);
+}
+
+namespace {
+
+void spin_for(int us) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(us);
+    while (std::chrono::steady_clock::now() < until) {
+    }
+}
+
+// Two loops in two functions: a profile's rows are named by the loop's function.
+void loop_a(Workers& w, std::vector<int>& hits) {
+    auto a = [&](int i) { ++hits[size_t(i)], spin_for(100); };
+    w.run(8, a);
+}
+void loop_b(Workers& w, std::vector<int>& hits) {
+    auto b = [&](int i) { hits[size_t(i)] += 2, spin_for(100); };
+    w.run(4, b);
+}
+
+}  // namespace
+
+TEST_CASE("workers: a profile has a row per loop, its runs and items") {
+    Workers w(2);
+    w.profile().on = true;
+    std::vector<int> hits(8, 0);
+    for (int j = 0; j < 3; ++j) loop_a(w, hits);
+    loop_b(w, hits);
+    const plant::engine::StepJob* rows[2] = {};
+    int named = 0;
+    for (const plant::engine::StepJob& job : w.profile().jobs)
+        if (job.name != nullptr && named < 2) rows[named++] = &job;
+        else CHECK(job.name == nullptr);
+    REQUIRE(named == 2);  // two loops, two rows, in the order they first ran
+    CHECK(rows[0]->calls == 3);
+    CHECK(rows[1]->calls == 1);
+    CHECK(std::string(rows[0]->name).find("loop_a") != std::string::npos);
+    CHECK(std::string(rows[1]->name).find("loop_b") != std::string::npos);
+    CHECK(rows[0]->work_ns > 24 * 1e3);  // 24 items, each at least a microsecond of processor time
+    CHECK(rows[0]->longest_ns > 0);
+    CHECK(rows[0]->wall_ns >= rows[0]->longest_ns);
+    CHECK(hits[0] == 5);
+    w.profile().reset();
+    CHECK(w.profile().jobs[0].name == nullptr);
 }
