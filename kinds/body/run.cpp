@@ -55,7 +55,7 @@ void check_bodies(Runtime& r) {
     // slices of the bodies (reads only); the rare step that has one then handles them here.
     const std::vector<BodyId>& dyn = r.tab.dyn_bodies;
     const size_t n = dyn.size();
-    const size_t slices = slice_count(n, 256, r.st.slice_left.size());
+    const size_t slices = slice_count(n, 128, r.st.slice_left.size());
     auto look = [&r, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         bool off = false;

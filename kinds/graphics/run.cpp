@@ -164,7 +164,7 @@ void sense_all(Runtime& r) {
     const std::vector<GraphicsId>& order = data.order;
     const size_t roots = data.roots;
     std::vector<uint8_t>& flags = data.flags;
-    const size_t slices = slice_count(roots, 256, roots + 1);
+    const size_t slices = slice_count(roots, 32, roots + 1);
     const bool all = data.statics != r.phys.statics_placed();
     data.statics = r.phys.statics_placed();
     auto poses = [&r, &data, &order, &flags, roots, slices, all](int i) {

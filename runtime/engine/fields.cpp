@@ -234,7 +234,7 @@ bool prepare_fields(Runtime& r) {
     // the physics threads: each writes its fields' own entries.
     const bool all = !s.field_cells_valid || s.field_statics != r.phys.statics_placed();
     const size_t nf = all ? g.fields.size() : s.field_carried.size(), nk = r.steady.on ? r.steady.kinematic.size() : 0;
-    const size_t slices = slice_count(nf + nk, 128, s.slice_moved.size());
+    const size_t slices = slice_count(nf + nk, 32, s.slice_moved.size());
     auto frames = [&r, &s, nf, nk, all, slices](int i) {
         bool moved = false;
         const auto [fb, fe] = slice_of(nf, slices, i);

@@ -289,7 +289,7 @@ void Physics::assign_worlds() {
         return any ? kVoid : kParked;  // parked: waits in the void's world, which is not stepped for it
     };
     const size_t nf = free_groups_.size();
-    const size_t slices = slice_count(nf, 128, nf + 1);
+    const size_t slices = slice_count(nf, 32, nf + 1);
     auto decide = [this, &where, nf, slices](int i) {
         const auto [b, e] = slice_of(nf, slices, i);
         for (size_t k = b; k < e; ++k) {

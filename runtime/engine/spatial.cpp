@@ -43,9 +43,9 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
             if (ph.in_world(b)) order_.push_back({0, 0, b});
         version_ = ph.version();
     }
-    // Slices of at least 256 bodies, four per thread at most: each writes its own entries.
+    // Slices of at least 32 bodies, four per thread on 16 at most: each writes its own entries.
     const size_t n = order_.size();
-    const size_t slices = slice_count(n, 256, kSlices);
+    const size_t slices = slice_count(n, 32, kSlices);
     auto measuring = [this, &ph, aabbs, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         slice_max_[i] = measure(ph, aabbs, b, e);

@@ -650,7 +650,7 @@ void advance(Runtime& r, BodyId b) {
 void advance_steady(Runtime& r) {
     // Each unit on its own, in slices on the physics threads.
     const std::vector<BodyId>& units = r.steady.coasting;
-    const size_t slices = slice_count(units.size(), 64, units.size() + 1);
+    const size_t slices = slice_count(units.size(), 8, units.size() + 1);
     auto moving = [&r, &units, slices](int i) {
         const auto [b, e] = slice_of(units.size(), slices, i);
         for (size_t k = b; k < e; ++k) advance(r, units[k]);
