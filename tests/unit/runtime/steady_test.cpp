@@ -340,3 +340,49 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
 
 
 
+
+// A field starting just across a cell's edge (cells of 25 cm: docs/runtime.md, "Steady
+// transport") from a bottle coasting on a belt: the bottle's path comes within 1 mm of that
+// field's face while its centre is still in the cell before, so the field must be filed under
+// that cell too (fields are filed grown by 5 cm) or the bottle would ride into a second field
+// off the solver. Nothing else is near that face: no band, no rail, no body.
+TEST_CASE("steady transport: a bottle lands before a field that starts in the next cell") {
+    const graph::Graph g = compiled(R"(
+import std.belts, std.bottle
+plant Edge {
+    belt: Belt(length = 1.5 m)
+    bt: Bottle at (20 cm, 0 m, 2 cm)
+    // x from 1.0005 m to 1.4 m: the cell from 1 m to 1.25 m and on, none before.
+    field push at (1.0005 m + 19.975 cm, 0 m, 6 cm) {
+        extent = (39.95 cm, 8 cm, 12 cm)
+        direction = (1, 0, 0)
+        speed = 50 cm/s
+        gain = 16 kg/s
+        max_force = 0.1 N
+    }
+}
+)",
+                                    "steady_cell_edge.plant");
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    REQUIRE(mains.size() == 1);
+    const graph::BodyId bottle(mains[0]);
+    engine::Options o;
+    o.steady_transport = true;
+    Engine e(g, o);
+    const double face = 1.0005, reach = 0.001 + 2 * 0.5 / 150;  // 1 mm and two steps at 50 cm/s
+    int coasted = 0, near_face = 0;
+    for (int i = 0; i < 150 * 3; ++i) {
+        const double x = e.body_com(bottle)[0];  // where the step's check finds it
+        e.step();
+        const bool off = e.internals().phys.coasting(bottle);
+        coasted += off;
+        if (x > face - reach + 1e-4 && x < 1.35) {  // its path within 1 mm of the face, or past it
+            ++near_face;
+            CAPTURE(i);
+            CAPTURE(x);
+            CHECK_FALSE(off);
+        }
+    }
+    CHECK(coasted > 100);    // it rode off the solver before the field
+    CHECK(near_face > 20);   // and was seen near and past the face
+}
