@@ -242,19 +242,21 @@ void print_profile(const Sample& s, int n, bool rows) {
     const double wall_share = std::max(0.0, 1 - p.jobs_ns / p.step_ns);
     if (rows) {
         std::printf("| step | serial share at %d bottles in circulation on 2 threads: processor time outside the "
-                    "parallel physics work / step time (%.0f us serial, %.0f us of parallel items per step; "
+                    "parallel physics work / step time (%.0f us serial, %.0f us of parallel items per step, less the profile's "
+                    "clock reads, %.0f ns each; "
                     "largest: %s; by the wall clock on %d threads %.1f %%) | %.1f %% | <= 3 %% | %s |\n",
-                    n, serial / steps / 1e3, p.work_ns / steps / 1e3, parts.c_str(), s.threads, 100 * wall_share,
+                    n, serial / steps / 1e3, p.work_ns / steps / 1e3, p.read_ns, parts.c_str(), s.threads, 100 * wall_share,
                     100 * share, share <= 0.03 ? "yes" : "**no**");
         std::printf("| step | Amdahl projection from it (1 thread = serial + the items; a job no shorter than its "
                     "longest item) | 4 threads %.1fx, 8 threads %.1fx, 16 threads %.1fx | >= 10x at 16 | %s |\n",
                     p.speedup(2), p.speedup(3), p.speedup(4), p.speedup(4) >= 10 ? "yes" : "**no**");
         return;
     }
-    std::printf("\nWhere a step goes at %d bottles (%lld steps; processor times): %.0f us serial, %.0f us of parallel "
+    std::printf("\nWhere a step goes at %d bottles (%lld steps; processor times, each timed stretch less one read of "
+                "the thread's clock: %.0f ns here): %.0f us serial, %.0f us of parallel "
                 "items per step (the longest item's share: see the projection); on 2 threads the serial share is "
                 "%.1f %%. By the wall clock on %d threads: %.0f us per step, %.1f %% outside the parallel jobs.\n\n",
-                n, (long long)p.steps, serial / steps / 1e3, p.work_ns / steps / 1e3, 100 * share, s.threads,
+                n, (long long)p.steps, p.read_ns, serial / steps / 1e3, p.work_ns / steps / 1e3, 100 * share, s.threads,
                 p.step_ns / steps / 1e3, 100 * wall_share);
     std::printf("| segment (serial) | us per step | %% of the step on 2 threads |\n|---|---:|---:|\n");
     for (int k = 0; k < StepProfile::kSegments; ++k) {

@@ -110,3 +110,29 @@ TEST_CASE("workers: a profile has a row per loop, its runs and items") {
     w.profile().reset();
     CHECK(w.profile().jobs[0].name == nullptr);
 }
+
+// The profile's own clock reads (a system call each) are not counted as work: a job of items
+// that do nothing measures about nothing, where each item used to measure one read.
+TEST_CASE("workers: the profile takes its clock's reads off what it times") {
+    Workers w(1);
+    w.profile().on = true;
+    w.profile().begin();  // measures what a read costs
+    const double read = w.profile().read_ns;
+    REQUIRE(read > 0);
+    auto nothing = [](int) {};
+    for (int j = 0; j < 20; ++j) w.run(100, nothing);
+    const double per_item = w.profile().work_ns / 2000;
+    CAPTURE(read);
+    CAPTURE(per_item);
+    CHECK(per_item < 0.75 * read);  // each read was about 1.0 of it
+    // Laps with nothing between them, and laps around an empty job: about nothing serial (a
+    // lap holds one read, and a job one more outside its window).
+    plant::engine::StepProfile& p = w.profile();
+    for (int j = 0; j < 200; ++j) p.lap(plant::engine::StepProfile::Logic);
+    for (int j = 0; j < 200; ++j) {
+        w.run(2, nothing);
+        p.lap(plant::engine::StepProfile::Petri);
+    }
+    CHECK(p.serial_ns[plant::engine::StepProfile::Logic] / 200 < 0.75 * read);
+    CHECK(p.serial_ns[plant::engine::StepProfile::Petri] / 200 < 1.5 * read);  // was about 2.0
+}
