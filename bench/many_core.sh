@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The bottling plant on 1 to N threads on a many-core machine that has nothing installed
-# (bench/README.md, "Regions that scale on 16 cores"; ../shared/PLATFORM.md: a Release binary
-# runs there when carried with its shared libraries and the loader).
+# (bench/README.md, "Regions that scale on 16 cores"): a Release binary runs there when carried
+# with its shared libraries and the loader (ld.so --library-path lib BINARY).
 #
 # Here, once per measurement: a folder with this checkout's plant_bench_bottling (Release), and
 # optionally a baseline commit's, each with its plants and stdlib, their libraries and the loader:
