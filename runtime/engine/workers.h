@@ -13,8 +13,8 @@
 
 namespace plant::engine {
 
-// One loop's jobs in a profile (StepProfile::jobs): the loops of one function are one row, as
-// their lambdas' signatures read the same.
+// One loop's jobs in a profile (StepProfile::jobs). The loops of one function share a row where
+// the compiler merges their lambdas' signatures, which read the same (GCC does).
 struct StepJob {
     const char* name = nullptr;  // Workers::run's signature for the loop's lambda (a literal)
     int64_t calls = 0;
@@ -73,8 +73,8 @@ struct StepProfile {
     double speedup(int i) const;
 
     // What one read of a thread's processor-time clock costs (a system call: no fast path for
-    // it in Linux's vDSO; 0.7 µs on a 2-core VM, where a step at 1,000 bottles reads it about
-    // 1,300 times). Measured when a profiled step first begins; each timed stretch holds
+    // it in Linux's vDSO; 0.66 µs on a 2-core VM, where a step at 1,000 bottles reads it several
+    // hundred times). Measured when a profiled step first begins; each timed stretch holds
     // about one read's cost besides its own (the end of the read that starts it, the start of
     // the one that ends it), which is taken off: an item's time, and a segment's, which also
     // holds one per job in it (the job's own two reads, outside the job's window).
