@@ -97,11 +97,14 @@ void StepProfile::lap_on(Segment s) {
 
 void StepProfile::add_job(const char* name, double wall, double work, double longest) {
     if (name == nullptr) name = "(unnamed)";
-    for (Job& j : jobs) {
-        if (j.name != nullptr && j.name != name) continue;  // a literal: one address per loop
-        j.name = name, ++j.calls, j.wall_ns += wall, j.work_ns += work, j.longest_ns += longest;
-        return;
-    }
+    Job* row = &jobs[kJobs - 1];
+    for (int i = 0; i < kJobs - 1; ++i)
+        if (jobs[i].name == nullptr || jobs[i].name == name) {  // a literal: one address per loop
+            row = &jobs[i];
+            break;
+        }
+    if (row == &jobs[kJobs - 1] && row->name != nullptr && row->name != name) name = "(other loops)";
+    row->name = name, ++row->calls, row->wall_ns += wall, row->work_ns += work, row->longest_ns += longest;
 }
 
 void StepProfile::end() {

@@ -55,6 +55,8 @@ struct StepProfile {
     // Each kind of job (a loop of Workers::run, named by its function), where its wall time goes:
     // how the threads present shared its items, against their processor time and the longest.
     using Job = StepJob;
+    // The last row takes every loop that finds the others taken ("(other loops)"): a profile
+    // with more loops than rows still counts all their time.
     static constexpr int kJobs = 24;
     Job jobs[kJobs];
     void add_job(const char* name, double wall, double work, double longest);

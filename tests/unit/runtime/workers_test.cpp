@@ -9,6 +9,7 @@
 #include <chrono>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 using plant::engine::Workers;
@@ -135,4 +136,33 @@ TEST_CASE("workers: the profile takes its clock's reads off what it times") {
     }
     CHECK(p.serial_ns[plant::engine::StepProfile::Logic] / 200 < 0.75 * read);
     CHECK(p.serial_ns[plant::engine::StepProfile::Petri] / 200 < 1.5 * read);  // was about 2.0
+}
+
+namespace {
+
+// Loop K of many, each its own lambda in its own function.
+template <int K>
+void loop_k(Workers& w) {
+    auto f = [](int) { spin_for(5); };
+    w.run(2, f);
+}
+template <int... K>
+void loops(Workers& w, std::integer_sequence<int, K...>) {
+    (loop_k<K>(w), ...);
+}
+
+}  // namespace
+
+TEST_CASE("workers: a profile with more loops than rows keeps every loop's runs") {
+    Workers w(1);
+    w.profile().on = true;
+    loops(w, std::make_integer_sequence<int, 30>{});
+    int64_t runs = 0;
+    for (const plant::engine::StepJob& job : w.profile().jobs) {
+        CHECK(job.name != nullptr);
+        runs += job.calls;
+    }
+    CHECK(runs == 30);  // 23 rows of their own, the last for the other 7
+    CHECK(std::string(w.profile().jobs[plant::engine::StepProfile::kJobs - 1].name) == "(other loops)");
+    CHECK(w.profile().jobs[plant::engine::StepProfile::kJobs - 1].calls == 7);
 }
