@@ -98,6 +98,7 @@ constexpr btScalar kStaticMargin = btScalar(0.002); // m, to a static body (a ra
 constexpr btScalar kNotSimulated = btScalar(0.05);  // m, more for a body Bullet does not move itself
 constexpr btScalar kSpeedTol = btScalar(0.002);     // m/s, off the field's target along its driven axes
 constexpr btScalar kDrift = btScalar(0.05);         // m/s, across them (nothing acts there: it keeps it)
+constexpr btScalar kApproach = btScalar(0.01);      // m/s, towards a rail it slides along
 constexpr btScalar kRockTol = btScalar(1);          // rad/s about horizontal axes: contact noise, not tipping
 constexpr btScalar kYawTol = btScalar(10);          // rad/s about the vertical
 constexpr btScalar kTilt = btScalar(0.99939);       // cos 2°: a body's z axis from vertical
@@ -197,21 +198,22 @@ void build_grid(Runtime& r) {
     S.grid_statics = ph.statics_placed();
 }
 
-// The one acting field whose box holds the path from p over two steps at v (1 mm inside), with
-// no field's face within 1 mm of it; -1 if none or not so. Every field whose bounding box lies
+// Whether the path from p over two steps at v has no field's face within 1 mm of it and lies in
+// one acting field's box at most (1 mm inside); then `found` is that field, or none (-1): no
+// field acts there. Every field whose bounding box lies
 // within `clear` of p is looked at: those filed under p's cell (fields are filed grown by
 // kNear), or, for a path longer than that allows, under every cell within `clear` of p.
-FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
+bool field_at(Runtime& r, const btVector3& p, const btVector3& v, FieldId& found) {
     State& s = r.st;
+    found = FieldId{};
     int64_t ix, iy;
-    if (!cell_of(p.x(), p.y(), ix, iy)) return FieldId{};
+    if (!cell_of(p.x(), p.y(), ix, iy)) return false;
     const btVector3 q = p + v * btScalar(2 * r.dt);
     // A field whose bounding box is farther from p in x or y than twice the margin and the
     // path's length is 'out' below: p's distance to its box is at least that, so p lies beyond
     // one of its faces by more than that over the square root of 3, and q too (it is no farther
     // from p along any axis than the path's length). Twice, not the root of 3: room for rounding.
     const btScalar clear = btScalar(2) * (kFieldMargin + (q - p).length());
-    FieldId found;
     // False when p's path is at a face of f, or in f and in another acting field.
     auto look = [&](FieldId f) {
         const State::FieldFrame& ff = s.field_frame[f];
@@ -234,17 +236,15 @@ FieldId field_at(Runtime& r, const btVector3& p, const btVector3& v) {
         return true;
     };
     for (int32_t f : s.field_big)
-        if (!look(FieldId(f))) return FieldId{};
+        if (!look(FieldId(f))) return false;
     // p's cell, or for a fast unit every cell within `clear` (a field filed under several is
     // looked at again).
     int64_t x0 = ix, y0 = iy, x1 = ix, y1 = iy;
     if (clear > kNear && (!cell_of(p.x() - clear, p.y() - clear, x0, y0) ||
                           !cell_of(p.x() + clear, p.y() + clear, x1, y1) || (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells))
-        return FieldId{};
-    if (!each_in_cells(s.field_cells, s.field_cell_adr, s.field_cell_list, x0, y0, x1, y1,
-                       [&](int32_t f) { return look(FieldId(f)); }))
-        return FieldId{};
-    return found;
+        return false;
+    return each_in_cells(s.field_cells, s.field_cell_adr, s.field_cell_list, x0, y0, x1, y1,
+                         [&](int32_t f) { return look(FieldId(f)); });
 }
 
 // The top face of a box (or of a compound of one box): a point of it and its normal.
@@ -313,7 +313,7 @@ bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out
             if (axis >= 0) return false;  // outside it along both axes: by its end
             axis = a, side = sd, face = f + btScalar(sd) * std::max(into, btScalar(0));
         }
-    if (axis < 0 || btScalar(side) * rb.getLinearVelocity()[axis] > kSpeedTol) return false;
+    if (axis < 0 || btScalar(side) * rb.getLinearVelocity()[axis] > kApproach) return false;
     if (out.guide_side != 0 && (out.guide_axis != axis || out.guide_side != side || out.guide_face != face))
         return false;  // two rails
     out.guide_axis = int8_t(axis), out.guide_side = int8_t(side), out.guide_face = face;
@@ -334,14 +334,19 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     const btVector3& w = rb.getAngularVelocity();
     if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return false;
     if (ph.frame(b).getBasis()[2][2] < kTilt) return false;
-    const FieldId f = field_at(r, ph.com(b), v);
-    if (!f.valid() || (p.valid() && field_at(r, ph.com(p), v) != f)) return false;
-    const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
-    const btVector3& gain = r.tab.field_gain[f];
-    if (R[2][2] < kUpright || gain.z() > 0) return false;
-    const btVector3 vl = v * R;
-    for (int i = 0; i < 2; ++i)
-        if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > (gain[i] > 0 ? kSpeedTol : kDrift)) return false;
+    FieldId f, fp;
+    if (!field_at(r, ph.com(b), v, f) || (p.valid() && (!field_at(r, ph.com(p), v, fp) || fp != f))) return false;
+    if (f.valid()) {
+        const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+        const btVector3& gain = r.tab.field_gain[f];
+        if (R[2][2] < kUpright || gain.z() > 0) return false;
+        const btVector3 vl = v * R;
+        for (int i = 0; i < 2; ++i)
+            if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > (gain[i] > 0 ? kSpeedTol : kDrift))
+                return false;
+    } else if (std::abs(v.x()) > kDrift || std::abs(v.y()) > kDrift || std::abs(v.z()) > kSpeedTol) {
+        return false;  // no field acts: it coasts at the speed it has, in no fall
+    }
 
     // Statics and kinematic parts.
     btVector3 lo, hi;
@@ -352,6 +357,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     const btScalar reach = g[g.maxAxis()];
     BodyId support;
     int16_t piece = -1;
+    btVector3 sup_lo, sup_hi;  // the support's box (its piece's, in a compound)
     // A kinematic part whose room is in reach: none if its collision is off; at rest where it was
     // filed, a static piece (a rail it slides along, or in the way) with a margin of 1 cm; moving,
     // in the way.
@@ -375,6 +381,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
             ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)
             return false;  // two supports (two pieces of one), or one that would hold it back
         support = h.body, piece = h.piece;
+        sup_lo = h.lo, sup_hi = h.hi;
         return true;
     };
     for (int32_t i : S.big)
@@ -387,6 +394,12 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     if (!support.valid()) return false;
     btVector3 point, normal;
     if (!top_face(ph, support, piece, point, normal)) return false;
+    if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
+        const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
+        for (int i = 0; i < 2; ++i)
+            if (std::min(c[i], q[i]) < sup_lo[i] + kFieldMargin || std::max(c[i], q[i]) > sup_hi[i] - kFieldMargin)
+                return false;
+    }
 
     // Other bodies.
     const btScalar far = reach + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
@@ -436,8 +449,9 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
     bool ok = steady_now(r, b, p, vmax, v);
     uint8_t action = kKeep;
     if (was) {
-        const btVector3 target = ok ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
-                                    : btVector3(0, 0, 0);
+        const btVector3 target = ok && v.field.valid()
+                                     ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
+                                     : btVector3(0, 0, 0);
         ok = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] && target == S.target[b];
         if (!ok) {
             S.settled[b] = 0;
@@ -450,27 +464,28 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
             return kStay;
         }
         if (++S.settled[b] < kSettle) return kStay;
-        const FieldId f = v.field;
-        const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+        const FieldId f = v.field;  // none: no field acts, and every axis is free
         btVector3 point, normal;
         top_face(ph, v.support, v.piece, point, normal);
         S.field[b] = v.field;
         S.support[b] = v.support;
         S.piece[b] = v.piece;
-        S.target[b] = R * s.field_target[f];
+        S.target[b] = f.valid() ? s.field_frame[f].pose.getBasis() * s.field_target[f] : btVector3(0, 0, 0);
         S.normal[b] = normal;
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
         S.yaw[b] = ph.rb(b).getAngularVelocity().z();
         guide(S, b, v);
         const double m = ph.mass(b) + (p.valid() ? ph.mass(p) : 0.0);
-        const btVector3& gain = r.tab.field_gain[f];
+        const btVector3 gain = f.valid() ? r.tab.field_gain[f] : btVector3(0, 0, 0);
         for (int i = 0; i < 3; ++i)
             S.relax[b][i] = gain[i] > 0 ? btScalar(std::exp(-double(gain[i]) * (p.valid() ? 2 : 1) * r.dt / m)) : 1;
         action = kCoast;
     }
-    ride(r, b, v.field);
-    if (p.valid()) ride(r, p, v.field);
+    if (v.field.valid()) {  // the conveyor's loss bookkeeping, as the law keeps it on the solver
+        ride(r, b, v.field);
+        if (p.valid()) ride(r, p, v.field);
+    }
     return action;
 }
 
@@ -615,12 +630,15 @@ void advance(Runtime& r, BodyId b) {
     const btScalar dt = btScalar(r.dt);
     const FieldId f = S.field[b];
     const btRigidBody& rb = ph.rb(b);
-    const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
-    const btVector3& target = r.st.field_target[f];
-    btVector3 vl = rb.getLinearVelocity() * R;
-    for (int k = 0; k < 3; ++k)
-        if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
-    btVector3 v = R * vl;
+    btVector3 v = rb.getLinearVelocity();
+    if (f.valid()) {  // else no field acts: it keeps its speed
+        const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
+        const btVector3& target = r.st.field_target[f];
+        btVector3 vl = v * R;
+        for (int k = 0; k < 3; ++k)
+            if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
+        v = R * vl;
+    }
     const btVector3& n = S.normal[b];
     v.setZ(-(n.x() * v.x() + n.y() * v.y()) / n.z());  // along the band's top face
     btTransform t = rb.getWorldTransform();
