@@ -11,6 +11,7 @@
 #include <LinearMath/btScalar.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -85,6 +86,32 @@ bool each_in_cells(const std::vector<uint64_t>& cells, const std::vector<int32_t
             cell_ids(cells, adr, list, cell_key(x, y), id, end);
             for (; id != end; ++id)
                 if (!f(*id)) return false;
+        }
+    return true;
+}
+
+// Beside a CSR table's `list`, each filed id's box in (x, y): x0, y0, x1, y1.
+using CellBoxes = std::vector<std::array<btScalar, 4>>;
+
+// The boxes of `list`'s entries, boxes_of(id) giving an id's (x0, y0, x1, y1).
+template <class B>
+void box_cells(const std::vector<int32_t>& list, CellBoxes& boxes, B&& boxes_of) {
+    boxes.resize(list.size());
+    for (size_t i = 0; i < list.size(); ++i) boxes[i] = boxes_of(list[i]);
+}
+
+// As each_in_cells, but only for the ids whose box (`boxes`, beside `list`) meets the box
+// (bx0, by0)-(bx1, by1) in (x, y): the others are passed over without touching what they are.
+template <class F>
+bool each_meeting(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
+                  const std::vector<int32_t>& list, const CellBoxes& boxes, btScalar bx0, btScalar by0,
+                  btScalar bx1, btScalar by1, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
+    for (int64_t x = x0; x <= x1; ++x)
+        for (int64_t y = y0; y <= y1; ++y) {
+            const int32_t *id = nullptr, *end = nullptr;
+            cell_ids(cells, adr, list, cell_key(x, y), id, end);
+            for (const std::array<btScalar, 4>* b = id ? boxes.data() + (id - list.data()) : nullptr; id != end; ++id, ++b)
+                if ((*b)[0] <= bx1 && bx0 <= (*b)[2] && (*b)[1] <= by1 && by0 <= (*b)[3] && !f(*id)) return false;
         }
     return true;
 }

@@ -108,6 +108,7 @@ constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bound
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
 constexpr btScalar kTouch = btScalar(0.001);        // m: how far a shape may reach into a rail it slides along
 constexpr int16_t kSettle = 5;                      // steps steady before leaving the solver
+static_assert(kStaticMargin <= kMargin);             // a static piece's box inside the other (steady_now)
 bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
            alo.z() <= bhi.z() && blo.z() <= ahi.z();
@@ -163,6 +164,7 @@ void build_grid(Runtime& r) {
         if (mode == BodyMode::Dynamic) continue;
         Steady::Hazard h{{0, 0, 0}, {0, 0, 0}, b, mode == BodyMode::Static};
         const btRigidBody& rb = ph.rb(b);
+        h.friction = rb.getFriction(), h.restitution = rb.getRestitution();
         if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
             // Each piece on its own: a belt's two rails are one body, the band between them.
             const auto* c = static_cast<const btCompoundShape*>(rb.getCollisionShape());
@@ -194,6 +196,10 @@ void build_grid(Runtime& r) {
         file_box(h.lo.x(), h.lo.y(), h.hi.x(), h.hi.y(), i, S.filed, S.big);
     }
     index_cells(S.filed, S.cells, S.cell_adr, S.cell_list);
+    box_cells(S.cell_list, S.cell_box, [&S](int32_t i) {
+        const Steady::Hazard& h = S.hazards[i];
+        return std::array<btScalar, 4>{h.lo.x(), h.lo.y(), h.hi.x(), h.hi.y()};
+    });
     S.grid_valid = true;
     S.grid_statics = ph.statics_placed();
 }
@@ -297,9 +303,8 @@ btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, in
 // kSpeedTol, and on no other side (not at its end). Then `out` holds the face.
 bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out) {
     const btRigidBody& rb = ph.rb(b);
-    const btRigidBody& rail = ph.rb(h.body);
-    if (!h.box || !rb.getCollisionShape()->isConvex() || rb.getFriction() * rail.getFriction() != 0 ||
-        rb.getRestitution() * rail.getRestitution() != 0)
+    if (!h.box || !rb.getCollisionShape()->isConvex() || rb.getFriction() * h.friction != 0 ||
+        rb.getRestitution() * h.restitution != 0)
         return false;
     const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
     const btTransform& t = rb.getWorldTransform();
@@ -378,7 +383,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
-            ph.rb(b).getFriction() * ph.rb(h.body).getFriction() != 0)
+            ph.rb(b).getFriction() * h.friction != 0)
             return false;  // two supports (two pieces of one), or one that would hold it back
         support = h.body, piece = h.piece;
         sup_lo = h.lo, sup_hi = h.hi;
@@ -387,9 +392,11 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     for (int32_t i : S.big)
         if (!hazard(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
+    // Only the hazards whose box meets the grown box in (x, y) can fail (a static piece is met
+    // by the box grown by the smaller margin, inside that one).
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1) ||
-        !each_in_cells(S.cells, S.cell_adr, S.cell_list, x0, y0, x1, y1,
-                       [&](int32_t k) { return hazard(S.hazards[k]); }))
+        !each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
+                      [&](int32_t k) { return hazard(S.hazards[k]); }))
         return false;
     if (!support.valid()) return false;
     btVector3 point, normal;

@@ -64,10 +64,13 @@ struct Steady {
         bool box = false;          // a box with its faces on the world's axes (a static piece's
                                    // [lo, hi] is it; a kinematic part's is its room)
         int16_t piece = -1;        // its piece of a static compound
+        btScalar friction = 0, restitution = 0;  // the body's (read here: its Bullet body is
+                                                 // far in memory, and they do not change)
     };
     std::vector<Hazard> hazards;
     std::vector<uint64_t> cells;
     std::vector<int32_t> cell_adr, cell_list, big;
+    std::vector<std::array<btScalar, 4>> cell_box;  // beside cell_list: each entry's hazard's box in (x, y)
     std::vector<std::pair<uint64_t, int32_t>> filed;
     std::vector<graph::BodyId> kinematic;      // declared kinematic bodies (and dynamic ones off)
     PerBody<btVector3> home_lo, home_hi;       // per body: the box its hazard was filed with
