@@ -38,6 +38,7 @@
 #include "panel/kind.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -99,6 +100,8 @@ struct Sample {
     int regions = 0, threads = 0;  // physics regions and the threads that stepped them
     double off = 0;                // share of the bottle-steps off Bullet's solver (steady transport)
     plant::engine::StepProfile prof;  // with --profile
+    // Unit-steps on the solver over the window, by why (steady transport's first failed test).
+    std::array<int64_t, plant::engine::kOnSolverReasons> why{};
 };
 
 double now_wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
@@ -126,6 +129,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     const double w0 = now_wall(), c0 = plant::bench::process_cpu_seconds();
     g_allocs = 0;
     const int64_t coasted0 = e.internals().steady.coasted;
+    const auto why0 = e.internals().steady.why;
     const uint64_t bullet0 = plant::engine::bullet_heap_requests();
     g_counting = true;
     for (long i = 0; i < steps; ++i) {
@@ -147,6 +151,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.steps = steps;
     s.mean = samples ? sum / double(samples) : 0;
     if (s.mean > 0) s.off = double(e.internals().steady.coasted - coasted0) / (s.mean * double(steps));
+    for (size_t k = 0; k < s.why.size(); ++k) s.why[k] = e.internals().steady.why[k] - why0[k];
     for (size_t d = 0; d < g.dos.size(); ++d)
         if (e.lost_at(plant::graph::DoId(int32_t(d))) >= 0) ++s.lost;
     rusage ru{};
@@ -218,6 +223,28 @@ void print_jobs(const plant::engine::StepProfile& p, int threads) {
     std::printf("\n");
 }
 
+// Why the bottles on the solver are there (--profile): per step, the units that failed each
+// test of steady transport first, against the bottles in circulation.
+void print_on_solver(const Sample& s) {
+    using plant::engine::OnSolver;
+    int64_t on = 0;
+    for (int64_t n : s.why) on += n;
+    if (s.steps == 0 || on == 0) return;
+    const double steps = double(s.steps);
+    std::printf("Why bottles are on the solver (%.1f per step of %.1f in circulation; a unit counts under the first "
+                "test of steady transport it fails):\n\n| why | units per step | %% of those on the solver |\n"
+                "|---|---:|---:|\n",
+                double(on) / steps, s.mean);
+    std::vector<size_t> order(s.why.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return s.why[x] > s.why[y]; });
+    for (size_t k : order)
+        if (s.why[k] > 0)
+            std::printf("| %s | %.1f | %.1f |\n", plant::engine::on_solver_name(OnSolver(k)), double(s.why[k]) / steps,
+                        100.0 * double(s.why[k]) / double(on));
+    std::printf("\n");
+}
+
 // The serial share of the window's steps and its Amdahl projection (--profile).
 void print_profile(const Sample& s, int n, bool rows) {
     using plant::engine::StepProfile;
@@ -270,6 +297,7 @@ void print_profile(const Sample& s, int n, bool rows) {
                     p.speedup(i), 100 * p.share(i));
     std::printf("\n\n");
     print_jobs(p, s.threads);
+    print_on_solver(s);
 }
 
 bool parse(int argc, char** argv, Args& a) {

@@ -282,6 +282,7 @@ btVector3 swept(const Physics& ph, BodyId b, const btVector3& lo, const btVector
 }
 
 struct Verdict {
+    OnSolver why = OnSolver::kCount;  // when not steady, the first test it failed
     FieldId field;
     BodyId support;
     int16_t piece = -1;  // the support's piece, in a compound
@@ -303,6 +304,7 @@ btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, in
 // kSpeedTol, and on no other side (not at its end). Then `out` holds the face.
 bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out) {
     const btRigidBody& rb = ph.rb(b);
+    out.why = OnSolver::kInTheWay;
     if (!h.box || !rb.getCollisionShape()->isConvex() || rb.getFriction() * h.friction != 0 ||
         rb.getRestitution() * h.restitution != 0)
         return false;
@@ -318,9 +320,15 @@ bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out
             if (axis >= 0) return false;  // outside it along both axes: by its end
             axis = a, side = sd, face = f + btScalar(sd) * std::max(into, btScalar(0));
         }
-    if (axis < 0 || btScalar(side) * rb.getLinearVelocity()[axis] > kApproach) return false;
-    if (out.guide_side != 0 && (out.guide_axis != axis || out.guide_side != side || out.guide_face != face))
+    if (axis < 0) return false;
+    if (btScalar(side) * rb.getLinearVelocity()[axis] > kApproach) {
+        out.why = OnSolver::kRailFast;
+        return false;
+    }
+    if (out.guide_side != 0 && (out.guide_axis != axis || out.guide_side != side || out.guide_face != face)) {
+        out.why = out.guide_axis == axis && out.guide_side == -side ? OnSolver::kChannel : OnSolver::kInTheWay;
         return false;  // two rails
+    }
     out.guide_axis = int8_t(axis), out.guide_side = int8_t(side), out.guide_face = face;
     return true;
 }
@@ -330,27 +338,35 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
-    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
-        s.body_outputs[b])
+    auto fail = [&out](OnSolver why) {
+        out.why = why;
         return false;
-    if (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p] || s.body_outputs[p])) return false;
+    };
+    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
+        (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p])))
+        return fail(OnSolver::kHeld);
+    if (s.body_outputs[b] || (p.valid() && s.body_outputs[p])) return fail(OnSolver::kRead);
     const btRigidBody& rb = ph.rb(b);
     const btVector3 v = rb.getLinearVelocity();
     const btVector3& w = rb.getAngularVelocity();
-    if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return false;
-    if (ph.frame(b).getBasis()[2][2] < kTilt) return false;
+    if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return fail(OnSolver::kTurning);
+    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(OnSolver::kTilted);
     FieldId f, fp;
-    if (!field_at(r, ph.com(b), v, f) || (p.valid() && (!field_at(r, ph.com(p), v, fp) || fp != f))) return false;
+    if (!field_at(r, ph.com(b), v, f) || (p.valid() && (!field_at(r, ph.com(p), v, fp) || fp != f)))
+        return fail(OnSolver::kFieldEdge);
     if (f.valid()) {
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
         const btVector3& gain = r.tab.field_gain[f];
-        if (R[2][2] < kUpright || gain.z() > 0) return false;
+        if (R[2][2] < kUpright || gain.z() > 0) return fail(OnSolver::kFieldSlope);
         const btVector3 vl = v * R;
-        for (int i = 0; i < 2; ++i)
-            if (std::abs(vl[i] - (gain[i] > 0 ? s.field_target[f][i] : 0)) > (gain[i] > 0 ? kSpeedTol : kDrift))
-                return false;
+        for (int i = 0; i < 2; ++i) {
+            const btScalar target = gain[i] > 0 ? s.field_target[f][i] : 0;
+            if (std::abs(vl[i] - target) <= (gain[i] > 0 ? kSpeedTol : kDrift)) continue;
+            if (gain[i] <= 0) return fail(OnSolver::kDrift);
+            return fail(std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack : OnSolver::kSpeed);
+        }
     } else if (std::abs(v.x()) > kDrift || std::abs(v.y()) > kDrift || std::abs(v.z()) > kSpeedTol) {
-        return false;  // no field acts: it coasts at the speed it has, in no fall
+        return fail(OnSolver::kMoving);  // no field acts: it coasts at the speed it has, in no fall
     }
 
     // Statics and kinematic parts.
@@ -372,7 +388,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         const btRigidBody& kb = ph.rb(k);
         if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
             !kb.getAngularVelocity().fuzzyZero())
-            return false;
+            return fail(OnSolver::kPart);
         Steady::Hazard now = h;  // its box, not its room
         body_box(ph, k, now.lo, now.hi);
         if (!overlap(glo, ghi, now.lo, now.hi)) return true;
@@ -384,7 +400,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
             ph.rb(b).getFriction() * h.friction != 0)
-            return false;  // two supports (two pieces of one), or one that would hold it back
+            return fail(OnSolver::kSupport);  // two supports (two pieces of one), or one that would hold it back
         support = h.body, piece = h.piece;
         sup_lo = h.lo, sup_hi = h.hi;
         return true;
@@ -394,18 +410,17 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     int64_t x0, y0, x1, y1;
     // Only the hazards whose box meets the grown box in (x, y) can fail (a static piece is met
     // by the box grown by the smaller margin, inside that one).
-    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1) ||
-        !each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(OnSolver::kNoSupport);
+    if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
                       [&](int32_t k) { return hazard(S.hazards[k]); }))
         return false;
-    if (!support.valid()) return false;
     btVector3 point, normal;
-    if (!top_face(ph, support, piece, point, normal)) return false;
+    if (!support.valid() || !top_face(ph, support, piece, point, normal)) return fail(OnSolver::kNoSupport);
     if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
         const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
         for (int i = 0; i < 2; ++i)
             if (std::min(c[i], q[i]) < sup_lo[i] + kFieldMargin || std::max(c[i], q[i]) > sup_hi[i] - kFieldMargin)
-                return false;
+                return fail(OnSolver::kEdge);
     }
 
     // Other bodies.
@@ -417,7 +432,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         const btVector3 go(ro, ro, ro);
         if (overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) clear = false;
     });
-    if (!clear) return false;
+    if (!clear) return fail(OnSolver::kNeighbour);
     out.field = f;
     out.support = support;
     out.piece = piece;
@@ -442,11 +457,14 @@ enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
 // Unit b's verdict this step and what follows from it: its count of steady steps, and when it
 // leaves the solver or goes on coasting, what it rides (S.field ... S.relax, State::ride_*).
 // Writes only the unit's own entries; the caller lands or coasts it (kLand, kCoast).
-uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
+// `why`: why the unit is on the solver after this step's check; kCount when it is not a unit
+// in the world, or off the solver.
+uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
     const BodyId p = ph.passenger(b);
+    why = OnSolver::kCount;
     if (!ph.in_world(b) || (!p.valid() && !ph.lone(b))) {
         S.settled[b] = 0;
         return kStay;
@@ -459,18 +477,24 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
         const btVector3 target = ok && v.field.valid()
                                      ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
                                      : btVector3(0, 0, 0);
+        why = ok ? OnSolver::kChanged : v.why;
         ok = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] && target == S.target[b];
         if (!ok) {
             S.settled[b] = 0;
             return kLand;
         }
+        why = OnSolver::kCount;
         guide(S, b, v);
     } else {
         if (!ok) {
             S.settled[b] = 0;
+            why = v.why;
             return kStay;
         }
-        if (++S.settled[b] < kSettle) return kStay;
+        if (++S.settled[b] < kSettle) {
+            why = OnSolver::kSettling;
+            return kStay;
+        }
         const FieldId f = v.field;  // none: no field acts, and every axis is free
         btVector3 point, normal;
         top_face(ph, v.support, v.piece, point, normal);
@@ -497,6 +521,33 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax) {
 }
 
 }  // namespace
+
+const char* on_solver_name(OnSolver w) {
+    switch (w) {
+    case OnSolver::kHeld: return "not simulated, or held";
+    case OnSolver::kRead: return "its outputs are read";
+    case OnSolver::kTurning: return "rocking or spinning";
+    case OnSolver::kTilted: return "tilted";
+    case OnSolver::kFieldEdge: return "at a field's face, or in two fields";
+    case OnSolver::kFieldSlope: return "its field not level";
+    case OnSolver::kHeldBack: return "held back: below half its field's speed (queued, at a pin)";
+    case OnSolver::kSpeed: return "speeding up or slowing down";
+    case OnSolver::kDrift: return "drifting across its field faster than 5 cm/s";
+    case OnSolver::kMoving: return "in no field, moving";
+    case OnSolver::kPart: return "a moving part within reach";
+    case OnSolver::kSupport: return "on two supports, or one with friction";
+    case OnSolver::kRailFast: return "coming up to a rail faster than 1 cm/s";
+    case OnSolver::kChannel: return "between two rails";
+    case OnSolver::kInTheWay: return "a static piece in the way";
+    case OnSolver::kNoSupport: return "no level support";
+    case OnSolver::kEdge: return "at its support's edge";
+    case OnSolver::kNeighbour: return "another body within reach";
+    case OnSolver::kChanged: return "its field or support changed";
+    case OnSolver::kSettling: return "steady for fewer than 5 steps";
+    case OnSolver::kCount: break;
+    }
+    return "?";
+}
 
 void start_steady(Runtime& r, bool on) {
     Steady& S = r.steady;
@@ -576,9 +627,13 @@ void check_steady(Runtime& r, bool left) {
         const auto [b, e] = slice_of(dyn.size(), slices, i);
         size_t events = 0, found = 0;
         int64_t guided = 0;
+        std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
+        whys.fill(0);
         for (size_t k = b; k < e; ++k) {
             const BodyId u = dyn[k];
-            const uint8_t a = St.action[u] = decide(r, u, vmax);
+            OnSolver why;
+            const uint8_t a = St.action[u] = decide(r, u, vmax, why);
+            if (why != OnSolver::kCount) ++whys[size_t(why)];
             if (a == kLand || a == kCoast) St.events[b + events++] = u;
             if (a == kCoast || a == kKeep) {
                 St.found[b + found++] = u;
@@ -598,6 +653,7 @@ void check_steady(Runtime& r, bool left) {
         S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
                           S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
         S.guided += S.slice_guided[i];
+        for (size_t k = 0; k < kOnSolverReasons; ++k) S.why[k] += S.slice_why[i][k];
     }
     S.coasted += int64_t(S.coasting.size());
     S.busy.clear();

@@ -18,6 +18,35 @@ namespace plant::engine {
 
 struct Runtime;
 
+// Why a unit is on Bullet's solver in a step: the first test of steadiness it fails
+// (docs/runtime.md, "Steady transport"), counted over a run in Steady::why.
+enum class OnSolver : uint8_t {
+    kHeld,        // not simulated (dynamics or collision off), gone, held by a gripper or a hand
+    kRead,        // something reads its outputs (a record, a flow, a watch)
+    kTurning,     // rocks or spins
+    kTilted,      // more than 2 degrees from upright
+    kFieldEdge,   // at a field's face, or in two acting fields
+    kFieldSlope,  // its field is not level, or drives along its z axis
+    kHeldBack,    // along a driven axis, slower than half its field's target (in a queue, at a pin)
+    kSpeed,       // otherwise off its field's target along a driven axis (speeding up, slowing down)
+    kDrift,       // drifting across its field faster than 5 cm/s
+    kMoving,      // in no field, moving or falling
+    kPart,        // a kinematic part moving within reach
+    kSupport,     // on two supports (or two pieces of one), or on one with friction
+    kRailFast,    // coming up to a rail faster than 1 cm/s
+    kChannel,     // between two rails
+    kInTheWay,    // a static piece in the way (not a rail it slides along)
+    kNoSupport,   // no support, or one whose top is not level
+    kEdge,        // in no field, at its support's edge
+    kNeighbour,   // another body within reach
+    kChanged,     // off the solver, and its field's target, its field or its support changed
+    kSettling,    // steady for fewer than 5 steps in a row
+    kCount
+};
+inline constexpr size_t kOnSolverReasons = size_t(OnSolver::kCount);
+// The reasons' names, for tables.
+const char* on_solver_name(OnSolver w);
+
 struct Steady {
     bool on = false;  // Options::steady_transport and the plant's settings.steady_transport
     template <class T>
@@ -52,6 +81,10 @@ struct Steady {
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
     int64_t guided = 0;                  // unit-steps off the solver sliding along a rail
     int64_t coasted = 0;                 // unit-steps off the solver (after each step's check)
+    // Unit-steps on the solver (after each step's check), by why (OnSolver), and per slice of
+    // check_steady's job.
+    std::array<int64_t, kOnSolverReasons> why{};
+    std::array<std::array<int64_t, kOnSolverReasons>, kMaxSlices> slice_why{};
 
     // Static geometry near which nothing coasts: static bodies (a support and the rails it
     // slides along aside) and kinematic bodies within a box around where they were (a gate or

@@ -13,6 +13,7 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -43,7 +44,9 @@ struct Seen {
     std::vector<graph::DoId> lost;
     engine::Warnings warn;
     std::vector<std::vector<graph::Vec3>> track;  // per step, the listed bodies' centres of mass
-    int64_t left_solver = 0, rejoined = 0, guided = 0;
+    int64_t left_solver = 0, rejoined = 0, guided = 0, coasted = 0;
+    std::array<int64_t, engine::kOnSolverReasons> why{};  // unit-steps on the solver, by why
+    int64_t on_solver(engine::OnSolver w) const { return why[size_t(w)]; }
 };
 
 void finish(Engine& e, Seen& s) {
@@ -57,6 +60,8 @@ void finish(Engine& e, Seen& s) {
     s.left_solver = e.internals().steady.left;
     s.rejoined = e.internals().steady.rejoined;
     s.guided = e.internals().steady.guided;
+    s.coasted = e.internals().steady.coasted;
+    s.why = e.internals().steady.why;
 }
 
 // Runs g for `steps` with steady transport on or off; `inputs` are (step, slot) pairs.
@@ -350,6 +355,13 @@ plant Rest {
                off_nudged = run(nudged, false, 150 * 3, both);
     CHECK(on.left_solver >= 1);
     CHECK(on.rejoined >= 1);
+    // Why each unit is on the solver, every step: the recorded one because it is read; each
+    // unit is counted in each step, on the solver or off it.
+    CHECK(on.on_solver(engine::OnSolver::kRead) == 150 * 3);
+    int64_t counted = on.coasted;
+    for (int64_t n : on.why) counted += n;
+    CHECK(counted == 2 * 150 * 3);
+    CHECK(on.on_solver(engine::OnSolver::kNeighbour) > 0);  // the still one, as the other came near
     const Apart chaos = compare(off_nudged, off), d = compare(on, off);
     CHECK(d.track <= chaos.track + 0.001);
 }
@@ -401,6 +413,8 @@ plant Queue {
                off_nudged = run(nudged, false, 150 * 25, mains, inputs);
     CHECK(on.left_solver >= 6);
     CHECK(on.taken.size() == 6);
+    // The queue is on the solver as held back (at the pin, and behind each other).
+    CHECK(on.on_solver(engine::OnSolver::kHeldBack) > 6 * 150);
     const Apart chaos = compare(off_nudged, off), d = compare(on, off);
     CHECK(chaos.steps > 0);  // the queue is chaotic indeed
     CHECK(d.steps <= chaos.steps + 2);
