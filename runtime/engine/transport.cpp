@@ -9,24 +9,26 @@
 //     about the horizontal axes (a bottle standing on a band rocks by contact noise that
 //     fast, by hundredths of a degree) and turns slower than 10 rad/s about the vertical;
 //   * the centre of mass of each of its bodies lies, this step and on its path two steps on,
-//     inside exactly one acting field, the same one, at least 1 mm from its faces, and
-//     1 mm clear of the faces of every other field; that field is level and the unit's
-//     velocity in the field's frame is within 2 mm/s of the target on the driven axes and
-//     within 5 cm/s of 0 on the others (nothing acts across a frictionless band);
+//     1 mm clear of every field's faces and inside one acting field at most, the same one;
+//     in a field, the field is level and the unit's velocity in the field's frame is within
+//     2 mm/s of the target on the driven axes and within 5 cm/s of 0 on the others (nothing
+//     acts across a frictionless band); in none, its velocity is within 5 cm/s of 0 along x
+//     and y and 2 mm/s along z, and its centre's path stays over its support's box;
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
 //     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
 //     band it stands on: a box whose top face is within 3° of level, frictionless against it)
-//     and otherwise only rails it slides along (guide_by; each piece of a compound on its own,
-//     the band's too); grown by its sweep plus 1 cm, it meets no kinematic part's room (its box
-//     when filed, grown by 5 cm) but of parts whose collision is off and parts at rest where
-//     they were filed, which count as static pieces met by that box;
+//     and otherwise only rails it slides along or comes up to at 1 cm/s at most (guide_by;
+//     each piece of a compound on its own, the band's too); grown by its sweep plus 1 cm, it
+//     meets no kinematic part's room (its box when filed, grown by 5 cm) but of parts whose
+//     collision is off and parts at rest where they were filed, which count as static pieces
+//     met by that box;
 //   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
 //     for one that Bullet does not move itself) meets its own grown by its sweep plus 1 cm.
 //
 // A unit steady for 5 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
-// its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
+// its bodies' gains, m its mass), the free axes keep their speed (every axis, in no field), the centre of mass keeps its
 // height above the band's top face (a band rises 2 mm along its length), it turns about
 // the vertical as it did when it left (nothing acts about that axis), no other way, and a rail
 // it slides along stops its motion into the rail (an inelastic, frictionless contact).
@@ -300,8 +302,9 @@ btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, in
 
 // Whether static box h, which unit b's grown box meets, is a rail b slides along: a box on the
 // world's axes, frictionless and inelastic against b, whose face b's shape touches from outside
-// along x or y (reaching into it by kTouch at most) and does not move towards faster than
-// kSpeedTol, and on no other side (not at its end). Then `out` holds the face.
+// along x or y (reaching into it by kTouch at most), or comes up to it, and does not move
+// towards faster than kApproach, and on no other side (not at its end). Then `out` holds the
+// face; else out.why says why not.
 bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out) {
     const btRigidBody& rb = ph.rb(b);
     out.why = OnSolver::kInTheWay;
