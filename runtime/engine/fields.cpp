@@ -227,7 +227,10 @@ void field_acts(Runtime& r, FieldId f) {
 bool prepare_fields(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    if (g.fields.empty()) return false;
+    if (g.fields.empty()) {  // no law, but bodies may rest where no field acts (transport.cpp)
+        check_steady(r, kinematic_left(r, 0, r.steady.kinematic.size()));
+        return false;
+    }
     if (s.groups_version != r.phys.version()) rebuild_groups(r);
     // Each field's frame and whether it acts (every field, or the carried ones: State::
     // field_carried), and whether a kinematic part left its room (transport.cpp), in slices on

@@ -12,8 +12,9 @@
 //     1 mm clear of every field's faces and inside one acting field at most, the same one;
 //     in a field, the field is level and the unit's velocity in the field's frame is within
 //     2 mm/s of the target on the driven axes and within 5 cm/s of 0 on the others (nothing
-//     acts across a frictionless band); in none, its velocity is within 5 cm/s of 0 along x
-//     and y and 2 mm/s along z, and its centre's path stays over its support's box;
+//     acts across a frictionless band); in none, it is at rest (within 5 mm/s along each
+//     axis: a bottle standing on a table jiggles that fast in Bullet, about a fixed place),
+//     and its centre's path stays over its support's box;
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
 //     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
 //     band it stands on: a box whose top face is within 3° of level, frictionless against it)
@@ -28,10 +29,11 @@
 // A unit steady for 5 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
-// its bodies' gains, m its mass), the free axes keep their speed (every axis, in no field), the centre of mass keeps its
+// its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
 // height above the band's top face (a band rises 2 mm along its length), it turns about
 // the vertical as it did when it left (nothing acts about that axis), no other way, and a rail
-// it slides along stops its motion into the rail (an inelastic, frictionless contact).
+// it slides along stops its motion into the rail (an inelastic, frictionless contact). In no
+// field it stays where it was, at rest.
 // Its pose, velocity and bounding box are written every step, so triggers, sensors, graphics
 // and records see it as any body (a trigger only reads: it does not land it). It returns to
 // the solver (Physics::land) with that state at the start of the first physics phase in which
@@ -101,6 +103,8 @@ constexpr btScalar kNotSimulated = btScalar(0.05);  // m, more for a body Bullet
 constexpr btScalar kSpeedTol = btScalar(0.002);     // m/s, off the field's target along its driven axes
 constexpr btScalar kDrift = btScalar(0.05);         // m/s, across them (nothing acts there: it keeps it)
 constexpr btScalar kApproach = btScalar(0.01);      // m/s, towards a rail it slides along
+constexpr btScalar kRest = btScalar(0.005);         // m/s, along each axis: at rest where no field acts (a
+                                                    // bottle standing on a table jiggles at up to 3 mm/s)
 constexpr btScalar kRockTol = btScalar(1);          // rad/s about horizontal axes: contact noise, not tipping
 constexpr btScalar kYawTol = btScalar(10);          // rad/s about the vertical
 constexpr btScalar kTilt = btScalar(0.99939);       // cos 2°: a body's z axis from vertical
@@ -368,8 +372,8 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
             if (gain[i] <= 0) return fail(OnSolver::kDrift);
             return fail(std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack : OnSolver::kSpeed);
         }
-    } else if (std::abs(v.x()) > kDrift || std::abs(v.y()) > kDrift || std::abs(v.z()) > kSpeedTol) {
-        return fail(OnSolver::kMoving);  // no field acts: it coasts at the speed it has, in no fall
+    } else if (std::abs(v.x()) > kRest || std::abs(v.y()) > kRest || std::abs(v.z()) > kRest) {
+        return fail(OnSolver::kMoving);  // no field acts: at rest, or it stays on the solver
     }
 
     // Statics and kinematic parts.
@@ -508,7 +512,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
         S.normal[b] = normal;
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
-        S.yaw[b] = ph.rb(b).getAngularVelocity().z();
+        S.yaw[b] = f.valid() ? ph.rb(b).getAngularVelocity().z() : 0;  // in no field: held at rest
         guide(S, b, v);
         const double m = ph.mass(b) + (p.valid() ? ph.mass(p) : 0.0);
         const btVector3 gain = f.valid() ? r.tab.field_gain[f] : btVector3(0, 0, 0);
@@ -536,7 +540,7 @@ const char* on_solver_name(OnSolver w) {
     case OnSolver::kHeldBack: return "held back: below half its field's speed (queued, at a pin)";
     case OnSolver::kSpeed: return "speeding up or slowing down";
     case OnSolver::kDrift: return "drifting across its field faster than 5 cm/s";
-    case OnSolver::kMoving: return "in no field, moving";
+    case OnSolver::kMoving: return "in no field, moving faster than 5 mm/s";
     case OnSolver::kPart: return "a moving part within reach";
     case OnSolver::kSupport: return "on two supports, or one with friction";
     case OnSolver::kRailFast: return "coming up to a rail faster than 1 cm/s";
@@ -696,8 +700,12 @@ void advance(Runtime& r, BodyId b) {
     const btScalar dt = btScalar(r.dt);
     const FieldId f = S.field[b];
     const btRigidBody& rb = ph.rb(b);
+    if (!f.valid()) {  // no field acts: at rest, where it was when it left
+        ph.coast_to(b, rb.getWorldTransform(), btVector3(0, 0, 0), btVector3(0, 0, 0));
+        return;
+    }
     btVector3 v = rb.getLinearVelocity();
-    if (f.valid()) {  // else no field acts: it keeps its speed
+    {
         const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
         const btVector3& target = r.st.field_target[f];
         btVector3 vl = v * R;

@@ -30,7 +30,7 @@ enum class OnSolver : uint8_t {
     kHeldBack,    // along a driven axis, slower than half its field's target (in a queue, at a pin)
     kSpeed,       // otherwise off its field's target along a driven axis (speeding up, slowing down)
     kDrift,       // drifting across its field faster than 5 cm/s
-    kMoving,      // in no field, moving or falling
+    kMoving,      // in no field, moving faster than 5 mm/s along an axis
     kPart,        // a kinematic part moving within reach
     kSupport,     // on two supports (or two pieces of one), or on one with friction
     kRailFast,    // coming up to a rail faster than 1 cm/s
