@@ -75,19 +75,27 @@ inline void cell_ids(const std::vector<uint64_t>& cells, const std::vector<int32
     end = list.data() + adr[c + 1];
 }
 
-// Calls f(id) for the ids filed under each cell of [x0, x1] × [y0, y1], cell by cell (an id
-// filed under several of them once per cell), until f returns false; returns false then.
+// Calls f(k) for the places k in `list` of the ids filed under each cell of [x0, x1] × [y0, y1],
+// cell by cell (an id filed under several of them once per cell), until f returns false;
+// returns false then.
 template <class F>
-bool each_in_cells(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
-                   const std::vector<int32_t>& list, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
+bool each_entry_in_cells(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
+                         const std::vector<int32_t>& list, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
     for (int64_t x = x0; x <= x1; ++x)
         for (int64_t y = y0; y <= y1; ++y) {
             const int32_t *id = nullptr, *end = nullptr;
             cell_ids(cells, adr, list, cell_key(x, y), id, end);
             for (; id != end; ++id)
-                if (!f(*id)) return false;
+                if (!f(size_t(id - list.data()))) return false;
         }
     return true;
+}
+
+// As each_entry_in_cells, calling f(id) for the ids themselves.
+template <class F>
+bool each_in_cells(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
+                   const std::vector<int32_t>& list, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
+    return each_entry_in_cells(cells, adr, list, x0, y0, x1, y1, [&](size_t k) { return f(list[k]); });
 }
 
 // Beside a CSR table's `list`, each filed id's box in (x, y): x0, y0, x1, y1.
@@ -106,14 +114,10 @@ template <class F>
 bool each_meeting(const std::vector<uint64_t>& cells, const std::vector<int32_t>& adr,
                   const std::vector<int32_t>& list, const CellBoxes& boxes, btScalar bx0, btScalar by0,
                   btScalar bx1, btScalar by1, int64_t x0, int64_t y0, int64_t x1, int64_t y1, F&& f) {
-    for (int64_t x = x0; x <= x1; ++x)
-        for (int64_t y = y0; y <= y1; ++y) {
-            const int32_t *id = nullptr, *end = nullptr;
-            cell_ids(cells, adr, list, cell_key(x, y), id, end);
-            for (const std::array<btScalar, 4>* b = id ? boxes.data() + (id - list.data()) : nullptr; id != end; ++id, ++b)
-                if ((*b)[0] <= bx1 && bx0 <= (*b)[2] && (*b)[1] <= by1 && by0 <= (*b)[3] && !f(*id)) return false;
-        }
-    return true;
+    return each_entry_in_cells(cells, adr, list, x0, y0, x1, y1, [&](size_t k) {
+        const std::array<btScalar, 4>& b = boxes[k];
+        return !(b[0] <= bx1 && bx0 <= b[2] && b[1] <= by1 && by0 <= b[3]) || f(list[k]);
+    });
 }
 
 }  // namespace plant::engine

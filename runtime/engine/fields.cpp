@@ -227,11 +227,10 @@ void field_acts(Runtime& r, FieldId f) {
 bool prepare_fields(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    if (g.fields.empty()) {  // no law, but bodies may rest where no field acts (transport.cpp)
-        check_steady(r, kinematic_left(r, 0, r.steady.kinematic.size()));
-        return false;
-    }
-    if (s.groups_version != r.phys.version()) rebuild_groups(r);
+    // With no field there is no law, but bodies may rest where no field acts (transport.cpp):
+    // the kinematic parts are looked at and the check made all the same.
+    if (g.fields.empty() && !r.steady.on) return false;
+    if (!g.fields.empty() && s.groups_version != r.phys.version()) rebuild_groups(r);
     // Each field's frame and whether it acts (every field, or the carried ones: State::
     // field_carried), and whether a kinematic part left its room (transport.cpp), in slices on
     // the physics threads: each writes its fields' own entries.
@@ -261,7 +260,7 @@ bool prepare_fields(Runtime& r) {
     for (size_t i = 0; i < slices; ++i) moved |= s.slice_moved[i] != 0, left |= s.slice_left[i] != 0;
     if (moved) build_field_cells(r);
     check_steady(r, left);  // transport.cpp: who leaves or rejoins the solver this step
-    return true;
+    return !g.fields.empty();
 }
 
 // The bodies the law can act on, by world (after the regions' worlds are assigned), each

@@ -461,6 +461,11 @@ void guide(Steady& S, BodyId b, const Verdict& v) {
 
 enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
 
+// Field f's target velocity in the world; none (no field acts): 0.
+btVector3 target_of(const State& s, FieldId f) {
+    return f.valid() ? s.field_frame[f].pose.getBasis() * s.field_target[f] : btVector3(0, 0, 0);
+}
+
 // Unit b's verdict this step and what follows from it: its count of steady steps, and when it
 // leaves the solver or goes on coasting, what it rides (S.field ... S.relax, State::ride_*).
 // Writes only the unit's own entries; the caller lands or coasts it (kLand, kCoast).
@@ -481,16 +486,13 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     bool ok = steady_now(r, b, p, vmax, v);
     uint8_t action = kKeep;
     if (was) {
-        const btVector3 target = ok && v.field.valid()
-                                     ? s.field_frame[v.field].pose.getBasis() * s.field_target[v.field]
-                                     : btVector3(0, 0, 0);
-        why = ok ? OnSolver::kChanged : v.why;
-        ok = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] && target == S.target[b];
-        if (!ok) {
+        const bool same = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] &&
+                          target_of(s, v.field) == S.target[b];
+        if (!same) {
             S.settled[b] = 0;
+            why = ok ? OnSolver::kChanged : v.why;
             return kLand;
         }
-        why = OnSolver::kCount;
         guide(S, b, v);
     } else {
         if (!ok) {
@@ -508,7 +510,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
         S.field[b] = v.field;
         S.support[b] = v.support;
         S.piece[b] = v.piece;
-        S.target[b] = f.valid() ? s.field_frame[f].pose.getBasis() * s.field_target[f] : btVector3(0, 0, 0);
+        S.target[b] = target_of(s, f);
         S.normal[b] = normal;
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
