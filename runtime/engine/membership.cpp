@@ -36,6 +36,7 @@ void Physics::add_to_world(BodyId b, bool filtered) {
 // body is flagged static: Bullet integrates every non-static body of its world each step
 // (predictIntegratedTransform, without looking at its activation), parked or not.
 void Physics::set_mode_flags(BodyId b) {
+    wrote(b);
     btRigidBody& r = *bodies_[b];
     int f = r.getCollisionFlags() & ~(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_KINEMATIC_OBJECT);
     const BodyMode mode = g_.bodies[b].mode;
@@ -86,6 +87,7 @@ void Physics::take_out(BodyId b) {
 }
 
 void Physics::park(BodyId b) {
+    wrote(b);
     btBroadphaseProxy* proxy = bodies_[b]->getBroadphaseHandle();
     proxy->m_collisionFilterGroup = 0;
     proxy->m_collisionFilterMask = 0;
@@ -145,6 +147,7 @@ void Physics::set_collision(BodyId b, bool on) {
 // Gives an in-world body's proxy the filter its mode and collision switch ask for and
 // makes the broadphase look for its pairs again.
 void Physics::refilter(BodyId b) {
+    wrote(b);
     btRigidBody& r = *bodies_[b];
     World& w = world_at(b);
     btBroadphaseProxy* proxy = r.getBroadphaseHandle();
@@ -173,6 +176,7 @@ Pose Physics::pose(BodyId b) const { return from_bt(frame(b)); }
 
 void Physics::place(BodyId b, const btTransform& f) {
     unweld(b);
+    wrote(b);
     btRigidBody& r = *bodies_[b];
     btTransform t = f * local_[b];
     r.setWorldTransform(t);
@@ -182,6 +186,9 @@ void Physics::place(BodyId b, const btTransform& f) {
     if (void_ >= 0 && g_.bodies[b].mode == BodyMode::Static) placed_static(b);
 }
 
-void Physics::move(BodyId b, const btTransform& f) { bodies_[b]->setWorldTransform(f * local_[b]); }
+void Physics::move(BodyId b, const btTransform& f) {
+    wrote(b);
+    bodies_[b]->setWorldTransform(f * local_[b]);
+}
 
 }  // namespace plant::engine

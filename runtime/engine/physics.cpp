@@ -95,9 +95,9 @@ private:
 
 class IslandWorld : public btDiscreteDynamicsWorld {
 public:
-    IslandWorld(const Graph& g, std::vector<KinematicRest>& rest, btDispatcher* d, btBroadphaseInterface* bp,
-                btConstraintSolver* cs, btCollisionConfiguration* cc)
-        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest) {}
+    IslandWorld(const Graph& g, std::vector<KinematicRest>& rest, IdVector<BodyId, uint32_t>& writes, btDispatcher* d,
+                btBroadphaseInterface* bp, btConstraintSolver* cs, btCollisionConfiguration* cc)
+        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest), writes_(writes) {}
 
     // The world's list of objects changes only through these (Bullet's addRigidBody calls
     // addCollisionObject; its removeCollisionObject calls removeRigidBody for a rigid body):
@@ -120,13 +120,36 @@ public:
     // cache miss each, and a line of the bottling plant has about 200 static bodies, which are
     // never active (sleeping from the start, flagged static: nothing wakes them; membership.cpp).
     // Here only the other objects are visited (list_live), in Bullet's order: the same boxes,
-    // updated in the same order.
+    // updated in the same order. A body declared kinematic that nothing wrote since its box was
+    // last worked out (Physics::writes; a line has 18, pins and switch blades, mostly still)
+    // has the same box and the same activation: its broadphase gets the box it holds, without
+    // a look at the body (its pose, its shape).
     void updateAabbs() override {
         if (m_forceUpdateAllAabbs) return btDiscreteDynamicsWorld::updateAabbs();
         list_live();
         for (int k = 0; k < live_.size(); ++k) {
             btCollisionObject* o = m_collisionObjects[live_[k]];
-            if (o->isActive()) updateSingleAabb(o);
+            const Kin kn = live_kin_[k];
+            if (kn.rest < 0) {
+                if (o->isActive()) updateSingleAabb(o);
+                continue;
+            }
+            KinematicRest& rest = rest_[size_t(kn.rest)];
+            if (rest.box_valid && rest.box_writes == writes_[kn.body]) {
+                assert(o->isActive() == rest.active && (!rest.active || same_box(*o)));
+                if (rest.active) {
+                    const btVector3 lo = rest.proxy->m_aabbMin, hi = rest.proxy->m_aabbMax;
+                    m_broadphasePairCache->setAabb(rest.proxy, lo, hi, m_dispatcher1);
+                }
+                continue;
+            }
+            rest.active = o->isActive();
+            if (rest.active) updateSingleAabb(o);
+            rest.proxy = o->getBroadphaseHandle();
+            rest.box_writes = writes_[kn.body];
+            // Bullet keeps the old box of a body whose new one is too large (a centre of mass
+            // far off its body): then its box is worked out again each step.
+            rest.box_valid = !rest.active || same_box(*o);
         }
 #ifndef NDEBUG
         for (int i = 0; i < m_collisionObjects.size(); ++i) {
@@ -205,21 +228,40 @@ public:
     // body declared kinematic keeps, in its KinematicRest (user index 2), what that step left
     // (the transform, the velocities it wrote, the step); while all of it is still there bit
     // for bit, the same call would write the same bits, and it is not made.
+    // A rest found again unchanged, or just left, holds while nothing writes the body
+    // (Physics::writes): then the body is not even read.
     void saveKinematicState(btScalar dt) override {
+        list_live();
         for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+            const Kin kn = nonstatic_kin_[i];
+            if (kn.rest >= 0) {
+                const KinematicRest& rest = rest_[size_t(kn.rest)];
+                if (rest.valid && rest.writes == writes_[kn.body] && same_bits(dt, rest.dt)) {
+                    assert(m_nonStaticRigidBodies[i]->getActivationState() == ISLAND_SLEEPING ||
+                           !m_nonStaticRigidBodies[i]->isKinematicObject() || unchanged(*m_nonStaticRigidBodies[i], rest, dt));
+                    continue;
+                }
+            }
             btRigidBody* body = m_nonStaticRigidBodies[i];
             if (body->getActivationState() == ISLAND_SLEEPING || !body->isKinematicObject()) continue;
-            const int k = body->getUserIndex2();
-            if (k < 0) {
+            if (kn.rest < 0) {
                 body->saveKinematicState(dt);
                 continue;
             }
-            KinematicRest& rest = rest_[k];
-            if (rest.valid && unchanged(*body, rest, dt)) continue;
+            KinematicRest& rest = rest_[size_t(kn.rest)];
+            if (rest.valid && unchanged(*body, rest, dt)) {
+                rest.writes = writes_[kn.body];
+                continue;
+            }
             const bool still = same_bits(body->getWorldTransform(), body->getInterpolationWorldTransform());
             body->saveKinematicState(dt);
-            if (still) rest = {body->getWorldTransform(), body->getLinearVelocity(), body->getAngularVelocity(), dt, true};
-            else rest.valid = false;
+            ++writes_[kn.body];  // its velocity
+            rest.valid = still;
+            if (!still) continue;
+            rest.at = body->getWorldTransform();
+            rest.lin = body->getLinearVelocity(), rest.ang = body->getAngularVelocity();
+            rest.dt = dt;
+            rest.writes = writes_[kn.body];
         }
     }
 
@@ -232,28 +274,53 @@ public:
     }
 
 private:
+    // A body declared kinematic: its graph id and its KinematicRest (user index 2); rest -1
+    // for any other body.
+    struct Kin {
+        int32_t rest = -1;
+        BodyId body;
+    };
+    static Kin kin_of(const btCollisionObject& o) { return {o.getUserIndex2(), BodyId(o.getUserIndex())}; }
+
     // The indices of the world's objects that are not static bodies, found again whenever the
     // world's list of objects changed (a body added or removed: `changed_`; a debug build
     // compares the lists as pointers each time); a static body found then gets the island
-    // fields Bullet would give it.
+    // fields Bullet would give it. Beside them, and beside Bullet's list of non-static bodies
+    // (which changes only with the objects), which are declared kinematic (Kin).
     void list_live() {
         const int n = m_collisionObjects.size();
         assert(changed_ || (n == seen_.size() && (n == 0 || std::memcmp(&seen_[0], &m_collisionObjects[0],
                                                                          sizeof(void*) * size_t(n)) == 0)));
+        assert(changed_ || nonstatic_kin_.size() == m_nonStaticRigidBodies.size());
         if (!changed_) return;
         changed_ = false;
         seen_.resize(n);
         live_.resize(0);
+        live_kin_.resize(0);
         for (int i = 0; i < n; ++i) {
             btCollisionObject* o = seen_[i] = m_collisionObjects[i];
             if (!fixed(*o)) {
                 live_.push_back(i);
+                live_kin_.push_back(kin_of(*o));
             } else {
                 o->setIslandTag(-1);
                 o->setCompanionId(-2);
                 o->setHitFraction(btScalar(1));
             }
         }
+        nonstatic_kin_.resize(0);
+        for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) nonstatic_kin_.push_back(kin_of(*m_nonStaticRigidBodies[i]));
+    }
+
+    // Whether o's broadphase box is the one updateSingleAabb works out now.
+    bool same_box(const btCollisionObject& o) const {
+        btVector3 lo, hi;
+        o.getCollisionShape()->getAabb(o.getWorldTransform(), lo, hi);
+        const btVector3 m(gContactBreakingThreshold, gContactBreakingThreshold, gContactBreakingThreshold);
+        lo -= m, hi += m;
+        const btBroadphaseProxy& p = *o.getBroadphaseHandle();
+        auto same = [](const btVector3& a, const btVector3& b) { return std::memcmp(a.m_floats, b.m_floats, 3 * sizeof(btScalar)) == 0; };
+        return same(lo, p.m_aabbMin) && same(hi, p.m_aabbMax);
     }
 
     template <class T>
@@ -278,9 +345,12 @@ private:
     IslandSolver islands_;
     const Graph& g_;
     std::vector<KinematicRest>& rest_;  // Physics::kin_rest_: each body's entry touched by its world only
+    IdVector<BodyId, uint32_t>& writes_;  // Physics::writes_: each body's counted by its world only
     bool changed_ = true;               // objects added or removed since live_ was found
     btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
     btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies
+    btAlignedObjectArray<Kin> live_kin_;             // beside live_
+    btAlignedObjectArray<Kin> nonstatic_kin_;        // beside m_nonStaticRigidBodies
 };
 
 bool pooled(const Graph& g, const Tables& t, DoId d) {
@@ -316,7 +386,7 @@ void Physics::make_world(World& w, Broadphase bp, size_t bodies) {  // bodies: f
     } else {
         w.broadphase = std::make_unique<btDbvtBroadphase>();
     }
-    w.world = std::make_unique<IslandWorld>(g_, kin_rest_, w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
+    w.world = std::make_unique<IslandWorld>(g_, kin_rest_, writes_, w.dispatcher.get(), w.broadphase.get(), solvers_[0].get(), config.get());
     w.world->setGravity(gravity_);
     w.world->setForceUpdateAllAabbs(false);  // sleeping statics keep their AABBs
     // Contact normals between boxes and hulls from the separating-axis test on their
@@ -343,6 +413,7 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
     coast_.assign(nb, 0);
+    writes_.assign(nb, 0);
     for (BodyId b : ids_of(g.bodies)) {
         const Body& body = g.bodies[b];
         BodyShape bs = shapes_.build(g, body);

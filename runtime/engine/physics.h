@@ -38,13 +38,21 @@ bool install_bullet_pool();
 bool bullet_pool();  // whether this build has it (physics.cpp installs it before main)
 
 // A body declared kinematic, as Bullet's saveKinematicState last left it after working out
-// its velocity from a transform that had not moved (physics.cpp, IslandWorld).
+// its velocity from a transform that had not moved, and its broadphase box as its world last
+// worked it out (physics.cpp, IslandWorld). `writes` and `box_writes`: Physics::writes(b)
+// then; while it is the same, nothing has written the body since.
 struct KinematicRest {
     btTransform at;
     btVector3 lin, ang;
     btScalar dt = 0;
     bool valid = false;
+    bool box_valid = false, active = false;
+    uint32_t writes = 0, box_writes = 0;
+    btBroadphaseProxy* proxy = nullptr;
 };
+
+// How many bodies ahead a pass asks for one (Physics::prefetch).
+inline constexpr int kAhead = 4;
 
 class Physics {
 public:
@@ -81,6 +89,15 @@ public:
     // centre of mass, velocity and inertia are the pair's; com(), velocity(),
     // angular_velocity() and inertia_world() give each body's own.
     const btRigidBody& rb(graph::BodyId b) const { return *bodies_[b]; }
+    // Asks the processor for b's pose and velocity ahead of a pass over bodies that reads them
+    // (a hint: it changes no result). Passes over many bodies in an order that is not their
+    // order in memory (by place, or the few in circulation among a pool) miss on each one.
+    void prefetch(graph::BodyId b) const {
+        const char* t = reinterpret_cast<const char*>(&bodies_[b]->getWorldTransform());
+        __builtin_prefetch(t);
+        __builtin_prefetch(t + sizeof(btTransform) - 1);
+        __builtin_prefetch(reinterpret_cast<const char*>(&bodies_[b]->getLinearVelocity()));
+    }
     // Bullet's body, to write its state by hand: ends its weld first (until the next step).
     btRigidBody& write(graph::BodyId b);
     btVector3 com(graph::BodyId b) const { return carries_[b] ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }
@@ -91,6 +108,14 @@ public:
     void apply(graph::BodyId b, const btVector3& force, const btVector3& torque);
     bool welded(graph::BodyId b) const { return weld_of_[b] >= 0 && welds_[weld_of_[b]].on; }
     bool in_world(graph::BodyId b) const { return in_world_[b]; }
+    // How many times b's Bullet state (pose, velocity, flags, activation, broadphase box) has
+    // been written other than by Bullet's step: every writer of Physics counts (wrote()), and
+    // so does a world calling Bullet's saveKinematicState on a kinematic body (its velocity).
+    // Bullet's step writes a kinematic body nothing else that differs (its solver writes back
+    // the velocity it read, unchanged: no impulse moves a body of infinite mass). While the
+    // count stands, a kinematic body is as it was: its world and steady transport pass over
+    // it without reading it (physics.cpp, transport.cpp).
+    uint32_t writes(graph::BodyId b) const { return writes_[b]; }
     bool declared_dynamic(graph::BodyId b) const { return g_.bodies[b].mode == graph::BodyMode::Dynamic; }
     // Simulated by the dynamics right now: declared dynamic, in the world, dynamics on.
     bool dynamic_now(graph::BodyId b) const { return in_world_[b] && dyn_on_[b] && mass_[b] > 0; }
@@ -222,6 +247,8 @@ private:
     PerBody<uint8_t> in_world_, dyn_on_, coll_on_;
     PerJoint<uint8_t> joint_in_, joint_on_;
     PerBody<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp)
+    PerBody<uint32_t> writes_;  // per body: writes(); each body's counted by its own world only while it steps
+    void wrote(graph::BodyId b) { ++writes_[b]; }
     std::vector<KinematicRest> kin_rest_;  // per body declared kinematic (its user index 2)
     uint64_t statics_placed_ = 0;
     PerBody<int> group_, mask_;  // broadphase filter while in the world

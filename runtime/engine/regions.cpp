@@ -423,6 +423,7 @@ void Physics::move_group(int32_t gi, int to) {
         if (carried(b)) continue;
         // Bullet files a body as static or not when it joins: a parked one joins as if it were
         // in the world, so that it is simulated once it is inserted again.
+        wrote(b);
         const int state = bodies_[b]->getActivationState();
         const bool parked = !in_world_[b];
         in_world_[b] = 1;

@@ -20,6 +20,7 @@ int32_t Spatial::cell(btScalar y) {
 std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
     btScalar reach = 0, vmax = 0;
     for (size_t i = begin; i < end; ++i) {
+        if (i + kAhead < end) ph.prefetch(order_[i + kAhead].body);  // in order of place, not of memory
         Entry& e = order_[i];
         const btRigidBody& r = ph.rb(e.body);
         vmax = std::max(vmax, r.getLinearVelocity().length());

@@ -87,6 +87,7 @@ void Physics::land(BodyId b) {
 }
 
 void Physics::coast_to(BodyId b, const btTransform& t, const btVector3& v, const btVector3& w) {
+    wrote(b);
     btRigidBody& r = *bodies_[b];
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
@@ -208,6 +209,7 @@ void build_grid(Runtime& r) {
     });
     S.grid_valid = true;
     S.grid_statics = ph.statics_placed();
+    ++S.grid_builds;
 }
 
 // Whether the path from p over two steps at v has no field's face within 1 mm of it and lies in
@@ -587,6 +589,8 @@ void start_steady(Runtime& r, bool on) {
     S.home_lo.assign(nb, btVector3(0, 0, 0));
     S.home_hi.assign(nb, btVector3(0, 0, 0));
     S.home_tr.assign(nb, btTransform::getIdentity());
+    S.in_room_grid.assign(nb, 0);
+    S.in_room_writes.assign(nb, 0);
     if (!on) return;
     build_grid(r);  // and room for kinematic parts that move to more cells later
     S.filed.reserve(2 * S.filed.size() + 64);
@@ -596,19 +600,29 @@ void start_steady(Runtime& r, bool on) {
     S.big.reserve(S.hazards.size());
 }
 
-bool kinematic_left(const Runtime& r, size_t begin, size_t end) {
-    const Steady& S = r.steady;
+bool kinematic_left(Runtime& r, size_t begin, size_t end) {
+    Steady& S = r.steady;
     const Physics& ph = r.phys;
     if (!S.on || !S.grid_valid) return false;
-    for (size_t i = begin; i < end && i < S.kinematic.size(); ++i) {
-        const BodyId k = S.kinematic[i];
-        const btScalar m = kMargin + btScalar(2 * r.dt) * ph.rb(k).getLinearVelocity().length();
+    // Whether k is in its room: its box, grown by two steps of its motion, inside it.
+    auto in_room = [&S, &ph, dt = r.dt](BodyId k) {
+        const btScalar m = kMargin + btScalar(2 * dt) * ph.rb(k).getLinearVelocity().length();
         // Where it was filed and slow: its box grown by m is inside the room (rounding is monotonic).
-        if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[k]) continue;
+        if (m <= kRoom && ph.rb(k).getWorldTransform() == S.home_tr[k]) return true;
         btVector3 lo, hi;
         body_box(ph, k, lo, hi);
         const btVector3 g(m, m, m);
-        if (!inside(lo - g, hi + g, S.home_lo[k], S.home_hi[k])) return true;
+        return inside(lo - g, hi + g, S.home_lo[k], S.home_hi[k]);
+    };
+    for (size_t i = begin; i < end && i < S.kinematic.size(); ++i) {
+        const BodyId k = S.kinematic[i];
+        if (S.in_room_grid[k] == S.grid_builds && S.in_room_writes[k] == ph.writes(k)) {  // as last found
+            assert(in_room(k));
+            continue;
+        }
+        if (!in_room(k)) return true;
+        S.in_room_grid[k] = S.grid_builds;
+        S.in_room_writes[k] = ph.writes(k);
     }
     return false;
 }
@@ -639,6 +653,7 @@ void check_steady(Runtime& r, bool left) {
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
         whys.fill(0);
         for (size_t k = b; k < e; ++k) {
+            if (k + kAhead < e) r.phys.prefetch(dyn[k + kAhead]);
             const BodyId u = dyn[k];
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);

@@ -110,6 +110,11 @@ struct Steady {
     PerBody<btTransform> home_tr;              // ... and its transform then
     bool grid_valid = false;
     uint64_t grid_statics = 0;                 // Physics::statics_placed when built
+    uint64_t grid_builds = 0;                  // how many times it was built
+    // Per kinematic part: grid_builds and Physics::writes when it was last found in its room;
+    // while both stand it still is, and kinematic_left does not read it.
+    PerBody<uint64_t> in_room_grid;
+    PerBody<uint32_t> in_room_writes;
 };
 
 void start_steady(Runtime& r, bool on);
@@ -119,8 +124,9 @@ void start_steady(Runtime& r, bool on);
 // fields' frames on the physics threads).
 void check_steady(Runtime& r, bool left);
 // Whether one of kinematic parts [begin, end) of Steady::kinematic left the room it was filed
-// with (then the static geometry is filed again). Reads only; any thread.
-bool kinematic_left(const Runtime& r, size_t begin, size_t end);
+// with (then the static geometry is filed again). Writes only those parts' in_room_ entries:
+// slices of them on any threads.
+bool kinematic_left(Runtime& r, size_t begin, size_t end);
 // After Bullet's step: the coasting units move by the law's exact solution.
 void advance_steady(Runtime& r);
 

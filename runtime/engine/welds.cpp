@@ -78,6 +78,7 @@ void Physics::unweld(BodyId b) {
 // Gives body b's Bullet body another shape and mass, keeping its body frame and the
 // velocity of every point of it.
 void Physics::reshape(BodyId b, const BodyShape& s) {
+    wrote(b);
     btRigidBody& r = *bodies_[b];
     const btTransform body = frame(b);
     const btVector3 v = r.getLinearVelocity(), w = r.getAngularVelocity(), c = r.getCenterOfMassPosition();
@@ -119,6 +120,7 @@ void Physics::weld_off(Weld& w) {
 void Physics::follow(const Weld& w) {
     const btRigidBody& h = *bodies_[w.host];
     btRigidBody& p = *bodies_[w.pass];
+    wrote(w.pass);
     const btTransform t = h.getWorldTransform() * w.off;
     p.setWorldTransform(t);
     p.setInterpolationWorldTransform(t);
@@ -142,6 +144,7 @@ void Physics::follow_world(int w) {
 
 btRigidBody& Physics::write(BodyId b) {
     unweld(b);
+    wrote(b);
     return *bodies_[b];
 }
 

@@ -281,3 +281,53 @@ TEST_CASE("runtime: a place, velocity or belt speed out of range reaching an inp
     CHECK(e.field_speed(plant::graph::FieldId(belt)) == 0.25);
     CHECK(e.body_com(plant::graph::BodyId(body))[1] == doctest::Approx(1e5 - 1).epsilon(1e-6));
 }
+
+// A kinematic part that nothing writes is passed over by its world (Physics::writes): Bullet's
+// saveKinematicState is not called for it and its broadphase box is not worked out again. Once
+// something moves or places it, both follow it again: its box is the one Bullet works out from
+// its pose in every step, and it pushes what is in its way.
+TEST_CASE("runtime: a kinematic part at rest is passed over until something writes it") {
+    SceneBuilder b;
+    b.body(0, "floor", BodyMode::Static, {box({4, 4, 0.2})}, 0, at(0, 0, -0.1), 0.5);
+    const int32_t pusher = b.body(b.dobj("pusher"), "body", BodyMode::Kinematic, {box({0.1, 0.1, 0.1})}, 0, at(0, 0, 0.05));
+    const int32_t crate = b.body(b.dobj("crate"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0.3, 0, 0.05), 0.5);
+    const int32_t c = b.body_comp(pusher);
+    Engine e(b.g);
+    auto& phys = e.internals().phys;
+    const plant::graph::BodyId p(pusher);
+    // Steps after which the pusher's broadphase box is not the one of its pose (but for a step
+    // that places it: that is done after the step's physics, and the box follows in the next).
+    int stale = 0;
+    auto step = [&](bool placing = false) {
+        e.step();
+        if (placing) return;
+        const btRigidBody& rb = phys.rb(p);
+        btVector3 lo, hi;
+        rb.getCollisionShape()->getAabb(rb.getWorldTransform(), lo, hi);
+        const btVector3 m(gContactBreakingThreshold, gContactBreakingThreshold, gContactBreakingThreshold);
+        const btBroadphaseProxy& proxy = *rb.getBroadphaseHandle();
+        stale += !((lo - m) == proxy.m_aabbMin && (hi + m) == proxy.m_aabbMax);
+    };
+    for (int i = 0; i < 10; ++i) step();
+    const uint32_t resting = phys.writes(p);
+    for (int i = 0; i < 20; ++i) step();
+    CHECK(phys.writes(p) == resting);  // passed over: nothing wrote it, not even Bullet's velocity
+    const std::array<double, 3> v{1, 0, 0}, still{0, 0, 0};
+    e.input(plant::graph::SlotId(b.S(c, "set_velocity")), v);
+    for (int i = 0; i < 60; ++i) step();  // 0.4 m: 0.2 m to the crate, then 0.2 m pushing it
+    e.input(plant::graph::SlotId(b.S(c, "set_velocity")), still);
+    for (int i = 0; i < 30; ++i) step();
+    CHECK(phys.writes(p) > resting);
+    CHECK(e.body_com(p)[0] == doctest::Approx(0.4).epsilon(0.02));
+    CHECK(e.body_com(plant::graph::BodyId(crate))[0] > 0.45);  // pushed
+    CHECK(phys.rb(p).getLinearVelocity().length() == 0);    // Bullet's, from a pose that stands
+    const uint32_t stopped = phys.writes(p);
+    for (int i = 0; i < 20; ++i) step();
+    CHECK(phys.writes(p) == stopped);
+    const std::array<double, 7> pose{-1, 1, 0.05, 0, 0, 0, 1};
+    e.input(plant::graph::SlotId(b.S(c, "set_pose")), pose);
+    step(true);
+    for (int i = 0; i < 5; ++i) step();
+    CHECK(e.body_com(p)[0] == doctest::Approx(-1));
+    CHECK(stale == 0);
+}
