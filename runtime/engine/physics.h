@@ -90,8 +90,8 @@ public:
     // angular_velocity() and inertia_world() give each body's own.
     const btRigidBody& rb(graph::BodyId b) const { return *bodies_[b]; }
     // Asks the processor for b's pose and velocity ahead of a pass over bodies that reads them
-    // (a hint: it changes no result). Passes over many bodies in an order that is not their
-    // order in memory (by place, or the few in circulation among a pool) miss on each one.
+    // (a hint: it changes no result). A pass over many bodies in an order that is not their
+    // order in memory (by place: the body index) misses on each one.
     void prefetch(graph::BodyId b) const {
         const char* t = reinterpret_cast<const char*>(&bodies_[b]->getWorldTransform());
         __builtin_prefetch(t);

@@ -653,7 +653,6 @@ void check_steady(Runtime& r, bool left) {
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
         whys.fill(0);
         for (size_t k = b; k < e; ++k) {
-            if (k + kAhead < e) r.phys.prefetch(dyn[k + kAhead]);
             const BodyId u = dyn[k];
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);
