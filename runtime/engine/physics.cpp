@@ -286,7 +286,8 @@ private:
     // world's list of objects changed (a body added or removed: `changed_`; a debug build
     // compares the lists as pointers each time); a static body found then gets the island
     // fields Bullet would give it. Beside them, and beside Bullet's list of non-static bodies
-    // (which changes only with the objects), which are declared kinematic (Kin).
+    // (which changes only with the objects), which are declared kinematic (Kin); each of these
+    // counts as written (Physics::writes).
     void list_live() {
         const int n = m_collisionObjects.size();
         assert(changed_ || (n == seen_.size() && (n == 0 || std::memcmp(&seen_[0], &m_collisionObjects[0],
@@ -310,6 +311,10 @@ private:
         }
         nonstatic_kin_.resize(0);
         for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) nonstatic_kin_.push_back(kin_of(*m_nonStaticRigidBodies[i]));
+        // A body that joined (a weld ended, say) has a new broadphase proxy: what its rest
+        // holds is looked at again.
+        for (int k = 0; k < live_kin_.size(); ++k)
+            if (live_kin_[k].rest >= 0) ++writes_[live_kin_[k].body];
     }
 
     // Whether o's broadphase box is the one updateSingleAabb works out now.
