@@ -51,9 +51,6 @@ struct KinematicRest {
     btBroadphaseProxy* proxy = nullptr;
 };
 
-// How many bodies ahead a pass asks for one (Physics::prefetch).
-inline constexpr int kAhead = 4;
-
 class Physics {
 public:
     // threads: how many threads may step the worlds (0: one per core).

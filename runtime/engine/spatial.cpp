@@ -18,6 +18,7 @@ int32_t Spatial::cell(btScalar y) {
 }
 
 std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
+    constexpr size_t kAhead = 4;  // how many bodies ahead each one's pose is asked for
     btScalar reach = 0, vmax = 0;
     for (size_t i = begin; i < end; ++i) {
         if (i + kAhead < end) ph.prefetch(order_[i + kAhead].body);  // in order of place, not of memory
