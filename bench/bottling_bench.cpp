@@ -99,6 +99,7 @@ struct Sample {
     long steps = 0;
     int regions = 0, threads = 0;  // physics regions and the threads that stepped them
     double off = 0;                // share of the bottle-steps off Bullet's solver (steady transport)
+    double rested = 0;             // ... of them resting, per step
     plant::engine::StepProfile prof;  // with --profile
     // Unit-steps on the solver over the window, by why (steady transport's first failed test).
     std::array<int64_t, plant::engine::kOnSolverReasons> why{};
@@ -128,7 +129,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     long samples = 0;
     const double w0 = now_wall(), c0 = plant::bench::process_cpu_seconds();
     g_allocs = 0;
-    const int64_t coasted0 = e.internals().steady.coasted;
+    const int64_t coasted0 = e.internals().steady.coasted, rested0 = e.internals().steady.rested;
     const auto why0 = e.internals().steady.why;
     const uint64_t bullet0 = plant::engine::bullet_heap_requests();
     g_counting = true;
@@ -151,6 +152,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.steps = steps;
     s.mean = samples ? sum / double(samples) : 0;
     if (s.mean > 0) s.off = double(e.internals().steady.coasted - coasted0) / (s.mean * double(steps));
+    s.rested = double(e.internals().steady.rested - rested0) / double(steps);
     for (size_t k = 0; k < s.why.size(); ++k) s.why[k] = e.internals().steady.why[k] - why0[k];
     for (size_t d = 0; d < g.dos.size(); ++d)
         if (e.lost_at(plant::graph::DoId(int32_t(d))) >= 0) ++s.lost;
@@ -231,6 +233,8 @@ void print_on_solver(const Sample& s) {
     for (int64_t n : s.why) on += n;
     if (s.steps == 0 || on == 0) return;
     const double steps = double(s.steps);
+    std::printf("Off the solver: %.1f units per step, %.1f of them resting (held still, in a queue or at a pin).\n\n",
+                s.off * s.mean, s.rested);
     std::printf("Why bottles are on the solver (%.1f per step of %.1f in circulation; a unit counts under the first "
                 "test of steady transport it fails):\n\n| why | units per step | %% of those on the solver |\n"
                 "|---|---:|---:|\n",

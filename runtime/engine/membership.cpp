@@ -27,9 +27,9 @@ void Physics::add_to_world(BodyId b, bool filtered) {
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
     }
-    const bool pairs = filtered && coll_on_[b] && !coast_[b];
+    const bool pairs = filtered && coll_on_[b] && coast_[b] != kCoasting;  // a resting body keeps its pairs
     world_at(b).world->addRigidBody(bodies_[b].get(), pairs ? group_[b] : 0, pairs ? mask_[b] : 0);
-    if (coast_[b]) park(b);  // moved to another region's world while coasting
+    if (coast_[b] == kCoasting) park(b);  // moved to another region's world while coasting
 }
 
 // Bullet's static/kinematic flags as the body's mode and dynamics switch say. A parked

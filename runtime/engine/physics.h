@@ -140,12 +140,28 @@ public:
     // pair, its broadphase box parked, its state written by coast_to() each step. land()
     // returns it; anything that writes its state or mode (unweld) lands it first.
     void coast(graph::BodyId b);
+    // A unit held at rest (in a queue, against a pin, on a stopped band, beside others at
+    // rest) leaves the solver another way: flagged static and of infinite mass, its velocity
+    // zero, its broadphase box where it stands, so that what meets it stops as at a wall.
+    // land() returns it too, with its mass.
+    void rest(graph::BodyId b);
     void land(graph::BodyId b);
-    // Coasting: b itself, or the host that carries b.
+    // Coasting (or resting): b itself, or the host that carries b.
     bool coasting(graph::BodyId b) const {
         if (coast_[b]) return true;
         const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
         return w >= 0 && welds_[w].on && coast_[welds_[w].host];
+    }
+    // Resting: b itself, or the host that carries b.
+    bool resting(graph::BodyId b) const {
+        if (coast_[b]) return coast_[b] == kResting;
+        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
+        return w >= 0 && welds_[w].on && coast_[welds_[w].host] == kResting;
+    }
+    // The unit b belongs to: b, or the host that carries b.
+    graph::BodyId unit_of(graph::BodyId b) const {
+        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
+        return w >= 0 && welds_[w].on && welds_[w].pass == b ? welds_[w].host : b;
     }
     // Sets a coasting carrier's centre-of-mass frame and velocities; its passenger follows.
     void coast_to(graph::BodyId b, const btTransform& com_frame, const btVector3& v, const btVector3& w);
@@ -243,7 +259,8 @@ private:
     PerBody<double> mass_;
     PerBody<uint8_t> in_world_, dyn_on_, coll_on_;
     PerJoint<uint8_t> joint_in_, joint_on_;
-    PerBody<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp)
+    PerBody<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp): kCoasting, kResting
+    static constexpr uint8_t kCoasting = 1, kResting = 2;
     PerBody<uint32_t> writes_;  // per body: writes(); each body's counted by its own world only while it steps
     void wrote(graph::BodyId b) { ++writes_[b]; }
     std::vector<KinematicRest> kin_rest_;  // per body declared kinematic (its user index 2)

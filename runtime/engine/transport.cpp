@@ -46,6 +46,17 @@
 // physics threads, a slice of the units per item; they are then acted on grouped by world, in
 // body id order within each, one world per item (landing and leaving touch only the unit's
 // world): the results do not depend on the number of threads.
+//
+// A unit that is not steady may rest when it is held still (rest_now): still (2 cm/s, 1 rad/s),
+// upright, in one acting field at most (one that would speed it up by 1 cm/s in a step were it
+// free: something holds it), every static body and kinematic part within 1 cm of it there to
+// stay (collision on, a part at rest where filed), every body within reach still too. Still so
+// for 0.1 s, and within 0.5 mm of where it was then, it rests (Physics::rest): static and of
+// infinite mass to Bullet, velocity 0, its broadphase box and pairs kept, so what meets it
+// meets a fixed body. It lands when it may no longer rest, its field or target changes, or an
+// event writes it, and with it, in the same step, every resting unit within 2 cm of a landing
+// one (a queue moves off at once), found on the calling thread from the landing ones in id
+// order.
 #include "engine/transport.h"
 
 #include "engine/cells.h"
@@ -74,8 +85,27 @@ void Physics::coast(BodyId b) {
     park(b);
 }
 
+void Physics::rest(BodyId b) {
+    coast_[b] = kResting;
+    btRigidBody& r = *bodies_[b];
+    r.clearForces();
+    r.setLinearVelocity(btVector3(0, 0, 0));
+    r.setAngularVelocity(btVector3(0, 0, 0));
+    r.setInterpolationWorldTransform(r.getWorldTransform());
+    r.forceActivationState(DISABLE_SIMULATION);  // not active: its box stays, and so do its pairs
+    r.setMassProps(0, btVector3(0, 0, 0));       // to the solver a fixed body, as a static one
+    set_mode_flags(b);                           // static: Bullet does not integrate it
+    if (weld_of_[b] >= 0 && welds_[weld_of_[b]].on) follow(welds_[weld_of_[b]]);
+}
+
 void Physics::land(BodyId b) {
     if (!coast_[b]) return;
+    if (coast_[b] == kResting) {  // its mass as it had it (a carrier's is the pair's: welds.cpp)
+        const bool pair = weld_of_[b] >= 0 && welds_[weld_of_[b]].on;
+        const BodyShape* both = pair ? &welds_[weld_of_[b]].both : nullptr;
+        bodies_[b]->setMassProps(btScalar(both ? both->mass : mass_[b]), both ? both->inertia : inertia_[b]);
+        bodies_[b]->setGravity(gravity_);
+    }
     coast_[b] = 0;
     btRigidBody& r = *bodies_[b];
     r.forceActivationState(DISABLE_DEACTIVATION);
@@ -115,6 +145,10 @@ constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bound
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
 constexpr btScalar kTouch = btScalar(0.001);        // m: how far a shape may reach into a rail it slides along
 constexpr int16_t kSettle = 5;                      // steps steady before leaving the solver
+constexpr btScalar kJiggle = btScalar(0.02);        // m/s, along each axis: still (a bottle pressed into a
+                                                    // queue by its band jiggles at about 1 cm/s in Bullet)
+constexpr double kStillFor = 0.1;                   // s still before resting ...
+constexpr btScalar kCreep = btScalar(0.0005);       // m: ... and moved no farther over that time
 static_assert(kStaticMargin <= kMargin);             // a static piece's box inside the other (steady_now)
 bool overlap(const btVector3& alo, const btVector3& ahi, const btVector3& blo, const btVector3& bhi) {
     return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y() &&
@@ -448,11 +482,119 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     return true;
 }
 
+// Whether unit b (with passenger p, or -1) may rest off the solver now: simulated, not held,
+// nothing reading its outputs, upright and still (within 2 cm/s along each axis, turning slower
+// than 1 rad/s), its centre of mass 1 mm clear of every field's faces and in one acting field
+// at most (its passenger's in the same), one that would speed it up by 1 cm/s in a step were it
+// free; every static body and kinematic part (its room) that its box grown by 1 cm meets with
+// its collision on, each part at rest where it was filed; and every other body whose box meets
+// its own grown by 1 cm (and that body's two steps of motion, 5 cm more for one Bullet does
+// not move itself) still too: resting, or still on the solver and not held, or a part that
+// does not move. Then nothing moves it before one of those changes: what holds it still (a
+// pin, a rail, the bodies before it) still holds it.
+bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
+    Physics& ph = r.phys;
+    State& s = r.st;
+    Steady& S = r.steady;
+    auto fail = [&out](OnSolver why) {
+        out.why = why;
+        return false;
+    };
+    auto still = [&ph](BodyId o) {
+        const btRigidBody& rb = ph.rb(o);
+        const btVector3 &v = rb.getLinearVelocity(), &w = rb.getAngularVelocity();
+        return std::abs(v.x()) <= kJiggle && std::abs(v.y()) <= kJiggle && std::abs(v.z()) <= kJiggle &&
+               w.length2() <= kRockTol * kRockTol;
+    };
+    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
+        (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p])))
+        return fail(OnSolver::kHeld);
+    if (s.body_outputs[b] || (p.valid() && s.body_outputs[p])) return fail(OnSolver::kRead);
+    if (!ph.resting(b) && !still(b)) return fail(OnSolver::kMoving);
+    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(OnSolver::kTilted);
+    const btVector3 zero(0, 0, 0);
+    FieldId f, fp;
+    if (!field_at(r, ph.com(b), zero, f) || (p.valid() && (!field_at(r, ph.com(p), zero, fp) || fp != f)))
+        return fail(OnSolver::kFieldEdge);
+    if (f.valid()) {
+        // Still against a field that drives it, it is held: were it free, the law would speed it
+        // up by at least 1 cm/s in a step along each driven axis with a target (a slow field, a
+        // weak gain or force: it may be speeding up, and it stays on the solver).
+        const btVector3& gain = r.tab.field_gain[f];
+        const btVector3& target = s.field_target[f];
+        const Field& fd = r.g.fields[f];
+        const int n = p.valid() ? 2 : 1;
+        const double m = ph.mass(b) + (p.valid() ? ph.mass(p) : 0.0);
+        const double cap = fd.max_force > 0 ? n * fd.max_force * r.dt / m : HUGE_VAL;
+        for (int i = 0; i < 3; ++i) {
+            if (gain[i] <= 0 || target[i] == 0) continue;
+            const double dv = std::abs(double(target[i])) * -std::expm1(-double(gain[i]) * n * r.dt / m);
+            if (std::min(dv, cap) < 2 * double(kRest)) return fail(OnSolver::kSpeed);
+        }
+    }
+    btVector3 lo, hi;
+    body_box(ph, b, lo, hi);
+    const btVector3 g(kMargin, kMargin, kMargin), glo = lo - g, ghi = hi + g;
+    // What may hold it still must not go: a static body or a part within reach whose collision
+    // is off (a pin opened by switching it off) fails it as one that moves.
+    auto part = [&](const Steady::Hazard& h) {
+        if (!overlap(glo, ghi, h.lo, h.hi)) return true;
+        const BodyId k = h.body;
+        if (!ph.collision_on(k)) return fail(OnSolver::kPart);
+        if (h.fixed) return true;
+        const btRigidBody& kb = ph.rb(k);
+        if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
+            !kb.getAngularVelocity().fuzzyZero())
+            return fail(OnSolver::kPart);
+        return true;
+    };
+    for (int32_t i : S.big)
+        if (!part(S.hazards[i])) return false;
+    int64_t x0, y0, x1, y1;
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(OnSolver::kPart);
+    if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
+                      [&](int32_t k) { return part(S.hazards[k]); }))
+        return false;
+    const btScalar far = kMargin + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * r.index.vmax();
+    bool clear = true;
+    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](BodyId o) {
+        if (!clear || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
+        const bool dyn = ph.dynamic_now(o);
+        const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (dyn ? 0 : kNotSimulated);
+        const btVector3 go(ro, ro, ro);
+        if (!overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) return;
+        const BodyId u = ph.unit_of(o);
+        if (ph.resting(u)) return;
+        if (ph.coasting(u)) clear = false;  // riding its field
+        else if (dyn) clear = still(u) && !s.held_by[o].valid() && !s.in_hand[o];
+        else clear = ph.rb(o).getLinearVelocity().fuzzyZero() && ph.rb(o).getAngularVelocity().fuzzyZero();
+    });
+    if (!clear) return fail(OnSolver::kNeighbour);
+    out.field = f;
+    return true;
+}
+
 void ride(Runtime& r, BodyId b, FieldId f) {
     State& s = r.st;
     s.ride_field[b] = f;
     s.ride_step[b] = s.step;
     s.ride_at[b] = r.phys.com(b);
+}
+
+// A resting unit in field f, each step: the loss bookkeeping and the count of the time it
+// stalled, as the law keeps them on the solver (fields.cpp: slower than a tenth of the running
+// field it is in).
+void rests_in(Runtime& r, BodyId b, BodyId p, FieldId f) {
+    if (!f.valid()) return;
+    State& s = r.st;
+    for (const BodyId x : {b, p}) {
+        if (!x.valid()) continue;
+        ride(r, x, f);
+        if (s.field_speed[f] != 0) {
+            if (s.slow_step[x] + 1 < s.step) s.stall_since[x] = s.time;
+            s.slow_step[x] = s.step;
+        }
+    }
 }
 
 void guide(Steady& S, BodyId b, const Verdict& v) {
@@ -461,7 +603,7 @@ void guide(Steady& S, BodyId b, const Verdict& v) {
     S.guide_face[b] = v.guide_face;
 }
 
-enum : uint8_t { kStay = 0, kLand, kCoast, kKeep };
+enum : uint8_t { kStay = 0, kLand, kCoast, kKeep, kToRest };
 
 // Field f's target velocity in the world; none (no field acts): 0.
 btVector3 target_of(const State& s, FieldId f) {
@@ -480,11 +622,20 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     const BodyId p = ph.passenger(b);
     why = OnSolver::kCount;
     if (!ph.in_world(b) || (!p.valid() && !ph.lone(b))) {
-        S.settled[b] = 0;
+        S.settled[b] = 0, S.still[b] = 0;
         return kStay;
     }
     const bool was = ph.coasting(b);
     Verdict v;
+    if (ph.resting(b)) {  // it stays while it may rest, in the same field with the same target
+        if (rest_now(r, b, p, v) && v.field == S.field[b] && target_of(s, v.field) == S.target[b]) {
+            rests_in(r, b, p, v.field);
+            return kKeep;
+        }
+        S.settled[b] = 0;
+        why = v.why == OnSolver::kCount ? OnSolver::kChanged : v.why;
+        return kLand;
+    }
     bool ok = steady_now(r, b, p, vmax, v);
     uint8_t action = kKeep;
     if (was) {
@@ -498,10 +649,36 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
         guide(S, b, v);
     } else {
         if (!ok) {
+            // Not riding its field alone: still, and held still (by a pin, the bodies before
+            // it, its band), it may rest.
+            Verdict still;
             S.settled[b] = 0;
+            if (v.why != OnSolver::kHeld && v.why != OnSolver::kRead && rest_now(r, b, p, still)) {
+                // Still for 0.1 s, and no farther than 0.5 mm from where it was then (not creeping
+                // in a queue that closes up): then it rests.
+                const btVector3 c = ph.com(b);
+                if (S.still[b]++ == 0) S.rest_from[b] = c;
+                if (double(S.still[b]) * r.dt < kStillFor) {
+                    why = OnSolver::kSettling;
+                    return kStay;
+                }
+                if ((c - S.rest_from[b]).length2() > kCreep * kCreep) {
+                    S.still[b] = 1, S.rest_from[b] = c;
+                    why = OnSolver::kCreeping;
+                    return kStay;
+                }
+                S.still[b] = 0;
+                S.field[b] = still.field;
+                S.target[b] = target_of(s, still.field);
+                S.guide_side[b] = 0;
+                rests_in(r, b, p, still.field);
+                return kToRest;
+            }
+            S.still[b] = 0;
             why = v.why;
             return kStay;
         }
+        S.still[b] = 0;
         if (++S.settled[b] < kSettle) {
             why = OnSolver::kSettling;
             return kStay;
@@ -554,7 +731,8 @@ const char* on_solver_name(OnSolver w) {
     case OnSolver::kEdge: return "at its support's edge";
     case OnSolver::kNeighbour: return "another body within reach";
     case OnSolver::kChanged: return "its field or support changed";
-    case OnSolver::kSettling: return "steady for fewer than 5 steps";
+    case OnSolver::kSettling: return "steady for fewer than 5 steps, or still for less than 0.1 s";
+    case OnSolver::kCreeping: return "still, but creeping (more than 0.5 mm in 0.1 s)";
     case OnSolver::kCount: break;
     }
     return "?";
@@ -565,6 +743,8 @@ void start_steady(Runtime& r, bool on) {
     S.on = on;
     const size_t nb = r.g.bodies.size();
     S.settled.assign(nb, 0);
+    S.still.assign(nb, 0);
+    S.rest_from.assign(nb, btVector3(0, 0, 0));
     S.field.assign(nb, FieldId{});
     S.support.assign(nb, BodyId{});
     S.piece.assign(nb, -1);
@@ -578,6 +758,8 @@ void start_steady(Runtime& r, bool on) {
     S.guide_side.assign(nb, 0);
     S.guide_face.assign(nb, 0);
     S.coasting.reserve(nb);
+    S.joined.reserve(nb);
+    S.stack.reserve(nb);
     S.events.assign(r.tab.dyn_bodies.size(), BodyId{});
     S.found.assign(r.tab.dyn_bodies.size(), BodyId{});
     S.by_world.assign(r.tab.dyn_bodies.size(), BodyId{});
@@ -657,8 +839,8 @@ void check_steady(Runtime& r, bool left) {
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);
             if (why != OnSolver::kCount) ++whys[size_t(why)];
-            if (a == kLand || a == kCoast) St.events[b + events++] = u;
-            if (a == kCoast || a == kKeep) {
+            if (a == kLand || a == kCoast || a == kToRest) St.events[b + events++] = u;
+            if (a == kCoast || a == kKeep || a == kToRest) {
                 St.found[b + found++] = u;
                 guided += St.guide_side[u] != 0;
             }
@@ -666,18 +848,62 @@ void check_steady(Runtime& r, bool left) {
         St.slice_events[i] = events, St.slice_found[i] = found, St.slice_guided[i] = guided;
     };
     run_slices(ph.workers(), slices, deciding);
+    // Units at rest hold one another still (a queue: each bottle pressed against the one before,
+    // the first against a pin): when one lands, those resting within 2 cm of it land with it, and
+    // theirs, in the same step, and those about to rest stay on the solver. So a queue moves
+    // off at once as on the solver, and a bottle that comes up to a queue strikes bottles the
+    // solver moves, not a wall. On this thread, from the landing ones in id order.
+    S.joined.clear();
+    for (size_t i = 0; i < slices; ++i) {
+        const size_t b = slice_of(dyn.size(), slices, i).first;
+        for (size_t k = b; k < b + S.slice_events[i]; ++k)
+            if (S.action[S.events[k]] == kLand && ph.resting(S.events[k])) S.stack.push_back(S.events[k]);
+    }
+    while (!S.stack.empty()) {
+        const BodyId u = S.stack.back();
+        S.stack.pop_back();
+        const btVector3 lo = r.index.lo(u), hi = r.index.hi(u);
+        const btScalar g = 2 * kMargin;
+        r.index.for_each(lo.x() - g, hi.x() + g, lo.y() - g, hi.y() + g, [&](BodyId o) {
+            const BodyId w = ph.unit_of(o);
+            if (w == u || !ph.in_world(w)) return;
+            const btVector3 wlo = r.index.lo(o) - btVector3(g, g, g), whi = r.index.hi(o) + btVector3(g, g, g);
+            if (!overlap(lo, hi, wlo, whi)) return;
+            if (S.action[w] == kKeep && ph.resting(w)) {
+                S.action[w] = kLand;
+                S.joined.push_back(w);
+            } else if (S.action[w] == kToRest) {
+                S.action[w] = kStay;
+                S.still[w] = 0;
+                S.joined.push_back(w);
+            } else {
+                return;
+            }
+            S.stack.push_back(w);
+            ++S.why[size_t(OnSolver::kNeighbour)];
+        });
+    }
     // Landing and leaving touch only the unit's own world (its broadphase and dispatcher): the
-    // units are grouped by world, in id order within each, and each world's are handled as an
-    // item on the physics threads.
+    // units are grouped by world, in id order within each (those landing with a neighbour
+    // after them, in the order found), and each world's are handled as an item on the physics
+    // threads.
     std::fill(S.world_adr.begin(), S.world_adr.end(), 0);
     for (size_t i = 0; i < slices; ++i) {
         const size_t b = slice_of(dyn.size(), slices, i).first;
-        for (size_t k = b; k < b + S.slice_events[i]; ++k) ++S.world_adr[ph.world_of(S.events[k]) + 1];
-        S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
-                          S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
+        for (size_t k = b; k < b + S.slice_events[i]; ++k)
+            if (S.action[S.events[k]] != kStay) ++S.world_adr[ph.world_of(S.events[k]) + 1];
+        for (size_t k = b; k < b + S.slice_found[i]; ++k) {
+            const BodyId u = S.found[k];
+            const uint8_t a = S.action[u];
+            if (a != kKeep && a != kCoast && a != kToRest) continue;  // landing or staying with a neighbour
+            S.coasting.push_back(u);
+            S.rested += a == kToRest || (a == kKeep && ph.resting(u));
+        }
         S.guided += S.slice_guided[i];
         for (size_t k = 0; k < kOnSolverReasons; ++k) S.why[k] += S.slice_why[i][k];
     }
+    for (const BodyId u : S.joined)
+        if (S.action[u] == kLand) ++S.world_adr[ph.world_of(u) + 1];
     S.coasted += int64_t(S.coasting.size());
     S.busy.clear();
     for (size_t w = 0; w + 1 < S.world_adr.size(); ++w) {
@@ -690,10 +916,16 @@ void check_steady(Runtime& r, bool left) {
         const size_t b = slice_of(dyn.size(), slices, i).first;
         for (size_t k = b; k < b + S.slice_events[i]; ++k) {
             const BodyId u = S.events[k];
+            if (S.action[u] == kStay) continue;  // was to rest, stays on the solver with a neighbour
             S.by_world[size_t(S.world_fill[ph.world_of(u)]++)] = u;
             if (S.action[u] == kLand) ++S.rejoined;
             else ++S.left;
         }
+    }
+    for (const BodyId u : S.joined) {
+        if (S.action[u] != kLand) continue;
+        S.by_world[size_t(S.world_fill[ph.world_of(u)]++)] = u;
+        ++S.rejoined;
     }
     auto applying = [&r](int i) {
         Steady& St = r.steady;
@@ -701,6 +933,7 @@ void check_steady(Runtime& r, bool left) {
         for (int32_t k = St.world_adr[w]; k < St.world_adr[w + 1]; ++k) {
             const BodyId u = St.by_world[size_t(k)];
             if (St.action[u] == kLand) r.phys.land(u);
+            else if (St.action[u] == kToRest) r.phys.rest(u);
             else r.phys.coast(u);
         }
     };
@@ -714,6 +947,7 @@ void advance(Runtime& r, BodyId b) {
     Steady& S = r.steady;
     Physics& ph = r.phys;
     const btScalar dt = btScalar(r.dt);
+    if (ph.resting(b)) return;  // held still, static to Bullet: nothing to write
     const FieldId f = S.field[b];
     const btRigidBody& rb = ph.rb(b);
     if (!f.valid()) {  // no field acts: at rest, where it was when it left

@@ -40,7 +40,8 @@ enum class OnSolver : uint8_t {
     kEdge,        // in no field, at its support's edge
     kNeighbour,   // another body within reach
     kChanged,     // off the solver, and its field's target, its field or its support changed
-    kSettling,    // steady for fewer than 5 steps in a row
+    kSettling,    // steady for fewer than 5 steps in a row, or still for less than 0.1 s
+    kCreeping,    // still, but more than 0.5 mm from where it was 0.1 s before (a queue closing up)
     kCount
 };
 inline constexpr size_t kOnSolverReasons = size_t(OnSolver::kCount);
@@ -53,15 +54,17 @@ struct Steady {
     using PerBody = graph::IdVector<graph::BodyId, T>;
     // Per body (a lone body or a weld's host: a unit).
     PerBody<int16_t> settled;            // consecutive steps the unit was steady
-    PerBody<graph::FieldId> field;       // coasting: the field it rides
+    PerBody<int16_t> still;              // consecutive steps it was still (it may rest)
+    PerBody<btVector3> rest_from;        // its centre of mass when it was first still
+    PerBody<graph::FieldId> field;       // coasting: the field it rides (resting: rests in)
     PerBody<graph::BodyId> support;      // coasting: the static body it stands on
     PerBody<int16_t> piece;              // coasting: which piece of it, in a compound (else -1)
-    PerBody<btVector3> target;           // coasting: the field's target velocity, in the world
+    PerBody<btVector3> target;           // coasting, resting: the field's target velocity, in the world
     PerBody<btVector3> normal;           // coasting: the support's top face's normal
     PerBody<btScalar> height;            // coasting: its centre of mass above the top face's plane
     PerBody<btScalar> yaw;               // coasting: its angular velocity about the vertical
     PerBody<btVector3> relax;            // coasting: exp(-a) per field axis (1: free axis)
-    std::vector<graph::BodyId> coasting; // the units coasting this step, in id order
+    std::vector<graph::BodyId> coasting; // the units coasting (or resting) this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
     // check_steady's slices: from each slice's first index on, its units that land or leave
     // and those off the solver, and how many of each (and of those along a rail) it found.
@@ -81,6 +84,10 @@ struct Steady {
     int64_t left = 0, rejoined = 0;      // times a unit left the solver and came back
     int64_t guided = 0;                  // unit-steps off the solver sliding along a rail
     int64_t coasted = 0;                 // unit-steps off the solver (after each step's check)
+    int64_t rested = 0;                  // ... of them resting (held still: Physics::rest)
+    // check_steady: units landing with a resting neighbour, or staying on the solver with one
+    // (in the order found), and the search's stack.
+    std::vector<graph::BodyId> joined, stack;
     // Unit-steps on the solver (after each step's check), by why (OnSolver), and per slice of
     // check_steady's job.
     std::array<int64_t, kOnSolverReasons> why{};
