@@ -193,6 +193,8 @@ bool axis_box(const btRigidBody& rb) {
     return shape && shape->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
 }
 
+bool top_face(const Physics& ph, BodyId b, int piece, btVector3& point, btVector3& normal);
+
 // Files the static geometry into cells (when starting and after a static body was placed or a
 // kinematic one left its room). Allocates only when it covers more cells than before.
 void build_grid(Runtime& r) {
@@ -229,6 +231,13 @@ void build_grid(Runtime& r) {
             S.kinematic.push_back(b);
         }
         S.hazards.push_back(h);
+    }
+    // Whether each static piece's top face is level (top_face): a unit may stand on it.
+    S.level_top.resize(S.hazards.size());
+    for (size_t i = 0; i < S.hazards.size(); ++i) {
+        const Steady::Hazard& h = S.hazards[i];
+        btVector3 point, normal;
+        S.level_top[i] = h.fixed && top_face(ph, h.body, h.piece, point, normal);
     }
     S.filed.clear();
     S.big.clear();
@@ -437,28 +446,29 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (!overlap(glo, ghi, now.lo, now.hi)) return true;
         return guide_by(ph, b, now, out);
     };
-    auto hazard = [&](const Steady::Hazard& h) {
+    int32_t sup = -1;  // the support's hazard
+    auto hazard = [&](int32_t i) {
+        const Steady::Hazard& h = S.hazards[size_t(i)];
         if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
             ph.rb(b).getFriction() * h.friction != 0)
             return fail(OnSolver::kSupport);  // two supports (two pieces of one), or one that would hold it back
-        support = h.body, piece = h.piece;
+        support = h.body, piece = h.piece, sup = i;
         sup_lo = h.lo, sup_hi = h.hi;
         return true;
     };
     for (int32_t i : S.big)
-        if (!hazard(S.hazards[i])) return false;
+        if (!hazard(i)) return false;
     int64_t x0, y0, x1, y1;
     // Only the hazards whose box meets the grown box in (x, y) can fail (a static piece is met
     // by the box grown by the smaller margin, inside that one).
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(OnSolver::kNoSupport);
     if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
-                      [&](int32_t k) { return hazard(S.hazards[k]); }))
+                      [&](int32_t k) { return hazard(k); }))
         return false;
-    btVector3 point, normal;
-    if (!support.valid() || !top_face(ph, support, piece, point, normal)) return fail(OnSolver::kNoSupport);
+    if (sup < 0 || !S.level_top[size_t(sup)]) return fail(OnSolver::kNoSupport);
     if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
         const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
         for (int i = 0; i < 2; ++i)
