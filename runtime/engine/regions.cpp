@@ -422,17 +422,21 @@ void Physics::move_group(int32_t gi, int to) {
         world_of_[b] = to;
         if (carried(b)) continue;
         // Bullet files a body as static or not when it joins: a parked one joins as if it were
-        // in the world, so that it is simulated once it is inserted again.
+        // in the world, and one off the solver (steady transport) as if it were on it, so that
+        // it is simulated once it is inserted again, or lands.
         wrote(b);
         const int state = bodies_[b]->getActivationState();
         const bool parked = !in_world_[b];
+        const uint8_t off = coast_[b];
         in_world_[b] = 1;
+        coast_[b] = 0;
         set_mode_flags(b);
-        add_to_world(b, !parked);
+        add_to_world(b, !parked && off != kCoasting);  // a resting body keeps its pairs
         in_world_[b] = !parked;
+        coast_[b] = off;
         set_mode_flags(b);
         bodies_[b]->forceActivationState(state);
-        if (parked) park(b);
+        if (parked || off == kCoasting) park(b);
     }
     for (JointId j : joints) world_at(g_.joints[j].body_a).world->addConstraint(joints_[j].get(), true);
 }

@@ -195,6 +195,47 @@ TEST_CASE("runtime: a static body placed outside its region's box merges every w
     CHECK(phys.world(0).getNumCollisionObjects() == 3);
 }
 
+// Bodies off the solver (steady transport: docs/runtime.md) when the worlds merge: a lone
+// frictionless cube at rest on floor b coasts, and two touching cubes beside it rest (each still
+// beside the other); floor a is placed out of its region, and they move into its world.
+// They join the one world as bodies Bullet simulates once they land: thrown up, each flies and
+// comes down again.
+TEST_CASE("runtime: bodies off the solver when the worlds merge are simulated again once they land") {
+    SceneBuilder b;
+    two_floors(b, 4);
+    // The lone one frictionless: on a frictional floor it would be held by friction, and rest.
+    const int32_t lone = b.body(b.dobj("cube"), "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1.0, at(3.7, 0, 0.05), 0.0);
+    const int32_t first = cube_at(b, 4.2, 0.05), second = cube_at(b, 4.3, 0.05);
+    Engine e(b.g, on_threads(2));
+    auto& phys = e.internals().phys;
+    REQUIRE(e.regions() == 2);
+    const plant::graph::BodyId L(lone), A(first), B(second);
+    for (int i = 0; i < 150; ++i) e.step();
+    CHECK(phys.coasting(L));
+    CHECK_FALSE(phys.resting(L));
+    CHECK(phys.resting(A));
+    CHECK(phys.resting(B));
+    CHECK(phys.world_of(A) != 0);  // floor b's world: they move into floor a's
+    phys.place(plant::graph::BodyId(0), btTransform(btQuaternion::getIdentity(), btVector3(-8, 0, -0.1)));  // floor a far out
+    REQUIRE(phys.worlds() == 1);
+    for (int i = 0; i < 3; ++i) e.step();
+    const double z0 = e.body_pose(L).p[2];
+    phys.write(L).setLinearVelocity(btVector3(0, 0, 2));
+    phys.write(A).setLinearVelocity(btVector3(0, 0, 2));
+    double top_l = 0, top_a = 0, top_b = 0;
+    for (int i = 0; i < 150; ++i) {
+        e.step();
+        top_l = std::max(top_l, e.body_pose(L).p[2]);
+        top_a = std::max(top_a, e.body_pose(A).p[2]);
+        top_b = std::max(top_b, e.body_pose(B).p[2]);
+    }
+    CHECK(top_l > z0 + 0.1);  // up about 20 cm
+    CHECK(top_a > z0 + 0.1);
+    CHECK(top_b < z0 + 0.01);  // the other one stays where it stood
+    CHECK(e.body_pose(L).p[2] == doctest::Approx(0.05).epsilon(0.05));  // and down again
+    CHECK(e.body_pose(A).p[2] == doctest::Approx(0.05).epsilon(0.05));
+}
+
 TEST_CASE("runtime: with sweep-and-prune a plant of lines far apart keeps one Bullet world") {
     const Graph g = bottling_scene(6, 0.5, 3);
     Options o = on_threads(2);
