@@ -385,40 +385,51 @@ bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out
     return true;
 }
 
+// Records why a unit is not steady (or may not rest): returns false.
+bool fail(Verdict& out, OnSolver why) {
+    out.why = why;
+    return false;
+}
+
+// Whether unit b (with passenger p, or -1) is simulated (dynamic, in the world, collision on),
+// free (not gone, not held by a gripper or a hand) and unread (nothing reads its outputs).
+bool free_unit(const Runtime& r, BodyId b, BodyId p, Verdict& out) {
+    const Physics& ph = r.phys;
+    const State& s = r.st;
+    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
+        (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p])))
+        return fail(out, OnSolver::kHeld);
+    if (s.body_outputs[b] || (p.valid() && s.body_outputs[p])) return fail(out, OnSolver::kRead);
+    return true;
+}
+
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
 bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
-    auto fail = [&out](OnSolver why) {
-        out.why = why;
-        return false;
-    };
-    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
-        (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p])))
-        return fail(OnSolver::kHeld);
-    if (s.body_outputs[b] || (p.valid() && s.body_outputs[p])) return fail(OnSolver::kRead);
+    if (!free_unit(r, b, p, out)) return false;
     const btRigidBody& rb = ph.rb(b);
     const btVector3 v = rb.getLinearVelocity();
     const btVector3& w = rb.getAngularVelocity();
-    if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return fail(OnSolver::kTurning);
-    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(OnSolver::kTilted);
+    if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return fail(out, OnSolver::kTurning);
+    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(out, OnSolver::kTilted);
     FieldId f, fp;
     if (!field_at(r, ph.com(b), v, f) || (p.valid() && (!field_at(r, ph.com(p), v, fp) || fp != f)))
-        return fail(OnSolver::kFieldEdge);
+        return fail(out, OnSolver::kFieldEdge);
     if (f.valid()) {
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
         const btVector3& gain = r.tab.field_gain[f];
-        if (R[2][2] < kUpright || gain.z() > 0) return fail(OnSolver::kFieldSlope);
+        if (R[2][2] < kUpright || gain.z() > 0) return fail(out, OnSolver::kFieldSlope);
         const btVector3 vl = v * R;
         for (int i = 0; i < 2; ++i) {
             const btScalar target = gain[i] > 0 ? s.field_target[f][i] : 0;
             if (std::abs(vl[i] - target) <= (gain[i] > 0 ? kSpeedTol : kDrift)) continue;
-            if (gain[i] <= 0) return fail(OnSolver::kDrift);
-            return fail(std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack : OnSolver::kSpeed);
+            if (gain[i] <= 0) return fail(out, OnSolver::kDrift);
+            return fail(out, std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack : OnSolver::kSpeed);
         }
     } else if (std::abs(v.x()) > kRest || std::abs(v.y()) > kRest || std::abs(v.z()) > kRest) {
-        return fail(OnSolver::kMoving);  // no field acts: at rest, or it stays on the solver
+        return fail(out, OnSolver::kMoving);  // no field acts: at rest, or it stays on the solver
     }
 
     // Statics and kinematic parts.
@@ -440,7 +451,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         const btRigidBody& kb = ph.rb(k);
         if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
             !kb.getAngularVelocity().fuzzyZero())
-            return fail(OnSolver::kPart);
+            return fail(out, OnSolver::kPart);
         Steady::Hazard now = h;  // its box, not its room
         body_box(ph, k, now.lo, now.hi);
         if (!overlap(glo, ghi, now.lo, now.hi)) return true;
@@ -454,7 +465,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
             ph.rb(b).getFriction() * h.friction != 0)
-            return fail(OnSolver::kSupport);  // two supports (two pieces of one), or one that would hold it back
+            return fail(out, OnSolver::kSupport);  // two supports (two pieces of one), or one that would hold it back
         support = h.body, piece = h.piece, sup = i;
         sup_lo = h.lo, sup_hi = h.hi;
         return true;
@@ -464,16 +475,16 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     int64_t x0, y0, x1, y1;
     // Only the hazards whose box meets the grown box in (x, y) can fail (a static piece is met
     // by the box grown by the smaller margin, inside that one).
-    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(OnSolver::kNoSupport);
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(out, OnSolver::kNoSupport);
     if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
                       [&](int32_t k) { return hazard(k); }))
         return false;
-    if (sup < 0 || !S.level_top[size_t(sup)]) return fail(OnSolver::kNoSupport);
+    if (sup < 0 || !S.level_top[size_t(sup)]) return fail(out, OnSolver::kNoSupport);
     if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
         const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
         for (int i = 0; i < 2; ++i)
             if (std::min(c[i], q[i]) < sup_lo[i] + kFieldMargin || std::max(c[i], q[i]) > sup_hi[i] - kFieldMargin)
-                return fail(OnSolver::kEdge);
+                return fail(out, OnSolver::kEdge);
     }
 
     // Other bodies.
@@ -485,7 +496,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         const btVector3 go(ro, ro, ro);
         if (overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) clear = false;
     });
-    if (!clear) return fail(OnSolver::kNeighbour);
+    if (!clear) return fail(out, OnSolver::kNeighbour);
     out.field = f;
     out.support = support;
     out.piece = piece;
@@ -506,26 +517,19 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
-    auto fail = [&out](OnSolver why) {
-        out.why = why;
-        return false;
-    };
     auto still = [&ph](BodyId o) {
         const btRigidBody& rb = ph.rb(o);
         const btVector3 &v = rb.getLinearVelocity(), &w = rb.getAngularVelocity();
         return std::abs(v.x()) <= kJiggle && std::abs(v.y()) <= kJiggle && std::abs(v.z()) <= kJiggle &&
                w.length2() <= kRockTol * kRockTol;
     };
-    if (!ph.dynamic_now(b) || !ph.collision_on(b) || s.gone[b] || s.held_by[b].valid() || s.in_hand[b] ||
-        (p.valid() && (s.gone[p] || s.held_by[p].valid() || s.in_hand[p])))
-        return fail(OnSolver::kHeld);
-    if (s.body_outputs[b] || (p.valid() && s.body_outputs[p])) return fail(OnSolver::kRead);
-    if (!ph.resting(b) && !still(b)) return fail(OnSolver::kMoving);
-    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(OnSolver::kTilted);
+    if (!free_unit(r, b, p, out)) return false;
+    if (!ph.resting(b) && !still(b)) return fail(out, OnSolver::kMoving);
+    if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(out, OnSolver::kTilted);
     const btVector3 zero(0, 0, 0);
     FieldId f, fp;
     if (!field_at(r, ph.com(b), zero, f) || (p.valid() && (!field_at(r, ph.com(p), zero, fp) || fp != f)))
-        return fail(OnSolver::kFieldEdge);
+        return fail(out, OnSolver::kFieldEdge);
     if (f.valid()) {
         // Still against a field that drives it, it is held: were it free, the law would speed it
         // up by at least 1 cm/s in a step along each driven axis with a target (a slow field, a
@@ -539,7 +543,7 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
         for (int i = 0; i < 3; ++i) {
             if (gain[i] <= 0 || target[i] == 0) continue;
             const double dv = std::abs(double(target[i])) * -std::expm1(-double(gain[i]) * n * r.dt / m);
-            if (std::min(dv, cap) < 2 * double(kRest)) return fail(OnSolver::kSpeed);
+            if (std::min(dv, cap) < 2 * double(kRest)) return fail(out, OnSolver::kSpeed);
         }
     }
     btVector3 lo, hi;
@@ -550,18 +554,18 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
     auto part = [&](const Steady::Hazard& h) {
         if (!overlap(glo, ghi, h.lo, h.hi)) return true;
         const BodyId k = h.body;
-        if (!ph.collision_on(k)) return fail(OnSolver::kPart);
+        if (!ph.collision_on(k)) return fail(out, OnSolver::kPart);
         if (h.fixed) return true;
         const btRigidBody& kb = ph.rb(k);
         if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
             !kb.getAngularVelocity().fuzzyZero())
-            return fail(OnSolver::kPart);
+            return fail(out, OnSolver::kPart);
         return true;
     };
     for (int32_t i : S.big)
         if (!part(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
-    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(OnSolver::kPart);
+    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(out, OnSolver::kPart);
     if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
                       [&](int32_t k) { return part(S.hazards[k]); }))
         return false;
@@ -579,7 +583,7 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
         else if (dyn) clear = still(u) && !s.held_by[o].valid() && !s.in_hand[o];
         else clear = ph.rb(o).getLinearVelocity().fuzzyZero() && ph.rb(o).getAngularVelocity().fuzzyZero();
     });
-    if (!clear) return fail(OnSolver::kNeighbour);
+    if (!clear) return fail(out, OnSolver::kNeighbour);
     out.field = f;
     return true;
 }
