@@ -673,7 +673,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
                 const btVector3 c = ph.com(b);
                 if (S.still[b]++ == 0) S.rest_from[b] = c;
                 if (double(S.still[b]) * r.dt < kStillFor) {
-                    why = OnSolver::kSettling;
+                    why = OnSolver::kStill;
                     return kStay;
                 }
                 if ((c - S.rest_from[b]).length2() > kCreep * kCreep) {
@@ -745,7 +745,8 @@ const char* on_solver_name(OnSolver w) {
     case OnSolver::kEdge: return "at its support's edge";
     case OnSolver::kNeighbour: return "another body within reach";
     case OnSolver::kChanged: return "its field or support changed";
-    case OnSolver::kSettling: return "steady for fewer than 5 steps, or still for less than 0.1 s";
+    case OnSolver::kSettling: return "steady for fewer than 5 steps";
+    case OnSolver::kStill: return "still for less than 0.1 s (a creeping queue is found so again every 0.1 s)";
     case OnSolver::kCreeping: return "still, but creeping (more than 0.5 mm in 0.1 s)";
     case OnSolver::kCount: break;
     }

@@ -40,7 +40,8 @@ enum class OnSolver : uint8_t {
     kEdge,        // in no field, at its support's edge
     kNeighbour,   // another body within reach
     kChanged,     // off the solver, and its field's target, its field or its support changed
-    kSettling,    // steady for fewer than 5 steps in a row, or still for less than 0.1 s
+    kSettling,    // steady for fewer than 5 steps in a row
+    kStill,       // still (it may rest) for less than 0.1 s
     kCreeping,    // still, but more than 0.5 mm from where it was 0.1 s before (a queue closing up)
     kCount
 };
