@@ -846,7 +846,7 @@ void check_steady(Runtime& r, bool left) {
         Steady& St = r.steady;
         const auto [b, e] = slice_of(dyn.size(), slices, i);
         size_t events = 0, found = 0;
-        int64_t guided = 0;
+        int64_t guided = 0, rested = 0;
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
         whys.fill(0);
         for (size_t k = b; k < e; ++k) {
@@ -858,9 +858,11 @@ void check_steady(Runtime& r, bool left) {
             if (a == kCoast || a == kKeep || a == kToRest) {
                 St.found[b + found++] = u;
                 guided += St.guide_side[u] != 0;
+                rested += a == kToRest || (a == kKeep && r.phys.resting(u));
             }
         }
         St.slice_events[i] = events, St.slice_found[i] = found, St.slice_guided[i] = guided;
+        St.slice_rested[i] = rested;
     };
     run_slices(ph.workers(), slices, deciding);
     // Units at rest hold one another still (a queue: each bottle pressed against the one before,
@@ -907,12 +909,18 @@ void check_steady(Runtime& r, bool left) {
         const size_t b = slice_of(dyn.size(), slices, i).first;
         for (size_t k = b; k < b + S.slice_events[i]; ++k)
             if (S.action[S.events[k]] != kStay) ++S.world_adr[ph.world_of(S.events[k]) + 1];
-        for (size_t k = b; k < b + S.slice_found[i]; ++k) {
-            const BodyId u = S.found[k];
-            const uint8_t a = S.action[u];
-            if (a != kKeep && a != kCoast && a != kToRest) continue;  // landing or staying with a neighbour
-            S.coasting.push_back(u);
-            S.rested += a == kToRest || (a == kKeep && ph.resting(u));
+        if (S.joined.empty()) {  // as found (most steps)
+            S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
+                              S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
+            S.rested += S.slice_rested[i];
+        } else {
+            for (size_t k = b; k < b + S.slice_found[i]; ++k) {
+                const BodyId u = S.found[k];
+                const uint8_t a = S.action[u];
+                if (a != kKeep && a != kCoast && a != kToRest) continue;  // landing or staying with a neighbour
+                S.coasting.push_back(u);
+                S.rested += a == kToRest || (a == kKeep && ph.resting(u));
+            }
         }
         S.guided += S.slice_guided[i];
         for (size_t k = 0; k < kOnSolverReasons; ++k) S.why[k] += S.slice_why[i][k];

@@ -68,10 +68,10 @@ struct Steady {
     std::vector<graph::BodyId> coasting; // the units coasting (or resting) this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
     // check_steady's slices: from each slice's first index on, its units that land or leave
-    // and those off the solver, and how many of each (and of those along a rail) it found.
+    // and those off the solver, and how many of each (and of those along a rail, and resting) it found.
     std::vector<graph::BodyId> events, found;
     std::array<size_t, kMaxSlices> slice_events{}, slice_found{};
-    std::array<int64_t, kMaxSlices> slice_guided{};
+    std::array<int64_t, kMaxSlices> slice_guided{}, slice_rested{};
     // ... and those units grouped by their world: world w's at [world_adr[w], world_adr[w + 1])
     // of by_world; busy: the worlds with any.
     std::vector<graph::BodyId> by_world;
