@@ -146,23 +146,14 @@ public:
     // land() returns it too, with its mass.
     void rest(graph::BodyId b);
     void land(graph::BodyId b);
-    // Coasting (or resting): b itself, or the host that carries b.
-    bool coasting(graph::BodyId b) const {
-        if (coast_[b]) return true;
-        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
-        return w >= 0 && welds_[w].on && coast_[welds_[w].host];
-    }
-    // Resting: b itself, or the host that carries b.
-    bool resting(graph::BodyId b) const {
-        if (coast_[b]) return coast_[b] == kResting;
-        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
-        return w >= 0 && welds_[w].on && coast_[welds_[w].host] == kResting;
-    }
     // The unit b belongs to: b, or the host that carries b.
     graph::BodyId unit_of(graph::BodyId b) const {
         const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
         return w >= 0 && welds_[w].on && welds_[w].pass == b ? welds_[w].host : b;
     }
+    // Coasting (or resting), and resting: b's unit (only a unit leaves the solver).
+    bool coasting(graph::BodyId b) const { return coast_[unit_of(b)] != 0; }
+    bool resting(graph::BodyId b) const { return coast_[unit_of(b)] == kResting; }
     // Sets a coasting carrier's centre-of-mass frame and velocities; its passenger follows.
     void coast_to(graph::BodyId b, const btTransform& com_frame, const btVector3& v, const btVector3& w);
     // The passenger host b carries now, or -1.

@@ -101,8 +101,7 @@ void Physics::rest(BodyId b) {
 void Physics::land(BodyId b) {
     if (!coast_[b]) return;
     if (coast_[b] == kResting) {  // its mass as it had it (a carrier's is the pair's: welds.cpp)
-        const bool pair = weld_of_[b] >= 0 && welds_[weld_of_[b]].on;
-        const BodyShape* both = pair ? &welds_[weld_of_[b]].both : nullptr;
+        const BodyShape* both = carries_[b] ? &welds_[weld_of_[b]].both : nullptr;
         bodies_[b]->setMassProps(btScalar(both ? both->mass : mass_[b]), both ? both->inertia : inertia_[b]);
         bodies_[b]->setGravity(gravity_);
     }
@@ -403,6 +402,33 @@ bool free_unit(const Runtime& r, BodyId b, BodyId p, Verdict& out) {
     return true;
 }
 
+// Whether kinematic part k is at rest exactly where it was filed (it then counts as a static
+// piece for steady transport).
+bool at_home(const Physics& ph, const Steady& S, BodyId k) {
+    const btRigidBody& kb = ph.rb(k);
+    return kb.getWorldTransform() == S.home_tr[k] && kb.getLinearVelocity().fuzzyZero() &&
+           kb.getAngularVelocity().fuzzyZero();
+}
+
+// Calls f(o) for every body o but b and p, in the world with its collision on, whose bounding box
+// grown by its reach (two steps at its speed plus 1 cm, 5 cm more for a body Bullet does not
+// move itself) meets [glo, ghi], until f returns false; returns whether none did. `grown`: how
+// far [glo, ghi] reaches beyond the unit's box; `vmax`: the bodies' largest speed.
+template <class F>
+bool each_in_reach(const Runtime& r, BodyId b, BodyId p, const btVector3& glo, const btVector3& ghi, btScalar grown,
+                   btScalar vmax, F&& f) {
+    const Physics& ph = r.phys;
+    const btScalar far = grown + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
+    bool go_on = true;
+    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](BodyId o) {
+        if (!go_on || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
+        const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (ph.dynamic_now(o) ? 0 : kNotSimulated);
+        const btVector3 g(ro, ro, ro);
+        if (overlap(glo, ghi, r.index.lo(o) - g, r.index.hi(o) + g)) go_on = f(o);
+    });
+    return go_on;
+}
+
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
 bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
@@ -448,10 +474,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     auto part = [&](const Steady::Hazard& h) {
         const BodyId k = h.body;
         if (!ph.collision_on(k)) return true;
-        const btRigidBody& kb = ph.rb(k);
-        if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
-            !kb.getAngularVelocity().fuzzyZero())
-            return fail(out, OnSolver::kPart);
+        if (!at_home(ph, S, k)) return fail(out, OnSolver::kPart);
         Steady::Hazard now = h;  // its box, not its room
         body_box(ph, k, now.lo, now.hi);
         if (!overlap(glo, ghi, now.lo, now.hi)) return true;
@@ -488,15 +511,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     }
 
     // Other bodies.
-    const btScalar far = reach + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * vmax;
-    bool clear = true;
-    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](BodyId o) {
-        if (!clear || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
-        const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (ph.dynamic_now(o) ? 0 : kNotSimulated);
-        const btVector3 go(ro, ro, ro);
-        if (overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) clear = false;
-    });
-    if (!clear) return fail(out, OnSolver::kNeighbour);
+    if (!each_in_reach(r, b, p, glo, ghi, reach, vmax, [](BodyId) { return false; })) return fail(out, OnSolver::kNeighbour);
     out.field = f;
     out.support = support;
     out.piece = piece;
@@ -513,7 +528,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
 // not move itself) still too: resting, or still on the solver and not held, or a part that
 // does not move. Then nothing moves it before one of those changes: what holds it still (a
 // pin, a rail, the bodies before it) still holds it.
-bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
+bool rest_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
     State& s = r.st;
     Steady& S = r.steady;
@@ -555,12 +570,7 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
         if (!overlap(glo, ghi, h.lo, h.hi)) return true;
         const BodyId k = h.body;
         if (!ph.collision_on(k)) return fail(out, OnSolver::kPart);
-        if (h.fixed) return true;
-        const btRigidBody& kb = ph.rb(k);
-        if (!(kb.getWorldTransform() == S.home_tr[k]) || !kb.getLinearVelocity().fuzzyZero() ||
-            !kb.getAngularVelocity().fuzzyZero())
-            return fail(out, OnSolver::kPart);
-        return true;
+        return h.fixed || at_home(ph, S, k) || fail(out, OnSolver::kPart);
     };
     for (int32_t i : S.big)
         if (!part(S.hazards[i])) return false;
@@ -569,19 +579,12 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, Verdict& out) {
     if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
                       [&](int32_t k) { return part(S.hazards[k]); }))
         return false;
-    const btScalar far = kMargin + r.index.reach() + kMargin + kNotSimulated + btScalar(2 * r.dt) * r.index.vmax();
-    bool clear = true;
-    r.index.for_each(glo.x() - far, ghi.x() + far, glo.y() - far, ghi.y() + far, [&](BodyId o) {
-        if (!clear || o == b || o == p || !ph.in_world(o) || !ph.collision_on(o)) return;
-        const bool dyn = ph.dynamic_now(o);
-        const btScalar ro = kMargin + btScalar(2 * r.dt) * ph.velocity(o).length() + (dyn ? 0 : kNotSimulated);
-        const btVector3 go(ro, ro, ro);
-        if (!overlap(glo, ghi, r.index.lo(o) - go, r.index.hi(o) + go)) return;
+    const bool clear = each_in_reach(r, b, p, glo, ghi, kMargin, vmax, [&](BodyId o) {
         const BodyId u = ph.unit_of(o);
-        if (ph.resting(u)) return;
-        if (ph.coasting(u)) clear = false;  // riding its field
-        else if (dyn) clear = still(u) && !s.held_by[o].valid() && !s.in_hand[o];
-        else clear = ph.rb(o).getLinearVelocity().fuzzyZero() && ph.rb(o).getAngularVelocity().fuzzyZero();
+        if (ph.resting(u)) return true;
+        if (ph.coasting(u)) return false;  // riding its field
+        if (ph.dynamic_now(o)) return still(u) && !s.held_by[o].valid() && !s.in_hand[o];
+        return ph.rb(o).getLinearVelocity().fuzzyZero() && ph.rb(o).getAngularVelocity().fuzzyZero();
     });
     if (!clear) return fail(out, OnSolver::kNeighbour);
     out.field = f;
@@ -642,7 +645,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     const bool was = ph.coasting(b);
     Verdict v;
     if (ph.resting(b)) {  // it stays while it may rest, in the same field with the same target
-        if (rest_now(r, b, p, v) && v.field == S.field[b] && target_of(s, v.field) == S.target[b]) {
+        if (rest_now(r, b, p, vmax, v) && v.field == S.field[b] && target_of(s, v.field) == S.target[b]) {
             rests_in(r, b, p, v.field);
             return kKeep;
         }
@@ -667,7 +670,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
             // it, its band), it may rest.
             Verdict still;
             S.settled[b] = 0;
-            if (v.why != OnSolver::kHeld && v.why != OnSolver::kRead && rest_now(r, b, p, still)) {
+            if (v.why != OnSolver::kHeld && v.why != OnSolver::kRead && rest_now(r, b, p, vmax, still)) {
                 // Still for 0.1 s, and no farther than 0.5 mm from where it was then (not creeping
                 // in a queue that closes up): then it rests.
                 const btVector3 c = ph.com(b);

@@ -68,7 +68,7 @@ void Physics::update_welds() {
 }
 
 void Physics::unweld(BodyId b) {
-    if (!coast_.empty() && coasting(b)) land(coast_[b] ? b : welds_[weld_of_[b]].host);  // its state is written
+    if (!coast_.empty() && coasting(b)) land(unit_of(b));  // its state is written
     if (weld_of_.empty() || weld_of_[b] < 0) return;  // (none yet while the constructor runs)
     Weld& w = welds_[weld_of_[b]];
     if (w.on) weld_off(w);
