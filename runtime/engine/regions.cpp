@@ -423,8 +423,7 @@ void Physics::move_group(int32_t gi, int to) {
         if (carried(b)) continue;
         // Bullet files a body as static or not when it joins: a parked one joins as if it were
         // in the world, and one off the solver (steady transport) as if it were on it, so that
-        // it is simulated once it is inserted again, or lands.
-        wrote(b);
+        // it is simulated once it is inserted again, or lands (set_mode_flags counts the write).
         const int state = bodies_[b]->getActivationState();
         const bool parked = !in_world_[b];
         const uint8_t off = coast_[b];
