@@ -106,6 +106,7 @@ void build_field_cells(Runtime& r) {
     }
     index_cells(s.field_filed, s.field_cells, s.field_cell_adr, s.field_cell_list);  // by cell, then field id
     s.field_cells_valid = true;
+    ++s.field_builds;
 }
 
 constexpr btScalar kOutside = btScalar(1e-4);  // m: beyond a field's bounding box (rounding is far less)

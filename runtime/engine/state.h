@@ -165,6 +165,7 @@ struct State {
     std::vector<int32_t> field_cell_adr, field_cell_list, field_big;
     std::vector<std::pair<uint64_t, int32_t>> field_filed;  // scratch of the build
     bool field_cells_valid = false;
+    uint64_t field_builds = 0;  // how many times they were filed (Steady::Near)
     // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
     std::vector<int32_t> world_adr, world_num, worlds_busy;
     std::vector<graph::BodyId> world_list, touched;

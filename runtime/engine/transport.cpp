@@ -254,12 +254,60 @@ void build_grid(Runtime& r) {
     ++S.grid_builds;
 }
 
+// Unit b's Near (transport.h) for a walk over cells [x0, x1] × [y0, y1]. Made again when the
+// filings changed or those cells are not all among its own: then for them and for the cells of
+// b's box grown by kNearBy (so that its other walks, this step and while it moves less than
+// that, find theirs among them). Null when more is filed there than it holds (the caller walks
+// the cells). Writes only b's entry.
+constexpr btScalar kNearBy = btScalar(0.02);  // m
+constexpr int64_t kNearCells = 16;            // at most, else the cells are walked
+const Steady::Near* near_of(Runtime& r, BodyId b, int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+    Steady& S = r.steady;
+    const State& s = r.st;
+    if (!S.near_on) return nullptr;
+    Steady::Near& n = S.near[b];
+    const uint64_t epoch = S.grid_builds + s.field_builds;
+    if (n.epoch == epoch && x0 >= n.x0 && y0 >= n.y0 && x1 <= n.x1 && y1 <= n.y1)
+        return n.hazards == Steady::kFull ? nullptr : &n;
+    btVector3 lo, hi;
+    body_box(r.phys, b, lo, hi);
+    int64_t bx0, by0, bx1, by1;
+    if (cell_of(lo.x() - kNearBy, lo.y() - kNearBy, bx0, by0) && cell_of(hi.x() + kNearBy, hi.y() + kNearBy, bx1, by1))
+        x0 = std::min(x0, bx0), y0 = std::min(y0, by0), x1 = std::max(x1, bx1), y1 = std::max(y1, by1);
+    n.x0 = int32_t(x0), n.y0 = int32_t(y0), n.x1 = int32_t(x1), n.y1 = int32_t(y1);  // within 4e6 (cell_of)
+    n.epoch = epoch;
+    n.hazards = n.fields = 0;
+    if ((x1 - x0 + 1) * (y1 - y0 + 1) > kNearCells) {
+        n.hazards = Steady::kFull;
+        return nullptr;
+    }
+    // Adds id once to the fields (`count`: n.fields) or the hazards after them; false when
+    // there is no room.
+    auto add = [&n](uint8_t& count, int32_t id) {
+        const uint8_t from = &count == &n.fields ? 0 : n.fields, end = uint8_t(n.fields + n.hazards);
+        for (uint8_t k = from; k < end; ++k)
+            if (n.id[k] == id) return true;
+        if (end == n.id.size()) return false;
+        n.id[end] = id;
+        ++count;
+        return true;
+    };
+    if (!each_in_cells(s.field_cells, s.field_cell_adr, s.field_cell_list, x0, y0, x1, y1,
+                       [&](int32_t f) { return add(n.fields, f); }) ||
+        !each_in_cells(S.cells, S.cell_adr, S.cell_list, x0, y0, x1, y1,
+                       [&](int32_t i) { return add(n.hazards, i); })) {
+        n.hazards = Steady::kFull;
+        return nullptr;
+    }
+    return &n;
+}
+
 // Whether the path from p over two steps at v has no field's face within 1 mm of it and lies in
 // one acting field's box at most (1 mm inside); then `found` is that field, or none (-1): no
 // field acts there. Every field whose bounding box lies
 // within `clear` of p is looked at: those filed under p's cell (fields are filed grown by
 // kNear), or, for a path longer than that allows, under every cell within `clear` of p.
-bool field_at(Runtime& r, const btVector3& p, const btVector3& v, FieldId& found) {
+bool field_at(Runtime& r, BodyId unit, const btVector3& p, const btVector3& v, FieldId& found) {
     State& s = r.st;
     found = FieldId{};
     int64_t ix, iy;
@@ -299,6 +347,13 @@ bool field_at(Runtime& r, const btVector3& p, const btVector3& v, FieldId& found
     if (clear > kNear && (!cell_of(p.x() - clear, p.y() - clear, x0, y0) ||
                           !cell_of(p.x() + clear, p.y() + clear, x1, y1) || (x1 - x0 + 1) * (y1 - y0 + 1) > kMaxCells))
         return false;
+    // The unit's own list holds every field filed under these cells, and others farther than
+    // `clear` (look passes over them): the same verdict and field, in any order.
+    if (const Steady::Near* n = near_of(r, unit, x0, y0, x1, y1)) {
+        for (uint8_t k = 0; k < n->fields; ++k)
+            if (!look(FieldId(n->id[k]))) return false;
+        return true;
+    }
     return each_in_cells(s.field_cells, s.field_cell_adr, s.field_cell_list, x0, y0, x1, y1,
                          [&](int32_t f) { return look(FieldId(f)); });
 }
@@ -441,7 +496,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     if (w.x() * w.x() + w.y() * w.y() > kRockTol * kRockTol || std::abs(w.z()) > kYawTol) return fail(out, OnSolver::kTurning);
     if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(out, OnSolver::kTilted);
     FieldId f, fp;
-    if (!field_at(r, ph.com(b), v, f) || (p.valid() && (!field_at(r, ph.com(p), v, fp) || fp != f)))
+    if (!field_at(r, b, ph.com(b), v, f) || (p.valid() && (!field_at(r, b, ph.com(p), v, fp) || fp != f)))
         return fail(out, OnSolver::kFieldEdge);
     if (f.valid()) {
         const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
@@ -493,15 +548,30 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         sup_lo = h.lo, sup_hi = h.hi;
         return true;
     };
-    for (int32_t i : S.big)
-        if (!hazard(i)) return false;
-    int64_t x0, y0, x1, y1;
     // Only the hazards whose box meets the grown box in (x, y) can fail (a static piece is met
-    // by the box grown by the smaller margin, inside that one).
-    if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(out, OnSolver::kNoSupport);
-    if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
-                      [&](int32_t k) { return hazard(k); }))
-        return false;
+    // by the box grown by the smaller margin, inside that one): those filed under its cells,
+    // found in the unit's own list of them (Near) when it has one, else by walking the cells.
+    // Both find the same support and rail when it passes (hazard passes over a piece the box
+    // does not meet, and fails on a second support or rail unlike the first, in any order); a
+    // failure is found again by the cells, so `why` is the first in their order.
+    int64_t x0, y0, x1, y1;
+    const bool in_grid = cell_of(glo.x(), glo.y(), x0, y0) && cell_of(ghi.x(), ghi.y(), x1, y1);
+    auto walk = [&](const Steady::Near* n) {
+        support = BodyId{}, piece = -1, sup = -1;
+        out.guide_axis = 0, out.guide_side = 0, out.guide_face = 0;
+        for (int32_t i : S.big)
+            if (!hazard(i)) return false;
+        if (!in_grid) return fail(out, OnSolver::kNoSupport);
+        if (n) {
+            for (uint8_t k = n->fields; k < n->fields + n->hazards; ++k)
+                if (!hazard(n->id[k])) return false;
+            return true;
+        }
+        return each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0,
+                            x1, y1, [&](int32_t k) { return hazard(k); });
+    };
+    const Steady::Near* n = in_grid ? near_of(r, b, x0, y0, x1, y1) : nullptr;
+    if (!walk(n) && (!n || !walk(nullptr))) return false;
     if (sup < 0 || !S.level_top[size_t(sup)]) return fail(out, OnSolver::kNoSupport);
     if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
         const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
@@ -543,7 +613,7 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     if (ph.frame(b).getBasis()[2][2] < kTilt) return fail(out, OnSolver::kTilted);
     const btVector3 zero(0, 0, 0);
     FieldId f, fp;
-    if (!field_at(r, ph.com(b), zero, f) || (p.valid() && (!field_at(r, ph.com(p), zero, fp) || fp != f)))
+    if (!field_at(r, b, ph.com(b), zero, f) || (p.valid() && (!field_at(r, b, ph.com(p), zero, fp) || fp != f)))
         return fail(out, OnSolver::kFieldEdge);
     if (f.valid()) {
         // Still against a field that drives it, it is held: were it free, the law would speed it
@@ -576,9 +646,13 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (!part(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(out, OnSolver::kPart);
-    if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1, y1,
-                      [&](int32_t k) { return part(S.hazards[k]); }))
+    if (const Steady::Near* n = near_of(r, b, x0, y0, x1, y1)) {  // as in steady_now (each fails as kPart)
+        for (uint8_t k = n->fields; k < n->fields + n->hazards; ++k)
+            if (!part(S.hazards[size_t(n->id[k])])) return false;
+    } else if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0,
+                             x1, y1, [&](int32_t k) { return part(S.hazards[k]); })) {
         return false;
+    }
     const bool clear = each_in_reach(r, b, p, glo, ghi, kMargin, vmax, [&](BodyId o) {
         const BodyId u = ph.unit_of(o);
         if (ph.resting(u)) return true;
@@ -791,6 +865,7 @@ void start_steady(Runtime& r, bool on) {
     S.home_tr.assign(nb, btTransform::getIdentity());
     S.in_room_grid.assign(nb, 0);
     S.in_room_writes.assign(nb, 0);
+    S.near.assign(on ? nb : 0, Steady::Near{});
     if (!on) return;
     build_grid(r);  // and room for kinematic parts that move to more cells later
     S.filed.reserve(2 * S.filed.size() + 64);

@@ -114,6 +114,22 @@ struct Steady {
     std::vector<int32_t> cell_adr, cell_list, big;
     std::vector<std::array<btScalar, 4>> cell_box;  // beside cell_list: each entry's hazard's box in (x, y)
     std::vector<std::pair<uint64_t, int32_t>> filed;
+    // Per unit: what is filed near it, so that a unit whose lookups stay within the same cells
+    // does not look those cells up again (most steps): each field (State::field_cells) and each
+    // hazard filed under cells [x0, x1] × [y0, y1], once, as both filings stood at `epoch`
+    // (grid_builds + State::field_builds). Walking these finds what walking the cells finds,
+    // and some more that lies too far to count (transport.cpp, near_of). Two cache lines.
+    static constexpr int kNearIds = 25;
+    struct alignas(64) Near {
+        int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+        uint64_t epoch = ~uint64_t(0);
+        uint8_t fields = 0, hazards = 0;  // id[0, fields): fields, then the hazards; kFull: more than fit
+        std::array<int32_t, kNearIds> id;
+    };
+    static_assert(sizeof(Near) == 128);
+    static constexpr uint8_t kFull = 0xff;
+    PerBody<Near> near;
+    bool near_on = true;  // off: every walk looks up the cells (the tests compare the two)
     std::vector<graph::BodyId> kinematic;      // declared kinematic bodies (and dynamic ones off)
     PerBody<btVector3> home_lo, home_hi;       // per body: the box its hazard was filed with
     PerBody<btTransform> home_tr;              // ... and its transform then

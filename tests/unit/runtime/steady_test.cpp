@@ -66,11 +66,19 @@ void finish(Engine& e, Seen& s) {
 }
 
 // Runs g for `steps` with steady transport on or off; `inputs` are (step, slot) pairs.
+// `lists`: whether each unit keeps its list of what is filed near it (Steady::Near); then
+// `listed` counts the units holding a list of the filings as they stand at the end, and how
+// often the static pieces and the fields were filed.
+struct Listed {
+    int64_t units = 0;
+    uint64_t pieces = 0, fields = 0;
+};
 Seen run(const graph::Graph& g, bool steady, int64_t steps, const std::vector<int32_t>& tracked = {},
-         const std::vector<std::pair<int64_t, int32_t>>& inputs = {}) {
+         const std::vector<std::pair<int64_t, int32_t>>& inputs = {}, bool lists = true, Listed* listed = nullptr) {
     engine::Options o;
     o.steady_transport = steady;
     Engine e(g, o);
+    e.internals().steady.near_on = lists;
     Seen s;
     for (const graph::Exit& x : g.exits) {
         e.watch(graph::SlotId(g.comps[x.comp].slot_adr + graph::exitslot::object));
@@ -107,6 +115,12 @@ Seen run(const graph::Graph& g, bool steady, int64_t steps, const std::vector<in
         }
     }
     finish(e, s);
+    if (listed) {
+        const engine::Steady& S = e.internals().steady;
+        listed->pieces = S.grid_builds, listed->fields = e.internals().st.field_builds;
+        for (const engine::Steady::Near& n : S.near)
+            listed->units += n.epoch == S.grid_builds + e.internals().st.field_builds && n.hazards != engine::Steady::kFull;
+    }
     return s;
 }
 
@@ -198,6 +212,30 @@ Apart within_nudges(const Seen& on, const Seen& off, const std::vector<Seen>& of
     CHECK(d.at <= chaos.at + 0.01);
     CHECK(d.track <= chaos.track + 0.01);
     return chaos;
+}
+
+// Two runs the same to the bit: every tracked body's place in every step (NaN, out of the
+// world, alike), when and where bodies left the world and what the exits took, and each
+// step's verdicts (how often units left the solver and came back, and why they were on it).
+void identical(const Seen& a, const Seen& b) {
+    const Apart d = compare(a, b);
+    CHECK(d.steps == 0);
+    CHECK(d.at == 0);
+    REQUIRE(a.track.size() == b.track.size());
+    int64_t differ = 0;
+    for (size_t i = 0; i < a.track.size(); ++i)
+        for (size_t k = 0; k < a.track[i].size(); ++k)
+            for (int j = 0; j < 3; ++j) {
+                const double x = a.track[i][k][size_t(j)], y = b.track[i][k][size_t(j)];
+                differ += !(x == y || (std::isnan(x) && std::isnan(y)));
+            }
+    CHECK(differ == 0);
+    CHECK(a.left_solver == b.left_solver);
+    CHECK(a.rejoined == b.rejoined);
+    CHECK(a.coasted == b.coasted);
+    CHECK(a.rested == b.rested);
+    CHECK(a.guided == b.guided);
+    CHECK(a.why == b.why);
 }
 
 // Three bottles on a belt turned by `angle` (degrees) before a straight one with an exit: they
@@ -590,4 +628,46 @@ plant Edge {
     }
     CHECK(coasted > 100);    // it rode off the solver before the field
     CHECK(near_face > 20);   // and was seen near and past the face
+}
+
+// Each unit keeps a list of the fields and the static pieces filed under the cells near it,
+// made again when it moves out of them or the filings change (a field on a moving body, a
+// part out of its room), and walks that instead of the cells. The lists find what the cells
+// find: with them and without, a run is the same to the bit, verdict by verdict.
+TEST_CASE("steady transport: each unit's list of what lies near it finds what the cells find") {
+    SUBCASE("the bottling plant, its separators' pins and its switches' blades moving") {
+        const int seconds = PLANT_SANITIZED ? 20 : 60;
+        Compilation c;
+        compile_repo_file("plants/bottling.plant", c);
+        REQUIRE(c.ok());
+        const int64_t steps = int64_t(seconds * c.graph.settings.rate + 0.5);
+        const std::vector<int32_t> mains = bodies_ending(c.graph, ".main");
+        Listed listed;
+        const Seen with = run(c.graph, true, steps, mains, {}, true, &listed), without = run(c.graph, true, steps, mains, {}, false);
+        CHECK(listed.units > 10);  // the lists were kept
+        CHECK(with.coasted > 0);  // and units rode off the solver
+        identical(with, without);
+    }
+    SUBCASE("a field carried over bottles standing on a table: the fields are filed again in every step") {
+        const graph::Graph g = compiled(R"(
+import std.arm, std.belts, std.bottle
+plant Swept {
+    belt: Belt(length = 3 m, rails = false)
+    table: Table(size = 1 m) at (1.5 m, 60 cm, 0 m)
+    physics pallet at (20 cm, 0 m, 1 cm) { mass = 500 g; shape box(6 cm, 5 cm, 1 cm) }
+    field sweep on pallet at (20 cm, 30 cm, 6 cm) { extent = (6 cm, 60 cm, 12 cm); speed = 0 m/s; gain = 1 kg/s }
+    for i in 0 .. 3 { b[i]: Bottle at (1.2 m + i * 25 cm, 30 cm, 0 m) }
+}
+)",
+                                        "steady_swept.plant");
+        const std::vector<int32_t> mains = bodies_ending(g, ".main");
+        Listed listed;
+        const Seen with = run(g, true, 150 * 6, mains, {}, true, &listed), without = run(g, true, 150 * 6, mains, {}, false);
+        CHECK(listed.units > 0);
+        CHECK(listed.fields > 150 * 5);  // the carried field moved in every step
+        CHECK(with.coasted > 150 * 3);   // the bottles stood off the solver
+        // and the field's faces passed over them (the pallet's centre is on one in every step)
+        CHECK(with.on_solver(engine::OnSolver::kFieldEdge) > 150 * 6);
+        identical(with, without);
+    }
 }
