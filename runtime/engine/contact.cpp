@@ -35,6 +35,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionConfiguration.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletCollision/CollisionDispatch/btCollisionObjectWrapper.h>
+#include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btConvexConvexAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
@@ -47,6 +48,7 @@
 
 #include <cfloat>
 #include <new>
+#include <typeinfo>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -306,6 +308,7 @@ public:
     void getAllContactManifolds(btManifoldArray& manifolds) override {
         if (manifold_ && own_) manifolds.push_back(manifold_);
     }
+    const btPersistentManifold* manifold() const { return own_ ? manifold_ : nullptr; }
 
 private:
     // What Bullet does for convex shapes without polyhedral features: GJK and EPA on the
@@ -384,7 +387,41 @@ private:
     btCollisionAlgorithmCreateFunc* bullet_;
 };
 
+// The list of a compound algorithm's children's algorithms (protected in Bullet's class; read
+// through a pointer to the member, formed in a class derived from it).
+struct CompoundKids : btCompoundCollisionAlgorithm {
+    static const btAlignedObjectArray<btCollisionAlgorithm*>& of(const btCompoundCollisionAlgorithm& a) {
+        return a.*(&CompoundKids::m_childCollisionAlgorithms);
+    }
+};
+
+void ask(const void* p) { __builtin_prefetch(p); }
+
 }  // namespace
+
+void contact_ahead(const btCollisionAlgorithm* a, int stage) {
+    if (!a || typeid(*a) != typeid(btCompoundCollisionAlgorithm)) return;
+    const auto& kids = CompoundKids::of(static_cast<const btCompoundCollisionAlgorithm&>(*a));
+    const int n = kids.size();
+    if (n == 0) return;
+    if (stage == 2) {
+        for (int i = 0; i < n; i += 8) ask(&kids[i]);  // 8 pointers to a line
+        return;
+    }
+    for (int i = 0; i < n; ++i) {
+        const btCollisionAlgorithm* k = kids[i];
+        if (!k) continue;
+        if (stage == 1) {  // its class (the first line) and, in ours, the manifold's pointer
+            ask(k);
+            ask(reinterpret_cast<const char*>(k) + 64);
+        } else if (typeid(*k) == typeid(BoxHullAlgorithm)) {
+            if (const btPersistentManifold* m = static_cast<const BoxHullAlgorithm*>(k)->manifold()) {
+                ask(&m->m_companionIdA);  // beside its count of points (private), which is read first
+                ask(&m->getContactPoint(0));
+            }
+        }
+    }
+}
 
 bool solid_polyhedron(const btConvexPolyhedron& p) {
     const int vertices = p.m_vertices.size();

@@ -369,24 +369,32 @@ public:
     btOverlappingPairCache* pairs = nullptr;  // its world's
 
 private:
-    static constexpr int kPairs = 2;  // the bodies of the pair this far ahead (and the proxies of twice as far)
-
+    // Each pair asks for what a later one reads first, in stages: for the pair 4 ahead, its
+    // proxies and its algorithm's first two lines; 3 ahead, what that algorithm reads first
+    // (contact_ahead's stage 2: a compound's list of its children's algorithms); 2 ahead, the
+    // bodies (body) and stage 1 (those algorithms); 1 ahead, stage 0 (their manifolds).
     static void near(btBroadphasePair& pair, btCollisionDispatcher& d, const btDispatcherInfo& info) {
         const AheadDispatcher& self = static_cast<const AheadDispatcher&>(d);
         if (self.pairs && self.pairs->getNumOverlappingPairs() > 0) {
             const btBroadphasePairArray& all = self.pairs->getOverlappingPairArray();
             const auto at = reinterpret_cast<uintptr_t>(&pair), first = reinterpret_cast<uintptr_t>(&all[0]);
             const auto i = int64_t((at - first) / sizeof(btBroadphasePair)), n = int64_t(all.size());
-            if (at >= first && i + 2 * kPairs < n) {
-                __builtin_prefetch(all[int(i + 2 * kPairs)].m_pProxy0);
-                __builtin_prefetch(all[int(i + 2 * kPairs)].m_pProxy1);
+            auto ahead = [&](int64_t k) { return at >= first && i + k < n ? &all[int(i + k)] : nullptr; };
+            if (const btBroadphasePair* p = ahead(4)) {
+                __builtin_prefetch(p->m_pProxy0);
+                __builtin_prefetch(p->m_pProxy1);
+                if (p->m_algorithm) {
+                    __builtin_prefetch(p->m_algorithm);
+                    __builtin_prefetch(reinterpret_cast<const char*>(p->m_algorithm) + 64);
+                }
             }
-            if (at >= first && i + kPairs < n) {
-                const btBroadphasePair& p = all[int(i + kPairs)];
-                body(p.m_pProxy0->m_clientObject);
-                body(p.m_pProxy1->m_clientObject);
-                if (p.m_algorithm) __builtin_prefetch(p.m_algorithm);
+            if (const btBroadphasePair* p = ahead(3)) contact_ahead(p->m_algorithm, 2);
+            if (const btBroadphasePair* p = ahead(2)) {
+                body(p->m_pProxy0->m_clientObject);
+                body(p->m_pProxy1->m_clientObject);
+                contact_ahead(p->m_algorithm, 1);
             }
+            if (const btBroadphasePair* p = ahead(1)) contact_ahead(p->m_algorithm, 0);
         }
         btCollisionDispatcher::defaultNearCallback(pair, d, info);
     }
