@@ -302,6 +302,23 @@ const Steady::Near* near_of(Runtime& r, BodyId b, int64_t x0, int64_t y0, int64_
     return &n;
 }
 
+// Calls f(i) for the static pieces i that may meet [glo, ghi] (in cells [x0, x1] × [y0, y1]),
+// until f returns false; returns whether none did. From unit b's list (Near, `n`) when it has
+// one for these cells: every piece filed under them, and some more that f must pass over (its
+// box does not meet [glo, ghi]), in another order. Else from the cells, those whose box meets
+// [glo, ghi] in (x, y).
+template <class F>
+bool each_piece(const Steady& S, const Steady::Near* n, const btVector3& glo, const btVector3& ghi, int64_t x0,
+                int64_t y0, int64_t x1, int64_t y1, F&& f) {
+    if (n) {
+        for (uint8_t k = n->fields; k < n->fields + n->hazards; ++k)
+            if (!f(n->id[k])) return false;
+        return true;
+    }
+    return each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0, x1,
+                        y1, f);
+}
+
 // Whether the path from p over two steps at v has no field's face within 1 mm of it and lies in
 // one acting field's box at most (1 mm inside); then `found` is that field, or none (-1): no
 // field acts there. Every field whose bounding box lies
@@ -562,13 +579,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         for (int32_t i : S.big)
             if (!hazard(i)) return false;
         if (!in_grid) return fail(out, OnSolver::kNoSupport);
-        if (n) {
-            for (uint8_t k = n->fields; k < n->fields + n->hazards; ++k)
-                if (!hazard(n->id[k])) return false;
-            return true;
-        }
-        return each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0,
-                            x1, y1, [&](int32_t k) { return hazard(k); });
+        return each_piece(S, n, glo, ghi, x0, y0, x1, y1, hazard);
     };
     const Steady::Near* n = in_grid ? near_of(r, b, x0, y0, x1, y1) : nullptr;
     if (!walk(n) && (!n || !walk(nullptr))) return false;
@@ -646,13 +657,10 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (!part(S.hazards[i])) return false;
     int64_t x0, y0, x1, y1;
     if (!cell_of(glo.x(), glo.y(), x0, y0) || !cell_of(ghi.x(), ghi.y(), x1, y1)) return fail(out, OnSolver::kPart);
-    if (const Steady::Near* n = near_of(r, b, x0, y0, x1, y1)) {  // as in steady_now (each fails as kPart)
-        for (uint8_t k = n->fields; k < n->fields + n->hazards; ++k)
-            if (!part(S.hazards[size_t(n->id[k])])) return false;
-    } else if (!each_meeting(S.cells, S.cell_adr, S.cell_list, S.cell_box, glo.x(), glo.y(), ghi.x(), ghi.y(), x0, y0,
-                             x1, y1, [&](int32_t k) { return part(S.hazards[k]); })) {
+    // Each piece fails as kPart, in any order: the list's order is the cells' verdict.
+    if (!each_piece(S, near_of(r, b, x0, y0, x1, y1), glo, ghi, x0, y0, x1, y1,
+                    [&](int32_t k) { return part(S.hazards[size_t(k)]); }))
         return false;
-    }
     const bool clear = each_in_reach(r, b, p, glo, ghi, kMargin, vmax, [&](BodyId o) {
         const BodyId u = ph.unit_of(o);
         if (ph.resting(u)) return true;
