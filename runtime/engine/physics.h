@@ -95,6 +95,10 @@ public:
         __builtin_prefetch(t + sizeof(btTransform) - 1);
         __builtin_prefetch(reinterpret_cast<const char*>(&bodies_[b]->getLinearVelocity()));
     }
+    // The same for b's place alone, where b is in a world (assign_worlds' pass over the groups).
+    void ask_origin(graph::BodyId b) const {
+        if (in_world_[b]) __builtin_prefetch(&bodies_[b]->getWorldTransform().getOrigin());
+    }
     // Bullet's body, to write its state by hand: ends its weld first (until the next step).
     btRigidBody& write(graph::BodyId b);
     btVector3 com(graph::BodyId b) const { return carries_[b] ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }

@@ -292,7 +292,10 @@ void Physics::assign_worlds() {
     const size_t slices = slice_count(nf, 32, nf + 1);
     auto decide = [this, &where, nf, slices](int i) {
         const auto [b, e] = slice_of(nf, slices, i);
+        constexpr size_t kAhead = 8;  // groups: a body's pose is a miss each (a hint; no result changes)
+        for (size_t k = b; k < std::min(e, b + kAhead); ++k) ask_origin(group_bodies_[free_groups_[k]].front());
         for (size_t k = b; k < e; ++k) {
+            if (k + kAhead < e) ask_origin(group_bodies_[free_groups_[k + kAhead]].front());
             const int32_t gi = free_groups_[k];
             const int to = where(gi), at = world_of_[group_bodies_[gi].front()];
             // A parked group waits in the void's world; a void group is placed below.
