@@ -26,7 +26,10 @@
 //
 //   plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12]
 //                        [--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows]
-//                        [--no-memory] [--profile]
+//                        [--no-memory] [--profile] [--no-huge-pages]
+//
+// --no-huge-pages: the plant's memory stays on 4 KiB pages (engine::Options::huge_pages), to
+// compare.
 #include "compiler.h"
 #include "engine/engine.h"
 #include "engine/runtime.h"
@@ -87,6 +90,7 @@ struct Args {
     bool memory = true;  // the memory rows after the largest N
     int threads = 0;     // 0: one per core
     bool profile = false;
+    bool huge_pages = true;
 };
 
 struct Sample {
@@ -114,6 +118,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     if (!plant::bench::compile_bottling(a.plant, lines, bottles_per_line, g)) return s;
     plant::engine::Options eo;
     eo.threads = a.threads;
+    eo.huge_pages = a.huge_pages;
     plant::engine::Engine e(g, eo);
     s.regions = e.regions();
     s.threads = e.threads();
@@ -335,6 +340,7 @@ bool parse(int argc, char** argv, Args& a) {
         else if (s == "--rows") a.rows = true;
         else if (s == "--no-memory") a.memory = false;
         else if (s == "--profile") a.profile = true;
+        else if (s == "--no-huge-pages") a.huge_pages = false;
         else return false;
     }
     return a.per_line > 0 && a.warmup >= 0 && a.window > 0;
@@ -347,7 +353,7 @@ int main(int argc, char** argv) {
     Args a;
     if (!parse(argc, argv, a)) {
         std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "
-                             "[--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory] [--profile]\n");
+                             "[--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory] [--profile] [--no-huge-pages]\n");
         return 2;
     }
     if (!a.rows) {

@@ -36,6 +36,9 @@ struct Options {
     // The logic phase runs every node each step instead of only those due (docs/runtime.md,
     // "Performance notes"): the same results, slower; for the test that shows they are.
     bool logic_every_node = false;
+    // A plant of 2,000 bodies or more has its memory backed by huge pages as it runs, on a
+    // thread of its own (engine/pages.h, docs/runtime.md "Performance notes"): no result changes.
+    bool huge_pages = true;
 };
 
 // Runtime warnings: counted, never fatal (the summary of a run prints them).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "engine/engine.h"
+#include "engine/pages.h"
 #include "engine/physics.h"
 #include "engine/schedule.h"
 #include "engine/spatial.h"
@@ -11,6 +12,7 @@
 #include "engine/tables.h"
 #include "engine/transport.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,7 @@ struct Runtime {
     Steady steady;  // transport.cpp
     bool logic_every_node;  // Options::logic_every_node
     std::vector<std::string> extra_names;  // strings interned at run time (events)
+    std::unique_ptr<Pager> pager;  // Options::huge_pages, for a large plant; last: stopped first
 
     Runtime(const graph::Graph& graph, const Options& opt);
 
