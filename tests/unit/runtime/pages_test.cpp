@@ -27,7 +27,7 @@ namespace {
 constexpr size_t kMiB = size_t(1) << 20;
 
 // Whether this kernel backs ranges on request: 6.1 or later, and huge pages not "never".
-bool kernel_backs() {
+[[maybe_unused]] bool kernel_backs() {
     utsname u{};
     if (uname(&u) != 0) return false;
     int major = 0, minor = 0;
@@ -39,7 +39,7 @@ bool kernel_backs() {
 }
 
 // The kB of huge pages backing the mapping that holds p (/proc/self/smaps).
-long huge_kb_at(const void* p) {
+[[maybe_unused]] long huge_kb_at(const void* p) {
     std::ifstream f("/proc/self/smaps");
     std::string line;
     bool in = false;
