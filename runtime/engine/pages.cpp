@@ -33,13 +33,13 @@ bool anonymous(const char* line, uintptr_t& lo, uintptr_t& hi) {
 }
 
 // Backs each 2 MiB range of [lo, hi) whose pages are all resident with a huge page.
-void collapse(uintptr_t lo, uintptr_t hi, size_t pages, const std::atomic<bool>* quit, HugePages& out) {
-    unsigned char resident[kHuge / 4096];
+void collapse(uintptr_t lo, uintptr_t hi, const std::atomic<bool>* quit, HugePages& out) {
+    unsigned char resident[kHuge / 4096];  // huge_pages checks that a page is 4 KiB
     for (uintptr_t a = (lo + kHuge - 1) & ~(kHuge - 1); a + kHuge <= hi; a += kHuge) {
         if (quit && quit->load(std::memory_order_relaxed)) return;
         if (mincore(reinterpret_cast<void*>(a), kHuge, resident) != 0) continue;
         bool all = true;
-        for (size_t i = 0; i < pages && all; ++i) all = (resident[i] & 1) != 0;
+        for (size_t i = 0; i < sizeof resident && all; ++i) all = (resident[i] & 1) != 0;
         if (!all) continue;
         ++out.asked;
         if (madvise(reinterpret_cast<void*>(a), kHuge, MADV_COLLAPSE) == 0) ++out.backed;
@@ -70,7 +70,7 @@ HugePages huge_pages(const std::atomic<bool>* quit) {
             if (buf[i] != '\n') continue;
             buf[i] = '\0';
             uintptr_t lo = 0, hi = 0;
-            if (!skipping && anonymous(buf + start, lo, hi)) collapse(lo, hi, kHuge / 4096, quit, out);
+            if (!skipping && anonymous(buf + start, lo, hi)) collapse(lo, hi, quit, out);
             skipping = false;
             start = i + 1;
         }
