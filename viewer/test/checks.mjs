@@ -73,14 +73,29 @@ export async function handCarries({ page, client, scene, url, binary, plantFile,
   await page.click('#run');   // pause: the bottle stays under the mouse while it is taken
   await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
   const path = bodies.find((b) => b.id === pick).path;
-  await page.evaluate((id) => plantViewer.view.lookDownAt(plantViewer.bodyPose(id), 1.6), pick);
-  await sleep(400);
   await page.click('#hand');
-  const from = await page.evaluate((id) => plantViewer.screenPoint(id), pick);
-  await page.mouse.move(from.x, from.y);
-  await page.mouse.down();
-  const taken = await until(() => page.evaluate(() => plantViewer.hand.held?.path ?? null), 2000, 50);
-  if (!check(taken === path, `the hand took ${path} (${taken})`)) { await page.mouse.up(); return; }
+  // Aimed from above; on a loaded machine the first frame after the camera turned may come
+  // late, so a press that finds nothing under it (the hand takes nothing: the press turns the
+  // camera instead) is tried again, up to three times, each time aimed anew; what the ray met
+  // is reported when none takes it.
+  let taken = null, met = null;
+  for (let attempt = 0; attempt < 3 && taken !== path; attempt++) {
+    await page.evaluate((id) => plantViewer.view.lookDownAt(plantViewer.bodyPose(id), 1.6), pick);
+    await sleep(400 + 600 * attempt);
+    const from = await page.evaluate((id) => plantViewer.screenPoint(id), pick);
+    met = await page.evaluate((p) => {
+      const at = plantViewer.hand.bodyAt({ clientX: p.x, clientY: p.y });
+      return at ? plantViewer.view.scene.bodies[at.index].path : 'nothing it can take';
+    }, from);
+    await page.mouse.move(from.x, from.y);
+    await page.mouse.down();
+    taken = await until(() => page.evaluate(() => plantViewer.hand.held?.path ?? null), 2000, 50);
+    if (taken !== path) {
+      await page.mouse.up();
+      if (taken) await page.evaluate(() => plantViewer.hand.drop());
+    }
+  }
+  if (!check(taken === path, `the hand took ${path} (${taken}; under the pointer: ${met})`)) return;
   const grabZ = await page.evaluate(() => plantViewer.hand.held.grabZ);
   await page.evaluate(() => plantViewer.send({ type: 'control', action: 'run' }));   // the mouse stays held
   // Carry it over belt B8 (at y = 2.1 m, heading -x from x = 5.0 m), 10 cm above its grab height.
