@@ -171,7 +171,6 @@ void Physics::set_joint(JointId j, bool on) {
     ++version_;
 }
 
-btTransform Physics::frame(BodyId b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
 Pose Physics::pose(BodyId b) const { return from_bt(frame(b)); }
 
 void Physics::place(BodyId b, const btTransform& f) {

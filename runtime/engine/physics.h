@@ -138,7 +138,7 @@ public:
 
     // The body frame (graph::Body::pose), not Bullet's centre-of-mass frame.
     graph::Pose pose(graph::BodyId b) const;
-    btTransform frame(graph::BodyId b) const;
+    btTransform frame(graph::BodyId b) const { return bodies_[b]->getWorldTransform() * local_inv_[b]; }
     // Steady transport (transport.cpp): a lone dynamic body or a weld's host (with its
     // passenger) that the conveyor law alone moves leaves the solver: flagged static, in no
     // pair, its broadphase box parked, its state written by coast_to() each step. land()
