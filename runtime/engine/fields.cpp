@@ -82,8 +82,10 @@ bool field_frame(Runtime& r, FieldId f) {
     ff.K = R.scaled(r.tab.field_gain[f]) * R.transpose();  // R·diag(gain)·R^T
     const btVector3 h = to_bt(fd.extent) * btScalar(0.5);
     ff.half = h;
-    ff.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
-    ff.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
+    State::FieldXY& xy = r.st.field_xy[f];
+    xy.cx = ff.pose.getOrigin().x(), xy.cy = ff.pose.getOrigin().y();
+    xy.rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z();
+    xy.ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z();
     ff.valid = true;
     return true;
 }
@@ -99,9 +101,8 @@ void build_field_cells(Runtime& r) {
     s.field_big.clear();
     for (FieldId f : ids_of(r.g.fields)) {
         if (r.g.fields[f].gain <= 0) continue;
-        const State::FieldFrame& ff = s.field_frame[f];
-        const btVector3& c = ff.pose.getOrigin();
-        file_box(c.x() - ff.rx - kNear, c.y() - ff.ry - kNear, c.x() + ff.rx + kNear, c.y() + ff.ry + kNear, f.v,
+        const State::FieldXY& xy = s.field_xy[f];
+        file_box(xy.cx - xy.rx - kNear, xy.cy - xy.ry - kNear, xy.cx + xy.rx + kNear, xy.cy + xy.ry + kNear, f.v,
                  s.field_filed, s.field_big);
     }
     index_cells(s.field_filed, s.field_cells, s.field_cell_adr, s.field_cell_list);  // by cell, then field id
@@ -130,8 +131,8 @@ bool gather_fields(Runtime& r, BodyId b) {
     while (cell != cell_end || big != big_end) {  // the two id-ordered lists, merged
         const FieldId f(big == big_end || (cell != cell_end && *cell < *big) ? *cell++ : *big++);  // filed as numbers
         if (!s.field_act[f]) continue;
+        if (s.field_xy[f].beyond(p) > kOutside) continue;  // outside its bounding box (by more than rounding)
         const State::FieldFrame& ff = s.field_frame[f];
-        if (ff.beyond_xy(p) > kOutside) continue;  // outside its bounding box (by more than rounding)
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3 local = (p - ff.pose.getOrigin()) * R;  // R^T (p - c): into the field frame

@@ -48,6 +48,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.field_speed.resize(g.fields.size());
     s.field_on.resize(g.fields.size());
     s.field_frame.resize(g.fields.size());
+    s.field_xy.resize(g.fields.size());
     for (FieldId f : ids_of(g.fields)) {
         s.field_speed[f] = g.fields[f].speed;
         s.field_on[f] = g.fields[f].enabled;

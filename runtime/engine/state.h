@@ -138,16 +138,19 @@ struct State {
         btTransform pose;  // the field's box: its frame and its half extents (what lookups read)
         btVector3 half;
         bool valid = false;
-        btScalar rx = 0, ry = 0;  // its bounding box's half sizes in x and y
-        // How far p is outside the field's bounding box in x or y (negative: within it in both).
-        btScalar beyond_xy(const btVector3& p) const {
-            const btVector3& c = pose.getOrigin();
-            return std::max(std::abs(p.x() - c.x()) - rx, std::abs(p.y() - c.y()) - ry);
-        }
         btTransform carrier;
         btMatrix3x3 K;
     };
     PerField<FieldFrame> field_frame;
+    // Per field, beside its frame (and written with it): its bounding box in x and y, the
+    // frame's origin and the box's half sizes. Every lookup tests it first, and passes over
+    // most fields on it: 16 bytes each, where a frame takes 204.
+    struct FieldXY {
+        btScalar cx = 0, cy = 0, rx = 0, ry = 0;
+        // How far p is outside the box in x or y (negative: within it in both).
+        btScalar beyond(const btVector3& p) const { return std::max(std::abs(p.x() - cx) - rx, std::abs(p.y() - cy) - ry); }
+    };
+    PerField<FieldXY> field_xy;
     // Per field, this step: acting (on, gain > 0), target velocity.
     PerField<uint8_t> field_act;
     PerField<btVector3> field_target;

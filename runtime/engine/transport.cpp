@@ -337,8 +337,8 @@ bool field_at(Runtime& r, BodyId unit, const btVector3& p, const btVector3& v, F
     const btScalar clear = btScalar(2) * (kFieldMargin + (q - p).length());
     // False when p's path is at a face of f, or in f and in another acting field.
     auto look = [&](FieldId f) {
+        if (s.field_xy[f].beyond(p) >= clear) return true;
         const State::FieldFrame& ff = s.field_frame[f];
-        if (ff.beyond_xy(p) >= clear) return true;
         const btMatrix3x3& R = ff.pose.getBasis();
         const btVector3& h = ff.half;
         const btVector3& c = ff.pose.getOrigin();
