@@ -101,13 +101,13 @@ public:
     }
     // Bullet's body, to write its state by hand: ends its weld first (until the next step).
     btRigidBody& write(graph::BodyId b);
-    btVector3 com(graph::BodyId b) const { return carries_[b] ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }
-    btVector3 velocity(graph::BodyId b) const { return carries_[b] ? host_velocity(b) : bodies_[b]->getLinearVelocity(); }
+    btVector3 com(graph::BodyId b) const { return carries_[b].valid() ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }
+    btVector3 velocity(graph::BodyId b) const { return carries_[b].valid() ? host_velocity(b) : bodies_[b]->getLinearVelocity(); }
     const btVector3& angular_velocity(graph::BodyId b) const { return bodies_[b]->getAngularVelocity(); }
     btMatrix3x3 inertia_world(graph::BodyId b) const;  // the body's own tensor, in the world
     // A force at the body's centre of mass and a torque (its carrier's, while welded).
     void apply(graph::BodyId b, const btVector3& force, const btVector3& torque);
-    bool welded(graph::BodyId b) const { return weld_of_[b] >= 0 && welds_[weld_of_[b]].on; }
+    bool welded(graph::BodyId b) const { return carries_[b].valid() || carried_[b].valid(); }
     bool in_world(graph::BodyId b) const { return in_world_[b]; }
     // How many times b's Bullet state (pose, velocity, flags, activation, broadphase box) has
     // been written other than by Bullet's step: every writer of Physics counts (wrote()), and
@@ -152,8 +152,7 @@ public:
     void land(graph::BodyId b);
     // The unit b belongs to: b, or the host that carries b.
     graph::BodyId unit_of(graph::BodyId b) const {
-        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
-        return w >= 0 && welds_[w].on && welds_[w].pass == b ? welds_[w].host : b;
+        return carried_.empty() || !carried_[b].valid() ? b : carried_[b];
     }
     // Coasting (or resting), and resting: b's unit (only a unit leaves the solver).
     bool coasting(graph::BodyId b) const { return coast_[unit_of(b)] != 0; }
@@ -161,10 +160,7 @@ public:
     // Sets a coasting carrier's centre-of-mass frame and velocities; its passenger follows.
     void coast_to(graph::BodyId b, const btTransform& com_frame, const btVector3& v, const btVector3& w);
     // The passenger host b carries now, or -1.
-    graph::BodyId passenger(graph::BodyId b) const {
-        const int32_t w = weld_of_.empty() ? -1 : weld_of_[b];
-        return w >= 0 && welds_[w].on && welds_[w].host == b ? welds_[w].pass : graph::BodyId{};
-    }
+    graph::BodyId passenger(graph::BodyId b) const { return carries_.empty() ? graph::BodyId{} : carries_[b]; }
     // Joined by no joint at all.
     bool lone(graph::BodyId b) const { return body_joints_.num.empty() || body_joints_.num[b] == 0; }
     // Counts the times a static body was placed (caches of static geometry compare it).
@@ -213,7 +209,7 @@ private:
     std::span<const int> live_objects(int w) const;
     void unweld(graph::BodyId b);
     void reshape(graph::BodyId b, const BodyShape& s);
-    btVector3 host_com(graph::BodyId b) const;
+    btVector3 host_com(graph::BodyId b) const { return frame(b) * own_com_[b]; }
     btVector3 host_velocity(graph::BodyId b) const;
     void refilter(graph::BodyId b);
     void park(graph::BodyId b);  // parked: no pairs, its AABB far away
@@ -233,7 +229,7 @@ private:
     int home(graph::BodyId b) const;  // the region whose box b's bounding box meets, or the void
     void aabb(graph::BodyId b, btScalar grow, btVector3& lo, btVector3& hi) const;  // now, grown
     // A welded passenger: in the world, but not in Bullet's (its carrier stands for it).
-    bool carried(graph::BodyId b) const { return !carried_.empty() && carried_[b]; }
+    bool carried(graph::BodyId b) const { return !carried_.empty() && carried_[b].valid(); }
     void assign_worlds();
     void move_group(int32_t group, int to);
     void merge_worlds();
@@ -264,8 +260,12 @@ private:
     Csr<graph::BodyId, graph::JointId> body_joints_;
     std::vector<Weld> welds_;
     PerBody<int32_t> weld_of_;  // per body: its weld (host or passenger), or -1
-    PerBody<uint8_t> carries_;  // per body: 1 while it carries a passenger
-    PerBody<uint8_t> carried_;  // per body: 1 while it is a carried passenger (no look into welds_)
+    // Per body, while its weld is on (else none): the passenger it carries, and the carrier
+    // that carries it. The accessors above read these, not welds_ (a record of 336 bytes).
+    PerBody<graph::BodyId> carries_, carried_;
+    // Per weld's host: its own centre of mass in its own frame (welds_[w].own.local's origin),
+    // where host_com finds the host's within the pair.
+    PerBody<btVector3> own_com_;
     PerJoint<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;

@@ -30,8 +30,9 @@ using namespace plant::graph;
 
 void Physics::find_welds() {
     weld_of_.assign(g_.bodies.size(), -1);
-    carries_.assign(g_.bodies.size(), 0);
-    carried_.assign(g_.bodies.size(), 0);
+    carries_.assign(g_.bodies.size(), BodyId{});
+    carried_.assign(g_.bodies.size(), BodyId{});
+    own_com_.assign(g_.bodies.size(), btVector3(0, 0, 0));
     weld_joint_.assign(g_.joints.size(), -1);
     for (JointId j : ids_of(g_.joints)) {
         const Joint& jt = g_.joints[j];
@@ -48,6 +49,7 @@ void Physics::find_welds() {
         // The joint holds frame_a on a where frame_b is on b.
         w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
         w.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
+        own_com_[w.host] = w.own.local.getOrigin();
         w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
         contacts_->prepare(*w.both.shape);  // not at its first contact, inside a step
         w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
@@ -101,16 +103,16 @@ void Physics::weld_on(Weld& w) {
     world_at(w.pass).world->removeRigidBody(bodies_[w.pass].get());
     reshape(w.host, w.both);
     w.on = true;
-    carries_[w.host] = 1;
-    carried_[w.pass] = 1;
+    carries_[w.host] = w.pass;
+    carried_[w.pass] = w.host;
     follow(w);
 }
 
 void Physics::weld_off(Weld& w) {
     follow(w);  // the passenger where its carrier left it
     w.on = false;
-    carries_[w.host] = 0;
-    carried_[w.pass] = 0;
+    carries_[w.host] = BodyId{};
+    carried_[w.pass] = BodyId{};
     reshape(w.host, w.own);
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
@@ -137,7 +139,7 @@ void Physics::follow_world(int w) {
     const btCollisionObjectArray& all = worlds_[w].world->getCollisionObjectArray();
     for (const int i : live_objects(w)) {
         const BodyId b(all[i]->getUserIndex());  // its graph id (physics.cpp)
-        if (all[i]->isStaticObject() || !carries_[b]) continue;
+        if (all[i]->isStaticObject() || !carries_[b].valid()) continue;
         follow(welds_[weld_of_[b]]);
     }
 }
@@ -148,15 +150,13 @@ btRigidBody& Physics::write(BodyId b) {
     return *bodies_[b];
 }
 
-btVector3 Physics::host_com(BodyId b) const { return frame(b) * welds_[weld_of_[b]].own.local.getOrigin(); }
-
 btVector3 Physics::host_velocity(BodyId b) const {
     const btRigidBody& r = *bodies_[b];
     return r.getLinearVelocity() + r.getAngularVelocity().cross(host_com(b) - r.getCenterOfMassPosition());
 }
 
 btMatrix3x3 Physics::inertia_world(BodyId b) const {
-    const btMatrix3x3 R = (frame(b) * (carries_[b] ? welds_[weld_of_[b]].own.local : local_[b])).getBasis();
+    const btMatrix3x3 R = (frame(b) * (carries_[b].valid() ? welds_[weld_of_[b]].own.local : local_[b])).getBasis();
     return R.scaled(inertia_[b]) * R.transpose();
 }
 
