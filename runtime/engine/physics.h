@@ -104,7 +104,10 @@ public:
     btVector3 com(graph::BodyId b) const { return carries_[b].valid() ? host_com(b) : bodies_[b]->getCenterOfMassPosition(); }
     btVector3 velocity(graph::BodyId b) const { return carries_[b].valid() ? host_velocity(b) : bodies_[b]->getLinearVelocity(); }
     const btVector3& angular_velocity(graph::BodyId b) const { return bodies_[b]->getAngularVelocity(); }
-    btMatrix3x3 inertia_world(graph::BodyId b) const;  // the body's own tensor, in the world
+    btMatrix3x3 inertia_world(graph::BodyId b) const {  // the body's own tensor, in the world
+        const btMatrix3x3 R = (frame(b) * (carries_[b].valid() ? own_local_[b] : local_[b])).getBasis();
+        return R.scaled(inertia_[b]) * R.transpose();
+    }
     // A force at the body's centre of mass and a torque (its carrier's, while welded).
     void apply(graph::BodyId b, const btVector3& force, const btVector3& torque);
     bool welded(graph::BodyId b) const { return carries_[b].valid() || carried_[b].valid(); }
@@ -209,7 +212,7 @@ private:
     std::span<const int> live_objects(int w) const;
     void unweld(graph::BodyId b);
     void reshape(graph::BodyId b, const BodyShape& s);
-    btVector3 host_com(graph::BodyId b) const { return frame(b) * own_com_[b]; }
+    btVector3 host_com(graph::BodyId b) const { return frame(b) * own_local_[b].getOrigin(); }
     btVector3 host_velocity(graph::BodyId b) const;
     void refilter(graph::BodyId b);
     void park(graph::BodyId b);  // parked: no pairs, its AABB far away
@@ -263,9 +266,9 @@ private:
     // Per body, while its weld is on (else none): the passenger it carries, and the carrier
     // that carries it. The accessors above read these, not welds_ (a record of 336 bytes).
     PerBody<graph::BodyId> carries_, carried_;
-    // Per weld's host: its own centre of mass in its own frame (welds_[w].own.local's origin),
-    // where host_com finds the host's within the pair.
-    PerBody<btVector3> own_com_;
+    // Per weld's host: its own Bullet frame relative to its body frame (welds_[w].own.local),
+    // where host_com and inertia_world find the host's own within the pair.
+    PerBody<btTransform> own_local_;
     PerJoint<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;

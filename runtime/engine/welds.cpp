@@ -32,7 +32,7 @@ void Physics::find_welds() {
     weld_of_.assign(g_.bodies.size(), -1);
     carries_.assign(g_.bodies.size(), BodyId{});
     carried_.assign(g_.bodies.size(), BodyId{});
-    own_com_.assign(g_.bodies.size(), btVector3(0, 0, 0));
+    own_local_.assign(g_.bodies.size(), btTransform::getIdentity());
     weld_joint_.assign(g_.joints.size(), -1);
     for (JointId j : ids_of(g_.joints)) {
         const Joint& jt = g_.joints[j];
@@ -49,7 +49,7 @@ void Physics::find_welds() {
         // The joint holds frame_a on a where frame_b is on b.
         w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
         w.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
-        own_com_[w.host] = w.own.local.getOrigin();
+        own_local_[w.host] = w.own.local;
         w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
         contacts_->prepare(*w.both.shape);  // not at its first contact, inside a step
         w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
@@ -155,10 +155,6 @@ btVector3 Physics::host_velocity(BodyId b) const {
     return r.getLinearVelocity() + r.getAngularVelocity().cross(host_com(b) - r.getCenterOfMassPosition());
 }
 
-btMatrix3x3 Physics::inertia_world(BodyId b) const {
-    const btMatrix3x3 R = (frame(b) * (carries_[b].valid() ? welds_[weld_of_[b]].own.local : local_[b])).getBasis();
-    return R.scaled(inertia_[b]) * R.transpose();
-}
 
 void Physics::apply(BodyId b, const btVector3& force, const btVector3& torque) {
     btRigidBody& carrier = *bodies_[welded(b) ? welds_[weld_of_[b]].host : b];
