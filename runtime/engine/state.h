@@ -144,7 +144,7 @@ struct State {
     PerField<FieldFrame> field_frame;
     // Per field, beside its frame (and written with it): its bounding box in x and y, the
     // frame's origin and the box's half sizes. Every lookup tests it first, and passes over
-    // most fields on it: 16 bytes each, where a frame takes 204.
+    // most fields on it: 16 bytes each, where a frame takes 196.
     struct FieldXY {
         btScalar cx = 0, cy = 0, rx = 0, ry = 0;
         // How far p is outside the box in x or y (negative: within it in both).
