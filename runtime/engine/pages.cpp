@@ -94,16 +94,10 @@ Pager::Pager() : thread_([this] { run(); }) {}
 Pager::~Pager() {
     {
         std::lock_guard<std::mutex> lock(m_);
-        stop_ = true;
+        quit_.store(true, std::memory_order_relaxed);
     }
-    quit_.store(true, std::memory_order_relaxed);
     cv_.notify_all();
     thread_.join();
-}
-
-HugePages Pager::done() const {
-    std::lock_guard<std::mutex> lock(m_);
-    return done_;
 }
 
 int Pager::calls() const {
@@ -123,13 +117,12 @@ void Pager::wake() {
 void Pager::run() {
     std::unique_lock<std::mutex> lock(m_);
     for (;;) {
-        cv_.wait(lock, [this] { return stop_ || served_ < due_; });
-        if (stop_) return;
+        cv_.wait(lock, [this] { return quit_.load(std::memory_order_relaxed) || served_ < due_; });
+        if (quit_.load(std::memory_order_relaxed)) return;
         served_ = due_;  // one call serves all asked for so far
         lock.unlock();
-        const HugePages h = huge_pages(&quit_);
+        huge_pages(&quit_);
         lock.lock();
-        done_.asked += h.asked, done_.backed += h.backed;
         ++calls_;
     }
 }

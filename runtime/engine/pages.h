@@ -39,8 +39,7 @@ public:
     void tick(double time) {
         if (next_ < kTimes && time >= kAt[next_]) wake();
     }
-    HugePages done() const;  // summed over the calls finished so far
-    int calls() const;       // the calls finished so far
+    int calls() const;  // the calls finished so far
 
 private:
     static constexpr int kTimes = 3;
@@ -50,10 +49,9 @@ private:
     int next_ = 0;  // the stepping thread's: the next of kAt
     mutable std::mutex m_;
     std::condition_variable cv_;
-    bool stop_ = false;
-    std::atomic<bool> quit_{false};  // stop_, read between ranges: the destructor waits for no call
+    // Set (under m_) by the destructor; read between ranges too, so it waits for no call.
+    std::atomic<bool> quit_{false};
     int due_ = 1, served_ = 0;  // calls asked for, and made
-    HugePages done_;
     int calls_ = 0;
     std::thread thread_;  // last: started once the rest is made
 };

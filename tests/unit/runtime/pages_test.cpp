@@ -131,5 +131,4 @@ TEST_CASE("huge pages: the pager calls once when made and once for each time it 
     p.tick(1000);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     CHECK(p.calls() == 4);  // no times left
-    CHECK(p.done().backed <= p.done().asked);
 }
