@@ -29,8 +29,10 @@ namespace {
 struct GraphicsData : KindData {
     std::vector<GraphicsId> order;  // parents before children
     size_t roots = 0;               // its first ones, with no parent (on a body or alone)
+    // Where each depth below the roots ends in `order` (the children of roots, theirs, ...).
+    std::vector<size_t> depth_end;
     graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
-    std::vector<uint8_t> flags;     // per root in `order`: what it publishes (advance_one)
+    std::vector<uint8_t> flags;     // per position in `order`: what it publishes (advance_one)
     // A root on a body whose last visit changed nothing and would change nothing again (see
     // advance_one) while the body stays out of the world (kParked: no animation playing), or,
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
@@ -61,6 +63,8 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     }
     std::stable_sort(s->order.begin(), s->order.end(), [&](GraphicsId a, GraphicsId b) { return depth[a] < depth[b]; });
     while (s->roots < s->order.size() && depth[s->order[s->roots]] == 0) ++s->roots;
+    for (size_t k = s->roots; k < s->order.size(); ++k)
+        if (k + 1 == s->order.size() || depth[s->order[k + 1]] != depth[s->order[k]]) s->depth_end.push_back(k + 1);
     s->local.resize(g.graphics.size());
     for (GraphicsId i : ids_of(g.graphics)) {
         const graph::Graphics& gr = g.graphics[i];
@@ -157,8 +161,8 @@ void publish(Runtime& r, GraphicsId i, uint8_t flags) {
 }
 
 // Phase 2: the graphics with no parent (the first of `order`) in slices on the physics
-// threads; then, in `order` on this thread, what they publish and the children (parents
-// first).
+// threads, then their children the same way, a depth at a time (each reads its parent's
+// pose, of the depth before); then, in `order` on this thread, what they publish.
 void sense_all(Runtime& r) {
     GraphicsData& data = own(r);
     const std::vector<GraphicsId>& order = data.order;
@@ -186,12 +190,16 @@ void sense_all(Runtime& r) {
         }
     };
     run_slices(r.phys.workers(), slices, poses);
-    for (size_t k = 0; k < roots; ++k)
-        if (flags[k]) publish(r, order[k], flags[k]);
-    for (size_t k = roots; k < order.size(); ++k) {
-        const uint8_t f = to_publish(r, order[k], advance_one(r, data, order[k]));
-        if (f) publish(r, order[k], f);
+    for (size_t d = 0, first = roots; d < data.depth_end.size(); first = data.depth_end[d++]) {
+        const size_t n = data.depth_end[d] - first, parts = slice_count(n, 32, n + 1);
+        auto children = [&r, &data, &order, &flags, first, n, parts](int i) {
+            const auto [b, e] = slice_of(n, parts, i);
+            for (size_t k = first + b; k < first + e; ++k) flags[k] = to_publish(r, order[k], advance_one(r, data, order[k]));
+        };
+        run_slices(r.phys.workers(), parts, children);
     }
+    for (size_t k = 0; k < order.size(); ++k)
+        if (flags[k]) publish(r, order[k], flags[k]);
 }
 
 void play_animation(Runtime& r, AnimationId anim) {
