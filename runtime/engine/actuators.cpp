@@ -18,7 +18,7 @@ namespace {
 
 // Each kind's acting lives with the rest of its behaviour (a kind on the kind table: its
 // kinds/NAME/run.cpp, a plugin's its act hook); a state's places are read in phase 4,
-// routers, connectors and labels in phase 3 (tables.cpp: slot_acts only where a kind acts).
+// routers, connectors and labels in phase 3 (tables.cpp: slot_in's `acts` only where a kind acts).
 void act_on(Runtime& r, CompId comp) {
     const Comp& c = r.g.comps[comp];
     if (c.kind == CompKind::Plugin) return act_plugin(r, detail_of<Plugin>(c));
@@ -31,9 +31,8 @@ void phase_actuators(Runtime& r) {
     State& s = r.st;
     s.comp_list.clear();
     for (SlotId x : s.in_list) {
-        if (!r.tab.slot_acts[x]) continue;
-        const CompId c = r.g.slots[x].comp;
-        if (s.comp_mark[c]) continue;
+        const CompId c = r.tab.slot_in[x].acts;
+        if (!c.valid() || s.comp_mark[c]) continue;
         s.comp_mark[c] = 1;
         s.comp_list.push_back(c);
     }

@@ -98,7 +98,7 @@ void phase_petri(Runtime& r) {
     if (g.places.empty()) return;
 
     for (SlotId x : s.in_list) {
-        const PlaceId p = r.tab.put_place[x];
+        const PlaceId p = r.tab.slot_in[x].put;
         if (!p.valid()) continue;
         s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
         touch(s, p);

@@ -71,7 +71,7 @@ const KindBehaviour* find_behaviour(std::string_view word) {
 }
 
 PluginCtx::PluginCtx(Runtime& r, graph::PluginId plugin)
-    : r_(r), plugin_(plugin), slot_adr_(r.g.comps[r.g.plugins[plugin].comp].slot_adr) {}
+    : r_(r), plugin_(plugin), slot_adr_(r.tab.plugin_run[plugin].slot_adr) {}
 
 bool PluginCtx::active(int slot) const { return r_.st.act[slot_adr_ + slot] != 0; }
 void PluginCtx::emit(int slot, double v) {

@@ -52,12 +52,12 @@ Tables::Tables(const Graph& g) {
     // Inputs act in phase 5 where their kind has an act hook (a plugin: acts in
     // Actuators); a connector's inputs, a label's `set` and a router's `query` are read by
     // phase 3, a state's places by phase 4.
-    slot_acts.resize(g.slots.size());
+    slot_in.resize(g.slots.size());
     for (SlotId s : ids_of(g.slots)) {
-        const CompKind k = g.comps[g.slots[s].comp].kind;
-        const KindBehaviour* b = builtin_behaviour(k);
-        slot_acts[s] = !slot_out[s] && (b ? b->act_one != nullptr
-                                          : plugin_of(g, g.slots[s].comp)->acts == PluginPhase::Actuators);
+        const CompId c = g.slots[s].comp;
+        const KindBehaviour* b = builtin_behaviour(g.comps[c].kind);
+        if (!slot_out[s] && (b ? b->act_one != nullptr : plugin_of(g, c)->acts == PluginPhase::Actuators))
+            slot_in[s].acts = c;
     }
     // Plugin components: the loader checked their kinds are registered; a kind registered
     // without its behaviour (graph::register_kind alone, as a compiler-only program may) is
@@ -66,7 +66,7 @@ Tables::Tables(const Graph& g) {
         const std::string_view word = g.str(g.plugins[i].kind);
         const KindBehaviour* b = find_behaviour(word);
         if (!b) throw std::runtime_error("component kind '" + std::string(word) + "' has no runtime in this program");
-        plugin_run.push_back({b, plugin_state_size});
+        plugin_run.push_back({b, plugin_state_size, g.comps[g.plugins[i].comp].slot_adr});
         plugin_state_size += b->state_size;
         if (b->sense) sensing_plugins.push_back(i);
     }
@@ -75,9 +75,8 @@ Tables::Tables(const Graph& g) {
     auto set_aux = [&](SlotId slot, int32_t i) {
         if (slot_aux.contains(slot)) slot_aux[slot] = i;
     };
-    put_place.assign(g.slots.size(), PlaceId{});
     for (PlaceId i : ids_of(g.places)) {
-        if (g.places[i].put_slot.valid()) put_place[g.places[i].put_slot] = i;
+        if (g.places[i].put_slot.valid()) slot_in[g.places[i].put_slot].put = i;
         place_entered.push_back(g.places[i].entered_slot);
         place_tokens.push_back(g.places[i].tokens_slot);
     }

@@ -33,10 +33,12 @@ struct Csr {
 
 struct KindBehaviour;  // engine/plugin.h
 
-// A plugin component's behaviour and where its state is in State::plugin_state.
+// A plugin component's behaviour, where its state is in State::plugin_state, and its
+// component's first slot (Comp::slot_adr, kept here for the step's visits: PluginCtx).
 struct PluginRun {
     const KindBehaviour* behaviour = nullptr;
     int32_t state_adr = 0;
+    graph::Adr<graph::Slot> slot_adr;
 };
 
 // Per-id arrays are IdVectors (graph/ids.h): indexed by the id of the table they follow.
@@ -46,11 +48,17 @@ struct Tables {
 
     IdVector<graph::SlotId, uint8_t> slot_out;  // 1 for outputs
     IdVector<graph::SlotId, graph::Adr<graph::Value>> value_adr; // Slot::value_adr, packed: the hot lookup of every step
-    IdVector<graph::SlotId, uint8_t> slot_acts; // 1 for inputs of components that act in phase 5
+    // What an active input is for after the logic phase, for the lists phases 4 and 5 walk
+    // (one lookup a slot): the component that acts on it in phase 5, the place it puts a token
+    // into in phase 4; -1 where none (an output: both).
+    struct SlotIn {
+        graph::CompId acts;
+        graph::PlaceId put;
+    };
+    IdVector<graph::SlotId, SlotIn> slot_in;
     // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
     // every other slot.
     IdVector<graph::SlotId, int32_t> slot_aux;
-    IdVector<graph::SlotId, graph::PlaceId> put_place;  // the place whose put input it is, -1
     IdVector<graph::PlaceId, graph::SlotId> place_entered, place_tokens;  // its output slots, -1
 
     IdVector<graph::BodyId, graph::DoId> body_do;  // owner DO of each body
