@@ -45,34 +45,45 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
             if (ph.in_world(b)) order_.push_back({0, 0, b});
         version_ = ph.version();
     }
-    // Slices of at least 32 bodies, four per thread on 16 at most: each writes its own entries.
-    const size_t n = order_.size();
-    const size_t slices = slice_count(n, 32, kSlices);
-    auto measuring = [this, &ph, aabbs, n, slices](int i) {
-        const auto [b, e] = slice_of(n, slices, i);
-        slice_max_[i] = measure(ph, aabbs, b, e);
-    };
-    run_slices(w, slices, measuring);
-    std::pair<btScalar, btScalar> most{0, 0};
-    for (size_t i = 0; i < slices; ++i)
-        most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
-    if (aabbs) reach_ = most.first;
-    vmax_ = most.second;
-    // Insertion sort by (cell, x, id): ties by id keep the order independent of history.
+    // Ordered by (cell, x, id): a total order (no two entries tie), so the sorted list is one
+    // whatever sorts it. Slices of at least 32 bodies, four per thread on 16 at most: each
+    // measures its own entries and sorts them by insertion (they were in order the step
+    // before, and bodies move little in a step). Where every slice ends before the next
+    // begins, the list is in order; otherwise this thread sorts it whole the same way.
     auto before = [](const Entry& a, const Entry& b) {
         if (a.cell != b.cell) return a.cell < b.cell;
         if (a.x != b.x) return a.x < b.x;
         return a.body < b.body;
     };
-    for (size_t i = 1; i < order_.size(); ++i) {
-        Entry e = order_[i];
-        size_t j = i;
-        while (j > 0 && before(e, order_[j - 1])) {
-            order_[j] = order_[j - 1];
-            --j;
+    auto insertion = [this, &before](size_t begin, size_t end) {
+        for (size_t i = begin + 1; i < end; ++i) {
+            Entry e = order_[i];
+            size_t j = i;
+            while (j > begin && before(e, order_[j - 1])) {
+                order_[j] = order_[j - 1];
+                --j;
+            }
+            order_[j] = e;
         }
-        order_[j] = e;
+    };
+    const size_t n = order_.size();
+    const size_t slices = slice_count(n, 32, kSlices);
+    auto measuring = [this, &ph, &insertion, aabbs, n, slices](int i) {
+        const auto [b, e] = slice_of(n, slices, i);
+        slice_max_[i] = measure(ph, aabbs, b, e);
+        insertion(b, e);
+    };
+    run_slices(w, slices, measuring);
+    std::pair<btScalar, btScalar> most{0, 0};
+    bool sorted = true;
+    for (size_t i = 0; i < slices; ++i) {
+        most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
+        const size_t b = slice_of(n, slices, i).first;
+        if (i > 0 && b > 0 && b < n && before(order_[b], order_[b - 1])) sorted = false;
     }
+    if (aabbs) reach_ = most.first;
+    vmax_ = most.second;
+    if (!sorted) insertion(0, n);
 }
 
 size_t Spatial::first(int32_t c, btScalar x) const {
