@@ -87,16 +87,23 @@ private:
 bool place_in_range(const double* p) { return largest(p) <= kMaxLength; }
 bool gravity_in_range(const double* g) { return largest(g) <= kMaxGravity; }
 
-bool static_velocity(const Graph& g, SlotId slot) {
-    const Comp& c = g[g.slots[slot].comp];
+namespace {
+
+bool static_velocity(const Graph& g, const Comp& c, SlotId slot) {
     const int32_t i = slot.v - c.slot_adr.v;
     return c.kind == CompKind::Body && (i == bodyslot::set_velocity || i == bodyslot::set_angular_velocity) &&
            g.bodies[detail_of<Body>(c)].mode == BodyMode::Static;
 }
 
+}  // namespace
+
+bool static_velocity(const Graph& g, SlotId slot) { return static_velocity(g, g[g.slots[slot].comp], slot); }
+
 std::string_view input_range(const Graph& g, SlotId slot, const double* v) {
-    const Slot& s = g.slots[slot];
-    const Comp& c = g[s.comp];
+    return input_range(g, g[g.slots[slot].comp], slot, v);
+}
+
+std::string_view input_range(const Graph& g, const Comp& c, SlotId slot, const double* v) {
     const int32_t i = slot.v - c.slot_adr.v;  // which of its kind's slots
     const bool body = c.kind == CompKind::Body, field = c.kind == CompKind::Field;
     // Each axis within `limit`; NaN is never (a value the plant's logic computed may be one).
@@ -110,7 +117,7 @@ std::string_view input_range(const Graph& g, SlotId slot, const double* v) {
         return within(3, kMaxLength) ? "" : "a place within 100 km";
     // A static body does not move (its box in Bullet and steady transport's grid stay where it
     // was placed): a velocity is for a dynamic or kinematic body, whatever its value.
-    if (static_velocity(g, slot)) return kStaticVelocity;
+    if (static_velocity(g, c, slot)) return kStaticVelocity;
     if (body && i == bodyslot::set_velocity) return within(3, kMaxSpeed) ? "" : "a velocity within 100 km/s on each axis";
     if (body && i == bodyslot::set_angular_velocity)
         return within(3, kMaxTurnRate) ? "" : "an angular velocity within 1e6 rad/s on each axis";

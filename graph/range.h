@@ -63,6 +63,8 @@ bool gravity_in_range(const double* g);
 // `v` (the slot's width of finite values) is in range; else the range, in words. A static
 // body's set_velocity and set_angular_velocity take no value at all (kStaticVelocity).
 std::string_view input_range(const Graph& g, SlotId slot, const double* v);
+// The same, for a slot of component `c` (the step's act hooks have it at hand).
+std::string_view input_range(const Graph& g, const Comp& c, SlotId slot, const double* v);
 // A static body's set_velocity or set_angular_velocity (compile error E0316 for a flow).
 bool static_velocity(const Graph& g, SlotId slot);
 inline constexpr std::string_view kStaticVelocity =

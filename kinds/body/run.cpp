@@ -134,8 +134,8 @@ void act_one(Runtime& r, const graph::Comp& c) {
     if (!held && a[slot::dynamics_off]) ph.set_dynamics(b, false);
     if (!held && a[slot::dynamics_on]) ph.set_dynamics(b, true);
     const graph::Adr<graph::Slot> s0 = c.slot_adr;
-    const bool pose_in = !a[slot::set_pose] || input_in_range(r, s0 + slot::set_pose);
-    const bool position_in = !a[slot::set_position] || input_in_range(r, s0 + slot::set_position);
+    const bool pose_in = !a[slot::set_pose] || input_in_range(r, c, s0 + slot::set_pose);
+    const bool position_in = !a[slot::set_position] || input_in_range(r, c, s0 + slot::set_position);
     const bool pose_ok = pose_in && position_in;  // a move out of range is not made at all
     if (!held && pose_ok && (a[slot::set_pose] || a[slot::set_position] || a[slot::set_orientation])) {
         btTransform f = ph.frame(b);
@@ -159,7 +159,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
     }
     for (int k = 0; k < 2; ++k) {
         const int s = k == 0 ? slot::set_velocity : slot::set_angular_velocity;
-        if (held || !a[s] || !input_in_range(r, s0 + s)) continue;
+        if (held || !a[s] || !input_in_range(r, c, s0 + s)) continue;
         const double* v = r.val(s0 + s);
         const Vec3 vel{v[0], v[1], v[2]};
         if (ph.dynamic_now(b)) {

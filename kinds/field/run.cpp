@@ -31,7 +31,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
     const double was = was_on ? r.st.field_speed[i] : 0.0;
     if (a[slot::disable]) r.st.field_on[i] = 0;
     if (a[slot::enable]) r.st.field_on[i] = 1;
-    if (a[slot::set_speed] && input_in_range(r, c.slot_adr + slot::set_speed))
+    if (a[slot::set_speed] && input_in_range(r, c, c.slot_adr + slot::set_speed))
         r.st.field_speed[i] = *r.val(c.slot_adr + slot::set_speed);
     const double now = r.st.field_on[i] ? r.st.field_speed[i] : 0.0;
     if (now != was || a[slot::set_speed]) r.emit(c.slot_adr + slot::speed, now);

@@ -227,7 +227,7 @@ void start_all(Runtime& r) {
 void act_one(Runtime& r, const graph::Comp& c) {
     const GraphicsId i = graph::detail_of<graph::Graphics>(c);
     const uint8_t* a = r.st.act.slice(c.slot_adr, c.slot_num).data();
-    if (a[slot::set_pose] && input_in_range(r, c.slot_adr + slot::set_pose)) {
+    if (a[slot::set_pose] && input_in_range(r, c, c.slot_adr + slot::set_pose)) {
         const double* v = r.val(c.slot_adr + slot::set_pose);
         r.st.graphics[i].base = graph::Pose{{v[0], v[1], v[2]}, qnormalized({v[3], v[4], v[5], v[6]})};
         r.st.graphics[i].base_fresh = false;

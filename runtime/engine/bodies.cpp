@@ -11,8 +11,8 @@ namespace plant::engine {
 using namespace plant::graph;
 
 // Only the plant's logic can send a value out of range: events are refused when read.
-bool input_in_range(Runtime& r, graph::SlotId slot) {
-    if (graph::input_range(r.g, slot, r.val(slot)).empty()) return true;
+bool input_in_range(Runtime& r, const graph::Comp& c, graph::SlotId slot) {
+    if (graph::input_range(r.g, c, slot, r.val(slot)).empty()) return true;
     ++r.st.warn.out_of_range;
     return false;
 }

@@ -89,7 +89,7 @@ void forces_step_end(Runtime& r);
 // kinds/NAME/run.cpp).
 // Whether the value of an active input that moves the physics may be applied (bodies.cpp):
 // one out of graph/range.h's range is not, and counts in Warnings::out_of_range.
-bool input_in_range(Runtime& r, graph::SlotId slot);
+bool input_in_range(Runtime& r, const graph::Comp& c, graph::SlotId slot);
 void take_body_out(Runtime& r, graph::BodyId body);
 // The conveyor law of the fields (a kind on the kind table: kinds/field/) in phase 1
 // (fields.cpp, conveyor.cpp):
