@@ -285,7 +285,11 @@ private:
     Csr<int32_t, graph::BodyId> group_bodies_;  // per group: its bodies
     std::vector<uint8_t> anchored_;   // per group: holds a static body (never leaves its region)
     std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
-    std::vector<int> free_to_;          // per free group: the world it moves to, or a mark (assign_worlds)
+    // assign_worlds' free groups that move (or join the void), as (position in free_groups_,
+    // world or mark): each slice of the decision writes its own from its first group's
+    // position on, and how many (free_moves_); a group that stays writes nothing.
+    std::vector<std::pair<int32_t, int>> free_to_;
+    std::vector<int32_t> free_moves_;  // per slice (kMaxSlices)
     std::vector<graph::BodyId> movers_;  // bodies that are not static
     std::vector<graph::BodyId> anchored_movers_;  // those in anchored groups
     // Per slice of movers_ and world (slice-major): its bodies that are not static and not

@@ -175,7 +175,8 @@ void Physics::find_regions(bool split) {
     free_groups_.clear();
     for (int32_t gi = 0; gi < groups; ++gi)
         if (!anchored_[gi]) free_groups_.push_back(gi);
-    free_to_.assign(free_groups_.size(), 0);
+    free_to_.assign(free_groups_.size(), {0, 0});
+    free_moves_.assign(kMaxSlices, 0);
 
     // s: the largest free group.
     btScalar s = 0;
@@ -294,22 +295,26 @@ void Physics::assign_worlds() {
         const auto [b, e] = slice_of(nf, slices, i);
         constexpr size_t kAhead = 8;  // groups: a body's pose is a miss each (a hint; no result changes)
         for (size_t k = b; k < std::min(e, b + kAhead); ++k) ask_origin(group_bodies_[free_groups_[k]].front());
+        int32_t moves = 0;
         for (size_t k = b; k < e; ++k) {
             if (k + kAhead < e) ask_origin(group_bodies_[free_groups_[k + kAhead]].front());
             const int32_t gi = free_groups_[k];
             const int to = where(gi), at = world_of_[group_bodies_[gi].front()];
             // A parked group waits in the void's world; a void group is placed below.
-            if (to == kParked) free_to_[k] = at != void_ ? void_ : kStay;
-            else free_to_[k] = to == kVoid || at != to ? to : kStay;
+            const int go = to == kParked ? (at != void_ ? void_ : kStay) : (to == kVoid || at != to ? to : kStay);
+            if (go != kStay) free_to_[b + size_t(moves++)] = {int32_t(k), go};
         }
+        free_moves_[i] = moves;
     };
     run_slices(*workers_, slices, decide);
     void_groups_.clear();
-    for (size_t i = 0; i < nf; ++i) {
-        const int to = free_to_[i];
-        if (to == kStay) continue;
-        if (to == kVoid) void_groups_.push_back(free_groups_[i]);
-        else move_group(free_groups_[i], to);
+    for (size_t i = 0; i < slices; ++i) {
+        const size_t first = slice_of(nf, slices, i).first;
+        for (size_t j = first; j < first + size_t(free_moves_[i]); ++j) {
+            const auto [k, to] = free_to_[j];
+            if (to == kVoid) void_groups_.push_back(free_groups_[k]);
+            else move_group(free_groups_[k], to);
+        }
     }
     // Void groups join the world of a mover they meet (of a region's world, or a void group
     // that joined one before), in turn until none joins.
