@@ -189,7 +189,7 @@ std::span<const double> Engine::value(graph::SlotId slot) const {
 }
 
 bool Engine::active(graph::SlotId slot) const {
-    return rt_->tab.slot_out[slot] ? rt_->st.seen[slot] : rt_->st.act[slot];
+    return (rt_->tab.slot_out[slot] ? rt_->st.seen[rt_->st.step & 1] : rt_->st.act)[slot] != 0;
 }
 
 bool Engine::emitted(graph::SlotId slot) const { return rt_->tab.slot_out[slot] && rt_->st.act[slot]; }

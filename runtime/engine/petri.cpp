@@ -1,5 +1,5 @@
 // Phase 4: outputs of this step have been seen by the logic phase and are cleared
-// (remembered as `seen` for observers); then the Petri nets step:
+// (kept as seen for observers); then the Petri nets step:
 //   1. every place whose put input is active gets one token (once per step, however
 //      many flows activated it);
 //   2. every transition enabled in that marking (M[p] >= w for each input arc) fires,
@@ -21,14 +21,30 @@ using namespace plant::graph;
 
 namespace {
 
-void clear_outputs(State& s) {
-    for (SlotId x : s.seen_list) s.seen[x] = 0;
+// This step's outputs go inactive, and are flagged in seen[step % 2] for observers; the other
+// array, the step before's, drops its list (it is this array's list two steps on, and nothing
+// reads it now). On the physics threads in slices of the two lists: no two write one byte.
+void clear_outputs(Runtime& r) {
+    State& s = r.st;
+    uint8_t* const now = s.seen[s.step & 1].data();
+    uint8_t* const before = s.seen[(s.step & 1) ^ 1].data();
+    const size_t n_out = s.out_list.size(), n = n_out + s.seen_list.size();
+    const size_t slices = slice_count(n, 256, kMaxSlices);
+    auto clearing = [&s, now, before, n, n_out, slices](int i) {
+        const auto [b, e] = slice_of(n, slices, i);
+        for (size_t k = b; k < e; ++k) {
+            if (k >= n_out) {
+                before[index(s.seen_list[k - n_out])] = 0;
+                continue;
+            }
+            const SlotId x = s.out_list[k];
+            now[index(x)] = 1;
+            s.act[x] = 0;
+        }
+    };
+    run_slices(r.phys.workers(), slices, clearing);
     s.seen_list.swap(s.out_list);
     s.out_list.clear();
-    for (SlotId x : s.seen_list) {
-        s.seen[x] = 1;
-        s.act[x] = 0;
-    }
 }
 
 // The transitions of net n enabled in the marking, in order, each given to `out`; a net that
@@ -83,9 +99,9 @@ void find_enabled(Runtime& r) {
     }
 }
 
-void touch(State& s, PlaceId p) {
-    if (s.place_mark[p]) return;
-    s.place_mark[p] = 1;
+void touch(State& s, PlaceId p, State::PlaceStep& ps) {
+    if (ps.touched) return;
+    ps.touched = 1;
     s.places_touched.push_back(p);
 }
 
@@ -94,15 +110,16 @@ void touch(State& s, PlaceId p) {
 void phase_petri(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    clear_outputs(s);
+    clear_outputs(r);
     if (g.places.empty()) return;
 
     for (SlotId x : s.in_list) {
         const PlaceId p = r.tab.slot_in[x].put;
         if (!p.valid()) continue;
         s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
-        touch(s, p);
-        s.net_live[r.tab.place_net[p]] = 1;
+        State::PlaceStep& ps = s.place_step[p];
+        touch(s, p, ps);
+        s.net_live[ps.net] = 1;
     }
     // Places touched by puts so far all received a token.
     const size_t puts = s.places_touched.size();
@@ -111,26 +128,28 @@ void phase_petri(Runtime& r) {
     for (TransitionId t : s.fired) {
         const Transition& tr = g.transitions[t];
         for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {
-            s.consume[a.place] += a.weight;
-            touch(s, a.place);
+            State::PlaceStep& ps = s.place_step[a.place];
+            ps.consume += a.weight;
+            touch(s, a.place, ps);
         }
         for (const Arc& a : g.arcs.slice(tr.out_adr, tr.out_num)) {
-            s.produce[a.place] += a.weight;
-            touch(s, a.place);
+            State::PlaceStep& ps = s.place_step[a.place];
+            ps.produce += a.weight;
+            touch(s, a.place, ps);
         }
         if (tr.fired_slot.valid()) r.activate_out(tr.fired_slot);
     }
     for (size_t i = 0; i < s.places_touched.size(); ++i) {
         const PlaceId p = s.places_touched[i];
+        State::PlaceStep& ps = s.place_step[p];
         const int64_t before = s.tokens[p] - (i < puts ? 1 : 0);
         // A full place stays full (graph.h): the count never wraps, nor loses exactness.
-        const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - s.consume[p]) + s.produce[p], kMaxTokens);
-        const SlotId entered = r.tab.place_entered[p], tokens = r.tab.place_tokens[p];
-        if ((i < puts || s.produce[p] > 0) && entered.valid()) r.activate_out(entered);
-        if (after != before && tokens.valid()) r.emit(tokens, double(after));
+        const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - ps.consume) + ps.produce, kMaxTokens);
+        if ((i < puts || ps.produce > 0) && ps.entered.valid()) r.activate_out(ps.entered);
+        if (after != before && ps.tokens_slot.valid()) r.emit(ps.tokens_slot, double(after));
         s.tokens[p] = after;
-        s.consume[p] = s.produce[p] = 0;
-        s.place_mark[p] = 0;
+        ps.consume = ps.produce = 0;
+        ps.touched = 0;
     }
     s.places_touched.clear();
 }

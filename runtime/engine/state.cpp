@@ -15,7 +15,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.values.resize(g.values.size());
     for (Id<Value> i : ids_of(g.values)) s.values[index(i)] = g.values[i].v;
     s.act.assign(ns, 0);
-    s.seen.assign(ns, 0);
+    for (auto& x : s.seen) x.assign(ns, 0);
     // Each slot is in a list at most once per step: the slot count bounds them.
     s.out_list.reserve(ns);
     s.seen_list.reserve(ns);
@@ -82,9 +82,9 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     const size_t np = g.places.size();
     s.tokens.resize(np);
     for (PlaceId p : ids_of(g.places)) s.tokens[p] = g.places[p].initial;
-    s.consume.assign(np, 0);
-    s.produce.assign(np, 0);
-    s.place_mark.assign(np, 0);
+    s.place_step.resize(np);
+    for (PlaceId p : ids_of(g.places))
+        s.place_step[p] = {.entered = g.places[p].entered_slot, .tokens_slot = g.places[p].tokens_slot, .net = t.place_net[p]};
     s.places_touched.reserve(np);
     s.fired.reserve(g.transitions.size());
     s.fired_at.resize(g.transitions.size());

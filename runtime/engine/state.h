@@ -98,7 +98,11 @@ struct State {
     // Slots: values (a copy of graph.values), activity, and the lists of active slots
     // (so clearing costs what was activated, not the number of slots).
     std::vector<double> values;
-    PerSlot<uint8_t> act, seen;
+    PerSlot<uint8_t> act;
+    // The outputs active in a step's logic phase, kept for observers (Engine::active) when
+    // phase 4 clears them: the list, and as flags in seen[step % 2] (the other array drops the
+    // step before's list meanwhile: petri.cpp).
+    std::array<PerSlot<uint8_t>, 2> seen;
     std::vector<graph::SlotId> out_list, seen_list, in_list;
     std::vector<uint64_t> logic_due;  // the logic phase's ops due, a bit per op (schedule.h)
     std::vector<graph::SlotId> pending;  // activated at the start of the next logic phase
@@ -196,14 +200,24 @@ struct State {
     uint64_t groups_version = ~uint64_t(0);  // Physics::version the groups were built for
 
     // Petri nets.
-    PerPlace<int64_t> tokens, consume, produce;  // up to graph::kMaxTokens; sums of weights
+    PerPlace<int64_t> tokens;  // up to graph::kMaxTokens
+    // What phase 4 reads and writes of each place it touches, in one record a place: the sums
+    // of the weights its fired transitions consume and produce, whether it is in
+    // places_touched, and (set at the start, never changed) its output slots and its net's
+    // position in Tables::nets.
+    struct PlaceStep {
+        int64_t consume = 0, produce = 0;
+        graph::SlotId entered, tokens_slot;  // -1: none
+        int32_t net = 0;
+        uint8_t touched = 0;
+    };
+    PerPlace<PlaceStep> place_step;
     std::vector<graph::PlaceId> places_touched;
     std::vector<graph::TransitionId> fired;
     // With the nets in slices (petri.cpp): each slice's enabled transitions from its first
     // net's position in Tables::net_transitions, and how many.
     std::vector<graph::TransitionId> fired_at;
     std::vector<int32_t> slice_fired;
-    PerPlace<uint8_t> place_mark;
     std::vector<uint8_t> net_live;
 
     // The logic phase in lanes (logic.cpp, schedule.h), with more than one thread: what each

@@ -75,11 +75,8 @@ Tables::Tables(const Graph& g) {
     auto set_aux = [&](SlotId slot, int32_t i) {
         if (slot_aux.contains(slot)) slot_aux[slot] = i;
     };
-    for (PlaceId i : ids_of(g.places)) {
+    for (PlaceId i : ids_of(g.places))
         if (g.places[i].put_slot.valid()) slot_in[g.places[i].put_slot].put = i;
-        place_entered.push_back(g.places[i].entered_slot);
-        place_tokens.push_back(g.places[i].tokens_slot);
-    }
     for (AnimationId i : ids_of(g.animations)) set_aux(g.animations[i].play_slot, i.v);
     for (VariantId i : ids_of(g.variants)) set_aux(g.variants[i].select_slot, i.v);
 

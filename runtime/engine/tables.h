@@ -59,7 +59,6 @@ struct Tables {
     // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
     // every other slot.
     IdVector<graph::SlotId, int32_t> slot_aux;
-    IdVector<graph::PlaceId, graph::SlotId> place_entered, place_tokens;  // its output slots, -1
 
     IdVector<graph::BodyId, graph::DoId> body_do;  // owner DO of each body
     std::vector<graph::BodyId> dyn_bodies;  // bodies declared dynamic: what fields and triggers see
