@@ -135,7 +135,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     const double w0 = now_wall(), c0 = plant::bench::process_cpu_seconds();
     g_allocs = 0;
     const int64_t coasted0 = e.internals().steady.coasted, rested0 = e.internals().steady.rested;
-    const auto why0 = e.internals().steady.why;
+    const auto why0 = e.internals().steady.why();
     const uint64_t bullet0 = plant::engine::bullet_heap_requests();
     g_counting = true;
     for (long i = 0; i < steps; ++i) {
@@ -158,7 +158,8 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     s.mean = samples ? sum / double(samples) : 0;
     if (s.mean > 0) s.off = double(e.internals().steady.coasted - coasted0) / (s.mean * double(steps));
     s.rested = double(e.internals().steady.rested - rested0) / double(steps);
-    for (size_t k = 0; k < s.why.size(); ++k) s.why[k] = e.internals().steady.why[k] - why0[k];
+    const auto why1 = e.internals().steady.why();
+    for (size_t k = 0; k < s.why.size(); ++k) s.why[k] = why1[k] - why0[k];
     for (size_t d = 0; d < g.dos.size(); ++d)
         if (e.lost_at(plant::graph::DoId(int32_t(d))) >= 0) ++s.lost;
     rusage ru{};

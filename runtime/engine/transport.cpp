@@ -934,7 +934,6 @@ void check_steady(Runtime& r, bool left) {
         size_t events = 0, found = 0;
         int64_t guided = 0, rested = 0;
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
-        whys.fill(0);
         for (size_t k = b; k < e; ++k) {
             const BodyId u = dyn[k];
             OnSolver why;
@@ -983,7 +982,7 @@ void check_steady(Runtime& r, bool left) {
                 return;
             }
             S.stack.push_back(w);
-            ++S.why[size_t(OnSolver::kNeighbour)];
+            ++S.neighbours;
         });
     }
     // Landing and leaving touch only the unit's own world (its broadphase and dispatcher): the
@@ -1009,7 +1008,6 @@ void check_steady(Runtime& r, bool left) {
             }
         }
         S.guided += S.slice_guided[i];
-        for (size_t k = 0; k < kOnSolverReasons; ++k) S.why[k] += S.slice_why[i][k];
     }
     for (const BodyId u : S.joined)
         if (S.action[u] == kLand) ++S.world_adr[ph.world_of(u) + 1];

@@ -89,10 +89,18 @@ struct Steady {
     // check_steady: units landing with a resting neighbour, or staying on the solver with one
     // (in the order found), and the search's stack.
     std::vector<graph::BodyId> joined, stack;
-    // Unit-steps on the solver (after each step's check), by why (OnSolver), and per slice of
-    // check_steady's job.
-    std::array<int64_t, kOnSolverReasons> why{};
+    // Unit-steps on the solver (after each step's check), by why (OnSolver): each slice of
+    // check_steady's job adds to its own row, all run long, and the check after it counts the
+    // units a resting neighbour keeps there; why() sums them when asked.
     std::array<std::array<int64_t, kOnSolverReasons>, kMaxSlices> slice_why{};
+    int64_t neighbours = 0;
+    std::array<int64_t, kOnSolverReasons> why() const {
+        std::array<int64_t, kOnSolverReasons> sum{};
+        for (const auto& row : slice_why)
+            for (size_t k = 0; k < kOnSolverReasons; ++k) sum[k] += row[k];
+        sum[size_t(OnSolver::kNeighbour)] += neighbours;
+        return sum;
+    }
 
     // Static geometry near which nothing coasts: static bodies (a support and the rails it
     // slides along aside) and kinematic bodies within a box around where they were (a gate or

@@ -62,7 +62,7 @@ void finish(Engine& e, Seen& s) {
     s.guided = e.internals().steady.guided;
     s.coasted = e.internals().steady.coasted;
     s.rested = e.internals().steady.rested;
-    s.why = e.internals().steady.why;
+    s.why = e.internals().steady.why();
 }
 
 // Runs g for `steps` with steady transport on or off; `inputs` are (step, slot) pairs.
