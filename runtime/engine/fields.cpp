@@ -288,20 +288,28 @@ void list_field_bodies(Runtime& r) {
         }
     };
     run_slices(wk, slices, counting);
+    // The slices' rows are read as they were written, a row at a time: each world's count,
+    // where its list starts, then where each slice's part of it starts (after the parts of the
+    // slices before).
     s.world_adr.assign(nw, 0);
     s.world_num.assign(nw, 0);
     s.worlds_busy.clear();
+    for (size_t i = 0; i < slices; ++i)
+        for (size_t w = 0; w < nw; ++w) s.world_num[w] += per[i * nw + w];
     int32_t at = 0;
     for (size_t w = 0; w < nw; ++w) {
         s.world_adr[w] = at;
-        for (size_t i = 0; i < slices; ++i) {
-            int32_t& c = per[i * nw + w];
-            const int32_t n = c;
-            c = at;  // slice i's first body of world w goes here
-            at += n, s.world_num[w] += n;
-        }
+        at += s.world_num[w];
         if (s.world_num[w]) s.worlds_busy.push_back(static_cast<int>(w));
     }
+    s.world_next.assign(s.world_adr.begin(), s.world_adr.end());
+    for (size_t i = 0; i < slices; ++i)
+        for (size_t w = 0; w < nw; ++w) {
+            int32_t& c = per[i * nw + w];
+            const int32_t n = c;
+            c = s.world_next[w];  // slice i's first body of world w goes here
+            s.world_next[w] += n;
+        }
     auto placing = [&r, &s, per, nb, nw, slices](int i) {
         int32_t* const next = per + i * nw;
         const auto [b0, e0] = slice_of(nb, slices, i);

@@ -386,12 +386,10 @@ void Physics::assign_worlds() {
             if (in_world_[movers_[k]] && !coasting(movers_[k])) ++row[world_of_[movers_[k]]];
     };
     run_slices(*workers_, mslices, count);
-    for (size_t w = 0; w < nw; ++w) {
-        int32_t n = 0;
-        for (size_t i = 0; i < mslices; ++i) n += slice_movers_[i * nw + w];
-        worlds_[w].movers = n;
-        worlds_[w].active = n > 0;
-    }
+    for (size_t w = 0; w < nw; ++w) worlds_[w].movers = 0;
+    for (size_t i = 0; i < mslices; ++i)  // the rows as they were written, a row at a time
+        for (size_t w = 0; w < nw; ++w) worlds_[w].movers += slice_movers_[i * nw + w];
+    for (size_t w = 0; w < nw; ++w) worlds_[w].active = worlds_[w].movers > 0;
 }
 
 // One world for everything from now on: the regions' boxes no longer hold (a static body was

@@ -175,6 +175,7 @@ struct State {
     uint64_t field_builds = 0;  // how many times they were filed (Steady::Near)
     // Dynamic bodies in the world by physics world (CSR), and the touched ones in the same slots.
     std::vector<int32_t> world_adr, world_num, worlds_busy;
+    std::vector<int32_t> world_next;  // scratch: list_field_bodies' next place in each world's list
     std::vector<graph::BodyId> world_list, touched;
     // list_field_bodies' slices (fields.cpp): per slice and world, its bodies' count, then
     // where the slice's first body of that world goes in world_list (sized with the physics:
