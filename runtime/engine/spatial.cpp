@@ -46,10 +46,12 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
         version_ = ph.version();
     }
     // Ordered by (cell, x, id): a total order (no two entries tie), so the sorted list is one
-    // whatever sorts it. Slices of at least 32 bodies, four per thread on 16 at most: each
-    // measures its own entries and sorts them by insertion (they were in order the step
-    // before, and bodies move little in a step). Where every slice ends before the next
-    // begins, the list is in order; otherwise this thread sorts it whole the same way.
+    // whatever sorts it (a NaN x aside, which orders nothing: then the list is still the same
+    // on any number of threads, the slices being cut alike). Slices of at least 32 bodies,
+    // four per thread on 16 at most: each measures its own entries and sorts them by
+    // insertion (they were in order the step before, and bodies move little in a step).
+    // Where every slice ends before the next begins, the list is in order; otherwise this
+    // thread sorts it whole the same way.
     auto before = [](const Entry& a, const Entry& b) {
         if (a.cell != b.cell) return a.cell < b.cell;
         if (a.x != b.x) return a.x < b.x;
