@@ -153,7 +153,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
         }
         // Dynamic and static bodies jump; a kinematic one travels there during the
         // next physics step, so what it pushes sees its speed.
-        if (ph.declared_dynamic(b) ? ph.dynamics_on(b) : r.g.bodies[b].mode == BodyMode::Static) ph.place(b, f);
+        if (ph.declared_dynamic(b) ? ph.dynamics_on(b) : ph.declared_static(b)) ph.place(b, f);
         else ph.move(b, f);
         ph.rb(b).activate();
     }

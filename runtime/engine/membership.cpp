@@ -22,7 +22,7 @@ constexpr int kKinematic = btBroadphaseProxy::KinematicFilter;
 }  // namespace
 
 void Physics::add_to_world(BodyId b, bool filtered) {
-    switch (g_.bodies[b].mode) {
+    switch (mode_[b]) {
     case BodyMode::Dynamic: group_[b] = btBroadphaseProxy::DefaultFilter, mask_[b] = kAll; break;
     case BodyMode::Static: group_[b] = kStatic, mask_[b] = kAll ^ kStatic; break;
     case BodyMode::Kinematic: group_[b] = kKinematic, mask_[b] = kAll ^ kStatic ^ kKinematic; break;
@@ -39,7 +39,7 @@ void Physics::set_mode_flags(BodyId b) {
     wrote(b);
     btRigidBody& r = *bodies_[b];
     int f = r.getCollisionFlags() & ~(btCollisionObject::CF_STATIC_OBJECT | btCollisionObject::CF_KINEMATIC_OBJECT);
-    const BodyMode mode = g_.bodies[b].mode;
+    const BodyMode mode = mode_[b];
     if (!in_world_[b] || mode == BodyMode::Static || coast_[b]) f |= btCollisionObject::CF_STATIC_OBJECT;
     else if (mode == BodyMode::Kinematic || !dyn_on_[b]) f |= btCollisionObject::CF_KINEMATIC_OBJECT;
     r.setCollisionFlags(f);
@@ -63,7 +63,7 @@ void Physics::insert(BodyId b) {
     if (in_world_[b]) return;
     unweld(b);
     btRigidBody& r = *bodies_[b];
-    r.forceActivationState(g_.bodies[b].mode == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
+    r.forceActivationState(mode_[b] == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
     in_world_[b] = 1;
     set_mode_flags(b);
     refilter(b);
@@ -181,8 +181,8 @@ void Physics::place(BodyId b, const btTransform& f) {
     r.setWorldTransform(t);
     r.setInterpolationWorldTransform(t);
     if (in_world_[b]) world_at(b).world->updateSingleAabb(&r);
-    if (g_.bodies[b].mode == BodyMode::Static) ++statics_placed_;
-    if (void_ >= 0 && g_.bodies[b].mode == BodyMode::Static) placed_static(b);
+    if (mode_[b] == BodyMode::Static) ++statics_placed_;
+    if (void_ >= 0 && mode_[b] == BodyMode::Static) placed_static(b);
 }
 
 void Physics::move(BodyId b, const btTransform& f) {

@@ -490,6 +490,8 @@ Physics::Physics(const Graph& g, const Tables& t, Broadphase bp, int threads)
     mask_.assign(nb, 0);
     dyn_on_.assign(nb, 1);
     coll_on_.assign(nb, 1);
+    mode_.resize(nb);
+    for (BodyId b : ids_of(g.bodies)) mode_[b] = g.bodies[b].mode;
     coast_.assign(nb, 0);
     writes_.assign(nb, 0);
     for (BodyId b : ids_of(g.bodies)) {

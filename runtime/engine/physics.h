@@ -120,7 +120,8 @@ public:
     // count stands, a kinematic body is as it was: its world and steady transport pass over
     // it without reading it (physics.cpp, transport.cpp).
     uint32_t writes(graph::BodyId b) const { return writes_[b]; }
-    bool declared_dynamic(graph::BodyId b) const { return g_.bodies[b].mode == graph::BodyMode::Dynamic; }
+    bool declared_dynamic(graph::BodyId b) const { return mode_[b] == graph::BodyMode::Dynamic; }
+    bool declared_static(graph::BodyId b) const { return mode_[b] == graph::BodyMode::Static; }
     // Simulated by the dynamics right now: declared dynamic, in the world, dynamics on.
     bool dynamic_now(graph::BodyId b) const { return in_world_[b] && dyn_on_[b] && mass_[b] > 0; }
     bool dynamics_on(graph::BodyId b) const { return dyn_on_[b]; }
@@ -252,6 +253,7 @@ private:
     PerBody<btVector3> inertia_;
     PerBody<double> mass_;
     PerBody<uint8_t> in_world_, dyn_on_, coll_on_;
+    PerBody<graph::BodyMode> mode_;  // Body::mode, in an array of its own: a Body row is large
     PerJoint<uint8_t> joint_in_, joint_on_;
     PerBody<uint8_t> coast_;  // per body: off the solver in steady transport (transport.cpp): kCoasting, kResting
     static constexpr uint8_t kCoasting = 1, kResting = 2;
