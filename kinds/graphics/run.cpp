@@ -29,10 +29,13 @@ namespace {
 struct GraphicsData : KindData {
     std::vector<GraphicsId> order;  // parents before children
     size_t roots = 0;               // its first ones, with no parent (on a body or alone)
-    // Where each depth below the roots ends in `order` (the children of roots, theirs, ...).
-    std::vector<size_t> depth_end;
+    // The depths in `order` (the roots, their children, theirs, ...), as [first, end).
+    std::vector<std::pair<size_t, size_t>> depths;
     graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
     std::vector<uint8_t> flags;     // per position in `order`: what it publishes (advance_one)
+    // What publishes, listed by each slice of a depth's job from its first position on (the
+    // positions in `order`), and how many: per depth, kMaxSlices counts.
+    std::vector<int32_t> listed, counts;
     // A root on a body whose last visit changed nothing and would change nothing again (see
     // advance_one) while the body stays out of the world (kParked: no animation playing), or,
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
@@ -63,8 +66,12 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     }
     std::stable_sort(s->order.begin(), s->order.end(), [&](GraphicsId a, GraphicsId b) { return depth[a] < depth[b]; });
     while (s->roots < s->order.size() && depth[s->order[s->roots]] == 0) ++s->roots;
+    s->depths.push_back({0, s->roots});
     for (size_t k = s->roots; k < s->order.size(); ++k)
-        if (k + 1 == s->order.size() || depth[s->order[k + 1]] != depth[s->order[k]]) s->depth_end.push_back(k + 1);
+        if (k + 1 == s->order.size() || depth[s->order[k + 1]] != depth[s->order[k]])
+            s->depths.push_back({s->depths.back().second, k + 1});
+    s->listed.assign(s->order.size(), 0);
+    s->counts.assign(s->depths.size() * kMaxSlices, 0);
     s->local.resize(g.graphics.size());
     for (GraphicsId i : ids_of(g.graphics)) {
         const graph::Graphics& gr = g.graphics[i];
@@ -162,44 +169,54 @@ void publish(Runtime& r, GraphicsId i, uint8_t flags) {
 
 // Phase 2: the graphics with no parent (the first of `order`) in slices on the physics
 // threads, then their children the same way, a depth at a time (each reads its parent's
-// pose, of the depth before); then, in `order` on this thread, what they publish.
+// pose, of the depth before); each slice lists what publishes. Then, on this thread, what
+// they publish: depth by depth, slice by slice, so in `order`.
 void sense_all(Runtime& r) {
     GraphicsData& data = own(r);
     const std::vector<GraphicsId>& order = data.order;
-    const size_t roots = data.roots;
     std::vector<uint8_t>& flags = data.flags;
-    const size_t slices = slice_count(roots, 32, roots + 1);
     const bool all = data.statics != r.phys.statics_placed();
     data.statics = r.phys.statics_placed();
-    auto poses = [&r, &data, &order, &flags, roots, slices, all](int i) {
-        const auto [b, e] = slice_of(roots, slices, i);
-        for (size_t k = b; k < e; ++k) {
-            const GraphicsId g = order[k];
-            const graph::BodyId body = data.body[g];
-            const uint8_t still = data.still[g];
-            if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body))) {
-                flags[k] = 0;  // what advance_one would find: nothing to do, nothing changed
-                continue;
-            }
-            flags[k] = to_publish(r, g, advance_one(r, data, g));
-            const GraphicsState& gs = r.st.graphics[g];
-            data.still[g] = !body.valid() || gs.anim >= 0 ? kMoving
-                            : !r.phys.in_world(body)   ? kParked
-                            : data.fixed[g] && gs.base_fresh && same(gs.prev, gs.pose) ? kStanding
-                                                                                        : kMoving;
-        }
+    // A root on a body: passed over while nothing can have changed (GraphicsData::still).
+    auto root = [&r, &data, all](GraphicsId g) -> uint8_t {
+        const graph::BodyId body = data.body[g];
+        const uint8_t still = data.still[g];
+        if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body)))
+            return 0;  // what advance_one would find: nothing to do, nothing changed
+        const uint8_t f = to_publish(r, g, advance_one(r, data, g));
+        const GraphicsState& gs = r.st.graphics[g];
+        data.still[g] = !body.valid() || gs.anim >= 0 ? kMoving
+                        : !r.phys.in_world(body)   ? kParked
+                        : data.fixed[g] && gs.base_fresh && same(gs.prev, gs.pose) ? kStanding
+                                                                                    : kMoving;
+        return f;
     };
-    run_slices(r.phys.workers(), slices, poses);
-    for (size_t d = 0, first = roots; d < data.depth_end.size(); first = data.depth_end[d++]) {
-        const size_t n = data.depth_end[d] - first, parts = slice_count(n, 32, n + 1);
-        auto children = [&r, &data, &order, &flags, first, n, parts](int i) {
+    for (size_t d = 0; d < data.depths.size(); ++d) {
+        const auto [first, end] = data.depths[d];
+        const size_t n = end - first, parts = slice_count(n, 32, n + 1);
+        int32_t* const counts = data.counts.data() + d * kMaxSlices;
+        auto poses = [&r, &data, &order, &flags, &root, d, first, n, parts, counts](int i) {
             const auto [b, e] = slice_of(n, parts, i);
-            for (size_t k = first + b; k < first + e; ++k) flags[k] = to_publish(r, order[k], advance_one(r, data, order[k]));
+            int32_t* const list = data.listed.data() + first + b;
+            int32_t m = 0;
+            for (size_t k = first + b; k < first + e; ++k) {
+                const uint8_t f = d == 0 ? root(order[k]) : to_publish(r, order[k], advance_one(r, data, order[k]));
+                flags[k] = f;
+                list[m] = static_cast<int32_t>(k);  // at or before k's own entry
+                m += f != 0;
+            }
+            counts[i] = m;
         };
-        run_slices(r.phys.workers(), parts, children);
+        run_slices(r.phys.workers(), parts, poses);
     }
-    for (size_t k = 0; k < order.size(); ++k)
-        if (flags[k]) publish(r, order[k], flags[k]);
+    for (size_t d = 0; d < data.depths.size(); ++d) {
+        const auto [first, end] = data.depths[d];
+        const size_t n = end - first, parts = slice_count(n, 32, n + 1);
+        for (size_t i = 0; i < parts; ++i) {
+            const int32_t* const list = data.listed.data() + first + slice_of(n, parts, i).first;
+            for (int32_t j = 0; j < data.counts[d * kMaxSlices + i]; ++j) publish(r, order[size_t(list[j])], flags[size_t(list[j])]);
+        }
+    }
 }
 
 void play_animation(Runtime& r, AnimationId anim) {
