@@ -168,7 +168,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
             else rb.setAngularVelocity(to_bt(vel));
             rb.activate();
         } else {
-            assert(r.g.bodies[b].mode != BodyMode::Static);  // refused: graph/range.h's input_range
+            assert(!ph.declared_static(b));  // refused: graph/range.h's input_range
             (k == 0 ? r.st.cmd_lin : r.st.cmd_ang)[b] = vel;  // kinematic: we move it
             if (!r.st.is_commanded[b]) {
                 r.st.is_commanded[b] = 1;

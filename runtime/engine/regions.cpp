@@ -134,7 +134,7 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
 
 void Physics::find_regions(bool split) {
     const int32_t nb = g_.bodies.count();
-    auto is_static = [this](BodyId b) { return g_.bodies[b].mode == BodyMode::Static; };
+    auto is_static = [this](BodyId b) { return declared_static(b); };
 
     // Groups: bodies joined by joints, numbered in order of their first body. The union-find
     // works on the bodies' numbers.

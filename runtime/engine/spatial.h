@@ -21,8 +21,9 @@ class Spatial {
 public:
     Spatial(const Tables& t, int32_t bodies);
 
-    // Reads positions (and, with `aabbs`, bounding boxes) from Bullet, a slice of the bodies per
-    // item of a job on `w`'s threads, and re-sorts on the calling thread.
+    // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and sorts, a slice of the
+    // bodies per item of a job on `w`'s threads; the calling thread sorts the whole list again
+    // only where two slices overlap (spatial.cpp).
     void refresh(const Physics& ph, bool aabbs, Workers& w);
     // Calls f(body) for every body whose centre has x in [xlo, xhi] and lies in a y cell
     // that [ylo, yhi] touches (a superset of the bodies with y in [ylo, yhi]).

@@ -1,0 +1,72 @@
+// The body index (engine/spatial.h): after every refresh, a box's lookup finds exactly the
+// bodies a scan of all of them finds, while bottles on two belts running opposite ways pass
+// each other in x all the time (so the slices' own sorts overlap and the whole list is sorted
+// again; docs/runtime.md, "How the work is divided among the threads").
+#include "../compiler/compile_helper.h"
+#include "engine/engine.h"
+#include "engine/runtime.h"
+#include "engine/workers.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace plant;
+using namespace plant::test;
+
+TEST_CASE("body index: a box finds what a scan of every body finds, as bottles pass each other") {
+    Compilation c;
+    compile_text(R"(
+import std.belts, std.bottle
+plant Passing {
+    a: Belt(length = 3 m, speed = 50 cm/s)
+    b: Belt(length = 3 m, speed = -50 cm/s) at (0 m, 40 cm, 0 m)
+    for i in 0 .. 24 {
+        pa[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
+        pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
+    }
+}
+)",
+                 c, "spatial_passing.plant");
+    INFO(render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    engine::Engine e(c.graph);
+    engine::Runtime& r = e.internals();
+    const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
+    REQUIRE(dyn.size() >= 64);  // two slices of the index at least
+    auto cell = [](btScalar y) { return int(std::floor(y)); };  // the index's cells: 1 m in y
+    std::vector<btScalar> x0;  // each body's x at the start
+    for (graph::BodyId b : dyn) x0.push_back(r.phys.com(b).x());
+    int64_t checked = 0;
+    for (int step = 0; step < 150 * 3; ++step) {
+        e.step();
+        r.index.refresh(r.phys, true, r.phys.workers());  // what the step's last refresh made, again
+        std::vector<graph::BodyId> in;
+        for (graph::BodyId b : dyn)
+            if (r.phys.in_world(b)) in.push_back(b);
+        for (size_t k = 0; k < in.size(); k += 3) {
+            const btVector3 c0 = r.index.com(in[k]);
+            const btScalar xlo = c0.x() - 0.3f, xhi = c0.x() + 0.3f, ylo = c0.y() - 0.1f, yhi = c0.y() + 0.1f;
+            std::vector<int32_t> found, scanned;
+            r.index.for_each(xlo, xhi, ylo, yhi, [&](graph::BodyId b) { found.push_back(b.v); });
+            for (graph::BodyId b : in) {
+                const btVector3& p = r.index.com(b);
+                if (p.x() >= xlo && p.x() <= xhi && cell(p.y()) >= cell(ylo) && cell(p.y()) <= cell(yhi)) scanned.push_back(b.v);
+            }
+            std::sort(found.begin(), found.end());
+            std::sort(scanned.begin(), scanned.end());
+            CAPTURE(step);
+            REQUIRE(found == scanned);
+            ++checked;
+        }
+    }
+    CHECK(checked > 150 * 3 * 10);
+    // The bottles passed each other: pairs whose order in x is now the other way round.
+    int64_t passed = 0;
+    for (size_t i = 0; i < dyn.size(); ++i)
+        for (size_t j = 0; j < dyn.size(); ++j)
+            passed += x0[i] < x0[j] - 0.05f && r.phys.com(dyn[i]).x() > r.phys.com(dyn[j]).x() + 0.05f;
+    CHECK(passed > 100);
+}
