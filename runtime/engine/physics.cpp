@@ -93,11 +93,35 @@ private:
     btAlignedObjectArray<btTypedConstraint*> joints_;
 };
 
+// What btDbvtBroadphase::setAabb (Bullet 3.24) does when handed the box a proxy holds, the
+// proxy in the dynamic tree and its leaf's volume holding that box (it did since the call that
+// gave the proxy this box: a leaf's volume changes only when its own proxy's box does): it
+// counts the call and moves the proxy to the head of the current stage's list (so it is not
+// taken to the fixed tree), the trees untouched and no pair sought. Done here without the
+// look at the leaf (a cache miss for each still kinematic part, each step), with the same
+// writes in the same order. A debug build checks the leaf.
+void keep_box(btDbvtBroadphase& bp, btDbvtProxy* p) {
+    assert(p->stage != btDbvtBroadphase::STAGECOUNT);
+    assert(p->leaf->volume.Contain(btDbvtVolume::FromMM(p->m_aabbMin, p->m_aabbMax)));
+    ++bp.m_updates_call;
+    btDbvtProxy*& from = bp.m_stageRoots[p->stage];  // out of its stage's list
+    if (p->links[0]) p->links[0]->links[1] = p->links[1];
+    else from = p->links[1];
+    if (p->links[1]) p->links[1]->links[0] = p->links[0];
+    p->stage = bp.m_stageCurrent;
+    btDbvtProxy*& to = bp.m_stageRoots[bp.m_stageCurrent];  // to the head of the current one
+    p->links[0] = nullptr;
+    p->links[1] = to;
+    if (to) to->links[0] = p;
+    to = p;
+}
+
 class IslandWorld : public btDiscreteDynamicsWorld {
 public:
     IslandWorld(const Graph& g, std::vector<KinematicRest>& rest, IdVector<BodyId, uint32_t>& writes, btDispatcher* d,
                 btBroadphaseInterface* bp, btConstraintSolver* cs, btCollisionConfiguration* cc)
-        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest), writes_(writes) {}
+        : btDiscreteDynamicsWorld(d, bp, cs, cc), g_(g), rest_(rest), writes_(writes),
+          dbvt_(dynamic_cast<btDbvtBroadphase*>(bp)) {}
 
     // The world's list of objects changes only through these (Bullet's addRigidBody calls
     // addCollisionObject; its removeCollisionObject calls removeRigidBody for a rigid body):
@@ -137,7 +161,9 @@ public:
             KinematicRest& rest = rest_[size_t(kn.rest)];
             if (rest.box_valid && rest.box_writes == writes_[kn.body]) {
                 assert(o->isActive() == rest.active && (!rest.active || same_box(*o)));
-                if (rest.active) {
+                if (rest.active && dbvt_) {
+                    keep_box(*dbvt_, static_cast<btDbvtProxy*>(rest.proxy));
+                } else if (rest.active) {
                     const btVector3 lo = rest.proxy->m_aabbMin, hi = rest.proxy->m_aabbMax;
                     m_broadphasePairCache->setAabb(rest.proxy, lo, hi, m_dispatcher1);
                 }
@@ -351,6 +377,7 @@ private:
     const Graph& g_;
     std::vector<KinematicRest>& rest_;  // Physics::kin_rest_: each body's entry touched by its world only
     IdVector<BodyId, uint32_t>& writes_;  // Physics::writes_: each body's counted by its world only
+    btDbvtBroadphase* const dbvt_;      // the broadphase, where it is Bullet's two trees (keep_box)
     bool changed_ = true;               // objects added or removed since live_ was found
     btAlignedObjectArray<btCollisionObject*> seen_;  // the world's objects when live_ was found
     btAlignedObjectArray<int> live_;                 // the indices of those that are not static bodies

@@ -4,6 +4,7 @@
 #include "engine/runtime.h"
 #include "scene_builder.h"
 
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 #include <doctest/doctest.h>
 
@@ -297,7 +298,7 @@ TEST_CASE("runtime: a kinematic part at rest is passed over until something writ
     const plant::graph::BodyId p(pusher);
     // Steps after which the pusher's broadphase box is not the one of its pose (but for a step
     // that places it: that is done after the step's physics, and the box follows in the next).
-    int stale = 0;
+    int stale = 0, misplaced = 0;
     auto step = [&](bool placing = false) {
         e.step();
         if (placing) return;
@@ -307,6 +308,19 @@ TEST_CASE("runtime: a kinematic part at rest is passed over until something writ
         const btVector3 m(gContactBreakingThreshold, gContactBreakingThreshold, gContactBreakingThreshold);
         const btBroadphaseProxy& proxy = *rb.getBroadphaseHandle();
         stale += !((lo - m) == proxy.m_aabbMin && (hi + m) == proxy.m_aabbMax);
+        // Handed the box it holds, its proxy is where Bullet's setAabb leaves it: in the dynamic
+        // tree, in the list of this step's updates, which stays linked both ways (keep_box).
+        const auto& bp = dynamic_cast<const btDbvtBroadphase&>(*phys.world().getBroadphase());
+        const auto& dp = static_cast<const btDbvtProxy&>(proxy);
+        const int last = (bp.m_stageCurrent + btDbvtBroadphase::STAGECOUNT - 1) % btDbvtBroadphase::STAGECOUNT;
+        bool listed = false, linked = true;
+        const btDbvtProxy* before = nullptr;
+        int n = 0;  // the scene has three bodies: a longer list has gone wrong (a cycle)
+        for (const btDbvtProxy* x = bp.m_stageRoots[last]; x != nullptr && linked; before = x, x = x->links[1]) {
+            linked &= x->links[0] == before && x->stage == last && ++n <= 3;
+            listed |= x == &dp;
+        }
+        misplaced += !(dp.stage == last && listed && linked);
     };
     for (int i = 0; i < 10; ++i) step();
     const uint32_t resting = phys.writes(p);
@@ -330,4 +344,5 @@ TEST_CASE("runtime: a kinematic part at rest is passed over until something writ
     for (int i = 0; i < 5; ++i) step();
     CHECK(e.body_com(p)[0] == doctest::Approx(-1));
     CHECK(stale == 0);
+    CHECK(misplaced == 0);
 }
