@@ -153,7 +153,7 @@ public:
         list_live();
         constexpr int kAhead = 4;  // a kinematic part's proxy (keep_box relinks it) asked for ahead: a hint
         for (int k = 0; k < live_.size(); ++k) {
-            if (k + kAhead < live_.size() && live_kin_[k + kAhead].rest >= 0)
+            if (dbvt_ && k + kAhead < live_.size() && live_kin_[k + kAhead].rest >= 0)
                 if (const btBroadphaseProxy* ahead = rest_[size_t(live_kin_[k + kAhead].rest)].proxy)
                     __builtin_prefetch(&static_cast<const btDbvtProxy*>(ahead)->links);
             btCollisionObject* o = m_collisionObjects[live_[k]];
