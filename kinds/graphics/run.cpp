@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 namespace plant::kinds::graphics {
@@ -191,9 +192,15 @@ void sense_all(Runtime& r) {
                                                                                     : kMoving;
         return f;
     };
-    for (size_t d = 0; d < data.depths.size(); ++d) {
+    // Depth d's graphics, their first position in `order`, and how many slices its job cuts
+    // them into: the same for the job and for the publishing after it.
+    auto depth = [&data](size_t d) {
         const auto [first, end] = data.depths[d];
-        const size_t n = end - first, parts = slice_count(n, 32, n + 1);
+        const size_t n = end - first;
+        return std::tuple{first, n, slice_count(n, 32, n + 1)};
+    };
+    for (size_t d = 0; d < data.depths.size(); ++d) {
+        const auto [first, n, parts] = depth(d);
         int32_t* const counts = data.counts.data() + d * kMaxSlices;
         auto poses = [&r, &data, &order, &flags, &root, d, first, n, parts, counts](int i) {
             const auto [b, e] = slice_of(n, parts, i);
@@ -210,8 +217,7 @@ void sense_all(Runtime& r) {
         run_slices(r.phys.workers(), parts, poses);
     }
     for (size_t d = 0; d < data.depths.size(); ++d) {
-        const auto [first, end] = data.depths[d];
-        const size_t n = end - first, parts = slice_count(n, 32, n + 1);
+        const auto [first, n, parts] = depth(d);
         for (size_t i = 0; i < parts; ++i) {
             const int32_t* const list = data.listed.data() + first + slice_of(n, parts, i).first;
             for (int32_t j = 0; j < data.counts[d * kMaxSlices + i]; ++j) publish(r, order[size_t(list[j])], flags[size_t(list[j])]);

@@ -134,7 +134,6 @@ bool unite_overlapping(const std::vector<Box>& boxes, const std::vector<int32_t>
 
 void Physics::find_regions(bool split) {
     const int32_t nb = g_.bodies.count();
-    auto is_static = [this](BodyId b) { return declared_static(b); };
 
     // Groups: bodies joined by joints, numbered in order of their first body. The union-find
     // works on the bodies' numbers.
@@ -164,7 +163,7 @@ void Physics::find_regions(bool split) {
     anchored_.assign(groups, 0);
     movers_.clear();
     for (BodyId b : ids_of(g_.bodies)) {
-        if (is_static(b)) anchored_[group_of_[b]] = 1;
+        if (declared_static(b)) anchored_[group_of_[b]] = 1;
         else movers_.push_back(b);
     }
     anchored_movers_.clear();
