@@ -867,6 +867,7 @@ void start_steady(Runtime& r, bool on) {
     S.world_fill.assign(size_t(r.phys.worlds()), 0);
     S.busy.reserve(size_t(r.phys.worlds()));
     S.action.assign(nb, 0);
+    S.why_of.assign(nb, OnSolver::kCount);
     S.kinematic.reserve(nb);
     S.home_lo.assign(nb, btVector3(0, 0, 0));
     S.home_hi.assign(nb, btVector3(0, 0, 0));
@@ -938,6 +939,7 @@ void check_steady(Runtime& r, bool left) {
             const BodyId u = dyn[k];
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);
+            St.why_of[u] = why;
             if (why != OnSolver::kCount) ++whys[size_t(why)];
             if (a == kLand || a == kCoast || a == kToRest) St.events[b + events++] = u;
             if (a == kCoast || a == kKeep || a == kToRest) {
@@ -982,6 +984,7 @@ void check_steady(Runtime& r, bool left) {
                 return;
             }
             S.stack.push_back(w);
+            S.why_of[w] = OnSolver::kNeighbour;
             ++S.neighbours;
         });
     }

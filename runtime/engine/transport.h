@@ -67,6 +67,11 @@ struct Steady {
     PerBody<btVector3> relax;            // coasting: exp(-a) per field axis (1: free axis)
     std::vector<graph::BodyId> coasting; // the units coasting (or resting) this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
+    // Per unit, why it is on the solver after this step's check (the first test it failed, or
+    // kNeighbour: kept there by a resting neighbour); kCount where it is not (off the solver,
+    // out of the world, a passenger): why() unit by unit (plant_bench_bottling --profile
+    // counts them by the object whose field the unit rides).
+    PerBody<OnSolver> why_of;
     // check_steady's slices: from each slice's first index on, its units that land or leave
     // and those off the solver, and how many of each (and of those along a rail, and resting) it found.
     std::vector<graph::BodyId> events, found;

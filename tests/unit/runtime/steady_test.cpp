@@ -46,6 +46,9 @@ struct Seen {
     std::vector<std::vector<graph::Vec3>> track;  // per step, the listed bodies' centres of mass
     int64_t left_solver = 0, rejoined = 0, guided = 0, coasted = 0, rested = 0;
     std::array<int64_t, engine::kOnSolverReasons> why{};  // unit-steps on the solver, by why
+    // Steps in which the units' own reasons (Steady::why_of) did not add up to what the
+    // step added to why(), and the unit-steps they put on the solver.
+    int64_t why_apart = 0, why_units = 0;
     int64_t on_solver(engine::OnSolver w) const { return why[size_t(w)]; }
 };
 
@@ -90,10 +93,25 @@ Seen run(const graph::Graph& g, bool steady, int64_t steps, const std::vector<in
         in[b] = e.body_in_world(graph::BodyId(int32_t(b)));
         last[b] = e.body_com(graph::BodyId(int32_t(b)));
     }
+    std::array<int64_t, engine::kOnSolverReasons> why_before = e.internals().steady.why();
     for (int64_t i = 0; i < steps; ++i) {
         for (const auto& [at, slot] : inputs)
             if (at == i) e.input(graph::SlotId(slot));
         e.step();
+        {
+            const engine::Steady& S = e.internals().steady;
+            std::array<int64_t, engine::kOnSolverReasons> units{};
+            for (size_t b = 0; b < S.why_of.size(); ++b)
+                if (const engine::OnSolver w = S.why_of[graph::BodyId(int32_t(b))]; w != engine::OnSolver::kCount)
+                    ++units[size_t(w)], ++s.why_units;
+            const std::array<int64_t, engine::kOnSolverReasons> why_now = S.why();
+            for (size_t k = 0; k < units.size(); ++k)
+                if (why_now[k] - why_before[k] != units[k]) {
+                    ++s.why_apart;
+                    break;
+                }
+            why_before = why_now;
+        }
         for (size_t x = 0; x < g.exits.size(); ++x) {
             const graph::Adr<graph::Slot> s0 = g.comps[g.exits[graph::ExitId(x)].comp].slot_adr;
             if (!e.active(graph::SlotId(s0 + graph::exitslot::taken))) continue;
@@ -115,6 +133,11 @@ Seen run(const graph::Graph& g, bool steady, int64_t steps, const std::vector<in
         }
     }
     finish(e, s);
+    // Each unit's own reason adds up, step by step, to what why() counts.
+    CHECK(s.why_apart == 0);
+    int64_t why_total = 0;
+    for (int64_t n : s.why) why_total += n;
+    CHECK(s.why_units == why_total);
     if (listed) {
         const engine::Steady& S = e.internals().steady;
         listed->pieces = S.grid_builds, listed->fields = e.internals().st.field_builds;
