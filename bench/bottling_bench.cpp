@@ -52,6 +52,7 @@
 #include <string_view>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <type_traits>
 #include <unistd.h>
 #include <vector>
 
@@ -107,7 +108,66 @@ struct Sample {
     plant::engine::StepProfile prof;  // with --profile
     // Unit-steps on the solver over the window, by why (steady transport's first failed test).
     std::array<int64_t, plant::engine::kOnSolverReasons> why{};
+    // With --profile, the units on and off the solver by where they are: the object (its type)
+    // whose field each rides, sampled every 0.1 s of the window; the first row is the units in
+    // no field, the last every type past the others. Plain arrays: a Sample crosses a pipe.
+    struct Where {
+        char name[40] = {};
+        int64_t on = 0, off = 0;
+        std::array<int64_t, plant::engine::kOnSolverReasons> why{};
+    };
+    static constexpr int kWhere = 16;
+    std::array<Where, kWhere> where{};
+    int where_rows = 0;
+    long where_samples = 0;
 };
+static_assert(std::is_trivially_copyable_v<Sample>, "a Sample crosses a pipe as bytes");
+
+// The row of Sample::where for each field (by its object's type), naming the rows.
+std::vector<int> where_rows(const plant::graph::Graph& g, Sample& s) {
+    using namespace plant::graph;
+    auto name = [&s](int row, std::string_view n) {
+        const size_t len = std::min(n.size(), sizeof s.where[row].name - 1);
+        std::copy_n(n.data(), len, s.where[row].name);
+    };
+    name(0, "(in no field)");
+    s.where_rows = 1;
+    std::vector<int> row_of_type(g.do_types.size(), -1), row_of_field(g.fields.size(), 0);
+    for (FieldId f : ids_of(g.fields)) {
+        const OptId<DoType> t = g.dos[g.comps[g.fields[f].comp].owner].type;
+        if (!t.valid()) {  // the plant's own field
+            row_of_field[size_t(f.v)] = Sample::kWhere - 1;
+            continue;
+        }
+        int& row = row_of_type[size_t(t.v)];
+        if (row < 0 && s.where_rows < Sample::kWhere - 1) {
+            row = s.where_rows++;
+            name(row, g.str(g.do_types[t].name));
+        }
+        row_of_field[size_t(f.v)] = row < 0 ? Sample::kWhere - 1 : row;
+    }
+    name(Sample::kWhere - 1, "(other objects)");
+    s.where_rows = Sample::kWhere;
+    return row_of_field;
+}
+
+// One sample of where the units are (after a step): on the solver by why, off it.
+void count_where(plant::engine::Engine& e, const std::vector<int>& row_of_field, Sample& s) {
+    const plant::engine::Runtime& r = e.internals();
+    const plant::engine::Steady& S = r.steady;
+    auto row = [&](plant::graph::BodyId u) {
+        const plant::graph::FieldId f = r.st.ride_field[u];
+        return f.valid() && r.st.ride_step[u] + 1 >= r.st.step ? row_of_field[size_t(f.v)] : 0;
+    };
+    for (plant::graph::BodyId u : ids_of(e.graph().bodies))
+        if (const plant::engine::OnSolver w = S.why_of[u]; w != plant::engine::OnSolver::kCount) {
+            Sample::Where& at = s.where[size_t(row(u))];
+            ++at.on;
+            ++at.why[size_t(w)];
+        }
+    for (plant::graph::BodyId u : S.coasting) ++s.where[size_t(row(u))].off;
+    ++s.where_samples;
+}
 
 double now_wall() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
@@ -127,6 +187,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
     const long every = std::max(1L, std::lround(0.1 / e.dt()));
     for (long i = 0; i < warm; ++i) e.step();
+    const std::vector<int> row_of_field = a.profile ? where_rows(g, s) : std::vector<int>{};
     e.profile().on = a.profile;
     e.profile().reset();
     s.min = circulating();
@@ -146,6 +207,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
             ++samples;
             s.min = std::min(s.min, n);
             s.max = std::max(s.max, n);
+            if (a.profile) count_where(e, row_of_field, s);
         }
     }
     g_counting = false;
@@ -182,8 +244,15 @@ Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, 
         _exit(w == ssize_t(sizeof s) ? 0 : 1);
     }
     close(fd[1]);
+    // A Sample is larger than a pipe's atomic write (PIPE_BUF, 4 KiB): it may come in parts.
     Sample s;
-    if (read(fd[0], &s, sizeof s) != ssize_t(sizeof s)) s.ok = false;
+    size_t got = 0;
+    while (got < sizeof s) {
+        const ssize_t n = read(fd[0], reinterpret_cast<char*>(&s) + got, sizeof s - got);
+        if (n <= 0) break;
+        got += size_t(n);
+    }
+    if (got != sizeof s) s.ok = false;
     close(fd[0]);
     int status = 0;
     waitpid(pid, &status, 0);
@@ -255,6 +324,37 @@ void print_on_solver(const Sample& s) {
     std::printf("\n");
 }
 
+// Where the bottles on the solver are (--profile): per object type whose field they ride, the
+// units on and off the solver per sample, and the reasons that keep most of them on it.
+void print_where(const Sample& s) {
+    using plant::engine::OnSolver;
+    if (s.where_samples == 0) return;
+    int64_t on = 0;
+    for (int k = 0; k < s.where_rows; ++k) on += s.where[size_t(k)].on;
+    if (on == 0) return;
+    const double n = double(s.where_samples);
+    std::printf("Where they are (sampled every 0.1 s: the object whose field a unit rides, by its type):\n\n| object | "
+                "units per step on the solver | off it | %% of its units on the solver | %% of all on the solver | "
+                "mostly (a unit under the first test it fails) |\n|---|---:|---:|---:|---:|---|\n");
+    std::vector<int> order;
+    for (int k = 0; k < s.where_rows; ++k)
+        if (s.where[size_t(k)].on + s.where[size_t(k)].off > 0) order.push_back(k);
+    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return s.where[size_t(x)].on > s.where[size_t(y)].on; });
+    for (int k : order) {
+        const Sample::Where& w = s.where[size_t(k)];
+        std::vector<size_t> why(w.why.size());
+        for (size_t i = 0; i < why.size(); ++i) why[i] = i;
+        std::stable_sort(why.begin(), why.end(), [&](size_t x, size_t y) { return w.why[x] > w.why[y]; });
+        std::string mostly;
+        for (size_t i = 0; i < 3 && w.on > 0 && w.why[why[i]] > 0; ++i)
+            mostly += (i ? "; " : "") + std::string(plant::engine::on_solver_name(OnSolver(why[i]))) + " " +
+                      std::to_string(int(std::lround(100.0 * double(w.why[why[i]]) / double(w.on)))) + " %";
+        std::printf("| %s | %.1f | %.1f | %.0f | %.0f | %s |\n", w.name, double(w.on) / n, double(w.off) / n,
+                    100.0 * double(w.on) / double(w.on + w.off), 100.0 * double(w.on) / double(on), mostly.c_str());
+    }
+    std::printf("\n");
+}
+
 // The serial share of the window's steps and its Amdahl projection (--profile).
 void print_profile(const Sample& s, int n, bool rows) {
     using plant::engine::StepProfile;
@@ -308,6 +408,7 @@ void print_profile(const Sample& s, int n, bool rows) {
     std::printf("\n\n");
     print_jobs(p, s.threads);
     print_on_solver(s);
+    print_where(s);
 }
 
 bool parse(int argc, char** argv, Args& a) {
