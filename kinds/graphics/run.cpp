@@ -45,10 +45,15 @@ struct GraphicsData : KindData {
     // that moves or animates the graphics clears its mark.
     // Per graphics, Graphics::body and whether it is static, in arrays of their own: the skip
     // reads them for every root each step, and a Graphics row is large.
+    // advance_one and to_publish read them too, for every graphics posed: a root on a body then
+    // reads nothing of its Graphics row.
     graph::IdVector<GraphicsId, graph::BodyId> body;  // per graphics: the body it is on
     graph::IdVector<GraphicsId, uint8_t> fixed;       // ... and whether that body is static
     graph::IdVector<GraphicsId, uint8_t> still;       // kMoving, kParked, kStanding
-    uint64_t statics = UINT64_MAX;
+    // Per graphics, whether its pose output is watched (State::watched, read again when
+    // State::watches says it changed: `watches`).
+    graph::IdVector<GraphicsId, uint8_t> pose_watched;
+    uint64_t statics = UINT64_MAX, watches = UINT64_MAX;
 };
 
 enum : uint8_t { kMoving = 0, kParked, kStanding };
@@ -87,6 +92,7 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
         s->fixed[i] = s->body[i].valid() && g.bodies[s->body[i]].mode == graph::BodyMode::Static;
     }
     s->still.assign(g.graphics.size(), kMoving);
+    s->pose_watched.assign(g.graphics.size(), 0);
     return s;
 }
 
@@ -114,16 +120,15 @@ enum : uint8_t { kPoseChanged = 1, kFinished = 2 };
 uint8_t advance_one(Runtime& r, const GraphicsData& data, GraphicsId i) {
     State& s = r.st;
     const graph::Graph& g = r.g;
-    const graph::Graphics& gr = g.graphics[i];
     GraphicsState& gs = s.graphics[i];
     uint8_t flags = 0;
-    if (gr.body.valid()) {
+    if (const graph::BodyId body = data.body[i]; body.valid()) {  // Graphics::body
         // A parked body's graphics keep their pose: nothing to do unless animated.
-        if (!r.phys.in_world(gr.body) && gs.anim < 0) return 0;
-        if (r.phys.in_world(gr.body)) {
+        if (!r.phys.in_world(body) && gs.anim < 0) return 0;
+        if (r.phys.in_world(body)) {
             // Most bodies stand still (bands, rails): their pose is taken again only when
             // their Bullet transform changed.
-            const btTransform& tr = r.phys.rb(gr.body).getWorldTransform();
+            const btTransform& tr = r.phys.rb(body).getWorldTransform();
             if (gs.base_fresh && tr == gs.body_tr) {
                 if (gs.anim < 0) {
                     gs.prev = gs.pose;
@@ -132,11 +137,11 @@ uint8_t advance_one(Runtime& r, const GraphicsData& data, GraphicsId i) {
             } else {
                 gs.body_tr = tr;
                 gs.base_fresh = true;
-                gs.base = pmul(r.phys.pose(gr.body), data.local[i]);
+                gs.base = pmul(r.phys.pose(body), data.local[i]);
             }
         }
-    } else if (gr.parent.valid()) {
-        gs.base = pmul(s.graphics[gr.parent].pose, data.local[i]);
+    } else if (const auto parent = g.graphics[i].parent; parent.valid()) {
+        gs.base = pmul(s.graphics[parent].pose, data.local[i]);
     }
     if (gs.anim >= 0) {
         const graph::Animation& a = g.animations[AnimationId(gs.anim)];
@@ -155,10 +160,9 @@ uint8_t advance_one(Runtime& r, const GraphicsData& data, GraphicsId i) {
     return flags | kPoseChanged;
 }
 
-// What graphics i publishes of `flags`: a changed pose only where its output is watched (read,
-// not written, in the step's phase 2, so an item may ask too).
-uint8_t to_publish(const Runtime& r, GraphicsId i, uint8_t flags) {
-    if ((flags & kPoseChanged) && !r.st.watched[r.comp_slot(r.g.graphics[i].comp, slot::pose)]) flags &= ~kPoseChanged;
+// What graphics i publishes of `flags`: a changed pose only where its output is watched.
+uint8_t to_publish(const GraphicsData& data, GraphicsId i, uint8_t flags) {
+    if ((flags & kPoseChanged) && !data.pose_watched[i]) flags &= ~kPoseChanged;
     return flags;
 }
 
@@ -178,13 +182,18 @@ void sense_all(Runtime& r) {
     std::vector<uint8_t>& flags = data.flags;
     const bool all = data.statics != r.phys.statics_placed();
     data.statics = r.phys.statics_placed();
+    if (data.watches != r.st.watches) {  // an output watched since (or the first step)
+        for (GraphicsId g : ids_of(r.g.graphics))
+            data.pose_watched[g] = r.st.watched[r.comp_slot(r.g.graphics[g].comp, slot::pose)];
+        data.watches = r.st.watches;
+    }
     // A root on a body: passed over while nothing can have changed (GraphicsData::still).
     auto root = [&r, &data, all](GraphicsId g) -> uint8_t {
         const graph::BodyId body = data.body[g];
         const uint8_t still = data.still[g];
         if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body)))
             return 0;  // what advance_one would find: nothing to do, nothing changed
-        const uint8_t f = to_publish(r, g, advance_one(r, data, g));
+        const uint8_t f = to_publish(data, g, advance_one(r, data, g));
         const GraphicsState& gs = r.st.graphics[g];
         data.still[g] = !body.valid() || gs.anim >= 0 ? kMoving
                         : !r.phys.in_world(body)   ? kParked
@@ -207,7 +216,7 @@ void sense_all(Runtime& r) {
             int32_t* const list = data.listed.data() + first + b;
             int32_t m = 0;
             for (size_t k = first + b; k < first + e; ++k) {
-                const uint8_t f = d == 0 ? root(order[k]) : to_publish(r, order[k], advance_one(r, data, order[k]));
+                const uint8_t f = d == 0 ? root(order[k]) : to_publish(data, order[k], advance_one(r, data, order[k]));
                 flags[k] = f;
                 list[m] = static_cast<int32_t>(k);  // at or before k's own entry
                 m += f != 0;

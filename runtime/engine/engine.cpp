@@ -81,6 +81,7 @@ void Runtime::emit_pose(SlotId slot, const Pose& p) {
 }
 
 void Runtime::refresh_observers() {
+    ++st.watches;  // what a kind keeps of `watched` is out of date (kinds/graphics/run.cpp)
     st.observed_bodies.clear();
     for (BodyId b : ids_of(g.bodies)) {
         uint8_t bits = 0;

@@ -210,6 +210,29 @@ plant P {
     CHECK(2 * std::atan2(e.graphics_pose(sign).q[2], e.graphics_pose(sign).q[3]) == doctest::Approx(M_PI / 2));
 }
 
+// Whether a graphics' pose output is watched is kept beside the graphics (kinds/graphics/run.cpp)
+// and read again when a watch is added: a graphics watched after the start publishes its pose
+// from the next step on.
+TEST_CASE("runtime: a graphics watched after the start publishes its pose from then on") {
+    SceneBuilder b;
+    int32_t d = b.dobj("thing");
+    int32_t body = b.body(d, "body", BodyMode::Dynamic, {box({0.1, 0.1, 0.1})}, 1, at(0, 0, 1));
+    int32_t gi = b.graphics(d, "look", at(0, 0, 1.2), body);
+    const plant::graph::SlotId pose(b.S(b.g.graphics[plant::graph::GraphicsId(gi)].comp.v, "pose"));
+    Engine e(b.g);
+    for (int i = 0; i < 5; ++i) {  // falling: its pose changes every step, unwatched
+        e.step();
+        CHECK_FALSE(e.active(pose));
+    }
+    e.watch(pose);
+    for (int i = 0; i < 5; ++i) {
+        e.step();
+        CHECK(e.active(pose));
+        REQUIRE(e.value(pose).size() == 7);
+        CHECK(e.value(pose)[2] == doctest::Approx(e.graphics_pose(plant::graph::GraphicsId(gi)).p[2]));
+    }
+}
+
 TEST_CASE("runtime: graphics attached to a body track it") {
     SceneBuilder b;
     int32_t d = b.dobj("thing");
