@@ -110,7 +110,8 @@ struct Sample {
     std::array<int64_t, plant::engine::kOnSolverReasons> why{};
     // With --profile, the units on and off the solver by where they are: the object (its type)
     // whose field each rides, sampled every 0.1 s of the window; the first row is the units in
-    // no field, the last every type past the others. Plain arrays: a Sample crosses a pipe.
+    // no field, the last those in the plant's own fields and in every type past the others.
+    // Plain arrays: a Sample crosses a pipe.
     struct Where {
         char name[40] = {};
         int64_t on = 0, off = 0;

@@ -108,7 +108,8 @@ struct State {
     std::vector<graph::SlotId> pending;  // activated at the start of the next logic phase
     IdVector<graph::FlowId, int64_t> once_held;  // the last step a singular flow's condition held (it runs on a step whose previous did not)
     PerSlot<uint8_t> watched;       // refreshed although no flow reads it
-    uint64_t watches = 0;           // times `watched` changed after the start (Runtime::refresh_observers)
+    uint64_t watches = 0;           // bumped each time `watched` is refreshed (Runtime::refresh_observers):
+                                    // what a kind keeps of it is read again (kinds/graphics/run.cpp)
     PerBody<uint8_t> body_outputs;  // bit i = output i (from bodyslot::pose) used
     std::vector<graph::BodyId> observed_bodies;
     std::vector<graph::CompId> comp_list;  // phase 5: components with an active input
