@@ -37,6 +37,7 @@
 
 #include "bottling_plant.h"
 #include "cpu_clock.h"
+#include "fd_io.h"
 #include "median.h"
 #include "panel/kind.h"
 
@@ -125,7 +126,7 @@ struct Sample {
 static_assert(std::is_trivially_copyable_v<Sample>, "a Sample crosses a pipe as bytes");
 
 // The row of Sample::where for each field (by its object's type), naming the rows.
-std::vector<int> where_rows(const plant::graph::Graph& g, Sample& s) {
+std::vector<int> where_row_of_field(const plant::graph::Graph& g, Sample& s) {
     using namespace plant::graph;
     auto name = [&s](int row, std::string_view n) {
         const size_t len = std::min(n.size(), sizeof s.where[row].name - 1);
@@ -188,7 +189,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
     const long every = std::max(1L, std::lround(0.1 / e.dt()));
     for (long i = 0; i < warm; ++i) e.step();
-    const std::vector<int> row_of_field = a.profile ? where_rows(g, s) : std::vector<int>{};
+    const std::vector<int> row_of_field = a.profile ? where_row_of_field(g, s) : std::vector<int>{};
     e.profile().on = a.profile;
     e.profile().reset();
     s.min = circulating();
@@ -241,19 +242,11 @@ Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, 
     if (pid == 0) {
         close(fd[0]);
         Sample s = run_once(a, lines, bottles_per_line, warmup, window);
-        const ssize_t w = write(fd[1], &s, sizeof s);
-        _exit(w == ssize_t(sizeof s) ? 0 : 1);
+        _exit(plant::bench::write_all(fd[1], &s, sizeof s) ? 0 : 1);
     }
     close(fd[1]);
-    // A Sample is larger than a pipe's atomic write (PIPE_BUF, 4 KiB): it may come in parts.
-    Sample s;
-    size_t got = 0;
-    while (got < sizeof s) {
-        const ssize_t n = read(fd[0], reinterpret_cast<char*>(&s) + got, sizeof s - got);
-        if (n <= 0) break;
-        got += size_t(n);
-    }
-    if (got != sizeof s) s.ok = false;
+    Sample s;  // larger than PIPE_BUF: it may come in parts
+    if (!plant::bench::read_all(fd[0], &s, sizeof s)) s.ok = false;
     close(fd[0]);
     int status = 0;
     waitpid(pid, &status, 0);

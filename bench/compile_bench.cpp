@@ -13,6 +13,7 @@
 //                                           (--phases: then parse and elaborate timed apart)
 #include "compiler.h"
 #include "cpu_clock.h"
+#include "fd_io.h"
 #include "gen_plant.h"
 #include "graph/text.h"
 #include "sema/elaborate.h"
@@ -164,30 +165,6 @@ RunResult compile_once(const std::string& plant_file, const std::string& text_fi
     return r;
 }
 
-bool write_all(int fd, const void* data, size_t n) {
-    const char* p = static_cast<const char*>(data);
-    while (n > 0) {
-        ssize_t w = ::write(fd, p, n);
-        if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) return false;
-        p += w;
-        n -= static_cast<size_t>(w);
-    }
-    return true;
-}
-
-bool read_all(int fd, void* data, size_t n) {
-    char* p = static_cast<char*>(data);
-    while (n > 0) {
-        ssize_t r = ::read(fd, p, n);
-        if (r < 0 && errno == EINTR) continue;
-        if (r <= 0) return false;
-        p += r;
-        n -= static_cast<size_t>(r);
-    }
-    return true;
-}
-
 // One run in a fresh child process. nullopt when the child failed (its diagnostics
 // are already on stderr).
 std::optional<RunResult> run_in_child(const std::string& plant_file, const std::string& text_file,
@@ -207,13 +184,13 @@ std::optional<RunResult> run_in_child(const std::string& plant_file, const std::
     if (pid == 0) {
         ::close(fds[0]);
         RunResult r = compile_once(plant_file, text_file, stdlib);
-        bool sent = write_all(fds[1], &r, sizeof r);
+        bool sent = plant::bench::write_all(fds[1], &r, sizeof r);
         std::fflush(stderr);
         ::_exit(r.errors == 0 && sent ? 0 : 1);  // no destructors: only the compile is measured
     }
     ::close(fds[1]);
     RunResult r;
-    bool got = read_all(fds[0], &r, sizeof r);
+    bool got = plant::bench::read_all(fds[0], &r, sizeof r);
     ::close(fds[0]);
     int status = 0;
     rusage ru{};
