@@ -26,10 +26,11 @@
 //
 //   plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12]
 //                        [--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows]
-//                        [--no-memory] [--profile] [--no-huge-pages]
+//                        [--no-memory] [--profile] [--no-huge-pages] [--steady-transport=off]
 //
 // --no-huge-pages: the plant's memory stays on 4 KiB pages (engine::Options::huge_pages), to
-// compare.
+// compare. --steady-transport=off: every bottle stays on Bullet's solver
+// (engine::Options::steady_transport, as `plant run --steady-transport off`), to compare.
 #include "compiler.h"
 #include "engine/engine.h"
 #include "engine/runtime.h"
@@ -93,6 +94,7 @@ struct Args {
     int threads = 0;     // 0: one per core
     bool profile = false;
     bool huge_pages = true;
+    bool steady = true;  // engine::Options::steady_transport
 };
 
 struct Sample {
@@ -181,6 +183,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     plant::engine::Options eo;
     eo.threads = a.threads;
     eo.huge_pages = a.huge_pages;
+    eo.steady_transport = a.steady;
     plant::engine::Engine e(g, eo);
     s.regions = e.regions();
     s.threads = e.threads();
@@ -349,6 +352,31 @@ void print_where(const Sample& s) {
     std::printf("\n");
 }
 
+// What a bottle-step's processor time is spent on (--profile): the solver's job (the physics
+// worlds' items: the conveyor law and Bullet's step for the units on the solver) per unit on
+// it, and everything else (the serial segments and the other jobs' items: steady transport's
+// check and mover, the body index, graphics, triggers, regions, logic) per bottle in
+// circulation. The latter is what a bottle-step would cost were no bottle on the solver.
+void print_split(const Sample& s) {
+    const plant::engine::StepProfile& p = s.prof;
+    double solver = 0;
+    for (const auto& j : p.jobs)
+        if (j.name != nullptr && job_name(j.name) == "engine::Physics::step") solver += j.work_ns;
+    const double steps = double(p.steps), total = p.serial_total() + p.work_ns;
+    if (steps <= 0 || s.mean <= 0 || total <= 0) return;
+    // Units on the solver per step: those steady transport found there (the table of why), or
+    // with it off every bottle in circulation.
+    int64_t why = 0;
+    for (int64_t n : s.why) why += n;
+    const double on = why > 0 ? double(why) / double(s.steps) : s.mean;
+    std::printf("What a bottle-step costs (processor time, %.1f bottles in circulation, %.1f of them on the solver): "
+                "the physics worlds' job %.0f us per step (%.1f %%), %.2f us per unit on the solver; everything else "
+                "%.0f us per step, %.2f us per bottle in circulation (what a bottle-step would cost with none on the "
+                "solver); in all %.2f us per bottle-step.\n\n",
+                s.mean, on, solver / steps / 1e3, 100 * solver / total, on > 0 ? solver / steps / 1e3 / on : 0.0,
+                (total - solver) / steps / 1e3, (total - solver) / steps / 1e3 / s.mean, total / steps / 1e3 / s.mean);
+}
+
 // The serial share of the window's steps and its Amdahl projection (--profile).
 void print_profile(const Sample& s, int n, bool rows) {
     using plant::engine::StepProfile;
@@ -401,45 +429,59 @@ void print_profile(const Sample& s, int n, bool rows) {
                     p.speedup(i), 100 * p.share(i));
     std::printf("\n\n");
     print_jobs(p, s.threads);
+    print_split(s);
     print_on_solver(s);
     print_where(s);
 }
 
-bool parse(int argc, char** argv, Args& a) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view s = argv[i];
-        auto val = [&](std::string_view key, std::string& out) {
-            if (!s.starts_with(key)) return false;
-            out = std::string(s.substr(key.size()));
-            return true;
-        };
-        std::string v;
-        if (val("--counts=", v)) {
-            a.counts.clear();
-            for (size_t p = 0; p <= v.size();) {
-                size_t q = v.find(',', p);
-                if (q == std::string::npos) q = v.size();
-                const int n = std::atoi(v.substr(p, q - p).c_str());
-                if (n <= 0) return false;
-                a.counts.push_back(n);
-                p = q + 1;
-            }
-        } else if (val("--runs=", v)) a.runs = std::max(1, std::atoi(v.c_str()));
-        else if (val("--per-line=", v)) a.per_line = std::atof(v.c_str());
-        else if (val("--warmup=", v)) a.warmup = std::atof(v.c_str());
-        else if (val("--window=", v)) a.window = std::atof(v.c_str());
-        else if (val("--plant=", v)) a.plant = v;
-        else if (val("--threads=", v)) {
-            a.threads = std::atoi(v.c_str());
-            if (a.threads < 1) return false;
+// One argument into `a`; false when it is no option or its value is bad.
+bool parse_one(std::string_view s, Args& a) {
+    auto val = [&](std::string_view key, std::string& out) {
+        if (!s.starts_with(key)) return false;
+        out = std::string(s.substr(key.size()));
+        return true;
+    };
+    std::string v;
+    if (val("--counts=", v)) {
+        a.counts.clear();
+        for (size_t p = 0; p <= v.size();) {
+            size_t q = v.find(',', p);
+            if (q == std::string::npos) q = v.size();
+            const int n = std::atoi(v.substr(p, q - p).c_str());
+            if (n <= 0) return false;
+            a.counts.push_back(n);
+            p = q + 1;
         }
-        else if (s == "--rows") a.rows = true;
-        else if (s == "--no-memory") a.memory = false;
-        else if (s == "--profile") a.profile = true;
-        else if (s == "--no-huge-pages") a.huge_pages = false;
-        else return false;
+    } else if (val("--runs=", v)) a.runs = std::max(1, std::atoi(v.c_str()));
+    else if (val("--per-line=", v)) a.per_line = std::atof(v.c_str());
+    else if (val("--warmup=", v)) a.warmup = std::atof(v.c_str());
+    else if (val("--window=", v)) a.window = std::atof(v.c_str());
+    else if (val("--plant=", v)) a.plant = v;
+    else if (val("--threads=", v)) {
+        a.threads = std::atoi(v.c_str());
+        if (a.threads < 1) return false;
     }
-    return a.per_line > 0 && a.warmup >= 0 && a.window > 0;
+    else if (s == "--rows") a.rows = true;
+    else if (s == "--no-memory") a.memory = false;
+    else if (s == "--profile") a.profile = true;
+    else if (s == "--no-huge-pages") a.huge_pages = false;
+    else if (val("--steady-transport=", v)) {
+        if (v != "on" && v != "off") return false;
+        a.steady = v == "on";
+    }
+    else return false;
+    return true;
+}
+
+bool parse(int argc, char** argv, Args& a) {
+    for (int i = 1; i < argc; ++i)
+        if (!parse_one(argv[i], a)) {
+            std::fprintf(stderr, "plant_bench_bottling: %s: no such option, or a bad value\n", argv[i]);
+            return false;
+        }
+    if (a.per_line > 0 && a.warmup >= 0 && a.window > 0) return true;
+    std::fprintf(stderr, "plant_bench_bottling: --per-line and --window must be above 0, --warmup not below 0\n");
+    return false;
 }
 
 }  // namespace
@@ -449,7 +491,8 @@ int main(int argc, char** argv) {
     Args a;
     if (!parse(argc, argv, a)) {
         std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "
-                             "[--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory] [--profile] [--no-huge-pages]\n");
+                             "[--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory] [--profile] [--no-huge-pages] "
+                             "[--steady-transport=on|off]\n");
         return 2;
     }
     if (!a.rows) {
