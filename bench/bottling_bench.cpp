@@ -26,7 +26,7 @@
 //
 //   plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12]
 //                        [--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows]
-//                        [--no-memory] [--profile] [--no-huge-pages] [--steady-transport=off]
+//                        [--no-memory] [--profile] [--no-huge-pages] [--steady-transport=on|off]
 //
 // --no-huge-pages: the plant's memory stays on 4 KiB pages (engine::Options::huge_pages), to
 // compare. --steady-transport=off: every bottle stays on Bullet's solver
