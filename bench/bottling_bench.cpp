@@ -33,12 +33,12 @@
 // (engine::Options::steady_transport, as `plant run --steady-transport off`), to compare.
 #include "compiler.h"
 #include "engine/engine.h"
+#include "engine/fd_io.h"
 #include "engine/runtime.h"
 #include "engine/workers.h"
 
 #include "bottling_plant.h"
 #include "cpu_clock.h"
-#include "fd_io.h"
 #include "median.h"
 #include "panel/kind.h"
 
@@ -245,11 +245,11 @@ Sample run_child(const Args& a, int lines, int bottles_per_line, double warmup, 
     if (pid == 0) {
         close(fd[0]);
         Sample s = run_once(a, lines, bottles_per_line, warmup, window);
-        _exit(plant::bench::write_all(fd[1], &s, sizeof s) ? 0 : 1);
+        _exit(plant::engine::write_all(fd[1], &s, sizeof s) ? 0 : 1);
     }
     close(fd[1]);
     Sample s;  // larger than PIPE_BUF: it may come in parts
-    if (!plant::bench::read_all(fd[0], &s, sizeof s)) s.ok = false;
+    if (!plant::engine::read_all(fd[0], &s, sizeof s)) s.ok = false;
     close(fd[0]);
     int status = 0;
     waitpid(pid, &status, 0);

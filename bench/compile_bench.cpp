@@ -13,7 +13,7 @@
 //                                           (--phases: then parse and elaborate timed apart)
 #include "compiler.h"
 #include "cpu_clock.h"
-#include "fd_io.h"
+#include "engine/fd_io.h"
 #include "gen_plant.h"
 #include "graph/text.h"
 #include "sema/elaborate.h"
@@ -184,13 +184,13 @@ std::optional<RunResult> run_in_child(const std::string& plant_file, const std::
     if (pid == 0) {
         ::close(fds[0]);
         RunResult r = compile_once(plant_file, text_file, stdlib);
-        bool sent = plant::bench::write_all(fds[1], &r, sizeof r);
+        bool sent = plant::engine::write_all(fds[1], &r, sizeof r);
         std::fflush(stderr);
         ::_exit(r.errors == 0 && sent ? 0 : 1);  // no destructors: only the compile is measured
     }
     ::close(fds[1]);
     RunResult r;
-    bool got = plant::bench::read_all(fds[0], &r, sizeof r);
+    bool got = plant::engine::read_all(fds[0], &r, sizeof r);
     ::close(fds[0]);
     int status = 0;
     rusage ru{};

@@ -1,7 +1,6 @@
 #include "opcua/channel.h"
 
-#include <cerrno>
-#include <unistd.h>
+#include "engine/fd_io.h"
 
 namespace plant::opcua {
 
@@ -14,36 +13,9 @@ std::vector<uint8_t> frame(char type, std::string_view payload) {
     return out;
 }
 
-bool write_all(int fd, const void* data, size_t n) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    while (n > 0) {
-        const ssize_t k = ::write(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return false;
-        p += k;
-        n -= size_t(k);
-    }
-    return true;
-}
-
-namespace {
-
-bool read_all(int fd, uint8_t* p, size_t n) {
-    while (n > 0) {
-        const ssize_t k = ::read(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return false;
-        p += k;
-        n -= size_t(k);
-    }
-    return true;
-}
-
-}  // namespace
-
 bool read_frame(int fd, char& type, std::vector<uint8_t>& payload, std::string& error) {
     uint8_t head[kFrameHeader];
-    if (!read_all(fd, head, kFrameHeader)) {
+    if (!engine::read_all(fd, head, kFrameHeader)) {
         error = "the channel closed";
         return false;
     }
@@ -55,7 +27,7 @@ bool read_frame(int fd, char& type, std::vector<uint8_t>& payload, std::string& 
         return false;
     }
     payload.resize(length - 1);
-    if (!read_all(fd, payload.data(), payload.size())) {
+    if (!engine::read_all(fd, payload.data(), payload.size())) {
         error = "the channel closed in a frame";
         return false;
     }

@@ -22,6 +22,8 @@
 //   'A' u32 request, u32 steps                 lock-step: run N more steps; answered once they ran
 #pragma once
 
+#include "engine/fd_io.h"
+
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -122,8 +124,8 @@ private:
 
 // One whole frame (header and payload) of `type`.
 std::vector<uint8_t> frame(char type, std::string_view payload);
-// Writes all of `n` bytes to a blocking fd; false when it is closed.
-bool write_all(int fd, const void* data, size_t n);
+// Writes all of `n` bytes to a blocking fd; false when it is closed (engine/fd_io.h).
+using engine::write_all;
 // Reads one frame from a blocking fd: its type and payload; false at the end of the stream
 // or for a frame longer than kMaxFrame (`error` says which).
 bool read_frame(int fd, char& type, std::vector<uint8_t>& payload, std::string& error);
