@@ -50,6 +50,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <new>
+#include <numeric>
 #include <string>
 #include <string_view>
 #include <sys/resource.h>
@@ -111,6 +112,7 @@ struct Sample {
     plant::engine::StepProfile prof;  // with --profile
     // Unit-steps on the solver over the window, by why (steady transport's first failed test).
     std::array<int64_t, plant::engine::kOnSolverReasons> why{};
+    int64_t on_solver() const { return std::accumulate(why.begin(), why.end(), int64_t{0}); }  // all of them
     // With --profile, the units on and off the solver by where they are: the object (its type)
     // whose field each rides, sampled every 0.1 s of the window; the first row is the units in
     // no field, the last those in the plant's own fields and in every type past the others.
@@ -301,8 +303,7 @@ void print_jobs(const plant::engine::StepProfile& p, int threads) {
 // test of steady transport first, against the bottles in circulation.
 void print_on_solver(const Sample& s) {
     using plant::engine::OnSolver;
-    int64_t on = 0;
-    for (int64_t n : s.why) on += n;
+    const int64_t on = s.on_solver();
     if (s.steps == 0 || on == 0) return;
     const double steps = double(s.steps);
     std::printf("Off the solver: %.1f units per step, %.1f of them resting (held still, in a queue or at a pin).\n\n",
@@ -366,8 +367,7 @@ void print_split(const Sample& s) {
     if (steps <= 0 || s.mean <= 0 || total <= 0) return;
     // Units on the solver per step: those steady transport found there (the table of why), or
     // with it off every bottle in circulation.
-    int64_t why = 0;
-    for (int64_t n : s.why) why += n;
+    const int64_t why = s.on_solver();
     const double on = why > 0 ? double(why) / double(s.steps) : s.mean;
     std::printf("What a bottle-step costs (processor time, %.1f bottles in circulation, %.1f of them on the solver): "
                 "the physics worlds' job %.0f us per step (%.1f %%), %.2f us per unit on the solver; everything else "
