@@ -39,7 +39,7 @@
 
 namespace plant::graph {
 
-constexpr int kFormatVersion = 3;
+constexpr int kFormatVersion = 4;
 
 // A hash (FNV-1a, 64 bit) of what the text form holds: every table's name, element word and
 // fields with their types, in order; every enumeration's words; every built-in kind's fixed

@@ -39,10 +39,78 @@ struct Box {
     double half_width = 0;       // half the face's width
     Vector3d outlet;             // middle of the outlet face's bottom edge
     Vector3d inlet_a, inlet_b;   // the inlet face's bottom edge
+    Vector3d in_n, in_lat;       // world: the flow's direction at the inlet, its lateral axis (a
+                                 // straight box's: n and lat; a turning one's: where its arc enters)
 
     Vector3d local(const Vector3d& w) const { return r.transpose() * (w - c); }
     Vector3d world(const Vector3d& l) const { return c + r * l; }
 };
+
+// A turning field (Field::radius): its lane is the arc of that radius about its pivot, entering
+// and leaving its box where the arc crosses the box's sides (in the sense it turns); the lane's
+// half width is the box's reach on either side of the arc there, the nearer. A turntable (its
+// arc wholly inside) delivers nowhere: no outlet.
+void turn_box(const graph::Field& f, Box& b) {
+    const Vector3d pivot(f.pivot[0], f.pivot[1], f.pivot[2]);
+    const double R = f.radius, s = f.speed < 0 ? -1 : 1;
+    auto at = [&](double a) { return Vector3d(pivot.x() + R * std::cos(a), pivot.y() + R * std::sin(a), 0); };
+    auto inside = [&](double a) {
+        const Vector3d p = at(a);
+        return std::abs(p.x()) <= b.half.x() && std::abs(p.y()) <= b.half.y();
+    };
+    constexpr int kSteps = 720;
+    const double step = 2 * M_PI / kSteps;
+    // The crossing between angle a (inside or not) and a + s·step, found to 1e-9 rad.
+    auto cross = [&](double a) {
+        double lo = a, hi = a + s * step;
+        const bool in = inside(lo);
+        for (int k = 0; k < 60; ++k) {
+            const double mid = (lo + hi) / 2;
+            (inside(mid) == in ? lo : hi) = mid;
+        }
+        return (lo + hi) / 2;
+    };
+    double out = NAN, in = NAN;
+    for (int k = 0; k < kSteps; ++k) {
+        const double a = s * k * step;
+        const bool here = inside(a), next = inside(a + s * step);
+        if (here && !next && std::isnan(out)) out = cross(a);
+        if (!here && next && std::isnan(in)) in = cross(a);
+    }
+    if (std::isnan(out) || std::isnan(in)) {
+        b.source = false;
+        return;
+    }
+    // The flow's direction at angle a (the tangent, in the sense it turns) and the radial axis.
+    auto tangent = [&](double a) { return Vector3d(-s * std::sin(a), s * std::cos(a), 0); };
+    auto radial = [&](double a) { return Vector3d(std::cos(a), std::sin(a), 0); };
+    // How far the box reaches from the arc's point at angle a along the radial axis, the nearer side.
+    auto half_width = [&](double a) {
+        const Vector3d p = at(a), r = radial(a);
+        double w = HUGE_VAL;
+        for (double dir : {-1.0, 1.0}) {
+            double reach = HUGE_VAL;
+            for (int i = 0; i < 2; ++i)
+                if (std::abs(r[i]) > 1e-12) reach = std::min(reach, (dir * (r[i] > 0 ? 1 : -1) * b.half[i] - p[i]) / (dir * r[i]));
+            w = std::min(w, reach);
+        }
+        return std::max(w, 0.0);
+    };
+    b.source = f.speed != 0 && !f.body.valid();
+    b.n = b.r * tangent(out);
+    b.lat = b.r * radial(out);
+    b.half_width = half_width(out);
+    Vector3d o = at(out);
+    o.z() = -b.half.z();
+    b.outlet = b.world(o);
+    Vector3d i = at(in);
+    i.z() = -b.half.z();
+    const double hw_in = half_width(in);
+    b.inlet_a = b.world(i - hw_in * radial(in));
+    b.inlet_b = b.world(i + hw_in * radial(in));
+    b.in_n = b.r * tangent(in);
+    b.in_lat = b.r * radial(in);
+}
 
 Box make_box(const graph::Graph& g, graph::FieldId i) {
     const graph::Field& f = g.fields[i];
@@ -75,6 +143,8 @@ Box make_box(const graph::Graph& g, graph::FieldId i) {
     ib[other] = b.half[other];
     b.inlet_a = b.world(ia);
     b.inlet_b = b.world(ib);
+    b.in_n = b.n, b.in_lat = b.lat;
+    if (f.radius > 0) turn_box(f, b);
     return b;
 }
 
@@ -195,7 +265,7 @@ void Elaborator::check_conveyor_ends() {
             const double h = l.z() + b.half.z();  // the outlet's height above b's bottom
             if (std::abs(h) <= kGap) {
                 // Level: a lane that runs on in about the same direction must line up with it.
-                if (!on || (std::abs(a.n.dot(b.n)) >= kParallel && std::abs(a.n.dot(on->n)) < kParallel)) on = &b;
+                if (!on || (std::abs(a.n.dot(b.in_n)) >= kParallel && std::abs(a.n.dot(on->in_n)) < kParallel)) on = &b;
             } else if (std::abs(h) <= kCapture && (!step || std::abs(h) < std::abs(step_h))) {
                 step = &b;
                 step_h = h;
@@ -203,8 +273,8 @@ void Elaborator::check_conveyor_ends() {
         }
         if (on) {
             const Box& b = *on;
-            if (std::abs(a.n.dot(b.n)) < kParallel) continue;  // a transfer across: its own rails guide
-            const double aside = std::abs((a.outlet - b.c).dot(b.lat));
+            if (std::abs(a.n.dot(b.in_n)) < kParallel) continue;  // a transfer across: its own rails guide
+            const double aside = std::abs((a.outlet - (b.inlet_a + b.inlet_b) / 2).dot(b.in_lat));
             const double slack = std::abs(a.half_width - b.half_width);
             if (aside > slack + kAside)
                 report(a, b,
@@ -235,7 +305,7 @@ void Elaborator::check_conveyor_ends() {
             if ((b.c - a.outlet).norm() > kCapture + a.half_width + b.half.norm()) continue;
             const Vector3d l0 = b.local(a.outlet);
             if (std::abs(l0.x()) <= b.half.x() + 1e-9 && std::abs(l0.y()) <= b.half.y() + 1e-9) continue;  // still in it
-            if (std::abs(a.n.dot(b.n)) >= kParallel) {
+            if (std::abs(a.n.dot(b.in_n)) >= kParallel) {
                 const Vector3d y = nearest_on_segment(a.outlet, b.inlet_a, b.inlet_b);
                 const double dist = (y - a.outlet).norm();
                 // Its start's middle, for the message: how far ahead, aside and up.

@@ -23,5 +23,7 @@
     F(double, speed)     /* target speed along dir, m/s */                          \
     F(double, gain)      /* k, kg/s (N per m/s of speed error) */                   \
     F(double, max_force) /* slip limit per body, N; 0: unlimited */                 \
-    F(bool, enabled)
+    F(bool, enabled)                                                               \
+    F(double, radius)    /* a turning field: where `speed` applies, m; 0: it does not turn */ \
+    F(Vec3, pivot)       /* ... and the point it turns about, in its own frame, m */
 // clang-format on

@@ -26,6 +26,11 @@ constexpr ParamSpec kParams[] = {
     {"max_force", ParamType::Number, "N", false, 0,
      "slip limit: the most the field pulls one body with; default unlimited"},
     {"enabled", ParamType::Bool, "", false, 0, "default true"},
+    {"radius", ParamType::Number, "m", false, 0,
+     "a turning field (a turntable, a curve's band): the target is the rigid rotation about the vertical "
+     "through 'pivot' that moves at 'speed' at this distance from it, along both horizontal axes; no 'direction'"},
+    {"pivot", ParamType::Vec3, "m", false, 0,
+     "with 'radius': the point the field turns about, in the field's frame (from its centre); default its centre"},
 };
 
 bool check(const Graph& g, int32_t row, PluginProblem& problem) {
@@ -36,6 +41,9 @@ bool check(const Graph& g, int32_t row, PluginProblem& problem) {
                     : !(f.gain >= 0)                                          ? "field 'gain' is negative"
                     : !(f.max_force >= 0 && std::isfinite(f.max_force))
                         ? "field 'max_force' is negative or not finite"
+                    : !(f.radius >= 0 && std::isfinite(f.radius)) ? "field 'radius' is negative or not finite"
+                    : !(std::isfinite(f.pivot[0]) && std::isfinite(f.pivot[1]) && std::isfinite(f.pivot[2]))
+                        ? "field 'pivot' is not finite"
                         : "";
     return problem.message.empty();
 }

@@ -34,6 +34,20 @@ void lower(Lowering& lw) {
     f.max_force = lw.num("max_force", 0);  // 0 in the graph: unlimited
     lw.positive("max_force");
     f.enabled = lw.boolean("enabled", true);
+    // A turning field drives along both horizontal axes of its frame, towards the band's rigid
+    // rotation about its pivot: no direction of its own.
+    f.radius = lw.num("radius", 0);
+    lw.positive("radius");
+    f.pivot = {0, 0, 0};
+    if (const Value* pv = lw.props.get("pivot")) f.pivot = vec(*pv);
+    if (f.radius > 0) {
+        f.dir = {1, 0, 0};
+        if (const Value* dv = lw.props.get("direction"))
+            el.sink_.report(DiagId::KindCheck, dv->span,
+                            "a field with a 'radius' turns, and drives along both horizontal axes: it takes no 'direction'");
+    } else if (const Value* pv = lw.props.get("pivot")) {
+        el.sink_.report(DiagId::KindCheck, pv->span, "'pivot' is the point a turning field turns about: give it a 'radius' too");
+    }
     lw.set_detail(g.fields.push_back(f));
     graph::slot_value(g, lw.slot_adr + graph::fieldslot::speed) = f.enabled ? f.speed : 0;
     graph::slot_value(g, lw.slot_adr + graph::fieldslot::enabled) = f.enabled ? 1 : 0;

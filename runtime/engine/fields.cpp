@@ -148,7 +148,12 @@ bool gather_fields(Runtime& r, BodyId b) {
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
         s.body_k[b] += gain[gain.maxAxis()];
         s.body_cap[b] = std::max(s.body_cap[b], fd.max_force > 0 ? fd.max_force : HUGE_VAL);
-        s.force[b] += R * (gain * (s.field_target[f] - v * R));
+        btVector3 target = s.field_target[f];
+        if (r.tab.field_turns[f]) {  // the band's rigid rotation about the pivot's vertical
+            const btVector3 rel = local - r.tab.field_pivot[f];
+            target = btVector3(-s.field_spin[f] * rel.y(), s.field_spin[f] * rel.x(), 0);
+        }
+        s.force[b] += R * (gain * (target - v * R));
         s.gain[b] += ff.K;
         any = true;
     }
@@ -217,7 +222,13 @@ void field_acts(Runtime& r, FieldId f) {
     const Field& fd = r.g.fields[f];
     const btVector3& gain = r.tab.field_gain[f];
     s.field_act[f] = fd.gain > 0 && s.field_on[f] && gain[gain.maxAxis()] > 0;
-    if (s.field_act[f]) s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+    if (!s.field_act[f]) return;
+    if (r.tab.field_turns[f]) {
+        s.field_target[f].setZero();
+        s.field_spin[f] = btScalar(s.field_speed[f] / fd.radius);
+    } else {
+        s.field_target[f] = to_bt(fd.dir) * btScalar(s.field_speed[f]);
+    }
 }
 
 }  // namespace

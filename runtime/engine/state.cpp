@@ -71,6 +71,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.law_on.assign(nb, 0);
     s.field_act.assign(g.fields.size(), 0);
     s.field_target.assign(g.fields.size(), btVector3(0, 0, 0));
+    s.field_spin.assign(g.fields.size(), 0);
     s.field_carried.clear();
     for (FieldId f : ids_of(g.fields))
         if (g.fields[f].body.valid() && g.bodies[g.fields[f].body].mode != BodyMode::Static) s.field_carried.push_back(f);

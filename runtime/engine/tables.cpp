@@ -143,10 +143,15 @@ Tables::Tables(const Graph& g) {
         if (g.fields[f].body.valid())
             field_local[f] = relative(g.bodies[g.fields[f].body].pose, g.fields[f].pose);
     field_gain.resize(g.fields.size());
+    field_turns.resize(g.fields.size(), 0);
+    field_pivot.resize(g.fields.size(), btVector3(0, 0, 0));
     for (FieldId f : ids_of(g.fields)) {
         const Vec3& d = g.fields[f].dir;
-        field_gain[f] = btVector3(btScalar(std::abs(d[0])), btScalar(std::abs(d[1])), btScalar(std::abs(d[2]))) *
-                        btScalar(g.fields[f].gain);
+        field_turns[f] = g.fields[f].radius > 0;
+        field_pivot[f] = to_bt(g.fields[f].pivot);
+        field_gain[f] = field_turns[f] ? btVector3(1, 1, 0) * btScalar(g.fields[f].gain)
+                                       : btVector3(btScalar(std::abs(d[0])), btScalar(std::abs(d[1])),
+                                                   btScalar(std::abs(d[2]))) * btScalar(g.fields[f].gain);
     }
     trigger_local.resize(g.triggers.size(), btTransform::getIdentity());
     for (TriggerId t : ids_of(g.triggers))

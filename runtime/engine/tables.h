@@ -79,6 +79,9 @@ struct Tables {
 
     IdVector<graph::FieldId, btTransform> field_local;      // field box relative to its body frame
     IdVector<graph::FieldId, btVector3> field_gain;         // the law's gain along the field's own axes: k·|d|
+                                                            // (a turning field's: k along x and y)
+    IdVector<graph::FieldId, uint8_t> field_turns;          // Field::radius > 0: the target turns about a pivot
+    IdVector<graph::FieldId, btVector3> field_pivot;        // ... Field::pivot, in the field's frame
     IdVector<graph::TriggerId, btTransform> trigger_local;  // trigger box relative to its body frame
 
     IdVector<graph::PluginId, PluginRun> plugin_run;  // per row of Graph::plugins

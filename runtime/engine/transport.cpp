@@ -12,14 +12,17 @@
 //     1 mm clear of every field's faces and inside one acting field at most, the same one;
 //     in a field, the field is level and the unit's velocity in the field's frame is within
 //     2 mm/s of the target on the driven axes and within 5 cm/s of 0 on the others (nothing
-//     acts across a frictionless band); in none, it is at rest (within 5 mm/s along each
+//     acts across a frictionless band; a turning field's target is taken where the unit was
+//     a step before, the one the law last pulled it towards); in none, it is at rest (within 5 mm/s along each
 //     axis: a bottle standing on a table jiggles that fast in Bullet, about a fixed place),
 //     and its centre's path stays over its support's box;
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
 //     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
 //     band it stands on: a box whose top face is within 3° of level, frictionless against it)
 //     and otherwise only rails it slides along or comes up to at 1 cm/s at most (guide_by;
-//     each piece of a compound on its own, the band's too); grown by its sweep plus 1 cm, it
+//     each piece of a compound on its own, the band's too; a box turned about the vertical, a
+//     curve's rail, is met only where its faces are within the unit's reach: meets_obb,
+//     disc_clear); grown by its sweep plus 1 cm, it
 //     meets no kinematic part's room (its box when filed, grown by 5 cm) but of parts whose
 //     collision is off and parts at rest where they were filed, which count as static pieces
 //     met by that box;
@@ -29,7 +32,7 @@
 // A unit steady for 5 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
-// its bodies' gains, m its mass), the free axes keep their speed, the centre of mass keeps its
+// its bodies' gains, m its mass; a turning field's target taken at its centre of mass), the free axes keep their speed, the centre of mass keeps its
 // height above the band's top face (a band rises 2 mm along its length), it turns about
 // the vertical as it did when it left (nothing acts about that axis), no other way, and a rail
 // it slides along stops its motion into the rail (an inelastic, frictionless contact). In no
@@ -215,6 +218,15 @@ void build_grid(Runtime& r) {
                 const btCollisionShape* piece = piece_of(rb, k, t);
                 piece->getAabb(t, h.lo, h.hi);
                 h.box = piece->getShapeType() == BOX_SHAPE_PROXYTYPE && on_axes(t.getBasis());
+                h.obb = false;
+                if (piece->getShapeType() == BOX_SHAPE_PROXYTYPE && !h.box &&
+                    std::abs(t.getBasis()[2][2]) > btScalar(0.999999)) {  // turned about z only
+                    const btVector3 half = static_cast<const btBoxShape*>(piece)->getHalfExtentsWithMargin();
+                    h.obb = true;
+                    h.ocx = t.getOrigin().x(), h.ocy = t.getOrigin().y();
+                    h.oc = t.getBasis()[0][0], h.os = t.getBasis()[1][0];
+                    h.ohx = half.x(), h.ohy = half.y();
+                }
                 h.piece = int16_t(k);
                 S.hazards.push_back(h);
             }
@@ -501,6 +513,42 @@ bool each_in_reach(const Runtime& r, BodyId b, BodyId p, const btVector3& glo, c
     return go_on;
 }
 
+// Whether box [lo, hi] meets static box h, turned about z (Hazard::obb), in (x, y): the
+// separating axes of the two boxes (the world's x and y are its bounding box's, tested first).
+bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi) {
+    const btScalar ax = (hi.x() - lo.x()) / 2, ay = (hi.y() - lo.y()) / 2;
+    const btScalar dx = h.ocx - (lo.x() + hi.x()) / 2, dy = h.ocy - (lo.y() + hi.y()) / 2;
+    const btScalar c = std::abs(h.oc), s = std::abs(h.os);
+    if (std::abs(dx * h.oc + dy * h.os) > ax * c + ay * s + h.ohx) return false;
+    if (std::abs(-dx * h.os + dy * h.oc) > ax * s + ay * c + h.ohy) return false;
+    return true;
+}
+
+// Whether unit b's shape, grown by `grow` in x and y, keeps clear of static box h, turned
+// about z (Hazard::obb): the distance from its centre of mass to the box in (x, y) against the
+// shape's reach about it, the largest of its extents along 16 horizontal directions over
+// cos(π/16) (so that it bounds the extents between them).
+bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, btScalar grow, btScalar& reach) {
+    const btRigidBody& rb = ph.rb(b);
+    if (!rb.getCollisionShape()->isConvex()) return false;
+    const btTransform& t = rb.getWorldTransform();
+    const btVector3 c = t.getOrigin();
+    if (reach < 0) {  // once per check
+        const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+        reach = 0;
+        for (int k = 0; k < 16; ++k) {
+            const btScalar a = btScalar(k) * SIMD_PI / 8;
+            const btVector3 d(std::cos(a), std::sin(a), 0);
+            reach = std::max(reach, (t * shape.localGetSupportingVertex(d * t.getBasis()) - c).dot(d));
+        }
+        reach /= std::cos(SIMD_PI / 16);
+    }
+    const btScalar dx = c.x() - h.ocx, dy = c.y() - h.ocy;
+    const btScalar lx = std::abs(dx * h.oc + dy * h.os) - h.ohx, ly = std::abs(-dx * h.os + dy * h.oc) - h.ohy;
+    const btScalar ox = std::max(lx, btScalar(0)), oy = std::max(ly, btScalar(0));
+    return ox * ox + oy * oy > (reach + grow) * (reach + grow);
+}
+
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
 bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     Physics& ph = r.phys;
@@ -520,7 +568,18 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         const btVector3& gain = r.tab.field_gain[f];
         if (R[2][2] < kUpright || gain.z() > 0) return fail(out, OnSolver::kFieldSlope);
         const btVector3 vl = v * R;
-        for (int i = 0; i < 2; ++i) {
+        if (r.tab.field_turns[f]) {
+            // A turning field: the law pulls towards the band's rotation where the unit was at
+            // the step's start; steady, it moves at that target (the rest of its speed-up
+            // decayed), a step's turn behind the target where it is now.
+            const btVector3 rel = (ph.com(b) - s.field_frame[f].pose.getOrigin()) * R - r.tab.field_pivot[f] -
+                                  vl * btScalar(r.dt);
+            const btScalar w = s.field_spin[f];
+            const btVector3 want(-w * rel.y(), w * rel.x(), 0);
+            for (int i = 0; i < 2; ++i)
+                if (std::abs(vl[i] - want[i]) > kSpeedTol) return fail(out, OnSolver::kSpeed);
+        }
+        for (int i = 0; i < 2 && !r.tab.field_turns[f]; ++i) {
             const btScalar target = gain[i] > 0 ? s.field_target[f][i] : 0;
             if (std::abs(vl[i] - target) <= (gain[i] > 0 ? kSpeedTol : kDrift)) continue;
             if (gain[i] <= 0) return fail(out, OnSolver::kDrift);
@@ -553,9 +612,13 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         return guide_by(ph, b, now, out);
     };
     int32_t sup = -1;  // the support's hazard
+    btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (disc_clear)
     auto hazard = [&](int32_t i) {
         const Steady::Hazard& h = S.hazards[size_t(i)];
         if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
+        if (h.fixed && h.obb &&
+            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, std::max(sweep.x(), sweep.y()) + kStaticMargin, reach_xy)))
+            return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if ((support.valid() && (support != h.body || piece != h.piece)) ||
@@ -626,6 +689,9 @@ bool rest_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     FieldId f, fp;
     if (!field_at(r, b, ph.com(b), zero, f) || (p.valid() && (!field_at(r, b, ph.com(p), zero, fp) || fp != f)))
         return fail(out, OnSolver::kFieldEdge);
+    // A turning field at speed (its target differs from place to place): not held still by one
+    // target. Halted (spin 0), its target is 0 everywhere, as a straight field's at speed 0.
+    if (f.valid() && r.tab.field_turns[f] && r.st.field_spin[f] != 0) return fail(out, OnSolver::kFieldTurns);
     if (f.valid()) {
         // Still against a field that drives it, it is held: were it free, the law would speed it
         // up by at least 1 cm/s in a step along each driven axis with a target (a slow field, a
@@ -704,9 +770,15 @@ void guide(Steady& S, BodyId b, const Verdict& v) {
 
 enum : uint8_t { kStay = 0, kLand, kCoast, kKeep, kToRest };
 
-// Field f's target velocity in the world; none (no field acts): 0.
-btVector3 target_of(const State& s, FieldId f) {
-    return f.valid() ? s.field_frame[f].pose.getBasis() * s.field_target[f] : btVector3(0, 0, 0);
+// What field f drives at, in the world: its target velocity; a turning field's angular
+// velocity about its pivot's vertical, (0, 0, spin) in its frame (its target is that spin
+// about the pivot where the unit is, found by the mover each step); none (no field acts): 0.
+// The callers compare it within one field, so the two meanings never meet: it changes exactly
+// when the law's target does (a speed, an enable, the field's turn).
+btVector3 target_of(const State& s, const Tables& tab, FieldId f) {
+    if (!f.valid()) return btVector3(0, 0, 0);
+    const btMatrix3x3& R = s.field_frame[f].pose.getBasis();
+    return tab.field_turns[f] ? R * btVector3(0, 0, s.field_spin[f]) : R * s.field_target[f];
 }
 
 // Unit b's verdict this step and what follows from it: its count of steady steps, and when it
@@ -727,7 +799,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     const bool was = ph.coasting(b);
     Verdict v;
     if (ph.resting(b)) {  // it stays while it may rest, in the same field with the same target
-        if (rest_now(r, b, p, vmax, v) && v.field == S.field[b] && target_of(s, v.field) == S.target[b]) {
+        if (rest_now(r, b, p, vmax, v) && v.field == S.field[b] && target_of(s, r.tab, v.field) == S.target[b]) {
             rests_in(r, b, p, v.field);
             return kKeep;
         }
@@ -739,7 +811,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
     uint8_t action = kKeep;
     if (was) {
         const bool same = ok && v.field == S.field[b] && v.support == S.support[b] && v.piece == S.piece[b] &&
-                          target_of(s, v.field) == S.target[b];
+                          target_of(s, r.tab, v.field) == S.target[b];
         if (!same) {
             S.settled[b] = 0;
             why = ok ? OnSolver::kChanged : v.why;
@@ -768,7 +840,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
                 }
                 S.still[b] = 0;
                 S.field[b] = still.field;
-                S.target[b] = target_of(s, still.field);
+                S.target[b] = target_of(s, r.tab, still.field);
                 S.guide_side[b] = 0;
                 rests_in(r, b, p, still.field);
                 return kToRest;
@@ -788,7 +860,7 @@ uint8_t decide(Runtime& r, BodyId b, btScalar vmax, OnSolver& why) {
         S.field[b] = v.field;
         S.support[b] = v.support;
         S.piece[b] = v.piece;
-        S.target[b] = target_of(s, f);
+        S.target[b] = target_of(s, r.tab, f);
         S.normal[b] = normal;
         S.top[b] = point;
         S.height[b] = normal.dot(ph.rb(b).getCenterOfMassPosition() - point);
@@ -817,6 +889,7 @@ const char* on_solver_name(OnSolver w) {
     case OnSolver::kTilted: return "tilted";
     case OnSolver::kFieldEdge: return "at a field's face, or in two fields";
     case OnSolver::kFieldSlope: return "its field not level";
+    case OnSolver::kFieldTurns: return "its field turns";
     case OnSolver::kHeldBack: return "held back: below half its field's speed (queued, at a pin)";
     case OnSolver::kSpeed: return "speeding up or slowing down";
     case OnSolver::kDrift: return "drifting across its field faster than 5 cm/s";
@@ -1067,7 +1140,12 @@ void advance(Runtime& r, BodyId b) {
     btVector3 v = rb.getLinearVelocity();
     {
         const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
-        const btVector3& target = r.st.field_target[f];
+        btVector3 target = r.st.field_target[f];
+        if (r.tab.field_turns[f]) {  // the band's rotation at the unit's centre of mass, as the law takes it
+            const btVector3 rel = (rb.getCenterOfMassPosition() - r.st.field_frame[f].pose.getOrigin()) * R -
+                                  r.tab.field_pivot[f];
+            target = btVector3(-r.st.field_spin[f] * rel.y(), r.st.field_spin[f] * rel.x(), 0);
+        }
         btVector3 vl = v * R;
         for (int k = 0; k < 3; ++k)
             if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];

@@ -27,6 +27,7 @@ enum class OnSolver : uint8_t {
     kTilted,      // more than 2 degrees from upright
     kFieldEdge,   // at a field's face, or in two acting fields
     kFieldSlope,  // its field is not level, or drives along its z axis
+    kFieldTurns,  // its field turns (a turntable's, a curve's band): its target is not one velocity
     kHeldBack,    // along a driven axis, slower than half its field's target (in a queue, at a pin)
     kSpeed,       // otherwise off its field's target along a driven axis (speeding up, slowing down)
     kDrift,       // drifting across its field faster than 5 cm/s
@@ -61,6 +62,7 @@ struct Steady {
     PerBody<graph::BodyId> support;      // coasting: the static body it stands on
     PerBody<int16_t> piece;              // coasting: which piece of it, in a compound (else -1)
     PerBody<btVector3> target;           // coasting, resting: the field's target velocity, in the world
+                                         // (a turning field's angular velocity: target_of)
     PerBody<btVector3> normal;           // coasting: the support's top face's normal
     PerBody<btScalar> height;            // coasting: its centre of mass above the top face's plane
     PerBody<btScalar> yaw;               // coasting: its angular velocity about the vertical
@@ -120,6 +122,11 @@ struct Steady {
         int16_t piece = -1;        // its piece of a static compound
         btScalar friction = 0, restitution = 0;  // the body's (read here: its Bullet body is
                                                  // far in memory, and they do not change)
+        // A static box turned about the vertical only (a curve's rail piece): its centre, the
+        // cosine and sine of its turn and its half sizes in x and y, for a test more precise
+        // than its bounding box.
+        bool obb = false;
+        btScalar ocx = 0, ocy = 0, oc = 1, os = 0, ohx = 0, ohy = 0;
     };
     std::vector<Hazard> hazards;
     std::vector<uint8_t> level_top;  // beside hazards: a static piece whose top face is level

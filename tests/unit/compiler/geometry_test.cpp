@@ -67,11 +67,11 @@ TEST_CASE("geometry: the shipped bottling plant has no conveyor ends that nearly
 }
 
 TEST_CASE("geometry: a lane belt moved 10 cm from its switch warns at both declarations") {
-    check_moved("(x0 + 80 cm + ba, -bl - 10 cm, 0 m)", "9.7 cm ahead");
+    check_moved("(x0 + 80 cm + ba, -bl - 10 cm, 0 m)", "10.0 cm ahead");
 }
 
 TEST_CASE("geometry: a lane belt beside its switch's branch exit warns") {
-    check_moved("(x0 + 90 cm + ba, -bl, 0 m)", "9.9 cm aside");
+    check_moved("(x0 + 90 cm + ba, -bl, 0 m)", "10.0 cm aside");
 }
 
 TEST_CASE("geometry: a lane belt 1 cm above its switch's branch exit warns") {
@@ -79,7 +79,7 @@ TEST_CASE("geometry: a lane belt 1 cm above its switch's branch exit warns") {
 }
 
 TEST_CASE("geometry: a lane belt 2 cm aside meets its switch off its centre line") {
-    check_moved("(x0 + 82 cm + ba, -bl, 0 m)", "1.9 cm off its centre line");
+    check_moved("(x0 + 82 cm + ba, -bl, 0 m)", "2.0 cm off its centre line");
 }
 
 // The search for the conveyor an outlet meets looks only at the boxes near it (a grid over the
@@ -87,6 +87,6 @@ TEST_CASE("geometry: a lane belt 2 cm aside meets its switch off its centre line
 // outlet: the warning is the same with one far below the line.
 TEST_CASE("geometry: a field as large as a floor changes nothing the search finds") {
     const std::string floor = "    field floor at (0 m, 0 m, -5 m) { extent = (300 m, 300 m, 1 cm); gain = 1 kg/s }\n";
-    check_moved("(x0 + 80 cm + ba, -bl - 10 cm, 0 m)", "9.7 cm ahead", floor);
+    check_moved("(x0 + 80 cm + ba, -bl - 10 cm, 0 m)", "10.0 cm ahead", floor);
     check_moved("(x0 + 80 cm + ba, -bl, 1 cm)", "a step of 1.0 cm", floor);
 }

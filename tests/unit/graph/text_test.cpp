@@ -174,7 +174,7 @@ TEST_SUITE("graph text") {
 
 TEST_CASE("the format, exactly") {
     const char* expected =
-        "plant-graph 3\n"
+        "plant-graph 4\n"
         "plant \"Line\"\n"
         "settings rate=150 gravity=(0 0 -9.81)\n"
         "count files 1\n"
@@ -204,7 +204,7 @@ TEST_CASE("the format, exactly") {
         "count points 0\n"
         "count fields 1\n"
         "field 0 comp=1 body=-1 extent=(2 0.5 0.1) pose=(0 0 0|0 0 0 1) dir=(1 0 0) speed=0.5 "
-        "gain=20 max_force=0 enabled=true\n"
+        "gain=20 max_force=0 enabled=true radius=0 pivot=(0 0 0)\n"
         "count joints 0\n"
         "count places 0\n"
         "count transitions 0\n"
@@ -432,6 +432,7 @@ TEST_CASE("graph text: the format's version changes whenever its fingerprint doe
     const std::map<int, uint64_t> fingerprints = {
         {2, 0x25fe5fb91eed1146},  // 2026-11-27: the first version pinned (with the field's `enabled` output, the optional settings.steady_transport and a plugin component's placement)
         {3, 0x83904d49bc0b3819},  // 2026-11-28: a plugin's parameters of every type (plugin_param's vec, type, comp, list; plugin_strings)
+        {4, 0x7e27fc58da372e89},  // 2026-11-30 (branch curve-model): a turning field's radius and pivot
     };
     REQUIRE_MESSAGE(fingerprints.count(kFormatVersion), "kFormatVersion " << kFormatVersion << " has no fingerprint here");
     CHECK_MESSAGE(format_fingerprint() == fingerprints.at(kFormatVersion),
