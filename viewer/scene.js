@@ -8,7 +8,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { ConvexGeometry } from 'three/addons/geometries/ConvexGeometry.js';
 import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
 import { CSS2DRenderer } from 'three/addons/renderers/CSS2DRenderer.js';
-import { bodyRole, ROLE_COLOURS, chevronMaterial, chevronGeometry, rollerMatrices } from './belts.js';
+import { bodyRole, ROLE_COLOURS, chevronMaterial, chevronGeometry, rollerMatrices, turnRing } from './belts.js';
 
 const MODE_COLOURS = {
   static: new THREE.Color(0x8b939e),     // slate grey: belts, rails, frames
@@ -454,9 +454,10 @@ export class PlantView {
         const st = this.bodyState[i];
         if (!(st & 1)) continue;            // not in the world: a parked pooled object
         poseMatrix(this.bodyPose, 7 * i, m);
-        // a model stands for it: its shape on the collision layer; else solid, or
-        // translucent when its collision is off
-        (this.showsModel(i) ? bg.hull : st & 2 ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
+        // a model stands for it, or it is a curve's deck (the ring its field drives shows the
+        // band): its shape on the collision layer; else solid, or translucent when its
+        // collision is off
+        (this.showsModel(i) || this.roles[i] === 'deck' ? bg.hull : st & 2 ? bg.solid : bg.ghost).add(m, this.bodyColour(i), i);
       }
       bg.solid.end(); bg.ghost.end(); bg.hull.end();
     }
@@ -511,9 +512,10 @@ export class PlantView {
       this.volumeMatrix(f, m);
       const colour = on ? FIELD_ON : FIELD_OFF;
       this.fieldBoxes.add(s.copy(m).multiply(new THREE.Matrix4().makeScale(...f.extent.map((x) => Math.max(x, 1e-4)))), colour, i);
-      // The arrow: through the centre, along the direction, its length ~ the speed.
+      // The arrow: through the centre, along the direction (a turning field's: along its
+      // circle through the centre), its length ~ the speed.
       m.decompose(pos, rot, scl);
-      const dir = new THREE.Vector3(...f.dir).applyQuaternion(rot);
+      const dir = (f.radius > 0 ? new THREE.Vector3(f.pivot[1], -f.pivot[0], 0) : new THREE.Vector3(...f.dir)).applyQuaternion(rot);
       if (dir.lengthSq() < 1e-12) return;
       dir.normalize();
       const len = Math.min(Math.max(Math.abs(speed) * 0.4, 0.04), 1.5);
@@ -524,21 +526,24 @@ export class PlantView {
     });
     this.fieldBoxes.end(); this.fieldArrows.end();
     // Chevrons on the band under every field that is on, moving with its speed.
-    const flow = this.chevrons.mesh.geometry.attributes.aFlow, size = this.chevrons.mesh.geometry.attributes.aSize;
+    const { aFlow: flow, aSize: size, aTurn: turn, aRing: ring } = this.chevrons.mesh.geometry.attributes;
     this.chevrons.begin();
     scene.fields.forEach((f, i) => {
       const [on, speed] = this.fieldState[i] ?? [true, f.speed];
-      if (!on || Math.hypot(f.dir[0], f.dir[1]) < 1e-6) return;
+      const turns = f.radius > 0;
+      if (!on || (!turns && Math.hypot(f.dir[0], f.dir[1]) < 1e-6)) return;
       const k = this.chevrons.n;
       this.volumeMatrix(f, m).multiply(new THREE.Matrix4().makeTranslation(0, 0, -f.extent[2] / 2 + 0.0012))
         .multiply(new THREE.Matrix4().makeScale(f.extent[0], f.extent[1], 1));
       this.chevrons.add(m, null, i);
       flow.setXYZW(k, f.dir[0], f.dir[1], speed, 1);
       size.setXY(k, f.extent[0], f.extent[1]);
+      turn.setXYZ(k, turns ? f.pivot[0] : 0, turns ? f.pivot[1] : 0, turns ? f.radius : 0);
+      const [inner, outer] = turns ? turnRing(f) : [0, 0];
+      ring.setXY(k, inner, outer);
     });
     this.chevrons.end();
-    flow.needsUpdate = true;
-    size.needsUpdate = true;
+    for (const a of [flow, size, turn, ring]) a.needsUpdate = true;
     this.triggerBoxes.begin(); this.triggerEdges.begin();
     scene.triggers.forEach((t, i) => {
       this.volumeMatrix(t, m).multiply(new THREE.Matrix4().makeScale(...t.extent.map((x) => Math.max(x, 1e-4))));

@@ -1,8 +1,8 @@
 #!/bin/sh
 # Regenerates the viewer's screenshot (docs/images/viewer.png is a copy of it) and, beside
-# it, OUT-arm.png and OUT-station.png, close-ups of the arm and the filling station: runs the
-# browser test on the bottling plant in its --docs mode, which runs the plant at 10x until
-# a dozen bottles are out before it takes the picture.
+# it, OUT-arm.png, OUT-station.png and OUT-curve.png, close-ups of the arm, the filling
+# station and a curve: runs the browser test on the bottling plant in its --docs mode, which
+# runs the plant at 10x until a dozen bottles are out before it takes the picture.
 #
 #   viewer/screenshot.sh [OUT.png]      # default viewer/viewer.png
 #

@@ -120,7 +120,9 @@ std::string scene_json(const Graph& g, const ModelDirs& dirs, bool replay, doubl
                           {"extent", vec_json(fd.extent)},
                           {"pose", pose_json(fd.pose)},
                           {"dir", vec_json(fd.dir)},
-                          {"speed", fd.speed}});
+                          {"speed", fd.speed},
+                          {"radius", fd.radius},
+                          {"pivot", vec_json(fd.pivot)}});
     }
     s["fields"] = std::move(fields);
 

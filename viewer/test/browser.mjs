@@ -243,13 +243,15 @@ try {
   check(calls.calls > 0 && calls.calls < calls.inWorld, `instanced: fewer draw calls (${calls.calls}) than bodies drawn (${calls.inWorld})`);
   await page.screenshot({ path: screenshot });
   check(statSync(screenshot).size > 10_000, `screenshot written: ${screenshot}`);
-  if (docs) {   // close-ups beside it: the arm over its belt, the filling station
+  if (docs) {   // close-ups beside it: the arm over its belt, the filling station, a curve
     await page.mouse.move(5, 5);
     await page.click('#layer-triggers');   // the sensors' volumes and the legend out of the way
     await page.click('#layer-legend');
     // Each at a moment with a bottle in it: the arm carrying one (lifted), the station holding
-    // one at its pin (under the middle of its housing).
-    const shots = [['line[0].arm', 'arm', 1.5, -130, 25, 'lifted'], ['line[0].fill', 'station', 0.5, -60, 20, 'under']];
+    // one at its pin (under the middle of its housing), the curve riding one (within 25 cm of
+    // its box's middle).
+    const shots = [['line[0].arm', 'arm', 1.5, -130, 25, 'lifted'], ['line[0].fill', 'station', 0.5, -60, 20, 'under'],
+                   ['line[0].c2', 'curve', 0.9, -150, 50, 'in']];
     for (const [path, name, distance, azimuth, elevation, when] of shots) {
       await page.click('#run');
       await until(() => page.evaluate((path, when) => {
@@ -258,7 +260,7 @@ try {
         return v.scene.bodies.some((b) => {
           if (b.mode !== 'dynamic' || !(plantViewer.bodyState(b.id) & 1)) return false;
           const p = plantViewer.bodyPose(b.id);
-          return when === 'lifted' ? p[2] > 0.12 : Math.hypot(p[0] - c[0], p[1] - c[1]) < 0.05 && p[2] < 0.06;
+          return when === 'lifted' ? p[2] > 0.12 : Math.hypot(p[0] - c[0], p[1] - c[1]) < (when === 'in' ? 0.25 : 0.05) && p[2] < 0.06;
         });
       }, path, when), 30_000, 20);
       await page.click('#run');
