@@ -148,12 +148,11 @@ bool gather_fields(Runtime& r, BodyId b) {
         s.field_run[b] = std::max(s.field_run[b], std::abs(double(s.field_speed[f])));
         s.body_k[b] += gain[gain.maxAxis()];
         s.body_cap[b] = std::max(s.body_cap[b], fd.max_force > 0 ? fd.max_force : HUGE_VAL);
-        btVector3 target = s.field_target[f];
-        if (r.tab.field_turns[f]) {  // the band's rigid rotation about the pivot's vertical
-            const btVector3 rel = local - r.tab.field_pivot[f];
-            target = btVector3(-s.field_spin[f] * rel.y(), s.field_spin[f] * rel.x(), 0);
-        }
-        s.force[b] += R * (gain * (target - v * R));
+        const btVector3 vl = v * R;
+        const btVector3 target = r.tab.field_turns[f]  // the band's rigid rotation about the pivot's vertical
+                                     ? turning_target(s.field_spin[f], r.tab.field_pivot[f], local, vl, btScalar(r.dt / 2))
+                                     : s.field_target[f];
+        s.force[b] += R * (gain * (target - vl));
         s.gain[b] += ff.K;
         any = true;
     }

@@ -12,8 +12,8 @@
 //     1 mm clear of every field's faces and inside one acting field at most, the same one;
 //     in a field, the field is level and the unit's velocity in the field's frame is within
 //     2 mm/s of the target on the driven axes and within 5 cm/s of 0 on the others (nothing
-//     acts across a frictionless band; a turning field's target is taken where the unit was
-//     a step before, the one the law last pulled it towards); in none, it is at rest (within 5 mm/s along each
+//     acts across a frictionless band; a turning field's target is the one the law last
+//     pulled it towards, half a step back from where it is); in none, it is at rest (within 5 mm/s along each
 //     axis: a bottle standing on a table jiggles that fast in Bullet, about a fixed place),
 //     and its centre's path stays over its support's box;
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
@@ -32,9 +32,10 @@
 // A unit steady for 5 steps in a row leaves the solver: flagged static in no pair, its
 // broadphase box parked (Physics::coast). Then in each step the law's exact solution moves it:
 // along each driven axis of its field the speed error decays by exp(-k·dt/m) (k the sum of
-// its bodies' gains, m its mass; a turning field's target taken at its centre of mass), the free axes keep their speed, the centre of mass keeps its
-// height above the band's top face (a band rises 2 mm along its length), it turns about
-// the vertical as it did when it left (nothing acts about that axis), no other way, and a rail
+// its bodies' gains, m its mass; a turning field's target taken as the law takes it), the
+// free axes keep their speed, the centre of mass keeps its height above the band's top face
+// (a band rises 2 mm along its length), it turns about the vertical as it did when it left
+// (nothing acts about that axis), no other way, and a rail
 // it slides along stops its motion into the rail (an inelastic, frictionless contact). In no
 // field it stays where it was, at rest.
 // Its pose, velocity and bounding box are written every step, so triggers, sensors, graphics
@@ -569,13 +570,12 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (R[2][2] < kUpright || gain.z() > 0) return fail(out, OnSolver::kFieldSlope);
         const btVector3 vl = v * R;
         if (r.tab.field_turns[f]) {
-            // A turning field: the law pulls towards the band's rotation where the unit was at
-            // the step's start; steady, it moves at that target (the rest of its speed-up
-            // decayed), a step's turn behind the target where it is now.
-            const btVector3 rel = (ph.com(b) - s.field_frame[f].pose.getOrigin()) * R - r.tab.field_pivot[f] -
-                                  vl * btScalar(r.dt);
-            const btScalar w = s.field_spin[f];
-            const btVector3 want(-w * rel.y(), w * rel.x(), 0);
+            // A turning field: the law pulled towards the band's rotation half a step on from
+            // where the unit was at the last step's start (turning_target), which is half a step
+            // back from where it is now; steady, it moves at that target (the rest of its
+            // speed-up decayed).
+            const btVector3 local = (ph.com(b) - s.field_frame[f].pose.getOrigin()) * R;
+            const btVector3 want = turning_target(s.field_spin[f], r.tab.field_pivot[f], local, vl, btScalar(-r.dt / 2));
             for (int i = 0; i < 2; ++i)
                 if (std::abs(vl[i] - want[i]) > kSpeedTol) return fail(out, OnSolver::kSpeed);
         }
@@ -1140,13 +1140,14 @@ void advance(Runtime& r, BodyId b) {
     btVector3 v = rb.getLinearVelocity();
     {
         const btMatrix3x3& R = r.st.field_frame[f].pose.getBasis();
-        btVector3 target = r.st.field_target[f];
-        if (r.tab.field_turns[f]) {  // the band's rotation at the unit's centre of mass, as the law takes it
-            const btVector3 rel = (rb.getCenterOfMassPosition() - r.st.field_frame[f].pose.getOrigin()) * R -
-                                  r.tab.field_pivot[f];
-            target = btVector3(-r.st.field_spin[f] * rel.y(), r.st.field_spin[f] * rel.x(), 0);
-        }
         btVector3 vl = v * R;
+        // A turning field's target as the law takes it (turning_target: half a step on).
+        const btVector3 target =
+            r.tab.field_turns[f]
+                ? turning_target(r.st.field_spin[f], r.tab.field_pivot[f],
+                                 (rb.getCenterOfMassPosition() - r.st.field_frame[f].pose.getOrigin()) * R, vl,
+                                 btScalar(r.dt / 2))
+                : r.st.field_target[f];
         for (int k = 0; k < 3; ++k)
             if (S.relax[b][k] < 1) vl[k] = target[k] + (vl[k] - target[k]) * S.relax[b][k];
         v = R * vl;

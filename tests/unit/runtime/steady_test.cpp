@@ -337,6 +337,46 @@ plant Drop {
     same(on, off, 1e-3, 1, 0.5 / 150);  // at most a step apart at the exit: 3.3 mm at 0.5 m/s
 }
 
+// A Curve's turning field (docs/runtime.md, "Steady transport"): a bottle that rides it settles
+// onto its circle and leaves the solver in the curve, and the exit after the next belt takes it
+// as on the solver.
+TEST_CASE("steady transport: a bottle rides a Curve off the solver, and reaches the exit as on the solver") {
+    const graph::Graph g = compiled(R"(
+import std.belts, std.bottle
+plant Turn {
+    b1: Belt(length = 1 m)
+    c1: Curve(radius = 30 cm, left = true) at (1 m, 0 m, 0 m)
+    b2: Belt(length = 1 m) at (1.3 m, 30 cm, 0 m) rotate z by 90 deg
+    b: Bottle at (20 cm, 0 m, 2 cm)
+    trigger out_volume at (1.3 m, 1.25 m, 4 cm) { extent = (10 cm, 4 cm, 10 cm) }
+    exit done { trigger = out_volume }
+}
+)",
+                                    "steady_curve.plant");
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    REQUIRE(mains.size() == 1);
+    const Seen on = run(g, true, 150 * 7, mains), off = run(g, false, 150 * 7, mains);
+    CHECK(on.taken.size() == 1);
+    CHECK(on.lost.empty());
+    same(on, off, 2e-3, 1, 0.5 / 150);  // at most a step apart at the exit
+    // The steps it spends in the curve's quarter, and how many of them off the solver.
+    engine::Options o;
+    o.steady_transport = true;
+    Engine e(g, o);
+    const graph::BodyId bottle(mains[0]);
+    int in_curve = 0, off_in_curve = 0;
+    for (int i = 0; i < 150 * 7; ++i) {
+        e.step();
+        const graph::Vec3 c = e.body_com(bottle);
+        if (!e.body_in_world(bottle) || c[0] < 1.0 || c[1] > 0.3) continue;
+        ++in_curve;
+        off_in_curve += e.internals().phys.coasting(bottle) ? 1 : 0;
+    }
+    MESSAGE(off_in_curve << " of " << in_curve << " steps in the curve off the solver");
+    CHECK(in_curve > 100);                // a quarter of a 30 cm circle at 50 cm/s: 141 steps
+    CHECK(off_in_curve > in_curve / 2);
+}
+
 // A belt turned by 3° before a straight one: bottles come onto the straight one drifting across
 // it at 2.6 cm/s, meet its rail and then slide along it. Off the solver the rail is a
 // frictionless, inelastic contact (it ends their motion towards it), as Bullet's contacts are on
