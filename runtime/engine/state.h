@@ -161,8 +161,8 @@ struct State {
     PerField<uint8_t> field_act;
     PerField<btVector3> field_target;
     // ... and a turning field's angular speed about its pivot's vertical, rad/s (its speed over
-    // its radius; 0 for one that does not turn): its target at a point p of its frame is
-    // field_spin × (p − pivot), and field_target is 0.
+    // its radius; 0 for one that does not turn): its target for a body is turning_target (below),
+    // and field_target is 0.
     PerField<btScalar> field_spin;
     // The physics phase looks at every field's frame, and whether it acts, only after a static
     // body was placed (nothing else moves one: a velocity is refused): a field without a
