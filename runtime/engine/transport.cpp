@@ -613,11 +613,15 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     };
     int32_t sup = -1;  // the support's hazard
     btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (disc_clear)
+    // How far two steps take any point of it in (x, y): its path's length, |v_xy|·2·dt, and its
+    // turn's; the length of (sweep.x, sweep.y) bounds their sum (sweep is |v|·2·dt per axis plus
+    // the turn's on each), where the larger of the two would not along a diagonal.
+    const btScalar sweep_xy = std::sqrt(sweep.x() * sweep.x() + sweep.y() * sweep.y());
     auto hazard = [&](int32_t i) {
         const Steady::Hazard& h = S.hazards[size_t(i)];
         if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
         if (h.fixed && h.obb &&
-            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, std::max(sweep.x(), sweep.y()) + kStaticMargin, reach_xy)))
+            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, sweep_xy + kStaticMargin, reach_xy)))
             return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
