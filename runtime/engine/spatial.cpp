@@ -9,6 +9,7 @@ namespace plant::engine {
 
 Spatial::Spatial(const Tables& t, int32_t bodies) : t_(t), com_(bodies), lo_(bodies), hi_(bodies) {
     order_.reserve(t.dyn_bodies.size());
+    begin_.reserve(t.dyn_bodies.size() + 1024);
 }
 
 int32_t Spatial::cell(btScalar y) {
@@ -86,9 +87,33 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     if (aabbs) reach_ = most.first;
     vmax_ = most.second;
     if (!sorted) insertion(0, n);
+    index_cells();
+}
+
+// The list is in cell order whatever its x (a NaN x orders nothing, but cells are compared
+// first): each cell's entries are one run of it.
+void Spatial::index_cells() {
+    begin_.clear();
+    if (order_.empty()) return;
+    const int64_t c0 = order_.front().cell, span = int64_t(order_.back().cell) - c0 + 1;
+    if (span + 1 > int64_t(begin_.capacity())) return;
+    cell0_ = int32_t(c0);
+    begin_.resize(size_t(span) + 1);  // within its room
+    size_t k = 0;
+    for (int64_t c = 0; c <= span; ++c) {
+        while (k < order_.size() && order_[k].cell - c0 < c) ++k;
+        begin_[size_t(c)] = uint32_t(k);
+    }
 }
 
 size_t Spatial::first(int32_t c, btScalar x) const {
+    if (!begin_.empty()) {  // within c's own run of the list: the same position
+        const int64_t i = int64_t(c) - cell0_;
+        if (i < 0) return 0;
+        if (i + 1 >= int64_t(begin_.size())) return order_.size();
+        const auto b = order_.begin() + begin_[size_t(i)], e = order_.begin() + begin_[size_t(i) + 1];
+        return size_t(std::lower_bound(b, e, x, [](const Entry& en, btScalar v) { return en.x < v; }) - order_.begin());
+    }
     auto it = std::lower_bound(order_.begin(), order_.end(), std::pair(c, x), [](const Entry& e, std::pair<int32_t, btScalar> v) {
         return e.cell != v.first ? e.cell < v.first : e.x < v.second;
     });

@@ -60,8 +60,15 @@ private:
     // speed.
     std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
+    // Where each y cell's entries begin in order_, after a refresh: begin_[c - cell0_] for the
+    // cells from the first entry's to the last's, and one past the last. Empty where those
+    // cells are more than its room (reserved at the start: no allocation in a step), and then
+    // `first` searches the whole list.
+    void index_cells();
     const Tables& t_;
     std::vector<Entry> order_;
+    std::vector<uint32_t> begin_;
+    int32_t cell0_ = 0;
     graph::IdVector<graph::BodyId, btVector3> com_, lo_, hi_;
     btScalar reach_ = 0, vmax_ = 0;
     std::array<std::pair<btScalar, btScalar>, kSlices> slice_max_{};

@@ -425,12 +425,16 @@ struct Verdict {
     btScalar guide_face = 0;
 };
 
-// How far unit b's shape reaches along `side` times world axis a, at transform t (its centre
-// of mass's; Bullet's support point, with the shape's margin, as Bullet's contacts see it).
-btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, int side) {
+// The point of unit b's shape farthest along `side` times world axis a, at transform t (its
+// centre of mass's; Bullet's support point, with the shape's margin, as Bullet's contacts see
+// it), and how far it reaches that way.
+btVector3 support_along(const btConvexShape& shape, const btTransform& t, int a, int side) {
     btVector3 dir(0, 0, 0);
     dir[a] = btScalar(side);
-    return (t * shape.localGetSupportingVertex(dir * t.getBasis()))[a];
+    return t * shape.localGetSupportingVertex(dir * t.getBasis());
+}
+btScalar reach_along(const btConvexShape& shape, const btTransform& t, int a, int side) {
+    return support_along(shape, t, a, side)[a];
 }
 
 // Whether static box h, which unit b's grown box meets, is a rail b slides along: a box on the
@@ -448,10 +452,18 @@ bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out
     const btTransform& t = rb.getWorldTransform();
     int axis = -1, side = 0;
     btScalar face = 0;
+    // The last support point found, a point of the shape: it reaches along +a at least as far as
+    // that point and along -a no less, so a side the point is past by more than kTouch is one
+    // the shape is past too, and needs no support point of its own (a unit along a rail: two of
+    // the four).
+    btVector3 known;
+    bool have = false;
     for (int a = 0; a < 2; ++a)
         for (int sd = -1; sd <= 1; sd += 2) {
             const btScalar f = sd > 0 ? h.lo[a] : h.hi[a];
-            const btScalar into = btScalar(sd) * (reach_along(shape, t, a, sd) - f);
+            if (have && btScalar(sd) * (known[a] - f) > kTouch) continue;
+            known = support_along(shape, t, a, sd), have = true;
+            const btScalar into = btScalar(sd) * (known[a] - f);
             if (into > kTouch) continue;
             if (axis >= 0) return false;  // outside it along both axes: by its end
             axis = a, side = sd, face = f + btScalar(sd) * std::max(into, btScalar(0));
