@@ -107,9 +107,9 @@ void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
     for (TriggerId t : ids) {
         const graph::Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
-        ts.pose = tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : to_bt(tg.pose);
+        ts.pose = tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : r.tab.trigger_local[t];
         const btMatrix3x3& R = ts.pose.getBasis();
-        const btVector3 h = to_bt(tg.extent) * btScalar(0.5);
+        const btVector3& h = r.tab.trigger_half[t];
         const btVector3& c = ts.pose.getOrigin();
         const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z() +
                             r.index.reach();

@@ -25,7 +25,7 @@ std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, si
         if (i + kAhead < end) ph.prefetch(order_[i + kAhead].body);  // in order of place, not of memory
         Entry& e = order_[i];
         const btRigidBody& r = ph.rb(e.body);
-        vmax = std::max(vmax, r.getLinearVelocity().length());
+        vmax = std::max(vmax, r.getLinearVelocity().length2());  // its square: the root once, of the largest
         com_[e.body] = ph.com(e.body);
         e.x = com_[e.body].x();
         e.cell = cell(com_[e.body].y());
@@ -85,7 +85,7 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
         if (i > 0 && b > 0 && b < n && before(order_[b], order_[b - 1])) sorted = false;
     }
     if (aabbs) reach_ = most.first;
-    vmax_ = most.second;
+    vmax_ = std::sqrt(most.second);
     if (!sorted) insertion(0, n);
     index_cells();
 }

@@ -57,7 +57,7 @@ private:
     static constexpr size_t kSlices = kMaxSlices;
     static int32_t cell(btScalar y);
     // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach and
-    // speed.
+    // square of a speed.
     std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     // Where each y cell's entries begin in order_, after a refresh: begin_[c - cell0_] for the

@@ -154,9 +154,12 @@ Tables::Tables(const Graph& g) {
                                                    btScalar(std::abs(d[2]))) * btScalar(g.fields[f].gain);
     }
     trigger_local.resize(g.triggers.size(), btTransform::getIdentity());
-    for (TriggerId t : ids_of(g.triggers))
-        if (g.triggers[t].body.valid())
-            trigger_local[t] = relative(g.bodies[g.triggers[t].body].pose, g.triggers[t].pose);
+    trigger_half.resize(g.triggers.size(), btVector3(0, 0, 0));
+    for (TriggerId t : ids_of(g.triggers)) {
+        const Trigger& tg = g.triggers[t];
+        trigger_local[t] = tg.body.valid() ? relative(g.bodies[tg.body].pose, tg.pose) : to_bt(tg.pose);
+        trigger_half[t] = to_bt(tg.extent) * btScalar(0.5);
+    }
 }
 
 }  // namespace plant::engine

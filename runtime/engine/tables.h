@@ -82,7 +82,10 @@ struct Tables {
                                                             // (a turning field's: k along x and y)
     IdVector<graph::FieldId, uint8_t> field_turns;          // Field::radius > 0: the target turns about a pivot
     IdVector<graph::FieldId, btVector3> field_pivot;        // ... Field::pivot, in the field's frame
-    IdVector<graph::TriggerId, btTransform> trigger_local;  // trigger box relative to its body frame
+    // A trigger's box: relative to its body's frame, or in the world for one on no body (its
+    // pose never changes); its half extents.
+    IdVector<graph::TriggerId, btTransform> trigger_local;
+    IdVector<graph::TriggerId, btVector3> trigger_half;
 
     IdVector<graph::PluginId, PluginRun> plugin_run;  // per row of Graph::plugins
     std::vector<graph::PluginId> sensing_plugins;     // rows whose kind senses in phase 2
