@@ -70,3 +70,65 @@ plant Passing {
             passed += x0[i] < x0[j] - 0.05f && r.phys.com(dyn[i]).x() > r.phys.com(dyn[j]).x() + 0.05f;
     CHECK(passed > 100);
 }
+
+// The lookup searches only the run of the list each cell covers (Spatial's table of where each
+// cell's run begins): belts in cells far apart, with empty cells between them and beyond, and
+// boxes that start and end in empty cells, below the lowest body's cell, above the highest, and
+// across all of them.
+TEST_CASE("body index: a box finds what a scan finds in cells far apart, empty and beyond the bodies") {
+    Compilation c;
+    compile_text(R"(
+import std.belts, std.bottle
+plant Cells {
+    a: Belt(length = 2 m, speed = 50 cm/s) at (0 m, -3.5 m, 0 m)
+    b: Belt(length = 2 m, speed = -50 cm/s) at (0 m, 0 m, 0 m)
+    d: Belt(length = 2 m, speed = 50 cm/s) at (0 m, 2.5 m, 0 m)
+    for i in 0 .. 12 {
+        pa[i]: Bottle at (10 cm + i * 14 cm, -3.5 m, 0 m)
+        pb[i]: Bottle at (10 cm + i * 14 cm, 0 m, 0 m)
+        pd[i]: Bottle at (10 cm + i * 14 cm, 2.5 m, 0 m)
+    }
+}
+)",
+                 c, "spatial_cells.plant");
+    INFO(render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    engine::Engine e(c.graph);
+    engine::Runtime& r = e.internals();
+    const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
+    auto cell = [](btScalar y) { return int(std::floor(y)); };
+    // y ranges: around each belt, empty cells only, below and above every body, and all of them.
+    const std::vector<std::pair<btScalar, btScalar>> ys = {{-3.6f, -3.4f}, {-0.1f, 0.1f}, {2.4f, 2.6f}, {-2.5f, -1.2f},
+                                                           {0.5f, 1.9f},   {-9.f, -5.f},  {6.f, 9.f},  {-9.f, 9.f},
+                                                           {-4.f, 0.05f},  {-0.05f, 3.f}};
+    int64_t found_some = 0, checked = 0;
+    for (int step = 0; step < 150; ++step) {
+        e.step();
+        r.index.refresh(r.phys, true, r.phys.workers());
+        std::vector<graph::BodyId> in;
+        for (graph::BodyId b : dyn)
+            if (r.phys.in_world(b)) in.push_back(b);
+        REQUIRE(in.size() >= 72);
+        for (const auto& [ylo, yhi] : ys)
+            for (btScalar x = -0.5f; x < 2.5f; x += 0.4f) {
+                const btScalar xlo = x, xhi = x + 0.5f;
+                std::vector<int32_t> found, scanned;
+                r.index.for_each(xlo, xhi, ylo, yhi, [&](graph::BodyId b) { found.push_back(b.v); });
+                for (graph::BodyId b : in) {
+                    const btVector3& p = r.index.com(b);
+                    if (p.x() >= xlo && p.x() <= xhi && cell(p.y()) >= cell(ylo) && cell(p.y()) <= cell(yhi))
+                        scanned.push_back(b.v);
+                }
+                std::sort(found.begin(), found.end());
+                std::sort(scanned.begin(), scanned.end());
+                CAPTURE(step);
+                CAPTURE(ylo);
+                CAPTURE(x);
+                REQUIRE(found == scanned);
+                found_some += !found.empty();
+                ++checked;
+            }
+    }
+    CHECK(checked == 150 * 10 * 8);
+    CHECK(found_some > 150 * 10);  // not only empty boxes
+}
