@@ -42,7 +42,10 @@ struct GraphicsData : KindData {
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
     // last pose its pose) is not visited. A static body moves only when placed (a velocity is
     // refused: graph/range.h; Physics::statics_placed when last visited: `statics`); an input
-    // that moves or animates the graphics clears its mark.
+    // that moves or animates the graphics clears its mark. A root on no body whose last visit
+    // left its pose as it was, with no animation playing (kFixed: a switch's blade, a pin at
+    // rest), is not visited until its base is set (set_pose clears its mark; a source issuing
+    // its object sets State::graphics_placed) or an animation plays.
     // Per graphics, Graphics::body and whether it is static, in arrays of their own: the skip
     // reads them for every root each step, and a Graphics row is large.
     // advance_one and to_publish read them too, for every graphics posed: a root on a body then
@@ -56,7 +59,7 @@ struct GraphicsData : KindData {
     uint64_t statics = UINT64_MAX, watches = UINT64_MAX;
 };
 
-enum : uint8_t { kMoving = 0, kParked, kStanding };
+enum : uint8_t { kMoving = 0, kParked, kStanding, kFixed };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     auto s = std::make_unique<GraphicsData>();
@@ -191,12 +194,17 @@ void sense_all(Runtime& r) {
     auto root = [&r, &data, all](GraphicsId g) -> uint8_t {
         const graph::BodyId body = data.body[g];
         const uint8_t still = data.still[g];
-        if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body)))
+        if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body)) ||
+            (still == kFixed && !r.st.graphics_placed[g]))
             return 0;  // what advance_one would find: nothing to do, nothing changed
         const uint8_t f = to_publish(data, g, advance_one(r, data, g));
         const GraphicsState& gs = r.st.graphics[g];
-        data.still[g] = !body.valid() || gs.anim >= 0 ? kMoving
-                        : !r.phys.in_world(body)   ? kParked
+        if (!body.valid()) r.st.graphics_placed[g] = 0;
+        // On no body, its pose as before: pose and prev the same bits (advance_one copied one
+        // into the other and computed the same pose again), so a visit would write nothing.
+        data.still[g] = gs.anim >= 0              ? kMoving
+                        : !body.valid()           ? (same(gs.prev, gs.pose) ? kFixed : kMoving)
+                        : !r.phys.in_world(body)  ? kParked
                         : data.fixed[g] && gs.base_fresh && same(gs.prev, gs.pose) ? kStanding
                                                                                     : kMoving;
         return f;

@@ -60,6 +60,7 @@ void issue(Runtime& r, graph::SourceId src) {
     for (graph::GraphicsId i : r.tab.do_graphics[d]) {
         r.st.graphics[i].base = pmul(to, r.g.graphics[i].pose);
         r.st.graphics[i].base_fresh = false;
+        r.st.graphics_placed[i] = 1;
     }
     const double code = S.id_num > 0 ? r.g.ids[S.id_adr + ss.issued % S.id_num].v.id : r.g.dos[d].path.id;
     if (const graph::Id<graph::Label> l = r.tab.do_label[d]; l.valid())

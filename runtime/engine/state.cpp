@@ -104,6 +104,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.gripper_held.assign(g.grippers.size(), DoId{});
 
     s.graphics.resize(g.graphics.size());
+    s.graphics_placed.assign(g.graphics.size(), 0);
     s.variant.resize(g.graphics.size());
     for (GraphicsId i : ids_of(g.graphics)) {
         s.graphics[i].base = s.graphics[i].pose = s.graphics[i].prev = g.graphics[i].pose;

@@ -250,6 +250,9 @@ struct State {
     std::vector<uint8_t> slice_moved, slice_left;
     IdVector<graph::GripperId, graph::DoId> gripper_held;  // DO held, -1
     IdVector<graph::GraphicsId, GraphicsState> graphics;
+    // 1 when a source issuing its object set a graphics' base since the graphics' last step
+    // (kinds/graphics/run.cpp: a root on no body is passed over while nothing moves it).
+    IdVector<graph::GraphicsId, uint8_t> graphics_placed;
     IdVector<graph::GraphicsId, int32_t> variant;  // selected variant, -1
     IdVector<graph::SourceId, SourceState> sources;
     std::vector<graph::DoId> pool_ring;

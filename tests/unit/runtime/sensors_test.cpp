@@ -210,6 +210,74 @@ plant P {
     CHECK(2 * std::atan2(e.graphics_pose(sign).q[2], e.graphics_pose(sign).q[3]) == doctest::Approx(M_PI / 2));
 }
 
+// A graphics on no body that stands still is passed over (kinds/graphics/run.cpp, kFixed) until
+// something moves it: its set_pose, an animation, and a source issuing the object it belongs to
+// (which sets its base). Each must still move it after it stood still for a while.
+TEST_CASE("runtime: a graphics on no body left standing still moves again on set_pose, an animation, an issue") {
+    plant::Compilation c;
+    compile_text(R"(
+object Tag {
+    physics main: dynamic {
+        mass = 1 kg
+        shape box(10 cm, 10 cm, 10 cm)
+    }
+    graphics flag at (0 m, 0 m, 50 cm) { model = "flag.glb" }
+}
+plant P {
+    physics ground: static { shape box(4 m, 4 m, 1 cm) at (0 m, 0 m, -5 mm) }
+    graphics pin at (1 m, 0 m, 0 m) {
+        model = "pin.glb"
+        animation lift { duration = 100 ms; move (0 m, 0 m, 3 cm) }
+    }
+    source store at (1 m, 1 m, 10 cm) { object = Tag; pool = 1 }
+}
+)", c, "fixed.plant");
+    INFO(plant::render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    const plant::graph::Graph& g = c.graph;
+    auto slot = [&](std::string_view path) {
+        for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+            if (g.slot_path(s) == path) return s;
+        FAIL("no slot " << path);
+        return plant::graph::SlotId{};
+    };
+    auto graphics = [&](std::string_view path) {
+        for (plant::graph::GraphicsId i : plant::graph::ids_of(g.graphics))
+            if (g.comp_path(g.graphics[i].comp) == path) return i;
+        FAIL("no graphics " << path);
+        return plant::graph::GraphicsId{};
+    };
+    const plant::graph::GraphicsId pin = graphics("pin"), flag = graphics("store[0].flag");
+    REQUIRE_FALSE(g.graphics[pin].body.valid());
+    REQUIRE_FALSE(g.graphics[flag].body.valid());
+    Engine e(g);
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(e.graphics_pose(pin).p[0] == doctest::Approx(1));
+    const double flag_x = e.graphics_pose(flag).p[0];
+
+    e.input(slot("pin.set_pose"), std::vector<double>{2, 0.5, 0, 0, 0, 0, 1});
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(e.graphics_pose(pin).p[0] == doctest::Approx(2));
+    CHECK(e.graphics_pose(pin).p[1] == doctest::Approx(0.5));
+
+    e.input(slot("pin.lift.play"));
+    for (int i = 0; i < 40; ++i) e.step();
+    CHECK(e.graphics_pose(pin).p[2] == doctest::Approx(0.03));
+    CHECK(e.graphics_pose(pin).p[0] == doctest::Approx(2));
+
+    // The pooled object's flag moved away and left standing there; issuing the object puts it
+    // back at the source, 50 cm above the object's origin.
+    e.input(slot("store[0].flag.set_pose"), std::vector<double>{-1, -1, 0, 0, 0, 0, 1});
+    for (int i = 0; i < 10; ++i) e.step();
+    CHECK(e.graphics_pose(flag).p[0] == doctest::Approx(-1));
+    e.input(slot("store.issue"));
+    for (int i = 0; i < 3; ++i) e.step();
+    CHECK(e.graphics_pose(flag).p[0] == doctest::Approx(flag_x));
+    CHECK(e.graphics_pose(flag).p[0] == doctest::Approx(1));
+    CHECK(e.graphics_pose(flag).p[1] == doctest::Approx(1));
+    CHECK(e.graphics_pose(flag).p[2] == doctest::Approx(0.6));
+}
+
 // Whether a graphics' pose output is watched is kept beside the graphics (kinds/graphics/run.cpp)
 // and read again when a watch is added: a graphics watched after the start publishes its pose
 // from the next step on.
