@@ -1024,7 +1024,9 @@ void check_steady(Runtime& r, bool left) {
         size_t events = 0, found = 0;
         int64_t guided = 0, rested = 0;
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
+        constexpr size_t kAhead = 4;  // units whose Bullet state is asked for ahead (a hint; no result changes)
         for (size_t k = b; k < e; ++k) {
+            if (k + kAhead < e && r.phys.in_world(dyn[k + kAhead])) r.phys.prefetch(dyn[k + kAhead]);
             const BodyId u = dyn[k];
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);
