@@ -105,20 +105,18 @@ void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
     out.clear();
     made.clear();
     for (TriggerId t : ids) {
-        const graph::Trigger& tg = g.triggers[t];
         TriggerState& ts = s.triggers[t];
-        ts.pose = tg.body.valid() ? r.phys.frame(tg.body) * r.tab.trigger_local[t] : r.tab.trigger_local[t];
-        const btMatrix3x3& R = ts.pose.getBasis();
+        // On a body, its box moves with it; on none, its pose is as start_all set it.
+        const graph::BodyId on = r.tab.trigger_body[t];
+        if (on.valid()) ts.pose = r.phys.frame(on) * r.tab.trigger_local[t];
         const btVector3& h = r.tab.trigger_half[t];
         const btVector3& c = ts.pose.getOrigin();
-        const btScalar rx = std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z() +
-                            r.index.reach();
-        const btScalar ry = std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z() +
-                            r.index.reach();
+        const btVector3 reach = on.valid() ? trigger_box_reach(ts.pose.getBasis(), h) : r.tab.trigger_reach[t];
+        const btScalar rx = reach.x() + r.index.reach(), ry = reach.y() + r.index.reach();
         const size_t adr = out.size();
         r.index.for_each(c.x() - rx, c.x() + rx, c.y() - ry, c.y() + ry, [&](graph::BodyId b) {
             if (!overlaps(r.index.lo(b), r.index.hi(b), ts.pose, h)) return;
-            const DoId obj = object_of(g, r.tab.body_do[b], tg.filter);
+            const DoId obj = object_of(g, r.tab.body_do[b], g.triggers[t].filter);
             if (!obj.valid()) return;
             // Insert sorted, once per object (a bottle has two bodies).
             size_t k = out.size();
@@ -163,6 +161,7 @@ void sense_all(Runtime& r) {
 void start_all(Runtime& r) {
     for (TriggerId t : graph::ids_of(r.g.triggers)) {
         r.st.triggers[t].slots = r.g.comps[r.g.triggers[t].comp].slot_adr;
+        r.st.triggers[t].pose = r.tab.trigger_local[t];  // in the world for one on no body (on a body: each step)
         *r.val(r.comp_slot(r.g.triggers[t].comp, slot::object)) = -1;
     }
     const size_t nt = r.g.triggers.size();

@@ -155,10 +155,14 @@ Tables::Tables(const Graph& g) {
     }
     trigger_local.resize(g.triggers.size(), btTransform::getIdentity());
     trigger_half.resize(g.triggers.size(), btVector3(0, 0, 0));
+    trigger_body.resize(g.triggers.size(), BodyId{});
+    trigger_reach.resize(g.triggers.size(), btVector3(0, 0, 0));
     for (TriggerId t : ids_of(g.triggers)) {
         const Trigger& tg = g.triggers[t];
         trigger_local[t] = tg.body.valid() ? relative(g.bodies[tg.body].pose, tg.pose) : to_bt(tg.pose);
         trigger_half[t] = to_bt(tg.extent) * btScalar(0.5);
+        trigger_body[t] = tg.body;
+        trigger_reach[t] = trigger_box_reach(trigger_local[t].getBasis(), trigger_half[t]);
     }
 }
 

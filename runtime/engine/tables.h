@@ -9,6 +9,7 @@
 
 #include <LinearMath/btTransform.h>
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <type_traits>
@@ -83,9 +84,13 @@ struct Tables {
     IdVector<graph::FieldId, uint8_t> field_turns;          // Field::radius > 0: the target turns about a pivot
     IdVector<graph::FieldId, btVector3> field_pivot;        // ... Field::pivot, in the field's frame
     // A trigger's box: relative to its body's frame, or in the world for one on no body (its
-    // pose never changes); its half extents.
+    // pose never changes); its half extents; the body it is on (Trigger::body, beside the
+    // rest: each step reads it for every trigger); for one on no body, how far its box
+    // reaches from its centre along x and y.
     IdVector<graph::TriggerId, btTransform> trigger_local;
     IdVector<graph::TriggerId, btVector3> trigger_half;
+    IdVector<graph::TriggerId, graph::BodyId> trigger_body;
+    IdVector<graph::TriggerId, btVector3> trigger_reach;
 
     IdVector<graph::PluginId, PluginRun> plugin_run;  // per row of Graph::plugins
     std::vector<graph::PluginId> sensing_plugins;     // rows whose kind senses in phase 2
@@ -93,5 +98,12 @@ struct Tables {
 
     explicit Tables(const graph::Graph& g);
 };
+
+// How far a box turned by R, with half extents h, reaches from its centre along x and y (z 0):
+// the triggers' lookups add the bodies' reach to it (kinds/trigger/run.cpp).
+inline btVector3 trigger_box_reach(const btMatrix3x3& R, const btVector3& h) {
+    return btVector3(std::abs(R[0][0]) * h.x() + std::abs(R[0][1]) * h.y() + std::abs(R[0][2]) * h.z(),
+                     std::abs(R[1][0]) * h.x() + std::abs(R[1][1]) * h.y() + std::abs(R[1][2]) * h.z(), 0);
+}
 
 }  // namespace plant::engine
