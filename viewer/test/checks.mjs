@@ -71,22 +71,35 @@ export async function handCarries({ page, client, scene, url, binary, plantFile,
   }, bodies.filter(isBottle).map((b) => b.id)), 30_000, 50);
   if (!check(pick !== null, `a bottle stands on the belt after the arm (${elapsed()})`)) return;
   await page.click('#run');   // pause: the bottle stays under the mouse while it is taken
-  await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
+  const paused0 = await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 15_000);
   const path = bodies.find((b) => b.id === pick).path;
   await page.click('#hand');
   // Aimed from above; on a loaded machine the first frame after the camera turned may come
   // late, so a press that finds nothing under it (the hand takes nothing: the press turns the
   // camera instead) is tried again, up to three times, each time aimed anew; what the ray met
-  // is reported when none takes it.
+  // is reported when none takes it. The press must reach the canvas: a label drawn over the
+  // bottle takes it (labels open the inspector), so the aim moves off the label, over the
+  // bottle, where one covers its origin.
   let taken = null, met = null;
   for (let attempt = 0; attempt < 3 && taken !== path; attempt++) {
     await page.evaluate((id) => plantViewer.view.lookDownAt(plantViewer.bodyPose(id), 1.6), pick);
     await sleep(400 + 600 * attempt);
-    const from = await page.evaluate((id) => plantViewer.screenPoint(id), pick);
-    met = await page.evaluate((p) => {
-      const at = plantViewer.hand.bodyAt({ clientX: p.x, clientY: p.y });
-      return at ? plantViewer.view.scene.bodies[at.index].path : 'nothing it can take';
-    }, from);
+    const origin = await page.evaluate((id) => plantViewer.screenPoint(id), pick);
+    const aim = await page.evaluate(({ p, want }) => {
+      const canvas = plantViewer.view.renderer.domElement;
+      const what = (q) => {
+        const at = plantViewer.hand.bodyAt({ clientX: q.x, clientY: q.y });
+        return at ? plantViewer.view.scene.bodies[at.index].path : 'nothing it can take';
+      };
+      for (const [dx, dy] of [[0, 0], [0, 5], [0, -5], [5, 0], [-5, 0], [0, 10], [0, -10], [10, 0], [-10, 0]]) {
+        const q = { x: p.x + dx, y: p.y + dy };
+        if (document.elementFromPoint(q.x, q.y) === canvas && what(q) === want) return { q, met: want };
+      }
+      const el = document.elementFromPoint(p.x, p.y);
+      return { q: p, met: `${what(p)}, the press going to ${el === canvas ? 'the canvas' : `${el?.tagName}.${el?.className} '${el?.textContent?.slice(0, 20)}'`}` };
+    }, { p: origin, want: path });
+    const from = aim.q;
+    met = `${aim.met}; paused ${paused0 ? 'yes' : 'not seen'}`;
     await page.mouse.move(from.x, from.y);
     await page.mouse.down();
     taken = await until(() => page.evaluate(() => plantViewer.hand.held?.path ?? null), 2000, 50);
