@@ -11,6 +11,25 @@
 using namespace plant::test;
 using plant::engine::Engine;
 
+namespace {
+
+// A slot and a graphics of a compiled plant by path (the test fails where there is none).
+plant::graph::SlotId slot_at(const plant::graph::Graph& g, std::string_view path) {
+    for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
+        if (g.slot_path(s) == path) return s;
+    FAIL("no slot " << path);
+    return plant::graph::SlotId{};
+}
+
+plant::graph::GraphicsId graphics_at(const plant::graph::Graph& g, std::string_view path) {
+    for (plant::graph::GraphicsId i : plant::graph::ids_of(g.graphics))
+        if (g.comp_path(g.graphics[i].comp) == path) return i;
+    FAIL("no graphics " << path);
+    return plant::graph::GraphicsId{};
+}
+
+}  // namespace
+
 TEST_CASE("runtime: trigger enter/stay/leave with two objects, and its type filter") {
     SceneBuilder b;
     b.g.settings.gravity = {0, 0, 0};
@@ -171,18 +190,8 @@ plant P {
     INFO(plant::render_all_text(c.sink.all(), c.sources));
     REQUIRE(c.ok());
     const plant::graph::Graph& g = c.graph;
-    auto slot = [&](std::string_view path) {
-        for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
-            if (g.slot_path(s) == path) return s;
-        FAIL("no slot " << path);
-        return plant::graph::SlotId{};
-    };
-    auto graphics = [&](std::string_view path) {
-        for (plant::graph::GraphicsId i : plant::graph::ids_of(g.graphics))
-            if (g.comp_path(g.graphics[i].comp) == path) return i;
-        FAIL("no graphics " << path);
-        return plant::graph::GraphicsId{};
-    };
+    auto slot = [&g](std::string_view path) { return slot_at(g, path); };
+    auto graphics = [&g](std::string_view path) { return graphics_at(g, path); };
     const plant::graph::GraphicsId look = graphics("store[1].look"), sign = graphics("sign");
     Engine e(g);
     for (int i = 0; i < 10; ++i) e.step();  // both settled: store[1] in its pool, the ground standing
@@ -235,18 +244,8 @@ plant P {
     INFO(plant::render_all_text(c.sink.all(), c.sources));
     REQUIRE(c.ok());
     const plant::graph::Graph& g = c.graph;
-    auto slot = [&](std::string_view path) {
-        for (plant::graph::SlotId s : plant::graph::ids_of(g.slots))
-            if (g.slot_path(s) == path) return s;
-        FAIL("no slot " << path);
-        return plant::graph::SlotId{};
-    };
-    auto graphics = [&](std::string_view path) {
-        for (plant::graph::GraphicsId i : plant::graph::ids_of(g.graphics))
-            if (g.comp_path(g.graphics[i].comp) == path) return i;
-        FAIL("no graphics " << path);
-        return plant::graph::GraphicsId{};
-    };
+    auto slot = [&g](std::string_view path) { return slot_at(g, path); };
+    auto graphics = [&g](std::string_view path) { return graphics_at(g, path); };
     const plant::graph::GraphicsId pin = graphics("pin"), flag = graphics("store[0].flag");
     REQUIRE_FALSE(g.graphics[pin].body.valid());
     REQUIRE_FALSE(g.graphics[flag].body.valid());

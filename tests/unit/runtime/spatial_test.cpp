@@ -16,6 +16,35 @@
 using namespace plant;
 using namespace plant::test;
 
+namespace {
+
+// The dynamic bodies in the world, in id order.
+std::vector<graph::BodyId> in_world(const engine::Runtime& r) {
+    std::vector<graph::BodyId> in;
+    for (graph::BodyId b : r.tab.dyn_bodies)
+        if (r.phys.in_world(b)) in.push_back(b);
+    return in;
+}
+
+// What a box's lookup finds, and what a scan of `in` finds (centres with x in [xlo, xhi], in a
+// cell of 1 m in y that [ylo, yhi] touches), each sorted by id.
+std::pair<std::vector<int32_t>, std::vector<int32_t>> lookup_and_scan(const engine::Runtime& r,
+                                                                      const std::vector<graph::BodyId>& in, btScalar xlo,
+                                                                      btScalar xhi, btScalar ylo, btScalar yhi) {
+    auto cell = [](btScalar y) { return int(std::floor(y)); };
+    std::vector<int32_t> found, scanned;
+    r.index.for_each(xlo, xhi, ylo, yhi, [&](graph::BodyId b) { found.push_back(b.v); });
+    for (graph::BodyId b : in) {
+        const btVector3& p = r.index.com(b);
+        if (p.x() >= xlo && p.x() <= xhi && cell(p.y()) >= cell(ylo) && cell(p.y()) <= cell(yhi)) scanned.push_back(b.v);
+    }
+    std::sort(found.begin(), found.end());
+    std::sort(scanned.begin(), scanned.end());
+    return {found, scanned};
+}
+
+}  // namespace
+
 TEST_CASE("body index: a box finds what a scan of every body finds, as bottles pass each other") {
     Compilation c;
     compile_text(R"(
@@ -36,27 +65,16 @@ plant Passing {
     engine::Runtime& r = e.internals();
     const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
     REQUIRE(dyn.size() >= 64);  // two slices of the index at least
-    auto cell = [](btScalar y) { return int(std::floor(y)); };  // the index's cells: 1 m in y
     std::vector<btScalar> x0;  // each body's x at the start
     for (graph::BodyId b : dyn) x0.push_back(r.phys.com(b).x());
     int64_t checked = 0;
     for (int step = 0; step < 150 * 3; ++step) {
         e.step();
         r.index.refresh(r.phys, true, r.phys.workers());  // what the step's last refresh made, again
-        std::vector<graph::BodyId> in;
-        for (graph::BodyId b : dyn)
-            if (r.phys.in_world(b)) in.push_back(b);
+        const std::vector<graph::BodyId> in = in_world(r);
         for (size_t k = 0; k < in.size(); k += 3) {
             const btVector3 c0 = r.index.com(in[k]);
-            const btScalar xlo = c0.x() - 0.3f, xhi = c0.x() + 0.3f, ylo = c0.y() - 0.1f, yhi = c0.y() + 0.1f;
-            std::vector<int32_t> found, scanned;
-            r.index.for_each(xlo, xhi, ylo, yhi, [&](graph::BodyId b) { found.push_back(b.v); });
-            for (graph::BodyId b : in) {
-                const btVector3& p = r.index.com(b);
-                if (p.x() >= xlo && p.x() <= xhi && cell(p.y()) >= cell(ylo) && cell(p.y()) <= cell(yhi)) scanned.push_back(b.v);
-            }
-            std::sort(found.begin(), found.end());
-            std::sort(scanned.begin(), scanned.end());
+            const auto [found, scanned] = lookup_and_scan(r, in, c0.x() - 0.3f, c0.x() + 0.3f, c0.y() - 0.1f, c0.y() + 0.1f);
             CAPTURE(step);
             REQUIRE(found == scanned);
             ++checked;
@@ -95,8 +113,6 @@ plant Cells {
     REQUIRE(c.ok());
     engine::Engine e(c.graph);
     engine::Runtime& r = e.internals();
-    const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
-    auto cell = [](btScalar y) { return int(std::floor(y)); };
     // y ranges: around each belt, empty cells only, below and above every body, and all of them.
     const std::vector<std::pair<btScalar, btScalar>> ys = {{-3.6f, -3.4f}, {-0.1f, 0.1f}, {2.4f, 2.6f}, {-2.5f, -1.2f},
                                                            {0.5f, 1.9f},   {-9.f, -5.f},  {6.f, 9.f},  {-9.f, 9.f},
@@ -105,22 +121,11 @@ plant Cells {
     for (int step = 0; step < 150; ++step) {
         e.step();
         r.index.refresh(r.phys, true, r.phys.workers());
-        std::vector<graph::BodyId> in;
-        for (graph::BodyId b : dyn)
-            if (r.phys.in_world(b)) in.push_back(b);
+        const std::vector<graph::BodyId> in = in_world(r);
         REQUIRE(in.size() >= 72);
         for (const auto& [ylo, yhi] : ys)
             for (btScalar x = -0.5f; x < 2.5f; x += 0.4f) {
-                const btScalar xlo = x, xhi = x + 0.5f;
-                std::vector<int32_t> found, scanned;
-                r.index.for_each(xlo, xhi, ylo, yhi, [&](graph::BodyId b) { found.push_back(b.v); });
-                for (graph::BodyId b : in) {
-                    const btVector3& p = r.index.com(b);
-                    if (p.x() >= xlo && p.x() <= xhi && cell(p.y()) >= cell(ylo) && cell(p.y()) <= cell(yhi))
-                        scanned.push_back(b.v);
-                }
-                std::sort(found.begin(), found.end());
-                std::sort(scanned.begin(), scanned.end());
+                const auto [found, scanned] = lookup_and_scan(r, in, x, x + 0.5f, ylo, yhi);
                 CAPTURE(step);
                 CAPTURE(ylo);
                 CAPTURE(x);
