@@ -590,12 +590,14 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
             const btVector3 want = turning_target(s.field_spin[f], r.tab.field_pivot[f], local, vl, btScalar(-r.dt / 2));
             for (int i = 0; i < 2; ++i)
                 if (std::abs(vl[i] - want[i]) > kSpeedTol) return fail(out, OnSolver::kSpeed);
-        }
-        for (int i = 0; i < 2 && !r.tab.field_turns[f]; ++i) {
-            const btScalar target = gain[i] > 0 ? s.field_target[f][i] : 0;
-            if (std::abs(vl[i] - target) <= (gain[i] > 0 ? kSpeedTol : kDrift)) continue;
-            if (gain[i] <= 0) return fail(out, OnSolver::kDrift);
-            return fail(out, std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack : OnSolver::kSpeed);
+        } else {
+            for (int i = 0; i < 2; ++i) {
+                const btScalar target = gain[i] > 0 ? s.field_target[f][i] : 0;
+                if (std::abs(vl[i] - target) <= (gain[i] > 0 ? kSpeedTol : kDrift)) continue;
+                if (gain[i] <= 0) return fail(out, OnSolver::kDrift);
+                return fail(out, std::abs(vl[i] - target) > btScalar(0.5) * std::abs(target) ? OnSolver::kHeldBack
+                                                                                             : OnSolver::kSpeed);
+            }
         }
     } else if (std::abs(v.x()) > kRest || std::abs(v.y()) > kRest || std::abs(v.z()) > kRest) {
         return fail(out, OnSolver::kMoving);  // no field acts: at rest, or it stays on the solver
