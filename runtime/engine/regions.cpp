@@ -176,6 +176,10 @@ void Physics::find_regions(bool split) {
         if (!anchored_[gi]) free_groups_.push_back(gi);
     free_to_.assign(free_groups_.size(), {0, 0});
     free_moves_.assign(kMaxSlices, 0);
+    // assign_worlds' scratch, at most every free group and every mover: the step allocates nothing.
+    void_groups_.reserve(free_groups_.size());
+    void_home_.reserve(free_groups_.size());
+    near_.reserve(movers_.size());
 
     // s: the largest free group.
     btScalar s = 0;
