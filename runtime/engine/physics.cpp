@@ -18,6 +18,7 @@
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cassert>
 #include <cstring>
@@ -39,7 +40,13 @@ namespace {
 // linear scan of all joints (and counts to the end), once per island: with a bottle per
 // island and a weld per bottle that is quadratic in the bottles (5 % of a step at 1,000
 // bottles). Here each island's run of joints is found by binary search in the same
-// sorted array; the groups handed to the solver, and their order, are Bullet's.
+// sorted array; the groups handed to the solver are Bullet's.
+// What the solver is handed is in an order of the plant's own: an island's joints by their
+// graph ids, its contact manifolds by their bodies' (in_order). Bullet hands them in the order
+// its pair cache holds the pairs, which follows the broadphase's trees (their shape, how
+// bodies came and went), and the sequential-impulse solver's sums depend on that order; in
+// this one they do not: a plant of one world gives the same bytes with either broadphase
+// (determinism_test).
 int island_of(const btTypedConstraint* c) {
     const int a = c->getRigidBodyA().getIslandTag();
     return a >= 0 ? a : c->getRigidBodyB().getIslandTag();
@@ -53,6 +60,7 @@ public:
     }
     void processIsland(btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds,
                        int num_manifolds, int island) override {
+        manifolds = in_order(manifolds, num_manifolds);
         if (island < 0) {  // islands not split: everything at once
             solver_->solveGroup(bodies, num_bodies, manifolds, num_manifolds, sorted_, num_, *info_, nullptr,
                                 dispatcher_);
@@ -73,6 +81,29 @@ public:
         for (btTypedConstraint** c = first; c != last; ++c) joints_.push_back(*c);
         if (joints_.size() + manifolds_.size() > info_->m_minimumSolverBatchSize) flush();
     }
+    // The island's manifolds in an order of their own (by_key), whatever order the pair cache
+    // holds them in: a copy, sorted (its room kept from step to step). Islands are solved
+    // apart or in batches: either way a contact's sums read only its own island's bodies.
+    btPersistentManifold** in_order(btPersistentManifold** manifolds, int n) {
+        if (n <= 1) return manifolds;
+        order_.resize(n);
+        for (int i = 0; i < n; ++i) order_[i] = manifolds[i];
+        std::sort(&order_[0], &order_[0] + n, by_key);
+        return &order_[0];
+    }
+    // A manifold's two bodies (their graph ids, in the manifold's order: its pair's) and the
+    // parts (a compound's children) its first contact point joins; a manifold without points
+    // adds nothing to the solver and sorts among its pair's anywhere.
+    static bool by_key(const btPersistentManifold* x, const btPersistentManifold* y) {
+        auto key = [](const btPersistentManifold* m) {
+            const int n = m->getNumContacts();
+            const btManifoldPoint* p = n ? &m->getContactPoint(0) : nullptr;
+            return std::array<int, 6>{m->getBody0()->getUserIndex(), m->getBody1()->getUserIndex(),
+                                      p ? p->m_partId0 : -2, p ? p->m_index0 : -2,
+                                      p ? p->m_partId1 : -2, p ? p->m_index1 : -2};
+        };
+        return key(x) < key(y);
+    }
     void flush() {
         solver_->solveGroup(bodies_.size() ? &bodies_[0] : nullptr, bodies_.size(),
                             manifolds_.size() ? &manifolds_[0] : nullptr, manifolds_.size(),
@@ -91,6 +122,7 @@ private:
     btAlignedObjectArray<btCollisionObject*> bodies_;
     btAlignedObjectArray<btPersistentManifold*> manifolds_;
     btAlignedObjectArray<btTypedConstraint*> joints_;
+    btAlignedObjectArray<btPersistentManifold*> order_;
 };
 
 // What btDbvtBroadphase::setAabb (Bullet 3.24) does when handed the box a proxy holds, the
@@ -235,13 +267,13 @@ public:
     void solveConstraints(btContactSolverInfo& info) override {
         m_sortedConstraints.resize(m_constraints.size());
         for (int i = 0; i < m_constraints.size(); ++i) m_sortedConstraints[i] = m_constraints[i];
-        // Bullet's own sort, with its predicate (the order within an island is Bullet's).
-        struct ByIsland {
-            bool operator()(const btTypedConstraint* a, const btTypedConstraint* b) const {
-                return island_of(a) < island_of(b);
-            }
-        };
-        m_sortedConstraints.quickSort(ByIsland());
+        // By island, and within one by the joint's graph id.
+        if (m_sortedConstraints.size() > 1)
+            std::sort(&m_sortedConstraints[0], &m_sortedConstraints[0] + m_sortedConstraints.size(),
+                      [](const btTypedConstraint* a, const btTypedConstraint* b) {
+                          const int ia = island_of(a), ib = island_of(b);
+                          return ia != ib ? ia < ib : a->getUserConstraintId() < b->getUserConstraintId();
+                      });
         islands_.setup(&info, m_constraintSolver, getDispatcher(),
                        m_sortedConstraints.size() ? &m_sortedConstraints[0] : nullptr, m_sortedConstraints.size());
         m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
