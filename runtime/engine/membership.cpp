@@ -95,20 +95,15 @@ void Physics::park(BodyId b) {
     w.broadphase->getOverlappingPairCache()->cleanProxyFromPairs(proxy, w.dispatcher.get());
     // Its AABB goes out of the way too, each parked body to a point of its own: a body
     // issued where its parked twin sits (a source's pool) collided with it although the
-    // twin's proxy has no group and no mask (seen with btDbvtBroadphase). In a region's world
-    // (where a pooled body waits until the first step, and an exit's takes until the next)
-    // the points lie along a line in id order. In the void's world, where the pools wait,
-    // they are scattered over a square, b·7919 mod 65521 metres across and b div 65521
-    // along: along a line, Bullet's tree of that world (which puts a leaf beside its nearest
-    // and is rebalanced only while its world steps, and the void's is not stepped for them)
-    // grew into a chain as deep as all the pools, each parking walked it, and the walk's
-    // stack grew as deep (a 200-line bottling plant spent a quarter of its start there).
-    // A region's world keeps the line: its tree's shape decides the order Bullet finds its
-    // pairs in, and so every result.
+    // twin's proxy has no group and no mask (seen with btDbvtBroadphase). The points are
+    // scattered over a square, b·7919 mod 65521 metres across and b div 65521 along: along a
+    // line, Bullet's tree (which puts a leaf beside its nearest, and ours is never rebalanced:
+    // physics.cpp, LeanDbvt) grew into a chain as deep as the bodies parked there, each
+    // parking walked it, and the walk's stack grew as deep (a 200-line bottling plant spent a
+    // quarter of its start there, its pools waiting in the void's world). The tree's shape
+    // changes no result (docs/runtime.md, "The solver's order").
     constexpr int64_t kSide = 65521;  // a prime: b·7919 mod kSide differs for every b below it
-    const btVector3 park = world_of_[b] == void_
-                               ? btVector3(btScalar(5000 + int64_t{b.v} * 7919 % kSide), btScalar(5000 + b.v / kSide), 5000)
-                               : btVector3(btScalar(5000 + b.v), 5000, 5000);
+    const btVector3 park(btScalar(5000 + int64_t{b.v} * 7919 % kSide), btScalar(5000 + b.v / kSide), 5000);
     w.broadphase->setAabb(proxy, park, park, w.dispatcher.get());
 }
 
