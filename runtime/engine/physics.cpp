@@ -747,33 +747,14 @@ void Physics::remove_joint(JointId j) {
     if (weld_joint_[j] >= 0) joints_[j].reset();
 }
 
-// Every joint joined its world at the start and the pooled bodies' joints left it again, each
-// removal moving the world's last constraint into the gap (Bullet's remove). Bullet's order
-// of a world's constraints is the order its solver sees them in: the joints that stay are
-// added in the order that dance leaves them in, worked out on their ids, so that the pooled
-// bottles' weld joints need not be made at all.
+// The joints whose bodies are not pooled join their worlds at the start, in id order; a pooled
+// body's join when it is first issued. The order of a world's constraints reaches no result:
+// the solver takes each island's joints by their ids (IslandWorld::solveConstraints).
 void Physics::add_joints_at_start(const PerBody<char>& pool) {
-    std::vector<std::vector<JointId>> order(worlds_.size());
-    PerJoint<int32_t> at(g_.joints.count(), -1);  // a joint's place in its world's list
     for (JointId j : ids_of(g_.joints)) {
-        std::vector<JointId>& o = order[world_of_[g_.joints[j].body_a]];
-        at[j] = count_of(o);
-        o.push_back(j);
+        const Joint& jt = g_.joints[j];
+        if (!pool[jt.body_a] && !(jt.body_b.valid() && pool[jt.body_b])) add_joint(j);
     }
-    for (BodyId b : ids_of(pool)) {
-        if (!pool[b] || body_joints_.num.empty()) continue;
-        for (JointId j : body_joints_[b]) {
-            if (at[j] < 0) continue;  // left with its other body
-            std::vector<JointId>& o = order[world_of_[g_.joints[j].body_a]];
-            const JointId last = o.back();
-            o[at[j]] = last;
-            at[last] = at[j];
-            o.pop_back();
-            at[j] = -1;
-        }
-    }
-    for (const std::vector<JointId>& o : order)
-        for (JointId j : o) add_joint(j);
 }
 
 // A pooled body's joints join the world only when it is first issued (above), and Bullet then
