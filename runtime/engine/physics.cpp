@@ -60,10 +60,9 @@ public:
     }
     void processIsland(btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds,
                        int num_manifolds, int island) override {
-        manifolds = in_order(manifolds, num_manifolds);
         if (island < 0) {  // islands not split: everything at once
-            solver_->solveGroup(bodies, num_bodies, manifolds, num_manifolds, sorted_, num_, *info_, nullptr,
-                                dispatcher_);
+            solver_->solveGroup(bodies, num_bodies, in_order(manifolds, num_manifolds), num_manifolds, sorted_, num_,
+                                *info_, nullptr, dispatcher_);
             return;
         }
         btTypedConstraint** first = std::lower_bound(
@@ -72,25 +71,29 @@ public:
         while (last != sorted_ + num_ && island_of(*last) == island) ++last;
         const int num_joints = int(last - first);
         if (info_->m_minimumSolverBatchSize <= 1) {
-            solver_->solveGroup(bodies, num_bodies, manifolds, num_manifolds, num_joints ? first : nullptr,
-                                num_joints, *info_, nullptr, dispatcher_);
+            solver_->solveGroup(bodies, num_bodies, in_order(manifolds, num_manifolds), num_manifolds,
+                                num_joints ? first : nullptr, num_joints, *info_, nullptr, dispatcher_);
             return;
         }
         for (int i = 0; i < num_bodies; ++i) bodies_.push_back(bodies[i]);
+        const int from = manifolds_.size();
         for (int i = 0; i < num_manifolds; ++i) manifolds_.push_back(manifolds[i]);
+        if (num_manifolds > 1) sort_by_key(&manifolds_[from], num_manifolds);
         for (btTypedConstraint** c = first; c != last; ++c) joints_.push_back(*c);
         if (joints_.size() + manifolds_.size() > info_->m_minimumSolverBatchSize) flush();
     }
     // The island's manifolds in an order of their own (by_key), whatever order the pair cache
-    // holds them in: a copy, sorted (its room kept from step to step). Islands are solved
-    // apart or in batches: either way a contact's sums read only its own island's bodies.
+    // holds them in: a copy, sorted (its room kept from step to step); a batch sorts each
+    // island's run where it copies it. Islands are solved apart or in batches: either way a
+    // contact's sums read only its own island's bodies.
     btPersistentManifold** in_order(btPersistentManifold** manifolds, int n) {
         if (n <= 1) return manifolds;
         order_.resize(n);
         for (int i = 0; i < n; ++i) order_[i] = manifolds[i];
-        std::sort(&order_[0], &order_[0] + n, by_key);
+        sort_by_key(&order_[0], n);
         return &order_[0];
     }
+    static void sort_by_key(btPersistentManifold** first, int n) { std::sort(first, first + n, by_key); }
     // A manifold's two bodies (their graph ids, in the manifold's order: its pair's) and the
     // parts (a compound's children) its first contact point joins; a manifold without points
     // adds nothing to the solver and sorts among its pair's anywhere.
@@ -125,6 +128,21 @@ private:
     btAlignedObjectArray<btPersistentManifold*> order_;
 };
 
+// Proxy p out of its stage's list and to the head of stage `to`'s (STAGECOUNT: the fixed
+// tree's), as Bullet's broadphase moves a proxy between its stage lists.
+void restage(btDbvtBroadphase& bp, btDbvtProxy* p, int to) {
+    btDbvtProxy*& from = bp.m_stageRoots[p->stage];
+    if (p->links[0]) p->links[0]->links[1] = p->links[1];
+    else from = p->links[1];
+    if (p->links[1]) p->links[1]->links[0] = p->links[0];
+    p->stage = to;
+    btDbvtProxy*& head = bp.m_stageRoots[to];
+    p->links[0] = nullptr;
+    p->links[1] = head;
+    if (head) head->links[0] = p;
+    head = p;
+}
+
 // What btDbvtBroadphase::setAabb (Bullet 3.24) does when handed the box a proxy holds, the
 // proxy in the dynamic tree and its leaf's volume holding that box (it did since the call that
 // gave the proxy this box: a leaf's volume changes only when its own proxy's box does): it
@@ -136,16 +154,7 @@ void keep_box(btDbvtBroadphase& bp, btDbvtProxy* p) {
     assert(p->stage != btDbvtBroadphase::STAGECOUNT);
     assert(p->leaf->volume.Contain(btDbvtVolume::FromMM(p->m_aabbMin, p->m_aabbMax)));
     ++bp.m_updates_call;
-    btDbvtProxy*& from = bp.m_stageRoots[p->stage];  // out of its stage's list
-    if (p->links[0]) p->links[0]->links[1] = p->links[1];
-    else from = p->links[1];
-    if (p->links[1]) p->links[1]->links[0] = p->links[0];
-    p->stage = bp.m_stageCurrent;
-    btDbvtProxy*& to = bp.m_stageRoots[bp.m_stageCurrent];  // to the head of the current one
-    p->links[0] = nullptr;
-    p->links[1] = to;
-    if (to) to->links[0] = p;
-    to = p;
+    restage(bp, p, bp.m_stageCurrent);
 }
 
 // Bullet's broadphase of two AABB trees (btDbvtBroadphase, 3.24) without its incremental
@@ -162,26 +171,14 @@ class LeanDbvt : public btDbvtBroadphase {
 public:
     void calculateOverlappingPairs(btDispatcher* dispatcher) override {
         m_stageCurrent = (m_stageCurrent + 1) % STAGECOUNT;
-        btDbvtProxy* p = m_stageRoots[m_stageCurrent];
-        if (p) {
-            while (p) {
-                btDbvtProxy* next = p->links[1];
-                // out of its stage's list, to the head of the fixed one
-                if (p->links[0]) p->links[0]->links[1] = p->links[1];
-                else m_stageRoots[p->stage] = p->links[1];
-                if (p->links[1]) p->links[1]->links[0] = p->links[0];
-                btDbvtProxy*& to = m_stageRoots[STAGECOUNT];
-                p->links[0] = nullptr;
-                p->links[1] = to;
-                if (to) to->links[0] = p;
-                to = p;
-                m_sets[0].remove(p->leaf);
-                ATTRIBUTE_ALIGNED16(btDbvtVolume) box = btDbvtVolume::FromMM(p->m_aabbMin, p->m_aabbMax);
-                p->leaf = m_sets[1].insert(box, p);
-                p->stage = STAGECOUNT;
-                p = next;
-            }
-            m_needcleanup = true;
+        if (m_stageRoots[m_stageCurrent]) m_needcleanup = true;
+        for (btDbvtProxy* p = m_stageRoots[m_stageCurrent]; p;) {
+            btDbvtProxy* next = p->links[1];
+            restage(*this, p, STAGECOUNT);
+            m_sets[0].remove(p->leaf);
+            ATTRIBUTE_ALIGNED16(btDbvtVolume) box = btDbvtVolume::FromMM(p->m_aabbMin, p->m_aabbMax);
+            p->leaf = m_sets[1].insert(box, p);
+            p = next;
         }
         if (m_needcleanup) {
             btBroadphasePairArray& pairs = m_paircache->getOverlappingPairArray();

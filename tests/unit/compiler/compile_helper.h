@@ -5,6 +5,8 @@
 #include "paths.h"
 #include "compiler.h"
 
+#include <doctest/doctest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -51,6 +53,16 @@ inline void compile_text(const std::string& text, Compilation& c, const std::str
     opts.stdlib_dir = PLANT_STDLIB_DIR;
     opts.overrides = overrides;
     compile_file(temp_plant(name, text), opts, c);
+}
+
+// Plant source text compiled (as compile_text), required to compile: its diagnostics are
+// shown when it does not.
+inline graph::Graph compiled_text(const std::string& text, const std::string& name) {
+    Compilation c;
+    compile_text(text, c, name);
+    INFO(render_all_text(c.sink.all(), c.sources));
+    REQUIRE(c.ok());
+    return std::move(c.graph);
 }
 
 // A file's whole content ("" when it cannot be read).

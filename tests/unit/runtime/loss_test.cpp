@@ -22,13 +22,6 @@ using namespace plant::test;
 
 namespace {
 
-graph::Graph compiled(const std::string& text, const std::string& name) {
-    Compilation c;
-    compile_text(text, c, name);
-    INFO(render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    return std::move(c.graph);
-}
 
 int32_t do_named(const graph::Graph& g, std::string_view path) {
     for (size_t d = 0; d < g.dos.size(); ++d)
@@ -74,7 +67,7 @@ Watched ride_until_lost(engine::Engine& e, const std::vector<int32_t>& bodies, c
 }  // namespace
 
 TEST_CASE("loss: a bottle that rides off the end of its belt is lost off that belt, where and when it left it") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Fall {
     b1: Belt(length = 50 cm)
@@ -111,7 +104,7 @@ plant Fall {
 }
 
 TEST_CASE("loss: a bottle pushed over the side of a belt without rails is lost there, not where it left the world") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Push {
     b1: Belt(length = 2 m, rails = false)
@@ -144,7 +137,7 @@ plant Push {
 }
 
 TEST_CASE("loss: an object that never rode a conveyor is lost where it left the world, and one not lost has no loss") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Drop {
     b1: Belt(length = 50 cm)
@@ -187,7 +180,7 @@ plant Fall {
     late: Bottle at (5 cm, 0 m, 0 m)
 }
 )";
-    const graph::Graph g = compiled(text, "fall_summary.plant");
+    const graph::Graph g = compiled_text(text, "fall_summary.plant");
     // The same run, stepped here: what the summary must print.
     engine::Engine e(g);
     for (int i = 0; i < 4 * 150; ++i) e.step();
@@ -233,7 +226,7 @@ plant Fall {
 }
 
 TEST_CASE("loss: a pooled object issued again starts without the conveyor of its earlier life") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Again {
     b1: Belt(length = 50 cm, rails = false)

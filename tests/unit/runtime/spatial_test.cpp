@@ -46,8 +46,7 @@ std::pair<std::vector<int32_t>, std::vector<int32_t>> lookup_and_scan(const engi
 }  // namespace
 
 TEST_CASE("body index: a box finds what a scan of every body finds, as bottles pass each other") {
-    Compilation c;
-    compile_text(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Passing {
     a: Belt(length = 3 m, speed = 50 cm/s)
@@ -57,11 +56,8 @@ plant Passing {
         pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
     }
 }
-)",
-                 c, "spatial_passing.plant");
-    INFO(render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    engine::Engine e(c.graph);
+)", "spatial_passing.plant");
+    engine::Engine e(g);
     engine::Runtime& r = e.internals();
     const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
     REQUIRE(dyn.size() >= 64);  // two slices of the index at least
@@ -94,8 +90,7 @@ plant Passing {
 // boxes that start and end in empty cells, below the lowest body's cell, above the highest, and
 // across all of them.
 TEST_CASE("body index: a box finds what a scan finds in cells far apart, empty and beyond the bodies") {
-    Compilation c;
-    compile_text(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Cells {
     a: Belt(length = 2 m, speed = 50 cm/s) at (0 m, -3.5 m, 0 m)
@@ -107,11 +102,8 @@ plant Cells {
         pd[i]: Bottle at (10 cm + i * 14 cm, 2.5 m, 0 m)
     }
 }
-)",
-                 c, "spatial_cells.plant");
-    INFO(render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    engine::Engine e(c.graph);
+)", "spatial_cells.plant");
+    engine::Engine e(g);
     engine::Runtime& r = e.internals();
     // y ranges: around each belt, empty cells only, below and above every body, and all of them.
     const std::vector<std::pair<btScalar, btScalar>> ys = {{-3.6f, -3.4f}, {-0.1f, 0.1f}, {2.4f, 2.6f}, {-2.5f, -1.2f},

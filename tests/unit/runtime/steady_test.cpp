@@ -290,13 +290,6 @@ graph::Graph bottling(int seconds, int64_t& steps) {
     return c.graph;
 }
 
-graph::Graph compiled(const std::string& text, const std::string& name) {
-    Compilation c;
-    compile_text(text, c, name);
-    INFO(render_all_text(c.sink.all(), c.sources));
-    REQUIRE(c.ok());
-    return c.graph;
-}
 
 }  // namespace
 
@@ -319,7 +312,7 @@ TEST_CASE("steady transport: the bottling plant over 600 s counts, routes and co
 }
 
 TEST_CASE("steady transport: a bottle dropped onto a moving belt rides off the solver and leaves by the exit as on the solver") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Drop {
     belt: Belt(length = 3 m)
@@ -341,7 +334,7 @@ plant Drop {
 // onto its circle and leaves the solver in the curve, and the exit after the next belt takes it
 // as on the solver.
 TEST_CASE("steady transport: a bottle rides a Curve off the solver, and reaches the exit as on the solver") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Turn {
     b1: Belt(length = 1 m)
@@ -384,8 +377,8 @@ plant Turn {
 // on against off differs no more than a bottle placed 1 µm further on does with steady
 // transport off.
 TEST_CASE("steady transport: bottles drifting onto a rail slide along it off the solver as on it") {
-    const graph::Graph g = compiled(rail_plant("3", "0 mm"), "steady_rail.plant"),
-                       nudged = compiled(rail_plant("3", "0.001 mm"), "steady_rail_nudged.plant");
+    const graph::Graph g = compiled_text(rail_plant("3", "0 mm"), "steady_rail.plant"),
+                       nudged = compiled_text(rail_plant("3", "0.001 mm"), "steady_rail_nudged.plant");
     const std::vector<int32_t> mains = bodies_ending(g, ".main");
     const Seen on = run(g, true, 150 * 10, mains), off = run(g, false, 150 * 10, mains),
                off_nudged = run(nudged, false, 150 * 10, mains);
@@ -400,8 +393,8 @@ TEST_CASE("steady transport: bottles drifting onto a rail slide along it off the
 // may come up to one off the solver (1 cm/s): they reach their rail off the solver, which stops
 // them there, and slide along it.
 TEST_CASE("steady transport: bottles coming slowly up to a rail reach it off the solver as on it") {
-    const graph::Graph g = compiled(rail_plant("0.7", "0 mm"), "steady_approach.plant"),
-                       nudged = compiled(rail_plant("0.7", "0.001 mm"), "steady_approach_nudged.plant");
+    const graph::Graph g = compiled_text(rail_plant("0.7", "0 mm"), "steady_approach.plant"),
+                       nudged = compiled_text(rail_plant("0.7", "0.001 mm"), "steady_approach_nudged.plant");
     const std::vector<int32_t> mains = bodies_ending(g, ".main");
     REQUIRE(mains.size() == 3);
     // Steps in which a bottle coasts towards the rail (its face at y = -4 cm: it drifts to -y)
@@ -448,8 +441,8 @@ plant Rest {
 }
 )";
     };
-    const graph::Graph g = compiled(text("0 mm"), "steady_rest.plant"),
-                       nudged = compiled(text("0.001 mm"), "steady_rest_nudged.plant");
+    const graph::Graph g = compiled_text(text("0 mm"), "steady_rest.plant"),
+                       nudged = compiled_text(text("0.001 mm"), "steady_rest_nudged.plant");
     const std::vector<int32_t> still = bodies_ending(g, "still.main"), moving = bodies_ending(g, "moving.main");
     REQUIRE(still.size() == 1);
     REQUIRE(moving.size() == 1);
@@ -493,7 +486,7 @@ plant Rest {
 // about a place it keeps within hundredths of a millimetre; off the solver it is held at rest
 // there.
 TEST_CASE("steady transport: a bottle resting where no field acts stays where it stands") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.arm, std.bottle
 plant Stand {
     table: Table(size = 1 m) at (50 cm, 0 m, 0 m)
@@ -509,7 +502,7 @@ plant Stand {
 }
 
 TEST_CASE("steady transport: bottles on a belt stopped and started again move as on the solver") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Stop {
     belt: Belt(length = 6 m)
@@ -545,7 +538,7 @@ plant Queue {
 }
 )";
     };
-    const graph::Graph g = compiled(text("0 mm"), "steady_queue.plant");
+    const graph::Graph g = compiled_text(text("0 mm"), "steady_queue.plant");
     const int32_t hold = slot_named(g, "sep.holding.start"), free = slot_named(g, "sep.holding.stop");
     REQUIRE(hold >= 0);
     REQUIRE(free >= 0);
@@ -554,7 +547,7 @@ plant Queue {
     const Seen on = run(g, true, 150 * 25, mains, inputs), off = run(g, false, 150 * 25, mains, inputs);
     std::vector<Seen> off_nudged;
     for (const char* nudge : {"0.001 mm", "0.002 mm", "0.003 mm", "0.005 mm", "0.007 mm"})
-        off_nudged.push_back(run(compiled(text(nudge), "steady_queue_nudged.plant"), false, 150 * 25, mains, inputs));
+        off_nudged.push_back(run(compiled_text(text(nudge), "steady_queue_nudged.plant"), false, 150 * 25, mains, inputs));
     CHECK(on.left_solver >= 6);
     CHECK(on.taken.size() == 6);
     // The queue rests off the solver while it waits (held still at the pin, and behind each
@@ -571,7 +564,7 @@ plant Queue {
 // sees the one before it move would start a step later than it, and the queue would string
 // out).
 TEST_CASE("steady transport: a queue resting at a gate moves off at once when the gate opens") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle, std.separator
 plant Gated {
     belt: Belt(length = 4 m, width = 5 cm)  // one lane: the bottles queue in single file
@@ -659,7 +652,7 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
 // that cell too (fields are filed grown by 5 cm) or the bottle would ride into a second field
 // off the solver. Nothing else is near that face: no band, no rail, no body.
 TEST_CASE("steady transport: a bottle lands before a field that starts in the next cell") {
-    const graph::Graph g = compiled(R"(
+    const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
 plant Edge {
     belt: Belt(length = 1.5 m)
@@ -715,7 +708,7 @@ TEST_CASE("steady transport: each unit's list of what lies near it finds what th
         identical(with, without);
     }
     SUBCASE("a field carried over bottles standing on a table: the fields are filed again in every step") {
-        const graph::Graph g = compiled(R"(
+        const graph::Graph g = compiled_text(R"(
 import std.arm, std.belts, std.bottle
 plant Swept {
     belt: Belt(length = 3 m, rails = false)
