@@ -28,8 +28,8 @@ void start_all(Runtime& r) {
 
 void sense_all(Runtime& r) {
     for (graph::ExitId e : ids_of(r.g.exits)) {
-        const graph::TriggerId t = r.g.exits[e].trigger;
-        if (!t.valid()) continue;
+        const graph::TriggerId t = r.tab.exit_trigger[e];
+        if (!t.valid() || !r.st.trigger_occupied[t]) continue;  // packed: no look at an empty trigger's state
         for (const graph::DoId obj : r.st.inside(r.st.triggers[t])) take(r, e, obj);
     }
 }

@@ -134,6 +134,7 @@ void find_inside(Runtime& r, int32_t slice, graph::IdRange<TriggerId> ids) {
         compare(ts, out.data() + adr, found, then.data() + ts.adr);
         ts.before = ts.num;
         ts.slice = slice, ts.adr = int32_t(adr), ts.num = found;
+        s.trigger_occupied[t] = found > 0;
         if (ts.num || ts.before) events(r, ts, made);
     }
 }

@@ -93,6 +93,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
 
     s.triggers.resize(g.triggers.size());
+    s.trigger_occupied.assign(g.triggers.size(), 0);
     for (auto& lists : s.trigger_lists) lists.resize(kMaxSlices);
     s.trigger_made.resize(kMaxSlices);  // the slices in use are sized at the start (kinds/trigger/run.cpp)
     s.slice_moved.assign(kMaxSlices, 0);

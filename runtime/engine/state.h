@@ -234,6 +234,9 @@ struct State {
     std::vector<uint64_t> lane_due;
 
     IdVector<graph::TriggerId, TriggerState> triggers;
+    // Per trigger: whether an object is inside it this step (TriggerState::num > 0), packed for
+    // the loops that look at many triggers and act on the few with something inside (exits).
+    IdVector<graph::TriggerId, uint8_t> trigger_occupied;
     // The triggers' objects (DOs), found on the physics threads (kinds/trigger/run.cpp): per
     // slice of the triggers, their lists one after the other, each sorted; two sets, this
     // step's and the step before's (which the new lists are compared with), in turn.

@@ -164,6 +164,8 @@ Tables::Tables(const Graph& g) {
         trigger_body[t] = tg.body;
         trigger_reach[t] = trigger_box_reach(trigger_local[t].getBasis(), trigger_half[t]);
     }
+    exit_trigger.resize(g.exits.size(), TriggerId{});
+    for (ExitId e : ids_of(g.exits)) exit_trigger[e] = g.exits[e].trigger;
 }
 
 }  // namespace plant::engine

@@ -91,6 +91,8 @@ struct Tables {
     IdVector<graph::TriggerId, btVector3> trigger_half;
     IdVector<graph::TriggerId, graph::BodyId> trigger_body;
     IdVector<graph::TriggerId, btVector3> trigger_reach;
+    // Each exit's trigger (Exit::trigger, packed: every step looks at every exit's).
+    IdVector<graph::ExitId, graph::TriggerId> exit_trigger;
 
     IdVector<graph::PluginId, PluginRun> plugin_run;  // per row of Graph::plugins
     std::vector<graph::PluginId> sensing_plugins;     // rows whose kind senses in phase 2
