@@ -178,12 +178,22 @@ void act_one(Runtime& r, const graph::Comp& c) {
     }
 }
 
+// A kinematic body's place and orientation: act_one then moves only this body (Physics::move)
+// and reads only its own row, so the bodies with only these inputs active move on the
+// physics threads. Any other input (collision, dynamics, velocity) and a body of another
+// mode (placing a dynamic or static one touches its world's broadphase) act in order.
+bool acts_alone(const graph::Graph& g, const graph::Comp& c, int s) {
+    return (s == slot::set_pose || s == slot::set_position || s == slot::set_orientation) &&
+           g.bodies[detail_of<Body>(c)].mode == BodyMode::Kinematic;
+}
+
 }  // namespace
 
 constexpr KindBehaviour behaviour{
     .sense_all = sense_all,
     .sense_segment = StepProfile::Bodies,
     .act_one = act_one,
+    .acts_alone = acts_alone,
 };
 
 }  // namespace plant::kinds::body

@@ -288,6 +288,8 @@ constexpr KindBehaviour behaviour{.make_state = make_state,
                                   .start_all = start_all,
                                   .sense_all = sense_all,
                                   .sense_segment = StepProfile::Graphics,
-                                  .act_one = act_one};
+                                  .act_one = act_one,
+                                  .acts_off_physics = true};  // its state, its animations' and variants'
+
 
 }  // namespace plant::kinds::graphics

@@ -123,6 +123,7 @@ void act_one(Runtime& r, const graph::Comp& c) {
 }  // namespace
 
 constexpr KindBehaviour behaviour{
-    .make_state = make_state, .start_all = start_all, .sense_all = sense_all, .act_one = act_one};
+    .make_state = make_state, .start_all = start_all, .sense_all = sense_all, .act_one = act_one,
+    .acts_off_physics = true};  // its own run and its outputs
 
 }  // namespace plant::kinds::timer

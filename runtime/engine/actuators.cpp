@@ -5,6 +5,7 @@
 #include "engine/runtime.h"
 
 #include "engine/plugin.h"
+#include "engine/workers.h"
 
 #include "graph/kinds.h"
 
@@ -29,18 +30,50 @@ void act_on(Runtime& r, CompId comp) {
 
 void phase_actuators(Runtime& r) {
     State& s = r.st;
+    // The components with an active input, each once; its mark 1 while every active input of
+    // it is one it acts on alone (Tables::alone), 2 once another is.
     s.comp_list.clear();
     for (SlotId x : s.in_list) {
         const CompId c = r.tab.slot_in[x].acts;
-        if (!c.valid() || s.comp_mark[c]) continue;
-        s.comp_mark[c] = 1;
-        s.comp_list.push_back(c);
+        if (!c.valid()) continue;
+        uint8_t& m = s.comp_mark[c];
+        if (!m) s.comp_list.push_back(c);
+        m = m == 2 || !r.tab.alone(x) ? 2 : 1;
     }
     std::sort(s.comp_list.begin(), s.comp_list.end());
-    for (CompId c : s.comp_list) {
-        s.comp_mark[c] = 0;
-        act_on(r, c);
+    // In id order, a stretch at a time: a stretch ends at a component that neither acts alone
+    // nor leaves the physics alone. Within it, those that act alone (each touching only its own
+    // row and body) are the items of a job, in slices; then the others (no body, no physics:
+    // they commute with the first) in order; then the one that ended it. The same result as
+    // one pass in id order, on any number of threads.
+    Workers& w = r.phys.workers();
+    const size_t n = s.comp_list.size();
+    for (size_t i = 0; i < n;) {
+        s.act_alone.clear();
+        s.act_after.clear();
+        size_t j = i;
+        for (; j < n; ++j) {
+            const CompId c = s.comp_list[j];
+            if (s.comp_mark[c] == 1) {
+                s.act_alone.push_back(c);
+                continue;
+            }
+            const CompKind k = r.g.comps[c].kind;
+            const KindBehaviour* b = k == CompKind::Plugin ? nullptr : builtin_behaviour(k);
+            if (!b || !b->acts_off_physics) break;
+            s.act_after.push_back(c);
+        }
+        const size_t alone = s.act_alone.size(), slices = slice_count(alone, 4, kMaxSlices);
+        auto acting = [&r, &s, alone, slices](int k) {
+            const auto [b, e] = slice_of(alone, slices, k);
+            for (size_t q = b; q < e; ++q) act_on(r, s.act_alone[q]);
+        };
+        run_slices(w, slices, acting);
+        for (CompId c : s.act_after) act_on(r, c);
+        if (j < n) act_on(r, s.comp_list[j++]);
+        i = j;
     }
+    for (CompId c : s.comp_list) s.comp_mark[c] = 0;
     act_kinds(r);  // the kind table's whole-table hooks: sources with a rate issue
 }
 

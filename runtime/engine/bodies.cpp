@@ -6,6 +6,8 @@
 
 #include "graph/range.h"
 
+#include <atomic>
+
 namespace plant::engine {
 
 using namespace plant::graph;
@@ -13,7 +15,8 @@ using namespace plant::graph;
 // Only the plant's logic can send a value out of range: events are refused when read.
 bool input_in_range(Runtime& r, const graph::Comp& c, graph::SlotId slot) {
     if (graph::input_range(r.g, c, slot, r.val(slot)).empty()) return true;
-    ++r.st.warn.out_of_range;
+    // Counted by the jobs of phase 5 too (components acting alone, actuators.cpp): the same sum in any order.
+    std::atomic_ref(r.st.warn.out_of_range).fetch_add(1, std::memory_order_relaxed);
     return false;
 }
 

@@ -82,6 +82,15 @@ struct KindBehaviour {
     // Phase 5, for a component with an active input `c` (its row: detail_of<R>(c)).
     // nullptr: its inputs are read elsewhere (phases 3, 4), never by phase 5.
     void (*act_one)(Runtime& r, const graph::Comp& c) = nullptr;
+    // Whether input `slot` (its index among c's slots) is one whose act, when every active
+    // input of c is such a one, reads and writes only c's own row and its own body (a
+    // kinematic body's pose): such components act as the items of a job on the physics
+    // threads (actuators.cpp). Asked once per input, when the engine is built; nullptr: none.
+    bool (*acts_alone)(const graph::Graph& g, const graph::Comp& c, int slot) = nullptr;
+    // Its act reads and writes no body and nothing of the physics: it commutes with the acts
+    // of the components that act alone, and need not wait for them (a graphics' animation, a
+    // timer's start).
+    bool acts_off_physics = false;
     // Phase 5, once every component with an active input acted: the whole table, in the
     // kind table's order (act_kinds); a source with a rate issues.
     void (*act_all)(Runtime& r) = nullptr;

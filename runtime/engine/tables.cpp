@@ -59,6 +59,13 @@ Tables::Tables(const Graph& g) {
         if (!slot_out[s] && (b ? b->act_one != nullptr : plugin_of(g, c)->acts == PluginPhase::Actuators))
             slot_in[s].acts = c;
     }
+    slot_alone.assign((g.slots.size() + 63) / 64, 0);
+    for (SlotId s : ids_of(g.slots)) {
+        const Comp& c = g.comps[g.slots[s].comp];
+        const KindBehaviour* b = builtin_behaviour(c.kind);
+        if (slot_in[s].acts.valid() && b && b->acts_alone && b->acts_alone(g, c, s.v - c.slot_adr.v))
+            slot_alone[size_t(s.v) / 64] |= uint64_t(1) << (s.v % 64);
+    }
     // Plugin components: the loader checked their kinds are registered; a kind registered
     // without its behaviour (graph::register_kind alone, as a compiler-only program may) is
     // a program that cannot run it.

@@ -57,6 +57,10 @@ struct Tables {
         graph::PlaceId put;
     };
     IdVector<graph::SlotId, SlotIn> slot_in;
+    // A bit per slot: an input whose component acts alone while only such inputs of it are
+    // active (KindBehaviour::acts_alone): phase 5 gives those components to the physics threads.
+    std::vector<uint64_t> slot_alone;
+    bool alone(graph::SlotId x) const { return (slot_alone[size_t(x.v) / 64] >> (x.v % 64)) & 1; }
     // Dynamic slots: the animation of a play slot, the variant of a select slot; -1 for
     // every other slot.
     IdVector<graph::SlotId, int32_t> slot_aux;
