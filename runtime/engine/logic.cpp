@@ -266,32 +266,30 @@ void run_lane(Runtime& r, size_t k) {
     });
 }
 
-// What the lanes activated, appended to `list` in program order (each lane's records are in
-// it already; an op's own, in the order it made them): the lane whose next record comes first
-// gives its records up to the next lane's first.
-template <class Records>
-void join_lanes(State& s, std::vector<SlotId>& list, Records records) {
-    const size_t lanes = s.lane_runs.size();
-    std::array<int32_t, Schedule::kLanes> head;  // per lane: its next record's position, INT32_MAX: none
-    std::array<size_t, Schedule::kLanes> at{};
-    for (size_t k = 0; k < lanes; ++k) {
-        const std::vector<LaneRec>& l = records(s.lane_runs[k]);
-        head[k] = l.empty() ? INT32_MAX : l.front().pos;
-    }
-    for (;;) {
-        size_t best = 0;
-        int32_t next = INT32_MAX;  // the second smallest head
-        for (size_t k = 1; k < lanes; ++k) {
-            if (head[k] < head[best]) next = head[best], best = k;
-            else if (head[k] < next) next = head[k];
+// What the lanes activated, appended to the step's two lists in program order (each lane's
+// records are in it already; an op's own, in the order it made them): the positions of the ops
+// that made a record are marked in a bitmap of the program, which is then read in order, each
+// position's records taken from its lane's lists where that lane's reading stands.
+void join_lanes(Runtime& r) {
+    State& s = r.st;
+    const Schedule& sc = r.sched;
+    uint64_t* made = s.lane_made.data();
+    size_t first = s.lane_made.size(), end = 0;  // the words marked
+    for (const LaneRun& l : s.lane_runs) {
+        for (const auto* list : {&l.out, &l.in}) {
+            if (list->empty()) continue;
+            first = std::min(first, size_t(list->front().pos) / 64);
+            end = std::max(end, size_t(list->back().pos) / 64 + 1);
+            for (const LaneRec& x : *list) made[size_t(x.pos) / 64] |= uint64_t(1) << (x.pos % 64);
         }
-        if (head[best] == INT32_MAX) return;
-        const std::vector<LaneRec>& l = records(s.lane_runs[best]);
-        size_t i = at[best];
-        for (; i < l.size() && l[i].pos < next; ++i) list.push_back(l[i].slot);
-        at[best] = i;
-        head[best] = i < l.size() ? l[i].pos : INT32_MAX;
     }
+    std::array<size_t, Schedule::kLanes> out_at{}, in_at{};
+    each_due(made, first, std::max(first, end), [&](size_t pos) {
+        const size_t k = sc.lane_of[pos];
+        const LaneRun& l = s.lane_runs[k];
+        for (size_t& i = out_at[k]; i < l.out.size() && size_t(l.out[i].pos) == pos; ++i) s.out_list.push_back(l.out[i].slot);
+        for (size_t& i = in_at[k]; i < l.in.size() && size_t(l.in[i].pos) == pos; ++i) s.in_list.push_back(l.in[i].slot);
+    });
 }
 
 // The program in lanes on the physics threads: the readers of the activity at the phase's
@@ -315,8 +313,7 @@ void run_lanes(Runtime& r) {
     run_slices(r.phys.workers(), slices, marking);
     auto lane = [&r](int k) { run_lane(r, k); };
     r.phys.workers().run(int(sc.lanes()), lane);
-    join_lanes(s, s.out_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.out; });
-    join_lanes(s, s.in_list, [](const LaneRun& l) -> const std::vector<LaneRec>& { return l.in; });
+    join_lanes(r);
     for (const LaneRun& l : s.lane_runs) s.warn.access_null += l.access_null, s.warn.access_type += l.access_type;
 }
 

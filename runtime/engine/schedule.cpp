@@ -199,8 +199,10 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     s.lane_ops.assign(total, Op{OpKind::Pulse, -1, {}, {}});
     s.lane_op_pos.assign(total, -1);
     std::vector<int32_t> at(s.lane_adr.begin(), s.lane_adr.end() - 1), lane_pos(n);
+    s.lane_of.assign(n, 0);
     for (int32_t i = 0; i < n; ++i) {
         const int32_t k = lane_of_set[find(i)];
+        s.lane_of[i] = uint8_t(k);  // < kLanes
         lane_pos[i] = at[k]++;
         s.lane_ops[lane_pos[i]] = s.ops[i];
         s.lane_op_pos[lane_pos[i]] = i;

@@ -79,6 +79,7 @@ struct Schedule {
     // `group_readers` as positions in `lane_ops`.
     std::vector<Op> lane_ops;
     std::vector<int32_t> lane_op_pos;  // per position in lane_ops: the op's position in `ops`, -1 padding
+    std::vector<uint8_t> lane_of;      // per position in `ops`: its lane
     std::vector<int32_t> lane_adr;     // per lane, +1: its first position in lane_ops
     std::vector<int32_t> lane_writes;  // per lane: the slots its ops can activate
     std::vector<uint64_t> lane_always;  // `always`, by position in lane_ops

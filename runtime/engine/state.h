@@ -235,6 +235,7 @@ struct State {
     // counted; the due bits by position in Schedule::lane_ops.
     std::vector<LaneRun> lane_runs;
     std::vector<uint64_t> lane_due;
+    std::vector<uint64_t> lane_made;  // a bit per position in the program: its op activated a slot (the join)
 
     IdVector<graph::TriggerId, TriggerState> triggers;
     // Per trigger: whether an object is inside it this step (TriggerState::num > 0), packed for
