@@ -47,111 +47,78 @@ void clear_outputs(Runtime& r) {
     s.out_list.clear();
 }
 
-// The transitions of net n enabled in the marking, in order, each given to `out`; a net that
-// has one is examined again next step, a quiet one waits for a put.
-template <class Out>
-void check_net(Runtime& r, size_t n, Out&& out) {
+// Net n's step, on the physics thread of its slice (it writes only its own places, transitions'
+// outputs and liveness): every transition enabled in the marking fires, all together; then each
+// place that got a put or is on a fired transition's arc takes its new count, and its outputs
+// go into `made`, the slice's list. A net that has an enabled transition is examined again next
+// step, a quiet one waits for a put.
+void step_net(Runtime& r, size_t n, std::vector<SlotId>& made) {
     State& s = r.st;
     const Tables& t = r.tab;
+    const Graph& g = r.g;
     if (!s.net_live[n] && !t.net_always_live[n]) return;
+    auto activate = [&r, &made](SlotId x) {
+        if (r.flag_active(x)) made.push_back(x);
+    };
     bool any = false;
     const int32_t first = t.net_transitions.adr[n], end = first + t.net_transitions.num[n];
     for (int32_t k = first; k < end; ++k) {
         bool enabled = true;
         for (int32_t a = t.net_in_adr[k]; a < t.net_in_adr[k + 1] && enabled; ++a)
             enabled = s.tokens[t.net_in[a].place] >= t.net_in[a].weight;
-        if (enabled) {
-            out(t.net_transitions.list[k]);
-            any = true;
-        }
+        if (!enabled) continue;  // the marking is read before any count changes, below
+        any = true;
+        const Transition& tr = g.transitions[t.net_transitions.list[k]];
+        for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) s.place_step[a.place].consume += a.weight;
+        for (const Arc& a : g.arcs.slice(tr.out_adr, tr.out_num)) s.place_step[a.place].produce += a.weight;
+        if (tr.fired_slot.valid()) activate(tr.fired_slot);
     }
     s.net_live[n] = any;
-}
-
-// Every net's enabled transitions into s.fired, net by net in order. With more than one
-// thread the nets go in slices, each writing its own part of fired_at (from its first net's
-// position) and its count; the parts are then joined in the slices' order: the same list.
-void find_enabled(Runtime& r) {
-    State& s = r.st;
-    const size_t nets = r.tab.nets.size();
-    Workers& w = r.phys.workers();
-    const size_t slices = slice_count(nets, 64, s.slice_fired.size());
-    s.fired.clear();
-    if (w.threads() == 1 || slices <= 1) {
-        for (size_t n = 0; n < nets; ++n) check_net(r, n, [&s](TransitionId t) { s.fired.push_back(t); });
-        return;
-    }
-    auto slice = [&r, &s, nets, slices](int k) {
-        const auto [b, e] = slice_of(nets, slices, k);
-        int32_t num = 0;
-        if (b < e) {
-            TransitionId* out = s.fired_at.data() + r.tab.net_transitions.adr[b];
-            for (size_t n = b; n < e; ++n) check_net(r, n, [out, &num](TransitionId t) { out[num++] = t; });
+    for (PlaceId p : t.net_places[int32_t(n)]) {
+        State::PlaceStep& ps = s.place_step[p];
+        if (!ps.put && ps.consume == 0 && ps.produce == 0) continue;  // untouched (an arc's weight is at least 1)
+        const int64_t before = s.tokens[p] - (ps.put ? 1 : 0);
+        // A full place stays full (graph.h): the count never wraps, nor loses exactness.
+        const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - ps.consume) + ps.produce, kMaxTokens);
+        if ((ps.put || ps.produce > 0) && ps.entered.valid()) activate(ps.entered);
+        if (after != before && ps.tokens_slot.valid()) {
+            *r.val(ps.tokens_slot) = double(after);
+            activate(ps.tokens_slot);
         }
-        s.slice_fired[k] = num;
-    };
-    w.run(int(slices), slice);
-    for (size_t k = 0; k < slices; ++k) {
-        const auto [b, e] = slice_of(nets, slices, k);
-        if (b == e) continue;
-        const TransitionId* from = s.fired_at.data() + r.tab.net_transitions.adr[b];
-        s.fired.insert(s.fired.end(), from, from + s.slice_fired[k]);
+        s.tokens[p] = after;
+        ps.consume = ps.produce = 0;
+        ps.put = 0;
     }
-}
-
-void touch(State& s, PlaceId p, State::PlaceStep& ps) {
-    if (ps.touched) return;
-    ps.touched = 1;
-    s.places_touched.push_back(p);
 }
 
 }  // namespace
+
+size_t petri_slices(size_t nets) { return slice_count(nets, 64, kMaxSlices); }
 
 void phase_petri(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
     clear_outputs(r);
     if (g.places.empty()) return;
-
+    // Every place whose put input is active gets one token (an input is in the list once).
     for (SlotId x : s.in_list) {
         const PlaceId p = r.tab.slot_in[x].put;
         if (!p.valid()) continue;
         s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
         State::PlaceStep& ps = s.place_step[p];
-        touch(s, p, ps);
+        ps.put = 1;
         s.net_live[ps.net] = 1;
     }
-    // Places touched by puts so far all received a token.
-    const size_t puts = s.places_touched.size();
-
-    find_enabled(r);
-    for (TransitionId t : s.fired) {
-        const Transition& tr = g.transitions[t];
-        for (const Arc& a : g.arcs.slice(tr.in_adr, tr.in_num)) {
-            State::PlaceStep& ps = s.place_step[a.place];
-            ps.consume += a.weight;
-            touch(s, a.place, ps);
-        }
-        for (const Arc& a : g.arcs.slice(tr.out_adr, tr.out_num)) {
-            State::PlaceStep& ps = s.place_step[a.place];
-            ps.produce += a.weight;
-            touch(s, a.place, ps);
-        }
-        if (tr.fired_slot.valid()) r.activate_out(tr.fired_slot);
-    }
-    for (size_t i = 0; i < s.places_touched.size(); ++i) {
-        const PlaceId p = s.places_touched[i];
-        State::PlaceStep& ps = s.place_step[p];
-        const int64_t before = s.tokens[p] - (i < puts ? 1 : 0);
-        // A full place stays full (graph.h): the count never wraps, nor loses exactness.
-        const int64_t after = std::min(std::max<int64_t>(0, s.tokens[p] - ps.consume) + ps.produce, kMaxTokens);
-        if ((i < puts || ps.produce > 0) && ps.entered.valid()) r.activate_out(ps.entered);
-        if (after != before && ps.tokens_slot.valid()) r.emit(ps.tokens_slot, double(after));
-        s.tokens[p] = after;
-        ps.consume = ps.produce = 0;
-        ps.touched = 0;
-    }
-    s.places_touched.clear();
+    // The nets in slices; what each slice made active joins the step's list in slice order.
+    const size_t nets = r.tab.nets.size(), slices = petri_slices(nets);
+    auto stepping = [&r, nets, slices](int k) {
+        std::vector<SlotId>& made = r.st.petri_made[size_t(k)];
+        made.clear();
+        const auto [b, e] = slice_of(nets, slices, size_t(k));
+        for (size_t n = b; n < e; ++n) step_net(r, n, made);
+    };
+    run_slices(r.phys.workers(), slices, stepping);
+    for (size_t k = 0; k < slices; ++k) s.out_list.insert(s.out_list.end(), s.petri_made[k].begin(), s.petri_made[k].end());
 }
 
 }  // namespace plant::engine

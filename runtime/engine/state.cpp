@@ -88,11 +88,17 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.place_step.resize(np);
     for (PlaceId p : ids_of(g.places))
         s.place_step[p] = {.entered = g.places[p].entered_slot, .tokens_slot = g.places[p].tokens_slot, .net = t.place_net[p]};
-    s.places_touched.reserve(np);
-    s.fired.reserve(g.transitions.size());
-    s.fired_at.resize(g.transitions.size());
-    s.slice_fired.assign(kMaxSlices, 0);
     s.net_live.assign(t.nets.size(), 1);  // every net is examined in the first step
+    // Each slice's list holds what its nets can make active in a step: a `fired` per transition,
+    // an `entered` and a `tokens` per place.
+    const size_t net_slices = petri_slices(t.nets.size());
+    s.petri_made.assign(net_slices, {});
+    for (size_t k = 0; k < net_slices; ++k) {
+        const auto [b, e] = slice_of(t.nets.size(), net_slices, k);
+        size_t most = 0;
+        for (size_t n = b; n < e; ++n) most += size_t(t.net_transitions.num[n]) + 2 * size_t(t.net_places.num[n]);
+        s.petri_made[k].reserve(most);
+    }
 
     s.triggers.resize(g.triggers.size());
     s.trigger_occupied.assign(g.triggers.size(), 0);

@@ -212,23 +212,20 @@ struct State {
     // Petri nets.
     PerPlace<int64_t> tokens;  // up to graph::kMaxTokens
     // What phase 4 reads and writes of each place it touches, in one record a place: the sums
-    // of the weights its fired transitions consume and produce, whether it is in
-    // places_touched, and (set at the start, never changed) its output slots and its net's
-    // position in Tables::nets.
+    // of the weights its fired transitions consume and produce, whether a put gave it a token
+    // this step, and (set at the start, never changed) its output slots and its net's position
+    // in Tables::nets.
     struct PlaceStep {
         int64_t consume = 0, produce = 0;
         graph::SlotId entered, tokens_slot;  // -1: none
         int32_t net = 0;
-        uint8_t touched = 0;
+        uint8_t put = 0;
     };
     PerPlace<PlaceStep> place_step;
-    std::vector<graph::PlaceId> places_touched;
-    std::vector<graph::TransitionId> fired;
-    // With the nets in slices (petri.cpp): each slice's enabled transitions from its first
-    // net's position in Tables::net_transitions, and how many.
-    std::vector<graph::TransitionId> fired_at;
-    std::vector<int32_t> slice_fired;
     std::vector<uint8_t> net_live;
+    // The nets in slices on the physics threads (petri.cpp): per slice, the outputs its nets
+    // made active, in order (fired transitions, then places, net by net).
+    std::vector<std::vector<graph::SlotId>> petri_made;
 
     // The logic phase in lanes (logic.cpp, schedule.h), with more than one thread: what each
     // lane's ops activated, with the op's position in the program, and the warnings they
@@ -304,5 +301,8 @@ inline btVector3 turning_target(btScalar spin, const btVector3& pivot, const btV
     const btVector3 rel = local + vl * half_dt - pivot;
     return btVector3(-spin * rel.y(), spin * rel.x(), 0);
 }
+
+// How many slices phase 4 steps the nets in (petri.cpp); each slice's list is sized at the start.
+size_t petri_slices(size_t nets);
 
 }  // namespace plant::engine

@@ -139,7 +139,20 @@ Tables::Tables(const Graph& g) {
     }
     net_in_adr.push_back(count_of(net_in));
     place_net.resize(g.places.size());
-    for (PlaceId p : ids_of(g.places)) place_net[p] = net_of_comp[g.places[p].comp];
+    std::vector<std::pair<int32_t, PlaceId>> net_pl;
+    for (PlaceId p : ids_of(g.places)) {
+        place_net[p] = net_of_comp[g.places[p].comp];
+        net_pl.emplace_back(place_net[p], p);
+    }
+    net_places = make_csr(nets.size(), net_pl);
+    // Phase 4 steps each net on its own (petri.cpp): a transition's arcs are on its net's places.
+    for (TransitionId t : ids_of(g.transitions)) {
+        const Transition& tr = g.transitions[t];
+        auto own = [&](const Arc& a) { return place_net[a.place] == net_of_comp[tr.comp]; };
+        const auto in = g.arcs.slice(tr.in_adr, tr.in_num), out = g.arcs.slice(tr.out_adr, tr.out_num);
+        if (!std::all_of(in.begin(), in.end(), own) || !std::all_of(out.begin(), out.end(), own))
+            throw std::runtime_error("a transition's arc is on a place of another state component");
+    }
 
     std::vector<std::pair<CompId, Id<Route>>> comp_route;
     for (Id<Route> r : ids_of(g.routes)) comp_route.emplace_back(g.routes[r].comp, r);

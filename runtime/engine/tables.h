@@ -75,6 +75,7 @@ struct Tables {
     std::vector<graph::CompId> nets;  // State components, in id order
     Csr<int32_t, graph::TransitionId> net_transitions;  // by position in `nets`
     IdVector<graph::PlaceId, int32_t> place_net;  // position in `nets` of each place
+    Csr<int32_t, graph::PlaceId> net_places;      // by position in `nets`
     std::vector<uint8_t> net_always_live;  // has a transition without inputs
     // The transitions' input arcs packed in net_transitions' order, so the enabling check
     // reads them in a row: per position in its list, +1, the first in net_in.
