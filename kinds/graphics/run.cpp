@@ -33,10 +33,11 @@ struct GraphicsData : KindData {
     // The depths in `order` (the roots, their children, theirs, ...), as [first, end).
     std::vector<std::pair<size_t, size_t>> depths;
     graph::IdVector<GraphicsId, graph::Pose> local;  // relative to the parent or attached body
-    std::vector<uint8_t> flags;     // per position in `order`: what it publishes (advance_one)
-    // What publishes, listed by each slice of a depth's job from its first position on (the
-    // positions in `order`), and how many: per depth, kMaxSlices counts.
-    std::vector<int32_t> listed, counts;
+    // What each slice of a depth's job published (the outputs it made active: an animation's
+    // `finished`, then the pose, graphics by graphics in `order`), listed from twice its first
+    // position on, and how many: per depth, kMaxSlices counts.
+    std::vector<graph::SlotId> listed;
+    std::vector<int32_t> counts;
     // A root on a body whose last visit changed nothing and would change nothing again (see
     // advance_one) while the body stays out of the world (kParked: no animation playing), or,
     // for a static body, stays in it and unmoved (kStanding: no animation, its base taken, its
@@ -79,7 +80,7 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     for (size_t k = s->roots; k < s->order.size(); ++k)
         if (k + 1 == s->order.size() || depth[s->order[k + 1]] != depth[s->order[k]])
             s->depths.push_back({s->depths.back().second, k + 1});
-    s->listed.assign(s->order.size(), 0);
+    s->listed.assign(2 * s->order.size(), graph::SlotId{});
     s->counts.assign(s->depths.size() * kMaxSlices, 0);
     s->local.resize(g.graphics.size());
     for (GraphicsId i : ids_of(g.graphics)) {
@@ -87,7 +88,6 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
         if (gr.body.valid()) s->local[i] = pmul(pinv(g.bodies[gr.body].pose), gr.pose);
         else if (gr.parent.valid()) s->local[i] = pmul(pinv(g.graphics[gr.parent].pose), gr.pose);
     }
-    s->flags.assign(g.graphics.size(), 0);
     s->body.assign(g.graphics.size(), graph::BodyId{});
     s->fixed.assign(g.graphics.size(), 0);
     for (GraphicsId i : ids_of(g.graphics)) {
@@ -169,20 +169,31 @@ uint8_t to_publish(const GraphicsData& data, GraphicsId i, uint8_t flags) {
     return flags;
 }
 
-void publish(Runtime& r, GraphicsId i, uint8_t flags) {
-    GraphicsState& gs = r.st.graphics[i];
-    if (flags & kFinished) r.activate(r.g.animations[AnimationId(gs.finished)].finished_slot);
-    if (flags & kPoseChanged) r.emit_pose(r.comp_slot(r.g.graphics[i].comp, slot::pose), gs.pose);
+// What graphics i publishes, on the physics thread of its slice (its own outputs): their values
+// written and their flags set, each output made active listed at `list[m++]`.
+void publish(Runtime& r, GraphicsId i, uint8_t flags, graph::SlotId* list, int32_t& m) {
+    const GraphicsState& gs = r.st.graphics[i];
+    if (flags & kFinished) {
+        const graph::SlotId x = r.g.animations[AnimationId(gs.finished)].finished_slot;
+        if (r.flag_active(x)) list[m++] = x;
+    }
+    if (flags & kPoseChanged) {
+        const graph::SlotId x = r.comp_slot(r.g.graphics[i].comp, slot::pose);
+        double* v = r.val(x);
+        for (int k = 0; k < 3; ++k) v[k] = gs.pose.p[k];
+        for (int k = 0; k < 4; ++k) v[3 + k] = gs.pose.q[k];
+        if (r.flag_active(x)) list[m++] = x;
+    }
 }
 
 // Phase 2: the graphics with no parent (the first of `order`) in slices on the physics
 // threads, then their children the same way, a depth at a time (each reads its parent's
-// pose, of the depth before); each slice lists what publishes. Then, on this thread, what
-// they publish: depth by depth, slice by slice, so in `order`.
+// pose, of the depth before); each slice publishes its own and lists the outputs it made
+// active. Then, on this thread, those lists join the step's: depth by depth, slice by slice,
+// so in `order`.
 void sense_all(Runtime& r) {
     GraphicsData& data = own(r);
     const std::vector<GraphicsId>& order = data.order;
-    std::vector<uint8_t>& flags = data.flags;
     const bool all = data.statics != r.phys.statics_placed();
     data.statics = r.phys.statics_placed();
     if (data.watches != r.st.watches) {  // an output watched since (or the first step)
@@ -219,15 +230,13 @@ void sense_all(Runtime& r) {
     for (size_t d = 0; d < data.depths.size(); ++d) {
         const auto [first, n, parts] = depth(d);
         int32_t* const counts = data.counts.data() + d * kMaxSlices;
-        auto poses = [&r, &data, &order, &flags, &root, d, first, n, parts, counts](int i) {
+        auto poses = [&r, &data, &order, &root, d, first, n, parts, counts](int i) {
             const auto [b, e] = slice_of(n, parts, i);
-            int32_t* const list = data.listed.data() + first + b;
+            graph::SlotId* const list = data.listed.data() + 2 * (first + b);  // two a graphics at most
             int32_t m = 0;
             for (size_t k = first + b; k < first + e; ++k) {
                 const uint8_t f = d == 0 ? root(order[k]) : to_publish(data, order[k], advance_one(r, data, order[k]));
-                flags[k] = f;
-                list[m] = static_cast<int32_t>(k);  // at or before k's own entry
-                m += f != 0;
+                if (f) publish(r, order[k], f, list, m);
             }
             counts[i] = m;
         };
@@ -236,8 +245,8 @@ void sense_all(Runtime& r) {
     for (size_t d = 0; d < data.depths.size(); ++d) {
         const auto [first, n, parts] = depth(d);
         for (size_t i = 0; i < parts; ++i) {
-            const int32_t* const list = data.listed.data() + first + slice_of(n, parts, i).first;
-            for (int32_t j = 0; j < data.counts[d * kMaxSlices + i]; ++j) publish(r, order[size_t(list[j])], flags[size_t(list[j])]);
+            const graph::SlotId* const list = data.listed.data() + 2 * (first + slice_of(n, parts, i).first);
+            r.st.out_list.insert(r.st.out_list.end(), list, list + data.counts[d * kMaxSlices + i]);
         }
     }
 }
