@@ -30,16 +30,7 @@ void act_on(Runtime& r, CompId comp) {
 
 void phase_actuators(Runtime& r) {
     State& s = r.st;
-    // The components with an active input, each once; its mark 1 while every active input of
-    // it is one it acts on alone (Tables::alone), 2 once another is.
-    s.comp_list.clear();
-    for (SlotId x : s.in_list) {
-        const CompId c = r.tab.slot_in[x].acts;
-        if (!c.valid()) continue;
-        uint8_t& m = s.comp_mark[c];
-        if (!m) s.comp_list.push_back(c);
-        m = m == 2 || !r.tab.alone(x) ? 2 : 1;
-    }
+    // The components with an active input, listed and marked by phase 4 (petri.cpp).
     std::sort(s.comp_list.begin(), s.comp_list.end());
     // In id order, a stretch at a time: a stretch ends at a component that neither acts alone
     // nor leaves the physics alone. Within it, those that act alone (each touching only its own

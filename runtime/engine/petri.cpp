@@ -99,16 +99,26 @@ void phase_petri(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
     clear_outputs(r);
-    if (g.places.empty()) return;
-    // Every place whose put input is active gets one token (an input is in the list once).
+    // The active inputs, in one pass (one lookup each): every place whose put input is active
+    // gets one token (an input is in the list once); the components phase 5 acts on are listed
+    // (actuators.cpp), each once, its mark 1 while every active input of it is one it acts on
+    // alone (Tables::alone), 2 once another is. Nothing this phase does activates an input.
+    s.comp_list.clear();
     for (SlotId x : s.in_list) {
-        const PlaceId p = r.tab.slot_in[x].put;
-        if (!p.valid()) continue;
+        const Tables::SlotIn in = r.tab.slot_in[x];
+        if (in.acts.valid()) {
+            uint8_t& m = s.comp_mark[in.acts];
+            if (!m) s.comp_list.push_back(in.acts);
+            m = m == 2 || !r.tab.alone(x) ? 2 : 1;
+        }
+        if (!in.put.valid()) continue;
+        const PlaceId p = in.put;
         s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
         State::PlaceStep& ps = s.place_step[p];
         ps.put = 1;
         s.net_live[ps.net] = 1;
     }
+    if (g.places.empty()) return;
     // The nets in slices; what each slice made active joins the step's list in slice order.
     const size_t nets = r.tab.nets.size(), slices = petri_slices(nets);
     auto stepping = [&r, nets, slices](int k) {
