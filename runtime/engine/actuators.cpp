@@ -1,7 +1,8 @@
-// Phase 5: components act on their active inputs, in component id order, each
-// reading its inputs in a fixed order: what switches something off before what
-// switches it on (so "on" wins when both are active), modes before poses and
-// velocities. Then sources with a rate issue.
+// Phase 5: components act on their active inputs, in component id order (the result of that
+// order: kinematic moves, which touch only their own body, go to the physics threads a
+// stretch at a time, below), each reading its inputs in a fixed order: what switches
+// something off before what switches it on (so "on" wins when both are active), modes
+// before poses and velocities. Then sources with a rate issue.
 #include "engine/runtime.h"
 
 #include "engine/plugin.h"
@@ -34,33 +35,32 @@ void phase_actuators(Runtime& r) {
     std::sort(s.comp_list.begin(), s.comp_list.end());
     // In id order, a stretch at a time: a stretch ends at a component that neither acts alone
     // nor leaves the physics alone. Within it, those that act alone (each touching only its own
-    // row and body) are the items of a job, in slices; then the others (no body, no physics:
-    // they commute with the first) in order; then the one that ended it. The same result as
-    // one pass in id order, on any number of threads.
+    // row and body) are the items of a job, in slices of the stretch; then the others (no body,
+    // no physics: they commute with the first) in order; then the one that ended it. The same
+    // result as one pass in id order, on any number of threads.
     Workers& w = r.phys.workers();
     const size_t n = s.comp_list.size();
     for (size_t i = 0; i < n;) {
-        s.act_alone.clear();
-        s.act_after.clear();
-        size_t j = i;
+        size_t j = i, alone = 0;
         for (; j < n; ++j) {
             const CompId c = s.comp_list[j];
             if (s.comp_mark[c] == 1) {
-                s.act_alone.push_back(c);
+                ++alone;
                 continue;
             }
             const CompKind k = r.g.comps[c].kind;
             const KindBehaviour* b = k == CompKind::Plugin ? nullptr : builtin_behaviour(k);
             if (!b || !b->acts_off_physics) break;
-            s.act_after.push_back(c);
         }
-        const size_t alone = s.act_alone.size(), slices = slice_count(alone, 4, kMaxSlices);
-        auto acting = [&r, &s, alone, slices](int k) {
-            const auto [b, e] = slice_of(alone, slices, k);
-            for (size_t q = b; q < e; ++q) act_on(r, s.act_alone[q]);
+        const size_t first = i, len = j - i, slices = alone > 4 ? slice_count(len, 4, kMaxSlices) : 1;
+        auto acting = [&r, &s, first, len, slices](int k) {
+            const auto [b, e] = slice_of(len, slices, size_t(k));
+            for (size_t q = first + b; q < first + e; ++q)
+                if (s.comp_mark[s.comp_list[q]] == 1) act_on(r, s.comp_list[q]);
         };
         run_slices(w, slices, acting);
-        for (CompId c : s.act_after) act_on(r, c);
+        for (size_t q = first; q < j; ++q)
+            if (s.comp_mark[s.comp_list[q]] != 1) act_on(r, s.comp_list[q]);
         if (j < n) act_on(r, s.comp_list[j++]);
         i = j;
     }

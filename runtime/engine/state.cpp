@@ -27,8 +27,6 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.observed_bodies.reserve(nb);
     s.comp_list.reserve(g.comps.size());
     s.comp_mark.assign(g.comps.size(), 0);
-    s.act_alone.reserve(g.comps.size());
-    s.act_after.reserve(g.comps.size());
 
     s.cmd_lin.assign(nb, Vec3{0, 0, 0});
     s.cmd_ang.assign(nb, Vec3{0, 0, 0});

@@ -114,9 +114,6 @@ struct State {
     std::vector<graph::BodyId> observed_bodies;
     std::vector<graph::CompId> comp_list;  // phase 5: components with an active input
     IdVector<graph::CompId, uint8_t> comp_mark;
-    // Phase 5, a stretch of comp_list at a time: those that act alone (a job's items) and those
-    // that act after them on this thread (actuators.cpp).
-    std::vector<graph::CompId> act_alone, act_after;
 
     // Bodies.
     PerBody<Vec3> cmd_lin, cmd_ang;      // velocity of a kinematic body, moved by us
