@@ -15,6 +15,12 @@ namespace {
 // The loader's check of its places, transitions and arcs.
 bool check_tables(const Graph& g, GraphProblem& problem) {
     auto of_state = [&](CompId c) { return g[c].kind == CompKind::State; };
+    // Each arc's transition's component: a net's arcs are on its own places (the runtime steps
+    // each net on its own, engine/petri.cpp).
+    IdVector<Id<Arc>, CompId> arc_comp(g.arcs.count(), CompId{});
+    for (const Transition& t : g.transitions)
+        for (const auto& [adr, num] : {std::pair{t.in_adr, t.in_num}, std::pair{t.out_adr, t.out_num}})
+            for (int32_t k = 0; k < num; ++k) arc_comp[adr + k] = t.comp;
     return each_record(g.places, problem, [&](const Place& p) {
         if (!of_state(p.comp)) return std::string("field 'comp' is not a state component");
         if (!(p.initial >= 0 && p.initial <= kMaxInitialTokens))
@@ -30,7 +36,16 @@ bool check_tables(const Graph& g, GraphProblem& problem) {
     }) && each_record(g.arcs, problem, [&](const Arc& a) {
         return a.weight >= 1 && a.weight <= kMaxArcWeight ? std::string()
                                                           : fmt::format("field 'weight' must lie in [1, {}]", kMaxArcWeight);
-    });
+    }) && [&] {
+        for (Id<Arc> i : g.arcs.ids())
+            if (arc_comp[i].valid() && g.places[g.arcs[i].place].comp != arc_comp[i]) {
+                problem = {std::string(table_name<Arc>()), i.v,
+                           fmt::format("field 'place' = {}: a place of another state component than its transition's",
+                                       g.arcs[i].place)};
+                return false;
+            }
+        return true;
+    }();
 }
 
 }  // namespace

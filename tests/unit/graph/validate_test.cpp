@@ -92,6 +92,8 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
     const int32_t place = first(g.places, [](const Place& p) { return p.tokens_slot.valid() && p.put_slot.valid(); });
     const int32_t child = first(g.graphics, [](const Graphics& x) { return x.parent.valid(); });
     const int32_t multi = first(g.animations, [](const Animation& a) { return a.key_num >= 2; });
+    // A place of another state component than arc 0's transition's.
+    const int32_t foreign = first(g.places, [&](const Place& p) { return p.comp != g.places[g.arcs[Id<Arc>(0)].place].comp; });
     const int32_t event = first(g.flows, [&](const Flow& f) {
         return !f.from_access.valid() && !f.to_access.valid() && g.slots[f.from].type == SlotType::Void;
     });
@@ -158,6 +160,7 @@ TEST_CASE("validate: the compiler's bottling graph passes, and every kind of dam
         {"joint", 0, "body_b", std::to_string(g.joints[JointId(0)].body_a.v), "a joint joins two different bodies"},
         {"place", place, "tokens_slot", std::to_string(g.places[PlaceId(place)].put_slot.v), "expected int out"},
         {"arc", 0, "weight", "0", "field 'weight' must lie in [1, 1000000]"},
+        {"arc", 0, "place", std::to_string(foreign), "a place of another state component than its transition's"},
         {"transition", 0, "in_adr", "100000", "fields 'in_adr' + num"},
         {"trigger", 0, "filter", "999", "field 'filter' = 999 is not -1 or a row of do_types"},
         {"timer", periodic, "period", "0", "field 'period' must be above 0"},
