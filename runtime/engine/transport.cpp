@@ -18,14 +18,15 @@
 //     and its centre's path stays over its support's box;
 //   * its bounding box grown by its sweep (two steps of its motion along each axis, and of its
 //     turning about the vertical) plus 2 mm meets one static body below its bottom + 1 cm (the
-//     band it stands on: a box whose top face is within 3° of level, frictionless against it)
-//     and otherwise only rails it slides along or comes up to at 1 cm/s at most (guide_by;
-//     each piece of a compound on its own, the band's too; a box turned about the vertical, a
-//     curve's rail, is met only where its faces are within the unit's reach: meets_obb,
-//     disc_clear); grown by its sweep plus 1 cm, it
-//     meets no kinematic part's room (its box when filed, grown by 5 cm) but of parts whose
-//     collision is off and parts at rest where they were filed, which count as static pieces
-//     met by that box;
+//     band it stands on: a box whose top face is within 3° of level, frictionless against it;
+//     where it meets two, one whose top face's plane lies more than 0.5 mm below its shape over
+//     two steps is passed over: clear_below) and otherwise only rails it slides along or comes
+//     up to at 1 cm/s at most (guide_by; each piece of a compound on its own, the band's too;
+//     a box turned about the vertical, a curve's rail, is met only where its faces are within
+//     the unit's reach: meets_obb, disc_clear); grown by its sweep plus 1 cm, it meets no
+//     kinematic part's room (its box when filed, grown by 5 cm) but of parts whose collision
+//     is off and parts at rest where they were filed, which count as static pieces met by
+//     that box;
 //   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
 //     for one that Bullet does not move itself) meets its own grown by its sweep plus 1 cm.
 //
@@ -64,6 +65,7 @@
 #include "engine/transport.h"
 
 #include "engine/cells.h"
+#include "engine/contact.h"
 #include "engine/runtime.h"
 #include "engine/workers.h"
 
@@ -147,6 +149,7 @@ constexpr btScalar kFieldMargin = btScalar(0.001);  // m
 constexpr btScalar kSink = btScalar(0.01);          // m: how far a base's bounding box may reach into its support's
 constexpr btScalar kRoom = btScalar(0.05);          // m: a kinematic part's room
 constexpr btScalar kTouch = btScalar(0.001);        // m: how far a shape may reach into a rail it slides along
+constexpr btScalar kBelow = btScalar(0.0005);       // m: a level piece this far below a unit's shape is not its support
 constexpr int16_t kSettle = 5;                      // steps steady before leaving the solver
 constexpr btScalar kJiggle = btScalar(0.02);        // m/s, along each axis: still (a bottle pressed into a
                                                     // queue by its band jiggles at about 1 cm/s in Bullet)
@@ -198,6 +201,15 @@ bool axis_box(const btRigidBody& rb) {
 
 bool top_face(const Physics& ph, BodyId b, int piece, btVector3& point, btVector3& normal);
 
+// A box's or a hull's polyhedral features when they describe a solid: then contact.cpp's
+// contacts between two such shapes are found on the polyhedra, without the shapes' margins.
+const btConvexPolyhedron* polyhedron_of(const btCollisionShape& s) {
+    const int type = s.getShapeType();
+    if (type != BOX_SHAPE_PROXYTYPE && type != CONVEX_HULL_SHAPE_PROXYTYPE) return nullptr;
+    const btConvexPolyhedron* p = static_cast<const btPolyhedralConvexShape&>(s).getConvexPolyhedron();
+    return p && solid_polyhedron(*p) ? p : nullptr;
+}
+
 // Files the static geometry into cells (when starting and after a static body was placed or a
 // kinematic one left its room). Allocates only when it covers more cells than before.
 void build_grid(Runtime& r) {
@@ -246,10 +258,17 @@ void build_grid(Runtime& r) {
     }
     // Whether each static piece's top face is level (top_face): a unit may stand on it.
     S.level_top.resize(S.hazards.size());
+    S.top_plane.resize(S.hazards.size());
     for (size_t i = 0; i < S.hazards.size(); ++i) {
         const Steady::Hazard& h = S.hazards[i];
         btVector3 point, normal;
         S.level_top[i] = h.fixed && top_face(ph, h.body, h.piece, point, normal);
+        if (S.level_top[i]) {  // 2: a box with polyhedral features (contact.cpp's contacts meet it so)
+            btTransform t;
+            if (polyhedron_of(*piece_of(ph.rb(h.body), h.piece, t))) S.level_top[i] = 2;
+        }
+        S.top_plane[i] = S.level_top[i] ? btVector4(normal.x(), normal.y(), normal.z(), normal.dot(point))
+                                        : btVector4(0, 0, 0, 0);
     }
     S.filed.clear();
     S.big.clear();
@@ -481,6 +500,31 @@ bool guide_by(const Physics& ph, BodyId b, const Steady::Hazard& h, Verdict& out
     return true;
 }
 
+// Whether unit b's shape stays above the plane of static piece i's level top face by more than
+// kBelow over its next two steps (closing on it along the face's normal at its velocity, and by
+// its rocking at its lowest point): it cannot touch that piece then (a box lies below its top
+// face's plane), and Bullet's contact there, were it on the solver, would push only on a body
+// closing faster than kBelow a step. The shape as the contacts see it: a box's or a hull's
+// polyhedron against a box (contact.cpp), else with its margin. False for a piece without a
+// level top face.
+bool clear_below(const Physics& ph, const Steady& S, BodyId b, int32_t i, btScalar two_steps) {
+    if (!S.level_top[size_t(i)]) return false;
+    const btRigidBody& rb = ph.rb(b);
+    if (!rb.getCollisionShape()->isConvex()) return false;
+    const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+    const btVector4& plane = S.top_plane[size_t(i)];
+    const btVector3 n(plane.x(), plane.y(), plane.z());
+    const btTransform& t = rb.getWorldTransform();
+    const btVector3 d = -n * t.getBasis();
+    const bool polyhedra = S.level_top[size_t(i)] == 2 && polyhedron_of(shape);
+    const btVector3 low =
+        t * (polyhedra ? shape.localGetSupportingVertexWithoutMargin(d) : shape.localGetSupportingVertex(d));
+    const btVector3& w = rb.getAngularVelocity();
+    const btScalar rock = std::sqrt(w.x() * w.x() + w.y() * w.y()) * (low - rb.getCenterOfMassPosition()).length();
+    const btScalar closing = std::max(-n.dot(rb.getLinearVelocity()), btScalar(0)) + rock;
+    return n.dot(low) - plane.w() - two_steps * closing > kBelow;
+}
+
 // Records why a unit is not steady (or may not rest): returns false.
 bool fail(Verdict& out, OnSolver why) {
     out.why = why;
@@ -626,6 +670,9 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         return guide_by(ph, b, now, out);
     };
     int32_t sup = -1;  // the support's hazard
+    int sup_below = -1;  // whether it lies clear below the unit (clear_below), once asked
+    bool lower = false;  // whether a second piece under it was met
+    const btScalar two_steps = btScalar(2 * r.dt);
     btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (disc_clear)
     // How far two steps take any point of it in (x, y): its path's length, |v_xy|·2·dt, and its
     // turn's; the length of (sweep.x, sweep.y) bounds their sum (sweep is |v|·2·dt per axis plus
@@ -639,9 +686,18 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
             return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
-        if ((support.valid() && (support != h.body || piece != h.piece)) ||
-            ph.rb(b).getFriction() * h.friction != 0)
-            return fail(out, OnSolver::kSupport);  // two supports (two pieces of one), or one that would hold it back
+        if (ph.rb(b).getFriction() * h.friction != 0) return fail(out, OnSolver::kSupport);  // it would hold it back
+        if (support.valid() && (support != h.body || piece != h.piece)) {
+            // Two pieces under it (two bands at a joint, two pieces of one): one that lies clear
+            // below its shape (the next band, 2 mm lower, while its centre is over the one it
+            // stands on) is passed over; the one it stands on is its support. Two that it
+            // touches, or none (when all were passed over, below), fail. The same in any order.
+            lower = true;
+            if (clear_below(ph, S, b, i, two_steps)) return true;
+            if (sup_below < 0) sup_below = clear_below(ph, S, b, sup, two_steps);
+            if (!sup_below) return fail(out, OnSolver::kSupport);  // two supports (two pieces of one)
+            sup_below = 0;  // h, which it touches, takes the place of the one below
+        }
         support = h.body, piece = h.piece, sup = i;
         sup_lo = h.lo, sup_hi = h.hi;
         return true;
@@ -655,7 +711,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     int64_t x0, y0, x1, y1;
     const bool in_grid = cell_of(glo.x(), glo.y(), x0, y0) && cell_of(ghi.x(), ghi.y(), x1, y1);
     auto walk = [&](const Steady::Near* n) {
-        support = BodyId{}, piece = -1, sup = -1;
+        support = BodyId{}, piece = -1, sup = -1, sup_below = -1, lower = false;
         out.guide_axis = 0, out.guide_side = 0, out.guide_face = 0;
         for (int32_t i : S.big)
             if (!hazard(i)) return false;
@@ -665,7 +721,11 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     const Steady::Near* n = in_grid ? near_of(r, b, x0, y0, x1, y1) : nullptr;
     if (!walk(n) && (!n || !walk(nullptr))) return false;
     if (sup < 0 || !S.level_top[size_t(sup)]) return fail(out, OnSolver::kNoSupport);
-    if (!f.valid()) {  // no field holds it to its band: its path must stay above its support
+    if (lower && (sup_below < 0 ? clear_below(ph, S, b, sup, two_steps) : sup_below != 0))
+        return fail(out, OnSolver::kSupport);  // over two pieces and touching neither
+    // No field holds it to its band, or it reaches over a piece below: its path must stay above
+    // its support (a field may reach past the band's end, and the unit tips off it there).
+    if (!f.valid() || lower) {
         const btVector3 c = rb.getCenterOfMassPosition(), q = c + v * btScalar(2 * r.dt);
         for (int i = 0; i < 2; ++i)
             if (std::min(c[i], q[i]) < sup_lo[i] + kFieldMargin || std::max(c[i], q[i]) > sup_hi[i] - kFieldMargin)

@@ -130,6 +130,7 @@ struct Steady {
     };
     std::vector<Hazard> hazards;
     std::vector<uint8_t> level_top;  // beside hazards: a static piece whose top face is level
+    std::vector<btVector4> top_plane;  // beside them: that face's plane (normal, and its offset along it)
     std::vector<uint64_t> cells;
     std::vector<int32_t> cell_adr, cell_list, big;
     std::vector<std::array<btScalar, 4>> cell_box;  // beside cell_list: each entry's hazard's box in (x, y)

@@ -651,6 +651,70 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
 // field's face while its centre is still in the cell before, so the field must be filed under
 // that cell too (fields are filed grown by 5 cm) or the bottle would ride into a second field
 // off the solver. Nothing else is near that face: no band, no rail, no body.
+// Two belts end to end: a std.belts band rises 2 mm along its length, so the next one starts
+// 2 mm lower and a bottle steps down onto it. While its centre is over its own band, the next
+// one lies below it and touches nothing (docs/runtime.md, "Steady transport": a piece clear
+// below is passed over): it stays off the solver until its path comes within 1 mm of its
+// field's end, and the exit takes it as on the solver. Raised by 2 mm, the next band is level
+// with the end of the first: the bottle stands on both, and is on the solver there.
+std::string joint_plant(const char* rise) {
+    return std::string(R"(
+import std.belts, std.bottle
+plant Joint {
+    b1: Belt(length = 1 m)
+    b2: Belt(length = 1 m) at (1 m, 0 m, )") + rise + R"()
+    b: Bottle at (20 cm, 0 m, 2 cm)
+    trigger out_volume at (1.9 m, 0 m, 4 cm) { extent = (4 cm, 10 cm, 10 cm) }
+    exit done { trigger = out_volume }
+}
+)";
+}
+
+// The steps in which the bottle's centre is between `from` and `to` along x (where the step's
+// check finds it), and how many of them it spent off the solver.
+std::pair<int, int> off_between(const graph::Graph& g, double from, double to) {
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    REQUIRE(mains.size() == 1);
+    const graph::BodyId bottle(mains[0]);
+    engine::Options o;
+    o.steady_transport = true;
+    Engine e(g, o);
+    int in = 0, off = 0;
+    for (int i = 0; i < 150 * 3; ++i) {
+        const double x = e.body_com(bottle)[0];
+        e.step();
+        if (x < from || x > to) continue;
+        ++in;
+        off += e.internals().phys.coasting(bottle);
+    }
+    return {in, off};
+}
+
+TEST_CASE("steady transport: a bottle stays off the solver over the next band below it, up to its own band's end") {
+    // Its bounding box (4.2 cm wide), grown by two steps and 2 mm, meets the next band from
+    // x = 96.9 cm on; its path comes within 1 mm of the field's face at x = 1 m from 99.2 cm on.
+    const graph::Graph g = compiled_text(joint_plant("0 m"), "steady_joint.plant");
+    const auto [in, off] = off_between(g, 0.972, 0.990);
+    MESSAGE(off << " of " << in << " steps over the joint off the solver");
+    CHECK(in >= 4);
+    CHECK(off == in);
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    const Seen on = run(g, true, 150 * 5, mains), off_run = run(g, false, 150 * 5, mains);
+    CHECK(on.taken.size() == 1);
+    same(on, off_run, 1e-3, 1, 0.5 / 150);  // at most a step apart at the exit
+}
+
+TEST_CASE("steady transport: a bottle on two bands level with each other is on the solver") {
+    const graph::Graph g = compiled_text(joint_plant("2 mm"), "steady_joint_level.plant");
+    const auto [in, off] = off_between(g, 0.972, 0.990);
+    CHECK(in >= 4);
+    CHECK(off == 0);
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    const Seen on = run(g, true, 150 * 5, mains);
+    CHECK(on.on_solver(engine::OnSolver::kSupport) > 0);
+    CHECK(on.taken.size() == 1);
+}
+
 TEST_CASE("steady transport: a bottle lands before a field that starts in the next cell") {
     const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
