@@ -582,10 +582,12 @@ bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi
 }
 
 // Whether unit b's shape, grown by `grow` in x and y, keeps clear of static box h, turned
-// about z (Hazard::obb): the distance from its centre of mass to the box in (x, y) against the
-// shape's reach about it, the largest of its extents along 16 horizontal directions over
-// cos(π/16) (so that it bounds the extents between them).
-bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, btScalar grow, btScalar& reach) {
+// about z (Hazard::obb), while its centre of mass moves along `path` (in x and y, from where
+// it is): the distance from that segment to the box in (x, y) against the shape's reach about
+// its centre, the largest of its extents along 16 horizontal directions over cos(π/16) (so
+// that it bounds the extents between them, and the shape's as it turns about the vertical).
+bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, const btVector3& path, btScalar grow,
+                btScalar& reach) {
     const btRigidBody& rb = ph.rb(b);
     if (!rb.getCollisionShape()->isConvex()) return false;
     const btTransform& t = rb.getWorldTransform();
@@ -600,10 +602,38 @@ bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, btScalar g
         }
         reach /= std::cos(SIMD_PI / 16);
     }
+    const btScalar r = reach + grow, r2 = r * r;
+    // The segment's ends in the box's frame, (ax, ay) to (bx, by); the box is [-ohx, ohx] × [-ohy, ohy].
     const btScalar dx = c.x() - h.ocx, dy = c.y() - h.ocy;
-    const btScalar lx = std::abs(dx * h.oc + dy * h.os) - h.ohx, ly = std::abs(-dx * h.os + dy * h.oc) - h.ohy;
-    const btScalar ox = std::max(lx, btScalar(0)), oy = std::max(ly, btScalar(0));
-    return ox * ox + oy * oy > (reach + grow) * (reach + grow);
+    const btScalar ax = dx * h.oc + dy * h.os, ay = -dx * h.os + dy * h.oc;
+    const btScalar ux = path.x() * h.oc + path.y() * h.os, uy = -path.x() * h.os + path.y() * h.oc;
+    auto to_box = [&h](btScalar x, btScalar y) {  // squared distance of a point to the box
+        const btScalar ox = std::max(std::abs(x) - h.ohx, btScalar(0)), oy = std::max(std::abs(y) - h.ohy, btScalar(0));
+        return ox * ox + oy * oy;
+    };
+    if (to_box(ax, ay) <= r2 || to_box(ax + ux, ay + uy) <= r2) return false;
+    // Both ends are clear: the segment is, unless it crosses the box or passes a corner closer
+    // (between a segment and a convex polygon that it does not cross, the least distance is
+    // from an end of one to the other).
+    const btScalar len2 = ux * ux + uy * uy;
+    if (len2 == 0) return true;
+    btScalar t0 = 0, t1 = 1;  // the part of the segment inside the box's slabs (Liang-Barsky)
+    auto slab = [&t0, &t1](btScalar p0, btScalar dp, btScalar half) {
+        if (dp == 0) return std::abs(p0) <= half;
+        btScalar ta = (-half - p0) / dp, tb = (half - p0) / dp;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+        return t0 <= t1;
+    };
+    if (slab(ax, ux, h.ohx) && slab(ay, uy, h.ohy)) return false;  // it crosses the box
+    for (int sx = -1; sx <= 1; sx += 2)
+        for (int sy = -1; sy <= 1; sy += 2) {
+            const btScalar px = btScalar(sx) * h.ohx - ax, py = btScalar(sy) * h.ohy - ay;
+            const btScalar k = std::clamp((px * ux + py * uy) / len2, btScalar(0), btScalar(1));
+            const btScalar ex = px - k * ux, ey = py - k * uy;
+            if (ex * ex + ey * ey <= r2) return false;
+        }
+    return true;
 }
 
 // Whether unit b (with passenger p, or -1) is steady now (see the top of the file).
@@ -674,15 +704,18 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     bool lower = false;  // whether a second piece under it was met
     const btScalar two_steps = btScalar(2 * r.dt);
     btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (disc_clear)
-    // How far two steps take any point of it in (x, y): its path's length, |v_xy|·2·dt, and its
-    // turn's; the length of (sweep.x, sweep.y) bounds their sum (sweep is |v|·2·dt per axis plus
-    // the turn's on each), where the larger of the two would not along a diagonal.
-    const btScalar sweep_xy = std::sqrt(sweep.x() * sweep.x() + sweep.y() * sweep.y());
+    // Where two steps take its centre of mass in (x, y): along its velocity, off that line by
+    // what the law's turn of it does (a turning field's spin, over a chord of two steps: an arc
+    // bulges by at most a quarter of the turn's angle times its length) and what its speed may
+    // change by while it is steady (its target's tolerance, a rail it comes up to).
+    const btVector3 path(v.x() * two_steps, v.y() * two_steps, 0);
+    const btScalar spin = f.valid() && r.tab.field_turns[f] ? std::abs(s.field_spin[f]) : btScalar(0);
+    const btScalar bulge = path.length() * spin * two_steps / 4 + (kSpeedTol + kApproach) * two_steps;
     auto hazard = [&](int32_t i) {
         const Steady::Hazard& h = S.hazards[size_t(i)];
         if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
         if (h.fixed && h.obb &&
-            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, sweep_xy + kStaticMargin, reach_xy)))
+            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, path, bulge + kStaticMargin, reach_xy)))
             return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way

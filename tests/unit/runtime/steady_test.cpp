@@ -332,20 +332,21 @@ plant Drop {
 
 // A Curve's turning field (docs/runtime.md, "Steady transport"): a bottle that rides it settles
 // onto its circle and leaves the solver in the curve, and the exit after the next belt takes it
-// as on the solver.
-TEST_CASE("steady transport: a bottle rides a Curve off the solver, and reaches the exit as on the solver") {
-    const graph::Graph g = compiled_text(R"(
+// as on the solver. `across`: where the bottle stands across the first belt (y), and so which
+// circle it rides.
+void rides_curve(const char* across, const char* name) {
+    const graph::Graph g = compiled_text(std::string(R"(
 import std.belts, std.bottle
 plant Turn {
     b1: Belt(length = 1 m)
     c1: Curve(radius = 30 cm, left = true) at (1 m, 0 m, 0 m)
     b2: Belt(length = 1 m) at (1.3 m, 30 cm, 0 m) rotate z by 90 deg
-    b: Bottle at (20 cm, 0 m, 2 cm)
+    b: Bottle at (20 cm, )") + across + R"(, 2 cm)
     trigger out_volume at (1.3 m, 1.25 m, 4 cm) { extent = (10 cm, 4 cm, 10 cm) }
     exit done { trigger = out_volume }
 }
 )",
-                                    "steady_curve.plant");
+                                         name);
     const std::vector<int32_t> mains = bodies_ending(g, ".main");
     REQUIRE(mains.size() == 1);
     const Seen on = run(g, true, 150 * 7, mains), off = run(g, false, 150 * 7, mains);
@@ -368,6 +369,18 @@ plant Turn {
     MESSAGE(off_in_curve << " of " << in_curve << " steps in the curve off the solver");
     CHECK(in_curve > 100);                // a quarter of a 30 cm circle at 50 cm/s: 141 steps
     CHECK(off_in_curve > in_curve / 2);
+}
+
+TEST_CASE("steady transport: a bottle rides a Curve off the solver, and reaches the exit as on the solver") {
+    rides_curve("0 m", "steady_curve.plant");
+}
+
+// 13 mm towards the outer rail, the bottle rides a circle whose edge passes 4 to 6 mm inside
+// the rail's pieces (straight, 10° apart, their faces 4 cm from the centre line). Two steps at
+// 50 cm/s are 6.7 mm: the test that it keeps clear of a piece follows its centre's path along
+// the piece, not a disc as wide as the path all round it, which would reach the rail.
+TEST_CASE("steady transport: a bottle rides a Curve off the solver 5 mm from its outer rail") {
+    rides_curve("-13 mm", "steady_curve_outer.plant");
 }
 
 // A belt turned by 3° before a straight one: bottles come onto the straight one drifting across
@@ -643,14 +656,20 @@ TEST_CASE("steady transport: --steady-transport takes on or off") {
     CHECK(err.str().find("--steady-transport: 'maybe' is neither on nor off") != std::string::npos);
 }
 
+namespace {
 
+// The plant's one bottle (its main body), and options with steady transport on.
+graph::BodyId the_bottle(const graph::Graph& g) {
+    const std::vector<int32_t> mains = bodies_ending(g, ".main");
+    REQUIRE(mains.size() == 1);
+    return graph::BodyId(mains[0]);
+}
+engine::Options steady_on() {
+    engine::Options o;
+    o.steady_transport = true;
+    return o;
+}
 
-
-// A field starting just across a cell's edge (cells of 25 cm: docs/runtime.md, "Steady
-// transport") from a bottle coasting on a belt: the bottle's path comes within 1 mm of that
-// field's face while its centre is still in the cell before, so the field must be filed under
-// that cell too (fields are filed grown by 5 cm) or the bottle would ride into a second field
-// off the solver. Nothing else is near that face: no band, no rail, no body.
 // Two belts end to end: a std.belts band rises 2 mm along its length, so the next one starts
 // 2 mm lower and a bottle steps down onto it. While its centre is over its own band, the next
 // one lies below it and touches nothing (docs/runtime.md, "Steady transport": a piece clear
@@ -673,12 +692,8 @@ plant Joint {
 // The steps in which the bottle's centre is between `from` and `to` along x (where the step's
 // check finds it), and how many of them it spent off the solver.
 std::pair<int, int> off_between(const graph::Graph& g, double from, double to) {
-    const std::vector<int32_t> mains = bodies_ending(g, ".main");
-    REQUIRE(mains.size() == 1);
-    const graph::BodyId bottle(mains[0]);
-    engine::Options o;
-    o.steady_transport = true;
-    Engine e(g, o);
+    const graph::BodyId bottle = the_bottle(g);
+    Engine e(g, steady_on());
     int in = 0, off = 0;
     for (int i = 0; i < 150 * 3; ++i) {
         const double x = e.body_com(bottle)[0];
@@ -689,6 +704,8 @@ std::pair<int, int> off_between(const graph::Graph& g, double from, double to) {
     }
     return {in, off};
 }
+
+}  // namespace
 
 TEST_CASE("steady transport: a bottle stays off the solver over the next band below it, up to its own band's end") {
     // Its bounding box (4.2 cm wide), grown by two steps and 2 mm, meets the next band from
@@ -715,6 +732,11 @@ TEST_CASE("steady transport: a bottle on two bands level with each other is on t
     CHECK(on.taken.size() == 1);
 }
 
+// A field starting just across a cell's edge (cells of 25 cm: docs/runtime.md, "Steady
+// transport") from a bottle coasting on a belt: the bottle's path comes within 1 mm of that
+// field's face while its centre is still in the cell before, so the field must be filed under
+// that cell too (fields are filed grown by 5 cm) or the bottle would ride into a second field
+// off the solver. Nothing else is near that face: no band, no rail, no body.
 TEST_CASE("steady transport: a bottle lands before a field that starts in the next cell") {
     const graph::Graph g = compiled_text(R"(
 import std.belts, std.bottle
@@ -732,12 +754,8 @@ plant Edge {
 }
 )",
                                     "steady_cell_edge.plant");
-    const std::vector<int32_t> mains = bodies_ending(g, ".main");
-    REQUIRE(mains.size() == 1);
-    const graph::BodyId bottle(mains[0]);
-    engine::Options o;
-    o.steady_transport = true;
-    Engine e(g, o);
+    const graph::BodyId bottle = the_bottle(g);
+    Engine e(g, steady_on());
     const double face = 1.0005, reach = 0.001 + 2 * 0.5 / 150;  // 1 mm and two steps at 50 cm/s
     int coasted = 0, near_face = 0;
     for (int i = 0; i < 150 * 3; ++i) {
