@@ -22,8 +22,9 @@
 //     where it meets two, one whose top face's plane lies more than 0.5 mm below its shape over
 //     two steps is passed over: clear_below) and otherwise only rails it slides along or comes
 //     up to at 1 cm/s at most (guide_by; each piece of a compound on its own, the band's too;
-//     a box turned about the vertical, a curve's rail, is met only where its faces are within
-//     the unit's reach: meets_obb, disc_clear); grown by its sweep plus 1 cm, it meets no
+//     a box turned about the vertical, a curve's rail, or a convex hull, a separator's funnel,
+//     is met only where it is within the unit's reach of its centre's path: meets_obb,
+//     disc_clear, outline_clear); grown by its sweep plus 1 cm, it meets no
 //     kinematic part's room (its box when filed, grown by 5 cm) but of parts whose collision
 //     is off and parts at rest where they were filed, which count as static pieces met by
 //     that box;
@@ -72,9 +73,12 @@
 #include <BulletCollision/BroadphaseCollision/btBroadphaseInterface.h>
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 namespace plant::engine {
 
@@ -210,6 +214,42 @@ const btConvexPolyhedron* polyhedron_of(const btCollisionShape& s) {
     return p && solid_polyhedron(*p) ? p : nullptr;
 }
 
+// A static convex hull's outline seen from above (Hazard::poly): the convex hull of its points'
+// (x, y) in the world, counter-clockwise, appended to `xy`. Nothing for any other shape, or a
+// hull of more than kOutline points.
+constexpr int kOutline = 32;
+void outline(const btCollisionShape& shape, const btTransform& t, Steady::Hazard& h, std::vector<btScalar>& xy) {
+    h.poly = -1, h.corners = 0;
+    if (shape.getShapeType() != CONVEX_HULL_SHAPE_PROXYTYPE) return;
+    const auto& hull = static_cast<const btConvexHullShape&>(shape);
+    const int n = hull.getNumPoints();
+    if (n < 3 || n > kOutline) return;
+    std::array<std::pair<btScalar, btScalar>, kOutline> p;
+    for (int i = 0; i < n; ++i) {
+        const btVector3 w = t * (hull.getUnscaledPoints()[i] * hull.getLocalScaling());
+        p[size_t(i)] = {w.x(), w.y()};
+    }
+    std::sort(p.begin(), p.begin() + n);
+    // Andrew's monotone chain: the lower hull, then the upper one.
+    std::array<std::pair<btScalar, btScalar>, 2 * kOutline> c;
+    int k = 0;
+    auto cross = [](const auto& o, const auto& a, const auto& b) {
+        return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
+    };
+    for (int i = 0; i < n; ++i) {
+        while (k >= 2 && cross(c[size_t(k - 2)], c[size_t(k - 1)], p[size_t(i)]) <= 0) --k;
+        c[size_t(k++)] = p[size_t(i)];
+    }
+    for (int i = n - 2, low = k + 1; i >= 0; --i) {
+        while (k >= low && cross(c[size_t(k - 2)], c[size_t(k - 1)], p[size_t(i)]) <= 0) --k;
+        c[size_t(k++)] = p[size_t(i)];
+    }
+    --k;  // the last point is the first
+    if (k < 3) return;  // seen edge on: a line
+    h.poly = int32_t(xy.size() / 2), h.corners = int16_t(k), h.poly_margin = shape.getMargin();
+    for (int i = 0; i < k; ++i) xy.push_back(c[size_t(i)].first), xy.push_back(c[size_t(i)].second);
+}
+
 // Files the static geometry into cells (when starting and after a static body was placed or a
 // kinematic one left its room). Allocates only when it covers more cells than before.
 void build_grid(Runtime& r) {
@@ -217,6 +257,7 @@ void build_grid(Runtime& r) {
     const Physics& ph = r.phys;
     S.hazards.clear();
     S.kinematic.clear();
+    S.poly_xy.clear();
     for (BodyId b : ids_of(r.g.bodies)) {
         const BodyMode mode = r.g.bodies[b].mode;
         if (mode == BodyMode::Dynamic) continue;
@@ -241,12 +282,14 @@ void build_grid(Runtime& r) {
                     h.ohx = half.x(), h.ohy = half.y();
                 }
                 h.piece = int16_t(k);
+                outline(*piece, t, h, S.poly_xy);
                 S.hazards.push_back(h);
             }
             continue;
         }
         body_box(ph, b, h.lo, h.hi);
         h.box = axis_box(rb);  // a kinematic part's too: it counts while at rest where filed (steady_now)
+        if (mode == BodyMode::Static) outline(*rb.getCollisionShape(), rb.getWorldTransform(), h, S.poly_xy);
         if (mode == BodyMode::Kinematic) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
@@ -586,22 +629,25 @@ bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi
 // it is): the distance from that segment to the box in (x, y) against the shape's reach about
 // its centre, the largest of its extents along 16 horizontal directions over cos(π/16) (so
 // that it bounds the extents between them, and the shape's as it turns about the vertical).
+void ask_reach(const btRigidBody& rb, btScalar& reach) {
+    if (reach >= 0) return;  // once per check
+    const btTransform& t = rb.getWorldTransform();
+    const btVector3 c = t.getOrigin();
+    const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+    reach = 0;
+    for (int k = 0; k < 16; ++k) {
+        const btScalar a = btScalar(k) * SIMD_PI / 8;
+        const btVector3 d(std::cos(a), std::sin(a), 0);
+        reach = std::max(reach, (t * shape.localGetSupportingVertex(d * t.getBasis()) - c).dot(d));
+    }
+    reach /= std::cos(SIMD_PI / 16);
+}
 bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, const btVector3& path, btScalar grow,
                 btScalar& reach) {
     const btRigidBody& rb = ph.rb(b);
     if (!rb.getCollisionShape()->isConvex()) return false;
-    const btTransform& t = rb.getWorldTransform();
-    const btVector3 c = t.getOrigin();
-    if (reach < 0) {  // once per check
-        const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
-        reach = 0;
-        for (int k = 0; k < 16; ++k) {
-            const btScalar a = btScalar(k) * SIMD_PI / 8;
-            const btVector3 d(std::cos(a), std::sin(a), 0);
-            reach = std::max(reach, (t * shape.localGetSupportingVertex(d * t.getBasis()) - c).dot(d));
-        }
-        reach /= std::cos(SIMD_PI / 16);
-    }
+    const btVector3 c = rb.getWorldTransform().getOrigin();
+    ask_reach(rb, reach);
     const btScalar r = reach + grow, r2 = r * r;
     // The segment's ends in the box's frame, (ax, ay) to (bx, by); the box is [-ohx, ohx] × [-ohy, ohy].
     const btScalar dx = c.x() - h.ocx, dy = c.y() - h.ocy;
@@ -633,6 +679,54 @@ bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, const btVe
             const btScalar ex = px - k * ux, ey = py - k * uy;
             if (ex * ex + ey * ey <= r2) return false;
         }
+    return true;
+}
+
+// The same against a static hull's outline (Hazard::poly), grown by its margin: the distance
+// from the centre's segment to a convex polygon, from the segment's ends to the polygon and
+// from the polygon's corners to the segment, where the segment crosses none of its edges. The
+// outline contains the hull seen from above, so a unit clear of it is clear of the hull.
+bool outline_clear(const Physics& ph, const Steady& S, BodyId b, const Steady::Hazard& h, const btVector3& path,
+                   btScalar grow, btScalar& reach) {
+    const btRigidBody& rb = ph.rb(b);
+    if (!rb.getCollisionShape()->isConvex()) return false;
+    ask_reach(rb, reach);
+    const btScalar r = reach + grow + h.poly_margin, r2 = r * r;
+    const btScalar* xy = S.poly_xy.data() + 2 * size_t(h.poly);
+    const int n = h.corners;
+    const btVector3 c = rb.getWorldTransform().getOrigin();
+    const btScalar ax = c.x(), ay = c.y(), ux = path.x(), uy = path.y();
+    // Squared distance from (px, py) to the segment from (x0, y0) by (dx, dy).
+    auto to_segment = [](btScalar px, btScalar py, btScalar x0, btScalar y0, btScalar dx, btScalar dy) {
+        const btScalar l2 = dx * dx + dy * dy;
+        const btScalar k = l2 > 0 ? std::clamp(((px - x0) * dx + (py - y0) * dy) / l2, btScalar(0), btScalar(1)) : 0;
+        const btScalar ex = px - x0 - k * dx, ey = py - y0 - k * dy;
+        return ex * ex + ey * ey;
+    };
+    auto to_outline = [&](btScalar px, btScalar py) {  // 0 inside
+        bool inside = true;
+        btScalar best = std::numeric_limits<btScalar>::max();
+        for (int i = 0; i < n; ++i) {
+            const int j = (i + 1) % n;
+            const btScalar x0 = xy[2 * i], y0 = xy[2 * i + 1], dx = xy[2 * j] - x0, dy = xy[2 * j + 1] - y0;
+            if (dx * (py - y0) - dy * (px - x0) < 0) inside = false;
+            best = std::min(best, to_segment(px, py, x0, y0, dx, dy));
+        }
+        return inside ? btScalar(0) : best;
+    };
+    if (to_outline(ax, ay) <= r2 || to_outline(ax + ux, ay + uy) <= r2) return false;
+    auto side = [](btScalar x0, btScalar y0, btScalar dx, btScalar dy, btScalar px, btScalar py) {
+        const btScalar v = dx * (py - y0) - dy * (px - x0);
+        return (v > 0) - (v < 0);
+    };
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        const btScalar x0 = xy[2 * i], y0 = xy[2 * i + 1], dx = xy[2 * j] - x0, dy = xy[2 * j + 1] - y0;
+        if (to_segment(x0, y0, ax, ay, ux, uy) <= r2) return false;  // a corner near the path
+        if (side(ax, ay, ux, uy, x0, y0) * side(ax, ay, ux, uy, x0 + dx, y0 + dy) < 0 &&
+            side(x0, y0, dx, dy, ax, ay) * side(x0, y0, dx, dy, ax + ux, ay + uy) < 0)
+            return false;  // the path crosses an edge
+    }
     return true;
 }
 
@@ -717,6 +811,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
         if (h.fixed && h.obb &&
             (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, path, bulge + kStaticMargin, reach_xy)))
             return true;
+        if (h.fixed && h.poly >= 0 && outline_clear(ph, S, b, h, path, bulge + kStaticMargin, reach_xy)) return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way
         if (ph.rb(b).getFriction() * h.friction != 0) return fail(out, OnSolver::kSupport);  // it would hold it back
@@ -1066,6 +1161,7 @@ void start_steady(Runtime& r, bool on) {
     S.cell_adr.reserve(2 * S.cell_adr.size() + 64);
     S.cell_list.reserve(2 * S.cell_list.size() + 64);
     S.big.reserve(S.hazards.size());
+    S.poly_xy.reserve(2 * S.poly_xy.size() + 64);
 }
 
 bool kinematic_left(Runtime& r, size_t begin, size_t end) {
