@@ -179,9 +179,7 @@ void publish(Runtime& r, GraphicsId i, uint8_t flags, graph::SlotId* list, int32
     }
     if (flags & kPoseChanged) {
         const graph::SlotId x = r.comp_slot(r.g.graphics[i].comp, slot::pose);
-        double* v = r.val(x);
-        for (int k = 0; k < 3; ++k) v[k] = gs.pose.p[k];
-        for (int k = 0; k < 4; ++k) v[3 + k] = gs.pose.q[k];
+        r.write_pose(x, gs.pose);
         if (r.flag_active(x)) list[m++] = x;
     }
 }
@@ -299,6 +297,5 @@ constexpr KindBehaviour behaviour{.make_state = make_state,
                                   .sense_segment = StepProfile::Graphics,
                                   .act_one = act_one,
                                   .acts_off_physics = true};  // its state, its animations' and variants'
-
 
 }  // namespace plant::kinds::graphics

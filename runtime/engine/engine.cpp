@@ -74,10 +74,14 @@ std::string_view Runtime::str(int32_t name) const {
     return extra < count_of(extra_names) ? std::string_view(extra_names[extra]) : std::string_view{};
 }
 
-void Runtime::emit_pose(SlotId slot, const Pose& p) {
+void Runtime::write_pose(SlotId slot, const Pose& p) {
     double* v = val(slot);
     for (int i = 0; i < 3; ++i) v[i] = p.p[i];
     for (int i = 0; i < 4; ++i) v[3 + i] = p.q[i];
+}
+
+void Runtime::emit_pose(SlotId slot, const Pose& p) {
+    write_pose(slot, p);
     activate(slot);
 }
 

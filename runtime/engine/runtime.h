@@ -62,6 +62,8 @@ struct Runtime {
         activate(slot);
     }
     void emit_pose(graph::SlotId slot, const Pose& p);
+    // Writes a pose output's value (emit_pose without making it active: a job's item lists it).
+    void write_pose(graph::SlotId slot, const Pose& p);
     graph::SlotId comp_slot(graph::CompId comp, int index) const { return g.comps[comp].slot_adr + index; }
 
     void refresh_observers();  // after watch(): which body outputs to refresh per step

@@ -24,10 +24,9 @@
 //     up to at 1 cm/s at most (guide_by; each piece of a compound on its own, the band's too;
 //     a box turned about the vertical, a curve's rail, or a convex hull, a separator's funnel,
 //     is met only where it is within the unit's reach of its centre's path: meets_obb,
-//     disc_clear, outline_clear); grown by its sweep plus 1 cm, it meets no
-//     kinematic part's room (its box when filed, grown by 5 cm) but of parts whose collision
-//     is off and parts at rest where they were filed, which count as static pieces met by
-//     that box;
+//     outline_clear); grown by its sweep plus 1 cm, it meets no kinematic part's room (its box
+//     when filed, grown by 5 cm) but of parts whose collision is off and parts at rest where
+//     they were filed, which count as static pieces met by that box;
 //   * no other body's bounding box grown by that body's reach (two steps plus 1 cm, 5 cm more
 //     for one that Bullet does not move itself) meets its own grown by its sweep plus 1 cm.
 //
@@ -214,26 +213,41 @@ const btConvexPolyhedron* polyhedron_of(const btCollisionShape& s) {
     return p && solid_polyhedron(*p) ? p : nullptr;
 }
 
-// A static convex hull's outline seen from above (Hazard::poly): the convex hull of its points'
-// (x, y) in the world, counter-clockwise, appended to `xy`. Nothing for any other shape, or a
-// hull of more than kOutline points.
+// A static piece's outline seen from above (Hazard::poly): a convex polygon, counter-clockwise,
+// appended to `xy`, and the margin the shape adds around it.
+using Corner = std::pair<btScalar, btScalar>;
+void add_outline(Steady::Hazard& h, const Corner* c, int k, btScalar margin, std::vector<btScalar>& xy) {
+    h.poly = int32_t(xy.size() / 2), h.corners = int16_t(k), h.poly_margin = margin;
+    for (int i = 0; i < k; ++i) xy.push_back(c[i].first), xy.push_back(c[i].second);
+}
+
+// A box turned about the vertical (a curve's rail piece, Hazard::obb): its four corners; its
+// margin is inside its extents.
+void box_outline(Steady::Hazard& h, std::vector<btScalar>& xy) {
+    const btScalar ux = h.oc * h.ohx, uy = h.os * h.ohx, wx = -h.os * h.ohy, wy = h.oc * h.ohy;
+    const Corner c[4] = {{h.ocx - ux - wx, h.ocy - uy - wy},
+                         {h.ocx + ux - wx, h.ocy + uy - wy},
+                         {h.ocx + ux + wx, h.ocy + uy + wy},
+                         {h.ocx - ux + wx, h.ocy - uy + wy}};
+    add_outline(h, c, 4, 0, xy);
+}
+
+// A static convex hull (a separator's funnel): the convex hull of its points' (x, y) in the
+// world. Nothing for a hull of more than kOutline points, or one seen edge on.
 constexpr int kOutline = 32;
-void outline(const btCollisionShape& shape, const btTransform& t, Steady::Hazard& h, std::vector<btScalar>& xy) {
-    h.poly = -1, h.corners = 0;
-    if (shape.getShapeType() != CONVEX_HULL_SHAPE_PROXYTYPE) return;
-    const auto& hull = static_cast<const btConvexHullShape&>(shape);
+void hull_outline(const btConvexHullShape& hull, const btTransform& t, Steady::Hazard& h, std::vector<btScalar>& xy) {
     const int n = hull.getNumPoints();
     if (n < 3 || n > kOutline) return;
-    std::array<std::pair<btScalar, btScalar>, kOutline> p;
+    std::array<Corner, kOutline> p;
     for (int i = 0; i < n; ++i) {
         const btVector3 w = t * (hull.getUnscaledPoints()[i] * hull.getLocalScaling());
         p[size_t(i)] = {w.x(), w.y()};
     }
     std::sort(p.begin(), p.begin() + n);
     // Andrew's monotone chain: the lower hull, then the upper one.
-    std::array<std::pair<btScalar, btScalar>, 2 * kOutline> c;
+    std::array<Corner, 2 * kOutline> c;
     int k = 0;
-    auto cross = [](const auto& o, const auto& a, const auto& b) {
+    auto cross = [](const Corner& o, const Corner& a, const Corner& b) {
         return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
     };
     for (int i = 0; i < n; ++i) {
@@ -245,9 +259,7 @@ void outline(const btCollisionShape& shape, const btTransform& t, Steady::Hazard
         c[size_t(k++)] = p[size_t(i)];
     }
     --k;  // the last point is the first
-    if (k < 3) return;  // seen edge on: a line
-    h.poly = int32_t(xy.size() / 2), h.corners = int16_t(k), h.poly_margin = shape.getMargin();
-    for (int i = 0; i < k; ++i) xy.push_back(c[size_t(i)].first), xy.push_back(c[size_t(i)].second);
+    if (k >= 3) add_outline(h, c.data(), k, hull.getMargin(), xy);
 }
 
 // Files the static geometry into cells (when starting and after a static body was placed or a
@@ -282,14 +294,19 @@ void build_grid(Runtime& r) {
                     h.ohx = half.x(), h.ohy = half.y();
                 }
                 h.piece = int16_t(k);
-                outline(*piece, t, h, S.poly_xy);
+                h.poly = -1;
+                if (h.obb) box_outline(h, S.poly_xy);
+                else if (piece->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE)
+                    hull_outline(*static_cast<const btConvexHullShape*>(piece), t, h, S.poly_xy);
                 S.hazards.push_back(h);
             }
             continue;
         }
         body_box(ph, b, h.lo, h.hi);
         h.box = axis_box(rb);  // a kinematic part's too: it counts while at rest where filed (steady_now)
-        if (mode == BodyMode::Static) outline(*rb.getCollisionShape(), rb.getWorldTransform(), h, S.poly_xy);
+        if (mode == BodyMode::Static && rb.getCollisionShape()->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE)
+            hull_outline(*static_cast<const btConvexHullShape*>(rb.getCollisionShape()), rb.getWorldTransform(), h,
+                         S.poly_xy);
         if (mode == BodyMode::Kinematic) {
             const btVector3 room(kRoom, kRoom, kRoom);
             h.lo -= room, h.hi += room;
@@ -624,11 +641,9 @@ bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi
     return true;
 }
 
-// Whether unit b's shape, grown by `grow` in x and y, keeps clear of static box h, turned
-// about z (Hazard::obb), while its centre of mass moves along `path` (in x and y, from where
-// it is): the distance from that segment to the box in (x, y) against the shape's reach about
-// its centre, the largest of its extents along 16 horizontal directions over cos(π/16) (so
-// that it bounds the extents between them, and the shape's as it turns about the vertical).
+// The unit's reach about its centre of mass in (x, y): the largest of its extents along 16
+// horizontal directions over cos(π/16), so that it bounds the extents between them, and the
+// shape's however it turns about the vertical. Asked once per check (reach < 0 until then).
 void ask_reach(const btRigidBody& rb, btScalar& reach) {
     if (reach >= 0) return;  // once per check
     const btTransform& t = rb.getWorldTransform();
@@ -642,50 +657,13 @@ void ask_reach(const btRigidBody& rb, btScalar& reach) {
     }
     reach /= std::cos(SIMD_PI / 16);
 }
-bool disc_clear(const Physics& ph, BodyId b, const Steady::Hazard& h, const btVector3& path, btScalar grow,
-                btScalar& reach) {
-    const btRigidBody& rb = ph.rb(b);
-    if (!rb.getCollisionShape()->isConvex()) return false;
-    const btVector3 c = rb.getWorldTransform().getOrigin();
-    ask_reach(rb, reach);
-    const btScalar r = reach + grow, r2 = r * r;
-    // The segment's ends in the box's frame, (ax, ay) to (bx, by); the box is [-ohx, ohx] × [-ohy, ohy].
-    const btScalar dx = c.x() - h.ocx, dy = c.y() - h.ocy;
-    const btScalar ax = dx * h.oc + dy * h.os, ay = -dx * h.os + dy * h.oc;
-    const btScalar ux = path.x() * h.oc + path.y() * h.os, uy = -path.x() * h.os + path.y() * h.oc;
-    auto to_box = [&h](btScalar x, btScalar y) {  // squared distance of a point to the box
-        const btScalar ox = std::max(std::abs(x) - h.ohx, btScalar(0)), oy = std::max(std::abs(y) - h.ohy, btScalar(0));
-        return ox * ox + oy * oy;
-    };
-    if (to_box(ax, ay) <= r2 || to_box(ax + ux, ay + uy) <= r2) return false;
-    // Both ends are clear: the segment is, unless it crosses the box or passes a corner closer
-    // (between a segment and a convex polygon that it does not cross, the least distance is
-    // from an end of one to the other).
-    const btScalar len2 = ux * ux + uy * uy;
-    if (len2 == 0) return true;
-    btScalar t0 = 0, t1 = 1;  // the part of the segment inside the box's slabs (Liang-Barsky)
-    auto slab = [&t0, &t1](btScalar p0, btScalar dp, btScalar half) {
-        if (dp == 0) return std::abs(p0) <= half;
-        btScalar ta = (-half - p0) / dp, tb = (half - p0) / dp;
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-        return t0 <= t1;
-    };
-    if (slab(ax, ux, h.ohx) && slab(ay, uy, h.ohy)) return false;  // it crosses the box
-    for (int sx = -1; sx <= 1; sx += 2)
-        for (int sy = -1; sy <= 1; sy += 2) {
-            const btScalar px = btScalar(sx) * h.ohx - ax, py = btScalar(sy) * h.ohy - ay;
-            const btScalar k = std::clamp((px * ux + py * uy) / len2, btScalar(0), btScalar(1));
-            const btScalar ex = px - k * ux, ey = py - k * uy;
-            if (ex * ex + ey * ey <= r2) return false;
-        }
-    return true;
-}
-
-// The same against a static hull's outline (Hazard::poly), grown by its margin: the distance
-// from the centre's segment to a convex polygon, from the segment's ends to the polygon and
-// from the polygon's corners to the segment, where the segment crosses none of its edges. The
-// outline contains the hull seen from above, so a unit clear of it is clear of the hull.
+// Whether unit b's shape, grown by `grow` in x and y, keeps clear of static piece h's outline
+// seen from above (Hazard::poly: a curve's turned rail, a hull) grown by its margin, while its
+// centre of mass moves along `path` (in x and y, from where it is): the distance from that
+// segment to the polygon against the shape's reach (ask_reach). The distance from a segment to
+// a convex polygon that it does not cross is the least from the segment's ends to the polygon
+// and from the polygon's corners to the segment. The outline contains the piece seen from
+// above, so a unit clear of it is clear of the piece at any height.
 bool outline_clear(const Physics& ph, const Steady& S, BodyId b, const Steady::Hazard& h, const btVector3& path,
                    btScalar grow, btScalar& reach) {
     const btRigidBody& rb = ph.rb(b);
@@ -797,7 +775,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     int sup_below = -1;  // whether it lies clear below the unit (clear_below), once asked
     bool lower = false;  // whether a second piece under it was met
     const btScalar two_steps = btScalar(2 * r.dt);
-    btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (disc_clear)
+    btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (ask_reach)
     // Where two steps take its centre of mass in (x, y): along its velocity, off that line by
     // what the law's turn of it does (a turning field's spin, over a chord of two steps: an arc
     // bulges by at most a quarter of the turn's angle times its length) and what its speed may
@@ -808,9 +786,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     auto hazard = [&](int32_t i) {
         const Steady::Hazard& h = S.hazards[size_t(i)];
         if (h.fixed ? !overlap(slo, shi, h.lo, h.hi) : !overlap(glo, ghi, h.lo, h.hi)) return true;
-        if (h.fixed && h.obb &&
-            (!meets_obb(h, slo, shi) || disc_clear(ph, b, h, path, bulge + kStaticMargin, reach_xy)))
-            return true;
+        if (h.fixed && h.obb && !meets_obb(h, slo, shi)) return true;
         if (h.fixed && h.poly >= 0 && outline_clear(ph, S, b, h, path, bulge + kStaticMargin, reach_xy)) return true;
         if (!h.fixed) return part(h);
         if (h.hi.z() > lo.z() + kSink) return guide_by(ph, b, h, out);  // a rail, or in the way

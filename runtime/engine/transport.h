@@ -127,15 +127,16 @@ struct Steady {
         // than its bounding box.
         bool obb = false;
         btScalar ocx = 0, ocy = 0, oc = 1, os = 0, ohx = 0, ohy = 0;
-        // A static convex hull (a separator's funnel): its outline in (x, y), the convex hull of
-        // its points seen from above, counter-clockwise: poly_xy[2·poly, 2·(poly + corners)),
-        // and its collision margin. poly < 0: none.
+        // A static piece's outline seen from above, for a turned box (obb: its corners) and a
+        // convex hull (a separator's funnel: the convex hull of its points' x and y), counter-
+        // clockwise: poly_xy[2·poly, 2·(poly + corners)), and the margin the shape adds around
+        // it. poly < 0: none.
         int32_t poly = -1;
         int16_t corners = 0;
         btScalar poly_margin = 0;
     };
     std::vector<Hazard> hazards;
-    std::vector<btScalar> poly_xy;  // the hulls' outlines (Hazard::poly)
+    std::vector<btScalar> poly_xy;  // the outlines (Hazard::poly)
     std::vector<uint8_t> level_top;  // beside hazards: a static piece whose top face is level
     std::vector<btVector4> top_plane;  // beside them: that face's plane (normal, and its offset along it)
     std::vector<uint64_t> cells;

@@ -22,7 +22,6 @@ using namespace plant::test;
 
 namespace {
 
-
 int32_t do_named(const graph::Graph& g, std::string_view path) {
     for (size_t d = 0; d < g.dos.size(); ++d)
         if (g.str(g.dos[graph::DoId(d)].path) == path) return int32_t(d);
