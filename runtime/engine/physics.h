@@ -86,6 +86,8 @@ public:
     // centre of mass, velocity and inertia are the pair's; com(), velocity(),
     // angular_velocity() and inertia_world() give each body's own.
     const btRigidBody& rb(graph::BodyId b) const { return *bodies_[b]; }
+    // What bounds a convex shape's reach, measured when it was made; null for another shape.
+    const ShapeReach* reach(const btCollisionShape& s) const { return shapes_.reach(s); }
     // Asks the processor for b's pose and velocity ahead of a pass over bodies that reads them
     // (a hint: it changes no result). A pass over many bodies in an order that is not their
     // order in memory (by place: the body index) misses on each one.

@@ -94,7 +94,35 @@ btCollisionShape* ShapeCache::primitive(const Graph& g, const Shape& s) {
     case ShapeKind::Capsule: shape = std::make_unique<btCapsuleShapeZ>(r, std::max<btScalar>(h - 2 * r, 0)); break;
     case ShapeKind::Hull: return hull(g, s, Pose{});  // its own cache entry, the same key
     }
+    return keep(std::move(shape), std::move(key));
+}
+
+ShapeReach measure_reach(const btConvexShape& shape) {
+    ShapeReach m;
+    for (int k = 0; k < 3; ++k) {
+        btVector3 u(0, 0, 0), e1(0, 0, 0), e2(0, 0, 0);
+        u[k] = 1, e1[(k + 1) % 3] = 1, e2[(k + 2) % 3] = 1;
+        btScalar rho = 0;
+        for (int i = 0; i < 64; ++i) {
+            const btScalar a = btScalar(i) * SIMD_PI / 32;
+            const btVector3 d = e1 * std::cos(a) + e2 * std::sin(a);
+            rho = std::max(rho, shape.localGetSupportingVertex(d).dot(d));
+        }
+        m.rho[k] = rho / std::cos(SIMD_PI / 64);
+        m.along[k] = std::max({shape.localGetSupportingVertex(u).dot(u), -shape.localGetSupportingVertex(-u).dot(u),
+                               btScalar(0)});
+    }
+    return m;
+}
+
+// Owns a shape made for `key`; a convex one is measured (ShapeReach) and its user index says
+// where that is kept.
+btCollisionShape* ShapeCache::keep(std::unique_ptr<btCollisionShape> shape, std::vector<double> key) {
     btCollisionShape* raw = shape.get();
+    if (raw->isConvex()) {
+        raw->setUserIndex(int(reach_.size()));
+        reach_.push_back(measure_reach(*static_cast<const btConvexShape*>(raw)));
+    }
     owned_.push_back(std::move(shape));
     cache_.emplace(std::move(key), raw);
     return raw;
@@ -123,10 +151,7 @@ btCollisionShape* ShapeCache::hull(const Graph& g, const Shape& s, const Pose& t
     // A hull without volume (the loader refuses one; a hand-built graph may not) keeps no
     // polyhedral features: Bullet's polyhedral contacts would index a face it lacks.
     if (const btConvexPolyhedron* p = h->getConvexPolyhedron(); !p || !solid_polyhedron(*p)) h = make();
-    btCollisionShape* raw = h.get();
-    owned_.push_back(std::move(h));
-    cache_.emplace(std::move(key), raw);
-    return raw;
+    return keep(std::move(h), std::move(key));
 }
 
 btCollisionShape* ShapeCache::compound(const std::vector<double>& key,

@@ -641,14 +641,18 @@ bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi
     return true;
 }
 
-// The unit's reach about its centre of mass in (x, y): the largest of its extents along 16
-// horizontal directions over cos(π/16), so that it bounds the extents between them, and the
-// shape's however it turns about the vertical. Asked once per check (reach < 0 until then).
-void ask_reach(const btRigidBody& rb, btScalar& reach) {
+// The unit's reach about its centre of mass in (x, y), however it turns about the vertical:
+// for a shape measured when made (Physics::reach), reach_bound; else the largest of its extents
+// along 16 horizontal directions over cos(pi/16). Asked once per check (reach < 0 until then).
+void ask_reach(const Physics& ph, const btRigidBody& rb, btScalar& reach) {
     if (reach >= 0) return;  // once per check
     const btTransform& t = rb.getWorldTransform();
-    const btVector3 c = t.getOrigin();
     const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
+    if (const ShapeReach* m = ph.reach(shape)) {
+        reach = reach_bound(*m, t.getBasis());
+        return;
+    }
+    const btVector3 c = t.getOrigin();
     reach = 0;
     for (int k = 0; k < 16; ++k) {
         const btScalar a = btScalar(k) * SIMD_PI / 8;
@@ -668,7 +672,7 @@ bool outline_clear(const Physics& ph, const Steady& S, BodyId b, const Steady::H
                    btScalar grow, btScalar& reach) {
     const btRigidBody& rb = ph.rb(b);
     if (!rb.getCollisionShape()->isConvex()) return false;
-    ask_reach(rb, reach);
+    ask_reach(ph, rb, reach);
     const btScalar r = reach + grow + h.poly_margin, r2 = r * r;
     const btScalar* xy = S.poly_xy.data() + 2 * size_t(h.poly);
     const int n = h.corners;
