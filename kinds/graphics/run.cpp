@@ -57,6 +57,10 @@ struct GraphicsData : KindData {
     // Per graphics, whether its pose output is watched (State::watched, read again when
     // State::watches says it changed: `watches`).
     graph::IdVector<GraphicsId, uint8_t> pose_watched;
+    // Per graphics, whether only its pose output reads its pose: on a body that is not static,
+    // no child graphics and no gripper following it. Such a graphics on a body in the world,
+    // its output not watched and no animation playing, is passed over (GraphicsState::stale).
+    graph::IdVector<GraphicsId, uint8_t> lone;
     uint64_t statics = UINT64_MAX, watches = UINT64_MAX;
 };
 
@@ -96,6 +100,12 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     }
     s->still.assign(g.graphics.size(), kMoving);
     s->pose_watched.assign(g.graphics.size(), 0);
+    s->lone.assign(g.graphics.size(), 0);
+    for (GraphicsId i : ids_of(g.graphics)) s->lone[i] = s->body[i].valid() && !s->fixed[i];
+    for (GraphicsId i : ids_of(g.graphics))
+        if (g.graphics[i].parent.valid()) s->lone[g.graphics[i].parent] = 0;
+    for (const graph::Gripper& gr : g.grippers)
+        if (gr.graphics.valid()) s->lone[gr.graphics] = 0;
     return s;
 }
 
@@ -206,8 +216,26 @@ void sense_all(Runtime& r) {
         if ((still == kParked && !r.phys.in_world(body)) || (still == kStanding && !all && r.phys.in_world(body)) ||
             (still == kFixed && !r.st.graphics_placed[g]))
             return 0;  // what advance_one would find: nothing to do, nothing changed
+        GraphicsState& gs = r.st.graphics[g];
+        if (data.lone[g] && !data.pose_watched[g] && gs.anim < 0 && (gs.stale || r.phys.in_world(body))) {
+            // Nothing reads its pose but its output, which is not watched: only its body's frame
+            // is kept (in body_tr, while the body is in the world: a parked body's graphics keep
+            // their last pose), and Engine::graphics_pose computes its pose from it as a visit
+            // would. base_fresh false: body_tr is not Bullet's transform.
+            if (r.phys.in_world(body)) gs.body_tr = r.phys.frame(body);
+            gs.stale = true;
+            gs.base_fresh = false;
+            data.still[g] = kMoving;
+            return 0;
+        }
+        if (gs.stale) {
+            // Kept up again (its output watched, an animation started): base and pose as the
+            // visits would have left them at the last step, so this visit publishes as one would.
+            gs.stale = false;
+            gs.base = pmul(from_bt(gs.body_tr), data.local[g]);
+            gs.pose = gs.prev = pmul(gs.base, gs.offset);
+        }
         const uint8_t f = to_publish(data, g, advance_one(r, data, g));
-        const GraphicsState& gs = r.st.graphics[g];
         if (!body.valid()) r.st.graphics_placed[g] = 0;
         // On no body, its pose as before: pose and prev the same bits (advance_one copied one
         // into the other and computed the same pose again), so a visit would write nothing.

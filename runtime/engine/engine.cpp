@@ -214,7 +214,15 @@ bool Engine::trigger_occupied(graph::TriggerId t) const { return rt_->st.trigger
 bool Engine::field_on(graph::FieldId f) const { return rt_->st.field_on[f] != 0; }
 double Engine::field_speed(graph::FieldId f) const { return rt_->st.field_speed[f]; }
 int64_t Engine::tokens(graph::PlaceId place) const { return rt_->st.tokens[place]; }
-Pose Engine::graphics_pose(graph::GraphicsId gr) const { return rt_->st.graphics[gr].pose; }
+Pose Engine::graphics_pose(graph::GraphicsId gr) const {
+    const GraphicsState& gs = rt_->st.graphics[gr];
+    if (!gs.stale) return gs.pose;
+    // Not kept up (GraphicsState::stale): what a visit would have computed (kinds/graphics/
+    // run.cpp, advance_one), from its body's frame then and its place on the body.
+    const graph::Graphics& x = rt_->g.graphics[gr];
+    const Pose local = pmul(pinv(rt_->g.bodies[x.body].pose), x.pose);
+    return pmul(pmul(from_bt(gs.body_tr), local), gs.offset);
+}
 int64_t Engine::trigger_enters(graph::TriggerId t) const { return rt_->st.triggers[t].enters; }
 int64_t Engine::issued(graph::SourceId src) const { return rt_->st.sources[src].issued; }
 int64_t Engine::taken(graph::ExitId exit) const { return rt_->st.exit_count[exit]; }

@@ -60,6 +60,11 @@ struct GraphicsState {
     // something else set `base` (set_pose, an object issued), so the body's is taken again.
     btTransform body_tr;
     bool base_fresh = false;
+    // Pose and prev not kept up while its body moves: nothing reads them (its pose output is
+    // not watched; no child, no gripper follows it; no animation plays: kinds/graphics/run.cpp).
+    // body_tr then holds the body's frame when last visited in the world, from which
+    // Engine::graphics_pose computes the pose as a visit would have.
+    bool stale = false;
 };
 
 struct SourceState {

@@ -309,3 +309,51 @@ TEST_CASE("runtime: graphics attached to a body track it") {
     for (int i = 0; i < 30; ++i) e.step();
     CHECK(e.graphics_pose(plant::graph::GraphicsId(gi)).p[2] == doctest::Approx(e.body_pose(plant::graph::BodyId(body)).p[2] + 0.2));
 }
+
+// A graphics that only its pose output reads (on a moving body, no child, no gripper following
+// it), with that output not watched, is not kept up step by step (GraphicsState::stale):
+// Engine::graphics_pose computes it from its body's frame at the visit. It reads the same bits
+// as when kept up (a bottle moved later in the step by a pusher too), in the world and parked,
+// and once watched its output is published as before.
+TEST_CASE("runtime: a bottle's graphics not kept up read the same pose as kept up, and publish once watched") {
+    plant::Compilation c;
+    compile_repo_file("plants/bottling.plant", c);
+    REQUIRE(c.ok());
+    const plant::graph::Graph& g = c.graph;
+    Engine lazy(g), kept(g);
+    std::vector<plant::graph::GraphicsId> looks;
+    for (plant::graph::GraphicsId i : ids_of(g.graphics))
+        if (g.graphics[i].body.valid() && g.bodies[g.graphics[i].body].mode == plant::graph::BodyMode::Dynamic) {
+            looks.push_back(i);
+            kept.watch(plant::graph::SlotId(g.comps[g.graphics[i].comp].slot_adr.v + plant::graph::graphicsslot::pose));
+        }
+    REQUIRE(looks.size() >= 40);  // the pools of its sources
+    size_t compared = 0, in_world = 0, mismatched = 0;
+    for (int step = 0; step < 1500; ++step) {  // 10 s: bottles issued, carried, some taken
+        lazy.step();
+        kept.step();
+        if (step % 50 != 49) continue;
+        for (plant::graph::GraphicsId i : looks) {
+            const plant::graph::Pose a = lazy.graphics_pose(i), b = kept.graphics_pose(i);
+            const plant::graph::BodyId body = g.graphics[i].body;
+            ++compared;
+            in_world += lazy.body_in_world(body);
+            if (a.p != b.p || a.q != b.q) ++mismatched;
+        }
+    }
+    CHECK(mismatched == 0);
+    CHECK(in_world > 50);  // of 1,200 looks, 69: most bottles are in their pools
+    // Watched from now on: its output carries the pose a visit computes.
+    plant::graph::GraphicsId moving{};
+    for (plant::graph::GraphicsId i : looks)
+        if (lazy.body_in_world(g.graphics[i].body) && lazy.body_velocity(g.graphics[i].body)[0] != 0) moving = i;
+    REQUIRE(moving.valid());
+    const plant::graph::SlotId out(g.comps[g.graphics[moving].comp].slot_adr.v + plant::graph::graphicsslot::pose);
+    lazy.watch(out);
+    lazy.step();
+    kept.step();
+    const auto v = lazy.value(out), w = kept.value(out);
+    REQUIRE(v.size() == 7);
+    CHECK(std::equal(v.begin(), v.end(), w.begin()));
+    CHECK(lazy.graphics_pose(moving).p == kept.graphics_pose(moving).p);
+}
