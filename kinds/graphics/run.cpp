@@ -89,7 +89,7 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     s->local.resize(g.graphics.size());
     for (GraphicsId i : ids_of(g.graphics)) {
         const graph::Graphics& gr = g.graphics[i];
-        if (gr.body.valid()) s->local[i] = pmul(pinv(g.bodies[gr.body].pose), gr.pose);
+        if (gr.body.valid()) s->local[i] = on_body(g, i);
         else if (gr.parent.valid()) s->local[i] = pmul(pinv(g.graphics[gr.parent].pose), gr.pose);
     }
     s->body.assign(g.graphics.size(), graph::BodyId{});
@@ -232,7 +232,7 @@ void sense_all(Runtime& r) {
             // Kept up again (its output watched, an animation started): base and pose as the
             // visits would have left them at the last step, so this visit publishes as one would.
             gs.stale = false;
-            gs.base = pmul(from_bt(gs.body_tr), data.local[g]);
+            gs.base = gs.base_from_frame(data.local[g]);
             gs.pose = gs.prev = pmul(gs.base, gs.offset);
         }
         const uint8_t f = to_publish(data, g, advance_one(r, data, g));

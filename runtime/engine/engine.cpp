@@ -219,9 +219,7 @@ Pose Engine::graphics_pose(graph::GraphicsId gr) const {
     if (!gs.stale) return gs.pose;
     // Not kept up (GraphicsState::stale): what a visit would have computed (kinds/graphics/
     // run.cpp, advance_one), from its body's frame then and its place on the body.
-    const graph::Graphics& x = rt_->g.graphics[gr];
-    const Pose local = pmul(pinv(rt_->g.bodies[x.body].pose), x.pose);
-    return pmul(pmul(from_bt(gs.body_tr), local), gs.offset);
+    return pmul(gs.base_from_frame(on_body(rt_->g, gr)), gs.offset);
 }
 int64_t Engine::trigger_enters(graph::TriggerId t) const { return rt_->st.triggers[t].enters; }
 int64_t Engine::issued(graph::SourceId src) const { return rt_->st.sources[src].issued; }

@@ -28,7 +28,7 @@ struct BodyShape {
 };
 
 // What bounds a convex shape's reach in (x, y) about its centre of mass however it turns
-// (steady transport's ask_reach), about each of its local axes k: the largest distance of its
+// (steady transport's outline_clear), about each of its local axes k: the largest distance of its
 // points (the shape with its margin, as Bullet's supporting vertices give it) from that axis
 // (rho[k]) and along it (along[k]).
 struct ShapeReach {

@@ -65,7 +65,15 @@ struct GraphicsState {
     // body_tr then holds the body's frame when last visited in the world, from which
     // Engine::graphics_pose computes the pose as a visit would have.
     bool stale = false;
+    // A stale graphics' base: its body's frame kept, times its place on the body (on_body).
+    Pose base_from_frame(const Pose& local) const { return pmul(from_bt(body_tr), local); }
 };
+
+// Where graphics i sits on its body (its pose in the body's frame, as both stood at the start).
+inline Pose on_body(const graph::Graph& g, graph::GraphicsId i) {
+    const graph::Graphics& x = g.graphics[i];
+    return pmul(pinv(g.bodies[x.body].pose), x.pose);
+}
 
 struct SourceState {
     int32_t head = 0, free = 0;  // ring of free pooled DOs: pool_ring[adr + (head + i) % num]

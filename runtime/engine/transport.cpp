@@ -641,38 +641,23 @@ bool meets_obb(const Steady::Hazard& h, const btVector3& lo, const btVector3& hi
     return true;
 }
 
-// The unit's reach about its centre of mass in (x, y), however it turns about the vertical:
-// for a shape measured when made (Physics::reach), reach_bound; else the largest of its extents
-// along 16 horizontal directions over cos(pi/16). Asked once per check (reach < 0 until then).
-void ask_reach(const Physics& ph, const btRigidBody& rb, btScalar& reach) {
-    if (reach >= 0) return;  // once per check
-    const btTransform& t = rb.getWorldTransform();
-    const auto& shape = *static_cast<const btConvexShape*>(rb.getCollisionShape());
-    if (const ShapeReach* m = ph.reach(shape)) {
-        reach = reach_bound(*m, t.getBasis());
-        return;
-    }
-    const btVector3 c = t.getOrigin();
-    reach = 0;
-    for (int k = 0; k < 16; ++k) {
-        const btScalar a = btScalar(k) * SIMD_PI / 8;
-        const btVector3 d(std::cos(a), std::sin(a), 0);
-        reach = std::max(reach, (t * shape.localGetSupportingVertex(d * t.getBasis()) - c).dot(d));
-    }
-    reach /= std::cos(SIMD_PI / 16);
-}
 // Whether unit b's shape, grown by `grow` in x and y, keeps clear of static piece h's outline
 // seen from above (Hazard::poly: a curve's turned rail, a hull) grown by its margin, while its
 // centre of mass moves along `path` (in x and y, from where it is): the distance from that
-// segment to the polygon against the shape's reach (ask_reach). The distance from a segment to
+// segment to the polygon against the shape's reach about its centre of mass in (x, y), however
+// it turns about the vertical (reach_bound of what the shape cache measured when it made the
+// shape; asked once per check: reach < 0 until then). The distance from a segment to
 // a convex polygon that it does not cross is the least from the segment's ends to the polygon
 // and from the polygon's corners to the segment. The outline contains the piece seen from
 // above, so a unit clear of it is clear of the piece at any height.
 bool outline_clear(const Physics& ph, const Steady& S, BodyId b, const Steady::Hazard& h, const btVector3& path,
                    btScalar grow, btScalar& reach) {
     const btRigidBody& rb = ph.rb(b);
-    if (!rb.getCollisionShape()->isConvex()) return false;
-    ask_reach(ph, rb, reach);
+    if (reach < 0) {
+        const ShapeReach* m = ph.reach(*rb.getCollisionShape());
+        if (!m) return false;  // not convex (a compound): in the way
+        reach = reach_bound(*m, rb.getWorldTransform().getBasis());
+    }
     const btScalar r = reach + grow + h.poly_margin, r2 = r * r;
     const btScalar* xy = S.poly_xy.data() + 2 * size_t(h.poly);
     const int n = h.corners;
@@ -779,7 +764,7 @@ bool steady_now(Runtime& r, BodyId b, BodyId p, btScalar vmax, Verdict& out) {
     int sup_below = -1;  // whether it lies clear below the unit (clear_below), once asked
     bool lower = false;  // whether a second piece under it was met
     const btScalar two_steps = btScalar(2 * r.dt);
-    btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (ask_reach)
+    btScalar reach_xy = -1;  // the shape's reach about its centre of mass in (x, y), once asked (outline_clear)
     // Where two steps take its centre of mass in (x, y): along its velocity, off that line by
     // what the law's turn of it does (a turning field's spin, over a chord of two steps: an arc
     // bulges by at most a quarter of the turn's angle times its length) and what its speed may
