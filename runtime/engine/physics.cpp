@@ -803,6 +803,7 @@ std::span<const int> Physics::live_objects(int w) const {
 void Physics::step(double dt) { step(dt, StepHooks{}); }
 
 void Physics::step(double dt, const StepHooks& h) {
+    ++steps_;
     StepProfile& prof = workers_->profile();
     auto one = [this, dt, &h](int i) {
         const int w = to_step_[i];

@@ -141,6 +141,9 @@ public:
     bool joint_on(graph::JointId j) const { return joint_on_[j]; }
     // Changes whenever membership, a dynamics mode or a joint changes (caches compare it).
     uint64_t version() const { return version_; }
+    // How many times step() has run: between two steps a body's state changes only through
+    // the writers that count (writes), and its membership only with version().
+    uint64_t steps() const { return steps_; }
 
     // The body frame (graph::Body::pose), not Bullet's centre-of-mass frame.
     graph::Pose pose(graph::BodyId b) const;
@@ -276,6 +279,7 @@ private:
     PerJoint<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;
+    uint64_t steps_ = 0;
 
     // Bullet's constraint solvers, one per thread (worker_slot()): a world steps with the solver
     // of the thread that steps it. A solver keeps only its arrays from one call to the next

@@ -7,7 +7,7 @@
 
 namespace plant::engine {
 
-Spatial::Spatial(const Tables& t, int32_t bodies) : t_(t), com_(bodies), lo_(bodies), hi_(bodies) {
+Spatial::Spatial(const Tables& t, int32_t bodies) : t_(t), com_(bodies), lo_(bodies), hi_(bodies), listed_(bodies) {
     order_.reserve(t.dyn_bodies.size());
     begin_.reserve(t.dyn_bodies.size() + 1024);
 }
@@ -18,34 +18,64 @@ int32_t Spatial::cell(btScalar y) {
     return int32_t(std::floor(y / kCell));
 }
 
-std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, size_t begin, size_t end) {
+std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, bool all, size_t begin, size_t end,
+                                              size_t& read, bool& moved) {
     constexpr size_t kAhead = 4;  // how many bodies ahead each one's pose is asked for
     btScalar reach = 0, vmax = 0;
     for (size_t i = begin; i < end; ++i) {
-        if (i + kAhead < end) ph.prefetch(order_[i + kAhead].body);  // in order of place, not of memory
+        if (i + kAhead < end && (all || order_[i + kAhead].seen != ph.writes(order_[i + kAhead].body)))
+            ph.prefetch(order_[i + kAhead].body);  // in order of place, not of memory
         Entry& e = order_[i];
-        const btRigidBody& r = ph.rb(e.body);
-        vmax = std::max(vmax, r.getLinearVelocity().length2());  // its square: the root once, of the largest
-        com_[e.body] = ph.com(e.body);
-        e.x = com_[e.body].x();
-        e.cell = cell(com_[e.body].y());
-        if (aabbs) {
-            r.getCollisionShape()->getAabb(r.getWorldTransform(), lo_[e.body], hi_[e.body]);
-            const btVector3 c = com_[e.body];
-            reach = std::max({reach, c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
-                              hi_[e.body].y() - c.y()});
+        if (all || e.seen != ph.writes(e.body)) {
+            ++read;
+            const btRigidBody& r = ph.rb(e.body);
+            e.seen = ph.writes(e.body);
+            e.v2 = r.getLinearVelocity().length2();  // its square: the root once, of the largest
+            com_[e.body] = ph.com(e.body);
+            e.x = com_[e.body].x();
+            const int32_t c = cell(com_[e.body].y());
+            moved = moved || c != e.cell;
+            e.cell = c;
+            if (aabbs) {
+                r.getCollisionShape()->getAabb(r.getWorldTransform(), lo_[e.body], hi_[e.body]);
+                const btVector3 c = com_[e.body];
+                e.span = std::max({btScalar(0), c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
+                                   hi_[e.body].y() - c.y()});
+            }
         }
+        vmax = std::max(vmax, e.v2);
+        if (aabbs) reach = std::max(reach, e.span);
     }
     return {reach, vmax};
 }
 
-void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
-    if (version_ != ph.version()) {
-        order_.clear();
-        for (graph::BodyId b : t_.dyn_bodies)
-            if (ph.in_world(b)) order_.push_back({0, 0, b});
-        version_ = ph.version();
+void Spatial::relist(const Physics& ph) {
+    size_t k = 0;
+    for (const Entry& e : order_) {
+        if (ph.in_world(e.body)) order_[k++] = e;
+        else listed_[e.body] = 0;
     }
+    order_.resize(k);  // smaller: no allocation
+    for (graph::BodyId b : t_.dyn_bodies)
+        if (ph.in_world(b) && !listed_[b]) {
+            listed_[b] = 1;
+            order_.push_back({0, 0, b, ph.writes(b) + 1, 0, 0});  // within its room; read below (seen differs)
+        }
+    version_ = ph.version();
+}
+
+void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
+    // Between two physics steps a body's state changes only by a writer that counts (Physics::
+    // writes) and membership only with Physics::version: a body not written since it was read
+    // is as it was then (its pose, speed and box, its own and its carrier's), and so is what
+    // was read. After a step every body is read again.
+    const bool all = steps_ != ph.steps() || (aabbs && !had_aabbs_);
+    steps_ = ph.steps();
+    had_aabbs_ = aabbs;
+    // The cells' table changes only where the cells in the list do: with the same bodies
+    // listed, none of them in another cell.
+    bool moved = version_ != ph.version();
+    if (moved) relist(ph);
     // Ordered by (cell, x, id): a total order (no two entries tie), so the sorted list is one
     // whatever sorts it (a NaN x aside, which orders nothing: then the list is still the same
     // on any number of threads, the slices being cut alike). Slices of at least 32 bodies,
@@ -71,15 +101,20 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     };
     const size_t n = order_.size();
     const size_t slices = slice_count(n, 32, kSlices);
-    auto measuring = [this, &ph, &insertion, aabbs, n, slices](int i) {
+    auto measuring = [this, &ph, &insertion, aabbs, all, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
-        slice_max_[i] = measure(ph, aabbs, b, e);
+        slice_read_[i] = 0;
+        slice_moved_[i] = false;
+        slice_max_[i] = measure(ph, aabbs, all, b, e, slice_read_[i], slice_moved_[i]);
         insertion(b, e);
     };
     run_slices(w, slices, measuring);
     std::pair<btScalar, btScalar> most{0, 0};
     bool sorted = true;
+    read_ = 0;
     for (size_t i = 0; i < slices; ++i) {
+        read_ += slice_read_[i];
+        moved = moved || slice_moved_[i];
         most = {std::max(most.first, slice_max_[i].first), std::max(most.second, slice_max_[i].second)};
         const size_t b = slice_of(n, slices, i).first;
         if (i > 0 && b > 0 && b < n && before(order_[b], order_[b - 1])) sorted = false;
@@ -87,7 +122,7 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     if (aabbs) reach_ = most.first;
     vmax_ = std::sqrt(most.second);
     if (!sorted) insertion(0, n);
-    index_cells();
+    if (moved) index_cells();
 }
 
 // The list is in cell order whatever its x (a NaN x orders nothing, but cells are compared

@@ -23,8 +23,12 @@ public:
 
     // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and sorts, a slice of the
     // bodies per item of a job on `w`'s threads; the calling thread sorts the whole list again
-    // only where two slices overlap (spatial.cpp).
+    // only where two slices overlap (spatial.cpp). Where Physics has not stepped since the last
+    // refresh, only the bodies written since (Physics::writes) and those new to the world are
+    // read again: the rest are as they were, and so is what was read of them.
     void refresh(const Physics& ph, bool aabbs, Workers& w);
+    // How many bodies the last refresh read from Bullet (for tests).
+    size_t last_read() const { return read_; }
     // Calls f(body) for every body whose centre has x in [xlo, xhi] and lies in a y cell
     // that [ylo, yhi] touches (a superset of the bodies with y in [ylo, yhi]).
     template <class F>
@@ -53,12 +57,20 @@ private:
         int32_t cell;
         btScalar x;
         graph::BodyId body;
+        uint32_t seen;   // Physics::writes(body) when it was read
+        btScalar v2;     // the square of its speed, then
+        btScalar span;   // and the largest distance along x or y from its centre to its box
     };
     static constexpr size_t kSlices = kMaxSlices;
     static int32_t cell(btScalar y);
-    // Entries [begin, end): their centres, cells and (with aabbs) boxes; the largest reach and
-    // square of a speed.
-    std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, size_t begin, size_t end);
+    // Entries [begin, end): their centres, cells and (with aabbs) boxes, read from Bullet (with
+    // `all`, every entry's; else only where the body was written since); the largest reach and
+    // square of a speed. Counts what it read into `read`; `moved` when one's cell changed.
+    std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, bool all, size_t begin, size_t end,
+                                          size_t& read, bool& moved);
+    // The list to the bodies in the world now: those that left taken out (the order of the rest
+    // kept), those that came appended to be read.
+    void relist(const Physics& ph);
     size_t first(int32_t cell, btScalar x) const;  // first position with (cell, x) or after
     // Where each y cell's entries begin in order_, after a refresh: begin_[c - cell0_] for the
     // cells from the first entry's to the last's, and one past the last. Empty where those
@@ -72,7 +84,13 @@ private:
     graph::IdVector<graph::BodyId, btVector3> com_, lo_, hi_;
     btScalar reach_ = 0, vmax_ = 0;
     std::array<std::pair<btScalar, btScalar>, kSlices> slice_max_{};
+    std::array<size_t, kSlices> slice_read_{};
+    std::array<bool, kSlices> slice_moved_{};
+    size_t read_ = 0;
+    graph::IdVector<graph::BodyId, uint8_t> listed_;  // per body: in order_
     uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership
+    uint64_t steps_ = ~uint64_t(0);    // Physics::steps at the last refresh
+    bool had_aabbs_ = false;           // whether it read the boxes
 };
 
 }  // namespace plant::engine

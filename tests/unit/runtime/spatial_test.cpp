@@ -129,3 +129,106 @@ plant Cells {
     CHECK(checked == 150 * 10 * 8);
     CHECK(found_some > 150 * 10);  // not only empty boxes
 }
+
+namespace {
+
+// The whole list in its order (a y range of more cells than a lookup walks goes through it).
+std::vector<int32_t> listed(const engine::Spatial& s) {
+    std::vector<int32_t> all;
+    s.for_each(-1e9f, 1e9f, -1e6f, 1e6f, [&](graph::BodyId b) { all.push_back(b.v); });
+    return all;
+}
+
+}  // namespace
+
+// Between two physics steps a refresh reads from Bullet only the bodies written since the last
+// one (and those new to the world), and comes out bit for bit as an index that reads them all:
+// bottles placed elsewhere, one made the fastest and then slow again (the largest speed is
+// found again among the others), one taken out of the world and put back, its place changed.
+TEST_CASE("body index: between steps only what was written is read again, and the index is as one that reads all") {
+    const graph::Graph g = compiled_text(R"(
+import std.belts, std.bottle
+plant Written {
+    a: Belt(length = 3 m, speed = 50 cm/s)
+    b: Belt(length = 3 m, speed = -50 cm/s) at (0 m, 40 cm, 0 m)
+    for i in 0 .. 24 {
+        pa[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
+        pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
+    }
+}
+)", "spatial_written.plant");
+    engine::Engine e(g);
+    engine::Runtime& r = e.internals();
+    const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
+    REQUIRE(dyn.size() >= 64);
+    auto same_as_reading_all = [&r](const char* what) {
+        CAPTURE(what);
+        engine::Spatial all(r.tab, graph::count_of(r.g.bodies));  // never refreshed: reads every body
+        all.refresh(r.phys, true, r.phys.workers());
+        REQUIRE(all.last_read() == in_world(r).size());
+        CHECK(listed(r.index) == listed(all));
+        // Lookups, through each cell's run of the list (the table of where each begins is
+        // made again only when a body's cell changed).
+        for (btScalar y = -1.5f; y < 2.f; y += 0.5f)
+            for (btScalar x = -0.5f; x < 3.5f; x += 0.5f) {
+                std::vector<int32_t> a, b;
+                r.index.for_each(x, x + 0.6f, y, y + 0.3f, [&](graph::BodyId o) { a.push_back(o.v); });
+                all.for_each(x, x + 0.6f, y, y + 0.3f, [&](graph::BodyId o) { b.push_back(o.v); });
+                CAPTURE(x);
+                CAPTURE(y);
+                REQUIRE(a == b);
+            }
+        CHECK(r.index.reach() == all.reach());
+        CHECK(r.index.vmax() == all.vmax());
+        for (graph::BodyId b : in_world(r)) {
+            CAPTURE(b.v);
+            REQUIRE(r.index.com(b) == all.com(b));
+            REQUIRE(r.index.lo(b) == all.lo(b));
+            REQUIRE(r.index.hi(b) == all.hi(b));
+        }
+    };
+    auto moving = [&r](graph::BodyId b, btVector3 by) {
+        btTransform f = r.phys.frame(b);
+        f.setOrigin(f.getOrigin() + by);
+        r.phys.place(b, f);
+    };
+    const graph::BodyId fast = dyn[5], out = dyn[17], moved = dyn[30];
+    for (int step = 0; step < 60; ++step) e.step();
+    const size_t n = in_world(r).size();
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() == n);  // the physics stepped since the last refresh (the step's, before it)
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() == 0);  // nothing written since
+    same_as_reading_all("nothing written");
+    // A bottle is two bodies carried as one (welds.cpp): writing one writes both.
+
+    moving(moved, btVector3(0.7f, -1.4f, 0));  // to another cell, past others in x
+    r.phys.write(fast).setLinearVelocity(btVector3(9, 0, 0));
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() >= 2);
+    CHECK(r.index.last_read() <= 4);
+    CHECK(r.index.vmax() == doctest::Approx(9));
+    same_as_reading_all("placed, made fast");
+
+    r.phys.write(fast).setLinearVelocity(btVector3(0, 0, 0));
+    r.phys.take_out(out);
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() >= 1);
+    CHECK(r.index.last_read() <= 2);
+    CHECK(in_world(r).size() == n - 1);
+    CHECK(r.index.vmax() < 3);  // found again among the others (bottles falling off a belt's end are the fastest)
+    same_as_reading_all("slow again, one out");
+
+    moving(out, btVector3(-0.3f, 0, 0.05f));
+    r.phys.insert(out);
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() >= 1);
+    CHECK(r.index.last_read() <= 2);
+    CHECK(in_world(r).size() == n);
+    same_as_reading_all("back in, elsewhere");
+
+    e.step();  // a step: every body read again
+    r.index.refresh(r.phys, true, r.phys.workers());
+    CHECK(r.index.last_read() == n);
+    same_as_reading_all("after a step");
+}
