@@ -249,6 +249,9 @@ void run_lane(Runtime& r, size_t k) {
     lane.in.clear();
     lane.access_null = lane.access_type = 0;
     uint64_t* due = r.st.lane_due.data();
+    // The ops due always join what the marking made due (the lane's words are all clear when
+    // its run ends: each_due clears every bit it visits, and an op marks only later ones).
+    for (size_t w = size_t(sc.lane_adr[k]) / 64; w < size_t(sc.lane_adr[k + 1]) / 64; ++w) due[w] |= sc.lane_always[w];
     InLane out{r, lane};
     size_t out_seen = 0, in_seen = 0;
     int32_t ran = -1;  // position in lane_ops of the op that ran last
@@ -297,8 +300,7 @@ void join_lanes(Runtime& r) {
 void run_lanes(Runtime& r) {
     State& s = r.st;
     const Schedule& sc = r.sched;
-    uint64_t* due = s.lane_due.data();
-    std::copy(sc.lane_always.begin(), sc.lane_always.end(), due);
+    uint64_t* due = s.lane_due.data();  // all clear (run_lane); each lane adds its ops due always
     // The readers of what is active at the phase's start, in slices of the two lists on the
     // physics threads (the job's end orders the marks before the lanes read them).
     const size_t n_out = s.out_list.size(), n = n_out + s.in_list.size();

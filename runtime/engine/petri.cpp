@@ -14,6 +14,7 @@
 #include "graph/kinds.h"
 
 #include <algorithm>
+#include <atomic>
 
 namespace plant::engine {
 
@@ -23,16 +24,39 @@ namespace {
 
 // This step's outputs go inactive, and are flagged in seen[step % 2] for observers; the other
 // array, the step before's, drops its list (it is this array's list two steps on, and nothing
-// reads it now). On the physics threads in slices of the two lists: no two write one byte.
+// reads it now). And the active inputs, one lookup each: every place whose put input is active
+// gets one token (an input is in the list once, and a place has one put input: no two write
+// one place; a net's liveness may be set by two, to the same 1); those a component acts on
+// are noted in the slice's own row, in order (`petri_acts`; a row that fills up says so, and
+// then the calling thread looks at the whole list). On the physics threads in slices of the
+// three lists: no two write one byte otherwise.
 void clear_outputs(Runtime& r) {
     State& s = r.st;
     uint8_t* const now = s.seen[s.step & 1].data();
     uint8_t* const before = s.seen[(s.step & 1) ^ 1].data();
-    const size_t n_out = s.out_list.size(), n = n_out + s.seen_list.size();
+    const size_t n_out = s.out_list.size(), n_seen = n_out + s.seen_list.size(), n = n_seen + s.in_list.size();
     const size_t slices = slice_count(n, 256, kMaxSlices);
-    auto clearing = [&s, now, before, n, n_out, slices](int i) {
+    auto clearing = [&r, &s, now, before, n, n_out, n_seen, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
+        State::PetriActs& acts = s.petri_acts[size_t(i)];
+        acts.num = 0;
+        acts.full = false;
         for (size_t k = b; k < e; ++k) {
+            if (k >= n_seen) {
+                const SlotId x = s.in_list[k - n_seen];
+                const Tables::SlotIn in = r.tab.slot_in[x];
+                if (in.acts.valid()) {
+                    if (acts.num < acts.slots.size()) acts.slots[acts.num++] = x;
+                    else acts.full = true;
+                }
+                if (!in.put.valid()) continue;
+                const PlaceId p = in.put;
+                s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
+                State::PlaceStep& ps = s.place_step[p];
+                ps.put = 1;
+                std::atomic_ref(s.net_live[ps.net]).store(1, std::memory_order_relaxed);
+                continue;
+            }
             if (k >= n_out) {
                 before[index(s.seen_list[k - n_out])] = 0;
                 continue;
@@ -43,8 +67,20 @@ void clear_outputs(Runtime& r) {
         }
     };
     run_slices(r.phys.workers(), slices, clearing);
+    s.petri_slices = slices;
     s.seen_list.swap(s.out_list);
     s.out_list.clear();
+}
+
+// The components phase 5 acts on (actuators.cpp), listed in the order of the active inputs,
+// each once, its mark 1 while every active input of it is one it acts on alone
+// (Tables::alone), 2 once another is.
+void list_acting(Runtime& r, SlotId x) {
+    State& s = r.st;
+    const CompId c = r.tab.slot_in[x].acts;
+    uint8_t& m = s.comp_mark[c];
+    if (!m) s.comp_list.push_back(c);
+    m = m == 2 || !r.tab.alone(x) ? 2 : 1;
 }
 
 // Net n's step, on the physics thread of its slice (it writes only its own places, transitions'
@@ -98,25 +134,17 @@ size_t petri_slices(size_t nets) { return slice_count(nets, 64, kMaxSlices); }
 void phase_petri(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    clear_outputs(r);
-    // The active inputs, in one pass (one lookup each): every place whose put input is active
-    // gets one token (an input is in the list once); the components phase 5 acts on are listed
-    // (actuators.cpp), each once, its mark 1 while every active input of it is one it acts on
-    // alone (Tables::alone), 2 once another is. Nothing this phase does activates an input.
+    clear_outputs(r);  // and the puts of the active inputs, noting those a component acts on
+    // Nothing this phase does activates an input.
     s.comp_list.clear();
-    for (SlotId x : s.in_list) {
-        const Tables::SlotIn in = r.tab.slot_in[x];
-        if (in.acts.valid()) {
-            uint8_t& m = s.comp_mark[in.acts];
-            if (!m) s.comp_list.push_back(in.acts);
-            m = m == 2 || !r.tab.alone(x) ? 2 : 1;
-        }
-        if (!in.put.valid()) continue;
-        const PlaceId p = in.put;
-        s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
-        State::PlaceStep& ps = s.place_step[p];
-        ps.put = 1;
-        s.net_live[ps.net] = 1;
+    bool full = false;
+    for (size_t i = 0; i < s.petri_slices; ++i) full = full || s.petri_acts[i].full;
+    if (full) {
+        for (SlotId x : s.in_list)
+            if (r.tab.slot_in[x].acts.valid()) list_acting(r, x);
+    } else {
+        for (size_t i = 0; i < s.petri_slices; ++i)
+            for (uint32_t k = 0; k < s.petri_acts[i].num; ++k) list_acting(r, s.petri_acts[i].slots[k]);
     }
     if (g.places.empty()) return;
     // The nets in slices; what each slice made active joins the step's list in slice order.

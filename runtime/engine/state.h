@@ -7,6 +7,7 @@
 #include "engine/engine.h"
 #include "engine/pose.h"
 #include "engine/tables.h"
+#include "engine/workers.h"
 
 #include <LinearMath/btMatrix3x3.h>
 #include <LinearMath/btVector3.h>
@@ -236,10 +237,20 @@ struct State {
     // The nets in slices on the physics threads (petri.cpp): per slice, the outputs its nets
     // made active, in order (fired transitions, then places, net by net).
     std::vector<std::vector<graph::SlotId>> petri_made;
+    // Per slice of the job that clears the outputs (petri.cpp): the active inputs a component
+    // acts on, in order, as many as fit (`full` when more came).
+    struct PetriActs {
+        std::array<graph::SlotId, 64> slots;
+        uint32_t num = 0;
+        bool full = false;
+    };
+    std::array<PetriActs, kMaxSlices> petri_acts;
+    size_t petri_slices = 0;  // how many of them the last job used
 
     // The logic phase in lanes (logic.cpp, schedule.h), with more than one thread: what each
     // lane's ops activated, with the op's position in the program, and the warnings they
-    // counted; the due bits by position in Schedule::lane_ops.
+    // counted; the due bits by position in Schedule::lane_ops (all clear between the phases:
+    // a lane's run clears every bit of its words).
     std::vector<LaneRun> lane_runs;
     std::vector<uint64_t> lane_due;
     std::vector<uint64_t> lane_made;  // a bit per position in the program: its op activated a slot (the join)
