@@ -287,12 +287,26 @@ void join_lanes(Runtime& r) {
         }
     }
     std::array<size_t, Schedule::kLanes> out_at{}, in_at{};
+    // The positions a chunk at a time, each one's lane asked for as it is found and read once
+    // the chunk is full: the positions lie far apart in the program (a few hundred in tens of
+    // thousands), so each lane number is a miss of its own, and the misses of a chunk overlap.
+    std::array<uint32_t, 64> chunk;
+    size_t got = 0;
+    auto take = [&] {
+        for (size_t c = 0; c < got; ++c) {
+            const size_t pos = chunk[c], k = sc.lane_of[pos];
+            const LaneRun& l = s.lane_runs[k];
+            for (size_t& i = out_at[k]; i < l.out.size() && size_t(l.out[i].pos) == pos; ++i) s.out_list.push_back(l.out[i].slot);
+            for (size_t& i = in_at[k]; i < l.in.size() && size_t(l.in[i].pos) == pos; ++i) s.in_list.push_back(l.in[i].slot);
+        }
+        got = 0;
+    };
     each_due(made, first, std::max(first, end), [&](size_t pos) {
-        const size_t k = sc.lane_of[pos];
-        const LaneRun& l = s.lane_runs[k];
-        for (size_t& i = out_at[k]; i < l.out.size() && size_t(l.out[i].pos) == pos; ++i) s.out_list.push_back(l.out[i].slot);
-        for (size_t& i = in_at[k]; i < l.in.size() && size_t(l.in[i].pos) == pos; ++i) s.in_list.push_back(l.in[i].slot);
+        __builtin_prefetch(&sc.lane_of[pos]);
+        chunk[got++] = uint32_t(pos);
+        if (got == chunk.size()) take();
     });
+    take();
 }
 
 // The program in lanes on the physics threads: the readers of the activity at the phase's

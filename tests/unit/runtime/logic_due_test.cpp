@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <set>
@@ -196,8 +197,8 @@ namespace {
 
 // Steps g on one thread and in the logic phase's lanes on `threads` (schedule.h), due nodes
 // only; the first step at which activity, values, warnings or the activity lists, in their
-// order, differ (-1: none).
-int64_t first_lane_difference(const graph::Graph& g, int64_t steps, int threads) {
+// order, differ (-1: none). `most`: the most records the lanes joined in one step.
+int64_t first_lane_difference(const graph::Graph& g, int64_t steps, int threads, size_t* most = nullptr) {
     engine::Options one, many;
     one.threads = 1;
     many.threads = threads;
@@ -210,6 +211,11 @@ int64_t first_lane_difference(const graph::Graph& g, int64_t steps, int threads)
         b.step();
         const engine::State& x = a.internals().st;
         const engine::State& y = b.internals().st;
+        if (most) {
+            size_t joined = 0;
+            for (const engine::LaneRun& l : y.lane_runs) joined += l.out.size() + l.in.size();
+            *most = std::max(*most, joined);
+        }
         if (x.act != y.act || x.values != y.values || x.tokens != y.tokens || x.in_list != y.in_list ||
             x.out_list != y.out_list || x.seen_list != y.seen_list || x.warn.access_null != y.warn.access_null ||
             x.warn.access_type != y.warn.access_type)
@@ -238,6 +244,12 @@ TEST_CASE("logic: the program in lanes on the physics threads gives each step's 
             CHECK(first_lane_difference(g, c.steps, threads) == -1);
         }
     }
+    // Lanes that join more records in a step than the join reads at once (64 positions a chunk:
+    // logic.cpp, join_lanes).
+    const Case many{"plants/bottling.plant", {"lines=12", "feed_every=0.5s"}, 600};
+    size_t most = 0;
+    CHECK(first_lane_difference(compiled(many), many.steps, 2, &most) == -1);
+    CHECK(most > 64);
 }
 
 TEST_CASE("logic: lanes split the ops that share no slot a step changes, and only those") {
