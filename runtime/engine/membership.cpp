@@ -65,6 +65,8 @@ void Physics::insert(BodyId b) {
     btRigidBody& r = *bodies_[b];
     r.forceActivationState(mode_[b] == BodyMode::Static ? ISLAND_SLEEPING : DISABLE_DEACTIVATION);
     in_world_[b] = 1;
+    if (!free_at_.empty())  // its group is looked at by assign_worlds again
+        if (const int32_t k = free_at_[group_of_[b]]; k >= 0) free_live_[size_t(k) / 64] |= uint64_t(1) << (k % 64);
     set_mode_flags(b);
     refilter(b);
     ++version_;

@@ -293,6 +293,11 @@ private:
     Csr<int32_t, graph::BodyId> group_bodies_;  // per group: its bodies
     std::vector<uint8_t> anchored_;   // per group: holds a static body (never leaves its region)
     std::vector<int32_t> free_groups_;  // groups of movers that are not anchored
+    std::vector<int32_t> free_at_;      // per group: its position in free_groups_, or -1
+    // A bit per position in free_groups_: clear while none of the group's bodies has been in
+    // the world since assign_worlds found it parked in the void's world (it would stay there:
+    // the decision passes over it; insert sets it).
+    std::vector<uint64_t> free_live_;
     // assign_worlds' free groups that move (or join the void), as (position in free_groups_,
     // world or mark): each slice of the decision writes its own from its first group's
     // position on, and how many (free_moves_); a group that stays writes nothing.
