@@ -18,6 +18,19 @@ using namespace plant::test;
 
 namespace {
 
+// Bottles on two belts running opposite ways: they pass each other in x all the time.
+constexpr const char* kTwoBelts = R"(
+import std.belts, std.bottle
+plant Passing {
+    a: Belt(length = 3 m, speed = 50 cm/s)
+    b: Belt(length = 3 m, speed = -50 cm/s) at (0 m, 40 cm, 0 m)
+    for i in 0 .. 24 {
+        pa[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
+        pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
+    }
+}
+)";
+
 // The dynamic bodies in the world, in id order.
 std::vector<graph::BodyId> in_world(const engine::Runtime& r) {
     std::vector<graph::BodyId> in;
@@ -46,17 +59,7 @@ std::pair<std::vector<int32_t>, std::vector<int32_t>> lookup_and_scan(const engi
 }  // namespace
 
 TEST_CASE("body index: a box finds what a scan of every body finds, as bottles pass each other") {
-    const graph::Graph g = compiled_text(R"(
-import std.belts, std.bottle
-plant Passing {
-    a: Belt(length = 3 m, speed = 50 cm/s)
-    b: Belt(length = 3 m, speed = -50 cm/s) at (0 m, 40 cm, 0 m)
-    for i in 0 .. 24 {
-        pa[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
-        pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
-    }
-}
-)", "spatial_passing.plant");
+    const graph::Graph g = compiled_text(kTwoBelts, "spatial_passing.plant");
     engine::Engine e(g);
     engine::Runtime& r = e.internals();
     const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
@@ -146,17 +149,7 @@ std::vector<int32_t> listed(const engine::Spatial& s) {
 // bottles placed elsewhere, one made the fastest and then slow again (the largest speed is
 // found again among the others), one taken out of the world and put back, its place changed.
 TEST_CASE("body index: between steps only what was written is read again, and the index is as one that reads all") {
-    const graph::Graph g = compiled_text(R"(
-import std.belts, std.bottle
-plant Written {
-    a: Belt(length = 3 m, speed = 50 cm/s)
-    b: Belt(length = 3 m, speed = -50 cm/s) at (0 m, 40 cm, 0 m)
-    for i in 0 .. 24 {
-        pa[i]: Bottle at (10 cm + i * 12 cm, 0 m, 0 m)
-        pb[i]: Bottle at (10 cm + i * 12 cm, 40 cm, 0 m)
-    }
-}
-)", "spatial_written.plant");
+    const graph::Graph g = compiled_text(kTwoBelts, "spatial_written.plant");
     engine::Engine e(g);
     engine::Runtime& r = e.internals();
     const std::vector<graph::BodyId>& dyn = r.tab.dyn_bodies;
