@@ -146,7 +146,7 @@ void sense_all(Runtime& r) {
     State& s = r.st;
     const graph::Graph& g = r.g;
     if (g.triggers.empty()) return;
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     s.trigger_side ^= 1;  // the step before's lists are kept for the comparison
     const size_t nt = g.triggers.size();
     const size_t slices = slice_count(nt, 32, s.trigger_made.size());

@@ -29,8 +29,8 @@ namespace {
 // one place; a net's liveness may be set by two, to the same 1); those a component acts on
 // are noted in the slice's own row, in order (`petri_acts`; a row that fills up says so, and
 // then the calling thread looks at the whole list). On the physics threads in slices of the
-// three lists: no two write one byte otherwise.
-void clear_outputs(Runtime& r) {
+// three lists: no two write one byte otherwise. Returns how many slices (rows) it used.
+size_t clear_outputs(Runtime& r) {
     State& s = r.st;
     uint8_t* const now = s.seen[s.step & 1].data();
     uint8_t* const before = s.seen[(s.step & 1) ^ 1].data();
@@ -67,9 +67,9 @@ void clear_outputs(Runtime& r) {
         }
     };
     run_slices(r.phys.workers(), slices, clearing);
-    s.petri_slices = slices;
     s.seen_list.swap(s.out_list);
     s.out_list.clear();
+    return slices;
 }
 
 // The components phase 5 acts on (actuators.cpp), listed in the order of the active inputs,
@@ -134,16 +134,17 @@ size_t petri_slices(size_t nets) { return slice_count(nets, 64, kMaxSlices); }
 void phase_petri(Runtime& r) {
     State& s = r.st;
     const Graph& g = r.g;
-    clear_outputs(r);  // and the puts of the active inputs, noting those a component acts on
-    // Nothing this phase does activates an input.
+    // The puts of the active inputs too, noting those a component acts on. Nothing this phase
+    // does activates an input.
+    const size_t rows = clear_outputs(r);
     s.comp_list.clear();
     bool full = false;
-    for (size_t i = 0; i < s.petri_slices; ++i) full = full || s.petri_acts[i].full;
+    for (size_t i = 0; i < rows; ++i) full = full || s.petri_acts[i].full;
     if (full) {
         for (SlotId x : s.in_list)
             if (r.tab.slot_in[x].acts.valid()) list_acting(r, x);
     } else {
-        for (size_t i = 0; i < s.petri_slices; ++i)
+        for (size_t i = 0; i < rows; ++i)
             for (uint32_t k = 0; k < s.petri_acts[i].num; ++k) list_acting(r, s.petri_acts[i].slots[k]);
     }
     if (g.places.empty()) return;

@@ -178,7 +178,9 @@ void Physics::find_regions(bool split) {
     free_moves_.assign(kMaxSlices, 0);
     free_at_.assign(groups, -1);
     for (size_t k = 0; k < free_groups_.size(); ++k) free_at_[free_groups_[k]] = int32_t(k);
-    free_live_.assign((free_groups_.size() + 63) / 64, ~uint64_t(0));  // every group looked at once
+    // Every group looked at once; no bit past the last group.
+    free_live_.assign((free_groups_.size() + 63) / 64, ~uint64_t(0));
+    if (free_groups_.size() % 64) free_live_.back() = (uint64_t(1) << (free_groups_.size() % 64)) - 1;
     // assign_worlds' scratch, at most every free group and every mover: the step allocates nothing.
     void_groups_.reserve(free_groups_.size());
     void_home_.reserve(free_groups_.size());
@@ -298,9 +300,9 @@ void Physics::assign_worlds() {
     // Only the groups whose bit in free_live_ is set (a pool's bottles wait parked: at 1,000
     // bottles in circulation, 3,320 groups, 800 of them in the world), in slices of the bits'
     // words; a group found parked in the void's world has its bit cleared by its slice.
-    const size_t nf = free_groups_.size(), words = free_live_.size();
+    const size_t words = free_live_.size();
     const size_t slices = slice_count(words, 1, kMaxSlices);
-    auto decide = [this, &where, nf, words, slices](int i) {
+    auto decide = [this, &where, words, slices](int i) {
         const auto [w0, w1] = slice_of(words, slices, i);
         const size_t b = w0 * 64;  // the slice's first group's position: its moves are listed from there
         // The live positions in order, one iterator kAhead ahead of the other to ask for the
@@ -308,23 +310,20 @@ void Physics::assign_worlds() {
         constexpr int kAhead = 8;
         size_t aw = w0;
         uint64_t abits = aw < w1 ? free_live_[aw] : 0;
-        auto next_ahead = [&]() -> size_t {  // the next live position, or nf
+        auto ask_ahead = [&] {  // for the next live position's group, if any
             while (abits == 0) {
-                if (++aw >= w1) return nf;
+                if (++aw >= w1) return;
                 abits = free_live_[aw];
             }
-            const size_t k = aw * 64 + size_t(__builtin_ctzll(abits));
+            ask_origin(group_bodies_[free_groups_[aw * 64 + size_t(__builtin_ctzll(abits))]].front());
             abits &= abits - 1;
-            return k < nf ? k : nf;
         };
-        for (int a = 0; a < kAhead; ++a)
-            if (const size_t k = next_ahead(); k < nf) ask_origin(group_bodies_[free_groups_[k]].front());
+        for (int a = 0; a < kAhead; ++a) ask_ahead();
         int32_t moves = 0;
         for (size_t w = w0; w < w1; ++w) {
             for (uint64_t bits = free_live_[w]; bits != 0; bits &= bits - 1) {
                 const size_t k = w * 64 + size_t(__builtin_ctzll(bits));
-                if (k >= nf) break;
-                if (const size_t ka = next_ahead(); ka < nf) ask_origin(group_bodies_[free_groups_[ka]].front());
+                ask_ahead();
                 const int32_t gi = free_groups_[k];
                 const int to = where(gi), at = world_of_[group_bodies_[gi].front()];
                 // A parked group waits in the void's world; a void group is placed below.

@@ -18,8 +18,8 @@ int32_t Spatial::cell(btScalar y) {
     return int32_t(std::floor(y / kCell));
 }
 
-std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, bool all, size_t begin, size_t end,
-                                              size_t& read, bool& moved) {
+std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool all, size_t begin, size_t end, size_t& read,
+                                              bool& moved) {
     constexpr size_t kAhead = 4;  // how many bodies ahead each one's pose is asked for
     btScalar reach = 0, vmax = 0;
     for (size_t i = begin; i < end; ++i) {
@@ -33,18 +33,16 @@ std::pair<btScalar, btScalar> Spatial::measure(const Physics& ph, bool aabbs, bo
             e.v2 = r.getLinearVelocity().length2();  // its square: the root once, of the largest
             com_[e.body] = ph.com(e.body);
             e.x = com_[e.body].x();
-            const int32_t c = cell(com_[e.body].y());
-            moved = moved || c != e.cell;
-            e.cell = c;
-            if (aabbs) {
-                r.getCollisionShape()->getAabb(r.getWorldTransform(), lo_[e.body], hi_[e.body]);
-                const btVector3 c = com_[e.body];
-                e.span = std::max({btScalar(0), c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
-                                   hi_[e.body].y() - c.y()});
-            }
+            const int32_t in = cell(com_[e.body].y());
+            moved = moved || in != e.cell;
+            e.cell = in;
+            r.getCollisionShape()->getAabb(r.getWorldTransform(), lo_[e.body], hi_[e.body]);
+            const btVector3 c = com_[e.body];
+            e.span = std::max({btScalar(0), c.x() - lo_[e.body].x(), hi_[e.body].x() - c.x(), c.y() - lo_[e.body].y(),
+                               hi_[e.body].y() - c.y()});
         }
         vmax = std::max(vmax, e.v2);
-        if (aabbs) reach = std::max(reach, e.span);
+        reach = std::max(reach, e.span);
     }
     return {reach, vmax};
 }
@@ -64,14 +62,13 @@ void Spatial::relist(const Physics& ph) {
     version_ = ph.version();
 }
 
-void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
+void Spatial::refresh(const Physics& ph, Workers& w) {
     // Between two physics steps a body's state changes only by a writer that counts (Physics::
     // writes) and membership only with Physics::version: a body not written since it was read
     // is as it was then (its pose, speed and box, its own and its carrier's), and so is what
     // was read. After a step every body is read again.
-    const bool all = steps_ != ph.steps() || (aabbs && !had_aabbs_);
+    const bool all = steps_ != ph.steps();
     steps_ = ph.steps();
-    had_aabbs_ = aabbs;
     // The cells' table changes only where the cells in the list do: with the same bodies
     // listed, none of them in another cell.
     bool moved = version_ != ph.version();
@@ -101,11 +98,11 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
     };
     const size_t n = order_.size();
     const size_t slices = slice_count(n, 32, kSlices);
-    auto measuring = [this, &ph, &insertion, aabbs, all, n, slices](int i) {
+    auto measuring = [this, &ph, &insertion, all, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         slice_read_[i] = 0;
         slice_moved_[i] = false;
-        slice_max_[i] = measure(ph, aabbs, all, b, e, slice_read_[i], slice_moved_[i]);
+        slice_max_[i] = measure(ph, all, b, e, slice_read_[i], slice_moved_[i]);
         insertion(b, e);
     };
     run_slices(w, slices, measuring);
@@ -119,7 +116,7 @@ void Spatial::refresh(const Physics& ph, bool aabbs, Workers& w) {
         const size_t b = slice_of(n, slices, i).first;
         if (i > 0 && b > 0 && b < n && before(order_[b], order_[b - 1])) sorted = false;
     }
-    if (aabbs) reach_ = most.first;
+    reach_ = most.first;
     vmax_ = std::sqrt(most.second);
     if (!sorted) insertion(0, n);
     if (moved) index_cells();

@@ -21,12 +21,12 @@ class Spatial {
 public:
     Spatial(const Tables& t, int32_t bodies);
 
-    // Reads positions (and, with `aabbs`, bounding boxes) from Bullet and sorts, a slice of the
+    // Reads positions and bounding boxes from Bullet and sorts, a slice of the
     // bodies per item of a job on `w`'s threads; the calling thread sorts the whole list again
     // only where two slices overlap (spatial.cpp). Where Physics has not stepped since the last
     // refresh, only the bodies written since (Physics::writes) and those new to the world are
     // read again: the rest are as they were, and so is what was read of them.
-    void refresh(const Physics& ph, bool aabbs, Workers& w);
+    void refresh(const Physics& ph, Workers& w);
     // How many bodies the last refresh read from Bullet (for tests).
     size_t last_read() const { return read_; }
     // Calls f(body) for every body whose centre has x in [xlo, xhi] and lies in a y cell
@@ -63,11 +63,11 @@ private:
     };
     static constexpr size_t kSlices = kMaxSlices;
     static int32_t cell(btScalar y);
-    // Entries [begin, end): their centres, cells and (with aabbs) boxes, read from Bullet (with
+    // Entries [begin, end): their centres, cells and boxes, read from Bullet (with
     // `all`, every entry's; else only where the body was written since); the largest reach and
     // square of a speed. Counts what it read into `read`; `moved` when one's cell changed.
-    std::pair<btScalar, btScalar> measure(const Physics& ph, bool aabbs, bool all, size_t begin, size_t end,
-                                          size_t& read, bool& moved);
+    std::pair<btScalar, btScalar> measure(const Physics& ph, bool all, size_t begin, size_t end, size_t& read,
+                                          bool& moved);
     // The list to the bodies in the world now: those that left taken out (the order of the rest
     // kept), those that came appended to be read.
     void relist(const Physics& ph);
@@ -90,7 +90,6 @@ private:
     graph::IdVector<graph::BodyId, uint8_t> listed_;  // per body: in order_
     uint64_t version_ = ~uint64_t(0);  // Physics::version of the membership
     uint64_t steps_ = ~uint64_t(0);    // Physics::steps at the last refresh
-    bool had_aabbs_ = false;           // whether it read the boxes
 };
 
 }  // namespace plant::engine

@@ -245,7 +245,6 @@ struct State {
         bool full = false;
     };
     std::array<PetriActs, kMaxSlices> petri_acts;
-    size_t petri_slices = 0;  // how many of them the last job used
 
     // The logic phase in lanes (logic.cpp, schedule.h), with more than one thread: what each
     // lane's ops activated, with the op's position in the program, and the warnings they

@@ -1164,7 +1164,7 @@ void check_steady(Runtime& r, bool left) {
     // A part that left its room: the static geometry filed again (a part found out of the
     // room just after filing would find the same filing again).
     if (!S.grid_valid || S.grid_statics != ph.statics_placed() || left) build_grid(r);
-    r.index.refresh(ph, true, ph.workers());
+    r.index.refresh(ph, ph.workers());
     btScalar vmax = r.index.vmax();
     if (!std::isfinite(vmax)) vmax = btScalar(1e6);
     // Each unit's verdict and what follows from it, in slices of the units on the physics

@@ -69,7 +69,7 @@ TEST_CASE("body index: a box finds what a scan of every body finds, as bottles p
     int64_t checked = 0;
     for (int step = 0; step < 150 * 3; ++step) {
         e.step();
-        r.index.refresh(r.phys, true, r.phys.workers());  // what the step's last refresh made, again
+        r.index.refresh(r.phys, r.phys.workers());  // what the step's last refresh made, again
         const std::vector<graph::BodyId> in = in_world(r);
         for (size_t k = 0; k < in.size(); k += 3) {
             const btVector3 c0 = r.index.com(in[k]);
@@ -115,7 +115,7 @@ plant Cells {
     int64_t found_some = 0, checked = 0;
     for (int step = 0; step < 150; ++step) {
         e.step();
-        r.index.refresh(r.phys, true, r.phys.workers());
+        r.index.refresh(r.phys, r.phys.workers());
         const std::vector<graph::BodyId> in = in_world(r);
         REQUIRE(in.size() >= 72);
         for (const auto& [ylo, yhi] : ys)
@@ -157,7 +157,7 @@ TEST_CASE("body index: between steps only what was written is read again, and th
     auto same_as_reading_all = [&r](const char* what) {
         CAPTURE(what);
         engine::Spatial all(r.tab, graph::count_of(r.g.bodies));  // never refreshed: reads every body
-        all.refresh(r.phys, true, r.phys.workers());
+        all.refresh(r.phys, r.phys.workers());
         REQUIRE(all.last_read() == in_world(r).size());
         CHECK(listed(r.index) == listed(all));
         // Lookups, through each cell's run of the list (the table of where each begins is
@@ -188,16 +188,16 @@ TEST_CASE("body index: between steps only what was written is read again, and th
     const graph::BodyId fast = dyn[5], out = dyn[17], moved = dyn[30];
     for (int step = 0; step < 60; ++step) e.step();
     const size_t n = in_world(r).size();
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() == n);  // the physics stepped since the last refresh (the step's, before it)
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() == 0);  // nothing written since
     same_as_reading_all("nothing written");
     // A bottle is two bodies carried as one (welds.cpp): writing one writes both.
 
     moving(moved, btVector3(0.7f, -1.4f, 0));  // to another cell, past others in x
     r.phys.write(fast).setLinearVelocity(btVector3(9, 0, 0));
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() >= 2);
     CHECK(r.index.last_read() <= 4);
     CHECK(r.index.vmax() == doctest::Approx(9));
@@ -205,7 +205,7 @@ TEST_CASE("body index: between steps only what was written is read again, and th
 
     r.phys.write(fast).setLinearVelocity(btVector3(0, 0, 0));
     r.phys.take_out(out);
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() >= 1);
     CHECK(r.index.last_read() <= 2);
     CHECK(in_world(r).size() == n - 1);
@@ -214,14 +214,14 @@ TEST_CASE("body index: between steps only what was written is read again, and th
 
     moving(out, btVector3(-0.3f, 0, 0.05f));
     r.phys.insert(out);
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() >= 1);
     CHECK(r.index.last_read() <= 2);
     CHECK(in_world(r).size() == n);
     same_as_reading_all("back in, elsewhere");
 
     e.step();  // a step: every body read again
-    r.index.refresh(r.phys, true, r.phys.workers());
+    r.index.refresh(r.phys, r.phys.workers());
     CHECK(r.index.last_read() == n);
     same_as_reading_all("after a step");
 }
