@@ -413,7 +413,7 @@ void Physics::assign_worlds() {
         for (size_t k = b; k < e; ++k)
             if (in_world_[movers_[k]] && !coasting(movers_[k])) ++row[world_of_[movers_[k]]];
     };
-    run_slices(*workers_, mslices, count);
+    run_slices(*workers_, mslices, count, "engine::Physics::assign_worlds: movers counted by world");
     for (size_t w = 0; w < nw; ++w) worlds_[w].movers = 0;
     for (size_t i = 0; i < mslices; ++i)  // the rows as they were written, a row at a time
         for (size_t w = 0; w < nw; ++w) worlds_[w].movers += slice_movers_[i * nw + w];
