@@ -1156,6 +1156,36 @@ bool kinematic_left(Runtime& r, size_t begin, size_t end) {
     return false;
 }
 
+// Hints for check_steady's pass (no result changes): unit b's list of what lies near it, and
+// the hazards and fields that list names, as it stood when last made (the pass over the units
+// reads them in id order, a unit's from wherever it rides: scattered over tables too large to
+// stay cached from one step to the next).
+namespace {
+void prefetch_near_list(const Steady& S, BodyId b) {
+    const char* n = reinterpret_cast<const char*>(&S.near[b]);
+    __builtin_prefetch(n);
+    __builtin_prefetch(n + 64);
+}
+void prefetch_near(const Runtime& r, BodyId b) {
+    const Steady& S = r.steady;
+    if (const FieldId f = S.field[b]; f.valid()) {  // the field it rode: its frame, gain and target
+        const char* ff = reinterpret_cast<const char*>(&r.st.field_frame[f]);
+        __builtin_prefetch(ff);
+        __builtin_prefetch(ff + offsetof(State::FieldFrame, half));
+        __builtin_prefetch(&r.tab.field_gain[f]);
+        __builtin_prefetch(&r.st.field_target[f]);
+    }
+    const Steady::Near& n = S.near[b];
+    if (n.hazards == Steady::kFull || n.epoch != S.grid_builds + r.st.field_builds) return;  // to be made again
+    for (uint8_t k = 0; k < n.fields; ++k) __builtin_prefetch(&r.st.field_xy[FieldId(n.id[k])]);
+    for (uint8_t k = n.fields; k < n.fields + n.hazards; ++k) {
+        const char* h = reinterpret_cast<const char*>(&S.hazards[size_t(n.id[k])]);
+        __builtin_prefetch(h);
+        __builtin_prefetch(h + offsetof(Steady::Hazard, fixed));
+    }
+}
+}  // namespace
+
 void check_steady(Runtime& r, bool left) {
     Steady& S = r.steady;
     S.coasting.clear();
@@ -1180,9 +1210,15 @@ void check_steady(Runtime& r, bool left) {
         size_t events = 0, found = 0;
         int64_t guided = 0, rested = 0;
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
-        constexpr size_t kAhead = 4;  // units whose Bullet state is asked for ahead (a hint; no result changes)
+        // Asked for ahead (hints; no result changes): a unit's Bullet state and its list of what
+        // lies near it four units on, and what that list names two units later.
+        constexpr size_t kAhead = 4;
         for (size_t k = b; k < e; ++k) {
-            if (k + kAhead < e && r.phys.in_world(dyn[k + kAhead])) r.phys.prefetch(dyn[k + kAhead]);
+            if (k + 2 * kAhead < e && r.phys.in_world(dyn[k + 2 * kAhead])) {
+                r.phys.prefetch(dyn[k + 2 * kAhead]);
+                prefetch_near_list(St, dyn[k + 2 * kAhead]);
+            }
+            if (k + kAhead < e && r.phys.in_world(dyn[k + kAhead])) prefetch_near(r, dyn[k + kAhead]);
             const BodyId u = dyn[k];
             OnSolver why;
             const uint8_t a = St.action[u] = decide(r, u, vmax, why);
@@ -1294,7 +1330,7 @@ void check_steady(Runtime& r, bool left) {
             else r.phys.coast(u);
         }
     };
-    run_slices(ph.workers(), S.busy.size(), applying);
+    run_slices(ph.workers(), S.busy.size(), applying, "engine::check_steady: landing and leaving, by world");
 }
 
 namespace {
