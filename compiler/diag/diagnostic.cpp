@@ -84,7 +84,8 @@ namespace {
 std::size_t edit_distance(std::string_view a, std::string_view b, bool fold_case) {
     auto eq = [fold_case](char x, char y) {
         if (!fold_case) return x == y;
-        return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+        auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };  // ASCII case
+        return lower(x) == lower(y);
     };
     const std::size_t n = a.size(), m = b.size();
     std::vector<std::size_t> d((n + 1) * (m + 1));
@@ -106,20 +107,28 @@ std::size_t edit_distance(std::string_view a, std::string_view b, bool fold_case
 
 // Ranked by edit distance, then by case-insensitive edit distance, then by position
 // in `candidates`. Accepted only within max(1, wanted.size() / 3) edits.
-std::string closest_name(std::string_view wanted, const std::vector<std::string>& candidates) {
-    const std::size_t limit = std::max<std::size_t>(1, wanted.size() / 3);
-    const std::string* best = nullptr;
-    std::pair<std::size_t, std::size_t> best_rank;
-    for (const std::string& c : candidates) {
-        if (c == wanted) continue;
-        std::pair rank{edit_distance(wanted, c, false), edit_distance(wanted, c, true)};
-        if (rank.first > limit) continue;
-        if (!best || rank < best_rank) {
-            best = &c;
-            best_rank = rank;
-        }
+ClosestName::ClosestName(std::string_view wanted)
+    : wanted_(wanted), limit_(std::max<std::size_t>(1, wanted.size() / 3)) {}
+
+void ClosestName::offer(const std::string& c) {
+    if (c == wanted_) return;
+    // A distance is at least the difference in length: a candidate that differs by more than
+    // the limit is not near, and its distances need not be found.
+    const std::size_t n = wanted_.size(), m = c.size();
+    if ((n > m ? n - m : m - n) > limit_) return;
+    const std::size_t first = edit_distance(wanted_, c, false);
+    if (first > limit_) return;
+    const std::pair rank{first, edit_distance(wanted_, c, true)};
+    if (!best_ || rank < best_rank_) {
+        best_ = &c;
+        best_rank_ = rank;
     }
-    return best ? *best : std::string();
+}
+
+std::string closest_name(std::string_view wanted, const std::vector<std::string>& candidates) {
+    ClosestName closest(wanted);
+    for (const std::string& c : candidates) closest.offer(c);
+    return closest.best();
 }
 
 }  // namespace plant

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace plant {
@@ -92,5 +93,20 @@ std::string render_json(const std::vector<Diagnostic>& ds, const SourceMap& sm);
 
 // "did you mean" helper: the closest candidate by edit distance, or "" if none is close.
 std::string closest_name(std::string_view wanted, const std::vector<std::string>& candidates);
+
+// The same over candidates offered one at a time (in the order of the list above), for a caller
+// that holds them elsewhere than in one list.
+class ClosestName {
+public:
+    explicit ClosestName(std::string_view wanted);
+    void offer(const std::string& candidate);
+    std::string best() const { return best_ ? *best_ : std::string(); }
+
+private:
+    std::string_view wanted_;
+    std::size_t limit_;
+    const std::string* best_ = nullptr;
+    std::pair<std::size_t, std::size_t> best_rank_{};
+};
 
 }  // namespace plant

@@ -54,11 +54,11 @@ Span Env::declared(const std::string& name) const {
     return {};
 }
 
-std::vector<std::string> Env::names() const {
-    std::vector<std::string> out;
+std::string Env::closest(std::string_view wanted) const {
+    ClosestName closest(wanted);
     for (const Env* e = this; e; e = e->parent_.get())
-        for (const auto& [k, v] : e->vars_) out.push_back(k);
-    return out;
+        for (const auto& [k, v] : e->vars_) closest.offer(k);
+    return closest.best();
 }
 
 namespace {
@@ -205,7 +205,7 @@ Value Evaluator::eval_raw(const ast::Expr& e, const Env& env) {
         Value v;
         v.kind = Value::Kind::Name;
         v.str = e.text;
-        if (e.members.empty()) v.hint = closest_name(e.text, env.names());
+        if (e.members.empty()) v.hint = env.closest(e.text);
         for (const auto& m : e.members) v.str += "." + m.text;
         v.span = e.span;
         return v;

@@ -57,7 +57,9 @@ public:
     }
     const Value* find(const std::string& name) const;
     Span declared(const std::string& name) const;  // where the innermost `name` was declared
-    std::vector<std::string> names() const;
+    // The closest name in scope to `wanted`, for "did you mean" (closest_name over every name,
+    // this scope's first).
+    std::string closest(std::string_view wanted) const;
 
 private:
     std::shared_ptr<const Env> parent_;

@@ -295,4 +295,19 @@ TEST_CASE("closest_name") {
     CHECK(closest_name("conveyor", {"convoyer", "conveyer"}) == "conveyer");  // 1 edit beats 2
     CHECK(closest_name("conveyor", {"cnvyr"}) == "");                  // 3 > 8/3
     CHECK(closest_name("x", {"y"}) == "y");                            // at least one edit allowed
+    // Lengths that differ by the limit: still near; by more: not looked at (no distance is less).
+    CHECK(closest_name("conveyor", {"convey"}) == "convey");           // 2 shorter, 2 edits
+    CHECK(closest_name("conveyor", {"conve", "conveyors"}) == "conveyors");
+    CHECK(closest_name("conveyor", {"conveyorbelt"}) == "");           // 4 longer
+    CHECK(closest_name("Conveyor", {"cONVEYOR"}) == "");               // 8 edits with case, 0 without
+    CHECK(closest_name("Feed", {"feed", "Feet"}) == "feed");           // both 1 edit; 0 ignoring case
+}
+
+TEST_CASE("ClosestName takes candidates one at a time as the list does") {
+    const std::vector<std::string> names{"speed", "Speed", "spead", "sped", "velocity"};
+    ClosestName closest("speeed");
+    for (const std::string& n : names) closest.offer(n);
+    CHECK(closest.best() == closest_name("speeed", names));
+    CHECK(closest.best() == "speed");
+    CHECK(ClosestName("anything").best() == "");
 }
