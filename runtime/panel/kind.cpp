@@ -127,14 +127,23 @@ bool inside_panel(const graph::Graph& g, graph::PluginId plugin, std::string_vie
     const graph::Comp& c = g.comps[g.plugins[plugin].comp];
     const std::string_view name = g.str(c.name);
     const size_t dot = name.rfind('.');
-    if (dot != std::string_view::npos)
-        for (graph::CompId k : graph::ids_of(g.comps)) {
-            const graph::Comp& p = g.comps[k];
-            if (p.owner == c.owner && g.str(p.name) == name.substr(0, dot)) {
-                const graph::KindDesc* d = graph::plugin_of(g, k);
-                if (d && d->word == "panel") return true;
-            }
-        }
+    auto is_panel = [&](graph::CompId k) {
+        const graph::Comp& p = g.comps[k];
+        if (p.owner != c.owner || g.str(p.name) != name.substr(0, dot)) return false;
+        const graph::KindDesc* d = graph::plugin_of(g, k);
+        return d && d->word == "panel";
+    };
+    if (dot != std::string_view::npos) {
+        // The owner's components first (contiguous where the compiler wrote the graph), then,
+        // found in none of them, every component (a graph written by hand).
+        const graph::Do& o = g.dos[c.owner];
+        const int64_t first = o.comp_adr.v, end = first + o.comp_num;
+        if (first >= 0 && first <= end && end <= int64_t(g.comps.size()))
+            for (int64_t k = first; k < end; ++k)
+                if (is_panel(graph::CompId(int32_t(k)))) return true;
+        for (graph::CompId k : graph::ids_of(g.comps))
+            if (is_panel(k)) return true;
+    }
     problem = {-1, fmt::format("a {} belongs inside a panel: '{}' is in none", word, name)};
     return false;
 }

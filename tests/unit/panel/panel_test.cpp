@@ -89,6 +89,21 @@ TEST_CASE("panel: elements are components of their own kinds, named panel.elemen
     CHECK(loaded.same_as(g));
 }
 
+TEST_CASE("panel: a graph whose element names no panel of its object is refused on loading") {
+    Compilation c;
+    test::compile_text(kDeskPlant, c, "desk.plant");
+    REQUIRE(c.ok());
+    graph::Graph g = c.graph;
+    for (graph::CompId k : graph::ids_of(g.comps))
+        if (g.str(g.comps[k].name) == "ops") g.comps[k].name = g.intern("desk");  // the panel renamed
+    const std::string text = graph::to_text(g);
+    graph::Graph loaded;
+    std::string error;
+    std::istringstream in(text);
+    CHECK_FALSE(graph::read_text(in, loaded, error));
+    CHECK_MESSAGE(error.find("a button belongs inside a panel: 'ops.start' is in none") != std::string::npos, error);
+}
+
 TEST_CASE("panel: a button pressed by an event drives the logic, lamps and displays follow") {
     Compilation c;
     test::compile_text(kDeskPlant, c, "desk.plant");
