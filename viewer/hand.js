@@ -9,7 +9,11 @@ import * as THREE from 'three';
 
 const LIFT = 0.1;          // m a taken body rises
 const MOVE_EVERY = 50;     // ms between two move messages
-const SET_DOWN_MS = 1500;  // at most this long lowering before letting go
+// At most this long lowering before letting go: in the plant's time (a plant that runs slower
+// than the wall clock, on a busy machine, still lowers it all the way), and a bound on the
+// wall clock for a plant that does not run (paused).
+const SET_DOWN_S = 1.5;
+const SET_DOWN_WALL_MS = 10_000;
 
 export class Hand {
   constructor(view, send, { onChange } = {}) {
@@ -17,7 +21,7 @@ export class Hand {
     this.send = send;
     this.onChange = onChange;
     this.enabled = false;
-    this.held = null;   // {body (index), path, grabZ, lift, target, push, lastSent, settingDown}
+    this.held = null;   // {body (index), path, grabZ, offsetZ, lift, target, push, lastSent, settingDown}
     this.ray = new THREE.Raycaster();
     this.marker = this.makeMarker();
     view.layers.graphics.parent.add(this.marker);
@@ -88,7 +92,9 @@ export class Hand {
     this.view.controls.enabled = false;
     const b = this.view.scene.bodies[at.index];
     const push = e.shiftKey;
-    this.held = { body: at.index, path: b.path, grabZ: at.point.z, lift: push ? 0 : LIFT, target: at.point.clone(), push, lastSent: 0 };
+    // offsetZ: the grab point's height above the body's origin, as it was taken (heldPointZ).
+    this.held = { body: at.index, path: b.path, grabZ: at.point.z, offsetZ: at.point.z - this.view.bodyPose[7 * at.index + 2],
+                  lift: push ? 0 : LIFT, target: at.point.clone(), push, lastSent: 0 };
     this.message('grab', at.point);
     this.target(at.point.clone().setZ(at.point.z + this.held.lift));
     this.onChange?.();
@@ -143,23 +149,23 @@ export class Hand {
     h.lift = 0;
     h.lastSent = 0;
     this.target(h.target.clone().setZ(h.grabZ));
-    const started = performance.now();
+    const started = performance.now(), startedAt = this.view.simTime;
     const check = () => {
       if (this.held !== h) return;
       const i = h.body, pose = this.view.bodyPose;
       const low = pose && Math.abs(this.heldPointZ(i) - h.grabZ) < 0.004;
-      if (low || performance.now() - started > SET_DOWN_MS) this.drop();
+      if (low || this.view.simTime - startedAt > SET_DOWN_S || performance.now() - started > SET_DOWN_WALL_MS) this.drop();
       else setTimeout(check, 50);
     };
     setTimeout(check, 100);
     this.onChange?.();
   }
 
-  // The height of the body's origin now, moved by where it was taken (its grab point's).
+  // The height of the point it holds now: the body's origin's, moved by where it was taken.
+  // (Measured when it is taken: measured at the first look while setting down, when it is
+  // still lifted, it found the body 'low' at once, and let it fall from where it was.)
   heldPointZ(i) {
-    const h = this.held;
-    if (h.offsetZ === undefined) h.offsetZ = h.grabZ - this.view.bodyPose[7 * i + 2];
-    return this.view.bodyPose[7 * i + 2] + h.offsetZ;
+    return this.view.bodyPose[7 * i + 2] + this.held.offsetZ;
   }
 
   drop() {

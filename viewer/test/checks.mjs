@@ -132,14 +132,29 @@ export async function handCarries({ page, client, scene, url, binary, plantFile,
   }
   const over = await until(() => page.evaluate((id) => { const p = plantViewer.bodyPose(id); return Math.hypot(p[0] - 4.95, p[1] - 2.1) < 0.03 ? p : null; }, pick), 8000, 50);
   check(!!over && over[2] > grabZ - 0.04 + 0.05, `the bottle is carried over B8, lifted (z ${over?.[2]?.toFixed(3)}, ${elapsed()})`);
+  // Released while the plant is paused, it stays held: nothing lowers it while nothing runs.
+  // (The hand used to measure its hold at its first look while setting down, with the bottle
+  // still lifted, find it 'down' at once and let it fall from there: on a busy machine, where
+  // little of the plant's time passes before that look, it fell 10 cm and could tip over.)
+  await page.evaluate(() => plantViewer.send({ type: 'control', action: 'pause' }));
+  const pausedToSet = await until(() => page.evaluate(() => plantViewer.lastStatus?.paused && plantViewer.lastFrame?.paused), 5000, 50);
   await page.mouse.up();
+  await sleep(600);
+  const held = await page.evaluate(() => ({ settingDown: !!plantViewer.hand.held?.settingDown, paused: plantViewer.lastFrame?.paused }));
+  check(pausedToSet && held.settingDown, `released while the plant is paused, the hand holds it until the plant lowers it (${JSON.stringify(held)})`);
+  await page.evaluate(() => plantViewer.send({ type: 'control', action: 'run' }));
   const dropped = await until(() => page.evaluate(() => !plantViewer.hand.held), 5000, 50);
   check(dropped, 'released, the hand sets it down and lets go');
   await sleep(1500);
   const after = await page.evaluate((id) => ({ p: plantViewer.bodyPose(id), lost: plantViewer.lastStatus?.counters?.lost }), pick);
   const up = after.p && 1 - 2 * (after.p[3] ** 2 + after.p[4] ** 2);   // the body's z axis, its world z component
-  check(after.p && Math.abs(after.p[1] - 2.1) < 0.025 && after.p[0] < 4.95 && Math.abs(after.p[2] - 0.04) < 0.01 && up > 0.95,
+  const setDown = check(after.p && Math.abs(after.p[1] - 2.1) < 0.025 && after.p[0] < 4.95 && Math.abs(after.p[2] - 0.04) < 0.01 && up > 0.95,
     `set down on B8, upright, carried on by it (at ${after.p?.slice(0, 3).map((v) => v.toFixed(3))}, up ${up?.toFixed(3)})`);
+  if (!setDown) {   // the session so far, to replay headless (plant run --events FILE --trace-bodies)
+    const keep = join(mkdtempSync(join(tmpdir(), 'plant-hand-failed-')), 'session.events');
+    writeFileSync(keep, await (await fetch(url + 'events')).text());
+    console.log(`     the session's events so far: ${keep}`);
+  }
   check(after.lost === 0, `nothing lost (${after.lost})`);
   await page.click('#hand');
   // Pause; the session's events replayed headless to the same step.
