@@ -1211,7 +1211,7 @@ void check_steady(Runtime& r, bool left) {
         int64_t guided = 0, rested = 0;
         std::array<int64_t, kOnSolverReasons>& whys = St.slice_why[size_t(i)];
         // Asked for ahead (hints; no result changes): a unit's Bullet state and its list of what
-        // lies near it four units on, and what that list names two units later.
+        // lies near it eight units on, and what that list names four units on.
         constexpr size_t kAhead = 4;
         for (size_t k = b; k < e; ++k) {
             if (k + 2 * kAhead < e && r.phys.in_world(dyn[k + 2 * kAhead])) {

@@ -106,7 +106,12 @@ public:
     // Allocates nothing.
     template <class F>
     void run(int n, F& f) {
-        run(n, [](void* ctx, int i) { (*static_cast<F*>(ctx))(i); }, &f, __PRETTY_FUNCTION__);
+        run(n, f, __PRETTY_FUNCTION__);
+    }
+    // The same, named `name` (a literal) in the profile's jobs.
+    template <class F>
+    void run(int n, F& f, const char* name) {
+        run(n, [](void* ctx, int i) { (*static_cast<F*>(ctx))(i); }, &f, name);
     }
     // `name` (a literal) tells the profile's jobs apart.
     void run(int n, void (*fn)(void*, int), void* ctx, const char* name = nullptr);
@@ -163,16 +168,13 @@ graph::IdRange<IdT> slice_ids(size_t n, size_t count, size_t i) {
     return {static_cast<int32_t>(b), static_cast<int32_t>(e)};
 }
 // Calls f(i) for every slice i in [0, count): on the threads, or here when there is one.
+// `name` (a literal) tells the loop apart in the profile's jobs from the function's other loops;
+// without one, the loop is named by its function.
 template <class F>
-void run_slices(Workers& w, size_t count, F& f) {
+void run_slices(Workers& w, size_t count, F& f, const char* name = nullptr) {
     if (count <= 1) f(0);
+    else if (name) w.run(int(count), f, name);
     else w.run(int(count), f);
-}
-// The same, named in the profile's jobs (`name`, a literal) apart from the function's other loops.
-template <class F>
-void run_slices(Workers& w, size_t count, F& f, const char* name) {
-    if (count <= 1) f(0);
-    else w.run(int(count), [](void* ctx, int i) { (*static_cast<F*>(ctx))(i); }, &f, name);
 }
 
 }  // namespace plant::engine

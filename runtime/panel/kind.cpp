@@ -134,13 +134,12 @@ bool inside_panel(const graph::Graph& g, graph::PluginId plugin, std::string_vie
         return d && d->word == "panel";
     };
     if (dot != std::string_view::npos) {
-        // The owner's components first (contiguous where the compiler wrote the graph), then,
-        // found in none of them, every component (a graph written by hand).
+        // The owner's components first (the validator has checked they are a range; the
+        // compiler puts all of them there), then, found in none of them, every component (a
+        // graph written by hand need not).
         const graph::Do& o = g.dos[c.owner];
-        const int64_t first = o.comp_adr.v, end = first + o.comp_num;
-        if (first >= 0 && first <= end && end <= int64_t(g.comps.size()))
-            for (int64_t k = first; k < end; ++k)
-                if (is_panel(graph::CompId(int32_t(k)))) return true;
+        for (graph::CompId k : graph::children(o.comp_adr, o.comp_num))
+            if (is_panel(k)) return true;
         for (graph::CompId k : graph::ids_of(g.comps))
             if (is_panel(k)) return true;
     }
