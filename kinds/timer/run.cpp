@@ -32,6 +32,9 @@ struct Timers : KindData {
     graph::IdVector<TimerId, Run> run;                     // per row of `timers`
     graph::IdVector<TimerId, graph::Adr<graph::Slot>> s0;  // the first slot of each timer's component
     graph::IdVector<TimerId, uint8_t> made;                // this step's kElapsed, kTick, kStopped
+    // The timers that made any, each slice's from its own first timer on, and how many.
+    std::vector<TimerId> made_by_slice;
+    std::vector<size_t> slice_made;
 };
 
 std::unique_ptr<KindData> make_state(const graph::Graph& g) {
@@ -39,6 +42,8 @@ std::unique_ptr<KindData> make_state(const graph::Graph& g) {
     t->run.resize(g.timers.size());  // running from the start: start_all
     for (const graph::Timer& tm : g.timers) t->s0.push_back(g.comps[tm.comp].slot_adr);
     t->made.resize(g.timers.size());
+    t->made_by_slice.resize(g.timers.size());
+    t->slice_made.resize(kMaxSlices);
     return t;
 }
 
@@ -103,11 +108,17 @@ void sense_all(Runtime& r) {
         return;
     }
     auto ticking = [&r, &t, n, slices](int k) {
-        for (TimerId i : slice_ids<TimerId>(n, slices, k)) t.made[i] = tick<true>(r, t, i);
+        const size_t first = slice_of(n, slices, size_t(k)).first;
+        size_t m = 0;
+        for (TimerId i : slice_ids<TimerId>(n, slices, k))
+            if ((t.made[i] = tick<true>(r, t, i)) != 0) t.made_by_slice[first + m++] = i;
+        t.slice_made[size_t(k)] = m;
     };
     w.run(int(slices), ticking);
-    for (TimerId i : ids_of(r.g.timers))
-        if (const uint8_t made = t.made[i]) activate(r, t, i, made);
+    for (size_t k = 0; k < slices; ++k) {  // in timer order
+        const size_t first = slice_of(n, slices, k).first;
+        for (size_t j = first; j < first + t.slice_made[k]; ++j) activate(r, t, t.made_by_slice[j], t.made[t.made_by_slice[j]]);
+    }
 }
 
 void act_one(Runtime& r, const graph::Comp& c) {
