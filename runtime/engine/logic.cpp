@@ -270,43 +270,92 @@ void run_lane(Runtime& r, size_t k) {
 }
 
 // What the lanes activated, appended to the step's two lists in program order (each lane's
-// records are in it already; an op's own, in the order it made them): the positions of the ops
-// that made a record are marked in a bitmap of the program, which is then read in order, each
-// position's records taken from its lane's lists where that lane's reading stands.
+// records are in it already; an op's own, in the order it made them). In slices of the
+// program's positions (whole words of the bitmap below) on the physics threads: where each
+// slice's records begin in each lane's two lists is found by bisection (they are in position
+// order), so where its part of each step's list begins; each slice marks the positions of its
+// ops that made a record in a bitmap of the program, reads it in order, and takes each
+// position's records from its lane's lists where that lane's reading stands, into its part.
 void join_lanes(Runtime& r) {
     State& s = r.st;
-    const Schedule& sc = r.sched;
-    uint64_t* made = s.lane_made.data();
-    size_t first = s.lane_made.size(), end = 0;  // the words marked
+    const size_t lanes = s.lane_runs.size();
+    size_t first = s.lane_made.size(), end = 0, total = 0;  // the words marked
     for (const LaneRun& l : s.lane_runs) {
         for (const auto* list : {&l.out, &l.in}) {
             if (list->empty()) continue;
             first = std::min(first, size_t(list->front().pos) / 64);
             end = std::max(end, size_t(list->back().pos) / 64 + 1);
-            for (const LaneRec& x : *list) made[size_t(x.pos) / 64] |= uint64_t(1) << (x.pos % 64);
+            total += list->size();
         }
     }
-    std::array<size_t, Schedule::kLanes> out_at{}, in_at{};
-    // The positions a chunk at a time, each one's lane asked for as it is found and read once
-    // the chunk is full: the positions lie far apart in the program (a few hundred in tens of
-    // thousands), so each lane number is a miss of its own, and the misses of a chunk overlap.
-    std::array<uint32_t, 64> chunk;
-    size_t got = 0;
-    auto take = [&] {
-        for (size_t c = 0; c < got; ++c) {
-            const size_t pos = chunk[c], k = sc.lane_of[pos];
+    if (total == 0) return;
+    const size_t words = end - first, slices = std::min(slice_count(total, 128, kMaxSlices), words);
+    // Row i: where slice i's records begin in each lane's out and in lists (row `slices`: their ends).
+    size_t* const at = s.join_at.data();
+    auto row = [at, lanes](size_t i, size_t k, size_t list) -> size_t& { return at[(i * lanes + k) * 2 + list]; };
+    for (size_t i = 0; i <= slices; ++i) {
+        const int32_t from = int32_t((first + slice_of(words, slices, i).first) * 64);
+        for (size_t k = 0; k < lanes; ++k) {
             const LaneRun& l = s.lane_runs[k];
-            for (size_t& i = out_at[k]; i < l.out.size() && size_t(l.out[i].pos) == pos; ++i) s.out_list.push_back(l.out[i].slot);
-            for (size_t& i = in_at[k]; i < l.in.size() && size_t(l.in[i].pos) == pos; ++i) s.in_list.push_back(l.in[i].slot);
+            auto begin = [from](const std::vector<LaneRec>& v) {
+                return size_t(std::partition_point(v.begin(), v.end(), [from](const LaneRec& x) { return x.pos < from; }) -
+                              v.begin());
+            };
+            row(i, k, 0) = begin(l.out);
+            row(i, k, 1) = begin(l.in);
         }
-        got = 0;
+    }
+    // Where each slice's part of the two lists begins.
+    size_t* const into = s.join_into.data();  // [slice * 2 + list]
+    size_t out_n = s.out_list.size(), in_n = s.in_list.size();
+    for (size_t i = 0; i < slices; ++i) {
+        into[i * 2] = out_n;
+        into[i * 2 + 1] = in_n;
+        for (size_t k = 0; k < lanes; ++k) {
+            out_n += row(i + 1, k, 0) - row(i, k, 0);
+            in_n += row(i + 1, k, 1) - row(i, k, 1);
+        }
+    }
+    s.out_list.resize(out_n);  // within their room (reserved for every slot)
+    s.in_list.resize(in_n);
+    auto joining = [&r, &row, lanes, first, words, slices, into](int i) {
+        State& st = r.st;
+        const Schedule& sc = r.sched;
+        uint64_t* made = st.lane_made.data();
+        const auto [w0, w1] = slice_of(words, slices, size_t(i));
+        std::array<size_t, Schedule::kLanes> out_at{}, in_at{};
+        for (size_t k = 0; k < lanes; ++k) {
+            const LaneRun& l = st.lane_runs[k];
+            out_at[k] = row(size_t(i), k, 0);
+            in_at[k] = row(size_t(i), k, 1);
+            for (size_t j = out_at[k]; j < row(size_t(i) + 1, k, 0); ++j)
+                made[size_t(l.out[j].pos) / 64] |= uint64_t(1) << (l.out[j].pos % 64);
+            for (size_t j = in_at[k]; j < row(size_t(i) + 1, k, 1); ++j)
+                made[size_t(l.in[j].pos) / 64] |= uint64_t(1) << (l.in[j].pos % 64);
+        }
+        size_t o = into[size_t(i) * 2], n = into[size_t(i) * 2 + 1];
+        // The positions a chunk at a time, each one's lane asked for as it is found and read once
+        // the chunk is full: the positions lie far apart in the program (a few hundred in tens of
+        // thousands), so each lane number is a miss of its own, and the misses of a chunk overlap.
+        std::array<uint32_t, 64> chunk;
+        size_t got = 0;
+        auto take = [&] {
+            for (size_t c = 0; c < got; ++c) {
+                const size_t pos = chunk[c], k = sc.lane_of[pos];
+                const LaneRun& l = st.lane_runs[k];
+                for (size_t& j = out_at[k]; j < l.out.size() && size_t(l.out[j].pos) == pos; ++j) st.out_list[o++] = l.out[j].slot;
+                for (size_t& j = in_at[k]; j < l.in.size() && size_t(l.in[j].pos) == pos; ++j) st.in_list[n++] = l.in[j].slot;
+            }
+            got = 0;
+        };
+        each_due(made, first + w0, first + w1, [&](size_t pos) {
+            __builtin_prefetch(&sc.lane_of[pos]);
+            chunk[got++] = uint32_t(pos);
+            if (got == chunk.size()) take();
+        });
+        take();
     };
-    each_due(made, first, std::max(first, end), [&](size_t pos) {
-        __builtin_prefetch(&sc.lane_of[pos]);
-        chunk[got++] = uint32_t(pos);
-        if (got == chunk.size()) take();
-    });
-    take();
+    run_slices(r.phys.workers(), slices, joining);
 }
 
 // The program in lanes on the physics threads: the readers of the activity at the phase's

@@ -244,12 +244,12 @@ TEST_CASE("logic: the program in lanes on the physics threads gives each step's 
             CHECK(first_lane_difference(g, c.steps, threads) == -1);
         }
     }
-    // Lanes that join more records in a step than the join reads at once (64 positions a chunk:
-    // logic.cpp, join_lanes).
-    const Case many{"plants/bottling.plant", {"lines=12", "feed_every=0.5s"}, 600};
+    // Lanes that join more records in a step than the join reads at once (64 positions a chunk)
+    // and than one slice of its job takes (128 records at least: logic.cpp, join_lanes).
+    const Case many{"plants/bottling.plant", {"lines=36", "feed_every=0.5s"}, 600};
     size_t most = 0;
     CHECK(first_lane_difference(compiled(many), many.steps, 2, &most) == -1);
-    CHECK(most > 64);
+    CHECK(most > 256);
 }
 
 TEST_CASE("logic: lanes split the ops that share no slot a step changes, and only those") {
