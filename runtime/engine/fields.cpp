@@ -36,33 +36,36 @@ BodyId root(State::PerBody<BodyId>& parent, BodyId x) {
 }
 
 // Rigid groups and their member lists, rebuilt only when a joint, a dynamics mode or
-// membership changed. All arrays are sized by the body count: no allocation.
+// membership changed. All arrays are sized by the body count: no allocation. Only a body
+// declared dynamic is ever simulated (dynamic_now): the others' entries keep their start
+// (each its own group, of no mass and no members; init_state) and are not visited.
 void rebuild_groups(Runtime& r) {
     State& s = r.st;
-    for (BodyId b : ids_of(r.g.bodies)) s.group_of[b] = b;
+    const std::vector<BodyId>& dyn = r.tab.dyn_bodies;  // in id order
+    for (BodyId b : dyn) s.group_of[b] = b;
     for (JointId j : ids_of(r.g.joints)) {
         const Joint& jt = r.g.joints[j];
         if (jt.kind != JointKind::Fixed || !r.phys.joint_on(j) || !jt.body_b.valid()) continue;
         if (!r.phys.dynamic_now(jt.body_a) || !r.phys.dynamic_now(jt.body_b)) continue;
         s.group_of[root(s.group_of, jt.body_a)] = root(s.group_of, jt.body_b);
     }
-    for (BodyId b : ids_of(r.g.bodies)) {
+    for (BodyId b : dyn) {
         s.group_of[b] = root(s.group_of, b);
         s.group_mass[b] = 0;
         s.group_num[b] = 0;
     }
-    for (BodyId b : ids_of(r.g.bodies))
+    for (BodyId b : dyn)
         if (r.phys.dynamic_now(b)) {
             s.group_mass[s.group_of[b]] += r.phys.mass(b);
             s.group_num[s.group_of[b]]++;
         }
     int32_t adr = 0;
-    for (BodyId b : ids_of(r.g.bodies)) {
+    for (BodyId b : dyn) {
         s.group_adr[b] = adr;
         adr += s.group_num[b];
         s.group_num[b] = 0;
     }
-    for (BodyId b : ids_of(r.g.bodies))
+    for (BodyId b : dyn)
         if (r.phys.dynamic_now(b)) {
             const BodyId g = s.group_of[b];
             s.group_list[s.group_adr[g] + s.group_num[g]++] = b;

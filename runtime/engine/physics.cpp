@@ -826,13 +826,11 @@ void Physics::step(double dt, const StepHooks& h) {
     prof.lap(StepProfile::FieldsPrep);
     // The worlds with the most movers first: the threads claim them in this order, so the
     // longest jobs do not come last. The order changes nothing in the results.
-    for (int32_t w = 0; w < count_of(worlds_); ++w) {
-        if (!worlds_[w].active) continue;
-        size_t k = to_step_.size();
-        to_step_.push_back(w);
-        for (; k > 0 && worlds_[to_step_[k - 1]].movers < worlds_[w].movers; --k) to_step_[k] = to_step_[k - 1];
-        to_step_[k] = w;
-    }
+    for (int32_t w = 0; w < count_of(worlds_); ++w)
+        if (worlds_[w].active) to_step_.push_back(w);
+    std::sort(to_step_.begin(), to_step_.end(), [this](int a, int b) {
+        return worlds_[a].movers != worlds_[b].movers ? worlds_[a].movers > worlds_[b].movers : a < b;
+    });
     workers_->run(int(to_step_.size()), one);
 }
 

@@ -118,7 +118,22 @@ void Spatial::refresh(const Physics& ph, Workers& w) {
     }
     reach_ = most.first;
     vmax_ = std::sqrt(most.second);
-    if (!sorted) insertion(0, n);
+    // Each slice in order, out of order only where one ends after the next begins: from each
+    // such start on, its entries go back to their places until one is in order already (the
+    // ones before it are in order then, and the rest of its slice follow it): the same list as
+    // a whole insertion sort, for the work of the entries out of place.
+    if (!sorted) {
+        size_t i = 1;
+        for (size_t k = 1; k < slices; ++k) {
+            i = std::max(i, slice_of(n, slices, k).first);
+            for (; i < n && before(order_[i], order_[i - 1]); ++i) {
+                const Entry e = order_[i];
+                size_t j = i;
+                for (; j > 0 && before(e, order_[j - 1]); --j) order_[j] = order_[j - 1];
+                order_[j] = e;
+            }
+        }
+    }
     if (moved) index_cells();
 }
 
