@@ -171,7 +171,7 @@ void count_where(plant::engine::Engine& e, const std::vector<int>& row_of_field,
             ++at.on;
             ++at.why[size_t(w)];
         }
-    for (plant::graph::BodyId u : S.coasting) ++s.where[size_t(row(u))].off;
+    S.each_coasting([&](plant::graph::BodyId u) { ++s.where[size_t(row(u))].off; });
     ++s.where_samples;
 }
 

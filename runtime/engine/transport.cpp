@@ -1101,7 +1101,6 @@ void start_steady(Runtime& r, bool on) {
     S.guide_axis.assign(nb, 0);
     S.guide_side.assign(nb, 0);
     S.guide_face.assign(nb, 0);
-    S.coasting.reserve(nb);
     S.joined.reserve(nb);
     S.stack.reserve(nb);
     S.events.assign(r.tab.dyn_bodies.size(), BodyId{});
@@ -1188,7 +1187,7 @@ void prefetch_near(const Runtime& r, BodyId b) {
 
 void check_steady(Runtime& r, bool left) {
     Steady& S = r.steady;
-    S.coasting.clear();
+    S.found_slices = 0;
     if (!S.on) return;
     Physics& ph = r.phys;
     // A part that left its room: the static geometry filed again (a part found out of the
@@ -1281,23 +1280,25 @@ void check_steady(Runtime& r, bool left) {
         for (size_t k = b; k < b + S.slice_events[i]; ++k)
             if (S.action[S.events[k]] != kStay) ++S.world_adr[ph.world_of(S.events[k]) + 1];
         if (S.joined.empty()) {  // as found (most steps)
-            S.coasting.insert(S.coasting.end(), S.found.begin() + std::ptrdiff_t(b),
-                              S.found.begin() + std::ptrdiff_t(b + S.slice_found[i]));
             S.rested += S.slice_rested[i];
-        } else {
+        } else {  // less those landing or staying with a neighbour, in place
+            size_t kept = 0;
             for (size_t k = b; k < b + S.slice_found[i]; ++k) {
                 const BodyId u = S.found[k];
                 const uint8_t a = S.action[u];
-                if (a != kKeep && a != kCoast && a != kToRest) continue;  // landing or staying with a neighbour
-                S.coasting.push_back(u);
+                if (a != kKeep && a != kCoast && a != kToRest) continue;
+                S.found[b + kept++] = u;
                 S.rested += a == kToRest || (a == kKeep && ph.resting(u));
             }
+            S.slice_found[i] = kept;
         }
         S.guided += S.slice_guided[i];
     }
+    S.found_slices = slices;
+    S.found_of = dyn.size();
     for (const BodyId u : S.joined)
         if (S.action[u] == kLand) ++S.world_adr[ph.world_of(u) + 1];
-    S.coasted += int64_t(S.coasting.size());
+    S.coasted += int64_t(S.coasting_count());
     S.busy.clear();
     for (size_t w = 0; w + 1 < S.world_adr.size(); ++w) {
         if (S.world_adr[w + 1] > 0) S.busy.push_back(int(w));
@@ -1389,14 +1390,13 @@ void advance(Runtime& r, BodyId b) {
 }  // namespace
 
 void advance_steady(Runtime& r) {
-    // Each unit on its own, in slices on the physics threads.
-    const std::vector<BodyId>& units = r.steady.coasting;
-    const size_t slices = slice_count(units.size(), 8, units.size() + 1);
-    auto moving = [&r, &units, slices](int i) {
-        const auto [b, e] = slice_of(units.size(), slices, i);
-        for (size_t k = b; k < e; ++k) advance(r, units[k]);
+    // Each unit on its own, on the physics threads, in the check's slices (Steady::found).
+    const Steady& S = r.steady;
+    auto moving = [&r, &S](int i) {
+        const size_t b = slice_of(S.found_of, S.found_slices, size_t(i)).first;
+        for (size_t k = b; k < b + S.slice_found[size_t(i)]; ++k) advance(r, S.found[k]);
     };
-    run_slices(r.phys.workers(), slices, moving);
+    if (S.found_slices > 0) run_slices(r.phys.workers(), S.found_slices, moving);
 }
 
 }  // namespace plant::engine

@@ -67,7 +67,6 @@ struct Steady {
     PerBody<btScalar> height;            // coasting: its centre of mass above the top face's plane
     PerBody<btScalar> yaw;               // coasting: its angular velocity about the vertical
     PerBody<btVector3> relax;            // coasting: exp(-a) per field axis (1: free axis)
-    std::vector<graph::BodyId> coasting; // the units coasting (or resting) this step, in id order
     PerBody<uint8_t> action;             // per unit, this step's decision (check_steady)
     // Per unit, why it is on the solver after this step's check (the first test it failed, or
     // kNeighbour: kept there by a resting neighbour); kCount where it is not (off the solver,
@@ -78,6 +77,23 @@ struct Steady {
     // and those off the solver, and how many of each (and of those along a rail, and resting) it found.
     std::vector<graph::BodyId> events, found;
     std::array<size_t, kMaxSlices> slice_events{}, slice_found{};
+    // The units coasting (or resting) after this step's check, in id order: the found ones of
+    // its slices (found_slices of them over found_of units; none before the first check or
+    // with steady transport off). Read where they are, on the threads that move them
+    // (advance_steady), not copied into one list on the calling thread.
+    size_t found_slices = 0, found_of = 0;
+    size_t coasting_count() const {
+        size_t n = 0;
+        for (size_t i = 0; i < found_slices; ++i) n += slice_found[i];
+        return n;
+    }
+    template <class F>
+    void each_coasting(F&& f) const {
+        for (size_t i = 0; i < found_slices; ++i) {
+            const size_t b = slice_of(found_of, found_slices, i).first;
+            for (size_t k = b; k < b + slice_found[i]; ++k) f(found[k]);
+        }
+    }
     std::array<int64_t, kMaxSlices> slice_guided{}, slice_rested{};
     // ... and those units grouped by their world: world w's at [world_adr[w], world_adr[w + 1])
     // of by_world; busy: the worlds with any.
