@@ -309,6 +309,7 @@ private:
     // coasting (assign_worlds).
     std::vector<int32_t> slice_movers_;
     std::vector<int32_t> to_step_;    // scratch: the worlds to step
+    std::vector<int32_t> by_movers_;  // every world, by its movers (most first), then id: as last ordered
     struct Near {  // a mover's bounding box and world, for void groups to meet
         btVector3 lo, hi;
         int world;

@@ -241,6 +241,9 @@ void Physics::find_regions(bool split) {
     }
     worlds_.resize(regions + 1);
     slice_movers_.assign(kMaxSlices * worlds_.size(), 0);
+    by_movers_.resize(worlds_.size());
+    std::iota(by_movers_.begin(), by_movers_.end(), 0);
+    to_step_.reserve(worlds_.size());
     void_ = regions;
     std::vector<int32_t> region_of_root(nb, -1);
     for (int32_t i = 0; i < regions; ++i) {  // roots are in body order
