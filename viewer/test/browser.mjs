@@ -120,7 +120,16 @@ try {
     await page.evaluate((p) => plantViewer.select(p), sw.path);
   } else check(true, `clicking the switch opens the inspector on ${sw.path}`);
   const button = `button[data-slot="${sw.path}.to_working"]`;
-  await page.waitForSelector(button, { timeout: 5000 });
+  // Polled from here, not by the page's animation frames (a loaded suite run starves those:
+  // once the button did not show within 5 s there); what the inspector shows when it fails.
+  const shown = await until(() => page.evaluate((b) => !!document.querySelector(b), button), 15000);
+  if (!shown) {
+    const state = await page.evaluate(() => ({
+      inspected: plantViewer.inspectedPath(), hidden: document.getElementById('inspector').hidden,
+      role: document.getElementById('role').textContent,
+      rows: [...document.querySelectorAll('#inspector tr[data-slot]')].map((r) => r.dataset.slot).slice(0, 12) }));
+    throw new Error(`no ${button} in the inspector: ${JSON.stringify(state)}`);
+  }
   const typeShown = await page.$eval('#insp-type', (e) => e.textContent);
   check(typeShown.startsWith('Switch'), `the inspector shows the type (${typeShown})`);
   // The page's inspector shows the live marking.
