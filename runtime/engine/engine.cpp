@@ -43,7 +43,6 @@ Runtime::Runtime(const Graph& graph, const Options& opt)
         st.lane_due.assign(sched.lane_always.size(), 0);
         st.lane_made.assign(sched.always.size(), 0);
         st.join_at.assign((kMaxSlices + 1) * sched.lanes() * 2, 0);
-        st.join_into.assign(kMaxSlices * 2, 0);
         st.lane_runs.resize(sched.lanes());
         for (size_t k = 0; k < sched.lanes(); ++k) {
             st.lane_runs[k].out.reserve(sched.lane_writes[k]);

@@ -306,7 +306,7 @@ void join_lanes(Runtime& r) {
         }
     }
     // Where each slice's part of the two lists begins.
-    size_t* const into = s.join_into.data();  // [slice * 2 + list]
+    std::array<size_t, kMaxSlices * 2> into;  // [slice * 2 + list]
     size_t out_n = s.out_list.size(), in_n = s.in_list.size();
     for (size_t i = 0; i < slices; ++i) {
         into[i * 2] = out_n;
@@ -318,7 +318,7 @@ void join_lanes(Runtime& r) {
     }
     s.out_list.resize(out_n);  // within their room (reserved for every slot)
     s.in_list.resize(in_n);
-    auto joining = [&r, &row, lanes, first, words, slices, into](int i) {
+    auto joining = [&r, &row, &into, lanes, first, words, slices](int i) {
         State& st = r.st;
         const Schedule& sc = r.sched;
         uint64_t* made = st.lane_made.data();

@@ -85,16 +85,15 @@ void Spatial::refresh(const Physics& ph, Workers& w) {
         if (a.x != b.x) return a.x < b.x;
         return a.body < b.body;
     };
-    auto insertion = [this, &before](size_t begin, size_t end) {
-        for (size_t i = begin + 1; i < end; ++i) {
-            Entry e = order_[i];
-            size_t j = i;
-            while (j > begin && before(e, order_[j - 1])) {
-                order_[j] = order_[j - 1];
-                --j;
-            }
-            order_[j] = e;
-        }
+    // Entry i moved back to its place among those from `begin` on, which are in order.
+    auto put_back = [this, &before](size_t begin, size_t i) {
+        const Entry e = order_[i];
+        size_t j = i;
+        for (; j > begin && before(e, order_[j - 1]); --j) order_[j] = order_[j - 1];
+        order_[j] = e;
+    };
+    auto insertion = [&put_back](size_t begin, size_t end) {
+        for (size_t i = begin + 1; i < end; ++i) put_back(begin, i);
     };
     const size_t n = order_.size();
     const size_t slices = slice_count(n, 32, kSlices);
@@ -126,12 +125,7 @@ void Spatial::refresh(const Physics& ph, Workers& w) {
         size_t i = 1;
         for (size_t k = 1; k < slices; ++k) {
             i = std::max(i, slice_of(n, slices, k).first);
-            for (; i < n && before(order_[i], order_[i - 1]); ++i) {
-                const Entry e = order_[i];
-                size_t j = i;
-                for (; j > 0 && before(e, order_[j - 1]); --j) order_[j] = order_[j - 1];
-                order_[j] = e;
-            }
+            for (; i < n && before(order_[i], order_[i - 1]); ++i) put_back(0, i);
         }
     }
     if (moved) index_cells();

@@ -253,7 +253,7 @@ struct State {
     std::vector<LaneRun> lane_runs;
     std::vector<uint64_t> lane_due;
     std::vector<uint64_t> lane_made;  // a bit per position in the program: its op activated a slot (the join)
-    std::vector<size_t> join_at, join_into;  // the join's slices: where their records are (logic.cpp)
+    std::vector<size_t> join_at;  // the join's slices: where their records begin in each lane's lists (logic.cpp)
 
     IdVector<graph::TriggerId, TriggerState> triggers;
     // Per trigger: whether an object is inside it this step (TriggerState::num > 0), packed for

@@ -1295,7 +1295,6 @@ void check_steady(Runtime& r, bool left) {
         S.guided += S.slice_guided[i];
     }
     S.found_slices = slices;
-    S.found_of = dyn.size();
     for (const BodyId u : S.joined)
         if (S.action[u] == kLand) ++S.world_adr[ph.world_of(u) + 1];
     S.coasted += int64_t(S.coasting_count());
@@ -1393,8 +1392,7 @@ void advance_steady(Runtime& r) {
     // Each unit on its own, on the physics threads, in the check's slices (Steady::found).
     const Steady& S = r.steady;
     auto moving = [&r, &S](int i) {
-        const size_t b = slice_of(S.found_of, S.found_slices, size_t(i)).first;
-        for (size_t k = b; k < b + S.slice_found[size_t(i)]; ++k) advance(r, S.found[k]);
+        for (const BodyId u : S.coasting_in(size_t(i))) advance(r, u);
     };
     if (S.found_slices > 0) run_slices(r.phys.workers(), S.found_slices, moving);
 }

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -78,10 +79,13 @@ struct Steady {
     std::vector<graph::BodyId> events, found;
     std::array<size_t, kMaxSlices> slice_events{}, slice_found{};
     // The units coasting (or resting) after this step's check, in id order: the found ones of
-    // its slices (found_slices of them over found_of units; none before the first check or
-    // with steady transport off). Read where they are, on the threads that move them
-    // (advance_steady), not copied into one list on the calling thread.
-    size_t found_slices = 0, found_of = 0;
+    // its found_slices slices of `found` (none before the first check or with steady transport
+    // off). Read where they are, on the threads that move them (advance_steady), not copied
+    // into one list on the calling thread.
+    size_t found_slices = 0;
+    std::span<const graph::BodyId> coasting_in(size_t slice) const {
+        return {found.data() + slice_of(found.size(), found_slices, slice).first, slice_found[slice]};
+    }
     size_t coasting_count() const {
         size_t n = 0;
         for (size_t i = 0; i < found_slices; ++i) n += slice_found[i];
@@ -89,10 +93,8 @@ struct Steady {
     }
     template <class F>
     void each_coasting(F&& f) const {
-        for (size_t i = 0; i < found_slices; ++i) {
-            const size_t b = slice_of(found_of, found_slices, i).first;
-            for (size_t k = b; k < b + slice_found[i]; ++k) f(found[k]);
-        }
+        for (size_t i = 0; i < found_slices; ++i)
+            for (const graph::BodyId u : coasting_in(i)) f(u);
     }
     std::array<int64_t, kMaxSlices> slice_guided{}, slice_rested{};
     // ... and those units grouped by their world: world w's at [world_adr[w], world_adr[w + 1])
