@@ -221,8 +221,13 @@ try {
     check(new RegExp(`\\| \\d+\\.\\d+ s \\| \\d{4}-\\d\\d-\\d\\dT[\\d:.]+Z \\| page \\d+ \\(trainee\\) \\| [^|]*${what.replace('.', '\\.')}`).test(held),
       `the trainee's ${what.trim()} is listed while the fault held, with plant time and wall clock`);
   const tp = md.match(/\| throughput \| (\S+)\/min in the minute before, (\S+)\/min while it held, (\S+)\/min in the minute after \|/);
-  check(!!tp && Number(tp[2]) < Number(tp[3]) && Number(tp[3]) > 0,
+  const dips = check(!!tp && Number(tp[2]) < Number(tp[3]) && Number(tp[3]) > 0,
     `the throughput dips while it held (${tp ? `${tp[1]} before, ${tp[2]} while it held, ${tp[3]} after` : 'no throughput row'})`);
+  if (!dips) {   // the session, to replay headless (plant run --events): once the line stood after the release
+    const keep = join(mkdtempSync(join(tmpdir(), 'plant-training-failed-')), 'session.events');
+    writeFileSync(keep, await (await fetch(`${urls.base}events${new URL(urls.instructor).search}`)).text());
+    console.log(`     the session's events: ${keep}`);
+  }
   const denied = await fetch(`${urls.base}report${new URL(urls.trainee).search}`);
   check(denied.status === 403, `a trainee's /report is refused (${denied.status})`);
   check(await until(() => /\(trainee\): refused: the session report is the instructor's/.test(h.serverErr), 3000), 'and logged');
