@@ -138,7 +138,17 @@ try {
   // The switch's own control sends it back to base for a bottle that is not due: cut that
   // wire first (a forced fault: to_base open), through the inspector's force menu.
   const forceMenu = `select[data-force="${sw.path}.to_base"]`;
-  await page.waitForSelector(forceMenu, { timeout: 5000 });
+  // Polled from here too (a fresh-clone suite run once waited 5 s for it in vain, on a
+  // loaded machine); what the page shows when it fails.
+  const menuShown = await until(() => page.evaluate((m) => !!document.querySelector(m), forceMenu), 15000);
+  if (!menuShown) {
+    const state = await page.evaluate(() => ({
+      inspected: plantViewer.inspectedPath(), hidden: document.getElementById('inspector').hidden,
+      role: document.getElementById('role').textContent, conn: document.getElementById('conn').textContent,
+      scenes: plantViewer.scenesReceived, forceMenus: document.querySelectorAll('select[data-force]').length,
+      rows: [...document.querySelectorAll('#inspector tr[data-slot]')].map((r) => r.dataset.slot).slice(0, 12) }));
+    throw new Error(`no ${forceMenu} in the inspector: ${JSON.stringify(state)}`);
+  }
   const openChoice = await page.$eval(forceMenu, (m) => [...m.options].find((o) => o.textContent === 'open')?.value);
   await page.select(forceMenu, openChoice);
   const cut = await until(() => client.status?.inspect?.slots?.find((s) => s.path === `${sw.path}.to_base`)?.forced === 'open', 10_000, 50);
