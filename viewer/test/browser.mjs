@@ -99,7 +99,7 @@ try {
   const working = scene.places.find((p) => p.path === `${sw.path}.net.WorkingPos`);
   check(!!working, `the scene lists the place ${sw.path}.net.WorkingPos`);
   client.send({ type: 'inspect', path: sw.path });
-  const before = await until(() => client.status?.inspect?.path === sw.path && client.status.inspect, 5000);
+  const before = await until(() => client.status?.inspect?.path === sw.path && client.status.inspect, 15_000);
   const tokensOf = (insp) => insp?.places?.find((p) => p.id === working?.id)?.tokens;
   check(tokensOf(before) === 0, `${sw.path} starts in base position (WorkingPos ${tokensOf(before)})`);
 
@@ -133,7 +133,7 @@ try {
   const typeShown = await page.$eval('#insp-type', (e) => e.textContent);
   check(typeShown.startsWith('Switch'), `the inspector shows the type (${typeShown})`);
   // The page's inspector shows the live marking.
-  const pageMarking = await until(() => page.evaluate((p) => document.querySelector(`[data-place="${p}"]`)?.textContent, `${sw.path}.net.BasePos`), 5000);
+  const pageMarking = await until(() => page.evaluate((p) => document.querySelector(`[data-place="${p}"]`)?.textContent, `${sw.path}.net.BasePos`), 15_000);
   check(pageMarking === 'BasePos 1', `the inspector shows the marking (${pageMarking})`);
   // The switch's own control sends it back to base for a bottle that is not due: cut that
   // wire first (a forced fault: to_base open), through the inspector's force menu.
@@ -151,27 +151,27 @@ try {
   }
   const openChoice = await page.$eval(forceMenu, (m) => [...m.options].find((o) => o.textContent === 'open')?.value);
   await page.select(forceMenu, openChoice);
-  const cut = await until(() => client.status?.inspect?.slots?.find((s) => s.path === `${sw.path}.to_base`)?.forced === 'open', 10_000, 50);
+  const cut = await until(() => client.status?.inspect?.slots?.find((s) => s.path === `${sw.path}.to_base`)?.forced === 'open', 20_000, 50);
   check(cut, `the inspector forced ${sw.path}.to_base open (status.inspect marks it)`);
-  const forcedLine = await until(() => client.events.find((l) => l.endsWith(`force ${sw.path}.to_base open`)), 5000);
+  const forcedLine = await until(() => client.events.find((l) => l.endsWith(`force ${sw.path}.to_base open`)), 15_000);
   check(!!forcedLine, `the force is broadcast like any event: '${forcedLine}'`);
   // The page's own row shows the force once the page's status comes (its own socket, maybe
   // a frame after the client's): "(open)" widens the value column and moves the buttons, so
   // a click aimed before that lands beside the button.
-  const rowForced = await until(() => page.evaluate((p) => !!document.querySelector(`tr[data-slot="${p}"].forced`), `${sw.path}.to_base`), 5000, 50);
+  const rowForced = await until(() => page.evaluate((p) => !!document.querySelector(`tr[data-slot="${p}"].forced`), `${sw.path}.to_base`), 15_000, 50);
   check(rowForced, `the page's inspector marks ${sw.path}.to_base forced`);
   await page.click(button);
-  const after = await until(() => tokensOf(client.status?.inspect) === 1 && client.status.inspect, 10_000, 50);
+  const after = await until(() => tokensOf(client.status?.inspect) === 1 && client.status.inspect, 20_000, 50);
   check(!!after, `the runtime's switch moved to its working position: ${sw.path}.net.WorkingPos marked (through the protocol, ${elapsed()})`);
   const inWorking = after?.slots?.find((s) => s.path === `${sw.path}.working`);
   if (inWorking) check(inWorking.value === 1, `${sw.path}.working = ${inWorking.value}`);
-  const line = await until(() => client.events.find((l) => l.endsWith(` ${sw.path}.to_working`)), 5000);
+  const line = await until(() => client.events.find((l) => l.endsWith(` ${sw.path}.to_working`)), 15_000);
   check(!!line, `the event is broadcast to every page: '${line}'`);
-  const logged = await until(() => page.evaluate((p) => [...document.querySelectorAll('#log li')].some((li) => li.textContent.includes(p)), `${sw.path}.to_working`), 5000);
+  const logged = await until(() => page.evaluate((p) => [...document.querySelectorAll('#log li')].some((li) => li.textContent.includes(p)), `${sw.path}.to_working`), 15_000);
   check(logged, 'the event log on the page shows it');
   const blade = scene.bodies.find((b) => b.path === `${sw.path}.blade`);
   if (blade) {
-    const on = await until(() => page.evaluate((id) => (plantViewer.bodyState(id) & 2) !== 0, blade.id), 5000);
+    const on = await until(() => page.evaluate((id) => (plantViewer.bodyState(id) & 2) !== 0, blade.id), 15_000);
     check(on, `the page draws ${blade.path} with its collision on`);
   }
   const events = await (await fetch(url + 'events')).text();
@@ -183,11 +183,11 @@ try {
     const trainee = await browser.newPage();
     trainee.on('pageerror', (e) => pageErrors.push(`trainee: ${e.message}`));
     await trainee.goto(url + '?role=trainee', { waitUntil: 'load' });
-    const role = await until(() => trainee.evaluate(() => window.plantViewer?.role), 10_000);
+    const role = await until(() => trainee.evaluate(() => window.plantViewer?.role), 20_000);
     check(role === 'trainee', `the trainee's page knows its role (${role})`);
     await until(() => trainee.evaluate(() => plantViewer.sceneReady && plantViewer.statusReceived > 2), 20_000);
     await trainee.evaluate((p) => plantViewer.inspect(p), sw.path);
-    await until(() => trainee.evaluate((p) => !!document.querySelector(`button[data-slot="${p}.to_working"], tr[data-slot="${p}.to_base"]`), sw.path), 5000);
+    await until(() => trainee.evaluate((p) => !!document.querySelector(`button[data-slot="${p}.to_working"], tr[data-slot="${p}.to_base"]`), sw.path), 15_000);
     const seen = await trainee.evaluate((p) => ({
       run: document.getElementById('run').offsetParent !== null,
       forcedPanel: document.getElementById('forced-panel').offsetParent !== null,
@@ -230,10 +230,10 @@ try {
   // ---- restart: a new scene, the switch back in base position ----
   const scenesBefore = await page.evaluate(() => plantViewer.scenesReceived);
   await page.click('#restart');
-  const restarted = await until(() => page.evaluate((n) => plantViewer.scenesReceived > n && plantViewer.sceneReady && plantViewer.framesReceived > 0, scenesBefore), 10_000);
+  const restarted = await until(() => page.evaluate((n) => plantViewer.scenesReceived > n && plantViewer.sceneReady && plantViewer.framesReceived > 0, scenesBefore), 20_000);
   check(restarted, 'restart: the page gets and draws a new scene');
   client.send({ type: 'inspect', path: sw.path });
-  const reset = await until(() => tokensOf(client.status?.inspect) === 0 && client.status.time < 3 && client.status.inspect, 10_000, 50);
+  const reset = await until(() => tokensOf(client.status?.inspect) === 0 && client.status.time < 3 && client.status.inspect, 20_000, 50);
   check(!!reset, `restart: ${sw.path} is back in base position (t = ${client.status?.time})`);
   const redrawn = await page.evaluate(() => ({ bodyCount: plantViewer.bodyCount, drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld() }));
   check(redrawn.bodyCount === scene.bodies.length && redrawn.drawnNow === redrawn.inWorld, `restart: one drawn object per body again (${redrawn.bodyCount}, ${redrawn.drawnNow} of ${redrawn.inWorld} in the world drawn)`);
@@ -255,7 +255,7 @@ try {
       v.controls.update();
     });
     await page.click('#run');   // pause, so that the bottle stays under the mouse
-    await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
+    await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 15_000);
     await sleep(300);
     // Hover over a bottle for the label.
     const bottle = await page.evaluate(() => {
@@ -295,7 +295,7 @@ try {
         });
       }, path, when), 30_000, 20);
       await page.click('#run');
-      await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 5000);
+      await until(() => page.evaluate(() => plantViewer.lastStatus?.paused), 15_000);
       const framed = await page.evaluate((...a) => plantViewer.closeUp(...a), path, distance, azimuth, elevation);
       await sleep(800);
       const file = screenshot.replace(/\.png$/, `-${name}.png`);

@@ -43,7 +43,7 @@ try {
   const drawn = await page.evaluate(() => [...document.querySelectorAll('.op-panel [data-element]')].map((e) => e.dataset.kind));
   check(drawn.length === ops.elements.length, `the page draws the panel's ${ops.elements.length} elements (${drawn.join(', ')})`);
   const lampOn = () => page.evaluate((p) => document.querySelector(`[data-element="${p}"]`)?.classList.contains('on'), ops.elements[lamp].path);
-  check(await until(lampOn, 5000), 'the running lamp is lit on the page');
+  check(await until(lampOn, 15_000), 'the running lamp is lit on the page');
   check(client.status?.panel?.[lamp] === 1, `status: the running lamp reads 1 (${client.status?.panel?.[lamp]})`);
 
   // As fast as the machine goes, until the first bottle is issued: the feed runs.
@@ -55,14 +55,14 @@ try {
   const box = await (await page.$(`[data-element="${stop.path}"]`)).boundingBox();
   await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
   await page.mouse.down();
-  const down = await until(() => page.evaluate((p) => document.querySelector(`[data-element="${p}"]`).classList.contains('down'), stop.path), 5000);
+  const down = await until(() => page.evaluate((p) => document.querySelector(`[data-element="${p}"]`).classList.contains('down'), stop.path), 15_000);
   check(down, 'the Stop button is drawn down while held (from the status)');
   await page.mouse.up();
-  check(await until(() => client.events.some((l) => l.endsWith(`${stop.path}.press`)), 5000),
+  check(await until(() => client.events.some((l) => l.endsWith(`${stop.path}.press`)), 15_000),
     `the press reached the runtime as an event (${client.events.find((l) => l.includes('.stop.')) ?? 'none'})`);
-  check(await until(() => client.events.some((l) => l.endsWith(`${stop.path}.release`)), 5000), 'and the release');
-  check(await until(async () => !(await lampOn()), 5000), 'the running lamp goes out on the page');
-  check(await until(() => client.status?.panel?.[lamp] === 0, 5000), 'status: the running lamp reads 0');
+  check(await until(() => client.events.some((l) => l.endsWith(`${stop.path}.release`)), 15_000), 'and the release');
+  check(await until(async () => !(await lampOn()), 15_000), 'the running lamp goes out on the page');
+  check(await until(() => client.status?.panel?.[lamp] === 0, 15_000), 'status: the running lamp reads 0');
 
   // The feed holds: nothing is issued for 12 s of plant time.
   const t0 = client.status.time, n0 = issued();
@@ -72,7 +72,7 @@ try {
   // Start again: the lamp lights and the feed resumes.
   const sbox = await (await page.$(`[data-element="${start.path}"]`)).boundingBox();
   await page.mouse.click(sbox.x + sbox.width / 2, sbox.y + sbox.height / 2, { delay: 80 });
-  check(await until(lampOn, 5000), 'Start lights the running lamp again');
+  check(await until(lampOn, 15_000), 'Start lights the running lamp again');
   check(await until(() => issued() > n0, 30_000), `the feed resumes after Start (${issued()} issued)`);
 
   await page.click('button[data-speed="1"]');
@@ -89,31 +89,31 @@ try {
   await page.evaluate((p) => plantViewer.scenePanels.lookAt(p, 0.75), ops.path);
   await sleep(300);
   const countAt = index('count');
-  check(await until(async () => (await placed())[countAt]?.text === String(Math.round(client.status?.panel?.[countAt] ?? -1)), 5000),
+  check(await until(async () => (await placed())[countAt]?.text === String(Math.round(client.status?.panel?.[countAt] ?? -1)), 15_000),
     `the board's display shows the count (${(await placed())[countAt]?.text} / ${client.status?.panel?.[countAt]})`);
   const meshes = await page.evaluate(() => plantViewer.scenePanels.meshes());
   check(meshes <= 5, `every board is drawn by at most 5 instanced meshes (${meshes})`);
   const lit3d = async () => (await placed())[lamp]?.lit === true;
-  check(await until(lit3d, 5000), 'the running lamp is lit on the board');
+  check(await until(lit3d, 15_000), 'the running lamp is lit on the board');
   const camera = () => page.evaluate(() => plantViewer.view.camera.position.toArray().map((x) => x.toFixed(6)).join());
   const cam0 = await camera();
   const at = await page.evaluate((p) => plantViewer.scenePanels.screenPoint(p), stop.path);
   const events0 = client.events.length;
   await page.mouse.move(at.x, at.y);
   await page.mouse.down();
-  check(await until(async () => (await placed())[index('stop')]?.down === true, 5000), 'Stop clicked on the board is drawn down while held (from the status)');
+  check(await until(async () => (await placed())[index('stop')]?.down === true, 15_000), 'Stop clicked on the board is drawn down while held (from the status)');
   await sleep(200);
   await page.mouse.up();
   const sent = () => client.events.slice(events0);
-  check(await until(() => sent().some((l) => l.endsWith(`${stop.path}.press`)) && sent().some((l) => l.endsWith(`${stop.path}.release`)), 5000),
+  check(await until(() => sent().some((l) => l.endsWith(`${stop.path}.press`)) && sent().some((l) => l.endsWith(`${stop.path}.release`)), 15_000),
     `the board's Stop reached the runtime as the same events (${sent().filter((l) => l.includes('.stop.')).join('; ') || 'none'})`);
-  check(await until(async () => !(await lit3d()), 5000), 'the running lamp goes out on the board');
-  check(await until(async () => !(await lampOn()), 5000), 'and on the 2D panel');
+  check(await until(async () => !(await lit3d()), 15_000), 'the running lamp goes out on the board');
+  check(await until(async () => !(await lampOn()), 15_000), 'and on the 2D panel');
   check(await camera() === cam0, 'the click on the board did not move the camera');
   check(await page.evaluate(() => document.getElementById('inspector')?.hidden !== false), 'nor select anything behind it');
   const at2 = await page.evaluate((p) => plantViewer.scenePanels.screenPoint(p), start.path);
   await page.mouse.click(at2.x, at2.y, { delay: 80 });
-  check(await until(lit3d, 5000), 'Start clicked on the board lights the running lamp again');
+  check(await until(lit3d, 15_000), 'Start clicked on the board lights the running lamp again');
   // The mushroom latches, the key resets it; a click on the knob turns it to the next position.
   const halt = index('halt'), mode = index('mode');
   const clickAt = async (path, key = false) => {
@@ -121,19 +121,19 @@ try {
     await page.mouse.click(pt.x, pt.y, { delay: 60 });
   };
   await clickAt(ops.elements[halt].path);
-  check(await until(() => client.status?.panel?.[halt] === 1, 5000), 'the board\'s emergency stop latches');
+  check(await until(() => client.status?.panel?.[halt] === 1, 15_000), 'the board\'s emergency stop latches');
   await clickAt(ops.elements[halt].path, true);
-  check(await until(() => client.status?.panel?.[halt] === 0, 5000), 'its reset key releases it');
+  check(await until(() => client.status?.panel?.[halt] === 0, 15_000), 'its reset key releases it');
   const mode0 = client.status?.panel?.[mode];
   await clickAt(ops.elements[mode].path);
-  check(await until(() => client.status?.panel?.[mode] === (mode0 + 1) % 2, 5000), `the board's selector turns (${mode0} -> ${client.status?.panel?.[mode]})`);
+  check(await until(() => client.status?.panel?.[mode] === (mode0 + 1) % 2, 15_000), `the board's selector turns (${mode0} -> ${client.status?.panel?.[mode]})`);
   // The knob's next position is the board's, which follows the plant's status: wait for it
   // (under the sanitizers the status can come after the protocol client's).
-  check(await until(async () => (await placed())[mode]?.position === (mode0 + 1) % 2, 5000), 'the board shows the new position');
+  check(await until(async () => (await placed())[mode]?.position === (mode0 + 1) % 2, 15_000), 'the board shows the new position');
   await clickAt(ops.elements[mode].path);
-  check(await until(() => client.status?.panel?.[mode] === mode0, 5000), 'and back');
+  check(await until(() => client.status?.panel?.[mode] === mode0, 15_000), 'and back');
   await clickAt(start.path);
-  check(await until(lit3d, 5000), 'Start after the reset lights the running lamp again');
+  check(await until(lit3d, 15_000), 'Start after the reset lights the running lamp again');
   const sceneShot = screenshot.replace(/\.png$/, '-scene.png');
   // The board in its place in the line, the 2D panel over the view out of the way.
   await page.evaluate((p) => { plantViewer.scenePanels.lookAt(p, 1.5, 0.45, 0.35); document.getElementById('op-panels').hidden = true; }, ops.path);

@@ -77,16 +77,16 @@ try {
   await iPage.type('#drill-line', `20s force ${FAULT} open`);
   check(await iPage.evaluate(() => document.getElementById('drill-hidden').checked), 'the drill is hidden from trainees (the default)');
   await click(iPage, '#drill-add');
-  check(await until(() => ins.status?.drills?.[0]?.state === 'waiting', 5000), `the drill waits (${JSON.stringify(ins.status?.drills)})`);
-  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="1"][data-state="waiting"]')), 5000),
+  check(await until(() => ins.status?.drills?.[0]?.state === 'waiting', 15_000), `the drill waits (${JSON.stringify(ins.status?.drills)})`);
+  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="1"][data-state="waiting"]')), 15_000),
     'the instructor\'s page lists it');
   // A second drill, scheduled and cancelled before it fires: it never does.
   await iPage.type('#drill-line', `60s force ${CANCELLED} open`);
   await click(iPage, '#drill-add');
-  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="waiting"] button.drill-cancel')), 5000),
+  check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="waiting"] button.drill-cancel')), 15_000),
     'a second drill waits, with a cancel button');
   await click(iPage, '#drills tr[data-drill="2"] button.drill-cancel');
-  check(await until(() => ins.status?.drills?.[1]?.state === 'cancelled', 5000), `the instructor cancelled it (${ins.status?.drills?.[1]?.state})`);
+  check(await until(() => ins.status?.drills?.[1]?.state === 'cancelled', 15_000), `the instructor cancelled it (${ins.status?.drills?.[1]?.state})`);
   check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="cancelled"]') &&
     !document.querySelector('#drills tr[data-drill="2"] button') && /drill 2 cancelled at/.test(document.getElementById('log').textContent)), 5000),
     'the page lists it cancelled, without its button, and logs it');
@@ -94,7 +94,7 @@ try {
   check(await until(() => ins.status?.drills?.[0]?.state === 'holding', 30_000, 50), `the drill fired (at ${ins.status?.drills?.[0]?.fired} s)`);
   check(Math.abs((ins.status?.drills?.[0]?.fired ?? 0) - 20) < 1e-6, 'at 20 s of plant time');
   check(ins.status?.forced?.some((f) => f.path === FAULT), 'the instructor\'s status lists the force');
-  check(await until(() => iPage.evaluate((p) => !!document.querySelector(`#forced tr[data-forced="${p}"]`), FAULT), 5000),
+  check(await until(() => iPage.evaluate((p) => !!document.querySelector(`#forced tr[data-forced="${p}"]`), FAULT), 15_000),
     'the instructor\'s page shows it in Forced now');
 
   // ---- the trainee's page does not show it ----
@@ -107,19 +107,19 @@ try {
   check(await tPage.evaluate(() => !document.querySelector('#forced tr') && !document.querySelector('#drills tr')), 'nor lists it');
   if (shots) {   // the same moment on both pages (the run holds meanwhile)
     await click(iPage, '#run');
-    await until(() => ins.status?.paused, 5000);
+    await until(() => ins.status?.paused, 15_000);
     await sleep(500);
     await iPage.bringToFront();
     await iPage.screenshot({ path: join(shots, 'training-instructor.png') });
     await tPage.bringToFront();
     await tPage.screenshot({ path: join(shots, 'training-trainee.png') });
     await click(iPage, '#run');
-    await until(() => ins.status && !ins.status.paused, 5000);
+    await until(() => ins.status && !ins.status.paused, 15_000);
   }
 
   // ---- the trainee presses Stop on the panel ----
   await press(tPage, el('stop'));
-  check(await until(() => ins.events.some((l) => l.endsWith(`${el('stop')}.press`)), 5000), 'Stop reached the runtime');
+  check(await until(() => ins.events.some((l) => l.endsWith(`${el('stop')}.press`)), 15_000), 'Stop reached the runtime');
   if (shots) {   // the instructor's page with the drill holding and the trainee's Stop in the log
     await sleep(500);
     await iPage.bringToFront();
@@ -128,7 +128,7 @@ try {
 
   // ---- the trainee grabs a bottle with the hand (the instructor holds the run meanwhile) ----
   await click(iPage, '#run');
-  check(await until(() => ins.status?.paused, 5000), 'the instructor pauses the run');
+  check(await until(() => ins.status?.paused, 15_000), 'the instructor pauses the run');
   const bottles = ins.scene.bodies.filter((b) => b.mode === 'dynamic' && b.path.endsWith('.main')).map((b) => b.id);
   // A bottle the hand can take: looked down at, the first whose own body (or model) is what
   // the pointer would hit at its centre, with nothing of the page over it.
@@ -173,26 +173,26 @@ try {
     const t0 = ins.status.time;
     await plantTime(ins, t0 + 2);
     await tPage.mouse.up();
-    check(await until(() => tPage.evaluate(() => !plantViewer.hand.held), 5000, 50), 'and put it down');
+    check(await until(() => tPage.evaluate(() => !plantViewer.hand.held), 15_000, 50), 'and put it down');
     await click(tPage, '#hand');
   } else {
     await click(iPage, '#run');
   }
-  check(await until(() => ins.events.some((l) => / grab \S+ at /.test(l)) && ins.events.some((l) => / drop /.test(l)), 5000),
+  check(await until(() => ins.events.some((l) => / grab \S+ at /.test(l)) && ins.events.some((l) => / drop /.test(l)), 15_000),
     'the grab and the drop reached the runtime');
 
   // ---- the line stands; the trainee presses Start; the instructor releases the fault ----
   await plantTime(ins, 95);
   await press(tPage, el('start'));
-  check(await until(() => ins.events.some((l) => l.endsWith(`${el('start')}.press`)), 5000), 'Start reached the runtime');
+  check(await until(() => ins.events.some((l) => l.endsWith(`${el('start')}.press`)), 15_000), 'Start reached the runtime');
   await plantTime(ins, 100);
   await click(iPage, `#forced button[data-release="${FAULT}"]`);
-  check(await until(() => ins.status?.drills?.[0]?.state === 'released', 5000), `the instructor released it (${ins.status?.drills?.[0]?.state})`);
+  check(await until(() => ins.status?.drills?.[0]?.state === 'released', 15_000), `the instructor released it (${ins.status?.drills?.[0]?.state})`);
   const released = ins.status.drills[0].ended;
   await click(iPage, 'button[data-speed="0"]');   // the minute after it, as fast as the machine goes
   await plantTime(ins, released + 65);
   await click(iPage, '#run');
-  const paused = await until(() => (ins.status?.paused ? ins.status : null), 5000, 50);
+  const paused = await until(() => (ins.status?.paused ? ins.status : null), 15_000, 50);
   await sleep(400);   // the last status of the paused run
   const live = ins.status;
   check(!!paused, `paused at ${live.time.toFixed(3)} s (step ${live.step})`);
