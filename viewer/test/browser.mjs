@@ -76,7 +76,7 @@ try {
     const moved = await until(async () => {
       const p = await page.evaluate((id) => plantViewer.bodyPose(id), moving);
       return Math.hypot(p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]) > 0.02 ? p : null;
-    }, 10_000, 200);
+    }, 20_000, 200);
     check(moved !== null, `body ${moving} (${scene.bodies.find((b) => b.id === moving).path}) moves on the page`);
     const counts = await page.evaluate(() => ({ drawnNow: plantViewer.bodiesDrawn(), inWorld: plantViewer.bodiesInWorld() }));
     check(counts.drawnNow === counts.inWorld, `with bottles issued, every body in the world is drawn (${counts.drawnNow} of ${counts.inWorld})`);
@@ -119,17 +119,20 @@ try {
     console.log(`note: clicking at the switch opened '${opened}'; selecting ${sw.path} through the page instead`);
     await page.evaluate((p) => plantViewer.select(p), sw.path);
   } else check(true, `clicking the switch opens the inspector on ${sw.path}`);
-  const button = `button[data-slot="${sw.path}.to_working"]`;
-  // Polled from here, not by the page's animation frames (a loaded suite run starves those:
-  // once the button did not show within 5 s there); what the inspector shows when it fails.
-  const shown = await until(() => page.evaluate((b) => !!document.querySelector(b), button), 15000);
-  if (!shown) {
+  // An element of the inspector, polled from here for up to 15 s, not by the page's animation
+  // frames (a loaded suite run starves those: the fire button and the force menu each once
+  // did not show within 5 s); what the page shows when it does not come.
+  const inInspector = async (selector) => {
+    if (await until(() => page.evaluate((m) => !!document.querySelector(m), selector), 15_000)) return;
     const state = await page.evaluate(() => ({
       inspected: plantViewer.inspectedPath(), hidden: document.getElementById('inspector').hidden,
-      role: document.getElementById('role').textContent,
+      role: document.getElementById('role').textContent, conn: document.getElementById('conn').textContent,
+      scenes: plantViewer.scenesReceived, forceMenus: document.querySelectorAll('select[data-force]').length,
       rows: [...document.querySelectorAll('#inspector tr[data-slot]')].map((r) => r.dataset.slot).slice(0, 12) }));
-    throw new Error(`no ${button} in the inspector: ${JSON.stringify(state)}`);
-  }
+    throw new Error(`no ${selector} in the inspector: ${JSON.stringify(state)}`);
+  };
+  const button = `button[data-slot="${sw.path}.to_working"]`;
+  await inInspector(button);
   const typeShown = await page.$eval('#insp-type', (e) => e.textContent);
   check(typeShown.startsWith('Switch'), `the inspector shows the type (${typeShown})`);
   // The page's inspector shows the live marking.
@@ -138,17 +141,7 @@ try {
   // The switch's own control sends it back to base for a bottle that is not due: cut that
   // wire first (a forced fault: to_base open), through the inspector's force menu.
   const forceMenu = `select[data-force="${sw.path}.to_base"]`;
-  // Polled from here too (a fresh-clone suite run once waited 5 s for it in vain, on a
-  // loaded machine); what the page shows when it fails.
-  const menuShown = await until(() => page.evaluate((m) => !!document.querySelector(m), forceMenu), 15000);
-  if (!menuShown) {
-    const state = await page.evaluate(() => ({
-      inspected: plantViewer.inspectedPath(), hidden: document.getElementById('inspector').hidden,
-      role: document.getElementById('role').textContent, conn: document.getElementById('conn').textContent,
-      scenes: plantViewer.scenesReceived, forceMenus: document.querySelectorAll('select[data-force]').length,
-      rows: [...document.querySelectorAll('#inspector tr[data-slot]')].map((r) => r.dataset.slot).slice(0, 12) }));
-    throw new Error(`no ${forceMenu} in the inspector: ${JSON.stringify(state)}`);
-  }
+  await inInspector(forceMenu);
   const openChoice = await page.$eval(forceMenu, (m) => [...m.options].find((o) => o.textContent === 'open')?.value);
   await page.select(forceMenu, openChoice);
   const cut = await until(() => client.status?.inspect?.slots?.find((s) => s.path === `${sw.path}.to_base`)?.forced === 'open', 20_000, 50);

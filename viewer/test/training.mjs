@@ -88,7 +88,7 @@ try {
   await click(iPage, '#drills tr[data-drill="2"] button.drill-cancel');
   check(await until(() => ins.status?.drills?.[1]?.state === 'cancelled', 15_000), `the instructor cancelled it (${ins.status?.drills?.[1]?.state})`);
   check(await until(() => iPage.evaluate(() => !!document.querySelector('#drills tr[data-drill="2"][data-state="cancelled"]') &&
-    !document.querySelector('#drills tr[data-drill="2"] button') && /drill 2 cancelled at/.test(document.getElementById('log').textContent)), 5000),
+    !document.querySelector('#drills tr[data-drill="2"] button') && /drill 2 cancelled at/.test(document.getElementById('log').textContent)), 15_000),
     'the page lists it cancelled, without its button, and logs it');
   await click(iPage, '#run');
   check(await until(() => ins.status?.drills?.[0]?.state === 'holding', 30_000, 50), `the drill fired (at ${ins.status?.drills?.[0]?.fired} s)`);
@@ -144,7 +144,7 @@ try {
       if (index === v.bodyIndex.get(id) && document.elementFromPoint(at.x, at.y) === v.renderer.domElement) return id;
     }
     return null;
-  }, bottles), 5000);
+  }, bottles), 15_000);
   let grabbed = null;
   if (check(pick !== null && pick !== undefined, `a bottle on the line the hand can reach (${pick})`)) {
     await tPage.bringToFront();
@@ -170,10 +170,10 @@ try {
       console.log(`     at ${JSON.stringify(at)}: ${JSON.stringify(why)}`);
     }
     // Held over 1-4 s of plant time, at 1x: the belts run on under it (Stop holds only the
-    // feed): replayed headless, each of the 9 bottles on the line then held 2-6 s and put
+    // feed). Replayed headless, each of the 9 bottles on the line then held 2-6 s and put
     // back jams nothing; one held 7 s has the bottle behind it run in under it, falls over
-    // when let go and stalls the line.
-    // At the session's 20x a slow mouse-up on a loaded machine made that hold 10-20 s.
+    // when let go and stalls the line. At the session's 20x, a slow mouse-up on a loaded
+    // machine made the hold 10-20 s.
     await click(iPage, 'button[data-speed="1"]');
     check(await until(() => ins.status?.speed === 1, 15_000, 50), `the instructor runs it at 1x while the bottle is held (${ins.status?.speed})`);
     await click(iPage, '#run');
