@@ -107,12 +107,15 @@ public:
     btVector3 velocity(graph::BodyId b) const { return carries_[b].valid() ? host_velocity(b) : bodies_[b]->getLinearVelocity(); }
     const btVector3& angular_velocity(graph::BodyId b) const { return bodies_[b]->getAngularVelocity(); }
     btMatrix3x3 inertia_world(graph::BodyId b) const {  // the body's own tensor, in the world
-        const btMatrix3x3 R = (frame(b) * (carries_[b].valid() ? own_local_[b] : local_[b])).getBasis();
+        const btMatrix3x3 R = (frame(b) * (carries_[b].valid() ? own_local(b) : local_[b])).getBasis();
         return R.scaled(inertia_[b]) * R.transpose();
     }
     // A force at the body's centre of mass and a torque (its carrier's, while welded).
     void apply(graph::BodyId b, const btVector3& force, const btVector3& torque);
     bool welded(graph::BodyId b) const { return carries_[b].valid() || carried_[b].valid(); }
+    // The welds found at the start, and the rows of what their pairs are (welds alike share one).
+    size_t weld_count() const { return welds_.size(); }
+    size_t weld_shape_count() const { return weld_shapes_.size(); }
     bool in_world(graph::BodyId b) const { return in_world_[b]; }
     // How many times b's Bullet state (pose, velocity, flags, activation, broadphase box) has
     // been written other than by Bullet's step: every writer of Physics counts (wrote()), and
@@ -200,14 +203,21 @@ private:
     // an enabled fixed joint to a dynamic host is left out of Bullet's world, and the
     // host's Bullet body carries both (the fixed constraint leaves Bullet's world too). After
     // each step the passenger's state is copied from its carrier. See welds.cpp.
-    struct Weld {
-        graph::BodyId host, pass;
-        graph::JointId joint;
+    // What a weld's pair is, apart from which bodies: welds alike to the bit (a pool's bottles)
+    // share one row, so a pooled bottle keeps 20 bytes of its weld, not 336.
+    struct WeldShape {
         graph::Pose rel;         // the passenger's body frame in the host's
         BodyShape own, both;     // the host alone, and the pair about its centre of mass
         btTransform off;         // the passenger's Bullet frame in the carrier's
+        bool operator==(const WeldShape& o) const;  // to the bit, and the same shapes
+    };
+    struct Weld {
+        graph::BodyId host, pass;
+        graph::JointId joint;
+        int32_t shape;  // its row in weld_shapes_
         bool on = false;
     };
+    const WeldShape& shape_of(const Weld& w) const { return weld_shapes_[size_t(w.shape)]; }
     void find_welds();
     void weld_on(Weld& w);
     void weld_off(Weld& w);
@@ -218,7 +228,10 @@ private:
     std::span<const int> live_objects(int w) const;
     void unweld(graph::BodyId b);
     void reshape(graph::BodyId b, const BodyShape& s);
-    btVector3 host_com(graph::BodyId b) const { return frame(b) * own_local_[b].getOrigin(); }
+    // A host's own Bullet frame relative to its body frame (its weld's own.local), where
+    // host_com and inertia_world find the host's own within the pair.
+    const btTransform& own_local(graph::BodyId b) const { return shape_of(welds_[size_t(weld_of_[b])]).own.local; }
+    btVector3 host_com(graph::BodyId b) const { return frame(b) * own_local(b).getOrigin(); }
     btVector3 host_velocity(graph::BodyId b) const;
     void refilter(graph::BodyId b);
     void park(graph::BodyId b);  // parked: no pairs, its AABB far away
@@ -269,13 +282,11 @@ private:
     PerBody<int> group_, mask_;  // broadphase filter while in the world
     Csr<graph::BodyId, graph::JointId> body_joints_;
     std::vector<Weld> welds_;
+    std::vector<WeldShape> weld_shapes_;
     PerBody<int32_t> weld_of_;  // per body: its weld (host or passenger), or -1
     // Per body, while its weld is on (else none): the passenger it carries, and the carrier
-    // that carries it. The accessors above read these, not welds_ (a record of 336 bytes).
+    // that carries it (the accessors above ask these whether a body is welded).
     PerBody<graph::BodyId> carries_, carried_;
-    // Per weld's host: its own Bullet frame relative to its body frame (welds_[w].own.local),
-    // where host_com and inertia_world find the host's own within the pair.
-    PerBody<btTransform> own_local_;
     PerJoint<int32_t> weld_joint_;  // per joint: the weld it makes, or -1
     bool welds_dirty_ = true;
     uint64_t version_ = 0;

@@ -110,7 +110,7 @@ void Physics::rest(BodyId b) {
 void Physics::land(BodyId b) {
     if (!coast_[b]) return;
     if (coast_[b] == kResting) {  // its mass as it had it (a carrier's is the pair's: welds.cpp)
-        const BodyShape* both = carries_[b].valid() ? &welds_[weld_of_[b]].both : nullptr;
+        const BodyShape* both = carries_[b].valid() ? &shape_of(welds_[weld_of_[b]]).both : nullptr;
         bodies_[b]->setMassProps(btScalar(both ? both->mass : mass_[b]), both ? both->inertia : inertia_[b]);
         bodies_[b]->setGravity(gravity_);
     }

@@ -24,16 +24,33 @@
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
 #include <BulletDynamics/Dynamics/btDiscreteDynamicsWorld.h>
 
+#include <unordered_map>
+#include <vector>
+
 namespace plant::engine {
 
 using namespace plant::graph;
+
+namespace {
+
+bool same(const BodyShape& a, const BodyShape& b) {
+    return a.shape == b.shape && a.local == b.local && a.inertia == b.inertia && a.mass == b.mass;
+}
+
+}  // namespace
+
+bool Physics::WeldShape::operator==(const WeldShape& o) const {
+    return rel == o.rel && same(own, o.own) && same(both, o.both) && off == o.off;
+}
 
 void Physics::find_welds() {
     weld_of_.assign(g_.bodies.size(), -1);
     carries_.assign(g_.bodies.size(), BodyId{});
     carried_.assign(g_.bodies.size(), BodyId{});
-    own_local_.assign(g_.bodies.size(), btTransform::getIdentity());
     weld_joint_.assign(g_.joints.size(), -1);
+    // Welds alike to the bit share their WeldShape's row, looked for among the rows made for
+    // the same pair's shape (a pool's bottles share theirs: shapes.h).
+    std::unordered_map<const void*, std::vector<int32_t>> rows_of;
     for (JointId j : ids_of(g_.joints)) {
         const Joint& jt = g_.joints[j];
         if (jt.kind != JointKind::Fixed || !jt.body_b.valid() || jt.body_a == jt.body_b) continue;
@@ -46,13 +63,25 @@ void Physics::find_welds() {
         w.pass = a_solid ? b : a;
         w.joint = j;
         if (body_joints_.num[w.pass] != 1 || weld_of_[w.host] >= 0 || weld_of_[w.pass] >= 0) continue;
+        WeldShape ws;
         // The joint holds frame_a on a where frame_b is on b.
-        w.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
-        w.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
-        own_local_[w.host] = w.own.local;
-        w.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], w.rel);
-        contacts_->prepare(*w.both.shape);  // not at its first contact, inside a step
-        w.off = w.both.local.inverse() * to_bt(w.rel) * local_[w.pass];
+        ws.rel = a_solid ? pmul(jt.frame_a, pinv(jt.frame_b)) : pmul(jt.frame_b, pinv(jt.frame_a));
+        ws.own = BodyShape{bodies_[w.host]->getCollisionShape(), local_[w.host], inertia_[w.host], mass_[w.host]};
+        ws.both = shapes_.build_welded(g_, g_.bodies[w.host], g_.bodies[w.pass], ws.rel);
+        ws.off = ws.both.local.inverse() * to_bt(ws.rel) * local_[w.pass];
+        std::vector<int32_t>& rows = rows_of[ws.both.shape];
+        w.shape = -1;
+        for (const int32_t k : rows)
+            if (weld_shapes_[size_t(k)] == ws) {
+                w.shape = k;
+                break;
+            }
+        if (w.shape < 0) {
+            contacts_->prepare(*ws.both.shape);  // not at its first contact, inside a step
+            w.shape = count_of(weld_shapes_);
+            rows.push_back(w.shape);
+            weld_shapes_.push_back(ws);
+        }
         weld_of_[w.host] = weld_of_[w.pass] = weld_joint_[j] = count_of(welds_);
         welds_.push_back(w);
     }
@@ -101,7 +130,7 @@ void Physics::reshape(BodyId b, const BodyShape& s) {
 void Physics::weld_on(Weld& w) {
     if (joint_in_[w.joint]) remove_joint(w.joint);  // and its Bullet constraint is dropped
     world_at(w.pass).world->removeRigidBody(bodies_[w.pass].get());
-    reshape(w.host, w.both);
+    reshape(w.host, shape_of(w).both);
     w.on = true;
     carries_[w.host] = w.pass;
     carried_[w.pass] = w.host;
@@ -113,7 +142,7 @@ void Physics::weld_off(Weld& w) {
     w.on = false;
     carries_[w.host] = BodyId{};
     carried_[w.pass] = BodyId{};
-    reshape(w.host, w.own);
+    reshape(w.host, shape_of(w).own);
     set_mode_flags(w.pass);
     add_to_world(w.pass, true);
     if (in_world_[w.host] && in_world_[w.pass]) add_joint(w.joint);  // made again from the graph
@@ -123,7 +152,7 @@ void Physics::follow(const Weld& w) {
     const btRigidBody& h = *bodies_[w.host];
     btRigidBody& p = *bodies_[w.pass];
     wrote(w.pass);
-    const btTransform t = h.getWorldTransform() * w.off;
+    const btTransform t = h.getWorldTransform() * shape_of(w).off;
     p.setWorldTransform(t);
     p.setInterpolationWorldTransform(t);
     p.setLinearVelocity(h.getLinearVelocity() + h.getAngularVelocity().cross(t.getOrigin() - h.getCenterOfMassPosition()));

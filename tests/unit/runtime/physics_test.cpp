@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <vector>
 
 using namespace plant::test;
 using plant::engine::Engine;
@@ -26,12 +27,13 @@ int32_t floor_and_belt(SceneBuilder& b, double speed, double gain) {
 struct TwoBodyBottle {
     int32_t main, foot, joint;
 };
-TwoBodyBottle two_body_bottle(SceneBuilder& b, double m_main, double m_foot, double foot_radius, bool foot_collides) {
+TwoBodyBottle two_body_bottle(SceneBuilder& b, double m_main, double m_foot, double foot_radius, bool foot_collides,
+                              double x = 0) {
     const int32_t d = b.dobj("bottle");
     const double main_z = 0.0505, foot_z = foot_radius + 0.0005;
     TwoBodyBottle t;
-    t.main = b.body(d, "main", BodyMode::Dynamic, {cylinder(0.02, 0.1)}, m_main, at(0, 0, main_z));
-    t.foot = b.body(d, "foot", BodyMode::Dynamic, {sphere(foot_radius)}, m_foot, at(0, 0, foot_z));
+    t.main = b.body(d, "main", BodyMode::Dynamic, {cylinder(0.02, 0.1)}, m_main, at(x, 0, main_z));
+    t.foot = b.body(d, "foot", BodyMode::Dynamic, {sphere(foot_radius)}, m_foot, at(x, 0, foot_z));
     b.g.bodies[plant::graph::BodyId(t.foot)].collision = foot_collides;
     t.joint = b.joint(d, "fix", JointKind::Fixed, t.main, t.foot, at(0, 0, foot_z - main_z), at(0, 0, 0));
     return t;
@@ -92,6 +94,32 @@ TEST_CASE("runtime: a light bottle with a bottom body stays stable on a fast bel
     CHECK(peak > 0.01);  // the foot pulls at the bottom: the bottle tips
     const auto v = e.body_velocity(plant::graph::BodyId(main));
     CHECK(std::abs(v[0]) < 2.0);
+}
+
+TEST_CASE("runtime: welds alike share what their pair is, and each pair still has its own mass") {
+    SceneBuilder b;
+    floor_and_belt(b, 1.0, 16);
+    // Three bottles alike at different places, and one whose foot is heavier.
+    std::vector<TwoBodyBottle> bottles;
+    for (int i = 0; i < 3; ++i) bottles.push_back(two_body_bottle(b, 0.036, 0.004, 0.003, false, -1.0 + 0.2 * i));
+    bottles.push_back(two_body_bottle(b, 0.036, 0.014, 0.003, false, -0.2));
+    Engine e(b.g);
+    auto& phys = e.internals().phys;
+    CHECK(phys.weld_count() == 4);
+    CHECK(phys.weld_shape_count() == 2);
+    for (int i = 0; i < 60; ++i) e.step();
+    for (size_t k = 0; k < bottles.size(); ++k) {
+        CAPTURE(k);
+        const plant::graph::BodyId main(bottles[k].main), foot(bottles[k].foot);
+        REQUIRE(phys.welded(main));
+        CHECK(phys.rb(main).getMass() == doctest::Approx(k < 3 ? 0.040 : 0.050));
+        // Each foot where its own joint holds it, beside its own main body.
+        const Pose want = plant::engine::pmul(e.body_pose(main), b.g.joints[plant::graph::JointId(bottles[k].joint)].frame_a);
+        for (int c = 0; c < 3; ++c) CHECK(e.body_pose(foot).p[c] == doctest::Approx(want.p[c]).epsilon(1e-5));
+        // The host's own centre of mass (its cylinder's centre), not the pair's.
+        CHECK(e.body_com(main)[2] == doctest::Approx(0.0505).epsilon(0.01));
+        CHECK(e.body_com(main)[0] == doctest::Approx(e.body_pose(main).p[0]).epsilon(1e-4));
+    }
 }
 
 TEST_CASE("runtime: a bottom body without collisions rides welded to its main body, and leaves when the joint lets go") {
