@@ -59,7 +59,12 @@ void check_bodies(Runtime& r) {
     auto look = [&r, n, slices](int i) {
         const auto [b, e] = slice_of(n, slices, i);
         bool off = false;
-        for (size_t k = b; k < e && !off; ++k) off = body_off(r, r.tab.dyn_bodies[k]);
+        // A hint a few bodies ahead: their Bullet bodies lie scattered in memory.
+        constexpr size_t kAhead = 8;
+        for (size_t k = b; k < e && !off; ++k) {
+            if (k + kAhead < e) r.phys.ask_body(r.tab.dyn_bodies[k + kAhead]);
+            off = body_off(r, r.tab.dyn_bodies[k]);
+        }
         r.st.slice_left[i] = off;
     };
     if (slices > 1) {

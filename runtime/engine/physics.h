@@ -97,6 +97,10 @@ public:
         __builtin_prefetch(t + sizeof(btTransform) - 1);
         __builtin_prefetch(reinterpret_cast<const char*>(&bodies_[b]->getLinearVelocity()));
     }
+    // The same for b's place and velocities, where b is in a world (check_bodies' look).
+    void ask_body(graph::BodyId b) const {
+        if (in_world_[b]) prefetch(b);
+    }
     // The same for b's place alone, where b is in a world (assign_worlds' pass over the groups).
     void ask_origin(graph::BodyId b) const {
         if (in_world_[b]) __builtin_prefetch(&bodies_[b]->getWorldTransform().getOrigin());
