@@ -61,14 +61,18 @@ echo "|---|---|---|---|---|"
 # plant sweep: runs per minute with -j 1 and -j 2 (bench/sweep.sh).
 bench/sweep.sh build/release/app/plant "$( (( quick )) && echo 5s || echo 30s)"
 # The page's draw calls (three.js renderer.info) with one line and with 83 (1,000 bottles in
-# circulation): instanced meshes keep them from growing with the bottles.
+# circulation): instanced meshes keep them from growing with the bottles. How many a frame
+# makes depends on which of the models' parts some body shows then (an empty instanced mesh
+# is not drawn), so the row compares the meshes the page made: the same at 83 lines as at 1,
+# and no more draw calls than those.
 if command -v node >/dev/null && command -v chromium >/dev/null; then
   calls() {
     node --experimental-websocket viewer/test/browser.mjs build/release/app/plant plants/bottling.plant \
-      "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null | sed -n 's/^draw calls: \([0-9]*\) .*for \([0-9]*\) bodies.*/\1 \2/p'
+      "$(mktemp --suffix=.png)" --draw-calls --set "lines=$1" 2>/dev/null |
+      sed -n 's/^draw calls: \([0-9]*\) .*for \([0-9]*\) bodies.*of \([0-9]*\) meshes made$/\1 \2 \3/p'
   }
-  read -r c1 b1 < <(calls 1) || true
-  read -r c83 b83 < <(calls 83) || true
-  met=$([[ -n "${c1:-}" && -n "${c83:-}" && $c83 -le $(( c1 + 2 )) ]] && echo yes || echo "**no**")
-  echo "| viewer | the page's draw calls, 1 line vs 83 lines (bodies in the world drawn) | ${c1:-?} (${b1:-?} bodies) vs ${c83:-?} (${b83:-?} bodies) | not growing with the bottles | $met |"
+  read -r c1 b1 m1 < <(calls 1) || true
+  read -r c83 b83 m83 < <(calls 83) || true
+  met=$([[ -n "${m1:-}" && -n "${m83:-}" && $m83 -eq $m1 && $c83 -le $m83 ]] && echo yes || echo "**no**")
+  echo "| viewer | the page's draw calls, 1 line vs 83 lines (bodies in the world drawn; meshes the page made) | ${c1:-?} (${b1:-?} bodies; ${m1:-?} meshes) vs ${c83:-?} (${b83:-?} bodies; ${m83:-?} meshes) | not growing with the bottles: as many meshes at 83 lines as at 1, no more calls than meshes | $met |"
 fi

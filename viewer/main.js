@@ -25,6 +25,8 @@ const debug = {
   errors: [],
   drawCalls: () => view.renderer.info.render.calls,
   triangles: () => view.renderer.info.render.triangles,
+  // meshes the page made, drawn now or not: what bounds the draw calls (none per bottle)
+  meshes: () => { let n = 0; view.world.traverse((o) => { if (o.isMesh) ++n; }); return n; },
   // bodies drawn now (in the world), counting instances
   bodiesDrawn: () => view.bodyGroups?.reduce((n, g) => n + g.solid.n + g.ghost.n + g.hull.n, 0) ?? 0,
   bodiesInWorld: () => (view.bodyState ? view.bodyState.reduce((n, s) => n + (s & 1), 0) : 0),

@@ -86,9 +86,10 @@ try {
   if (drawCallsOnly) {
     await page.evaluate(() => plantViewer.view.fit());
     await sleep(2000);
-    const n = await page.evaluate(() => ({ calls: plantViewer.drawCalls(), inWorld: plantViewer.bodiesInWorld(), dynamic: plantViewer.scene.bodies.filter((b) => b.mode === 'dynamic' && (plantViewer.bodyState(b.id) & 1)).length }));
-    console.log(`draw calls: ${n.calls} for ${n.inWorld} bodies in the world (${n.dynamic} dynamic)`);
+    const n = await page.evaluate(() => ({ calls: plantViewer.drawCalls(), meshes: plantViewer.meshes(), inWorld: plantViewer.bodiesInWorld(), dynamic: plantViewer.scene.bodies.filter((b) => b.mode === 'dynamic' && (plantViewer.bodyState(b.id) & 1)).length }));
+    console.log(`draw calls: ${n.calls} for ${n.inWorld} bodies in the world (${n.dynamic} dynamic), of ${n.meshes} meshes made`);
     check(n.calls > 0 && n.calls < n.inWorld, 'instanced: fewer draw calls than bodies drawn');
+    check(n.calls <= n.meshes, `no more draw calls (${n.calls}) than meshes made (${n.meshes})`);
     await page.screenshot({ path: screenshot });
     throw null;   // done
   }
