@@ -33,6 +33,7 @@ void init_state(State& s, const Graph& g, const Tables& t) {
     s.commanded.reserve(nb);  // the step allocates nothing
     s.is_commanded.assign(nb, 0);
     s.held_by.assign(nb, GripperId{});
+    s.grip_rel.assign(nb, btTransform::getIdentity());
     s.gone.assign(nb, 0);
     s.lost_at.assign(g.dos.size(), -1.0);
     s.loss.assign(g.dos.size(), Loss{});

@@ -134,6 +134,7 @@ struct State {
     std::vector<graph::BodyId> commanded;  // bodies ever given such a velocity, once each
     PerBody<uint8_t> is_commanded;
     PerBody<graph::GripperId> held_by;   // gripper holding the body, -1
+    PerBody<btTransform> grip_rel;       // body frame relative to the gripper's
     PerBody<uint8_t> gone;               // left the world or NaN: warned once, taken out
     IdVector<graph::DoId, double> lost_at;  // when it left the world, -1
     IdVector<graph::DoId, Loss> loss;       // where and when (Engine::loss)
