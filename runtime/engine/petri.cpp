@@ -41,29 +41,27 @@ size_t clear_outputs(Runtime& r) {
         State::PetriActs& acts = s.petri_acts[size_t(i)];
         acts.num = 0;
         acts.full = false;
-        for (size_t k = b; k < e; ++k) {
-            if (k >= n_seen) {
-                const SlotId x = s.in_list[k - n_seen];
-                const Tables::SlotIn in = r.tab.slot_in[x];
-                if (in.acts.valid()) {
-                    if (acts.num < acts.slots.size()) acts.slots[acts.num++] = x;
-                    else acts.full = true;
-                }
-                if (!in.put.valid()) continue;
-                const PlaceId p = in.put;
-                s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
-                State::PlaceStep& ps = s.place_step[p];
-                ps.put = 1;
-                std::atomic_ref(s.net_live[ps.net]).store(1, std::memory_order_relaxed);
-                continue;
-            }
-            if (k >= n_out) {
-                before[index(s.seen_list[k - n_out])] = 0;
-                continue;
-            }
+        // The slice's part of each list, one loop each (positions b..e of the three in a row).
+        for (size_t k = b, end = std::min(e, n_out); k < end; ++k) {
             const SlotId x = s.out_list[k];
             now[index(x)] = 1;
             s.act[x] = 0;
+        }
+        for (size_t k = std::max(b, n_out), end = std::min(e, n_seen); k < end; ++k)
+            before[index(s.seen_list[k - n_out])] = 0;
+        for (size_t k = std::max(b, n_seen); k < e; ++k) {
+            const SlotId x = s.in_list[k - n_seen];
+            const Tables::SlotIn in = r.tab.slot_in[x];
+            if (in.acts.valid()) {
+                if (acts.num < acts.slots.size()) acts.slots[acts.num++] = x;
+                else acts.full = true;
+            }
+            if (!in.put.valid()) continue;
+            const PlaceId p = in.put;
+            s.tokens[p] = std::min(s.tokens[p] + 1, kMaxTokens);
+            State::PlaceStep& ps = s.place_step[p];
+            ps.put = 1;
+            std::atomic_ref(s.net_live[ps.net]).store(1, std::memory_order_relaxed);
         }
     };
     run_slices(r.phys.workers(), slices, clearing);
@@ -150,6 +148,10 @@ void phase_petri(Runtime& r) {
     if (g.places.empty()) return;
     // The nets in slices; what each slice made active joins the step's list in slice order.
     const size_t nets = r.tab.nets.size(), slices = petri_slices(nets);
+    if (r.phys.workers().threads() == 1) {  // the slices in order on this thread: the same list, no copy
+        for (size_t n = 0; n < nets; ++n) step_net(r, n, s.out_list);
+        return;
+    }
     auto stepping = [&r, nets, slices](int k) {
         std::vector<SlotId>& made = r.st.petri_made[size_t(k)];
         made.clear();
