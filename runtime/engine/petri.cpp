@@ -146,9 +146,10 @@ void phase_petri(Runtime& r) {
             for (uint32_t k = 0; k < s.petri_acts[i].num; ++k) list_acting(r, s.petri_acts[i].slots[k]);
     }
     if (g.places.empty()) return;
-    // The nets in slices; what each slice made active joins the step's list in slice order.
+    // The nets in slices; what each slice made active joins the step's list in slice order. On
+    // one thread, or in one slice, that is the nets in order on this thread: straight onto the list.
     const size_t nets = r.tab.nets.size(), slices = petri_slices(nets);
-    if (r.phys.workers().threads() == 1) {  // the slices in order on this thread: the same list, no copy
+    if (r.phys.workers().threads() == 1 || slices <= 1) {
         for (size_t n = 0; n < nets; ++n) step_net(r, n, s.out_list);
         return;
     }
