@@ -106,6 +106,7 @@ struct Sample {
     long news = 0;             // of allocs: operator new (the rest: Bullet's heap blocks)
     long rss_kib = 0;          // peak of the child
     long steps = 0;
+    double dt = 0;                 // the step, simulated seconds
     int regions = 0, threads = 0;  // physics regions and the threads that stepped them
     double off = 0;                // share of the bottle-steps off Bullet's solver (steady transport)
     double rested = 0;             // ... of them resting, per step
@@ -189,6 +190,7 @@ Sample run_once(const Args& a, int lines, int bottles_per_line, double warmup, d
     plant::engine::Engine e(g, eo);
     s.regions = e.regions();
     s.threads = e.threads();
+    s.dt = e.dt();
     for (const auto& src : g.sources) s.pool += src.pool_num;
     auto circulating = [&] { return plant::bench::circulating(e, g); };
     const long warm = std::lround(warmup / e.dt()), steps = std::lround(window / e.dt());
@@ -360,9 +362,12 @@ void print_where(const Sample& s) {
 // circulation. The latter is what a bottle-step would cost were no bottle on the solver.
 void print_split(const Sample& s) {
     const plant::engine::StepProfile& p = s.prof;
-    double solver = 0;
+    double solver = 0, longest = 0;
     for (const auto& j : p.jobs)
-        if (j.name != nullptr && job_name(j.name) == "engine::Physics::step") solver += j.work_ns;
+        if (j.name != nullptr && job_name(j.name) == "engine::Physics::step") {
+            solver += j.work_ns;
+            longest = std::max(longest, j.longest_ns);
+        }
     const double steps = double(p.steps), total = p.serial_total() + p.work_ns;
     if (steps <= 0 || s.mean <= 0 || total <= 0) return;
     // Units on the solver per step: those steady transport found there (the table of why), or
@@ -375,6 +380,14 @@ void print_split(const Sample& s) {
                 "solver); in all %.2f us per bottle-step.\n\n",
                 s.mean, on, solver / steps / 1e3, 100 * solver / total, on > 0 ? solver / steps / 1e3 / on : 0.0,
                 (total - solver) / steps / 1e3, (total - solver) / steps / 1e3 / s.mean, total / steps / 1e3 / s.mean);
+    // The ceiling the solver alone sets: were everything else free, the physics worlds' job on
+    // these threads would still take max(its items / threads, its longest item) a step.
+    const double least = std::max(solver / std::max(1, s.threads), longest) / steps;  // ns per step
+    if (least > 0 && s.dt > 0)
+        std::printf("The solver's ceiling: were everything but the physics worlds' job free, that job alone on %d "
+                    "thread%s takes at least %.0f us a step (its items' time / threads, or its longest item), a step "
+                    "being %.0f us of plant time: at best %.2fx real time.\n\n",
+                    s.threads, s.threads == 1 ? "" : "s", least / 1e3, s.dt * 1e6, s.dt * 1e9 / least);
 }
 
 // The serial share of the window's steps and its Amdahl projection (--profile).

@@ -18,7 +18,7 @@ if (( quick )); then
   vsraw=(--reps=1 --bottling-warmup=10 --bottling-window=2)
   bottling=(--runs=1 --counts=10,50 --warmup=20 --window=10)
   compile=(--runs=1 --sizes=1000,10000)
-  serve=(--runs=1 --counts=50 --warmup=10 --window=5)
+  serve=(--runs=1 --counts=50 --warmup=10 --window=5) serve_large=()
   plc=(--runs=1 --warmup=30 --window=60)
   opcua=(--runs=1 --warmup=30 --window=60)
 else
@@ -26,9 +26,10 @@ else
   vsraw=(--reps=3)
   bottling=(--runs=3 --counts=10,50,200,1000)
   compile=(--runs=3 --sizes=1000,10000,100000)
-  serve=(--runs=3 --counts=50,1000 --warmup=30 --window=15)
-  plc=(--runs=3 --warmup=60 --window=240)
-  opcua=(--runs=3 --warmup=60 --window=240)
+  # What a client costs: pairs in turns (bench/pairs.h), 9 where a run takes a second or two.
+  serve=(--runs=9 --counts=50 --warmup=30 --window=60) serve_large=(--runs=3 --counts=1000 --warmup=30 --window=15)
+  plc=(--runs=9 --warmup=60 --window=240)
+  opcua=(--runs=9 --warmup=60 --window=240)
 fi
 
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
@@ -55,6 +56,7 @@ echo "|---|---|---|---|---|"
 "$b/plant_bench_compile" --rows "${compile[@]}"
 (( quick )) || bench/compile_lines.sh build/release/app/plant
 "$b/plant_bench_serve" --rows "${serve[@]}"
+(( quick )) || "$b/plant_bench_serve" --rows "${serve_large[@]}"
 "$b/plant_bench_plc" --rows "${plc[@]}"
 # The OPC UA link (node-opcua, installed by scripts/setup.sh): one client subscribed to 100 variables.
 [[ -x "$b/plant_bench_opcua" ]] && "$b/plant_bench_opcua" --rows "${opcua[@]}"
