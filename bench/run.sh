@@ -27,7 +27,7 @@ else
   bottling=(--runs=3 --counts=10,50,200,1000)
   compile=(--runs=3 --sizes=1000,10000,100000)
   # What a client costs: pairs in turns (bench/pairs.h), 9 where a run takes a second or two.
-  serve=(--runs=9 --counts=50 --warmup=30 --window=60) serve_large=(--runs=3 --counts=1000 --warmup=30 --window=15)
+  serve=(--runs=9 --counts=50 --warmup=30 --window=60) serve_large=(--runs=5 --counts=1000 --warmup=30 --window=15)
   plc=(--runs=9 --warmup=60 --window=240)
   opcua=(--runs=9 --warmup=60 --window=240)
 fi
