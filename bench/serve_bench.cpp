@@ -9,7 +9,7 @@
 // ratio is the median of the pairs' ratios, step time with the page / step time without.
 // Target <= 1.05.
 //
-//   plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--threads=N] [--rows]
+//   plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--threads=N] [--fps=30] [--rows]
 #include "compiler.h"
 #include "serve/player.h"
 #include "serve/server.h"
@@ -46,6 +46,7 @@ struct Args {
     int runs = 3;
     double warmup = 30, window = 15;
     int threads = 0;  // the engine's; 0: one per core, as `plant serve`
+    int fps = 30;     // what the page asks for
     bool rows = false;
 };
 
@@ -58,15 +59,15 @@ struct Page {
     std::atomic<bool> stop{false};
     std::atomic<long> frames{0};
     std::thread thread;
-    void start(uint16_t port) {
-        thread = std::thread([this, port] {
+    void start(uint16_t port, int fps) {
+        thread = std::thread([this, port, fps] {
             try {
                 net::io_context ioc;
                 beast::websocket::stream<tcp::socket> ws(ioc);
                 ws.next_layer().connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
                 ws.read_message_max(std::uint64_t(1) << 30);  // a large plant's scene is megabytes
                 ws.handshake("127.0.0.1", "/ws");
-                ws.write(net::buffer(std::string(R"({"type":"hello","fps":30})")));
+                ws.write(net::buffer(R"({"type":"hello","fps":)" + std::to_string(fps) + "}"));
                 beast::flat_buffer buf;
                 while (!stop) {
                     ws.read(buf);
@@ -96,7 +97,7 @@ double measure(const plant::graph::Graph& g, const Args& a, bool with_page, long
         std::exit(1);
     }
     Page page;
-    if (with_page) page.start(server.port());
+    if (with_page) page.start(server.port(), a.fps);
     player->start();
     auto sim = [&] {
         auto f = player->frame();
@@ -135,9 +136,10 @@ int main(int argc, char** argv) {
         else if (auto w = val("--warmup="); !w.empty()) a.warmup = std::atof(w.c_str());
         else if (auto w2 = val("--window="); !w2.empty()) a.window = std::atof(w2.c_str());
         else if (auto t = val("--threads="); !t.empty() && std::atoi(t.c_str()) > 0) a.threads = std::atoi(t.c_str());
+        else if (auto f = val("--fps="); !f.empty() && std::atoi(f.c_str()) > 0) a.fps = std::atoi(f.c_str());
         else if (s == "--rows") a.rows = true;
         else {
-            std::fprintf(stderr, "usage: plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--threads=N] [--rows]\n");
+            std::fprintf(stderr, "usage: plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--threads=N] [--fps=30] [--rows]\n");
             return 2;
         }
     }
@@ -171,10 +173,10 @@ int main(int argc, char** argv) {
         }
         const double ratio = pairs.ratio();
         const double fps = double(frames) / (a.window * with_time);
-        std::printf("| viewer | one page at 30 frames/s, %d bottles in circulation (%d lines, as fast as possible) | "
+        std::printf("| viewer | one page at %d frames/s, %d bottles in circulation (%d lines, as fast as possible) | "
                     "ratio %.3f (median of %d pair%s in turns, x%.3f to x%.3f; %.3f vs %.3f wall s per simulated s; the "
                     "page got %.1f frames/s) | <= 1.05 | %s |\n",
-                    n, lines, ratio, a.runs, a.runs == 1 ? "" : "s", pairs.lowest(), pairs.highest(), plant::bench::median(pairs.with),
+                    a.fps, n, lines, ratio, a.runs, a.runs == 1 ? "" : "s", pairs.lowest(), pairs.highest(), plant::bench::median(pairs.with),
                     plant::bench::median(pairs.without), fps, ratio <= 1.05 ? "yes" : "**no**");
         std::fflush(stdout);
     }

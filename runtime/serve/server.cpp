@@ -394,6 +394,10 @@ private:
     void pump() {
         if (closed_) return;
         Player& p = server_.player;
+        // Whether the page has taken everything sent before this pump: a frame goes only then
+        // (below), after what this pump sends first (a page asking for 5 frames a second or
+        // fewer has a status due at every pump).
+        const bool caught_up = !writing_ && queue_.empty();
         if (const uint64_t v = p.scene_version(); v != scene_version_) {
             if (auto scene = p.scene()) {
                 scene_version_ = v;
@@ -426,9 +430,9 @@ private:
                 send(std::move(s), false);
             }
         }
-        // A frame only when the page has taken everything before it: frames are dropped,
-        // never queued up behind a slow page.
-        if (!writing_ && queue_.empty()) {
+        // A frame only when the page has taken everything before this pump: frames are
+        // dropped, never queued up behind a slow page.
+        if (caught_up) {
             if (auto f = p.frame(); f && f->seq != last_seq_) {
                 std::string bytes;
                 encode_frame(f->frame, f->body_seq, f->gfx_seq, last_seq_, f->paused, bytes);

@@ -56,6 +56,24 @@ TEST_CASE("serve: the scene has every body, then full and partial frames follow"
     CHECK(status["fields"].size() == g.fields.size());
 }
 
+// Every pump of a page asking for 5 frames a second or fewer has a status due (every 200 ms):
+// until 2026-12-03 the status went out first and the frame, seeing a write under way, was
+// dropped, so such a page never got a frame after the first.
+TEST_CASE("serve: a page that asks for 2 frames a second gets them") {
+    const graph::Graph g = compile_ok("examples/switch.plant");
+    Served s(view::make_live_player(g, {}, {}, false, 1));
+    Page page(s.port);
+    page.send(R"({"type":"hello","fps":2})");
+    int frames = 0, statuses = 0;
+    page.wait([&](const std::string& msg, bool binary) {
+        if (binary) ++frames;
+        else if (msg.find("\"type\":\"status\"") != std::string::npos) ++statuses;
+        return frames >= 5;
+    }, 6);
+    CHECK(frames >= 5);
+    CHECK(statuses >= 3);  // the status still goes with them
+}
+
 TEST_CASE("serve: a session's events, saved, replay headless bit for bit") {
     const graph::Graph g = compile_ok("plants/bottling.plant");
     Served s(view::make_live_player(g, {}, {}, false, 0));  // as fast as possible
