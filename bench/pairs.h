@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace plant::bench {
@@ -43,13 +44,12 @@ struct Pairs {
         return r;
     }
     double ratio() const { return median(ratios()); }
-    double lowest() const {
+    // The lowest and the highest of the pairs' ratios.
+    std::pair<double, double> range() const {
         const std::vector<double> r = ratios();
-        return r.empty() ? 0 : *std::min_element(r.begin(), r.end());
-    }
-    double highest() const {
-        const std::vector<double> r = ratios();
-        return r.empty() ? 0 : *std::max_element(r.begin(), r.end());
+        if (r.empty()) return {0, 0};
+        const auto [lo, hi] = std::minmax_element(r.begin(), r.end());
+        return {*lo, *hi};
     }
 };
 

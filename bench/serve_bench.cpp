@@ -172,11 +172,12 @@ int main(int argc, char** argv) {
                          pairs.with.back(), pairs.ratios().back());
         }
         const double ratio = pairs.ratio();
+        const auto [lo, hi] = pairs.range();
         const double fps = double(frames) / (a.window * with_time);
         std::printf("| viewer | one page at %d frames/s, %d bottles in circulation (%d lines, as fast as possible) | "
                     "ratio %.3f (median of %d pair%s in turns, x%.3f to x%.3f; %.3f vs %.3f wall s per simulated s; the "
                     "page got %.1f frames/s) | <= 1.05 | %s |\n",
-                    a.fps, n, lines, ratio, a.runs, a.runs == 1 ? "" : "s", pairs.lowest(), pairs.highest(), plant::bench::median(pairs.with),
+                    a.fps, n, lines, ratio, a.runs, a.runs == 1 ? "" : "s", lo, hi, plant::bench::median(pairs.with),
                     plant::bench::median(pairs.without), fps, ratio <= 1.05 ? "yes" : "**no**");
         std::fflush(stdout);
     }
