@@ -30,6 +30,7 @@ Cli::Cli(std::string command, std::string usage, std::string about, std::string 
       footer_(std::move(footer)),
       prefix_("plant " + command_),
       help_of_("plant " + command_ + " --help"),
+      name_("plant " + command_),
       app_("plant " + command_) {
     app_.set_help_flag("-h,--help", "this help");
     app_.allow_extras();  // unknown flags are reported in our words (parse)
@@ -80,7 +81,7 @@ int Cli::usage_error(std::ostream& err, const std::string& message) const {
 
 std::string Cli::help() const {
     std::ostringstream out;
-    out << "usage: plant " << command_ << (usage_.empty() ? "" : " ") << usage_ << "\n";
+    out << "usage: " << name_ << (usage_.empty() ? "" : " ") << usage_ << "\n";
     if (!about_.empty()) out << "\n" << about_ << "\n";
     std::string flags;
     for (const CLI::Option* o : app_.get_options()) {

@@ -36,6 +36,9 @@ public:
     // How errors start: "plant run" (the default: "plant " + command), and whether a usage
     // error ends with "(see `plant --help`)"-style advice naming `help_of`.
     void errors_as(std::string prefix, std::string help_of);
+    // What the help's usage line names: "plant run" (the default: "plant " + command); a
+    // program of its own (a benchmark) names itself.
+    void usage_as(std::string name) { name_ = std::move(name); }
     void unknown_word(std::string word) { unknown_ = std::move(word); }  // "option" or "flag"
 
     // Parses `args` (the words after the command's name). Returns -1 to go on; otherwise
@@ -49,7 +52,7 @@ public:
     const CLI::App& app() const { return app_; }
 
 private:
-    std::string command_, usage_, about_, footer_, prefix_, help_of_, unknown_ = "option";
+    std::string command_, usage_, about_, footer_, prefix_, help_of_, name_, unknown_ = "option";
     std::map<std::string, std::string> needs_;  // a flag's name -> what it needs
     CLI::App app_;
 };

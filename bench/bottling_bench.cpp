@@ -39,6 +39,7 @@
 
 #include "bottling_plant.h"
 #include "cpu_clock.h"
+#include "flags.h"
 #include "median.h"
 #include "panel/kind.h"
 
@@ -447,54 +448,28 @@ void print_profile(const Sample& s, int n, bool rows) {
     print_where(s);
 }
 
-// One argument into `a`; false when it is no option or its value is bad.
-bool parse_one(std::string_view s, Args& a) {
-    auto val = [&](std::string_view key, std::string& out) {
-        if (!s.starts_with(key)) return false;
-        out = std::string(s.substr(key.size()));
-        return true;
-    };
-    std::string v;
-    if (val("--counts=", v)) {
-        a.counts.clear();
-        for (size_t p = 0; p <= v.size();) {
-            size_t q = v.find(',', p);
-            if (q == std::string::npos) q = v.size();
-            const int n = std::atoi(v.substr(p, q - p).c_str());
-            if (n <= 0) return false;
-            a.counts.push_back(n);
-            p = q + 1;
-        }
-    } else if (val("--runs=", v)) a.runs = std::max(1, std::atoi(v.c_str()));
-    else if (val("--per-line=", v)) a.per_line = std::atof(v.c_str());
-    else if (val("--warmup=", v)) a.warmup = std::atof(v.c_str());
-    else if (val("--window=", v)) a.window = std::atof(v.c_str());
-    else if (val("--plant=", v)) a.plant = v;
-    else if (val("--threads=", v)) {
-        a.threads = std::atoi(v.c_str());
-        if (a.threads < 1) return false;
-    }
-    else if (s == "--rows") a.rows = true;
-    else if (s == "--no-memory") a.memory = false;
-    else if (s == "--profile") a.profile = true;
-    else if (s == "--no-huge-pages") a.huge_pages = false;
-    else if (val("--steady-transport=", v)) {
-        if (v != "on" && v != "off") return false;
-        a.steady = v == "on";
-    }
-    else return false;
-    return true;
-}
-
-bool parse(int argc, char** argv, Args& a) {
-    for (int i = 1; i < argc; ++i)
-        if (!parse_one(argv[i], a)) {
-            std::fprintf(stderr, "plant_bench_bottling: %s: no such option, or a bad value\n", argv[i]);
-            return false;
-        }
-    if (a.per_line > 0 && a.warmup >= 0 && a.window > 0) return true;
-    std::fprintf(stderr, "plant_bench_bottling: --per-line and --window must be above 0, --warmup not below 0\n");
-    return false;
+// The command line into `a`: -1 to go on, else the exit code (bench/flags.h).
+int parse(int argc, char** argv, Args& a) {
+    plant::bench::Flags f("plant_bench_bottling", "[FLAGS]",
+                          "The bottling plant at N bottles in circulation (N / --per-line copies of the line side by\n"
+                          "side): real-time factor, processor time per bottle-step, memory and allocations\n"
+                          "(bench/README.md).");
+    f.wholes("--counts", a.counts, 1, 1000000, "bottles in circulation, one row each (default 10,50,200,1000)");
+    f.whole("--runs", a.runs, 1, 1000, "runs per count, each a fresh process; the median is shown (default 3)");
+    f.positive("--per-line", a.per_line, "N", "bottles in circulation per line (default 12)");
+    f.not_negative("--warmup", a.warmup, "S", "simulated seconds before the window (default 60)");
+    f.positive("--window", a.window, "S", "simulated seconds measured (default 30)");
+    f.whole("--threads", a.threads, 1, 256, "threads for the plant's physics regions (default: one per core)");
+    f.text("--plant", a.plant, "PATH", "the plant file (default plants/bottling.plant)");
+    f.flag("--rows", a.rows, true, "only the rows of bench/run.sh's table");
+    f.flag("--no-memory", a.memory, false, "no memory rows");
+    f.flag("--profile", a.profile, true, "where a step goes: serial segments, jobs, units on the solver");
+    f.flag("--no-huge-pages", a.huge_pages, false, "no huge pages for the plant's memory");
+    std::string steady;
+    f.choice("--steady-transport", steady, {"on", "off"}, "steady transport on or off (default on)");
+    const int code = f.parse(argc, argv);
+    if (code < 0 && !steady.empty()) a.steady = steady == "on";
+    return code;
 }
 
 }  // namespace
@@ -502,12 +477,7 @@ bool parse(int argc, char** argv, Args& a) {
 int main(int argc, char** argv) {
     plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
-    if (!parse(argc, argv, a)) {
-        std::fprintf(stderr, "usage: plant_bench_bottling [--counts=10,50,200,1000] [--runs=3] [--per-line=12] "
-                             "[--warmup=60] [--window=30] [--threads=N] [--plant=PATH] [--rows] [--no-memory] [--profile] [--no-huge-pages] "
-                             "[--steady-transport=on|off]\n");
-        return 2;
-    }
+    if (const int code = parse(argc, argv, a); code >= 0) return code;
     if (!a.rows) {
         std::printf("# plant_bench_bottling (%s build): %s\n\n", PLANT_BENCH_BUILD_TYPE, a.plant.c_str());
         std::printf("150 Hz, feed_every = 1 s, %g s warm-up, then %g s measured; medians of %d runs, each a "

@@ -13,6 +13,7 @@
 
 #include "bottling_plant.h"
 #include "cpu_clock.h"
+#include "flags.h"
 #include "median.h"
 
 #include <BulletCollision/BroadphaseCollision/btAxisSweep3.h>
@@ -533,54 +534,48 @@ Scene scene_for(const Args& a, int n) {
     return s;
 }
 
-bool parse_args(int argc, char** argv, Args& a) {
-    for (int i = 1; i < argc; ++i) {
-        std::string_view s = argv[i];
-        auto val = [&](std::string_view key, std::string_view& out) {
-            if (!s.starts_with(key)) return false;
-            out = s.substr(key.size());
-            return true;
-        };
-        std::string_view v;
-        if (val("--sizes=", v)) {
-            a.sizes.clear();
-            std::string str(v);
-            std::stringstream ss(str);
-            for (std::string item; std::getline(ss, item, ',');) a.sizes.push_back(std::atoi(item.c_str()));
-        } else if (val("--steps=", v)) a.steps = std::atoi(std::string(v).c_str());
-        else if (val("--reps=", v)) a.reps = std::max(1, std::atoi(std::string(v).c_str()));
-        else if (val("--broadphase=", v)) {
-            if (v == "dbvt") a.bp = Broadphase::Dbvt;
-            else if (v == "sap") a.bp = Broadphase::Sap;
-            else return false;
-        } else if (val("--logic-cells=", v)) a.logic_cells = std::atoi(std::string(v).c_str());
-        else if (val("--logic-steps=", v)) a.logic_steps = std::atoi(std::string(v).c_str());
-        else if (val("--only=", v)) {
-            a.belts = v == "belts";
-            a.logic = v == "logic";
-            a.bottling = v == "bottling";
-            if (!a.belts && !a.logic && !a.bottling) return false;
-        } else if (val("--threads=", v)) a.threads = std::max(1, std::atoi(std::string(v).c_str()));
-        else if (val("--bottling-warmup=", v)) a.bottling_warmup = std::atof(std::string(v).c_str());
-        else if (val("--bottling-window=", v)) a.bottling_window = std::atof(std::string(v).c_str());
-        else if (s == "--rows") a.rows = true;
-        else if (val("--keep=", v)) a.keep = v;
-        else if (val("--speed=", v)) a.speed = std::atof(std::string(v).c_str());
-        else if (val("--seg=", v)) a.seg = std::atof(std::string(v).c_str());
-        else if (val("--room=", v)) a.room = std::atof(std::string(v).c_str());
-        else if (val("--thick-mm=", v)) a.thick_mm = std::atof(std::string(v).c_str());
-        else if (val("--drop-mm=", v)) a.drop_mm = std::atof(std::string(v).c_str());
-        else if (val("--shape=", v)) {
-            if (v != "cylinder" && v != "hull") return false;
-            a.hull = v == "hull";
-        }
-        else if (val("--profile=", v)) {
-            a.profile = v;
-            if (i + 1 >= argc) return false;
-            a.profile_n = std::atoi(argv[++i]);
-        } else return false;
+// The command line into `a`: -1 to go on, else the exit code (bench/flags.h).
+int parse_args(int argc, char** argv, Args& a) {
+    plant::bench::Flags f("plant_bench_runtime", "[FLAGS]\n       plant_bench_runtime --profile=ours|raw|logic N",
+                          "Our runtime against a hand-written Bullet loop over the same scene (bottles on belts),\n"
+                          "the bottling plant against that loop, and the logic engine alone (bench/README.md).\n"
+                          "--profile runs one of them once, for a profiler: ours or raw with N bottles, logic\n"
+                          "with N cells.");
+    f.flag("--rows", a.rows, true, "only the rows of bench/run.sh's table");
+    f.wholes("--sizes", a.sizes, 1, 1000000, "bottles on the belts, one row each (default 10,100,1000)");
+    f.whole("--steps", a.steps, 1, 10000000, "steps per belts run (default 300)");
+    f.whole("--reps", a.reps, 1, 1000, "runs of each, in turns; the median is shown (default 3)");
+    std::string bp, only, shape;
+    f.choice("--broadphase", bp, {"dbvt", "sap"}, "Bullet's broadphase in both (default dbvt)");
+    f.whole("--logic-cells", a.logic_cells, 1, 10000000, "cells of the logic plant (default 33334)");
+    f.whole("--logic-steps", a.logic_steps, 1, 10000000, "steps of the logic plant (default 200)");
+    f.choice("--only", only, {"belts", "logic", "bottling"}, "one part only (default belts and logic)");
+    f.whole("--threads", a.threads, 1, 256, "the bottling plant's threads (default 2)");
+    f.not_negative("--bottling-warmup", a.bottling_warmup, "S", "the bottling plant's warm-up, simulated seconds (default 60)");
+    f.positive("--bottling-window", a.bottling_window, "S", "the bottling plant's window, simulated seconds (default 10)");
+    f.text("--keep", a.keep, "DIR", "the working folder, kept (default: a temporary one, removed)");
+    f.positive("--speed", a.speed, "M/S", "the belts' speed (default 0.5)");
+    f.not_negative("--seg", a.seg, "M", "metres per band box (default 0: one box per belt)");
+    f.not_negative("--room", a.room, "M", "belt beyond the last bottle (default 6)");
+    f.positive("--thick-mm", a.thick_mm, "MM", "the band's thickness (default 10)");
+    f.not_negative("--drop-mm", a.drop_mm, "MM", "how far above the band a bottle starts (default 1)");
+    f.choice("--shape", shape, {"cylinder", "hull"}, "the bottle's shape (default hull)");
+    f.choice("--profile", a.profile, {"ours", "raw", "logic"}, "one run of one part, for a profiler (with N)");
+    std::vector<std::string> words;
+    f.words(words);
+    if (const int code = f.parse(argc, argv); code >= 0) return code;
+    if (!bp.empty()) a.bp = bp == "sap" ? Broadphase::Sap : Broadphase::Dbvt;
+    if (!only.empty()) a.belts = only == "belts", a.logic = only == "logic", a.bottling = only == "bottling";
+    if (!shape.empty()) a.hull = shape == "hull";
+    if (a.profile.empty() && !words.empty()) return f.error("unexpected word '" + words.front() + "'");
+    if (!a.profile.empty()) {
+        long n = 0;
+        if (words.size() != 1) return f.error("--profile needs one N after it: bottles, or the logic plant's cells");
+        if (!plant::app::whole_number(words.front(), 1, 10000000, n))
+            return f.error("--profile: '" + words.front() + "' is not a whole number from 1 to 10000000");
+        a.profile_n = int(n);
     }
-    return true;
+    return -1;
 }
 
 const char* bp_name(Broadphase bp) { return bp == Broadphase::Sap ? "sap" : "dbvt"; }
@@ -640,13 +635,7 @@ bool bottling_vs_raw(const Args& a) {
 
 int main(int argc, char** argv) {
     Args a;
-    if (!parse_args(argc, argv, a)) {
-        std::fprintf(stderr,
-                     "usage: plant_bench_runtime [--sizes=10,100,1000] [--steps=300] [--reps=3] "
-                     "[--broadphase=dbvt|sap] [--logic-cells=N] [--logic-steps=S] [--only=belts|logic|bottling] "
-                     "[--threads=N] [--bottling-warmup=S] [--bottling-window=S] [--keep=DIR]\n       plant_bench_runtime --profile=ours|raw|logic N\n");
-        return 2;
-    }
+    if (const int code = parse_args(argc, argv, a); code >= 0) return code;
     fs::path dir;
     if (!a.keep.empty()) {
         dir = a.keep;

@@ -14,6 +14,7 @@
 #include "serve/player.h"
 #include "serve/server.h"
 
+#include "flags.h"
 #include "pairs.h"
 #include "panel/kind.h"
 
@@ -121,28 +122,14 @@ double measure(const plant::graph::Graph& g, const Args& a, bool with_page, long
 int main(int argc, char** argv) {
     plant::panel::register_panel_kinds();  // the bottling line's operator panel
     Args a;
-    for (int i = 1; i < argc; ++i) {
-        std::string s = argv[i];
-        auto val = [&](const char* k) { return s.rfind(k, 0) == 0 ? s.substr(std::string(k).size()) : std::string(); };
-        if (auto v = val("--counts="); !v.empty()) {
-            a.counts.clear();
-            for (size_t at = 0; at <= v.size();) {
-                size_t c = v.find(',', at);
-                if (c == std::string::npos) c = v.size();
-                a.counts.push_back(std::atoi(v.substr(at, c - at).c_str()));
-                at = c + 1;
-            }
-        } else if (auto r = val("--runs="); !r.empty()) a.runs = std::max(1, std::atoi(r.c_str()));
-        else if (auto w = val("--warmup="); !w.empty()) a.warmup = std::atof(w.c_str());
-        else if (auto w2 = val("--window="); !w2.empty()) a.window = std::atof(w2.c_str());
-        else if (auto t = val("--threads="); !t.empty() && std::atoi(t.c_str()) > 0) a.threads = std::atoi(t.c_str());
-        else if (auto f = val("--fps="); !f.empty() && std::atoi(f.c_str()) > 0) a.fps = std::atoi(f.c_str());
-        else if (s == "--rows") a.rows = true;
-        else {
-            std::fprintf(stderr, "usage: plant_bench_serve [--counts=50,1000] [--runs=3] [--warmup=30] [--window=15] [--threads=N] [--fps=30] [--rows]\n");
-            return 2;
-        }
-    }
+    plant::bench::Flags f("plant_bench_serve", "[FLAGS]",
+                          "What one page watching `plant serve` costs the run: the bottling plant with a page\n"
+                          "and without, in turns (bench/README.md).");
+    f.wholes("--counts", a.counts, 1, 1000000, "bottles in circulation, one row each (default 50,1000)");
+    f.pairs(a.runs, a.warmup, a.window, a.rows);  // pairs per count
+    f.whole("--threads", a.threads, 1, 256, "threads for the plant (default: one per core)");
+    f.whole("--fps", a.fps, 1, 240, "frames a second the page asks for (default 30)");
+    if (const int code = f.parse(argc, argv); code >= 0) return code;
     if (!a.rows) {
         std::printf("| area | case | measured | target | met |\n|---|---|---|---|---|\n");
     }
