@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <ostream>
@@ -121,6 +122,9 @@ int Cli::parse(const std::vector<std::string>& args, std::ostream& out, std::ost
 }
 
 bool whole_number(const std::string& text, long lo, long hi, long& v) {
+    // Digits, after a '-' at most: strtol alone would take a leading space or '+' too.
+    const size_t first = !text.empty() && text[0] == '-' ? 1 : 0;
+    if (first >= text.size() || !std::isdigit(static_cast<unsigned char>(text[first]))) return false;
     char* end = nullptr;
     errno = 0;
     v = std::strtol(text.c_str(), &end, 10);

@@ -57,7 +57,7 @@ private:
     CLI::App app_;
 };
 
-// An integer from `text`, whole and within [lo, hi]; false otherwise.
+// An integer from `text` (digits, after a '-' at most), whole and within [lo, hi]; false otherwise.
 bool whole_number(const std::string& text, long lo, long hi, long& v);
 
 }  // namespace plant::app

@@ -28,6 +28,8 @@ for name in "${!bin[@]}"; do
   expect "$name" 2 "error: $runs: 'x' is not a whole number from 1 to 1000" $runs=x
   expect "$name" 2 "error: $runs: '0' is not a whole number from 1 to 1000" $runs 0
   expect "$name" 2 "error: $runs needs N" $runs
+  expect "$name" 2 "error: $runs: '\+3' is not a whole number" $runs=+3
+  expect "$name" 2 "error: $runs: ' 3' is not a whole number" "$runs= 3"
   expect "$name" 2 "error: unexpected word 'stray'" stray
 done
 b=bottling

@@ -139,6 +139,9 @@ TEST_CASE("runtime: run_main rejects bad flags with exit code 2") {
     CHECK(run(g, {"--threads", "0"}, out, err) == 2);
     CHECK(err.find("--threads: '0' is not a number of threads") != std::string::npos);
     CHECK(run(g, {"--threads", "two"}, out, err) == 2);
+    CHECK(run(g, {"--threads", "+2"}, out, err) == 2);  // digits only (app::whole_number)
+    CHECK(run(g, {"--threads", " 2"}, out, err) == 2);
+    CHECK(err.find("--threads: ' 2' is not a number of threads") != std::string::npos);
     // Numbers that parse but cannot run: refused, not run as 0 steps or forever.
     CHECK(run(g, {"--rate", "1e-300Hz"}, out, err) == 2);
     CHECK(err.find("the physics rate must lie between 1 Hz and 1 MHz") != std::string::npos);
