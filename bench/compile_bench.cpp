@@ -14,6 +14,7 @@
 #include "compiler.h"
 #include "cpu_clock.h"
 #include "engine/fd_io.h"
+#include "flags.h"
 #include "gen_plant.h"
 #include "graph/text.h"
 #include "sema/elaborate.h"
@@ -51,27 +52,6 @@ namespace fs = std::filesystem;
 using plant::bench::Form;
 using Clock = std::chrono::steady_clock;
 
-constexpr const char* kUsage = R"(usage: plant_bench_compile [options]
-       plant_bench_compile --gen N loop|flat OUT
-       plant_bench_compile --compile FILE [--phases]
-
-Compiler scaling: generates plants of N instances, compiles each in a fresh child
-process and prints a table of compile time, graph size and peak RSS per size.
-
-options:
-  --sizes=LIST        instance counts, comma separated (default 1000,10000,100000)
-  --forms=LIST        loop, flat or both (default loop,flat)
-  --runs=K            runs per size; the median time is reported (default 3)
-  --max-seconds=S     a size whose first run takes longer gets one run only (default 20)
-  --keep=DIR          write the generated files (and graph texts) to DIR and keep them
-  --stdlib=DIR        standard library folder (default: the bundled one)
-  -h, --help          this help
-
---gen writes one generated plant and exits; --compile compiles FILE once in this
-process (for valgrind), and with --phases times parsing and elaboration apart.
-
-Exit code: 0, or 1 when a generated plant does not compile (diagnostics on stderr).
-)";
 
 double ms_since(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -251,44 +231,6 @@ std::string today() {
     return buf;
 }
 
-std::vector<std::string> split(std::string_view s, char sep) {
-    std::vector<std::string> out;
-    size_t start = 0;
-    while (start <= s.size()) {
-        size_t end = s.find(sep, start);
-        if (end == std::string_view::npos) end = s.size();
-        if (end > start) out.emplace_back(s.substr(start, end - start));
-        start = end + 1;
-    }
-    return out;
-}
-
-bool parse_int(std::string_view s, int64_t& v) {
-    if (s.empty()) return false;
-    char* end = nullptr;
-    std::string str(s);
-    errno = 0;
-    long long x = std::strtoll(str.c_str(), &end, 10);
-    if (errno != 0 || *end != '\0' || x < 1) return false;
-    v = x;
-    return true;
-}
-
-bool parse_double(std::string_view s, double& v) {
-    if (s.empty()) return false;
-    char* end = nullptr;
-    std::string str(s);
-    double x = std::strtod(str.c_str(), &end);
-    if (*end != '\0' || !(x > 0)) return false;
-    v = x;
-    return true;
-}
-
-int usage_error(const std::string& msg) {
-    std::fprintf(stderr, "plant_bench_compile: %s\n%s", msg.c_str(), kUsage);
-    return 2;
-}
-
 std::string with_commas(int64_t v) {
     const std::string digits = std::to_string(v < 0 ? -v : v);
     std::string out = v < 0 ? "-" : "";
@@ -341,72 +283,67 @@ int compile_mode(const std::string& file, const std::string& stdlib, bool phases
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<int64_t> sizes{1'000, 10'000, 100'000};
+    std::vector<int> sizes{1'000, 10'000, 100'000};
     std::vector<Form> forms{Form::Loop, Form::Flat};
-    int64_t runs = 3;
+    int runs = 3;
     double max_seconds = 20;
-    std::string keep;
+    std::string keep, forms_text, compile_file;
     bool table_rows = false;  // --rows: only the rows of bench/run.sh's summary table
+    bool gen = false, phases = false;
     std::string stdlib = plant::default_stdlib_dir();
 
-    std::vector<std::string> args(argv + 1, argv + argc);
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&](std::string_view opt) -> std::optional<std::string> {
-            if (a.rfind(std::string(opt) + "=", 0) == 0) return a.substr(opt.size() + 1);
-            return std::nullopt;
-        };
-        if (a == "-h" || a == "--help") {
-            std::fputs(kUsage, stdout);
-            return 0;
-        } else if (a == "--rows") {
-            table_rows = true;
-        } else if (a == "--gen") {
-            if (i + 3 >= args.size()) return usage_error("--gen needs N, a form and an output file");
-            int64_t n = 0;
-            Form f;
-            if (!parse_int(args[i + 1], n)) return usage_error("bad instance count '" + args[i + 1] + "'");
-            if (!plant::bench::parse_form(args[i + 2], f)) return usage_error("unknown form '" + args[i + 2] + "'");
-            plant::bench::GenStats st;
-            if (!plant::bench::write_plant_file(args[i + 3], n, f, st)) {
-                std::fprintf(stderr, "plant_bench_compile: cannot write %s\n", args[i + 3].c_str());
-                return 1;
-            }
-            std::printf("%s: %lld instances, %s lines, %s bytes\n", args[i + 3].c_str(), static_cast<long long>(n),
-                        with_commas(st.lines).c_str(), with_commas(st.bytes).c_str());
-            return 0;
-        } else if (a == "--compile") {
-            if (i + 1 >= args.size()) return usage_error("--compile needs a file");
-            bool phases = i + 2 < args.size() && args[i + 2] == "--phases";
-            return compile_mode(args[i + 1], stdlib, phases);
-        } else if (auto v = value("--sizes")) {
-            sizes.clear();
-            for (const auto& s : split(*v, ',')) {
-                int64_t n = 0;
-                if (!parse_int(s, n)) return usage_error("bad size '" + s + "'");
-                sizes.push_back(n);
-            }
-            if (sizes.empty()) return usage_error("--sizes is empty");
-        } else if (auto v = value("--forms")) {
-            forms.clear();
-            for (const auto& s : split(*v, ',')) {
-                Form f;
-                if (!plant::bench::parse_form(s, f)) return usage_error("unknown form '" + s + "'");
-                forms.push_back(f);
-            }
-            if (forms.empty()) return usage_error("--forms is empty");
-        } else if (auto v = value("--runs")) {
-            if (!parse_int(*v, runs)) return usage_error("bad run count '" + *v + "'");
-        } else if (auto v = value("--max-seconds")) {
-            if (!parse_double(*v, max_seconds)) return usage_error("bad --max-seconds '" + *v + "'");
-        } else if (auto v = value("--keep")) {
-            keep = *v;
-        } else if (auto v = value("--stdlib")) {
-            stdlib = *v;
-        } else {
-            return usage_error("unknown argument '" + a + "'");
+    plant::bench::Flags f("plant_bench_compile",
+                          "[FLAGS]\n       plant_bench_compile --gen N loop|flat OUT\n"
+                          "       plant_bench_compile --compile FILE [--phases]",
+                          "Compiler scaling: generates plants of N instances, compiles each in a fresh child\n"
+                          "process and prints a table of compile time, graph size and peak RSS per size.\n"
+                          "--gen writes one generated plant and exits; --compile compiles FILE once in this\n"
+                          "process (for valgrind), and with --phases times parsing and elaboration apart.\n"
+                          "Exit code: 0, or 1 when a generated plant does not compile (diagnostics on stderr).");
+    f.wholes("--sizes", sizes, 1, 10000000, "instance counts (default 1000,10000,100000)");
+    f.text("--forms", forms_text, "LIST", "loop, flat or both, comma separated (default loop,flat)");
+    f.whole("--runs", runs, 1, 1000, "runs per size; the median time is shown (default 3)");
+    f.positive("--max-seconds", max_seconds, "S", "a size whose first run takes longer gets one run only (default 20)");
+    f.text("--keep", keep, "DIR", "write the generated files (and graph texts) to DIR and keep them");
+    f.text("--stdlib", stdlib, "DIR", "standard library folder (default: the bundled one)");
+    f.flag("--rows", table_rows, true, "only the rows of bench/run.sh's table");
+    f.flag("--gen", gen, true, "write one generated plant of N instances in a form to OUT, and exit");
+    f.text("--compile", compile_file, "FILE", "compile FILE once in this process, and exit");
+    f.flag("--phases", phases, true, "with --compile: time parsing and elaboration apart");
+    std::vector<std::string> words;
+    f.words(words);
+    if (const int code = f.parse(argc, argv); code >= 0) return code;
+    if (!forms_text.empty()) {
+        forms.clear();
+        for (size_t at = 0; at <= forms_text.size();) {
+            const size_t comma = std::min(forms_text.find(',', at), forms_text.size());
+            const std::string item = forms_text.substr(at, comma - at);
+            Form form;
+            if (!plant::bench::parse_form(item, form))
+                return f.error("--forms: '" + item + "' in '" + forms_text + "' is not loop or flat");
+            forms.push_back(form);
+            at = comma + 1;
         }
     }
+    if (gen) {
+        long n = 0;
+        Form form;
+        if (words.size() != 3) return f.error("--gen needs N, a form and an output file after it");
+        if (!plant::app::whole_number(words[0], 1, 100000000, n))
+            return f.error("--gen: '" + words[0] + "' is not a whole number from 1 to 100000000");
+        if (!plant::bench::parse_form(words[1], form)) return f.error("--gen: '" + words[1] + "' is not loop or flat");
+        plant::bench::GenStats st;
+        if (!plant::bench::write_plant_file(words[2], n, form, st)) {
+            std::fprintf(stderr, "plant_bench_compile: cannot write %s\n", words[2].c_str());
+            return 1;
+        }
+        std::printf("%s: %ld instances, %s lines, %s bytes\n", words[2].c_str(), n, with_commas(st.lines).c_str(),
+                    with_commas(st.bytes).c_str());
+        return 0;
+    }
+    if (!words.empty()) return f.error("unexpected word '" + words.front() + "'");
+    if (phases && compile_file.empty()) return f.error("--phases goes with --compile FILE");
+    if (!compile_file.empty()) return compile_mode(compile_file, stdlib, phases);
 
     // The working folder.
     fs::path dir;
@@ -447,7 +384,7 @@ int main(int argc, char** argv) {
     int status = 0;
     std::vector<Row> rows;
     for (Form form : forms) {
-        for (int64_t n : sizes) {
+        for (const int64_t n : sizes) {
             const std::string stem = fmt::format("grid_{}_{}", plant::bench::form_name(form), n);
             const std::string plant_file = (dir / (stem + ".plant")).string();
             // The graph text is saved (untimed) only for --keep.
@@ -460,7 +397,7 @@ int main(int argc, char** argv) {
             }
             std::vector<double> times, cpu_times, text_times;
             bool failed = false;
-            for (int64_t k = 0; k < runs; ++k) {
+            for (int k = 0; k < runs; ++k) {
                 auto r = run_in_child(plant_file, k == 0 ? text_file : "", stdlib);
                 if (!r) {
                     failed = true;

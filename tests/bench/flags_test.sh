@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The benchmarks' flags (bench/flags.h): `--help` works, and every kind of bad input is a usage
 # error (exit 2) that names the flag, never a silent default. Each binary is one argument,
-# NAME=PATH; the bottling and runtime ones are required, the clients' ones optional.
+# NAME=PATH; the bottling, runtime and compile ones are required, the clients' ones optional.
 set -uo pipefail
 declare -A bin
 for a in "$@"; do bin[${a%%=*}]=${a#*=}; done
@@ -51,6 +51,13 @@ expect $r 2 "error: --profile: 'ours2' is not one of ours\|raw\|logic" --profile
 expect $r 2 "error: --drop-mm: '-2' is not a number of 0 or more" --drop-mm=-2
 # A good line still runs: one short belts row.
 expect $r 0 "^\| runtime vs raw Bullet \| 10 bottles on belts" --rows --only=belts --reps=1 --sizes=10 --steps=20
+c=compile
+expect $c 2 "error: --forms: 'ring' in 'loop,ring' is not loop or flat" --forms=loop,ring
+expect $c 2 "error: --gen needs N, a form and an output file after it" --gen 10 loop
+expect $c 2 "error: --gen: 'cubic' is not loop or flat" --gen 10 cubic out.plant
+expect $c 2 "error: --gen: '0' is not a whole number" --gen 0 loop out.plant
+expect $c 2 "error: --phases goes with --compile FILE" --phases
+expect $c 2 "error: --max-seconds: '0' is not a number above 0" --max-seconds=0
 if [[ -n "${bin[serve]:-}" ]]; then
   expect serve 2 "error: --fps: '0' is not a whole number from 1 to 240" --fps=0
 fi
