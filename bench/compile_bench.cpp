@@ -315,14 +315,11 @@ int main(int argc, char** argv) {
     if (const int code = f.parse(argc, argv); code >= 0) return code;
     if (!forms_text.empty()) {
         forms.clear();
-        for (size_t at = 0; at <= forms_text.size();) {
-            const size_t comma = std::min(forms_text.find(',', at), forms_text.size());
-            const std::string item = forms_text.substr(at, comma - at);
+        for (const std::string& item : plant::bench::comma_items(forms_text)) {
             Form form;
             if (!plant::bench::parse_form(item, form))
                 return f.error("--forms: '" + item + "' in '" + forms_text + "' is not loop or flat");
             forms.push_back(form);
-            at = comma + 1;
         }
     }
     if (gen) {

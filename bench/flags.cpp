@@ -25,6 +25,16 @@ std::string from_to(long lo, long hi) { return "from " + std::to_string(lo) + " 
 
 }  // namespace
 
+std::vector<std::string> comma_items(const std::string& text) {
+    std::vector<std::string> items;
+    for (size_t at = 0; at <= text.size();) {
+        const size_t comma = std::min(text.find(',', at), text.size());
+        items.push_back(text.substr(at, comma - at));
+        at = comma + 1;
+    }
+    return items;
+}
+
 Flags::Flags(const std::string& program, const std::string& usage, const std::string& about)
     : cli_(program, usage, about) {
     cli_.errors_as(program, program + " --help");
@@ -32,12 +42,10 @@ Flags::Flags(const std::string& program, const std::string& usage, const std::st
     cli_.positionals(extra_);
 }
 
-Flags::Value& Flags::add(const std::string& name, const std::string& shown, const std::string& help, Check check) {
+void Flags::add(const std::string& name, const std::string& shown, const std::string& help, Check check) {
     Value& v = values_.emplace_back();
-    v.name = name;
     v.check = std::move(check);
     v.option = cli_.value(name, v.text, help, shown, shown);
-    return v;
 }
 
 void Flags::whole(const std::string& name, int& v, long lo, long hi, const std::string& help) {
@@ -52,36 +60,34 @@ void Flags::whole(const std::string& name, int& v, long lo, long hi, const std::
 void Flags::wholes(const std::string& name, std::vector<int>& v, long lo, long hi, const std::string& help) {
     add(name, "N,N,...", help, [&v, name, lo, hi](const std::string& t) -> std::string {
         std::vector<int> got;
-        for (size_t at = 0; at <= t.size();) {
-            const size_t comma = std::min(t.find(',', at), t.size());
-            const std::string item = t.substr(at, comma - at);
+        for (const std::string& item : comma_items(t)) {
             long n = 0;
             if (!app::whole_number(item, lo, hi, n))
                 return name + ": '" + item + "' in '" + t + "' is not a whole number " + from_to(lo, hi);
             got.push_back(int(n));
-            at = comma + 1;
         }
         v = std::move(got);
         return {};
     });
 }
 
-void Flags::positive(const std::string& name, double& v, const std::string& shown, const std::string& help) {
-    add(name, shown, help, [&v, name](const std::string& t) -> std::string {
+void Flags::number(const std::string& name, double& v, bool zero_too, const std::string& shown,
+                   const std::string& help) {
+    add(name, shown, help, [&v, name, zero_too](const std::string& t) -> std::string {
         double x = 0;
-        if (!finite_number(t, x) || !(x > 0)) return name + ": '" + t + "' is not a number above 0";
+        if (!finite_number(t, x) || x < 0 || (x == 0 && !zero_too))
+            return name + ": '" + t + "' is not a number " + (zero_too ? "of 0 or more" : "above 0");
         v = x;
         return {};
     });
 }
 
+void Flags::positive(const std::string& name, double& v, const std::string& shown, const std::string& help) {
+    number(name, v, false, shown, help);
+}
+
 void Flags::not_negative(const std::string& name, double& v, const std::string& shown, const std::string& help) {
-    add(name, shown, help, [&v, name](const std::string& t) -> std::string {
-        double x = 0;
-        if (!finite_number(t, x) || !(x >= 0)) return name + ": '" + t + "' is not a number of 0 or more";
-        v = x;
-        return {};
-    });
+    number(name, v, true, shown, help);
 }
 
 void Flags::text(const std::string& name, std::string& v, const std::string& shown, const std::string& help) {

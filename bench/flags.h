@@ -13,6 +13,9 @@
 
 namespace plant::bench {
 
+// The items of a comma-separated list ("10,50,200"; "" and "10," have an empty one).
+std::vector<std::string> comma_items(const std::string& text);
+
 class Flags {
 public:
     // `program`: the binary's name (its help's and errors' name); `usage`: the help's usage
@@ -50,11 +53,13 @@ private:
     // A flag's text, read once the line is parsed: an error message, or empty.
     using Check = std::function<std::string(const std::string&)>;
     struct Value {
-        std::string name, text;
+        std::string text;
         Check check;
         CLI::Option* option = nullptr;
     };
-    Value& add(const std::string& name, const std::string& shown, const std::string& help, Check check);
+    void add(const std::string& name, const std::string& shown, const std::string& help, Check check);
+    // A finite number above 0, or (zero_too) not below 0.
+    void number(const std::string& name, double& v, bool zero_too, const std::string& shown, const std::string& help);
 
     app::Cli cli_;
     std::deque<Value> values_;  // addresses kept: the parser writes into each text

@@ -42,6 +42,7 @@ expect $b 2 "error: --warmup: '-1' is not a number of 0 or more" --warmup=-1
 expect $b 2 "error: --threads: '0' is not a whole number from 1 to 256" --threads=0
 expect $b 2 "error: --steady-transport: 'maybe' is not one of on\|off" --steady-transport=maybe
 expect $b 2 "error: --plant needs PATH" --plant=
+expect $b 2 "error: --plant needs PATH" --plant ""  # an empty word: Flags::text's own check
 r=runtime
 expect $r 2 "error: --only: 'x' is not one of belts\|logic\|bottling" --only=x
 expect $r 2 "error: --sizes: '1e3' in '1e3' is not a whole number" --sizes=1e3
