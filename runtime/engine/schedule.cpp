@@ -125,58 +125,97 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     const int32_t n = count_of(s.ops), ns = count_of(g.slots);
     // Each op's slots: those it writes (activates), then those it reads (a flow's as the logic
     // network says them, graph/network.h, and the reference of a dynamic target, which names
-    // the slot it writes).
+    // the slot it writes). A dynamic end is its access's group (graph/network.h), not the
+    // slots it may be: a router's `(sw.bottle as Bottle).code` may be every bottle's label,
+    // and listing them per op grew with the square of the plant (at 417 lines of the bottling
+    // plant, 119 million entries where 340,000 are left, and a third of the start). A group
+    // stands between its ops and its slots in the union below, joined to each of its slots
+    // that some op writes: the same sets of ops as joining each op to those slots.
+    const AccessGroups ag = access_groups(g);
+    const int32_t ng = ag.first.count();
     std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0);
+    std::vector<int32_t> read_group(n, -1), write_group(n, -1);  // per op, a dynamic end's group
     for (int32_t i = 0; i < n; ++i) {
         const Op& op = s.ops[i];
-        std::vector<int32_t> w, rd;
+        const size_t first = slots.size();
+        std::vector<int32_t> rd;
         switch (op.kind) {
         case OpKind::Pulse:  // a flow too
         case OpKind::Flow: {
             const Flow& f = g.flows[op.flow()];
-            each_written_slot(g, f, [&w](SlotId x) { w.push_back(x.v); });
-            each_read_slot(g, f, [&rd](SlotId x) { rd.push_back(x.v); });
+            if (f.to_access.valid()) write_group[i] = ag.of[f.to_access].v;
+            else slots.push_back(f.to.v);
+            if (f.from_access.valid()) {
+                rd.push_back(g.accesses[f.from_access].ref_slot.v);
+                read_group[i] = ag.of[f.from_access].v;
+            } else {
+                rd.push_back(f.from.v);
+            }
             if (f.to_access.valid()) rd.push_back(g.accesses[f.to_access].ref_slot.v);
             break;
         }
         case OpKind::Logic: {
             const Logic& l = g.logics[op.logic()];
             for (const LogicIn& in : g.logic_inputs.slice(l.in_adr, l.in_num)) rd.push_back(in.slot.v);
-            w.push_back(l.out_slot.v);
+            slots.push_back(l.out_slot.v);
             break;
         }
         case OpKind::Router:
             rd.push_back((g.comps[op.router()].slot_adr + routerslot::query).v);
-            for (Id<Route> k : t.comp_routes[op.router()]) w.push_back(g.routes[k].out_slot.v);
+            for (Id<Route> k : t.comp_routes[op.router()]) slots.push_back(g.routes[k].out_slot.v);
             break;
         case OpKind::Label: {
             const Adr<Slot> s0 = g.comps[g.labels[op.label()].comp].slot_adr;
-            rd.push_back((s0 + labelslot::set).v), w.push_back((s0 + labelslot::value).v);
+            rd.push_back((s0 + labelslot::set).v), slots.push_back((s0 + labelslot::value).v);
             break;
         }
         }
-        writes[i] = count_of(w);
-        slots.insert(slots.end(), w.begin(), w.end());
+        writes[i] = static_cast<int32_t>(slots.size() - first);
         slots.insert(slots.end(), rd.begin(), rd.end());
         adr[i + 1] = count_of(slots);
     }
-    std::vector<uint8_t> written(ns, 0);
-    for (int32_t i = 0; i < n; ++i)
+    // A group's slots, each group once.
+    auto group_slots = [&g, &ag](int32_t k, auto&& fn) {
+        const Access& a = g.accesses[ag.first[AccessGroupId(k)]];
+        for (const AccessTarget& x : g.access_targets.slice(a.target_adr, a.target_num)) fn(x.v.v);
+    };
+    std::vector<uint8_t> written(ns, 0), group_written(ng, 0), group_used(ng, 0);
+    for (int32_t i = 0; i < n; ++i) {
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k) written[slots[k]] = 1;
-    // Union-find over ops (0 .. n-1) and slots (n ..): an op with what it writes, and with what
-    // it reads that some op writes (a slot no op writes is the same all through the phase).
-    std::vector<int32_t> up(n + ns);
+        if (write_group[i] >= 0 && !group_written[write_group[i]]) {
+            group_written[write_group[i]] = 1;
+            group_slots(write_group[i], [&written](int32_t x) { written[x] = 1; });
+        }
+    }
+    // Union-find over ops (0 .. n-1), slots (n ..) and groups (n + ns ..): an op with what it
+    // writes, and with what it reads that some op writes (a slot no op writes is the same all
+    // through the phase); a group with its slots that some op writes.
+    std::vector<int32_t> up(n + ns + ng);
     std::iota(up.begin(), up.end(), 0);
     auto find = [&up](int32_t x) {
         while (up[x] != x) x = up[x] = up[up[x]];
         return x;
     };
-    for (int32_t i = 0; i < n; ++i)
+    auto join = [&](int32_t x, int32_t y) {
+        const int32_t a = find(x), b = find(y);
+        if (a != b) up[std::max(a, b)] = std::min(a, b);
+    };
+    for (int32_t i = 0; i < n; ++i) {
         for (int32_t k = adr[i]; k < adr[i + 1]; ++k) {
             if (k >= adr[i] + writes[i] && !written[slots[k]]) continue;
-            const int32_t a = find(i), b = find(n + slots[k]);
-            if (a != b) up[std::max(a, b)] = std::min(a, b);
+            join(i, n + slots[k]);
         }
+        for (const int32_t k : {write_group[i], read_group[i]}) {
+            if (k < 0) continue;
+            if (!group_used[k]) {  // 1: joined to its written slots; 2: it has none
+                group_used[k] = 2;
+                group_slots(k, [&](int32_t x) {
+                    if (written[x]) join(n + ns + k, n + x), group_used[k] = 1;
+                });
+            }
+            if (group_used[k] == 1) join(i, n + ns + k);
+        }
+    }
     // The sets (by their lowest op), largest first, each to the lane with the fewest ops.
     std::vector<int32_t> set_size(n, 0);
     for (int32_t i = 0; i < n; ++i) ++set_size[find(i)];
@@ -217,9 +256,17 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     // The slots each lane's ops can activate (every writer of a slot is in the slot's lane).
     s.lane_writes.assign(lanes, 0);
     std::vector<uint8_t> counted(ns, 0);
-    for (int32_t i = 0; i < n; ++i)
+    for (int32_t i = 0; i < n; ++i) {
+        int32_t& lane_n = s.lane_writes[lane_of_set[find(i)]];
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k)
-            if (!counted[slots[k]]) counted[slots[k]] = 1, ++s.lane_writes[lane_of_set[find(i)]];
+            if (!counted[slots[k]]) counted[slots[k]] = 1, ++lane_n;
+        if (write_group[i] >= 0 && group_written[write_group[i]] == 1) {  // its slots counted once
+            group_written[write_group[i]] = 2;
+            group_slots(write_group[i], [&](int32_t x) {
+                if (!counted[x]) counted[x] = 1, ++lane_n;
+            });
+        }
+    }
 }
 
 }  // namespace

@@ -296,3 +296,63 @@ TEST_CASE("logic: lanes split the ops that share no slot a step changes, and onl
     CHECK(lanes_by_target["both"] == lanes_by_target["t.start"]);  // the connector and its flow
     CHECK(lanes_by_target["u.start"] != lanes_by_target["t.start"]);
 }
+
+TEST_CASE("logic: lanes join the ops through a dynamic end with those that write the slots it may be") {
+    // `(seen.object as Tag).code.value` may be any tag's code: both routers' query flows read
+    // through it, and each tag's label op writes a code, so the flows, the label ops and the
+    // routers are one set, in one lane. `.clock.tick` is written by no op (the timers' sensing
+    // writes it): the two flows that read through it share nothing and go to lanes of their own.
+    Compilation c;
+    test::compile_text(R"(object Tag {
+    label code { value = "x" }
+    timer clock: periodic { period = 1 s }
+}
+plant P {
+    t1: Tag
+    t2: Tag
+    t3: Tag
+    trigger seen { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    trigger other { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    router r { "F-*" => f; * => g }
+    router q { "F-*" => f; * => g }
+    flow (seen.object as Tag).code.value -> r.query
+    flow (other.object as Tag).code.value -> q.query
+    timer x: oneshot { period = 1 s }
+    timer y: oneshot { period = 1 s }
+    flow (seen.object as Tag).clock.tick -> x.start
+    flow (other.object as Tag).clock.tick -> y.start
+}
+)",
+                       c, "lanes_dynamic.plant");
+    REQUIRE(c.ok());
+    engine::Options two;
+    two.threads = 2;
+    engine::Engine e(c.graph, two);
+    const engine::Schedule& sc = e.internals().sched;
+    REQUIRE(sc.lanes() >= 2);
+    // The ops by kind and what they write: the flows by their target, the label ops, the routers.
+    std::map<std::string, std::set<int>> lanes_of;
+    for (size_t i = 0; i < sc.ops.size(); ++i) {
+        const engine::Op& op = sc.ops[i];
+        std::string what;
+        if (op.kind == engine::OpKind::Label) what = "labels";
+        else if (op.kind == engine::OpKind::Router) what = "routers";
+        else if (op.kind == engine::OpKind::Flow || op.kind == engine::OpKind::Pulse)
+            what = c.graph.slot_path(sc.flows[op.flow()].to);
+        else continue;
+        lanes_of[what].insert(sc.lane_of[i]);
+    }
+    REQUIRE(lanes_of.count("labels"));
+    CHECK(lanes_of["labels"].size() == 1);  // three label ops, one lane
+    CHECK(lanes_of["r.query"] == lanes_of["labels"]);
+    CHECK(lanes_of["q.query"] == lanes_of["labels"]);
+    CHECK(lanes_of["routers"] == lanes_of["labels"]);
+    REQUIRE(lanes_of["x.start"].size() == 1);
+    REQUIRE(lanes_of["y.start"].size() == 1);
+    CHECK(lanes_of["x.start"] != lanes_of["y.start"]);
+    CHECK(lanes_of["x.start"] != lanes_of["labels"]);
+    // The lane's room for what it activates: every slot its ops may write, each once (the three
+    // codes' values, and the two routers' outputs, two each; the two query slots).
+    const int lane = *lanes_of["labels"].begin();
+    CHECK(sc.lane_writes[size_t(lane)] == 3 + 4 + 2);
+}
