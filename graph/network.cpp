@@ -35,7 +35,11 @@ namespace {
 // reader made the network quadratic in a plant's size (83 lines of the bottling plant with
 // 40 bottles per storage: 2.8 million edges, 4.2 million links, 70 MB of the compiler's
 // peak); a group holds the same order (analyse_network releases it the moment its last
-// producer is released, so each reader becomes ready exactly when it did).
+// producer is released, so each reader becomes ready exactly when it did). From
+// nodes.size() + groups on are write groups: the flows that write through one kind of dynamic
+// end (a station setting `(sw.bottle as Bottle).code.set`), each one node that stands for
+// them as a producer of every slot the end may be (listed per flow, 14 million links at 417
+// lines). A write group is released with its last writer, and a read group it feeds with it.
 struct Dep;
 using DepId = Id<Dep>;  // a node (below nodes.count()) or a group (from there on)
 
@@ -65,19 +69,61 @@ Deps dependencies(const Graph& g) {
     // (slot, node) pairs sorted by slot, each slot's nodes in node order: memory for the links,
     // not for every slot (a pool of 1,000 bottles has 40,000 slots and no link). A read
     // through a dynamic end is a (group, node) pair instead. Counted first, then filled.
-    const int32_t nn = d.nodes.count();
+    const int32_t nn = d.nodes.count(), ng = group_access.count();
     using Link = std::pair<int32_t, DepId>;  // (slot or group, node)
-    std::vector<Link> prod, read, tread, dyn;
+    std::vector<Link> prod, read, tread, dyn, dynw;
+    // A flow that writes through a dynamic end joins its write group, unless it reads a slot
+    // of that group (directly, or through a dynamic source whose group shares one): the group
+    // would then stand between it and itself, where the direct links skip it. Such a flow, and
+    // one that reads its target's activity, lists every slot it may write, as before.
+    auto targets_of = [&](AccessGroupId k) {
+        const Access& a = g.accesses[group_access[k]];
+        return g.access_targets.slice(a.target_adr, a.target_num);
+    };
+    std::vector<std::pair<int32_t, int32_t>> member;  // (slot, group), for every group's slots
+    for (AccessGroupId k : group_access.ids())
+        for (const AccessTarget& t : targets_of(k)) member.emplace_back(t.v.v, k.v);
+    std::sort(member.begin(), member.end());
+    auto in_group = [&member](int32_t x, int32_t k) { return std::binary_search(member.begin(), member.end(), std::pair{x, k}); };
+    std::map<std::pair<int32_t, int32_t>, bool> shares;  // (read group, write group): a slot in both
+    auto groups_share = [&](int32_t rk, int32_t wk) {
+        const auto [at, added] = shares.try_emplace({rk, wk}, false);
+        if (added)
+            for (const AccessTarget& t : targets_of(AccessGroupId(rk)))
+                if (in_group(t.v.v, wk)) {
+                    at->second = true;
+                    break;
+                }
+        return at->second;
+    };
+    IdVector<FlowId, int32_t> write_group(g.flows.count(), -1);  // a grouped writer's group
+    std::vector<uint8_t> written_by_group(static_cast<size_t>(ng), 0);
+    for (FlowId fi : ids_of(g.flows)) {
+        const Flow& f = g.flows[fi];
+        if (!f.to_access.valid() || f.cond != Cond::Source) continue;
+        const int32_t k = group_of[f.to_access].v;
+        bool own = in_group(g.accesses[f.to_access].ref_slot.v, k);
+        if (f.from_access.valid()) own = own || in_group(g.accesses[f.from_access].ref_slot.v, k) ||
+                                         groups_share(group_of[f.from_access].v, k);
+        else own = own || in_group(f.from.v, k);
+        if (own) continue;
+        write_group[fi] = k;
+        written_by_group[static_cast<size_t>(k)] = 1;
+    }
     auto links = [&](auto&& add) {
         for (DepId id : d.nodes.ids()) {
             const Node& node = d.nodes[id];
             switch (node.kind) {
             case NodeKind::Flow: {
                 const Flow& f = g.flows[node.flow()];
-                each_written_slot(g, f, [&](SlotId x) {
-                    add(0, x.v, id);
-                    if (f.cond != Cond::Source) add(2, x.v, id);
-                });
+                if (write_group[node.flow()] >= 0) {
+                    add(4, write_group[node.flow()], id);
+                } else {
+                    each_written_slot(g, f, [&](SlotId x) {
+                        add(0, x.v, id);
+                        if (f.cond != Cond::Source) add(2, x.v, id);
+                    });
+                }
                 if (f.from_access.valid()) {
                     add(1, g.accesses[f.from_access].ref_slot.v, id);
                     add(3, group_of[f.from_access].v, id);
@@ -107,15 +153,19 @@ Deps dependencies(const Graph& g) {
             }
             }
         }
+        // Each write group produces every slot of its group, after the nodes (by id).
+        for (AccessGroupId k : group_access.ids())
+            if (written_by_group[static_cast<size_t>(k.v)])
+                for (const AccessTarget& t : targets_of(k)) add(0, t.v.v, DepId(nn + ng + k.v));
     };
     // Each list sorted by key (slot or group), then node, as it is made: a pass counts its
     // links per key, a second puts each link after those with a smaller key, and links come
     // in node order (a counting sort, a list at a time for one array of counts; std::sort's
     // n log n was a tenth of `plant check` at 400 lines of the bottling plant).
-    std::vector<Link>* lists[4] = {&prod, &read, &tread, &dyn};
+    std::vector<Link>* lists[5] = {&prod, &read, &tread, &dyn, &dynw};
     std::vector<uint32_t> at;
-    for (int i = 0; i < 4; ++i) {
-        at.assign(static_cast<size_t>(i == 3 ? group_access.count() : g.slots.count()) + 1, 0);
+    for (int i = 0; i < 5; ++i) {
+        at.assign(static_cast<size_t>(i >= 3 ? ng : g.slots.count()) + 1, 0);
         links([&](int list, int32_t x, DepId) {
             if (list == i) ++at[static_cast<size_t>(x) + 1];
         });
@@ -127,8 +177,12 @@ Deps dependencies(const Graph& g) {
     }
     std::vector<uint32_t>().swap(at);
 
-    d.succ.resize(d.nodes.size() + group_access.size());
-    d.pred.resize(d.nodes.size() + group_access.size());
+    d.succ.resize(d.nodes.size() + 2 * group_access.size());
+    d.pred.resize(d.nodes.size() + 2 * group_access.size());
+    for (const auto& [k, writer] : dynw) {  // each writer before its write group
+        d.succ[writer].push_back(DepId(nn + ng + k));
+        d.pred[DepId(nn + ng + k)].push_back(writer);
+    }
     auto edge = [&](DepId a, DepId b) {
         if (a == b) return;
         d.succ[a].push_back(b);
@@ -215,17 +269,25 @@ Network analyse_network(const Graph& g) {
     std::priority_queue<DepId, std::vector<DepId>, std::greater<>> ready;
     for (DepId n : d.nodes.ids())
         if (indeg[n] == 0) ready.push(n);
+    // A node's release makes its successors ready; a group made ready is released at once
+    // (a write group may feed a read group: released in one go).
+    std::vector<DepId> groups_ready;
     auto release = [&](DepId n) {
         gone[n] = 1;
         for (DepId m : d.succ[n]) {
             if (gone[m] || --indeg[m] != 0) continue;
-            if (is_node(m)) {
-                ready.push(m);
-                continue;
+            if (is_node(m)) ready.push(m);
+            else groups_ready.push_back(m);
+        }
+        while (!groups_ready.empty()) {
+            const DepId m = groups_ready.back();
+            groups_ready.pop_back();
+            gone[m] = 1;
+            for (DepId k : d.succ[m]) {
+                if (gone[k] || --indeg[k] != 0) continue;
+                if (is_node(k)) ready.push(k);
+                else groups_ready.push_back(k);
             }
-            gone[m] = 1;  // a group: its successors are nodes
-            for (DepId k : d.succ[m])
-                if (!gone[k] && --indeg[k] == 0) ready.push(k);
         }
     };
     for (int32_t done = 0; done < nn;) {
@@ -248,16 +310,17 @@ Network analyse_network(const Graph& g) {
         while (pos[cur] < 0) {
             pos[cur] = count_of(path);
             path.push_back(cur);
+            // The lowest predecessor not yet gone; a group not yet released stands for its
+            // own (a read group's may be a write group, which stands for its writers).
             DepId next;
-            for (DepId p : d.pred[cur]) {
-                if (gone[p]) continue;
-                if (is_node(p)) {
-                    if (!next.valid() || p < next) next = p;
-                    continue;
+            auto lowest = [&](auto&& self, DepId n) -> void {
+                for (DepId p : d.pred[n]) {
+                    if (gone[p]) continue;
+                    if (!is_node(p)) self(self, p);
+                    else if (!next.valid() || p < next) next = p;
                 }
-                for (DepId q : d.pred[p])
-                    if (!gone[q] && (!next.valid() || q < next)) next = q;
-            }
+            };
+            lowest(lowest, cur);
             cur = next;
         }
         DepId cut;

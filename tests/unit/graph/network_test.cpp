@@ -223,3 +223,54 @@ plant P {
     CHECK(same_order(n, network_by_slots(c.graph)));
     CHECK(n.order.size() + n.delayed.size() == c.graph.flows.size() + c.graph.labels.size());
 }
+
+TEST_CASE("network: flows writing through a dynamic end stand as one write group, ordered as slot by slot") {
+    // The first flow may set every tag's code (a write group for the codes' `set`); it waits for
+    // label src, so without the group's edges each tag's label (which reads its `set`, and has
+    // no other predecessor) would run before it. The router's flow reads every code's value
+    // through a read group, after the labels.
+    plant::Compilation c;
+    plant::test::compile_text(R"(object Tag {
+    label code { value = "x" }
+}
+plant P {
+    t1: Tag
+    t2: Tag
+    trigger seen { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    trigger other { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    label src { value = "F-1" }
+    router r { "F-*" => f; * => g }
+    flow src.value -> (seen.object as Tag).code.set
+    flow (other.object as Tag).code.value -> r.query
+}
+)",
+                              c, "dynamic_write.plant");
+    REQUIRE(c.ok());
+    const Network n = analyse_network(c.graph);
+    CHECK(same_order(n, network_by_slots(c.graph)));
+    CHECK(n.delayed.empty());
+    auto at = [&](NodeKind kind, int32_t index) {
+        for (size_t i = 0; i < n.order.size(); ++i)
+            if (n.order[i].kind == kind && n.order[i].index == index) return int(i);
+        return -1;
+    };
+    const int writer = at(NodeKind::Flow, 0), reader = at(NodeKind::Flow, 1);
+    REQUIRE(writer >= 0);
+    REQUIRE(reader >= 0);
+    int labels = 0;
+    for (Id<Label> l : ids_of(c.graph.labels)) {
+        if (c.graph.comp_path(c.graph.labels[l].comp).find("code") == std::string::npos) continue;
+        ++labels;
+        CHECK(at(NodeKind::Label, l.v) > writer);
+        CHECK(at(NodeKind::Label, l.v) < reader);
+    }
+    CHECK(labels == 2);
+    // The bottling plant: its stations set each bottle's code through a dynamic end.
+    plant::Compilation b;
+    plant::CompileOptions opts;
+    opts.stdlib_dir = PLANT_STDLIB_DIR;
+    opts.overrides = {"lines=2"};
+    plant::compile_file(std::string(PLANT_SOURCE_DIR) + "/plants/bottling.plant", opts, b);
+    REQUIRE(b.ok());
+    CHECK(same_order(analyse_network(b.graph), network_by_slots(b.graph)));
+}
