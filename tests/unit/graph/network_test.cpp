@@ -274,3 +274,52 @@ plant P {
     REQUIRE(b.ok());
     CHECK(same_order(analyse_network(b.graph), network_by_slots(b.graph)));
 }
+
+TEST_CASE("network: a write group feeding a read group, and a writer reading its own group, as slot by slot") {
+    // No compiled plant has either (a flow reads outputs and writes inputs); a graph written by
+    // hand may. The compiled graph is changed in memory: a flow reads one slot of the group it
+    // writes, and another reads the written slots through a dynamic source of the same access.
+    plant::Compilation c;
+    plant::test::compile_text(R"(object Tag {
+    label code { value = "x" }
+}
+plant P {
+    t1: Tag
+    t2: Tag
+    trigger seen { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    trigger other { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
+    label src { value = "F-1" }
+    router r { "F-*" => f; * => g }
+    flow src.value -> (seen.object as Tag).code.set
+    flow (other.object as Tag).code.value -> r.query
+}
+)",
+                              c, "dynamic_write_by_hand.plant");
+    REQUIRE(c.ok());
+    REQUIRE(c.graph.flows.size() == 2);
+    const Flow writer = c.graph.flows[FlowId(0)];
+    REQUIRE(writer.to_access.valid());
+    const Access& code_set = c.graph.accesses[writer.to_access];
+    REQUIRE(code_set.target_num == 2);
+    {  // the reader reads the codes' `set` through the writer's access: a write group, then a read group
+        Graph g = c.graph;
+        g.flows[FlowId(1)].from_access = writer.to_access;
+        const Network n = analyse_network(g);
+        CHECK(same_order(n, network_by_slots(g)));
+        CHECK(n.delayed.empty());
+    }
+    {  // the writer reads t2's `set`, a slot of the group it writes
+        Graph g = c.graph;
+        g.flows[FlowId(0)].from = g.access_targets.slice(code_set.target_adr, code_set.target_num)[1].v;
+        const Network n = analyse_network(g);
+        CHECK(same_order(n, network_by_slots(g)));
+    }
+    {  // the writer reads the slots it writes, through its own access (a node's own slot is no
+       // edge in the slot-by-slot order)
+        Graph g = c.graph;
+        g.flows[FlowId(0)].from_access = writer.to_access;
+        g.flows[FlowId(0)].from = writer.to;
+        const Network n = analyse_network(g);
+        CHECK(same_order(n, network_by_slots(g)));
+    }
+}
