@@ -224,13 +224,9 @@ plant P {
     CHECK(n.order.size() + n.delayed.size() == c.graph.flows.size() + c.graph.labels.size());
 }
 
-TEST_CASE("network: flows writing through a dynamic end stand as one write group, ordered as slot by slot") {
-    // The first flow may set every tag's code (a write group for the codes' `set`); it waits for
-    // label src, so without the group's edges each tag's label (which reads its `set`, and has
-    // no other predecessor) would run before it. The router's flow reads every code's value
-    // through a read group, after the labels.
-    plant::Compilation c;
-    plant::test::compile_text(R"(object Tag {
+// Flow 0 may set every tag's code (a write group for the codes' `set`) and waits for label src;
+// flow 1 reads every code's value through a read group.
+const char* const kDynamicWrite = R"(object Tag {
     label code { value = "x" }
 }
 plant P {
@@ -243,8 +239,15 @@ plant P {
     flow src.value -> (seen.object as Tag).code.set
     flow (other.object as Tag).code.value -> r.query
 }
-)",
-                              c, "dynamic_write.plant");
+)";
+
+TEST_CASE("network: flows writing through a dynamic end stand as one write group, ordered as slot by slot") {
+    // The first flow may set every tag's code (a write group for the codes' `set`); it waits for
+    // label src, so without the group's edges each tag's label (which reads its `set`, and has
+    // no other predecessor) would run before it. The router's flow reads every code's value
+    // through a read group, after the labels.
+    plant::Compilation c;
+    plant::test::compile_text(kDynamicWrite, c, "dynamic_write.plant");
     REQUIRE(c.ok());
     const Network n = analyse_network(c.graph);
     CHECK(same_order(n, network_by_slots(c.graph)));
@@ -280,21 +283,7 @@ TEST_CASE("network: a write group feeding a read group, and a writer reading its
     // hand may. The compiled graph is changed in memory: a flow reads one slot of the group it
     // writes, and another reads the written slots through a dynamic source of the same access.
     plant::Compilation c;
-    plant::test::compile_text(R"(object Tag {
-    label code { value = "x" }
-}
-plant P {
-    t1: Tag
-    t2: Tag
-    trigger seen { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
-    trigger other { extent = (5 cm, 5 cm, 5 cm); filter = Tag }
-    label src { value = "F-1" }
-    router r { "F-*" => f; * => g }
-    flow src.value -> (seen.object as Tag).code.set
-    flow (other.object as Tag).code.value -> r.query
-}
-)",
-                              c, "dynamic_write_by_hand.plant");
+    plant::test::compile_text(kDynamicWrite, c, "dynamic_write_by_hand.plant");
     REQUIRE(c.ok());
     REQUIRE(c.graph.flows.size() == 2);
     const Flow writer = c.graph.flows[FlowId(0)];

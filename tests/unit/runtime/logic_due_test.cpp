@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -252,6 +253,17 @@ TEST_CASE("logic: the program in lanes on the physics threads gives each step's 
     CHECK(most > 256);
 }
 
+namespace {
+
+// An engine of the graph on two threads: its program split into lanes.
+std::unique_ptr<engine::Engine> on_two_threads(const graph::Graph& g) {
+    engine::Options two;
+    two.threads = 2;
+    return std::make_unique<engine::Engine>(g, two);
+}
+
+}  // namespace
+
 TEST_CASE("logic: lanes split the ops that share no slot a step changes, and only those") {
     Compilation c;
     test::compile_text(R"(plant P {
@@ -267,10 +279,8 @@ TEST_CASE("logic: lanes split the ops that share no slot a step changes, and onl
 )",
                        c, "lanes.plant");
     REQUIRE(c.ok());
-    engine::Options two;
-    two.threads = 2;
-    engine::Engine e(c.graph, two);
-    const engine::Schedule& sc = e.internals().sched;
+    const auto e = on_two_threads(c.graph);
+    const engine::Schedule& sc = e->internals().sched;
     // Two sets: the connector and its flow into t.start (one writes what the other reads), and
     // the two flows into u.start (both write it). a.on_stay, b.on_stay, a.on_enter and
     // b.on_enter are written by no op: reading them joins nothing.
@@ -325,10 +335,8 @@ plant P {
 )",
                        c, "lanes_dynamic.plant");
     REQUIRE(c.ok());
-    engine::Options two;
-    two.threads = 2;
-    engine::Engine e(c.graph, two);
-    const engine::Schedule& sc = e.internals().sched;
+    const auto e = on_two_threads(c.graph);
+    const engine::Schedule& sc = e->internals().sched;
     REQUIRE(sc.lanes() >= 2);
     // The ops by kind and what they write: the flows by their target, the label ops, the routers.
     std::map<std::string, std::set<int>> lanes_of;
