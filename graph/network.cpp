@@ -76,10 +76,7 @@ Deps dependencies(const Graph& g) {
     // of that group (directly, or through a dynamic source whose group shares one): the group
     // would then stand between it and itself, where the direct links skip it. Such a flow, and
     // one that reads its target's activity, lists every slot it may write, as before.
-    auto targets_of = [&](AccessGroupId k) {
-        const Access& a = g.accesses[group_access[k]];
-        return g.access_targets.slice(a.target_adr, a.target_num);
-    };
+    auto targets_of = [&](AccessGroupId k) { return groups.targets(g, k); };
     std::vector<std::pair<int32_t, int32_t>> member;  // (slot, group), for every group's slots
     for (AccessGroupId k : group_access.ids())
         for (const AccessTarget& t : targets_of(k)) member.emplace_back(t.v.v, k.v);
@@ -220,9 +217,8 @@ Deps dependencies(const Graph& g) {
             if (readers.empty() || readers.back() != dyn[r].second) readers.push_back(dyn[r].second);
         if (readers.empty()) continue;
         producers.clear();
-        const Access& ac = g.accesses[group_access[k]];
-        for (Id<AccessTarget> t : children(ac.target_adr, ac.target_num)) {
-            const int32_t x = g.access_targets[t].v.v;
+        for (const AccessTarget& t : targets_of(k)) {
+            const int32_t x = t.v.v;
             auto at = std::lower_bound(prod.begin(), prod.end(), Link{x, DepId(INT32_MIN)});
             for (; at != prod.end() && at->first == x; ++at) producers.push_back(at->second);
         }

@@ -52,6 +52,11 @@ using AccessGroupId = Id<AccessGroup>;
 struct AccessGroups {
     IdVector<AccessId, AccessGroupId> of;
     IdVector<AccessGroupId, AccessId> first;
+    // The slots group k's ends may be.
+    auto targets(const Graph& g, AccessGroupId k) const {
+        const Access& a = g.accesses[first[k]];
+        return g.access_targets.slice(a.target_adr, a.target_num);
+    }
 };
 AccessGroups access_groups(const Graph& g);
 

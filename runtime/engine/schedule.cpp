@@ -53,9 +53,8 @@ void packed(std::vector<std::pair<int32_t, int32_t>>& pairs, size_t keys, std::v
 }
 
 // Which slots each op reads (the ops a slot's activity makes due), and the ops due always.
-void due_by_slot(const Graph& g, Schedule& s) {
+void due_by_slot(const Graph& g, const AccessGroups& ag, Schedule& s) {
     const size_t n = s.ops.size();
-    const AccessGroups ag = access_groups(g);
     s.always.assign((n + 63) / 64, 0);
     s.dense_at = n / 8 + 1;
     std::vector<std::pair<int32_t, int32_t>> reads, group_reads;  // (slot or group, position)
@@ -102,8 +101,7 @@ void due_by_slot(const Graph& g, Schedule& s) {
     std::vector<std::pair<int32_t, int32_t>> slot_groups;  // (slot, group)
     for (AccessGroupId k : ag.first.ids()) {
         if (s.group_reader_adr[k.v] == s.group_reader_adr[k.v + 1]) continue;
-        const Access& a = g.accesses[ag.first[k]];
-        for (const AccessTarget& t : g.access_targets.slice(a.target_adr, a.target_num)) slot_groups.emplace_back(t.v.v, k.v);
+        for (const AccessTarget& t : ag.targets(g, k)) slot_groups.emplace_back(t.v.v, k.v);
     }
     packed(slot_groups, ns, group_adr, s.groups);
     // The read slots' rows: a slot read by no op has empty ranges, so a read slot's ranges end
@@ -121,7 +119,7 @@ void due_by_slot(const Graph& g, Schedule& s) {
 }
 
 // The lanes (schedule.h): which ops share a slot a step changes, joined; the sets to lanes.
-void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
+void split_lanes(const Graph& g, const Tables& t, const AccessGroups& ag, Schedule& s) {
     const int32_t n = count_of(s.ops), ns = count_of(g.slots);
     // Each op's slots: those it writes (activates), then those it reads (a flow's as the logic
     // network says them, graph/network.h, and the reference of a dynamic target, which names
@@ -131,14 +129,13 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
     // plant, 119 million entries where 340,000 are left, and a third of the start). A group
     // stands between its ops and its slots in the union below, joined to each of its slots
     // that some op writes: the same sets of ops as joining each op to those slots.
-    const AccessGroups ag = access_groups(g);
     const int32_t ng = ag.first.count();
-    std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0);
+    std::vector<int32_t> adr(n + 1, 0), slots, writes(n, 0), rd;
     std::vector<int32_t> read_group(n, -1), write_group(n, -1);  // per op, a dynamic end's group
     for (int32_t i = 0; i < n; ++i) {
         const Op& op = s.ops[i];
         const size_t first = slots.size();
-        std::vector<int32_t> rd;
+        rd.clear();
         switch (op.kind) {
         case OpKind::Pulse:  // a flow too
         case OpKind::Flow: {
@@ -174,12 +171,11 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
         slots.insert(slots.end(), rd.begin(), rd.end());
         adr[i + 1] = count_of(slots);
     }
-    // A group's slots, each group once.
+    // A group's slots (each group's walked once in each pass below).
     auto group_slots = [&g, &ag](int32_t k, auto&& fn) {
-        const Access& a = g.accesses[ag.first[AccessGroupId(k)]];
-        for (const AccessTarget& x : g.access_targets.slice(a.target_adr, a.target_num)) fn(x.v.v);
+        for (const AccessTarget& x : ag.targets(g, AccessGroupId(k))) fn(x.v.v);
     };
-    std::vector<uint8_t> written(ns, 0), group_written(ng, 0), group_used(ng, 0);
+    std::vector<uint8_t> written(ns, 0), group_written(ng, 0), group_used(ng, 0), group_counted(ng, 0);
     for (int32_t i = 0; i < n; ++i) {
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k) written[slots[k]] = 1;
         if (write_group[i] >= 0 && !group_written[write_group[i]]) {
@@ -260,8 +256,8 @@ void split_lanes(const Graph& g, const Tables& t, Schedule& s) {
         int32_t& lane_n = s.lane_writes[lane_of_set[find(i)]];
         for (int32_t k = adr[i]; k < adr[i] + writes[i]; ++k)
             if (!counted[slots[k]]) counted[slots[k]] = 1, ++lane_n;
-        if (write_group[i] >= 0 && group_written[write_group[i]] == 1) {  // its slots counted once
-            group_written[write_group[i]] = 2;
+        if (write_group[i] >= 0 && !group_counted[write_group[i]]) {  // its slots counted once
+            group_counted[write_group[i]] = 1;
             group_slots(write_group[i], [&](int32_t x) {
                 if (!counted[x]) counted[x] = 1, ++lane_n;
             });
@@ -285,8 +281,9 @@ Schedule build_schedule(const Graph& g, const Tables& t) {
             continue;
         op = {OpKind::Pulse, op.index, f.from, f.to};
     }
-    due_by_slot(g, s);
-    split_lanes(g, t, s);
+    const AccessGroups ag = access_groups(g);
+    due_by_slot(g, ag, s);
+    split_lanes(g, t, ag, s);
     return s;
 }
 
