@@ -392,7 +392,8 @@ void print_split(const Sample& s) {
 }
 
 // The serial share of the window's steps and its Amdahl projection (--profile).
-void print_profile(const Sample& s, int n, bool rows) {
+// `runs`: the projections at 16 threads of the runs it is the median of ("" for one run).
+void print_profile(const Sample& s, int n, bool rows, const std::string& runs) {
     using plant::engine::StepProfile;
     const StepProfile& p = s.prof;
     if (!p.on || p.steps == 0 || p.step_ns <= 0) return;
@@ -420,11 +421,14 @@ void print_profile(const Sample& s, int n, bool rows) {
                     "largest: %s; by the wall clock on %d threads %.1f %%) | %.1f %% | <= 3 %% | %s |\n",
                     n, serial / steps / 1e3, p.work_ns / steps / 1e3, p.read_ns, parts.c_str(), s.threads, 100 * wall_share,
                     100 * share, share <= 0.03 ? "yes" : "**no**");
+        const std::string of = runs.empty() ? "" : "; of the run whose projection at 16 threads is the median of the runs': " + runs;
         std::printf("| step | Amdahl projection from it (1 thread = serial + the items; a job no shorter than its "
-                    "longest item) | 4 threads %.1fx, 8 threads %.1fx, 16 threads %.1fx | >= 10x at 16 | %s |\n",
-                    p.speedup(2), p.speedup(3), p.speedup(4), p.speedup(4) >= 10 ? "yes" : "**no**");
+                    "longest item%s) | 4 threads %.1fx, 8 threads %.1fx, 16 threads %.1fx | >= 10x at 16 | %s |\n",
+                    of.c_str(), p.speedup(2), p.speedup(3), p.speedup(4), p.speedup(4) >= 10 ? "yes" : "**no**");
         return;
     }
+    if (!runs.empty())
+        std::printf("\nProfiled runs' projections at 16 threads: %s; the run with the median is the one below.\n", runs.c_str());
     std::printf("\nWhere a step goes at %d bottles (%lld steps; processor times, each timed stretch less one read of "
                 "the thread's clock: %.0f ns here): %.0f us serial, %.0f us of parallel "
                 "items per step (the longest item's share: see the projection); on 2 threads the serial share is "
@@ -446,6 +450,25 @@ void print_profile(const Sample& s, int n, bool rows) {
     print_split(s);
     print_on_solver(s);
     print_where(s);
+}
+
+// Of several profiled runs, the one whose projection at 16 threads is their median (the lower of
+// the middle two for an even count): its serial share, jobs and units are printed together, as
+// one run measured them, and with more than one run the projections of all are named (stderr).
+// `all` names them all, in rising order ("" for one run).
+const Sample& median_profiled(std::vector<Sample>& runs, std::string& all) {
+    using plant::engine::StepProfile;
+    auto x16 = [](const Sample& s) { return s.prof.speedup(StepProfile::kProjected - 1); };
+    std::stable_sort(runs.begin(), runs.end(), [&](const Sample& a, const Sample& b) { return x16(a) < x16(b); });
+    const Sample& mid = runs[(runs.size() - 1) / 2];
+    all.clear();
+    if (runs.size() > 1)
+        for (const Sample& r : runs) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%s%.1fx", all.empty() ? "" : ", ", x16(r));
+            all += buf;
+        }
+    return mid;
 }
 
 // The command line into `a`: -1 to go on, else the exit code (bench/flags.h).
@@ -496,6 +519,7 @@ int main(int argc, char** argv) {
         const int per_line_pool = 40;  // the plant's default: enough for warm-up + window
         std::vector<double> rtf, wall, cpu, mean, off;
         Sample s;
+        std::vector<Sample> profiled;  // with --profile: each run's, to print the median run's
         long allocs = 0, news = 0, lost = 0;
         for (int r = 0; r < a.runs; ++r) {
             std::fprintf(stderr, "bottling N=%d (%d lines) run %d/%d\n", n, lines, r + 1, a.runs);
@@ -512,6 +536,7 @@ int main(int argc, char** argv) {
             allocs = std::max(allocs, s.allocs);
             news = std::max(news, s.news);
             lost = std::max(lost, s.lost);
+            if (a.profile) profiled.push_back(s);
         }
         if (!s.ok) continue;
         const double us = median(cpu) * 1e6 / (double(s.steps) * median(mean));
@@ -545,7 +570,11 @@ int main(int argc, char** argv) {
                         n, lines, s.regions, s.threads, s.pool, median(mean), s.min, s.max, lost, 100 * median(off),
                         median(wall), median(cpu), median(rtf), us, allocs, news, double(s.rss_kib) / 1024);
         }
-        print_profile(s, n, a.rows);
+        if (a.profile) {
+            std::string all;
+            const Sample& mid = median_profiled(profiled, all);
+            print_profile(mid, n, a.rows, all);
+        }
         std::fflush(stdout);
         last = s;
         last.allocs = allocs;  // the memory rows report the largest count of the runs, as the table
