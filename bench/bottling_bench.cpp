@@ -17,7 +17,8 @@
 //     per storage: (peak RSS - that) / bottles in the pools = memory per bottle;
 //   - with --profile, where the window's step time goes (Engine::profile): the serial share
 //     (wall time outside the parallel physics work / step time, per segment of the step) and
-//     Amdahl's projection of the speed-up on 4, 8 and 16 threads.
+//     Amdahl's projection of the speed-up on 4, 8 and 16 threads; with several runs, those
+//     of the run whose projection at 16 threads is the runs' median.
 //
 // Output: a Markdown table; with --rows only the rows of bench/run.sh's summary table.
 //
@@ -486,7 +487,8 @@ int parse(int argc, char** argv, Args& a) {
     f.text("--plant", a.plant, "PATH", "the plant file (default plants/bottling.plant)");
     f.flag("--rows", a.rows, true, "only the rows of bench/run.sh's table");
     f.flag("--no-memory", a.memory, false, "no memory rows");
-    f.flag("--profile", a.profile, true, "where a step goes: serial segments, jobs, units on the solver");
+    f.flag("--profile", a.profile, true,
+           "where a step goes: serial segments, jobs, units on the solver (of the run with the median projection at 16 threads)");
     f.flag("--no-huge-pages", a.huge_pages, false, "no huge pages for the plant's memory");
     std::string steady;
     f.choice("--steady-transport", steady, {"on", "off"}, "steady transport on or off (default on)");
